@@ -1,0 +1,292 @@
+"""Result containers shared by the integrator, the gait search, storage and plotting.
+
+Every result that can fail carries ``status`` (:class:`walker.status.Status`), ``message`` and
+``success``; expected failures (a fall, Newton not converging) are statuses, not exceptions.
+Arrays use SI units and the state order of the model that produced them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from walker.status import Status
+
+
+@dataclass
+class EventLog:
+    """Every located event of a run, in time order.
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+        event times [s].
+    guard : ndarray of int, shape (n,)
+        index of the guard that fired (the model's ``guard_names`` give its name).
+    phase_before, phase_after : ndarray of int, shape (n,)
+        phase index before and after the reset.
+    x_pre, x_post : ndarray, shape (n, n_x)
+        state just before and just after the reset.
+    impulse : ndarray, shape (n, n_impulse)
+        impulses of the reset (zeros where an event has none) [N s or N m s].
+    """
+
+    t: np.ndarray
+    guard: np.ndarray
+    phase_before: np.ndarray
+    phase_after: np.ndarray
+    x_pre: np.ndarray
+    x_post: np.ndarray
+    impulse: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.t.shape[0])
+
+
+@dataclass
+class Trajectory:
+    """Sampled states: ``x[i]`` is the state at ``t[i]`` in phase ``phase[i]``.
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+    x : ndarray, shape (n, n_x)
+    phase : ndarray of int, shape (n,)
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    phase: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.t.shape[0])
+
+
+@dataclass
+class Solution:
+    """Result of one run of the hybrid integrator.
+
+    Attributes
+    ----------
+    status : Status
+    message : str
+    success : bool
+        ``status == Status.COMPLETED``.
+    t : float
+        final time [s]; the time of the last event when the run ended on one.
+    x : ndarray, shape (n_x,)
+        final state (after the reset of the last event when the run ended on one).
+    phase : int
+        final phase index.
+    n_steps, n_rejected, n_rhs, n_events, n_strides : int
+        accepted steps, rejected steps, vector-field evaluations, applied events
+        (reset maps), completed strides.
+    events : EventLog or None
+        with output ``"events"`` or richer.
+    samples : Trajectory or None
+        states at the requested ``sample_times`` (output ``"samples"``).
+    record : Trajectory or None
+        every accepted step (output ``"full"``).
+    jac : ndarray, shape (n_x, n_x), or None
+        derivative of the final state with respect to the initial state, through every
+        phase and event (variational equations and saltation matrices).
+    dt_dx0 : ndarray, shape (n_x,), or None
+        derivative of the final event time with respect to the initial state.
+    error_estimate : float
+        sum over accepted steps of the local error norms the method reported (in units of
+        the tolerance-scaled norm times ``rtol``); a rough global error indicator.
+    phase_names, guard_names : tuple of str
+    """
+
+    status: Status
+    message: str
+    success: bool
+    t: float
+    x: np.ndarray
+    phase: int
+    n_steps: int = 0
+    n_rejected: int = 0
+    n_rhs: int = 0
+    n_events: int = 0
+    n_strides: int = 0
+    events: EventLog | None = None
+    samples: Trajectory | None = None
+    record: Trajectory | None = None
+    jac: np.ndarray | None = None
+    dt_dx0: np.ndarray | None = None
+    error_estimate: float = 0.0
+    phase_names: tuple[str, ...] = ()
+    guard_names: tuple[str, ...] = ()
+
+
+@dataclass
+class MapResult:
+    """One application of a section (stride) map.
+
+    Attributes
+    ----------
+    status : Status
+    z : ndarray, shape (n_z,)
+        next section point (NaN where the stride failed).
+    jac : ndarray, shape (n_z, n_z), or None
+        ``dz_next/dz`` when requested.
+    step_time : float
+        duration of the stride(s) [s].
+    state : ndarray, shape (n_x,)
+        full state at the section (just after the last heel strike).
+    """
+
+    status: Status
+    z: np.ndarray
+    jac: np.ndarray | None
+    step_time: float
+    state: np.ndarray
+
+    @property
+    def success(self) -> bool:
+        return self.status == Status.COMPLETED
+
+
+@dataclass
+class FixedPoint:
+    """A period-``period`` orbit of a section map and its stability.
+
+    Attributes
+    ----------
+    status, message, success
+    section : ndarray, shape (n_z,)
+        fixed point in section coordinates.
+    state : ndarray, shape (n_x,)
+        full state there (just after heel strike for walkers).
+    step_time : float
+        duration of the ``period`` strides [s].
+    multipliers : ndarray of complex, shape (n_z,)
+        Floquet multipliers (eigenvalues of ``jacobian``), sorted by decreasing modulus.
+    eigenvectors : ndarray of complex, shape (n_z, n_z)
+        columns match ``multipliers``.
+    jacobian : ndarray, shape (n_z, n_z)
+    residual : float
+        max-norm of ``P^k(z) - z`` at the returned point.
+    n_iter : int
+    history : ndarray, shape (n_iter + 1,)
+        residual at each iterate.
+    period : int
+    stable : bool
+        all multipliers strictly inside the unit circle.
+    parameters : dict
+        parameter name -> value used.
+    """
+
+    status: Status
+    message: str
+    success: bool
+    section: np.ndarray
+    state: np.ndarray
+    step_time: float
+    multipliers: np.ndarray
+    eigenvectors: np.ndarray
+    jacobian: np.ndarray
+    residual: float
+    n_iter: int
+    history: np.ndarray
+    period: int = 1
+    stable: bool = False
+    parameters: dict = field(default_factory=dict)
+
+
+@dataclass
+class Bifurcation:
+    """A detected bifurcation on a branch: ``kind`` is ``"fold"`` or ``"period_doubling"``."""
+
+    kind: str
+    parameter_value: float
+    section: np.ndarray
+    multipliers: np.ndarray
+
+
+@dataclass
+class Branch:
+    """A continued branch of period-``period`` orbits.
+
+    Attributes
+    ----------
+    parameter_name : str
+    parameter : ndarray, shape (n,)
+    sections : ndarray, shape (n, n_z)
+    step_times : ndarray, shape (n,)
+    multipliers : ndarray of complex, shape (n, n_z)
+    stable : ndarray of bool, shape (n,)
+    bifurcations : list of Bifurcation
+    status, message, success
+    period : int
+    """
+
+    parameter_name: str
+    parameter: np.ndarray
+    sections: np.ndarray
+    step_times: np.ndarray
+    multipliers: np.ndarray
+    stable: np.ndarray
+    bifurcations: list[Bifurcation]
+    status: Status
+    message: str
+    success: bool
+    period: int = 1
+
+
+@dataclass
+class OrbitDiagram:
+    """Where the walker settles, by brute-force iteration at each parameter value.
+
+    ``values[i]`` holds the last ``n_keep`` values of section coordinate ``coordinate`` at
+    ``parameter[i]`` (NaN where the walker fell).
+    """
+
+    parameter_name: str
+    parameter: np.ndarray
+    values: np.ndarray
+    coordinate: int = 0
+
+
+@dataclass
+class BasinMap:
+    """Basin of attraction on a 2-D slice of the section.
+
+    Attributes
+    ----------
+    axis_names : tuple of str
+        names of the two section coordinates varied (x then y).
+    x, y : ndarray, shape (nx,), (ny,)
+    outcome : ndarray of int, shape (ny, nx)
+        ``BASIN_CONVERGED`` (-1), ``BASIN_UNDECIDED`` (-2), or a :class:`Status` value
+        saying how the walker failed.
+    strides : ndarray of int, shape (ny, nx)
+        strides taken before convergence or failure.
+    fixed_point : ndarray, shape (n_z,)
+    base : ndarray, shape (n_z,)
+        section point whose other coordinates are held fixed.
+    n_strides : int
+    """
+
+    axis_names: tuple[str, str]
+    x: np.ndarray
+    y: np.ndarray
+    outcome: np.ndarray
+    strides: np.ndarray
+    fixed_point: np.ndarray
+    base: np.ndarray
+    n_strides: int
+
+
+BASIN_CONVERGED = -1
+BASIN_UNDECIDED = -2
+
+
+@dataclass
+class SweepTable:
+    """Results over a parameter grid: ``columns[name][i]`` belongs to ``points[i]``."""
+
+    parameter_names: tuple[str, ...]
+    points: np.ndarray
+    columns: dict[str, np.ndarray]

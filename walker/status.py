@@ -1,0 +1,82 @@
+"""Outcomes of a simulation and the event actions a reset map can request.
+
+Both are plain integers inside compiled code; :class:`Status` gives them names and messages
+on the Python side.  Expected outcomes (a fall, no heel strike before ``t_max``) are statuses
+on a result, never exceptions.
+"""
+
+from enum import IntEnum
+
+# What a model's reset map tells the hybrid loop to do with a located guard crossing.
+EVENT_IGNORE = 0  # not a real event (e.g. a scuff with the swing foot behind): keep integrating
+EVENT_CONTINUE = 1  # apply the reset, continue in the returned phase
+EVENT_STRIDE = 2  # apply the reset, continue, and count one completed stride
+EVENT_TERMINAL = 3  # stop: the returned status says why
+
+# Output modes of the hybrid integrator.
+OUTPUT_MAP = 0  # final state only
+OUTPUT_EVENTS = 1  # plus every event (time, guard, pre/post state, impulses)
+OUTPUT_SAMPLES = 2  # plus states at requested times, from the dense output
+OUTPUT_FULL = 3  # plus every accepted step
+
+# Integration methods.
+METHOD_EULER = 0
+METHOD_RK4 = 1
+METHOD_DP5 = 2
+METHOD_DOP853 = 3
+
+
+class Status(IntEnum):
+    """Outcome of a run.  ``Status.COMPLETED`` is the only success."""
+
+    COMPLETED = 0
+    FELL_BACKWARD = 1
+    FELL_FORWARD = 2
+    TRIPPED = 3
+    NONPHYSICAL_IMPACT = 4
+    NO_EVENT = 5
+    STEP_UNDERFLOW = 6
+    NONFINITE = 7
+    MAX_STEPS = 8
+    NOT_CONVERGED = 9
+    LINEAR_SOLVE_FAILED = 10
+
+    @property
+    def message(self) -> str:
+        return _MESSAGES[self]
+
+
+_MESSAGES = {
+    Status.COMPLETED: "Completed the requested number of strides.",
+    Status.FELL_BACKWARD: (
+        "The walker fell backward (the hip moved back over the stance foot). "
+        "Try a faster initial stance-leg rate or a steeper slope."
+    ),
+    Status.FELL_FORWARD: (
+        "The walker fell forward (hip below the fall threshold / stance leg past horizontal). "
+        "Try a smaller initial rate or a shallower slope."
+    ),
+    Status.TRIPPED: (
+        "The swing foot struck the ground with the knee still bent (a trip). "
+        "Try a state with more swing-leg clearance, or check the knee-lock guard."
+    ),
+    Status.NONPHYSICAL_IMPACT: (
+        "An impact was not physical (non-positive normal impulse, or the trailing foot did "
+        "not leave the ground). The walker cannot continue from this state."
+    ),
+    Status.NO_EVENT: (
+        "No stride-ending event before t_max. Increase `t_max`, or check that the initial "
+        "state walks at all."
+    ),
+    Status.STEP_UNDERFLOW: (
+        "The step size fell below the resolvable limit. Loosen `rtol`/`atol` or check the "
+        "model for a singularity."
+    ),
+    Status.NONFINITE: "The state became NaN or infinite. Check the parameters and initial state.",
+    Status.MAX_STEPS: "Reached `max_steps` before finishing. Increase `max_steps`.",
+    Status.NOT_CONVERGED: (
+        "Newton iteration did not converge. Try a better initial guess, more iterations, or "
+        "the Levenberg-Marquardt fallback."
+    ),
+    Status.LINEAR_SOLVE_FAILED: "A linear solve was singular (degenerate configuration).",
+}
