@@ -1,0 +1,1 @@
+"""Generated kernels: do not edit; see scripts/generate_kernels.py."""

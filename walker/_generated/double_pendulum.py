@@ -1,0 +1,252 @@
+# generated, do not edit: walker kernels for `double_pendulum`
+# input hash: sha256:a4c4d7dc1ea8b19d324aeb2ec9c5f053478757c81d1ae6b16194013de6ae2f74
+# sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
+# argument order:
+#   q = [q1, q2]
+#   p = [mass_1, mass_2, inertia_1, inertia_2, length_1, length_2, com_1, com_2, g]
+#   qd = [q1_dot, q2_dot]
+# kernels:
+#   mass_matrix(q, p)
+#   coriolis(q, qd, p)
+#   gravity(q, p)
+#   bias(q, qd, p)
+#   dmass(q, p)
+#   dbias_dq(q, qd, p)
+#   dbias_dqd(q, qd, p)
+#   kinetic(q, qd, p)
+#   potential(q, p)
+#   points(q, p)
+"""Generated numba kernels for the `double_pendulum` model.
+
+The course's double pendulum (planar elbow coordinates).
+"""
+
+import math  # noqa: F401
+
+from numba import njit
+
+KERNEL_HASH = "a4c4d7dc1ea8b19d324aeb2ec9c5f053478757c81d1ae6b16194013de6ae2f74"
+ARGUMENT_ORDER = {'mass_matrix': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'coriolis': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'gravity': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'bias': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dmass': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dq': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dqd': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'kinetic': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'potential': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'points': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}}
+
+@njit(cache=True)
+def mass_matrix(q, p, out):
+    """Mass matrix D(q), out (n, n)."""
+    q1 = q[0]
+    q2 = q[1]
+    mass_1 = p[0]
+    mass_2 = p[1]
+    inertia_1 = p[2]
+    inertia_2 = p[3]
+    length_1 = p[4]
+    com_1 = p[6]
+    com_2 = p[7]
+    x0 = math.cos(q1)
+    x1 = x0*x0
+    x2 = com_1*com_1*mass_1
+    x3 = math.sin(q1)
+    x4 = x3*x3
+    x5 = length_1*length_1*mass_2
+    x6 = q1 + q2
+    x7 = math.cos(x6)
+    x8 = com_2*length_1*mass_2
+    x9 = x0*x7*x8
+    x10 = math.sin(x6)
+    x11 = x10*x3*x8
+    x12 = com_2*com_2*mass_2
+    x13 = inertia_2 + x10*x10*x12 + x12*x7*x7
+    x14 = x11 + x13 + x9
+    out[0, 0] = inertia_1 + x1*x2 + x1*x5 + 2*x11 + x13 + x2*x4 + x4*x5 + 2*x9
+    out[0, 1] = x14
+    out[1, 0] = x14
+    out[1, 1] = x13
+
+
+@njit(cache=True)
+def coriolis(q, qd, p, out):
+    """Coriolis matrix C(q, qd), out (n, n)."""
+    q1 = q[0]
+    q2 = q[1]
+    q1_dot = qd[0]
+    q2_dot = qd[1]
+    mass_2 = p[1]
+    length_1 = p[4]
+    com_2 = p[7]
+    x0 = q1 + q2
+    x1 = com_2*length_1*mass_2
+    x2 = x1*math.sin(q1)*math.cos(x0) - x1*math.sin(x0)*math.cos(q1)
+    x3 = q2_dot*x2
+    out[0, 0] = x3
+    out[0, 1] = q1_dot*x2 + x3
+    out[1, 0] = -q1_dot*x2
+    out[1, 1] = 0
+
+
+@njit(cache=True)
+def gravity(q, p, out):
+    """Gravity vector g(q) = dP/dq, out (n,)."""
+    q1 = q[0]
+    q2 = q[1]
+    mass_1 = p[0]
+    mass_2 = p[1]
+    length_1 = p[4]
+    com_1 = p[6]
+    com_2 = p[7]
+    g = p[8]
+    x0 = math.cos(q1)
+    x1 = com_2*math.cos(q1 + q2)
+    x2 = g*mass_2
+    out[0] = com_1*g*mass_1*x0 + x2*(length_1*x0 + x1)
+    out[1] = x1*x2
+
+
+@njit(cache=True)
+def bias(q, qd, p, out):
+    """h(q, qd) = C(q, qd) qd + g(q), out (n,)."""
+    q1 = q[0]
+    q2 = q[1]
+    q1_dot = qd[0]
+    q2_dot = qd[1]
+    mass_1 = p[0]
+    mass_2 = p[1]
+    length_1 = p[4]
+    com_1 = p[6]
+    com_2 = p[7]
+    g = p[8]
+    x0 = math.cos(q1)
+    x1 = length_1*x0
+    x2 = q1 + q2
+    x3 = com_2*math.cos(x2)
+    x4 = g*mass_2
+    x5 = -com_2*mass_2*x1*math.sin(x2) + length_1*mass_2*x3*math.sin(q1)
+    x6 = q1_dot*x5
+    out[0] = com_1*g*mass_1*x0 + q2_dot*x6 + q2_dot*(q2_dot*x5 + x6) + x4*(x1 + x3)
+    out[1] = -q1_dot*q1_dot*x5 + x3*x4
+
+
+@njit(cache=True)
+def dmass(q, p, out):
+    """dD/dq_k for every k, out (n, n, n): out[k] = dD/dq_k."""
+    q1 = q[0]
+    q2 = q[1]
+    mass_2 = p[1]
+    length_1 = p[4]
+    com_2 = p[7]
+    x0 = q1 + q2
+    x1 = com_2*length_1*mass_2
+    x2 = x1*math.sin(q1)*math.cos(x0)
+    x3 = x1*math.sin(x0)*math.cos(q1)
+    x4 = x2 - x3
+    out[0, 0, 0] = 0
+    out[0, 0, 1] = 0
+    out[0, 1, 0] = 0
+    out[0, 1, 1] = 0
+    out[1, 0, 0] = 2*x2 - 2*x3
+    out[1, 0, 1] = x4
+    out[1, 1, 0] = x4
+    out[1, 1, 1] = 0
+
+
+@njit(cache=True)
+def dbias_dq(q, qd, p, out):
+    """dh/dq, out (n, n)."""
+    q1 = q[0]
+    q2 = q[1]
+    q1_dot = qd[0]
+    q2_dot = qd[1]
+    mass_1 = p[0]
+    mass_2 = p[1]
+    length_1 = p[4]
+    com_1 = p[6]
+    com_2 = p[7]
+    g = p[8]
+    x0 = math.sin(q1)
+    x1 = length_1*x0
+    x2 = q1 + q2
+    x3 = com_2*math.sin(x2)
+    x4 = g*mass_2*x3
+    x5 = -x4
+    x6 = com_2*length_1*mass_2*math.cos(q1)*math.cos(x2) + mass_2*x1*x3
+    x7 = -x6
+    x8 = q1_dot*x7
+    out[0, 0] = -com_1*g*mass_1*x0 + g*mass_2*(-x1 - x3)
+    out[0, 1] = q2_dot*x8 + q2_dot*(q2_dot*x7 + x8) + x5
+    out[1, 0] = x5
+    out[1, 1] = q1_dot*q1_dot*x6 - x4
+
+
+@njit(cache=True)
+def dbias_dqd(q, qd, p, out):
+    """dh/dqd, out (n, n)."""
+    q1 = q[0]
+    q2 = q[1]
+    q1_dot = qd[0]
+    q2_dot = qd[1]
+    mass_2 = p[1]
+    length_1 = p[4]
+    com_2 = p[7]
+    x0 = q1 + q2
+    x1 = com_2*length_1*mass_2
+    x2 = x1*math.sin(q1)*math.cos(x0) - x1*math.sin(x0)*math.cos(q1)
+    x3 = 2*x2
+    x4 = q2_dot*x3
+    out[0, 0] = x4
+    out[0, 1] = q1_dot*x3 + x4
+    out[1, 0] = -2*q1_dot*x2
+    out[1, 1] = 0
+
+
+@njit(cache=True)
+def kinetic(q, qd, p):
+    """Kinetic energy [J]."""
+    q1 = q[0]
+    q2 = q[1]
+    q1_dot = qd[0]
+    q2_dot = qd[1]
+    mass_1 = p[0]
+    mass_2 = p[1]
+    inertia_1 = p[2]
+    inertia_2 = p[3]
+    length_1 = p[4]
+    com_1 = p[6]
+    com_2 = p[7]
+    x0 = q1_dot*q1_dot
+    x1 = math.sin(q1)
+    x2 = com_1*com_1*x0
+    x3 = math.cos(q1)
+    x4 = q1 + q2
+    x5 = com_2*math.cos(x4)
+    x6 = com_2*math.sin(x4)
+    return ((1.0/2.0))*inertia_1*x0 + ((1.0/2.0))*inertia_2*(q1_dot + q2_dot)*(q1_dot + q2_dot) + ((1.0/2.0))*mass_1*(x1*x1*x2 + x2*x3*x3) + ((1.0/2.0))*mass_2*((q1_dot*(-length_1*x1 - x6) - q2_dot*x6)*(q1_dot*(-length_1*x1 - x6) - q2_dot*x6) + (q1_dot*(length_1*x3 + x5) + q2_dot*x5)*(q1_dot*(length_1*x3 + x5) + q2_dot*x5))
+
+
+@njit(cache=True)
+def potential(q, p):
+    """Potential energy [J] (y = 0 at the origin)."""
+    q1 = q[0]
+    q2 = q[1]
+    mass_1 = p[0]
+    mass_2 = p[1]
+    length_1 = p[4]
+    com_1 = p[6]
+    com_2 = p[7]
+    g = p[8]
+    x0 = math.sin(q1)
+    return com_1*g*mass_1*x0 + g*mass_2*(com_2*math.sin(q1 + q2) + length_1*x0)
+
+
+@njit(cache=True)
+def points(q, p, out):
+    """Named points in the world frame, out (n_points, 2); names in POINTS."""
+    q1 = q[0]
+    q2 = q[1]
+    length_1 = p[4]
+    length_2 = p[5]
+    x0 = length_1*math.cos(q1)
+    x1 = length_1*math.sin(q1)
+    x2 = q1 + q2
+    out[0, 0] = x0
+    out[0, 1] = x1
+    out[1, 0] = length_2*math.cos(x2) + x0
+    out[1, 1] = length_2*math.sin(x2) + x1
+
+POINTS = ('elbow', 'tip')

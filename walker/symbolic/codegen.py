@@ -1,0 +1,181 @@
+"""Turn symbolic matrices into numba-compiled kernels (common subexpressions + printing).
+
+A generated module holds one ``@njit(cache=True)`` function per :class:`Kernel`.  Arguments
+are whole arrays (``q``, ``qd``, ``p``) unpacked at the top, so the parameters stay
+arguments and changing one never regenerates anything.  Matrix outputs are written into a
+caller-provided ``out`` array (no allocation on the hot path); scalars are returned.
+
+Each module is stamped "generated, do not edit" with the argument order, the sympy version
+and a SHA-256 hash of its symbolic input; ``scripts/generate_kernels.py`` rewrites them.
+Generation refuses a free symbol that is not an argument and names it (as PyDy's matrix
+generator does).
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass
+
+import sympy as sp
+from sympy.printing.pycode import PythonCodePrinter
+
+__all__ = ["Kernel", "render_module", "symbolic_hash"]
+
+
+@dataclass(frozen=True)
+class Kernel:
+    """One generated function.
+
+    Parameters
+    ----------
+    name : str
+        function name in the generated module.
+    args : tuple of (str, tuple of Symbol)
+        array arguments in order, each with the symbols of its entries, e.g.
+        ``(("q", (q1, q2)), ("p", params))``.
+    expr : sympy Matrix or expression
+        the output.  A Matrix of shape (r, c) fills ``out[r, c]`` (a column vector fills a
+        1-D ``out``); a list of Matrices fills ``out[k, r, c]``; a scalar is returned.
+    doc : str
+    """
+
+    name: str
+    args: tuple
+    expr: object
+    doc: str = ""
+
+
+class _Printer(PythonCodePrinter):
+    """Python printer whose output numba compiles (math module, plain floats)."""
+
+    def __init__(self):
+        super().__init__({"fully_qualified_modules": True, "standard": "python3"})
+
+    def _print_Rational(self, expr):
+        return f"({float(expr.p)!r}/{float(expr.q)!r})"
+
+    def _print_Pow(self, expr, rational=False):
+        base, e = expr.as_base_exp()
+        if e.is_Integer and 1 < int(e) <= 4:
+            b = self._print(base)
+            if not (base.is_Symbol or base.is_Function):
+                b = f"({b})"
+            return "*".join([b] * int(e))
+        if e == -1:
+            return f"1.0/({self._print(base)})"
+        return super()._print_Pow(expr, rational=rational)
+
+
+def _entries(kernel: Kernel):
+    """Flatten the output into (index string, expression) pairs and the output kind."""
+    expr = kernel.expr
+    if isinstance(expr, (list, tuple)):
+        out = []
+        for k, m in enumerate(expr):
+            for i in range(m.rows):
+                for j in range(m.cols):
+                    out.append((f"[{k}, {i}, {j}]", m[i, j]))
+        return out, "tensor"
+    if isinstance(expr, sp.MatrixBase):
+        if expr.cols == 1:
+            return [(f"[{i}]", expr[i, 0]) for i in range(expr.rows)], "vector"
+        return [
+            (f"[{i}, {j}]", expr[i, j]) for i in range(expr.rows) for j in range(expr.cols)
+        ], "matrix"
+    return [("", sp.sympify(expr))], "scalar"
+
+
+def render_kernel(kernel: Kernel, printer: _Printer | None = None) -> str:
+    """Source text of one kernel; raises ``ValueError`` naming any stray symbol."""
+    printer = printer or _Printer()
+    entries, kind = _entries(kernel)
+    allowed = {s for _, syms in kernel.args for s in syms}
+    free = set().union(*(sp.sympify(e).free_symbols for _, e in entries))
+    stray = sorted(str(s) for s in free - allowed)
+    if stray:
+        raise ValueError(
+            f"kernel `{kernel.name}`: symbols {stray} are not in its arguments "
+            f"{[name for name, _ in kernel.args]}"
+        )
+    arg_names = [name for name, _ in kernel.args]
+    sig = ", ".join(arg_names + ([] if kind == "scalar" else ["out"]))
+    lines = ["@njit(cache=True)", f"def {kernel.name}({sig}):"]
+    doc = kernel.doc or kernel.name
+    lines.append(f'    """{doc}"""')
+    for name, syms in kernel.args:
+        for i, s in enumerate(syms):
+            if s in free:
+                lines.append(f"    {s} = {name}[{i}]")
+    repl, reduced = sp.cse([e for _, e in entries], symbols=sp.numbered_symbols("x"))
+    for sym, sub in repl:
+        lines.append(f"    {sym} = {printer.doprint(sub)}")
+    if kind == "scalar":
+        lines.append(f"    return {printer.doprint(reduced[0])}")
+    else:
+        for (index, _), e in zip(entries, reduced, strict=True):
+            lines.append(f"    out{index} = {printer.doprint(e)}")
+    return "\n".join(lines) + "\n"
+
+
+def symbolic_hash(kernels) -> str:
+    """SHA-256 of the kernels' names, argument symbols and ``srepr`` of their outputs."""
+    h = hashlib.sha256()
+    for k in kernels:
+        h.update(k.name.encode())
+        for name, syms in k.args:
+            h.update(name.encode())
+            h.update(",".join(str(s) for s in syms).encode())
+        h.update(sp.srepr(k.expr).encode())
+    return h.hexdigest()
+
+
+def render_module(name: str, kernels, *, doc: str = "", extra: str = "") -> str:
+    """Source text of a whole generated module.
+
+    Parameters
+    ----------
+    name : str
+        model name, for the header.
+    kernels : sequence of Kernel
+    doc : str
+        module docstring body.
+    extra : str
+        module-level constants to append (plain Python).
+    """
+    kernels = list(kernels)
+    digest = symbolic_hash(kernels)
+    arg_lines = []
+    for k in kernels:
+        arg_lines.append(
+            f"#   {k.name}(" + ", ".join(n for n, _ in k.args) + ")"
+        )
+    seen = {}
+    for k in kernels:
+        seen[k.name] = {n: tuple(str(s) for s in syms) for n, syms in k.args}
+    distinct = []
+    for args in seen.values():
+        for n, v in args.items():
+            line = f"#   {n} = [{', '.join(v)}]"
+            if line not in distinct:
+                distinct.append(line)
+    order_lines = distinct
+    header = [
+        f"# generated, do not edit: walker kernels for `{name}`",
+        f"# input hash: sha256:{digest}",
+        f"# sympy {sp.__version__}; regenerate with `python scripts/generate_kernels.py`",
+        "# argument order:",
+        *order_lines,
+        "# kernels:",
+        *arg_lines,
+        f'"""Generated numba kernels for the `{name}` model.\n\n{doc}\n"""',
+        "",
+        "import math  # noqa: F401",
+        "",
+        "from numba import njit",
+        "",
+        f'KERNEL_HASH = "{digest}"',
+        f"ARGUMENT_ORDER = {seen!r}",
+        "",
+    ]
+    body = "\n\n".join(render_kernel(k) for k in kernels)
+    return "\n".join(header) + "\n" + body + ("\n" + extra if extra else "")

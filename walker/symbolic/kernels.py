@@ -1,0 +1,125 @@
+"""Which kernels each generated module holds: the one list shared by the generator script
+and the staleness test (which re-derives them and compares by numbers)."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from walker.symbolic import models
+from walker.symbolic.codegen import Kernel
+from walker.symbolic.mechanics import LagrangianModel
+
+__all__ = ["GENERATED_MODULES", "kernels_for", "module_extra"]
+
+
+def _dynamics_kernels(m: LagrangianModel, prefix: str) -> list[Kernel]:
+    q, qd, p = ("q", m.q), ("qd", m.qd), ("p", m.params)
+    h = m.bias
+    qv, qdv = sp.Matrix(m.q), sp.Matrix(m.qd)
+    return [
+        Kernel(f"{prefix}mass_matrix", (q, p), m.D, "Mass matrix D(q), out (n, n)."),
+        Kernel(f"{prefix}coriolis", (q, qd, p), m.C, "Coriolis matrix C(q, qd), out (n, n)."),
+        Kernel(f"{prefix}gravity", (q, p), m.G, "Gravity vector g(q) = dP/dq, out (n,)."),
+        Kernel(f"{prefix}bias", (q, qd, p), h, "h(q, qd) = C(q, qd) qd + g(q), out (n,)."),
+        Kernel(
+            f"{prefix}dmass", (q, p), [m.D.diff(qi) for qi in m.q],
+            "dD/dq_k for every k, out (n, n, n): out[k] = dD/dq_k.",
+        ),
+        Kernel(f"{prefix}dbias_dq", (q, qd, p), h.jacobian(qv), "dh/dq, out (n, n)."),
+        Kernel(f"{prefix}dbias_dqd", (q, qd, p), h.jacobian(qdv), "dh/dqd, out (n, n)."),
+        Kernel(f"{prefix}kinetic", (q, qd, p), m.K, "Kinetic energy [J]."),
+        Kernel(f"{prefix}potential", (q, p), m.P, "Potential energy [J] (y = 0 at the origin)."),
+        Kernel(
+            f"{prefix}points", (q, p),
+            sp.Matrix([[v[0], v[1]] for v in m.points.values()]),
+            "Named points in the world frame, out (n_points, 2); names in "
+            f"{prefix.upper()}POINTS.",
+        ),
+    ]
+
+
+def _extended_kernels(m: LagrangianModel, prefix: str, swing_index: int) -> list[Kernel]:
+    """Floating-base model: mass matrix and material contact-velocity Jacobians."""
+    slope = m.params[models.MODEL_PARAMS[_model_of(m)].index("slope")]
+    R = m.params[models.MODEL_PARAMS[_model_of(m)].index("foot_radius")]
+    q, p = ("q", m.q), ("p", m.params)
+    J_sw = models.contact_velocity_jacobian(m, "swing_center", swing_index, R, slope)
+    J_st = models.contact_velocity_jacobian(m, "stance_center", 0, R, slope)
+    return [
+        Kernel(f"{prefix}mass_matrix", (q, p), m.D, "Floating-base mass matrix, out (n_f, n_f)."),
+        Kernel(
+            f"{prefix}swing_contact_jac", (q, p), J_sw,
+            "Jacobian of the swing foot's material contact velocity, out (2, n_f).",
+        ),
+        Kernel(
+            f"{prefix}stance_contact_jac", (q, p), J_st,
+            "Jacobian of the stance foot's material contact velocity, out (2, n_f).",
+        ),
+    ]
+
+
+def _model_of(m: LagrangianModel) -> str:
+    return m.name.split("_")[0]
+
+
+def _hip_jacobian(m: LagrangianModel, prefix: str) -> Kernel:
+    return Kernel(
+        f"{prefix}hip_jac", (("q", m.q), ("p", m.params)), m.point_jacobian("hip"),
+        "Jacobian of the hip position, out (2, n).",
+    )
+
+
+def _simplest_kernels() -> list[Kernel]:
+    s = models.simplest()
+    q, qd, p = ("q", s["q"]), ("qd", s["qd"]), ("p", s["params"])
+    x = sp.Matrix(list(s["q"]) + list(s["qd"]))
+    return [
+        Kernel("accel", (q, qd, p), s["qdd"], "(theta_ddot, phi_ddot), out (2,)."),
+        Kernel("daccel_dx", (q, qd, p), s["qdd"].jacobian(x), "d accel / d x, out (2, 4)."),
+    ]
+
+
+def kernels_for(name: str) -> list[Kernel]:
+    """The kernels of generated module ``name`` (a key of :data:`GENERATED_MODULES`)."""
+    if name == "simplest":
+        return _simplest_kernels()
+    if name == "compass":
+        sw = models.compass()
+        return (
+            _dynamics_kernels(sw, "")
+            + [_hip_jacobian(sw, "")]
+            + _extended_kernels(models.compass_extended(), "ext_", 1)
+        )
+    if name == "kneed":
+        un, lo = models.kneed_unlocked(), models.kneed_locked()
+        return (
+            _dynamics_kernels(un, "unlocked_")
+            + _dynamics_kernels(lo, "locked_")
+            + [_hip_jacobian(lo, "locked_")]
+            + _extended_kernels(models.kneed_extended(), "ext_", 1)
+        )
+    if name == "double_pendulum":
+        return _dynamics_kernels(models.double_pendulum(), "")
+    raise ValueError(f"unknown generated module `{name}`; valid: {sorted(GENERATED_MODULES)}")
+
+
+def module_extra(name: str) -> str:
+    """Module-level constants appended to a generated module (point names)."""
+    if name == "compass":
+        return f"POINTS = {tuple(models.compass().points)!r}\n"
+    if name == "kneed":
+        return (
+            f"UNLOCKED_POINTS = {tuple(models.kneed_unlocked().points)!r}\n"
+            f"LOCKED_POINTS = {tuple(models.kneed_locked().points)!r}\n"
+        )
+    if name == "double_pendulum":
+        return f"POINTS = {tuple(models.double_pendulum().points)!r}\n"
+    return ""
+
+
+GENERATED_MODULES = {
+    "simplest": "Garcia's simplest walker (limit of the point-mass compass gait).",
+    "compass": "Compass gait: single-support dynamics and the floating-base heel-strike model.",
+    "kneed": "Kneed walker: knee-free (3-DOF) and knee-locked (2-DOF) swing, floating base.",
+    "double_pendulum": "The course's double pendulum (planar elbow coordinates).",
+}

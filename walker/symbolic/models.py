@@ -1,0 +1,387 @@
+"""The symbolic models walker ships, each a function returning :class:`LagrangianModel` s.
+
+Conventions (../shared/REFERENCES.md): world frame x forward, y up; the slope descends toward
++x at angle ``slope``; ``s = (cos slope, -sin slope)`` runs down the slope and
+``n = (sin slope, cos slope)`` is its outward normal.  Walker angles are absolute, from the
+vertical, counterclockwise positive; a leg at angle ``q`` points from foot to hip along
+``u(q) = (-sin q, cos q)``, so just after heel strike the stance angle is positive.  Heel
+strike on a point-foot walker happens at ``q_stance + q_swing = -2 slope``.
+
+Round feet: each foot is an arc of radius ``R`` whose centre sits on the leg, ``R`` above the
+foot's tip.  The stance foot rolls without slipping: with ``psi = q1 + slope`` the leg's angle
+from the slope normal, the contact point is ``-R psi s`` and the arc centre ``-R psi s + R n``
+(the stance contact is at the origin when ``psi = 0``).  ``R = 0`` gives point feet.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+
+import sympy as sp
+
+from walker.symbolic.mechanics import Body, LagrangianModel, derive
+
+__all__ = [
+    "simplest",
+    "compass",
+    "compass_extended",
+    "kneed_unlocked",
+    "kneed_locked",
+    "kneed_extended",
+    "double_pendulum",
+    "planar_elbow",
+    "MODEL_PARAMS",
+]
+
+# Canonical parameter order of every model: the order of the fields of the matching
+# dataclass in walker.params and of the vector ``p`` the generated kernels take.
+MODEL_PARAMS = {
+    "simplest": ("slope", "g", "leg_length"),
+    "compass": (
+        "mass_hip",
+        "mass_leg",
+        "com_from_foot",
+        "com_to_hip",
+        "inertia_leg",
+        "foot_radius",
+        "slope",
+        "g",
+    ),
+    "kneed": (
+        "mass_hip",
+        "mass_thigh",
+        "mass_shank",
+        "shank_com_from_foot",
+        "shank_com_to_knee",
+        "thigh_com_from_knee",
+        "thigh_com_to_hip",
+        "inertia_thigh",
+        "inertia_shank",
+        "offset_thigh",
+        "offset_shank",
+        "foot_radius",
+        "slope",
+        "g",
+    ),
+    "double_pendulum": (
+        "mass_1",
+        "mass_2",
+        "inertia_1",
+        "inertia_2",
+        "length_1",
+        "length_2",
+        "com_1",
+        "com_2",
+        "g",
+    ),
+}
+
+
+def param_symbols(model: str) -> tuple:
+    """The parameter symbols of ``model`` in canonical order (all real)."""
+    return tuple(sp.Symbol(name, real=True) for name in MODEL_PARAMS[model])
+
+
+def _u(angle):
+    """Unit vector from foot to hip of a leg at absolute angle ``angle``."""
+    return sp.Matrix([-sp.sin(angle), sp.cos(angle)])
+
+
+def _w(angle):
+    """Unit vector perpendicular to ``_u``, pointing forward when the leg is vertical."""
+    return sp.Matrix([sp.cos(angle), sp.sin(angle)])
+
+
+def _slope_frame(slope):
+    s = sp.Matrix([sp.cos(slope), -sp.sin(slope)])
+    n = sp.Matrix([sp.sin(slope), sp.cos(slope)])
+    return s, n
+
+
+def _coords(names):
+    q = sp.symbols(" ".join(names), real=True)
+    qd = sp.symbols(" ".join(f"{n}_dot" for n in names), real=True)
+    return tuple(q), tuple(qd)
+
+
+# --------------------------------------------------------------------------- simplest walker
+@cache
+def simplest() -> dict:
+    """Garcia's simplest walker, derived as the limit of a point-mass compass gait.
+
+    The compass gait with hip mass ``M``, foot masses ``m`` and massless legs of length ``l``
+    is written in Garcia's coordinates (``theta``: stance leg from the slope normal,
+    ``phi``: swing leg relative to the stance leg), then the stance row is divided by ``M``
+    and the swing row by ``m``, and ``beta = m/M -> 0`` (Garcia, Chatterjee, Ruina, Coleman
+    1998, J. Biomech. Eng. 120:281).  Both rows are exactly linear in ``beta`` after the
+    scaling, so the limit is a substitution.
+
+    Returns
+    -------
+    dict with keys ``q``, ``qd``, ``params``, ``qdd`` (Matrix (2, 1), the accelerations
+    ``(theta_ddot, phi_ddot)``), ``model`` (the finite-``beta`` LagrangianModel), ``beta``.
+    """
+    theta, phi = sp.symbols("theta phi", real=True)
+    thetad, phid = sp.symbols("theta_dot phi_dot", real=True)
+    slope, g, l = param_symbols("simplest")
+    beta = sp.Symbol("beta", positive=True)
+    # Work in the slope frame rotated into the world: stance foot at the origin.
+    s, n = _slope_frame(slope)
+    # Garcia's theta > 0 just after heel strike with the stance leg leaning back: the leg
+    # from foot to hip is -sin(theta) s + cos(theta) n.
+    hip = l * (-sp.sin(theta) * s + sp.cos(theta) * n)
+    swing_angle = theta - phi  # swing leg from the normal
+    foot = hip - l * (-sp.sin(swing_angle) * s + sp.cos(swing_angle) * n)
+    bodies = [Body("hip", sp.S.One, hip), Body("swing_foot", beta, foot)]
+    model = derive(
+        "simplest_finite",
+        (theta, phi),
+        (thetad, phid),
+        bodies,
+        g,
+        (slope, g, l, beta),
+        points={"hip": hip, "swing_foot": foot},
+    )
+    # D qdd + h = 0.  Stance row: take beta -> 0.  Swing row: divide by beta, then beta -> 0.
+    D0 = model.D.subs(beta, 0)
+    h0 = model.bias.subs(beta, 0)
+    Dsw = (model.D[1, :] / beta).applyfunc(sp.expand).subs(beta, 0)
+    hsw = sp.expand(model.bias[1] / beta).subs(beta, 0)
+    # Row 0 (beta = 0) involves theta_ddot only; row 1 then gives phi_ddot.
+    thdd = sp.Symbol("theta_ddot")
+    phdd = sp.Symbol("phi_ddot")
+    sol = sp.solve(
+        [D0[0, 0] * thdd + D0[0, 1] * phdd + h0[0], Dsw[0] * thdd + Dsw[1] * phdd + hsw],
+        [thdd, phdd],
+        dict=True,
+    )[0]
+    qdd = sp.Matrix([sol[thdd], sol[phdd]])
+    return {
+        "q": (theta, phi),
+        "qd": (thetad, phid),
+        "params": (slope, g, l),
+        "qdd": qdd,
+        "model": model,
+        "beta": beta,
+    }
+
+
+# ------------------------------------------------------------------------------ compass gait
+def _compass_bodies(q1, q2, hip, params, contact_center):
+    m_h, m, a, b, inertia, R, slope, g = params
+    L = a + b
+    del L, slope, g
+    u1, u2 = _u(q1), _u(q2)
+    stance_mass = contact_center + (a - R) * u1
+    swing_mass = hip - b * u2
+    bodies = [
+        Body("hip", m_h, hip),
+        Body("stance_leg", m, stance_mass, q1, inertia),
+        Body("swing_leg", m, swing_mass, q2, inertia),
+    ]
+    return bodies
+
+
+@cache
+def compass() -> LagrangianModel:
+    """Compass gait in single support (stance foot pinned, or rolling when R > 0).
+
+    Coordinates ``(q_stance, q_swing)``, absolute from the vertical, counterclockwise
+    positive (Goswami, Thuilot, Espiau, INRIA RR-2996, 1996).  Leg mass ``m`` at ``a`` from
+    the foot (``b`` below the hip), rotational inertia ``I`` about it, hip mass ``m_H``.
+    """
+    params = param_symbols("compass")
+    m_h, m, a, b, inertia, R, slope, g = params
+    (q1, q2), (q1d, q2d) = _coords(("q_stance", "q_swing"))
+    s, n = _slope_frame(slope)
+    L = a + b
+    center = -R * (q1 + slope) * s + R * n
+    hip = center + (L - R) * _u(q1)
+    swing_center = hip - (L - R) * _u(q2)
+    points = {
+        "stance_contact": center - R * n,
+        "hip": hip,
+        "swing_center": swing_center,
+        "swing_contact": swing_center - R * n,
+    }
+    bodies = _compass_bodies(q1, q2, hip, params, center)
+    return derive("compass", (q1, q2), (q1d, q2d), bodies, g, params, points=points)
+
+
+@cache
+def compass_extended() -> LagrangianModel:
+    """Floating-base compass gait for heel strike: ``(q_stance, q_swing, x_hip, y_hip)``.
+
+    Points ``stance_contact`` and ``swing_contact`` are the lowest points of the two foot
+    arcs; their *material* velocities (used as impact constraints) are returned by
+    :func:`contact_velocity_jacobian`.
+    """
+    params = param_symbols("compass")
+    m_h, m, a, b, inertia, R, slope, g = params
+    (q1, q2, xh, yh), (q1d, q2d, xhd, yhd) = _coords(("q_stance", "q_swing", "x_hip", "y_hip"))
+    s, n = _slope_frame(slope)
+    L = a + b
+    hip = sp.Matrix([xh, yh])
+    stance_center = hip - (L - R) * _u(q1)
+    swing_center = hip - (L - R) * _u(q2)
+    points = {
+        "stance_center": stance_center,
+        "swing_center": swing_center,
+        "stance_contact": stance_center - R * n,
+        "swing_contact": swing_center - R * n,
+        "hip": hip,
+    }
+    bodies = _compass_bodies(q1, q2, hip, params, stance_center)
+    return derive(
+        "compass_extended", (q1, q2, xh, yh), (q1d, q2d, xhd, yhd), bodies, g, params,
+        points=points,
+    )
+
+
+def contact_velocity_jacobian(model: LagrangianModel, center: str, angle_index: int, R, slope):
+    """Jacobian of the velocity of the foot's material point at the contact, shape (2, n).
+
+    The contact point is ``R`` below the arc centre along the slope normal; for a foot
+    rotating at ``omega`` its material velocity is ``v_center + omega R s``.
+    """
+    s, _ = _slope_frame(slope)
+    J = model.point_jacobian(center)
+    e = sp.zeros(1, model.n)
+    e[0, angle_index] = 1
+    return J + R * s * e
+
+
+# ---------------------------------------------------------------------------- kneed walker
+def _kneed_bodies(q1, q2, q3, hip, params, stance_center):
+    (m_h, m_t, m_s, a1, b1, a2, b2, I_t, I_s, off_t, off_s, R, slope, g) = params
+    del slope, g, a2
+    l_t = sp.Symbol("thigh_com_from_knee", real=True) + b2
+    u1, u2, u3 = _u(q1), _u(q2), _u(q3)
+    w1, w2, w3 = _w(q1), _w(q2), _w(q3)
+    knee = hip - l_t * u2
+    return [
+        Body("hip", m_h, hip),
+        Body("stance_shank", m_s, stance_center + (a1 - R) * u1 + off_s * w1, q1, I_s),
+        Body("stance_thigh", m_t, hip - b2 * u1 + off_t * w1, q1, I_t),
+        Body("swing_thigh", m_t, hip - b2 * u2 + off_t * w2, q2, I_t),
+        Body("swing_shank", m_s, knee - b1 * u3 + off_s * w3, q3, I_s),
+    ], knee
+
+
+def _kneed_geometry(params):
+    (m_h, m_t, m_s, a1, b1, a2, b2, I_t, I_s, off_t, off_s, R, slope, g) = params
+    l_s = a1 + b1
+    l_t = a2 + b2
+    return l_s, l_t, l_s + l_t
+
+
+@cache
+def kneed_unlocked() -> LagrangianModel:
+    """Kneed walker, knee free: ``(q1 stance leg, q2 swing thigh, q3 swing shank)``.
+
+    Five masses as in Hsu Chen (2007, MIT M.Eng. thesis) and McGeer (1990): hip ``m_H``; on
+    each leg a thigh mass ``m_t`` at ``b2`` below the hip (``a2`` above the knee) and a shank
+    mass ``m_s`` at ``b1`` below the knee (``a1`` above the foot), with optional inertias and
+    fore-aft offsets (McGeer).  The stance leg is rigid (its knee is locked).
+    """
+    params = param_symbols("kneed")
+    R, slope, g = params[11], params[12], params[13]
+    (q1, q2, q3), (q1d, q2d, q3d) = _coords(("q1", "q2", "q3"))
+    s, n = _slope_frame(slope)
+    l_s, l_t, L = _kneed_geometry(params)
+    center = -R * (q1 + slope) * s + R * n
+    hip = center + (L - R) * _u(q1)
+    bodies, knee = _kneed_bodies(q1, q2, q3, hip, params, center)
+    swing_center = knee - (l_s - R) * _u(q3)
+    points = {
+        "stance_contact": center - R * n,
+        "hip": hip,
+        "knee": knee,
+        "swing_center": swing_center,
+        "swing_contact": swing_center - R * n,
+    }
+    return derive(
+        "kneed_unlocked", (q1, q2, q3), (q1d, q2d, q3d), bodies, g, params, points=points
+    )
+
+
+@cache
+def kneed_locked() -> LagrangianModel:
+    """Kneed walker with the swing knee locked: ``(q1 stance leg, q2 swing leg)``."""
+    full = kneed_unlocked()
+    q1, q2, q3 = full.q
+    params = full.params
+    g = params[13]
+    (p1, p2), (p1d, p2d) = _coords(("q1", "q2"))
+    sub = {q1: p1, q2: p2, q3: p2}
+    bodies = [
+        Body(b.name, b.mass, b.position.subs(sub), None if b.angle is None else b.angle.subs(sub),
+             b.inertia)
+        for b in full.bodies
+    ]
+    points = {k: v.subs(sub) for k, v in full.points.items()}
+    return derive("kneed_locked", (p1, p2), (p1d, p2d), bodies, g, params, points=points)
+
+
+@cache
+def kneed_extended() -> LagrangianModel:
+    """Floating-base kneed walker with the swing knee locked, for heel strike.
+
+    Coordinates ``(q1, q2, x_hip, y_hip)``: both legs straight (heel strike is accepted only
+    with the knee locked), the hip free.
+    """
+    params = param_symbols("kneed")
+    R, slope, g = params[11], params[12], params[13]
+    (q1, q2, xh, yh), (q1d, q2d, xhd, yhd) = _coords(("q1", "q2", "x_hip", "y_hip"))
+    s, n = _slope_frame(slope)
+    l_s, l_t, L = _kneed_geometry(params)
+    hip = sp.Matrix([xh, yh])
+    stance_center = hip - (L - R) * _u(q1)
+    bodies, knee = _kneed_bodies(q1, q2, q2, hip, params, stance_center)
+    swing_center = hip - (L - R) * _u(q2)
+    points = {
+        "stance_center": stance_center,
+        "swing_center": swing_center,
+        "stance_contact": stance_center - R * n,
+        "swing_contact": swing_center - R * n,
+        "hip": hip,
+    }
+    return derive(
+        "kneed_extended", (q1, q2, xh, yh), (q1d, q2d, xhd, yhd), bodies, g, params,
+        points=points,
+    )
+
+
+# ------------------------------------------------------------------ the course's two-link arms
+@cache
+def double_pendulum() -> LagrangianModel:
+    """The course's double pendulum: link 1 hinged at the origin, ``q1`` from the +x axis,
+    ``q2`` relative to link 1 (the planar elbow manipulator's coordinates, Spong et al.)."""
+    params = param_symbols("double_pendulum")
+    m1, m2, I1, I2, l1, l2, c1, c2, g = params
+    (q1, q2), (q1d, q2d) = _coords(("q1", "q2"))
+    e1 = sp.Matrix([sp.cos(q1), sp.sin(q1)])
+    e12 = sp.Matrix([sp.cos(q1 + q2), sp.sin(q1 + q2)])
+    elbow = l1 * e1
+    bodies = [
+        Body("link_1", m1, c1 * e1, q1, I1),
+        Body("link_2", m2, elbow + c2 * e12, q1 + q2, I2),
+    ]
+    points = {"elbow": elbow, "tip": elbow + l2 * e12}
+    return derive("double_pendulum", (q1, q2), (q1d, q2d), bodies, g, params, points=points)
+
+
+@cache
+def planar_elbow() -> LagrangianModel:
+    """The planar elbow manipulator: the double pendulum with a torque at each joint."""
+    dp = double_pendulum()
+    return derive(
+        "planar_elbow",
+        dp.q,
+        dp.qd,
+        dp.bodies,
+        dp.params[-1],
+        dp.params,
+        points=dp.points,
+        B=sp.eye(2),
+    )
