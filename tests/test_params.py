@@ -1,0 +1,400 @@
+"""Parameter dataclasses: canonical order, validation messages, presets, conversions."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+from walker.params import (
+    HAS_EVENTS,
+    PARAMS,
+    STATE_NAMES,
+    CompassParams,
+    DoublePendulumParams,
+    KneedParams,
+    SimplestParams,
+    params_class,
+)
+
+ALL_PRESETS = [(cls, name) for cls in PARAMS.values() for name in cls.PRESETS]
+ALL_FIELDS = [(cls, name) for cls in PARAMS.values() for name in cls.names()]
+
+
+def _ids(pairs):
+    return [f"{cls.__name__}.{name}" for cls, name in pairs]
+
+
+def _base(cls):
+    return cls.preset(cls.PRESETS[0])
+
+
+# ---- canonical order and metadata --------------------------------------------------------
+def test_field_order_is_the_kernel_order():
+    assert SimplestParams.names() == ("slope", "g", "leg_length")
+    assert CompassParams.names() == (
+        "mass_hip",
+        "mass_leg",
+        "com_from_foot",
+        "com_to_hip",
+        "inertia_leg",
+        "foot_radius",
+        "slope",
+        "g",
+    )
+    assert KneedParams.names() == (
+        "mass_hip",
+        "mass_thigh",
+        "mass_shank",
+        "shank_com_from_foot",
+        "shank_com_to_knee",
+        "thigh_com_from_knee",
+        "thigh_com_to_hip",
+        "inertia_thigh",
+        "inertia_shank",
+        "offset_thigh",
+        "offset_shank",
+        "foot_radius",
+        "slope",
+        "g",
+    )
+    assert DoublePendulumParams.names() == (
+        "mass_1",
+        "mass_2",
+        "inertia_1",
+        "inertia_2",
+        "length_1",
+        "length_2",
+        "com_1",
+        "com_2",
+        "g",
+    )
+
+
+@pytest.mark.parametrize(("cls", "name"), ALL_FIELDS, ids=_ids(ALL_FIELDS))
+def test_every_field_has_unit_doc_bounds_and_no_default(cls, name):
+    f = {f.name: f for f in dataclasses.fields(cls)}[name]
+    assert f.default is dataclasses.MISSING
+    assert f.default_factory is dataclasses.MISSING
+    assert f.metadata["unit"] and f.metadata["doc"]
+    assert len(f.metadata["bounds"]) == 2
+    assert isinstance(f.metadata["lo_open"], bool) and isinstance(f.metadata["hi_open"], bool)
+
+
+def test_units_and_docs_follow_the_canonical_order():
+    units = CompassParams.units()
+    assert tuple(units) == CompassParams.names()
+    assert units["mass_hip"] == "kg"
+    assert units["inertia_leg"] == "kg m^2"
+    assert units["slope"] == "rad"
+    assert units["g"] == "m/s^2"
+    assert tuple(KneedParams.docs()) == KneedParams.names()
+    assert CompassParams.bounds()["mass_hip"] == (0.0, None)
+    assert CompassParams.n_params() == 8
+
+
+def test_registry_tables_agree():
+    assert set(PARAMS) == set(STATE_NAMES) == set(HAS_EVENTS)
+    assert [len(STATE_NAMES[m]) for m in PARAMS] == [4, 4, 6, 4]
+    for model, cls in PARAMS.items():
+        assert cls.MODEL == model
+        assert params_class(model) is cls
+
+
+def test_params_class_unknown_model():
+    with pytest.raises(ValueError, match=r"unknown model 'biped'; valid models: simplest, "):
+        params_class("biped")
+
+
+# ---- presets -----------------------------------------------------------------------------
+@pytest.mark.parametrize(("cls", "preset"), ALL_PRESETS, ids=_ids(ALL_PRESETS))
+def test_presets_round_trip(cls, preset):
+    p = cls.preset(preset)
+    arr = p.as_array()
+    assert arr.dtype == np.float64 and arr.shape == (cls.n_params(),)
+    assert cls.from_array(arr) == p
+    assert cls.from_dict(p.to_dict()) == p
+    assert list(p.to_dict()) == list(cls.names())
+    assert all(type(v) is float for v in p.to_dict().values())
+    assert getattr(cls, preset)() == p
+
+
+def test_preset_unknown_name_and_overrides():
+    with pytest.raises(
+        ValueError,
+        match=r"unknown KneedParams preset `hsu`; valid presets: "
+        r"hsu_chen, mcgeer",
+    ):
+        KneedParams.preset("hsu")
+    assert KneedParams.preset("hsu_chen", slope=0.04).slope == 0.04
+    with pytest.raises(ValueError, match=r"`slope` must be in \(-pi/2, pi/2\)"):
+        KneedParams.preset("hsu_chen", slope=2.0)
+
+
+def test_garcia_preset():
+    # Garcia et al. 1998: g = l = 1, stable gait studied at gamma = 0.009
+    assert SimplestParams.garcia() == SimplestParams(slope=0.009, g=1.0, leg_length=1.0)
+    assert SimplestParams.garcia(slope=0.01).slope == 0.01
+
+
+def test_goswami_and_drake_presets():
+    p = CompassParams.goswami()
+    # Goswami, Thuilot, Espiau 1996: m_H = 10, m = 5, a = b = 0.5, 3 degrees; g = 9.8 (Spong 2007)
+    assert (p.mass_hip, p.mass_leg, p.com_from_foot, p.com_to_hip) == (10.0, 5.0, 0.5, 0.5)
+    assert (p.inertia_leg, p.foot_radius, p.g) == (0.0, 0.0, 9.8)
+    assert_allclose(p.slope, 3.0 * math.pi / 180.0, rtol=1e-15, atol=0)
+    assert p.leg_length == 1.0
+    assert CompassParams.goswami(slope=0.06).slope == 0.06
+    # Drake examples/compass_gait/compass_gait_params_named_vector.yaml
+    d = CompassParams.drake()
+    assert (d.mass_hip, d.mass_leg, d.leg_length, d.com_to_hip) == (10.0, 5.0, 1.0, 0.5)
+    assert (d.slope, d.g) == (0.0525, 9.81)
+
+
+def test_hsu_chen_preset():
+    p = KneedParams.hsu_chen()
+    # Hsu Chen 2007: l_s = l_t = 0.5, L = 1, slope asin(7.25/144) ~ 0.0504
+    assert p.shank_length == 0.5 and p.thigh_length == 0.5 and p.leg_length == 1.0
+    assert_allclose(p.slope, 0.0504, rtol=0, atol=5e-5)
+    assert_allclose(math.sin(p.slope), 7.25 / 144, rtol=1e-15, atol=0)
+    assert (p.mass_hip, p.mass_thigh, p.mass_shank, p.g) == (0.5, 0.5, 0.05, 9.8)
+
+
+def test_mcgeer_preset():
+    p = KneedParams.mcgeer()
+    # McGeer 1990: total mass 1, leg length 1, thigh 0.46 / shank 0.54,
+    # radii of gyration 0.135 (thigh) and 0.186 (shank)
+    total = p.mass_hip + 2.0 * (p.mass_thigh + p.mass_shank)
+    assert_allclose(total, 1.0, rtol=1e-15, atol=0)
+    assert_allclose(
+        [p.thigh_length, p.shank_length, p.leg_length], [0.46, 0.54, 1.0], rtol=1e-15, atol=0
+    )
+    assert_allclose(math.sqrt(p.inertia_thigh / p.mass_thigh), 0.135, rtol=1e-15, atol=0)
+    assert_allclose(math.sqrt(p.inertia_shank / p.mass_shank), 0.186, rtol=1e-15, atol=0)
+    assert (p.thigh_com_to_hip, p.shank_com_to_knee) == (0.20, 0.24)
+    assert (p.offset_shank, p.offset_thigh, p.foot_radius, p.slope, p.g) == (
+        0.01,
+        0.0,
+        0.2,
+        0.0456,
+        1.0,
+    )
+
+
+def test_course_preset():
+    p = DoublePendulumParams.course()
+    assert_allclose(p.as_array(), [1, 1, 0.5, 0.5, 1, 1, 0.5, 0.5, 10], rtol=0, atol=0)
+
+
+# ---- type and finiteness -----------------------------------------------------------------
+@pytest.mark.parametrize(("cls", "name"), ALL_FIELDS, ids=_ids(ALL_FIELDS))
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
+def test_nonfinite_rejected(cls, name, bad):
+    with pytest.raises(ValueError, match=rf"^`{name}` must be finite, got (nan|inf|-inf)$"):
+        _base(cls).replace(**{name: bad})
+
+
+@pytest.mark.parametrize(("cls", "name"), ALL_FIELDS, ids=_ids(ALL_FIELDS))
+@pytest.mark.parametrize("bad", [True, "1.0", None, 1 + 0j, [1.0]], ids=repr)
+def test_non_numbers_rejected(cls, name, bad):
+    with pytest.raises(TypeError, match=rf"^`{name}` must be a real number, got "):
+        _base(cls).replace(**{name: bad})
+
+
+def test_numpy_and_int_values_are_stored_as_float():
+    p = CompassParams.goswami().replace(mass_hip=np.float32(2.0), mass_leg=3)
+    assert type(p.mass_hip) is float and type(p.mass_leg) is float
+    assert (p.mass_hip, p.mass_leg) == (2.0, 3.0)
+    with pytest.raises(TypeError, match=r"`mass_hip` must be a real number, got bool np.True_"):
+        p.replace(mass_hip=np.True_)
+
+
+# ---- bounds: one case per bound ----------------------------------------------------------
+BOUND_CASES = [
+    (SimplestParams, "slope", 1.6, r"`slope` must be in \(-pi/2, pi/2\) \[rad\], got 1.6"),
+    (SimplestParams, "slope", -math.pi / 2, r"`slope` must be in \(-pi/2, pi/2\) \[rad\]"),
+    (SimplestParams, "g", 0.0, r"`g` must be > 0 \[m/s\^2\], got 0.0"),
+    (SimplestParams, "leg_length", -1.0, r"`leg_length` must be > 0 \[m\], got -1.0"),
+    (CompassParams, "mass_hip", -1.0, r"`mass_hip` must be > 0 \[kg\], got -1.0"),
+    (CompassParams, "mass_hip", 0.0, r"`mass_hip` must be > 0 \[kg\], got 0.0"),
+    (CompassParams, "mass_leg", 0.0, r"`mass_leg` must be > 0 \[kg\], got 0.0"),
+    (CompassParams, "com_from_foot", -0.1, r"`com_from_foot` must be >= 0 \[m\], got -0.1"),
+    (CompassParams, "com_to_hip", -0.1, r"`com_to_hip` must be >= 0 \[m\], got -0.1"),
+    (CompassParams, "inertia_leg", -1e-3, r"`inertia_leg` must be >= 0 \[kg m\^2\], got"),
+    (CompassParams, "foot_radius", -0.1, r"`foot_radius` must be >= 0 \[m\], got -0.1"),
+    (CompassParams, "slope", math.pi / 2, r"`slope` must be in \(-pi/2, pi/2\) \[rad\]"),
+    (CompassParams, "g", -9.8, r"`g` must be > 0 \[m/s\^2\], got -9.8"),
+    (KneedParams, "mass_hip", 0.0, r"`mass_hip` must be > 0 \[kg\]"),
+    (KneedParams, "mass_thigh", -0.5, r"`mass_thigh` must be > 0 \[kg\], got -0.5"),
+    (KneedParams, "mass_shank", 0.0, r"`mass_shank` must be > 0 \[kg\]"),
+    (KneedParams, "shank_com_from_foot", -0.1, r"`shank_com_from_foot` must be >= 0 \[m\]"),
+    (KneedParams, "shank_com_to_knee", -0.1, r"`shank_com_to_knee` must be >= 0 \[m\]"),
+    (KneedParams, "thigh_com_from_knee", -0.1, r"`thigh_com_from_knee` must be >= 0 \[m\]"),
+    (KneedParams, "thigh_com_to_hip", -0.1, r"`thigh_com_to_hip` must be >= 0 \[m\]"),
+    (KneedParams, "inertia_thigh", -1.0, r"`inertia_thigh` must be >= 0 \[kg m\^2\]"),
+    (KneedParams, "inertia_shank", -1.0, r"`inertia_shank` must be >= 0 \[kg m\^2\]"),
+    (KneedParams, "foot_radius", -0.01, r"`foot_radius` must be >= 0 \[m\], got -0.01"),
+    (KneedParams, "slope", -2.0, r"`slope` must be in \(-pi/2, pi/2\) \[rad\], got -2.0"),
+    (KneedParams, "g", 0.0, r"`g` must be > 0 \[m/s\^2\]"),
+    (DoublePendulumParams, "mass_1", 0.0, r"`mass_1` must be > 0 \[kg\]"),
+    (DoublePendulumParams, "mass_2", -1.0, r"`mass_2` must be > 0 \[kg\]"),
+    (DoublePendulumParams, "inertia_1", -1.0, r"`inertia_1` must be >= 0 \[kg m\^2\]"),
+    (DoublePendulumParams, "inertia_2", -1.0, r"`inertia_2` must be >= 0 \[kg m\^2\]"),
+    (DoublePendulumParams, "length_1", 0.0, r"`length_1` must be > 0 \[m\]"),
+    (DoublePendulumParams, "length_2", 0.0, r"`length_2` must be > 0 \[m\]"),
+    (DoublePendulumParams, "com_1", -0.1, r"`com_1` must be >= 0 \[m\]"),
+    (DoublePendulumParams, "com_2", -0.1, r"`com_2` must be >= 0 \[m\]"),
+    (DoublePendulumParams, "g", -1.0, r"`g` must be >= 0 \[m/s\^2\], got -1.0"),
+]
+
+
+@pytest.mark.parametrize(
+    ("cls", "name", "value", "message"),
+    BOUND_CASES,
+    ids=[f"{c.__name__}.{n}={v}" for c, n, v, _ in BOUND_CASES],
+)
+def test_bounds(cls, name, value, message):
+    with pytest.raises(ValueError, match="^" + message):
+        _base(cls).replace(**{name: value})
+
+
+@pytest.mark.parametrize(("cls", "name"), ALL_FIELDS, ids=_ids(ALL_FIELDS))
+def test_every_bounded_field_has_a_bound_case(cls, name):
+    lo, hi = cls.bounds()[name]
+    if lo is None and hi is None:
+        assert name.startswith("offset_")  # the only unbounded fields (cross-field rule only)
+    else:
+        assert (cls, name) in {(c, n) for c, n, _, _ in BOUND_CASES}
+
+
+def test_closed_bounds_are_accepted():
+    CompassParams.goswami().replace(inertia_leg=0.0, foot_radius=0.0, com_to_hip=0.0)
+    DoublePendulumParams.course().replace(g=0.0, com_1=0.0, com_2=1.0)
+    KneedParams.hsu_chen().replace(offset_thigh=0.5, offset_shank=-0.5)
+    SimplestParams.garcia(slope=-1.5)
+
+
+# ---- cross-field rules -------------------------------------------------------------------
+CROSS_CASES = [
+    (
+        CompassParams,
+        {"com_from_foot": 0.0, "com_to_hip": 0.0},
+        r"leg length `com_from_foot \+ com_to_hip` must be > 0 \[m\], got 0.0",
+    ),
+    (
+        CompassParams,
+        {"foot_radius": 1.0},
+        r"`foot_radius` must be < leg length `com_from_foot \+ com_to_hip` = 1.0 \[m\], got 1.0",
+    ),
+    (
+        KneedParams,
+        {"shank_com_from_foot": 0.0, "shank_com_to_knee": 0.0},
+        r"shank length `shank_com_from_foot \+ shank_com_to_knee` must be > 0 \[m\], got 0.0",
+    ),
+    (
+        KneedParams,
+        {"thigh_com_from_knee": 0.0, "thigh_com_to_hip": 0.0},
+        r"thigh length `thigh_com_from_knee \+ thigh_com_to_hip` must be > 0 \[m\], got 0.0",
+    ),
+    (
+        KneedParams,
+        {"offset_thigh": 0.6},
+        r"\|`offset_thigh`\| must be <= thigh length 0.5 \[m\] .*, got 0.6",
+    ),
+    (
+        KneedParams,
+        {"offset_shank": -0.51},
+        r"\|`offset_shank`\| must be <= shank length 0.5 \[m\] .*, got -0.51",
+    ),
+    (KneedParams, {"foot_radius": 0.5}, r"`foot_radius` must be < shank length 0.5 \[m\]"),
+    (
+        DoublePendulumParams,
+        {"com_1": 1.5},
+        r"`com_1` must be <= `length_1` = 1.0 \[m\] \(centre of mass inside its link\), got 1.5",
+    ),
+    (DoublePendulumParams, {"com_2": 1.01}, r"`com_2` must be <= `length_2` = 1.0 \[m\]"),
+]
+
+
+@pytest.mark.parametrize(("cls", "changes", "message"), CROSS_CASES)
+def test_cross_field_rules(cls, changes, message):
+    with pytest.raises(ValueError, match="^" + message):
+        _base(cls).replace(**changes)
+
+
+def test_foot_radius_may_exceed_com_from_foot():
+    # only R < leg length is required, not R <= a
+    p = CompassParams.goswami().replace(foot_radius=0.7)
+    assert p.foot_radius > p.com_from_foot
+
+
+def test_leg_length_after_change():
+    p = KneedParams.hsu_chen().replace(shank_com_from_foot=0.5, thigh_com_to_hip=0.4)
+    assert (p.shank_length, p.thigh_length, p.leg_length) == (0.625, 0.575, 1.2)
+
+
+# ---- conversions -------------------------------------------------------------------------
+def test_frozen_and_replace_copies():
+    p = CompassParams.goswami()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        p.mass_hip = 1.0  # type: ignore[misc]
+    q = p.replace(mass_hip=2.0)
+    assert q.mass_hip == 2.0 and p.mass_hip == 10.0
+    assert q.as_array()[0] == 2.0
+
+
+def test_replace_unknown_name():
+    with pytest.raises(
+        ValueError,
+        match=r"unknown CompassParams parameter\(s\) `mas_hip`; valid names: mass_hip, mass_leg,",
+    ):
+        CompassParams.goswami().replace(mas_hip=1.0)
+
+
+def test_from_array_validates():
+    good = CompassParams.goswami().as_array()
+    with pytest.raises(
+        ValueError,
+        match=r"`p` must have shape \(8,\) for CompassParams .*"
+        r"got shape \(7,\)",
+    ):
+        CompassParams.from_array(good[:7])
+    with pytest.raises(ValueError, match=r"`p` must have shape \(8,\).*got shape \(1, 8\)"):
+        CompassParams.from_array(good[None, :])
+    with pytest.raises(TypeError, match=r"`p` must hold real numbers, got dtype complex128"):
+        CompassParams.from_array(good.astype(complex))
+    bad = good.copy()
+    bad[1] = -5.0
+    with pytest.raises(ValueError, match=r"`mass_leg` must be > 0 \[kg\], got -5.0"):
+        CompassParams.from_array(bad)
+    bad[1] = np.nan
+    with pytest.raises(ValueError, match=r"`mass_leg` must be finite, got nan"):
+        CompassParams.from_array(bad)
+    # the array is not aliased
+    p = CompassParams.from_array(good)
+    good[0] = 99.0
+    assert p.mass_hip == 10.0
+
+
+def test_from_dict_unknown_and_missing_keys():
+    d = KneedParams.hsu_chen().to_dict()
+    with pytest.raises(
+        ValueError,
+        match=r"unknown KneedParams key\(s\) `knee`; valid keys: "
+        r"mass_hip, mass_thigh",
+    ):
+        KneedParams.from_dict({**d, "knee": 1.0})
+    del d["g"], d["slope"]
+    with pytest.raises(ValueError, match=r"missing KneedParams key\(s\) `slope`, `g`$"):
+        KneedParams.from_dict(d)
+    with pytest.raises(TypeError, match=r"`d` must be a mapping, got list"):
+        KneedParams.from_dict([1.0])
+    with pytest.raises(ValueError, match=r"`mass_hip` must be > 0 \[kg\], got -1.0"):
+        KneedParams.from_dict({**KneedParams.hsu_chen().to_dict(), "mass_hip": -1.0})
+
+
+def test_value_equality_and_hash():
+    assert CompassParams.goswami() == CompassParams.goswami()
+    assert hash(CompassParams.goswami()) == hash(CompassParams.goswami())
+    assert CompassParams.goswami() != CompassParams.drake()

@@ -1,0 +1,456 @@
+"""Scene files: the shipped gaits load, and every malformed file fails with a pinned message."""
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+from walker.params import STATE_NAMES, CompassParams, KneedParams
+from walker.scene import ComputeSettings, Scene, load_scene
+from walker.status import METHOD_DOP853, METHOD_DP5, METHOD_EULER, METHOD_RK4
+
+GAITS = Path(__file__).resolve().parent.parent / "gaits"
+SHIPPED = [
+    "simplest_garcia",
+    "compass_goswami",
+    "kneed_hsu",
+    "kneed_mcgeer_roundfoot",
+    "double_pendulum",
+]
+
+COMPASS_FULL = """\
+mass_hip = 10.0
+mass_leg = 5.0
+com_from_foot = 0.5
+com_to_hip = 0.5
+inertia_leg = 0.0
+foot_radius = 0.0
+slope = 0.05
+g = 9.8"""
+
+BASE = {
+    "scene": 'model = "compass"\ndescription = "test"',
+    "parameters": COMPASS_FULL,
+    "initial": "state = [0.2187, -0.3234, -1.0918, -0.3772]",
+}
+
+
+def _text(sections):
+    return "\n".join(f"[{name}]\n{body}\n" for name, body in sections.items() if body is not None)
+
+
+def _write(tmp_path, sections=None, raw=None, name="x.toml"):
+    """Write BASE updated with ``sections`` (None drops a table), or ``raw`` text."""
+    path = tmp_path / name
+    path.write_text(raw if raw is not None else _text({**BASE, **(sections or {})}))
+    return path
+
+
+def _fails(tmp_path, message, sections=None, raw=None, overrides=None):
+    """Assert load_scene raises ValueError: '<path>: ' + message (a regex)."""
+    path = _write(tmp_path, sections, raw)
+    with pytest.raises(ValueError, match="^" + re.escape(str(path)) + ": " + message):
+        load_scene(path, overrides=overrides)
+
+
+# ---- shipped scenes ----------------------------------------------------------------------
+@pytest.mark.parametrize("name", SHIPPED)
+def test_shipped_scenes_load(name):
+    scene = load_scene(GAITS / f"{name}.toml")
+    assert isinstance(scene, Scene)
+    assert scene.name == name
+    assert scene.path == GAITS / f"{name}.toml"
+    assert scene.state.shape == (len(STATE_NAMES[scene.model]),)
+    assert scene.state.dtype == np.float64
+    assert scene.description and scene.source
+    assert scene.reference is None  # no high-accuracy values yet
+    assert type(scene.params).MODEL == scene.model
+
+
+def test_shipped_scene_contents():
+    s = load_scene(GAITS / "simplest_garcia.toml")
+    assert s.params.slope == 0.009 and s.params.g == 1.0
+    theta, phi, theta_dot, phi_dot = s.state
+    # Garcia et al. 1998 stable gait at gamma = 0.009
+    assert (theta, theta_dot) == (0.20031090049483, -0.19983247291764)
+    # the state is the image of a heel strike (Garcia's transition rule) from theta_minus
+    theta_minus = -theta
+    theta_dot_minus = theta_dot / math.cos(2 * theta_minus)
+    c = math.cos(2 * theta_minus)
+    assert_allclose(phi, -2 * theta_minus, rtol=1e-15, atol=0)
+    assert_allclose(phi_dot, c * (1 - c) * theta_dot_minus, rtol=1e-14, atol=0)
+
+    c = load_scene(GAITS / "compass_goswami.toml")
+    assert c.params == CompassParams.goswami()
+    assert_allclose(c.state, [0.2187, -0.3234, -1.0918, -0.3772], rtol=0, atol=0)  # Spong 2007
+
+    k = load_scene(GAITS / "kneed_hsu.toml")
+    assert k.params == KneedParams.hsu_chen()
+    # Hsu Chen 2007 thesis fixed point
+    assert_allclose(k.state, [0.1877, -0.2884, -0.2884, -1.1014, -0.0399, -0.0399], rtol=0, atol=0)
+
+    m = load_scene(GAITS / "kneed_mcgeer_roundfoot.toml")
+    assert m.params == KneedParams.mcgeer()
+    assert "GUESS" in m.description
+    assert_allclose(m.state[:3], k.state[:3], rtol=0, atol=0)
+    assert_allclose(m.state[3:], k.state[3:] / math.sqrt(9.8), rtol=1e-15, atol=0)
+
+    d = load_scene(GAITS / "double_pendulum.toml")
+    assert_allclose(d.state, [math.pi / 2 - 0.1, math.pi, 0.0, 0.0], rtol=1e-16, atol=0)
+    assert (d.compute.task, d.compute.strides, d.compute.t_max) == ("simulate", 0, 10.0)
+
+
+def test_state_is_read_only():
+    scene = load_scene(GAITS / "compass_goswami.toml")
+    with pytest.raises(ValueError, match="read-only"):
+        scene.state[0] = 1.0
+
+
+# ---- parameters, presets, overrides ------------------------------------------------------
+def test_full_parameters_table(tmp_path):
+    scene = load_scene(_write(tmp_path))
+    assert scene.params == CompassParams.goswami(slope=0.05)
+    assert scene.compute == ComputeSettings()  # every default
+    assert scene.phase == 0 and scene.source == "" and scene.description == "test"
+
+
+def test_preset_with_table_overrides(tmp_path):
+    path = _write(tmp_path, {"parameters": 'preset = "drake"\nmass_hip = 12'})
+    assert load_scene(path).params == CompassParams.drake().replace(mass_hip=12.0)
+
+
+def test_call_overrides_apply(tmp_path):
+    path = _write(tmp_path)
+    scene = load_scene(path, overrides={"slope": 0.06, "mass_leg": "4.5"})
+    assert (scene.params.slope, scene.params.mass_leg) == (0.06, 4.5)
+    assert load_scene(path, overrides={}).params.slope == 0.05
+
+
+def test_overrides_can_repair_and_are_validated(tmp_path):
+    path = _write(
+        tmp_path, {"parameters": COMPASS_FULL.replace("mass_hip = 10.0", "mass_hip = -1")}
+    )
+    assert load_scene(path, overrides={"mass_hip": 3}).params.mass_hip == 3.0
+    _fails(
+        tmp_path,
+        r"\[parameters\] \(with overrides `mass_hip`\) `mass_hip` must be > 0 \[kg\], got -2.0$",
+        overrides={"mass_hip": -2.0},
+    )
+    _fails(
+        tmp_path,
+        r"\[overrides\] unknown parameter `mas_hip` for model compass; valid names: mass_hip,",
+        overrides={"mas_hip": 1.0},
+    )
+    _fails(
+        tmp_path,
+        r"\[overrides\] `slope` must be a number, got 'steep'$",
+        overrides={"slope": "steep"},
+    )
+    _fails(
+        tmp_path, r"\[overrides\] `slope` must be a number, got True$", overrides={"slope": True}
+    )
+    _fails(
+        tmp_path,
+        r"\[parameters\] \(with overrides `g`\) `g` must be finite",
+        overrides={"g": "nan"},
+    )
+    with pytest.raises(TypeError, match=r"`overrides` must be a mapping"):
+        load_scene(path, overrides=[("slope", 0.1)])
+
+
+def test_replace_params(tmp_path):
+    scene = load_scene(_write(tmp_path))
+    other = scene.replace_params(slope=0.07)
+    assert other.params.slope == 0.07 and scene.params.slope == 0.05
+    assert other.state is scene.state and other.name == scene.name
+    with pytest.raises(ValueError, match=r"`slope` must be in \(-pi/2, pi/2\)"):
+        scene.replace_params(slope=3.0)
+    with pytest.raises(ValueError, match=r"unknown CompassParams parameter\(s\) `slop`"):
+        scene.replace_params(slop=0.1)
+
+
+def test_state_names():
+    assert load_scene(GAITS / "kneed_hsu.toml").state_names == (
+        "q1",
+        "q2",
+        "q3",
+        "qd1",
+        "qd2",
+        "qd3",
+    )
+
+
+# ---- file-level errors -------------------------------------------------------------------
+def test_missing_file(tmp_path):
+    path = tmp_path / "nope.toml"
+    with pytest.raises(FileNotFoundError, match=re.escape(f"scene file not found: {path}")):
+        load_scene(path)
+
+
+def test_bad_toml(tmp_path):
+    _fails(
+        tmp_path, r"invalid TOML: .*\(at line 2, column \d+\)", raw='[scene]\nmodel = "compass\n'
+    )
+
+
+def test_unknown_table(tmp_path):
+    _fails(
+        tmp_path,
+        r"unknown table \[output\]; valid tables: \[scene\], \[parameters\], \[initial\], "
+        r"\[compute\], \[reference\]$",
+        {"output": 'file = "x"'},
+    )
+    _fails(tmp_path, r"unknown table \[model\]", raw='model = "compass"\n' + _text(BASE))
+
+
+@pytest.mark.parametrize("table", ["scene", "parameters", "initial"])
+def test_missing_required_table(tmp_path, table):
+    _fails(tmp_path, rf"missing required table \[{table}\]$", {table: None})
+
+
+def test_table_of_wrong_type(tmp_path):
+    raw = "scene = 3\n" + _text({k: v for k, v in BASE.items() if k != "scene"})
+    _fails(tmp_path, r"`scene` must be a table \[scene\], got int$", raw=raw)
+
+
+# ---- [scene] -----------------------------------------------------------------------------
+def test_scene_table_errors(tmp_path):
+    _fails(
+        tmp_path,
+        r"\[scene\] unknown key `name`; valid keys: model, description, source$",
+        {"scene": 'model = "compass"\nname = "x"'},
+    )
+    _fails(tmp_path, r"\[scene\] missing required key `model`$", {"scene": 'description = "x"'})
+    _fails(tmp_path, r"\[scene\] `model` must be a string, got 3$", {"scene": "model = 3"})
+    _fails(
+        tmp_path,
+        r"\[scene\] `model` must be one of simplest, compass, kneed, "
+        r"double_pendulum, got 'biped'$",
+        {"scene": 'model = "biped"'},
+    )
+    _fails(
+        tmp_path,
+        r"\[scene\] `source` must be a string, got \[1\]$",
+        {"scene": 'model = "compass"\nsource = [1]'},
+    )
+
+
+# ---- [parameters] ------------------------------------------------------------------------
+def test_parameters_table_errors(tmp_path):
+    _fails(
+        tmp_path,
+        r"\[parameters\] unknown key `mas_hip`; valid keys: mass_hip, mass_leg, .*, g, preset$",
+        {"parameters": COMPASS_FULL + "\nmas_hip = 1.0"},
+    )
+    _fails(
+        tmp_path,
+        r"\[parameters\] missing keys `slope`, `g` \(give every parameter of CompassParams, "
+        r"or `preset` = one of goswami, drake\)$",
+        {"parameters": COMPASS_FULL.rsplit("\nslope", 1)[0]},
+    )
+    _fails(
+        tmp_path,
+        r"\[parameters\] `preset` must be one of goswami, drake for model compass, got 'hsu_chen'$",
+        {"parameters": 'preset = "hsu_chen"'},
+    )
+    _fails(
+        tmp_path,
+        r"\[parameters\] unknown key `knee`; valid keys: mass_hip,",
+        {"parameters": 'preset = "goswami"\nknee = 1.0'},
+    )
+    _fails(
+        tmp_path,
+        r"\[parameters\] `mass_hip` must be a number, got '10'$",
+        {"parameters": COMPASS_FULL.replace("10.0", '"10"')},
+    )
+    _fails(
+        tmp_path,
+        r"\[parameters\] `mass_leg` must be a number, got True$",
+        {"parameters": 'preset = "goswami"\nmass_leg = true'},
+    )
+    _fails(
+        tmp_path,
+        r"\[parameters\] `g` must be finite, got nan$",
+        {"parameters": 'preset = "goswami"\ng = nan'},
+    )
+
+
+def test_invalid_parameter_values_are_prefixed(tmp_path):
+    _fails(
+        tmp_path,
+        r"\[parameters\] `mass_hip` must be > 0 \[kg\], got -1.0$",
+        {"parameters": COMPASS_FULL.replace("mass_hip = 10.0", "mass_hip = -1.0")},
+    )
+    _fails(
+        tmp_path,
+        r"\[parameters\] `foot_radius` must be < leg length",
+        {"parameters": 'preset = "goswami"\nfoot_radius = 1.5'},
+    )
+    _fails(
+        tmp_path,
+        r"\[parameters\] `slope` must be in \(-pi/2, pi/2\) \[rad\], got 2.0$",
+        {"parameters": 'preset = "goswami"\nslope = 2.0'},
+    )
+
+
+# ---- [initial] ---------------------------------------------------------------------------
+def test_initial_table_errors(tmp_path):
+    _fails(
+        tmp_path,
+        r"\[initial\] `state` must have 4 entries, got 6$",
+        {"initial": "state = [0, 0, 0, 0, 0, 0]"},
+    )
+    _fails(tmp_path, r"\[initial\] `state` must have 4 entries, got 0$", {"initial": "state = []"})
+    _fails(
+        tmp_path,
+        r"\[initial\] `state` must be an array of numbers, got 0.1$",
+        {"initial": "state = 0.1"},
+    )
+    _fails(
+        tmp_path,
+        r"\[initial\] `state\[2\]` must be a number, got 'a'$",
+        {"initial": 'state = [0, 0, "a", 0]'},
+    )
+    _fails(
+        tmp_path,
+        r"\[initial\] `state\[1\]` must be a number, got \[0\]$",
+        {"initial": "state = [0, [0], 0, 0]"},
+    )
+    _fails(
+        tmp_path,
+        r"\[initial\] `state\[3\]` must be finite, got inf$",
+        {"initial": "state = [0, 0, 0, inf]"},
+    )
+    _fails(tmp_path, r"\[initial\] missing required key `state`$", {"initial": "phase = 0"})
+    _fails(
+        tmp_path,
+        r"\[initial\] unknown key `time`; valid keys: state, phase$",
+        {"initial": "state = [0, 0, 0, 0]\ntime = 0"},
+    )
+    for bad in ("-1", "1.0", "true", '"0"'):
+        _fails(
+            tmp_path,
+            r"\[initial\] `phase` must be an integer >= 0, got ",
+            {"initial": f"state = [0, 0, 0, 0]\nphase = {bad}"},
+        )
+
+
+def test_initial_phase_and_integer_state(tmp_path):
+    scene = load_scene(_write(tmp_path, {"initial": "state = [0, 1, 0, 0]\nphase = 2"}))
+    assert scene.phase == 2
+    assert scene.state.dtype == np.float64
+    assert_allclose(scene.state, [0.0, 1.0, 0.0, 0.0], rtol=0, atol=0)
+
+
+# ---- [compute] ---------------------------------------------------------------------------
+def test_compute_settings(tmp_path):
+    body = 'task = "simulate"\nstrides = 5\nmethod = "RK4"\nt_max = 3\nfirst_step = 1e-3'
+    c = load_scene(_write(tmp_path, {"compute": body})).compute
+    assert (c.task, c.strides, c.method, c.t_max, c.first_step) == ("simulate", 5, "RK4", 3.0, 1e-3)
+    assert type(c.t_max) is float
+    assert c.method_code == METHOD_RK4
+    assert ComputeSettings().method_code == METHOD_DOP853
+    assert ComputeSettings(method="RK45").method_code == METHOD_DP5
+    assert ComputeSettings(method="Euler", first_step=0.01).method_code == METHOD_EULER
+    assert ComputeSettings(task="simulate", strides=0).strides == 0
+
+
+COMPUTE_CASES = [
+    ('task = "walk"', r"`task` must be one of fixed_point, simulate, got 'walk'$"),
+    ('method = "LSODA"', r"`method` must be one of DOP853, RK45, RK4, Euler, got 'LSODA'$"),
+    ("strides = 0", r"`strides` \(the period\) must be >= 1 for task fixed_point, got 0$"),
+    ('task = "simulate"\nstrides = -1', r"`strides` must be >= 0, got -1$"),
+    ("strides = 1.5", r"`strides` must be an integer, got 1.5$"),
+    ("strides = true", r"`strides` must be an integer, got True$"),
+    ("rtol = 0", r"`rtol` must be a finite number > 0, got 0$"),
+    ("atol = -1e-9", r"`atol` must be a finite number > 0, got -1e-09$"),
+    ('rtol = "1e-9"', r"`rtol` must be a finite number > 0, got '1e-9'$"),
+    ("t_max = inf", r"`t_max` must be a finite number > 0, got inf$"),
+    ('method = "Euler"', r"`first_step` is required with method Euler \(its fixed step\)$"),
+    ('method = "RK4"', r"`first_step` is required with method RK4"),
+    ("first_step = -0.1", r"`first_step` must be a finite number > 0, got -0.1$"),
+    (
+        "tmax = 3",
+        r"unknown key `tmax`; valid keys: task, strides, method, rtol, atol, t_max, "
+        r"first_step$",
+    ),
+]
+
+
+@pytest.mark.parametrize(("body", "message"), COMPUTE_CASES, ids=[b for b, _ in COMPUTE_CASES])
+def test_compute_errors(tmp_path, body, message):
+    _fails(tmp_path, r"\[compute\] " + message, {"compute": body})
+
+
+def test_compute_settings_direct_errors():
+    with pytest.raises(ValueError, match=r"^`rtol` must be a finite number > 0, got nan$"):
+        ComputeSettings(rtol=math.nan)
+    with pytest.raises(ValueError, match=r"^`first_step` is required with method RK4"):
+        ComputeSettings(method="RK4")
+
+
+def test_models_without_events(tmp_path):
+    dp = (
+        'preset = "course"',
+        "state = [1.4707963267948965, 3.141592653589793, 0.0, 0.0]",
+    )
+    sections = {
+        "scene": 'model = "double_pendulum"',
+        "parameters": dp[0],
+        "initial": dp[1],
+    }
+    c = load_scene(_write(tmp_path, sections)).compute
+    assert (c.task, c.strides) == ("simulate", 0)  # defaults for a model without events
+    for body, got in [
+        ("strides = 1", r"got task = 'simulate', strides = 1$"),
+        ('task = "fixed_point"', r"got task = 'fixed_point', strides = 0$"),
+    ]:
+        _fails(
+            tmp_path,
+            r"\[compute\] model double_pendulum has no events: use task = \"simulate\" and "
+            r"strides = 0 \(integrate to t_max\), " + got,
+            {**sections, "compute": body},
+        )
+
+
+# ---- [reference] -------------------------------------------------------------------------
+def test_reference_table(tmp_path):
+    body = (
+        "state = [0.2, -0.3, -1.1, -0.4]\nsection = [1, 2, 3]\n"
+        "multipliers = [[-0.19, 0.55], [-0.19, -0.55], [0, 0]]\n"
+        'step_time = 0.73\ntolerance = 1e-10\nnote = "DOP853 rtol 1e-14"'
+    )
+    ref = load_scene(_write(tmp_path, {"reference": body})).reference
+    assert_allclose(ref["state"], [0.2, -0.3, -1.1, -0.4], rtol=0, atol=0)
+    assert_allclose(ref["section"], [1.0, 2.0, 3.0], rtol=0, atol=0)
+    assert ref["multipliers"].dtype == np.complex128
+    assert_allclose(ref["multipliers"], [-0.19 + 0.55j, -0.19 - 0.55j, 0], rtol=0, atol=0)
+    assert (ref["step_time"], ref["tolerance"], ref["note"]) == (0.73, 1e-10, "DOP853 rtol 1e-14")
+
+
+REFERENCE_CASES = [
+    ("step_time = 1.0", r"missing required key `tolerance`$"),
+    ("tolerance = 0", r"`tolerance` must be > 0, got 0.0$"),
+    ("tolerance = 1e-9\nstate = [1, 2]", r"`state` must have 4 entries, got 2$"),
+    (
+        "tolerance = 1e-9\nmultipliers = [1, 2]",
+        r"`multipliers` must be an array of \[re, im\] "
+        r"pairs, got \[1, 2\]$",
+    ),
+    ("tolerance = 1e-9\nmultipliers = [[1, nan]]", r"`multipliers\[0\]\[1\]` must be finite"),
+    ("tolerance = 1e-9\nstep_time = -1", r"`step_time` must be > 0, got -1.0$"),
+    ("tolerance = 1e-9\nnote = 3", r"`note` must be a string, got 3$"),
+    (
+        "tolerance = 1e-9\nperiod = 2",
+        r"unknown key `period`; valid keys: state, section, "
+        r"multipliers, step_time, tolerance, note$",
+    ),
+]
+
+
+@pytest.mark.parametrize(("body", "message"), REFERENCE_CASES, ids=[m for _, m in REFERENCE_CASES])
+def test_reference_errors(tmp_path, body, message):
+    _fails(tmp_path, r"\[reference\] " + message, {"reference": body})

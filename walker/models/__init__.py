@@ -1,0 +1,149 @@
+"""The walkers walker ships, each a :class:`WalkerModel`: compiled phase functions plus the
+Python-side description (state, phases, guards, section coordinates).
+
+A model module (``walker/models/<name>.py``) provides, per the contract of
+:class:`walker.integrate.HybridSystem`:
+
+1. ``N_X``, ``STATE_NAMES``: the state, the same in every phase.
+2. ``PHASE_NAMES``, ``GUARD_NAMES``, ``DIRECTIONS`` (n_phases, n_guards) and compiled
+   ``rhs``, ``guards``, ``reset``, ``jac`` (vector field Jacobian for the variational
+   equations), ``N_IMPULSE``.
+3. ``SECTION_NAMES`` and ``lift(z, p)`` / ``project(x, p)`` / ``lift_jacobian(z, p)``
+   between the Poincare section just after heel strike and the full state (walkers only).
+4. ``energy(x, p) -> (kinetic, potential)``, ``points(x, p)`` and ``SEGMENTS`` for drawing.
+
+Importing a model compiles nothing; a compass-gait run never loads the kneed kernels.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+__all__ = ["WalkerModel", "get_model", "MODEL_NAMES"]
+
+MODEL_NAMES = ("simplest", "compass", "kneed", "double_pendulum")
+
+
+@dataclass(frozen=True, eq=False)
+class WalkerModel:
+    """A model: its compiled functions (module) and their description.
+
+    Use :func:`get_model` rather than constructing one.
+    """
+
+    name: str
+
+    @cached_property
+    def module(self):
+        return importlib.import_module(f"walker.models.{self.name}")
+
+    @cached_property
+    def system(self):
+        """The :class:`walker.integrate.HybridSystem` the integrator runs."""
+        from walker.integrate import HybridSystem
+
+        m = self.module
+        return HybridSystem(
+            name=self.name,
+            n_x=m.N_X,
+            n_phases=len(m.PHASE_NAMES),
+            n_guards=len(m.GUARD_NAMES),
+            n_impulse=m.N_IMPULSE,
+            rhs=m.rhs,
+            guards=m.guards,
+            reset=m.reset,
+            jac=m.jac,
+            directions=m.DIRECTIONS,
+            phase_names=m.PHASE_NAMES,
+            guard_names=m.GUARD_NAMES,
+        )
+
+    @property
+    def params_class(self):
+        from walker.params import PARAMS
+
+        return PARAMS[self.name]
+
+    @property
+    def n_x(self) -> int:
+        return self.module.N_X
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return self.module.STATE_NAMES
+
+    @property
+    def section_names(self) -> tuple[str, ...]:
+        return self.module.SECTION_NAMES
+
+    @property
+    def n_z(self) -> int:
+        return len(self.module.SECTION_NAMES)
+
+    @property
+    def phase_names(self) -> tuple[str, ...]:
+        return self.module.PHASE_NAMES
+
+    @property
+    def guard_names(self) -> tuple[str, ...]:
+        return self.module.GUARD_NAMES
+
+    @property
+    def is_walker(self) -> bool:
+        return self.n_z > 0
+
+    @property
+    def kernel_hash(self) -> str:
+        return self.module.KERNEL_HASH
+
+    @property
+    def segments(self):
+        return self.module.SEGMENTS
+
+    def lift(self, z, p) -> np.ndarray:
+        """Section coordinates -> full state just after heel strike."""
+        return self.module.lift(np.asarray(z, dtype=float), _p(p))
+
+    def lift_jacobian(self, z, p) -> np.ndarray:
+        return self.module.lift_jacobian(np.asarray(z, dtype=float), _p(p))
+
+    def project(self, x, p) -> np.ndarray:
+        """Full state -> section coordinates."""
+        return self.module.project(np.asarray(x, dtype=float), _p(p))
+
+    def energy(self, x, p) -> tuple[float, float]:
+        """(kinetic, potential) energy of one state [J]."""
+        return self.module.energy(np.ascontiguousarray(x, dtype=np.float64), _p(p))
+
+    def energies(self, x, p) -> tuple[np.ndarray, np.ndarray]:
+        """Kinetic and potential energy of each row of ``x`` (n, n_x)."""
+        x = np.atleast_2d(np.asarray(x, dtype=np.float64))
+        pp = _p(p)
+        out = np.array([self.module.energy(np.ascontiguousarray(row), pp) for row in x])
+        return out[:, 0], out[:, 1]
+
+    def points(self, x, p) -> np.ndarray:
+        """Joint positions (n_points, 2) for drawing the walker at state ``x``."""
+        return self.module.points(np.asarray(x, dtype=float), _p(p))
+
+
+def _p(p) -> np.ndarray:
+    if hasattr(p, "as_array"):
+        return p.as_array()
+    return np.ascontiguousarray(p, dtype=np.float64)
+
+
+_CACHE: dict[str, WalkerModel] = {}
+
+
+def get_model(name: str) -> WalkerModel:
+    """The model called ``name``; one of :data:`MODEL_NAMES`."""
+    if name not in MODEL_NAMES:
+        raise ValueError(f"`model` must be one of {list(MODEL_NAMES)}, got {name!r}")
+    if name not in _CACHE:
+        _CACHE[name] = WalkerModel(name)
+    return _CACHE[name]

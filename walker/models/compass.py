@@ -1,0 +1,196 @@
+"""The compass gait (Goswami, Thuilot, Espiau 1996) with point or round feet: compiled
+phase functions for the hybrid integrator.
+
+State ``x = (q_stance, q_swing, qd_stance, qd_swing)``: absolute leg angles from the vertical,
+counterclockwise positive (../shared/REFERENCES.md).  One phase, ``swing``.  Guards, in
+priority order:
+
+0. ``heel_strike``: height of the swing foot's lowest point above the slope, firing when it
+   decreases through zero.  Accepted only with the swing foot ahead of the stance foot; the
+   mid-stance scuff of the rigid swing leg (foot behind) is therefore ignored by the guard's
+   construction.  Reset: floating-base impact as an augmented linear system, then the legs
+   swap.  A non-positive normal impulse, or a trailing foot that does not lift off, is
+   ``NONPHYSICAL_IMPACT``.
+1. ``fall_forward``: the stance leg passes ``FALL_ANGLE`` ahead of the slope normal.
+2. ``fall_backward``: the stance leg passes ``FALL_ANGLE`` behind it.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from walker._generated import compass as K
+from walker.models._common import FALL_ANGLE, accelerations, impact, lagrange_jacobian
+from walker.status import (
+    EVENT_IGNORE,
+    EVENT_STRIDE,
+    EVENT_TERMINAL,
+    Status,
+)
+
+N_X = 4
+N_IMPULSE = 2
+PHASE_NAMES = ("swing",)
+GUARD_NAMES = ("heel_strike", "fall_forward", "fall_backward")
+DIRECTIONS = np.array([[-1, -1, 1]], dtype=np.int64)
+STATE_NAMES = ("q_stance", "q_swing", "qd_stance", "qd_swing")
+SECTION_NAMES = ("q_stance", "qd_stance", "qd_swing")
+
+_I_R, _I_SLOPE = 5, 6
+_NONPHYSICAL = int(Status.NONPHYSICAL_IMPACT)
+_FELL_FORWARD = int(Status.FELL_FORWARD)
+_FELL_BACKWARD = int(Status.FELL_BACKWARD)
+_SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
+
+
+@njit(cache=True)
+def rhs(phase, t, x, p, dx):
+    D = np.empty((2, 2))
+    h = np.empty(2)
+    K.mass_matrix(x[:2], p, D)
+    K.bias(x[:2], x[2:], p, h)
+    qdd = np.empty(2)
+    accelerations(D, h, qdd)
+    dx[0] = x[2]
+    dx[1] = x[3]
+    dx[2] = qdd[0]
+    dx[3] = qdd[1]
+
+
+@njit(cache=True)
+def jac(phase, t, x, p, J):
+    q = x[:2]
+    qd = x[2:]
+    D = np.empty((2, 2))
+    h = np.empty(2)
+    K.mass_matrix(q, p, D)
+    K.bias(q, qd, p, h)
+    qdd = np.empty(2)
+    accelerations(D, h, qdd)
+    K.mass_matrix(q, p, D)
+    dD = np.empty((2, 2, 2))
+    K.dmass(q, p, dD)
+    dh_dq = np.empty((2, 2))
+    dh_dqd = np.empty((2, 2))
+    K.dbias_dq(q, qd, p, dh_dq)
+    K.dbias_dqd(q, qd, p, dh_dqd)
+    J[:, :] = 0.0
+    J[0, 2] = 1.0
+    J[1, 3] = 1.0
+    lagrange_jacobian(D, dD, dh_dq, dh_dqd, qdd, J, 2, 2,
+                      np.array([0, 1]), np.array([2, 3]))
+
+
+@njit(cache=True)
+def swing_foot(x, p):
+    """(height above the slope, distance ahead of the stance foot along the slope) [m]."""
+    L = p[2] + p[3]
+    R = p[_I_R]
+    slope = p[_I_SLOPE]
+    psi1 = x[0] + slope
+    psi2 = x[1] + slope
+    return (L - R) * (math.cos(psi1) - math.cos(psi2)), (L - R) * (
+        math.sin(psi2) - math.sin(psi1)
+    )
+
+
+@njit(cache=True)
+def guards(phase, t, x, p, g):
+    psi1 = x[0] + p[_I_SLOPE]
+    g[0] = swing_foot(x, p)[0]
+    g[1] = psi1 + FALL_ANGLE
+    g[2] = psi1 - FALL_ANGLE
+
+
+@njit(cache=True)
+def heel_strike(x, p, x_new, impulse):
+    """Floating-base heel-strike impact and leg swap.
+
+    Returns a Status value: COMPLETED for a physical impact.  ``impulse`` receives the
+    impulse on the new stance foot (along the slope, normal to it) [N s].
+    """
+    slope = p[_I_SLOPE]
+    q = x[:2]
+    pts = np.empty((4, 2))
+    K.points(q, p, pts)
+    hip_J = np.empty((2, 2))
+    K.hip_jac(q, p, hip_J)
+    qf = np.array([x[0], x[1], pts[1, 0], pts[1, 1]])
+    qdf = np.array([x[2], x[3],
+                    hip_J[0, 0] * x[2] + hip_J[0, 1] * x[3],
+                    hip_J[1, 0] * x[2] + hip_J[1, 1] * x[3]])
+    M = np.empty((4, 4))
+    K.ext_mass_matrix(qf, p, M)
+    Jsw = np.empty((2, 4))
+    K.ext_swing_contact_jac(qf, p, Jsw)
+    qdf_plus = np.empty(4)
+    lam = np.empty(2)
+    if not impact(M, Jsw, qdf, qdf_plus, lam):
+        return _SINGULAR
+    s0, s1 = math.cos(slope), -math.sin(slope)
+    n0, n1 = math.sin(slope), math.cos(slope)
+    impulse[0] = lam[0] * s0 + lam[1] * s1
+    impulse[1] = lam[0] * n0 + lam[1] * n1
+    Jst = np.empty((2, 4))
+    K.ext_stance_contact_jac(qf, p, Jst)
+    v0 = 0.0
+    v1 = 0.0
+    for j in range(4):
+        v0 += Jst[0, j] * qdf_plus[j]
+        v1 += Jst[1, j] * qdf_plus[j]
+    lift = v0 * n0 + v1 * n1
+    x_new[0] = x[1]
+    x_new[1] = x[0]
+    x_new[2] = qdf_plus[1]
+    x_new[3] = qdf_plus[0]
+    if not (impulse[1] > 0.0) or not (lift > 0.0):
+        return _NONPHYSICAL
+    return 0
+
+
+@njit(cache=True)
+def reset(phase, k, t, x, p, x_new, impulse):
+    for i in range(x.shape[0]):
+        x_new[i] = x[i]
+    if k == 0:
+        if swing_foot(x, p)[1] <= 0.0:
+            return EVENT_IGNORE, phase, 0
+        status = heel_strike(x, p, x_new, impulse)
+        if status != 0:
+            return EVENT_TERMINAL, phase, status
+        return EVENT_STRIDE, 0, 0
+    if k == 1:
+        return EVENT_TERMINAL, phase, _FELL_FORWARD
+    return EVENT_TERMINAL, phase, _FELL_BACKWARD
+
+
+@njit(cache=True)
+def energy(x, p):
+    """(kinetic, potential) [J]; potential is zero with the stance contact at height 0."""
+    return K.kinetic(x[:2], x[2:], p), K.potential(x[:2], p)
+
+
+def lift(z, p):
+    """Section point ``(q_stance, qd_stance, qd_swing)`` -> full post-impact state."""
+    slope = p[_I_SLOPE]
+    return np.array([z[0], -2.0 * slope - z[0], z[1], z[2]])
+
+
+def lift_jacobian(z, p):
+    return np.array([[1.0, 0, 0], [-1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]])
+
+
+def project(x, p):
+    return np.array([x[0], x[2], x[3]])
+
+
+def points(x, p):
+    """Joint positions for drawing: rows stance contact, hip, swing contact [m]."""
+    pts = np.empty((4, 2))
+    K.points(np.ascontiguousarray(x[:2], dtype=np.float64), p, pts)
+    return pts[[0, 1, 3]]
+
+
+SEGMENTS = ((0, 1), (1, 2))
+KERNEL_HASH = K.KERNEL_HASH

@@ -1,0 +1,306 @@
+"""The kneed walker with point or round feet (McGeer 1990; Hsu Chen 2007): compiled phase
+functions for the hybrid integrator.
+
+State ``x = (q1, q2, q3, qd1, qd2, qd3)``: stance leg, swing thigh, swing shank, absolute
+angles from the vertical, counterclockwise positive (../shared/REFERENCES.md).  Phases:
+
+0. ``unlocked``: 3-DOF swing, knee free.
+1. ``locked``: 2-DOF swing, knee locked; ``q3 = q2`` and ``qd3 = qd2`` are kept exactly.
+
+Guards, in priority order (a lower index wins when two fire at the same instant):
+
+0. ``knee_lock`` (phase 0): ``q3 - q2`` increasing through zero, the shank catching the thigh.
+   Reset: ``[D, -J^T; J, 0] [qd+; F] = [D qd-; 0]`` with ``J = [0, -1, 1]``, then phase 1.
+   If the swing foot is on the ground and moving down at that same instant, heel strike is
+   applied in the same reset (knee lock first, then heel strike).
+1. ``swing_foot_contact``: swing-foot height above the slope decreasing through zero.  In
+   phase 0 (knee bent) it is a trip (``TRIPPED``).  In phase 1 it is the heel strike when
+   the swing foot is ahead of the stance foot (a scuff behind it is ignored): floating-base
+   impact as an augmented linear system, legs swapped, new swing knee straight and unlocked.
+2. ``fall_forward`` / 3. ``fall_backward``: the stance leg passes ``FALL_ANGLE`` from the
+   slope normal.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from walker._generated import kneed as K
+from walker.models._common import FALL_ANGLE, accelerations, impact, lagrange_jacobian
+from walker.status import (
+    EVENT_CONTINUE,
+    EVENT_IGNORE,
+    EVENT_STRIDE,
+    EVENT_TERMINAL,
+    Status,
+)
+
+N_X = 6
+N_IMPULSE = 2
+PHASE_NAMES = ("unlocked", "locked")
+GUARD_NAMES = ("knee_lock", "swing_foot_contact", "fall_forward", "fall_backward")
+DIRECTIONS = np.array([[1, -1, -1, 1], [0, -1, -1, 1]], dtype=np.int64)
+STATE_NAMES = ("q1", "q2", "q3", "qd1", "qd2", "qd3")
+SECTION_NAMES = ("q1", "qd1", "qd2")
+
+_I_R, _I_SLOPE = 11, 12
+_NONPHYSICAL = int(Status.NONPHYSICAL_IMPACT)
+_FELL_FORWARD = int(Status.FELL_FORWARD)
+_FELL_BACKWARD = int(Status.FELL_BACKWARD)
+_TRIPPED = int(Status.TRIPPED)
+_SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
+
+
+@njit(cache=True)
+def _lengths(p):
+    shank = p[3] + p[4]
+    thigh = p[5] + p[6]
+    return shank, thigh
+
+
+@njit(cache=True)
+def rhs(phase, t, x, p, dx):
+    if phase == 0:
+        D = np.empty((3, 3))
+        h = np.empty(3)
+        K.unlocked_mass_matrix(x[:3], p, D)
+        K.unlocked_bias(x[:3], x[3:], p, h)
+        qdd = np.empty(3)
+        accelerations(D, h, qdd)
+        for i in range(3):
+            dx[i] = x[3 + i]
+            dx[3 + i] = qdd[i]
+    else:
+        q = np.array([x[0], x[1]])
+        qd = np.array([x[3], x[4]])
+        D = np.empty((2, 2))
+        h = np.empty(2)
+        K.locked_mass_matrix(q, p, D)
+        K.locked_bias(q, qd, p, h)
+        qdd = np.empty(2)
+        accelerations(D, h, qdd)
+        dx[0] = x[3]
+        dx[1] = x[4]
+        dx[2] = x[4]
+        dx[3] = qdd[0]
+        dx[4] = qdd[1]
+        dx[5] = qdd[1]
+
+
+@njit(cache=True)
+def jac(phase, t, x, p, J):
+    J[:, :] = 0.0
+    if phase == 0:
+        q = x[:3]
+        qd = x[3:]
+        D = np.empty((3, 3))
+        h = np.empty(3)
+        K.unlocked_mass_matrix(q, p, D)
+        K.unlocked_bias(q, qd, p, h)
+        qdd = np.empty(3)
+        accelerations(D, h, qdd)
+        K.unlocked_mass_matrix(q, p, D)
+        dD = np.empty((3, 3, 3))
+        K.unlocked_dmass(q, p, dD)
+        dh_dq = np.empty((3, 3))
+        dh_dqd = np.empty((3, 3))
+        K.unlocked_dbias_dq(q, qd, p, dh_dq)
+        K.unlocked_dbias_dqd(q, qd, p, dh_dqd)
+        for i in range(3):
+            J[i, 3 + i] = 1.0
+        lagrange_jacobian(D, dD, dh_dq, dh_dqd, qdd, J, 3, 3,
+                          np.array([0, 1, 2]), np.array([3, 4, 5]))
+    else:
+        q = np.array([x[0], x[1]])
+        qd = np.array([x[3], x[4]])
+        D = np.empty((2, 2))
+        h = np.empty(2)
+        K.locked_mass_matrix(q, p, D)
+        K.locked_bias(q, qd, p, h)
+        qdd = np.empty(2)
+        accelerations(D, h, qdd)
+        K.locked_mass_matrix(q, p, D)
+        dD = np.empty((2, 2, 2))
+        K.locked_dmass(q, p, dD)
+        dh_dq = np.empty((2, 2))
+        dh_dqd = np.empty((2, 2))
+        K.locked_dbias_dq(q, qd, p, dh_dq)
+        K.locked_dbias_dqd(q, qd, p, dh_dqd)
+        J[0, 3] = 1.0
+        J[1, 4] = 1.0
+        J[2, 4] = 1.0
+        lagrange_jacobian(D, dD, dh_dq, dh_dqd, qdd, J, 2, 3,
+                          np.array([0, 1]), np.array([3, 4]))
+        for j in range(6):
+            J[5, j] = J[4, j]
+
+
+@njit(cache=True)
+def swing_foot(x, p):
+    """(height above the slope, distance ahead of the stance foot along the slope) [m]
+    of the swing foot's lowest point."""
+    shank, thigh = _lengths(p)
+    R = p[_I_R]
+    slope = p[_I_SLOPE]
+    L = shank + thigh
+    psi1 = x[0] + slope
+    psi2 = x[1] + slope
+    psi3 = x[2] + slope
+    height = (L - R) * math.cos(psi1) - thigh * math.cos(psi2) - (shank - R) * math.cos(psi3)
+    ahead = -(L - R) * math.sin(psi1) + thigh * math.sin(psi2) + (shank - R) * math.sin(psi3)
+    return height, ahead
+
+
+@njit(cache=True)
+def _swing_foot_rate(x, p):
+    shank, thigh = _lengths(p)
+    R = p[_I_R]
+    slope = p[_I_SLOPE]
+    L = shank + thigh
+    return (
+        -(L - R) * math.sin(x[0] + slope) * x[3]
+        + thigh * math.sin(x[1] + slope) * x[4]
+        + (shank - R) * math.sin(x[2] + slope) * x[5]
+    )
+
+
+@njit(cache=True)
+def guards(phase, t, x, p, g):
+    psi1 = x[0] + p[_I_SLOPE]
+    g[0] = x[2] - x[1] if phase == 0 else 1.0
+    g[1] = swing_foot(x, p)[0]
+    g[2] = psi1 + FALL_ANGLE
+    g[3] = psi1 - FALL_ANGLE
+
+
+@njit(cache=True)
+def knee_lock(x, p, x_new, impulse):
+    """Plastic knee-lock impact; ``impulse[0]`` is the knee impulse [N m s]."""
+    M = np.empty((3, 3))
+    K.unlocked_mass_matrix(x[:3], p, M)
+    J = np.array([[0.0, -1.0, 1.0]])
+    qd_plus = np.empty(3)
+    lam = np.empty(1)
+    if not impact(M, J, x[3:], qd_plus, lam):
+        return _SINGULAR
+    x_new[0] = x[0]
+    x_new[1] = x[1]
+    x_new[2] = x[1]
+    x_new[3] = qd_plus[0]
+    x_new[4] = qd_plus[1]
+    x_new[5] = qd_plus[1]
+    impulse[0] = lam[0]
+    impulse[1] = 0.0
+    return 0
+
+
+@njit(cache=True)
+def heel_strike(x, p, x_new, impulse):
+    """Floating-base heel strike (knee locked) and leg swap; the new swing knee is straight
+    and unlocked.  ``impulse`` = (along slope, normal) on the new stance foot [N s]."""
+    slope = p[_I_SLOPE]
+    q = np.array([x[0], x[1]])
+    pts = np.empty((5, 2))
+    K.locked_points(q, p, pts)
+    hip_J = np.empty((2, 2))
+    K.locked_hip_jac(q, p, hip_J)
+    qf = np.array([x[0], x[1], pts[1, 0], pts[1, 1]])
+    qdf = np.array([x[3], x[4],
+                    hip_J[0, 0] * x[3] + hip_J[0, 1] * x[4],
+                    hip_J[1, 0] * x[3] + hip_J[1, 1] * x[4]])
+    M = np.empty((4, 4))
+    K.ext_mass_matrix(qf, p, M)
+    Jsw = np.empty((2, 4))
+    K.ext_swing_contact_jac(qf, p, Jsw)
+    qdf_plus = np.empty(4)
+    lam = np.empty(2)
+    if not impact(M, Jsw, qdf, qdf_plus, lam):
+        return _SINGULAR
+    s0, s1 = math.cos(slope), -math.sin(slope)
+    n0, n1 = math.sin(slope), math.cos(slope)
+    impulse[0] = lam[0] * s0 + lam[1] * s1
+    impulse[1] = lam[0] * n0 + lam[1] * n1
+    Jst = np.empty((2, 4))
+    K.ext_stance_contact_jac(qf, p, Jst)
+    v0 = 0.0
+    v1 = 0.0
+    for j in range(4):
+        v0 += Jst[0, j] * qdf_plus[j]
+        v1 += Jst[1, j] * qdf_plus[j]
+    lift = v0 * n0 + v1 * n1
+    x_new[0] = x[1]
+    x_new[1] = x[0]
+    x_new[2] = x[0]
+    x_new[3] = qdf_plus[1]
+    x_new[4] = qdf_plus[0]
+    x_new[5] = qdf_plus[0]
+    if not (impulse[1] > 0.0) or not (lift > 0.0):
+        return _NONPHYSICAL
+    return 0
+
+
+@njit(cache=True)
+def reset(phase, k, t, x, p, x_new, impulse):
+    for i in range(x.shape[0]):
+        x_new[i] = x[i]
+    impulse[0] = 0.0
+    impulse[1] = 0.0
+    if k == 0:
+        status = knee_lock(x, p, x_new, impulse)
+        if status != 0:
+            return EVENT_TERMINAL, phase, status
+        shank, thigh = _lengths(p)
+        height, ahead = swing_foot(x_new, p)
+        if height <= 1e-12 * (shank + thigh) and ahead > 0.0 and _swing_foot_rate(x_new, p) < 0:
+            locked = x_new.copy()
+            status = heel_strike(locked, p, x_new, impulse)
+            if status != 0:
+                return EVENT_TERMINAL, 1, status
+            return EVENT_STRIDE, 0, 0
+        return EVENT_CONTINUE, 1, 0
+    if k == 1:
+        if phase == 0:
+            return EVENT_TERMINAL, phase, _TRIPPED
+        if swing_foot(x, p)[1] <= 0.0:
+            return EVENT_IGNORE, phase, 0
+        status = heel_strike(x, p, x_new, impulse)
+        if status != 0:
+            return EVENT_TERMINAL, phase, status
+        return EVENT_STRIDE, 0, 0
+    if k == 2:
+        return EVENT_TERMINAL, phase, _FELL_FORWARD
+    return EVENT_TERMINAL, phase, _FELL_BACKWARD
+
+
+@njit(cache=True)
+def energy(x, p):
+    """(kinetic, potential) [J]; valid in both phases (locked: q3 = q2, qd3 = qd2)."""
+    return K.unlocked_kinetic(x[:3], x[3:], p), K.unlocked_potential(x[:3], p)
+
+
+def lift(z, p):
+    """Section point ``(q1, qd1, qd2)`` -> full state just after heel strike (knee straight)."""
+    q2 = -2.0 * p[_I_SLOPE] - z[0]
+    return np.array([z[0], q2, q2, z[1], z[2], z[2]])
+
+
+def lift_jacobian(z, p):
+    return np.array(
+        [[1.0, 0, 0], [-1.0, 0, 0], [-1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0], [0, 0, 1.0]]
+    )
+
+
+def project(x, p):
+    return np.array([x[0], x[3], x[4]])
+
+
+def points(x, p):
+    """Joint positions for drawing: stance contact, hip, knee, swing contact [m]."""
+    pts = np.empty((5, 2))
+    K.unlocked_points(np.ascontiguousarray(x[:3], dtype=np.float64), p, pts)
+    return pts[[0, 1, 2, 4]]
+
+
+SEGMENTS = ((0, 1), (1, 2), (2, 3))
+KERNEL_HASH = K.KERNEL_HASH

@@ -1,0 +1,668 @@
+"""Physical parameters of each model: frozen dataclasses with units, bounds and validation.
+
+Every field is a physical quantity with a unit, a one-line doc and admissible bounds, stored
+in the field's ``metadata``; none has a default. The order of the fields is the canonical
+order of the parameter vector ``p`` that the generated kernels take: ``params.as_array()``
+builds it and ``cls.from_array(p)`` reads it back.
+
+Validation runs in ``__post_init__``, before anything uses the values:
+
+1. every value is a real, finite number (``TypeError`` for ``bool``, ``str``, complex and other
+   non-numbers; ``ValueError`` for NaN and infinities); values are stored as ``float``;
+2. every value lies inside its bounds (``ValueError`` naming the field, the rule and the unit);
+3. cross-field rules of each model (a centre of mass inside its link, a foot radius smaller
+   than the segment it sits on).
+
+Published parameter sets are classmethods (``CompassParams.goswami()``), each citing its
+source, and are listed in the class attribute ``PRESETS``.
+
+Models and their state vectors (absolute angles from the vertical, counterclockwise positive,
+unless stated otherwise) are listed in :data:`STATE_NAMES`; :data:`PARAMS` maps a model name
+to its parameter class.
+
+Examples
+--------
+>>> from walker.params import CompassParams
+>>> p = CompassParams.goswami()
+>>> p.names()[:3]
+('mass_hip', 'mass_leg', 'com_from_foot')
+>>> p.leg_length
+1.0
+>>> CompassParams.from_array(p.as_array()) == p
+True
+>>> p.replace(mass_hip=-1.0)
+Traceback (most recent call last):
+...
+ValueError: `mass_hip` must be > 0 [kg], got -1.0
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import numbers
+from collections.abc import Mapping
+from typing import Any, ClassVar
+
+import numpy as np
+
+__all__ = [
+    "PARAMS",
+    "STATE_NAMES",
+    "HAS_EVENTS",
+    "SimplestParams",
+    "CompassParams",
+    "KneedParams",
+    "DoublePendulumParams",
+    "params_class",
+]
+
+_HALF_PI = 0.5 * math.pi
+
+
+def _param(
+    unit: str,
+    doc: str,
+    lo: float | None = None,
+    hi: float | None = None,
+    *,
+    lo_open: bool = False,
+    hi_open: bool = False,
+    bounds_text: str | None = None,
+) -> Any:
+    """A dataclass field without default, carrying unit, doc and bounds in its metadata.
+
+    ``bounds_text`` replaces the printed bounds in error messages (e.g. ``"pi/2"``).
+    """
+    return dataclasses.field(
+        metadata={
+            "unit": unit,
+            "doc": doc,
+            "bounds": (lo, hi),
+            "lo_open": lo_open,
+            "hi_open": hi_open,
+            "bounds_text": bounds_text,
+        }
+    )
+
+
+def _slope_field() -> Any:
+    return _param(
+        "rad",
+        "ramp angle, positive downhill in the walking direction",
+        -_HALF_PI,
+        _HALF_PI,
+        lo_open=True,
+        hi_open=True,
+        bounds_text="(-pi/2, pi/2)",
+    )
+
+
+def _check_number(name: str, value: Any) -> float:
+    """Return ``value`` as a finite float, or raise naming ``name``."""
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
+        raise TypeError(f"`{name}` must be a real number, got {type(value).__name__} {value!r}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise ValueError(f"`{name}` must be finite, got {value!r}")
+    return value
+
+
+def _rule_text(meta: Mapping[str, Any]) -> str:
+    """Human-readable bound rule, e.g. ``"> 0"`` or ``"in (-pi/2, pi/2)"``."""
+    lo, hi = meta["bounds"]
+    if meta.get("bounds_text"):
+        return "in " + meta["bounds_text"]
+    if lo is not None and hi is not None:
+        left = "(" if meta["lo_open"] else "["
+        right = ")" if meta["hi_open"] else "]"
+        return f"in {left}{lo:g}, {hi:g}{right}"
+    if lo is not None:
+        return f"{'>' if meta['lo_open'] else '>='} {lo:g}"
+    if hi is not None:
+        return f"{'<' if meta['hi_open'] else '<='} {hi:g}"
+    return ""
+
+
+def _check_bounds(name: str, value: float, meta: Mapping[str, Any]) -> None:
+    lo, hi = meta["bounds"]
+    bad = False
+    if lo is not None:
+        bad |= value <= lo if meta["lo_open"] else value < lo
+    if hi is not None:
+        bad |= value >= hi if meta["hi_open"] else value > hi
+    if bad:
+        raise ValueError(f"`{name}` must be {_rule_text(meta)} [{meta['unit']}], got {value!r}")
+
+
+class _Params:
+    """Behaviour shared by every parameter dataclass (subclasses are frozen dataclasses).
+
+    Subclass contract:
+
+    1. be decorated ``@dataclasses.dataclass(frozen=True)`` with every field made by
+       ``_param`` (unit, doc, bounds; no default), in the canonical kernel order;
+    2. set ``MODEL`` (the key in :data:`PARAMS`) and ``PRESETS`` (names of the preset
+       classmethods, each callable with no argument);
+    3. put cross-field rules in ``_check_relations``, raising ``ValueError`` that names the
+       fields and the rule.
+    """
+
+    MODEL: ClassVar[str] = ""
+    PRESETS: ClassVar[tuple[str, ...]] = ()
+
+    def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):  # type: ignore[arg-type]
+            value = _check_number(f.name, getattr(self, f.name))
+            _check_bounds(f.name, value, f.metadata)
+            object.__setattr__(self, f.name, value)
+        self._check_relations()
+
+    def _check_relations(self) -> None:
+        """Cross-field rules; the base class has none."""
+
+    # ---- names, units, docs -------------------------------------------------------------
+    @classmethod
+    def names(cls) -> tuple[str, ...]:
+        """Field names in the canonical order of ``p``."""
+        return tuple(f.name for f in dataclasses.fields(cls))  # type: ignore[arg-type]
+
+    @classmethod
+    def units(cls) -> dict[str, str]:
+        """Field name -> unit, in canonical order."""
+        return {f.name: f.metadata["unit"] for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
+
+    @classmethod
+    def docs(cls) -> dict[str, str]:
+        """Field name -> one-line description, in canonical order."""
+        return {f.name: f.metadata["doc"] for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
+
+    @classmethod
+    def bounds(cls) -> dict[str, tuple[float | None, float | None]]:
+        """Field name -> ``(lo, hi)`` (``None`` where unbounded); see the metadata for openness."""
+        return {f.name: f.metadata["bounds"] for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
+
+    @classmethod
+    def n_params(cls) -> int:
+        """Length of the parameter vector ``p``."""
+        return len(dataclasses.fields(cls))  # type: ignore[arg-type]
+
+    # ---- conversions --------------------------------------------------------------------
+    def as_array(self) -> np.ndarray:
+        """The parameter vector ``p``, shape ``(n_params,)``, float64, canonical order."""
+        return np.array([getattr(self, n) for n in self.names()], dtype=np.float64)
+
+    @classmethod
+    def from_array(cls, p: Any):
+        """Build from a parameter vector ``p`` of shape ``(n_params,)`` (validated)."""
+        arr = np.asarray(p)
+        n = cls.n_params()
+        if arr.shape != (n,):
+            raise ValueError(
+                f"`p` must have shape ({n},) for {cls.__name__} "
+                f"({', '.join(cls.names())}), got shape {arr.shape}"
+            )
+        if not np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.complexfloating):
+            raise TypeError(f"`p` must hold real numbers, got dtype {arr.dtype}")
+        return cls(*(float(v) for v in arr.astype(np.float64)))
+
+    def to_dict(self) -> dict[str, float]:
+        """Field name -> value (float), in canonical order."""
+        return {n: getattr(self, n) for n in self.names()}
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]):
+        """Build from a mapping holding every field and nothing else (validated)."""
+        if not isinstance(d, Mapping):
+            raise TypeError(f"`d` must be a mapping, got {type(d).__name__}")
+        names = cls.names()
+        unknown = [k for k in d if k not in names]
+        missing = [n for n in names if n not in d]
+        if unknown:
+            raise ValueError(
+                f"unknown {cls.__name__} key(s) {', '.join(f'`{k}`' for k in unknown)}; "
+                f"valid keys: {', '.join(names)}"
+            )
+        if missing:
+            raise ValueError(
+                f"missing {cls.__name__} key(s) {', '.join(f'`{k}`' for k in missing)}"
+            )
+        return cls(**{n: d[n] for n in names})
+
+    def replace(self, **changes: Any):
+        """A copy with ``changes`` applied and validated; an unknown name raises ValueError."""
+        names = self.names()
+        unknown = [k for k in changes if k not in names]
+        if unknown:
+            raise ValueError(
+                f"unknown {type(self).__name__} parameter(s) "
+                f"{', '.join(f'`{k}`' for k in unknown)}; valid names: {', '.join(names)}"
+            )
+        return dataclasses.replace(self, **changes)  # type: ignore[type-var]
+
+    @classmethod
+    def preset(cls, name: str, **changes: Any):
+        """The published parameter set ``name`` (one of ``PRESETS``), with ``changes`` applied."""
+        if name not in cls.PRESETS:
+            raise ValueError(
+                f"unknown {cls.__name__} preset `{name}`; valid presets: {', '.join(cls.PRESETS)}"
+            )
+        base = getattr(cls, name)()
+        return base.replace(**changes) if changes else base
+
+
+def _relation_error(rule: str, got: str) -> ValueError:
+    return ValueError(f"{rule}, got {got}")
+
+
+# ------------------------------------------------------------------------------------------
+@dataclasses.dataclass(frozen=True)
+class SimplestParams(_Params):
+    """Garcia's simplest walking model: point hip mass, massless legs, point feet (m/M -> 0).
+
+    Attributes
+    ----------
+    slope : float
+        ramp angle gamma [rad], in (-pi/2, pi/2).
+    g : float
+        gravitational acceleration [m/s^2], > 0.
+    leg_length : float
+        leg length l [m], > 0.
+
+    References
+    ----------
+    .. [1] M. Garcia, A. Chatterjee, A. Ruina, M. Coleman, "The simplest walking model:
+       stability, complexity, and scaling", J. Biomech. Eng. 120(2):281-288, 1998.
+    """
+
+    MODEL: ClassVar[str] = "simplest"
+    PRESETS: ClassVar[tuple[str, ...]] = ("garcia",)
+
+    slope: float = _slope_field()
+    g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
+    leg_length: float = _param("m", "leg length, hip to foot", 0.0, lo_open=True)
+
+    @classmethod
+    def garcia(cls, slope: float = 0.009) -> SimplestParams:
+        """Dimensionless set g = l = 1 of Garcia et al. 1998 [1]_; their stable gait is at 0.009.
+
+        References
+        ----------
+        .. [1] Garcia, Chatterjee, Ruina, Coleman, J. Biomech. Eng. 120:281, 1998.
+        """
+        return cls(slope=slope, g=1.0, leg_length=1.0)
+
+
+# ------------------------------------------------------------------------------------------
+@dataclasses.dataclass(frozen=True)
+class CompassParams(_Params):
+    """Compass-gait walker: hip point mass, two rigid legs, optional round feet.
+
+    Lengths follow Goswami et al.: a leg's centre of mass sits ``com_from_foot`` (a) from the
+    foot and ``com_to_hip`` (b) from the hip, so the leg length is a + b.
+
+    Attributes
+    ----------
+    mass_hip : float
+        point mass at the hip m_H [kg], > 0.
+    mass_leg : float
+        mass of each leg m [kg], > 0.
+    com_from_foot : float
+        a: foot to the leg's centre of mass [m], >= 0.
+    com_to_hip : float
+        b: leg's centre of mass to the hip [m], >= 0; a + b > 0.
+    inertia_leg : float
+        moment of inertia of a leg about its centre of mass [kg m^2], >= 0.
+    foot_radius : float
+        radius of the arc foot R [m], >= 0 and < a + b (0: point foot).
+    slope : float
+        ramp angle [rad], in (-pi/2, pi/2).
+    g : float
+        gravitational acceleration [m/s^2], > 0.
+
+    References
+    ----------
+    .. [1] A. Goswami, B. Thuilot, B. Espiau, "Compass-like biped robot part I: stability
+       and bifurcation of passive gaits", INRIA RR-2996, 1996; IJRR 17(12), 1998.
+    .. [2] M. W. Spong, J. K. Holm, D. Lee, "Passivity-based control of bipedal locomotion",
+       IEEE Robotics & Automation Magazine 14(2), 2007.
+    """
+
+    MODEL: ClassVar[str] = "compass"
+    PRESETS: ClassVar[tuple[str, ...]] = ("goswami", "drake")
+
+    mass_hip: float = _param("kg", "point mass at the hip", 0.0, lo_open=True)
+    mass_leg: float = _param("kg", "mass of each leg", 0.0, lo_open=True)
+    com_from_foot: float = _param("m", "a: foot to the leg's centre of mass", 0.0)
+    com_to_hip: float = _param("m", "b: leg's centre of mass to the hip", 0.0)
+    inertia_leg: float = _param("kg m^2", "leg inertia about its centre of mass", 0.0)
+    foot_radius: float = _param("m", "radius of the arc foot (0: point foot)", 0.0)
+    slope: float = _slope_field()
+    g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
+
+    @property
+    def leg_length(self) -> float:
+        """Leg length a + b [m]."""
+        return self.com_from_foot + self.com_to_hip
+
+    def _check_relations(self) -> None:
+        length = self.leg_length
+        if not length > 0.0:
+            raise _relation_error(
+                "leg length `com_from_foot + com_to_hip` must be > 0 [m]", f"{length!r}"
+            )
+        if not self.foot_radius < length:
+            raise _relation_error(
+                f"`foot_radius` must be < leg length `com_from_foot + com_to_hip` = {length!r} [m]",
+                f"{self.foot_radius!r}",
+            )
+
+    @classmethod
+    def goswami(cls, slope: float = math.radians(3.0)) -> CompassParams:
+        """Goswami, Thuilot, Espiau 1996/1998 [1]_: m_H = 10, m = 5, a = b = 0.5, point masses.
+
+        g = 9.8 as in Spong et al. 2007 [2]_, whose fixed point at 3 degrees is
+        [0.2187, -0.3234, -1.0918, -0.3772].
+
+        References
+        ----------
+        .. [1] Goswami, Thuilot, Espiau, INRIA RR-2996, 1996; IJRR 17(12), 1998.
+        .. [2] Spong, Holm, Lee, IEEE Robot. Autom. Mag. 14(2), 2007.
+        """
+        return cls(
+            mass_hip=10.0,
+            mass_leg=5.0,
+            com_from_foot=0.5,
+            com_to_hip=0.5,
+            inertia_leg=0.0,
+            foot_radius=0.0,
+            slope=slope,
+            g=9.8,
+        )
+
+    @classmethod
+    def drake(cls) -> CompassParams:
+        """Defaults of Drake's compass gait [1]_: m_H = 10, m = 5, l = 1, centre of mass 0.5
+        from the hip (point-mass legs), g = 9.81, slope 0.0525 rad.
+
+        References
+        ----------
+        .. [1] Drake, ``examples/compass_gait/compass_gait_params_named_vector.yaml``.
+        """
+        return cls(
+            mass_hip=10.0,
+            mass_leg=5.0,
+            com_from_foot=0.5,
+            com_to_hip=0.5,
+            inertia_leg=0.0,
+            foot_radius=0.0,
+            slope=0.0525,
+            g=9.81,
+        )
+
+
+# ------------------------------------------------------------------------------------------
+@dataclasses.dataclass(frozen=True)
+class KneedParams(_Params):
+    """Kneed walker: hip mass, thigh and shank on each leg, optional round feet.
+
+    Shank: centre of mass ``shank_com_from_foot`` (a1) above the foot and ``shank_com_to_knee``
+    (b1) below the knee; thigh: ``thigh_com_from_knee`` (a2) above the knee and
+    ``thigh_com_to_hip`` (b2) below the hip (Hsu Chen 2007 names). ``offset_*`` moves a
+    segment's centre of mass perpendicular to the segment, positive forward.
+
+    Attributes
+    ----------
+    mass_hip, mass_thigh, mass_shank : float
+        [kg], > 0.
+    shank_com_from_foot, shank_com_to_knee, thigh_com_from_knee, thigh_com_to_hip : float
+        a1, b1, a2, b2 [m], >= 0; a1 + b1 > 0 and a2 + b2 > 0.
+    inertia_thigh, inertia_shank : float
+        about each segment's centre of mass [kg m^2], >= 0.
+    offset_thigh, offset_shank : float
+        fore-aft offset of the segment's centre of mass [m]; |offset| <= segment length.
+    foot_radius : float
+        radius of the arc foot [m], >= 0 and < shank length.
+    slope : float
+        [rad], in (-pi/2, pi/2).
+    g : float
+        [m/s^2], > 0.
+
+    References
+    ----------
+    .. [1] Hsu Chen, "Passive Dynamic Walking with Knees: A Point Foot Model", M.Eng. thesis,
+       MIT, 2007.
+    .. [2] T. McGeer, "Passive walking with knees", Proc. IEEE ICRA, 1990.
+    """
+
+    MODEL: ClassVar[str] = "kneed"
+    PRESETS: ClassVar[tuple[str, ...]] = ("hsu_chen", "mcgeer")
+
+    mass_hip: float = _param("kg", "point mass at the hip", 0.0, lo_open=True)
+    mass_thigh: float = _param("kg", "mass of each thigh", 0.0, lo_open=True)
+    mass_shank: float = _param("kg", "mass of each shank", 0.0, lo_open=True)
+    shank_com_from_foot: float = _param("m", "a1: foot to the shank's centre of mass", 0.0)
+    shank_com_to_knee: float = _param("m", "b1: shank's centre of mass to the knee", 0.0)
+    thigh_com_from_knee: float = _param("m", "a2: knee to the thigh's centre of mass", 0.0)
+    thigh_com_to_hip: float = _param("m", "b2: thigh's centre of mass to the hip", 0.0)
+    inertia_thigh: float = _param("kg m^2", "thigh inertia about its centre of mass", 0.0)
+    inertia_shank: float = _param("kg m^2", "shank inertia about its centre of mass", 0.0)
+    offset_thigh: float = _param("m", "fore-aft offset of the thigh's centre of mass")
+    offset_shank: float = _param("m", "fore-aft offset of the shank's centre of mass")
+    foot_radius: float = _param("m", "radius of the arc foot (0: point foot)", 0.0)
+    slope: float = _slope_field()
+    g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
+
+    @property
+    def shank_length(self) -> float:
+        """Shank length a1 + b1 [m]."""
+        return self.shank_com_from_foot + self.shank_com_to_knee
+
+    @property
+    def thigh_length(self) -> float:
+        """Thigh length a2 + b2 [m]."""
+        return self.thigh_com_from_knee + self.thigh_com_to_hip
+
+    @property
+    def leg_length(self) -> float:
+        """Leg length, foot to hip with the knee straight [m]."""
+        return self.shank_length + self.thigh_length
+
+    def _check_relations(self) -> None:
+        ls, lt = self.shank_length, self.thigh_length
+        if not ls > 0.0:
+            raise _relation_error(
+                "shank length `shank_com_from_foot + shank_com_to_knee` must be > 0 [m]",
+                f"{ls!r}",
+            )
+        if not lt > 0.0:
+            raise _relation_error(
+                "thigh length `thigh_com_from_knee + thigh_com_to_hip` must be > 0 [m]",
+                f"{lt!r}",
+            )
+        if not abs(self.offset_thigh) <= lt:
+            raise _relation_error(
+                f"|`offset_thigh`| must be <= thigh length {lt!r} [m] (centre of mass near "
+                "its link)",
+                f"{self.offset_thigh!r}",
+            )
+        if not abs(self.offset_shank) <= ls:
+            raise _relation_error(
+                f"|`offset_shank`| must be <= shank length {ls!r} [m] (centre of mass near "
+                "its link)",
+                f"{self.offset_shank!r}",
+            )
+        if not self.foot_radius < ls:
+            raise _relation_error(
+                f"`foot_radius` must be < shank length {ls!r} [m]", f"{self.foot_radius!r}"
+            )
+
+    @classmethod
+    def hsu_chen(cls) -> KneedParams:
+        """Hsu Chen 2007 [1]_ point-foot kneed walker (point masses; g = 9.8 as in the
+        thesis's MATLAB code; slope asin(7.25/144)).
+
+        References
+        ----------
+        .. [1] Hsu Chen, "Passive Dynamic Walking with Knees: A Point Foot Model", M.Eng.
+           thesis, MIT, 2007.
+        """
+        return cls(
+            mass_hip=0.5,
+            mass_thigh=0.5,
+            mass_shank=0.05,
+            shank_com_from_foot=0.375,
+            shank_com_to_knee=0.125,
+            thigh_com_from_knee=0.175,
+            thigh_com_to_hip=0.325,
+            inertia_thigh=0.0,
+            inertia_shank=0.0,
+            offset_thigh=0.0,
+            offset_shank=0.0,
+            foot_radius=0.0,
+            slope=math.asin(7.25 / 144.0),
+            g=9.8,
+        )
+
+    @classmethod
+    def mcgeer(cls) -> KneedParams:
+        """McGeer 1990 [1]_ dimensionless round-foot kneed walker (total mass 1, g = 1).
+
+        Thigh: mass 0.1, radius of gyration 0.135, length 0.46, centre of mass 0.20 below the
+        hip. Shank: mass 0.062, radius of gyration 0.186, length 0.54, centre of mass 0.24
+        below the knee, fore-aft offset 0.01. Foot radius 0.2, hip mass 0.676, slope 0.0456.
+        Inertias are m r^2 with r the radius of gyration.
+
+        References
+        ----------
+        .. [1] T. McGeer, "Passive walking with knees", Proc. IEEE ICRA, 1990.
+        """
+        return cls(
+            mass_hip=0.676,
+            mass_thigh=0.1,
+            mass_shank=0.062,
+            shank_com_from_foot=0.30,  # shank length 0.54 - 0.24
+            shank_com_to_knee=0.24,
+            thigh_com_from_knee=0.26,  # thigh length 0.46 - 0.20
+            thigh_com_to_hip=0.20,
+            inertia_thigh=0.1 * 0.135**2,
+            inertia_shank=0.062 * 0.186**2,
+            offset_thigh=0.0,
+            offset_shank=0.01,
+            foot_radius=0.2,
+            slope=0.0456,
+            g=1.0,
+        )
+
+
+# ------------------------------------------------------------------------------------------
+@dataclasses.dataclass(frozen=True)
+class DoublePendulumParams(_Params):
+    """Planar double pendulum (the course's elbow manipulator); link 1 hinged at the origin.
+
+    Attributes
+    ----------
+    mass_1, mass_2 : float
+        link masses [kg], > 0.
+    inertia_1, inertia_2 : float
+        link inertias about their centres of mass [kg m^2], >= 0.
+    length_1, length_2 : float
+        link lengths [m], > 0.
+    com_1, com_2 : float
+        proximal joint to the link's centre of mass [m], in [0, length_i].
+    g : float
+        gravitational acceleration [m/s^2], >= 0.
+
+    References
+    ----------
+    .. [1] Course material, ``../shared/REFERENCES.md`` section 5.
+    """
+
+    MODEL: ClassVar[str] = "double_pendulum"
+    PRESETS: ClassVar[tuple[str, ...]] = ("course",)
+
+    mass_1: float = _param("kg", "mass of link 1", 0.0, lo_open=True)
+    mass_2: float = _param("kg", "mass of link 2", 0.0, lo_open=True)
+    inertia_1: float = _param("kg m^2", "link 1 inertia about its centre of mass", 0.0)
+    inertia_2: float = _param("kg m^2", "link 2 inertia about its centre of mass", 0.0)
+    length_1: float = _param("m", "length of link 1", 0.0, lo_open=True)
+    length_2: float = _param("m", "length of link 2", 0.0, lo_open=True)
+    com_1: float = _param("m", "origin to link 1's centre of mass", 0.0)
+    com_2: float = _param("m", "elbow to link 2's centre of mass", 0.0)
+    g: float = _param("m/s^2", "gravitational acceleration", 0.0)
+
+    def _check_relations(self) -> None:
+        for i in (1, 2):
+            com, length = getattr(self, f"com_{i}"), getattr(self, f"length_{i}")
+            if not com <= length:
+                raise _relation_error(
+                    f"`com_{i}` must be <= `length_{i}` = {length!r} [m] (centre of mass "
+                    "inside its link)",
+                    f"{com!r}",
+                )
+
+    @classmethod
+    def course(cls) -> DoublePendulumParams:
+        """The course's energy-check pendulum [1]_: m = 1, I = 0.5, l = 1, a = 0.5, g = 10.
+
+        References
+        ----------
+        .. [1] Course material, ``../shared/REFERENCES.md`` section 5.
+        """
+        return cls(
+            mass_1=1.0,
+            mass_2=1.0,
+            inertia_1=0.5,
+            inertia_2=0.5,
+            length_1=1.0,
+            length_2=1.0,
+            com_1=0.5,
+            com_2=0.5,
+            g=10.0,
+        )
+
+
+# ------------------------------------------------------------------------------------------
+PARAMS: dict[str, type[_Params]] = {
+    "simplest": SimplestParams,
+    "compass": CompassParams,
+    "kneed": KneedParams,
+    "double_pendulum": DoublePendulumParams,
+}
+"""Model name -> parameter class."""
+
+STATE_NAMES: dict[str, tuple[str, ...]] = {
+    # Garcia et al. 1998: theta stance angle from the slope normal, phi swing relative to stance.
+    "simplest": ("theta", "phi", "theta_dot", "phi_dot"),
+    # absolute angles from vertical, counterclockwise positive
+    "compass": ("q_stance", "q_swing", "qd_stance", "qd_swing"),
+    # q1 stance leg, q2 swing thigh, q3 swing shank; absolute, counterclockwise positive
+    "kneed": ("q1", "q2", "q3", "qd1", "qd2", "qd3"),
+    # q1 link 1, q2 link 2 (the model module states whether q2 is absolute or relative)
+    "double_pendulum": ("q1", "q2", "qd1", "qd2"),
+}
+"""Model name -> names of the full state's components, in order."""
+
+HAS_EVENTS: dict[str, bool] = {
+    "simplest": True,
+    "compass": True,
+    "kneed": True,
+    "double_pendulum": False,
+}
+"""Model name -> whether the model has guards and resets (strides)."""
+
+
+def params_class(model_name: str) -> type[_Params]:
+    """The parameter class of ``model_name`` (a key of :data:`PARAMS`).
+
+    Examples
+    --------
+    >>> params_class("compass").__name__
+    'CompassParams'
+    """
+    try:
+        return PARAMS[model_name]
+    except (KeyError, TypeError):
+        raise ValueError(
+            f"unknown model {model_name!r}; valid models: {', '.join(PARAMS)}"
+        ) from None
