@@ -1,0 +1,79 @@
+"""walker: fast, exact hybrid-dynamics simulation of biped walkers.
+
+The pipeline, from a scene file to pictures::
+
+    gaits/*.toml ──► scene.py        load_scene: model name, parameters, state, settings
+                 ──► params.py       frozen dataclasses with units and bounds; as_array()
+    (build time) ──► symbolic/       sympy: bodies -> D, C (Christoffel), g, B, contact
+                                     Jacobians, energies; Newton-Euler as the check
+                 ──► symbolic/codegen.py + scripts/generate_kernels.py
+                                     cse + printing -> walker/_generated/<model>.py
+                                     (numba kernels, committed, stamped with a hash)
+    (run time)   ──► models/         per walker: compiled rhs, guards, resets (impacts as
+                                     augmented linear systems), vector-field Jacobian,
+                                     section lift/project
+                 ──► integrate.py    compiled DOP853 / RK45 / RK4 / Euler, dense output,
+                                     event location, the hybrid loop, variational
+                                     equations with saltation matrices -> Solution
+                 ──► stride.py       simulate(); StrideMap: section -> section (+ Jacobian)
+                 ──► fixedpoint.py   Newton / Levenberg-Marquardt fixed points, Floquet
+                     continuation.py natural and pseudo-arclength, folds, period doublings
+                     basin.py        basins of attraction on an Executor
+                     sweep.py        resumable parameter sweeps on any Executor
+                 ──► storage.py      HDF5 with provenance, atomic writes
+                 ──► plotting.py     figures and animations
+    cli.py sits on top (``walker find|run|continue|basin|sweep|plot``) and only orchestrates.
+
+Only ``symbolic`` imports sympy; a simulation derives nothing.
+"""
+
+from importlib.metadata import PackageNotFoundError, version
+
+try:
+    __version__ = version("walker-hybrid")
+except PackageNotFoundError:  # pragma: no cover - running from a source tree
+    __version__ = "0.0.0+unknown"
+
+from walker.models import MODEL_NAMES, get_model  # noqa: E402
+from walker.params import (  # noqa: E402
+    CompassParams,
+    DoublePendulumParams,
+    KneedParams,
+    SimplestParams,
+)
+from walker.results import FixedPoint, MapResult, Solution  # noqa: E402
+from walker.scene import Scene, load_scene  # noqa: E402
+from walker.status import Status  # noqa: E402
+
+
+def __getattr__(name):
+    # The simulation layer loads on first use, so `import walker` stays light.
+    if name in ("simulate", "StrideMap"):
+        from walker import stride
+
+        return getattr(stride, name)
+    if name == "find_fixed_point":
+        from walker.fixedpoint import find_fixed_point
+
+        return find_fixed_point
+    raise AttributeError(f"module 'walker' has no attribute {name!r}")
+
+
+__all__ = [
+    "MODEL_NAMES",
+    "CompassParams",
+    "DoublePendulumParams",
+    "FixedPoint",
+    "KneedParams",
+    "MapResult",
+    "Scene",
+    "SimplestParams",
+    "Solution",
+    "Status",
+    "StrideMap",
+    "find_fixed_point",
+    "get_model",
+    "load_scene",
+    "simulate",
+    "__version__",
+]

@@ -1,0 +1,648 @@
+"""Figures and animations of walker results (matplotlib; never ``pyplot.show``).
+
+Every function takes result objects from :mod:`walker.results` (duck typed: any object with
+the same attributes works, including results read back by :mod:`walker.storage`), computes no
+physics, and returns the :class:`~matplotlib.figure.Figure` it drew on.  Pass ``ax=`` to draw
+into an existing axes; otherwise a new figure is made with ``matplotlib.figure.Figure`` (not
+pyplot), so nothing accumulates in pyplot's figure registry and no display is needed.
+
+Examples
+--------
+>>> import numpy as np
+>>> from walker.results import Trajectory
+>>> from walker.plotting import plot_angles
+>>> t = np.linspace(0.0, 2.0, 50)
+>>> traj = Trajectory(t, np.stack([np.sin(t), -np.sin(t), np.cos(t), -np.cos(t)], axis=1),
+...                   (t > 1.0).astype(int))
+>>> fig = plot_angles(traj, state_names=["theta", "phi", "theta_dot", "phi_dot"])
+>>> len(fig.axes)
+2
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib import animation
+from matplotlib.axes import Axes
+from matplotlib.colors import ListedColormap
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+
+__all__ = [
+    "animate_walker",
+    "outcome_label",
+    "plot_angles",
+    "plot_basin",
+    "plot_bifurcation",
+    "plot_energy",
+    "plot_multipliers",
+    "plot_orbit_diagram",
+    "plot_phase_portrait",
+    "plot_work_precision",
+]
+
+# BasinMap outcome codes (walker.results.BASIN_CONVERGED / BASIN_UNDECIDED).
+_CONVERGED, _UNDECIDED = -1, -2
+
+
+def _new_axes(ax: Axes | None, **subplot_kw: Any) -> tuple[Figure, Axes]:
+    if ax is None:
+        fig = Figure(figsize=(6.4, 4.8), layout="constrained")
+        return fig, fig.add_subplot(**subplot_kw)
+    if not isinstance(ax, Axes):
+        raise TypeError(f"`ax` must be a matplotlib Axes or None, got {type(ax).__name__}")
+    return ax.figure, ax
+
+
+def _trajectory_of(obj: Any, argname: str) -> tuple[Any, Any]:
+    """(trajectory, events) from a Solution (record, else samples) or a Trajectory."""
+    if (
+        hasattr(obj, "t")
+        and hasattr(obj, "x")
+        and hasattr(obj, "phase")
+        and not hasattr(obj, "record")
+    ):
+        return obj, None
+    traj = getattr(obj, "record", None)
+    if traj is None:
+        traj = getattr(obj, "samples", None)
+    if traj is None:
+        raise ValueError(
+            f"`{argname}` has neither `record` nor `samples`; run with output 'samples' or "
+            "'full', or pass a Trajectory"
+        )
+    return traj, getattr(obj, "events", None)
+
+
+def _runs(values: np.ndarray) -> list[tuple[int, int]]:
+    """Index ranges [start, stop) of runs of equal consecutive values."""
+    values = np.asarray(values)
+    if values.size == 0:
+        return []
+    cuts = np.flatnonzero(values[1:] != values[:-1]) + 1
+    starts = np.r_[0, cuts]
+    stops = np.r_[cuts, values.size]
+    return list(zip(starts.tolist(), stops.tolist(), strict=True))
+
+
+def plot_angles(
+    solution_or_trajectory: Any,
+    *,
+    state_names: Sequence[str] | None = None,
+    phase_names: Sequence[str] | None = None,
+    ax: Sequence[Axes] | None = None,
+) -> Figure:
+    """Angles (first half of the state) and rates (second half) against time.
+
+    Parameters
+    ----------
+    solution_or_trajectory : Solution or Trajectory
+        a Solution plots its ``record`` (else ``samples``) and marks its ``events`` as
+        vertical lines; a Trajectory has ``t`` (n,), ``x`` (n, n_x) and ``phase`` (n,).
+    state_names : sequence of str, length n_x, optional
+        default ``x[0]``, ``x[1]``, ...
+    phase_names : sequence of str, optional
+        names of the phase indices, for the legend of the shaded spans; default the
+        Solution's ``phase_names``, else ``phase 0``, ...
+    ax : pair of Axes, optional
+        (angles axes, rates axes).
+
+    Returns
+    -------
+    Figure
+        two axes; one line per coordinate on each, one shaded span per run of equal phase,
+        one vertical line per event on each.
+    """
+    traj, events = _trajectory_of(solution_or_trajectory, "solution_or_trajectory")
+    t = np.asarray(traj.t, dtype=float)
+    x = np.asarray(traj.x, dtype=float)
+    phase = np.asarray(traj.phase)
+    if x.ndim != 2 or x.shape[0] != t.shape[0] or x.shape[1] % 2:
+        raise ValueError(
+            f"`x` must have shape (n, n_x) with n = len(t) = {t.shape[0]} and n_x even, "
+            f"got {x.shape}"
+        )
+    n_x = x.shape[1]
+    names = list(state_names) if state_names is not None else [f"x[{i}]" for i in range(n_x)]
+    if len(names) != n_x:
+        raise ValueError(f"`state_names` must have {n_x} entries, got {len(names)}")
+    if phase_names is None:
+        phase_names = getattr(solution_or_trajectory, "phase_names", None) or ()
+    phase_names = list(phase_names)
+    if ax is None:
+        fig = Figure(figsize=(7.0, 5.6), layout="constrained")
+        ax_q, ax_v = fig.subplots(2, 1, sharex=True)
+    else:
+        if len(ax) != 2 or not all(isinstance(a, Axes) for a in ax):
+            raise TypeError("`ax` must be a pair of Axes (angles, rates) or None")
+        ax_q, ax_v = ax
+        fig = ax_q.figure
+    half = n_x // 2
+    for i in range(half):
+        ax_q.plot(t, x[:, i], label=names[i])
+        ax_v.plot(t, x[:, half + i], label=names[half + i])
+    # Shade each run of equal phase, one colour per phase index.
+    colors = [f"C{k}" for k in range(10)]
+    seen: dict[int, Patch] = {}
+    for start, stop in _runs(phase):
+        p = int(phase[start])
+        t0 = t[start]
+        t1 = t[stop] if stop < t.size else t[-1]
+        for a in (ax_q, ax_v):
+            a.axvspan(t0, t1, color=colors[p % 10], alpha=0.12, lw=0)
+        if p not in seen:
+            label = phase_names[p] if 0 <= p < len(phase_names) else f"phase {p}"
+            seen[p] = Patch(color=colors[p % 10], alpha=0.12, label=label)
+    if events is not None:
+        for te in np.asarray(events.t, dtype=float):
+            for a in (ax_q, ax_v):
+                a.axvline(te, color="k", lw=0.8, ls=":")
+    ax_q.set_ylabel("angle [rad]")
+    ax_v.set_ylabel("rate [rad/s]")
+    ax_v.set_xlabel("time [s]")
+    handles, _ = ax_q.get_legend_handles_labels()
+    ax_q.legend(handles=handles + list(seen.values()), loc="best", fontsize="small")
+    ax_v.legend(loc="best", fontsize="small")
+    return fig
+
+
+def plot_phase_portrait(
+    trajectory: Any,
+    i: int,
+    j: int,
+    *,
+    fixed_point: Any = None,
+    state_names: Sequence[str] | None = None,
+    ax: Axes | None = None,
+) -> Figure:
+    """State coordinate ``j`` against coordinate ``i``.
+
+    Parameters
+    ----------
+    trajectory : Trajectory or Solution
+        a Solution contributes its ``record`` (else ``samples``).
+    i, j : int
+        state indices on the horizontal and vertical axes.
+    fixed_point : FixedPoint or ndarray, shape (n_x,), optional
+        marked with a star at ``(state[i], state[j])`` (a FixedPoint's ``state``).
+    state_names : sequence of str, optional
+        axis labels; default ``x[i]``.
+    ax : Axes, optional
+
+    Returns
+    -------
+    Figure
+        one line per run of equal phase (a reset starts a new line).
+    """
+    traj, _ = _trajectory_of(trajectory, "trajectory")
+    x = np.asarray(traj.x, dtype=float)
+    n_x = x.shape[1]
+    for name, k in (("i", i), ("j", j)):
+        if not 0 <= k < n_x:
+            raise ValueError(f"`{name}` must be a state index in [0, {n_x}), got {k}")
+    fig, ax = _new_axes(ax)
+    t = np.asarray(traj.t, dtype=float)
+    # A new piece at every phase change and every repeated time (a reset within a phase).
+    breaks = np.asarray(traj.phase)[1:] != np.asarray(traj.phase)[:-1]
+    breaks |= t[1:] <= t[:-1]
+    cuts = np.r_[0, np.flatnonzero(breaks) + 1, t.size]
+    for start, stop in zip(cuts[:-1], cuts[1:], strict=True):
+        ax.plot(x[start:stop, i], x[start:stop, j], color="C0", lw=1.0)
+    if fixed_point is not None:
+        state = np.asarray(getattr(fixed_point, "state", fixed_point), dtype=float)
+        ax.plot(state[i], state[j], marker="*", ms=12, color="C3", ls="none", label="fixed point")
+        ax.legend(loc="best", fontsize="small")
+    names = list(state_names) if state_names is not None else [f"x[{k}]" for k in range(n_x)]
+    ax.set_xlabel(names[i])
+    ax.set_ylabel(names[j])
+    return fig
+
+
+def plot_energy(
+    t: np.ndarray,
+    kinetic: np.ndarray,
+    potential: np.ndarray,
+    *,
+    event_times: np.ndarray | None = None,
+    ax: Axes | None = None,
+) -> Figure:
+    """Kinetic, potential and total energy against time, with the drop at each impact.
+
+    Parameters
+    ----------
+    t : ndarray, shape (n,)
+        times [s], non-decreasing; a reset may appear as two samples at the same time
+        (before, then after).
+    kinetic, potential : ndarray, shape (n,)
+        energies [J] at ``t``.
+    event_times : ndarray, shape (m,), optional
+        impact times [s]: a vertical segment marks the change of the total energy from the
+        sample just before to the sample just after, labelled with its size.
+    ax : Axes, optional
+
+    Returns
+    -------
+    Figure
+        three lines (kinetic, potential, total), and a LineCollection of the drops when
+        `event_times` is given.
+    """
+    t = np.asarray(t, dtype=float)
+    kinetic = np.asarray(kinetic, dtype=float)
+    potential = np.asarray(potential, dtype=float)
+    if t.ndim != 1 or kinetic.shape != t.shape or potential.shape != t.shape:
+        raise ValueError(
+            f"`t`, `kinetic` and `potential` must be 1-D of equal length, got {t.shape}, "
+            f"{kinetic.shape}, {potential.shape}"
+        )
+    fig, ax = _new_axes(ax)
+    total = kinetic + potential
+    ax.plot(t, kinetic, label="kinetic")
+    ax.plot(t, potential, label="potential")
+    ax.plot(t, total, label="total", color="k")
+    if event_times is not None and t.size:
+        te = np.asarray(event_times, dtype=float).ravel()
+        lo = np.searchsorted(t, te, side="left")
+        hi = np.searchsorted(t, te, side="right")
+        twice = hi - lo >= 2  # samples before and after the reset at the event time
+        before = np.where(twice, lo, np.maximum(lo - 1, 0))
+        after = np.where(twice, hi - 1, np.minimum(hi, t.size - 1))
+        e0, e1 = total[before], total[after]
+        ax.vlines(
+            te, np.minimum(e0, e1), np.maximum(e0, e1), colors="C3", lw=2.0, label="impact loss"
+        )
+        for time, a, b in zip(te, e0, e1, strict=True):
+            ax.annotate(
+                f"{b - a:+.3g}",
+                (time, min(a, b)),
+                textcoords="offset points",
+                xytext=(3, -10),
+                fontsize="x-small",
+                color="C3",
+            )
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("energy [J]")
+    ax.legend(loc="best", fontsize="small")
+    return fig
+
+
+def plot_multipliers(branch: Any, ax: Axes | None = None) -> Figure:
+    """Floquet multipliers along a branch in the complex plane (root locus).
+
+    Parameters
+    ----------
+    branch : Branch
+        uses ``parameter`` (n,), ``multipliers`` (n, n_z) complex, ``parameter_name``.
+    ax : Axes, optional
+
+    Returns
+    -------
+    Figure
+        one scatter (PathCollection) coloured by the parameter with its colorbar, and the
+        unit circle (one line).
+    """
+    mult = np.asarray(branch.multipliers)
+    param = np.asarray(branch.parameter, dtype=float)
+    if mult.ndim != 2 or mult.shape[0] != param.shape[0]:
+        raise ValueError(
+            f"`branch.multipliers` must have shape (n, n_z) with n = {param.shape[0]}, "
+            f"got {mult.shape}"
+        )
+    fig, ax = _new_axes(ax)
+    angle = np.linspace(0.0, 2.0 * np.pi, 361)
+    ax.plot(np.cos(angle), np.sin(angle), color="0.5", lw=0.8, ls="--", label="unit circle")
+    colors = np.repeat(param, mult.shape[1])
+    sc = ax.scatter(mult.real.ravel(), mult.imag.ravel(), c=colors, s=12, cmap="viridis")
+    fig.colorbar(sc, ax=ax, label=str(getattr(branch, "parameter_name", "parameter")))
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("Re")
+    ax.set_ylabel("Im")
+    return fig
+
+
+def plot_bifurcation(branch: Any, *, coordinate: int = 0, ax: Axes | None = None) -> Figure:
+    """Section coordinate against the parameter: stable solid, unstable dashed.
+
+    Parameters
+    ----------
+    branch : Branch
+        uses ``parameter`` (n,), ``sections`` (n, n_z), ``stable`` (n,), ``parameter_name``,
+        ``bifurcations`` (each with ``kind``, ``parameter_value``, ``section``).
+    coordinate : int
+        which section coordinate to plot.
+    ax : Axes, optional
+
+    Returns
+    -------
+    Figure
+        one line per run of equal stability (neighbouring runs share their end point), one
+        marker line for the bifurcations with a text label each.
+    """
+    param = np.asarray(branch.parameter, dtype=float)
+    sections = np.asarray(branch.sections, dtype=float)
+    stable = np.asarray(branch.stable, dtype=bool)
+    if sections.ndim != 2 or not 0 <= coordinate < sections.shape[1]:
+        raise ValueError(
+            f"`coordinate` must be in [0, {sections.shape[1] if sections.ndim == 2 else 0}), "
+            f"got {coordinate}"
+        )
+    fig, ax = _new_axes(ax)
+    y = sections[:, coordinate]
+    labelled = set()
+    for start, stop in _runs(stable):
+        s = bool(stable[start])
+        stop_incl = min(stop + 1, param.size)  # join to the next run
+        label = ("stable" if s else "unstable") if s not in labelled else None
+        labelled.add(s)
+        ax.plot(
+            param[start:stop_incl],
+            y[start:stop_incl],
+            color="C0",
+            ls="-" if s else "--",
+            label=label,
+        )
+    bifs = list(getattr(branch, "bifurcations", []) or [])
+    if bifs:
+        bx = [float(b.parameter_value) for b in bifs]
+        by = [float(np.asarray(b.section)[coordinate]) for b in bifs]
+        ax.plot(bx, by, ls="none", marker="o", mfc="none", color="C3", label="bifurcation")
+        short = {"period_doubling": "PD", "fold": "LP"}
+        for b, px, py in zip(bifs, bx, by, strict=True):
+            ax.annotate(
+                short.get(b.kind, b.kind),
+                (px, py),
+                textcoords="offset points",
+                xytext=(4, 4),
+                fontsize="small",
+                color="C3",
+            )
+    ax.set_xlabel(str(getattr(branch, "parameter_name", "parameter")))
+    ax.set_ylabel(f"section coordinate {coordinate}")
+    ax.legend(loc="best", fontsize="small")
+    return fig
+
+
+def plot_orbit_diagram(orbit_diagram: Any, ax: Axes | None = None) -> Figure:
+    """Settled section values at each parameter value (dots; NaN where the walker fell).
+
+    Parameters
+    ----------
+    orbit_diagram : OrbitDiagram
+        uses ``parameter`` (n,), ``values`` (n, n_keep), ``parameter_name``, ``coordinate``.
+    ax : Axes, optional
+
+    Returns
+    -------
+    Figure
+        one scatter (PathCollection) of the finite values.
+    """
+    param = np.asarray(orbit_diagram.parameter, dtype=float)
+    values = np.asarray(orbit_diagram.values, dtype=float)
+    if values.ndim != 2 or values.shape[0] != param.shape[0]:
+        raise ValueError(
+            f"`orbit_diagram.values` must have shape (n, n_keep) with n = {param.shape[0]}, "
+            f"got {values.shape}"
+        )
+    fig, ax = _new_axes(ax)
+    px = np.repeat(param, values.shape[1])
+    py = values.ravel()
+    ok = np.isfinite(py)
+    ax.scatter(px[ok], py[ok], s=1.5, color="k", marker=".", linewidths=0)
+    ax.set_xlabel(str(getattr(orbit_diagram, "parameter_name", "parameter")))
+    ax.set_ylabel(f"section coordinate {getattr(orbit_diagram, 'coordinate', 0)}")
+    return fig
+
+
+def outcome_label(code: int) -> str:
+    """Name of a basin outcome code: "converged", "undecided", or the Status in words."""
+    if code == _CONVERGED:
+        return "converged"
+    if code == _UNDECIDED:
+        return "undecided"
+    from walker.status import Status
+
+    try:
+        return Status(code).name.lower().replace("_", " ")
+    except ValueError:
+        return f"outcome {code}"
+
+
+def plot_basin(
+    basin_map: Any,
+    *,
+    outcome_names: Mapping[int, str] | None = None,
+    coordinates: tuple[int, int] | None = None,
+    ax: Axes | None = None,
+) -> Figure:
+    """Categorical image of a basin of attraction with a legend, fixed point marked.
+
+    Parameters
+    ----------
+    basin_map : BasinMap
+        uses ``x`` (nx,), ``y`` (ny,), ``outcome`` (ny, nx), ``axis_names``,
+        ``fixed_point`` (n_z,).
+    outcome_names : mapping int -> str, optional
+        legend names of outcome codes; default :func:`outcome_label`.
+    coordinates : (int, int), optional
+        section indices of the x and y axes, to place the fixed point; default the map's
+        ``coordinates`` attribute if it has one, else (0, 1) when the section has two
+        coordinates; with neither, the fixed point is not marked.
+    ax : Axes, optional
+
+    Returns
+    -------
+    Figure
+        one QuadMesh (``pcolormesh`` at the grid points), a legend with one patch per outcome
+        present, and a star at the fixed point.
+    """
+    x = np.asarray(basin_map.x, dtype=float)
+    y = np.asarray(basin_map.y, dtype=float)
+    outcome = np.asarray(basin_map.outcome)
+    if outcome.shape != (y.size, x.size):
+        raise ValueError(
+            f"`basin_map.outcome` must have shape (ny, nx) = {(y.size, x.size)}, "
+            f"got {outcome.shape}"
+        )
+    fig, ax = _new_axes(ax)
+    codes = np.unique(outcome)
+    index = np.searchsorted(codes, outcome)
+    palette = {_CONVERGED: "#2ca02c", _UNDECIDED: "#bbbbbb"}
+    others = iter(
+        [
+            "#d62728",
+            "#1f77b4",
+            "#ff7f0e",
+            "#9467bd",
+            "#8c564b",
+            "#e377c2",
+            "#17becf",
+            "#bcbd22",
+            "#7f7f7f",
+            "#000000",
+        ]
+    )
+    colors = [palette.get(int(c)) or next(others, "#000000") for c in codes]
+    ax.pcolormesh(
+        x,
+        y,
+        index,
+        cmap=ListedColormap(colors),
+        vmin=-0.5,
+        vmax=len(codes) - 0.5,
+        shading="nearest",
+    )
+    names = dict(outcome_names or {})
+    handles = [
+        Patch(color=col, label=names.get(int(c), outcome_label(int(c))))
+        for c, col in zip(codes, colors, strict=True)
+    ]
+    fp = np.asarray(basin_map.fixed_point, dtype=float)
+    if coordinates is None:
+        coordinates = getattr(basin_map, "coordinates", None)
+    if coordinates is None and fp.size == 2:
+        coordinates = (0, 1)
+    if coordinates is not None:
+        ax.plot(
+            fp[coordinates[0]], fp[coordinates[1]], marker="*", ms=14, color="w", mec="k", ls="none"
+        )
+        handles.append(
+            Line2D([], [], marker="*", ms=10, color="w", mec="k", ls="none", label="fixed point")
+        )
+    ax.legend(handles=handles, loc="best", fontsize="small")
+    axis_names = tuple(getattr(basin_map, "axis_names", ("x", "y")))
+    ax.set_xlabel(axis_names[0])
+    ax.set_ylabel(axis_names[1])
+    return fig
+
+
+def plot_work_precision(
+    table: Mapping[str, tuple[np.ndarray, np.ndarray]], ax: Axes | None = None
+) -> Figure:
+    """Work-precision diagram: run time against error, log-log, one line per method.
+
+    Parameters
+    ----------
+    table : mapping method name -> (errors, times)
+        equal-length arrays; errors (dimensionless or in the state's units) and wall times
+        [s], one entry per tolerance.
+    ax : Axes, optional
+
+    Returns
+    -------
+    Figure
+        one line with markers per method.
+    """
+    if not isinstance(table, Mapping) or not table:
+        raise ValueError("`table` must be a non-empty mapping method -> (errors, times)")
+    fig, ax = _new_axes(ax)
+    for k, (method, (errors, times)) in enumerate(table.items()):
+        errors = np.asarray(errors, dtype=float)
+        times = np.asarray(times, dtype=float)
+        if errors.shape != times.shape or errors.ndim != 1:
+            raise ValueError(
+                f"`table[{method!r}]` must hold 1-D errors and times of equal length, "
+                f"got {errors.shape} and {times.shape}"
+            )
+        ax.loglog(errors, times, marker="os^vD<>ph*"[k % 10], label=str(method))
+    ax.set_xlabel("error")
+    ax.set_ylabel("time [s]")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(loc="best", fontsize="small")
+    return fig
+
+
+def animate_walker(
+    frames: np.ndarray,
+    segments: Sequence[tuple[int, int]],
+    *,
+    slope: float = 0.0,
+    interval_ms: float = 33.0,
+    path: str | Path | None = None,
+) -> animation.FuncAnimation:
+    """Stick-figure animation of a walker; optionally saved as GIF or MP4.
+
+    Parameters
+    ----------
+    frames : ndarray, shape (n_frames, n_points, 2)
+        joint positions [m] in the world frame (x horizontal, walking toward +x; y up).
+    segments : sequence of (int, int)
+        pairs of point indices drawn as links.
+    slope : float
+        ground angle [rad]; the ground is drawn through the origin as
+        ``y = -tan(slope) x`` (downhill toward +x).
+    interval_ms : float
+        time between frames [ms]; the file's frame rate is ``1000 / interval_ms``.
+    path : str or Path, optional
+        ``*.gif`` (written with Pillow) or ``*.mp4`` (needs ffmpeg,
+        ``matplotlib.animation.writers.is_available("ffmpeg")``).
+
+    Returns
+    -------
+    matplotlib.animation.FuncAnimation
+        its figure is ``anim._fig``; one Line2D per segment and one for the joints.
+    """
+    frames = np.asarray(frames, dtype=float)
+    if frames.ndim != 3 or frames.shape[2] != 2 or frames.shape[0] == 0:
+        raise ValueError(
+            f"`frames` must have shape (n_frames, n_points, 2) with n_frames >= 1, "
+            f"got {frames.shape}"
+        )
+    n_points = frames.shape[1]
+    segs = [tuple(int(v) for v in s) for s in segments]
+    for s in segs:
+        if len(s) != 2 or not all(0 <= v < n_points for v in s):
+            raise ValueError(
+                f"`segments` must be pairs of point indices in [0, {n_points}), got {s}"
+            )
+    if not interval_ms > 0:
+        raise ValueError(f"`interval_ms` must be positive, got {interval_ms}")
+    writer_cls = None
+    if path is not None:
+        path = Path(path)
+        suffix = path.suffix.lower()
+        if suffix == ".gif":
+            writer_cls = animation.PillowWriter
+        elif suffix == ".mp4":
+            if not animation.writers.is_available("ffmpeg"):
+                raise ValueError(
+                    f"`path` {str(path)!r} asks for MP4 but ffmpeg is not available; "
+                    "use a .gif path"
+                )
+            writer_cls = animation.FFMpegWriter
+        else:
+            raise ValueError(f"`path` must end in .gif or .mp4, got {str(path)!r}")
+        if not path.parent.is_dir():
+            raise FileNotFoundError(f"directory '{path.parent}' of `path` does not exist")
+
+    fig = Figure(figsize=(6.4, 3.6), layout="constrained")
+    ax = fig.add_subplot()
+    lo = np.nanmin(frames.reshape(-1, 2), axis=0)
+    hi = np.nanmax(frames.reshape(-1, 2), axis=0)
+    pad = 0.1 * max(float(np.max(hi - lo)), 1e-9)
+    gx = np.array([lo[0] - pad, hi[0] + pad])
+    ax.plot(gx, -np.tan(slope) * gx, color="0.4", lw=1.5)  # ground
+    ax.set_xlim(gx)
+    ax.set_ylim(min(lo[1], float(np.min(-np.tan(slope) * gx))) - pad, hi[1] + pad)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    links = [ax.plot([], [], color="C0", lw=2.5, solid_capstyle="round")[0] for _ in segs]
+    joints = ax.plot([], [], ls="none", marker="o", ms=4, color="k")[0]
+
+    def draw(k: int) -> list[Line2D]:
+        pts = frames[k]
+        for line, (a, b) in zip(links, segs, strict=True):
+            line.set_data(pts[[a, b], 0], pts[[a, b], 1])
+        joints.set_data(pts[:, 0], pts[:, 1])
+        return [*links, joints]
+
+    anim = animation.FuncAnimation(
+        fig, draw, frames=frames.shape[0], interval=interval_ms, blit=False, repeat=False
+    )
+    if writer_cls is not None:
+        anim.save(str(path), writer=writer_cls(fps=1000.0 / interval_ms))
+    return anim

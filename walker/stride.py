@@ -1,0 +1,247 @@
+"""Simulating a walker and its stride (Poincare) map on the section just after heel strike.
+
+:func:`simulate` runs a model from a full state; :class:`StrideMap` maps section coordinates
+to the section coordinates one (or ``k``) strides later, with the exact Jacobian from the
+variational equations and saltation matrices when asked.  It implements the
+:class:`walker.fixedpoint.SectionMap` protocol the gait search works on.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from walker.integrate import hybrid_solve
+from walker.models import WalkerModel, get_model
+from walker.results import MapResult, Solution
+from walker.status import Status
+
+__all__ = ["StrideMap", "simulate"]
+
+
+def _resolve(model, params):
+    if isinstance(model, str):
+        model = get_model(model)
+    if not isinstance(model, WalkerModel):
+        raise TypeError(f"`model` must be a model name or WalkerModel, got {type(model).__name__}")
+    if not isinstance(params, model.params_class):
+        raise TypeError(
+            f"`params` must be a {model.params_class.__name__} for model `{model.name}`, "
+            f"got {type(params).__name__}"
+        )
+    return model
+
+
+def simulate(
+    model,
+    params,
+    x0,
+    *,
+    n_strides: int = 1,
+    phase0: int = 0,
+    t_max: float | None = None,
+    method: str = "DOP853",
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    first_step: float | None = None,
+    output: str = "map",
+    sample_times=None,
+    jacobian: bool = False,
+    max_steps: int = 1_000_000,
+) -> Solution:
+    """Simulate ``n_strides`` strides of a walker from the full state ``x0``.
+
+    Parameters
+    ----------
+    model : str or WalkerModel
+        ``"simplest"``, ``"compass"``, ``"kneed"`` or ``"double_pendulum"``.
+    params : the model's parameter dataclass (``walker.params``)
+    x0 : array_like, shape (n_x,)
+        initial state in the model's state order (``get_model(name).state_names``).
+    n_strides : int
+        heel strikes to complete; 0 integrates to ``t_max`` (models without events).
+    t_max : float, optional
+        final time [s]; default ``20 n_strides`` stride-times' worth: ``20 * max(1,
+        n_strides) * sqrt(leg_length / g)``.
+    method, rtol, atol, first_step, output, sample_times, jacobian, max_steps
+        as in :func:`walker.integrate.hybrid_solve`.
+
+    Returns
+    -------
+    Solution
+        ``status`` says how the run ended (a fall is a status, not an exception).
+
+    Examples
+    --------
+    >>> from walker import simulate, load_scene
+    >>> scene = load_scene("gaits/compass_goswami.toml")
+    >>> sol = simulate("compass", scene.params, scene.state, n_strides=3)
+    >>> sol.status.name, sol.n_strides
+    ('COMPLETED', 3)
+    """
+    model = _resolve(model, params)
+    if t_max is None:
+        t_max = 20.0 * max(1, n_strides) * _time_scale(params)
+    return hybrid_solve(
+        model.system,
+        x0,
+        params.as_array(),
+        phase0=phase0,
+        t_max=t_max,
+        n_strides=n_strides,
+        method=method,
+        rtol=rtol,
+        atol=atol,
+        first_step=first_step,
+        output=output,
+        sample_times=sample_times,
+        jacobian=jacobian,
+        max_steps=max_steps,
+    )
+
+
+def _time_scale(params) -> float:
+    """sqrt(leg length / g) [s], the natural time unit of a walker."""
+    length = getattr(params, "leg_length", None)
+    if length is None:
+        length = getattr(params, "length_1", 1.0) + getattr(params, "length_2", 0.0)
+    return float(np.sqrt(length / params.g))
+
+
+@dataclass(frozen=True, eq=False)
+class StrideMap:
+    """The stride map ``z -> P(z)`` of a walker on the section just after heel strike.
+
+    Parameters
+    ----------
+    model : str or WalkerModel
+    params : the model's parameter dataclass
+    method : str
+    rtol, atol : float
+    t_max : float, optional
+        time allowed per stride [s]; default ``20 sqrt(l/g)``.
+    first_step : float, optional
+        step for fixed-step methods.
+    parameter_name : str
+        the scalar parameter continuation varies (default ``"slope"``).
+
+    Examples
+    --------
+    >>> from walker import StrideMap, load_scene
+    >>> scene = load_scene("gaits/simplest_garcia.toml")
+    >>> P = StrideMap("simplest", scene.params, rtol=1e-12)
+    >>> r = P(P.project(scene.state))
+    >>> r.status.name
+    'COMPLETED'
+    """
+
+    model: object
+    params: object
+    method: str = "DOP853"
+    rtol: float = 1e-12
+    atol: float = 1e-12
+    t_max: float | None = None
+    first_step: float | None = None
+    parameter_name: str = "slope"
+
+    def __post_init__(self):
+        model = _resolve(self.model, self.params)
+        object.__setattr__(self, "model", model)
+        if not model.is_walker:
+            raise ValueError(f"`model` `{model.name}` has no heel strike, so no stride map")
+        if self.parameter_name not in model.params_class.names():
+            raise ValueError(
+                f"`parameter_name` must be a parameter of `{model.name}` "
+                f"({', '.join(model.params_class.names())}), got {self.parameter_name!r}"
+            )
+        if self.t_max is None:
+            object.__setattr__(self, "t_max", 20.0 * _time_scale(self.params))
+        # project() is a selection of state components: its matrix, for Jacobians.
+        p = self.params.as_array()
+        proj = np.array([model.project(e, p) for e in np.eye(model.n_x)]).T
+        object.__setattr__(self, "_proj", proj)
+
+    # --- SectionMap protocol ------------------------------------------------------------
+    @property
+    def n_z(self) -> int:
+        return self.model.n_z
+
+    @property
+    def section_names(self) -> tuple[str, ...]:
+        return self.model.section_names
+
+    @property
+    def parameter_value(self) -> float:
+        return float(getattr(self.params, self.parameter_name))
+
+    def with_parameter(self, value: float) -> StrideMap:
+        """A copy at another value of ``parameter_name`` (validated)."""
+        return dataclasses.replace(
+            self, model=self.model, params=self.params.replace(**{self.parameter_name: value})
+        )
+
+    def with_params(self, **changes) -> StrideMap:
+        """A copy with other parameters."""
+        return dataclasses.replace(self, model=self.model, params=self.params.replace(**changes))
+
+    def lift(self, z) -> np.ndarray:
+        return self.model.lift(z, self.params)
+
+    def project(self, x) -> np.ndarray:
+        return self.model.project(x, self.params)
+
+    def __call__(
+        self, z, *, jacobian: bool = False, n_strides: int = 1, parameter: float | None = None
+    ) -> MapResult:
+        """Apply the map ``n_strides`` times.
+
+        Returns
+        -------
+        MapResult
+            ``z`` is NaN and ``status`` says why when a stride fails.
+        """
+        if parameter is not None and parameter != self.parameter_value:
+            return self.with_parameter(parameter)(z, jacobian=jacobian, n_strides=n_strides)
+        z = np.asarray(z, dtype=float)
+        if z.shape != (self.n_z,):
+            raise ValueError(f"`z` must have shape ({self.n_z},), got {z.shape}")
+        p = self.params.as_array()
+        x0 = self.model.lift(z, p)
+        sol = hybrid_solve(
+            self.model.system,
+            x0,
+            p,
+            t_max=self.t_max * n_strides,
+            n_strides=n_strides,
+            method=self.method,
+            rtol=self.rtol,
+            atol=self.atol,
+            first_step=self.first_step,
+            jacobian=jacobian,
+        )
+        if sol.status != Status.COMPLETED:
+            nan = np.full(self.n_z, np.nan)
+            return MapResult(sol.status, nan, None, float(sol.t), sol.x)
+        jz = None
+        if jacobian:
+            jz = self._proj @ sol.jac @ self.model.lift_jacobian(z, p)
+        return MapResult(Status.COMPLETED, self.model.project(sol.x, p), jz, float(sol.t), sol.x)
+
+    def trajectory(self, z, *, n_strides: int = 1, sample_rate: float | None = None) -> Solution:
+        """Simulate from section point ``z`` keeping events and samples (or every step)."""
+        p = self.params.as_array()
+        x0 = self.model.lift(np.asarray(z, dtype=float), p)
+        if sample_rate is None:
+            return simulate(self.model, self.params, x0, n_strides=n_strides,
+                            t_max=self.t_max * n_strides, method=self.method, rtol=self.rtol,
+                            atol=self.atol, first_step=self.first_step, output="full")
+        first = simulate(self.model, self.params, x0, n_strides=n_strides,
+                         t_max=self.t_max * n_strides, method=self.method, rtol=self.rtol,
+                         atol=self.atol, first_step=self.first_step)
+        times = np.arange(0.0, first.t, 1.0 / sample_rate)
+        return simulate(self.model, self.params, x0, n_strides=n_strides,
+                        t_max=self.t_max * n_strides, method=self.method, rtol=self.rtol,
+                        atol=self.atol, first_step=self.first_step, output="samples",
+                        sample_times=times)
