@@ -252,7 +252,7 @@ def reset(phase, k, t, x, p, x_new, impulse):
             return EVENT_TERMINAL, phase, status
         shank, thigh = _lengths(p)
         height, ahead = swing_foot(x_new, p)
-        if height <= 1e-12 * (shank + thigh) and ahead > 0.0 and _swing_foot_rate(x_new, p) < 0:
+        if abs(height) <= 1e-12 * (shank + thigh) and ahead > 0.0 and _swing_foot_rate(x_new, p) < 0:
             locked = x_new.copy()
             status = heel_strike(locked, p, x_new, impulse)
             if status != 0:
