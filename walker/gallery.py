@@ -1,0 +1,167 @@
+"""Figures from stored results: what ``walker plot FILE.h5`` draws.
+
+Each function writes PNG (and GIF) files into a directory and returns their paths; the
+drawing itself is done by :mod:`walker.plotting`, the physics (energies, joint positions) by
+the model named in the file's provenance.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from walker import plotting
+from walker.results import Branch, Solution
+
+__all__ = ["plot_file", "plot_solution", "walker_frames"]
+
+
+def _save(fig, path: Path) -> Path:
+    fig.savefig(path, dpi=110)
+    return path
+
+
+def _params_from_provenance(prov: dict):
+    from walker.models import get_model
+
+    model = get_model(prov["model"])
+    values = {k: v["value"] for k, v in prov["parameters"].items()}
+    return model, model.params_class.from_dict(values)
+
+
+def walker_frames(model, params, t, x, events=None) -> np.ndarray:
+    """Joint positions in the world frame for each sample, following the walker down the
+    slope: after every heel strike in ``events`` the new stance foot is placed where the
+    swing foot landed.
+
+    Parameters
+    ----------
+    model : WalkerModel
+    params : the model's parameter dataclass
+    t : ndarray, shape (n,)
+    x : ndarray, shape (n, n_x)
+    events : EventLog, optional
+        a heel strike is an event after which the legs have swapped (the new stance angle
+        is the old swing angle); without events the stance foot stays at the origin.
+
+    Returns
+    -------
+    ndarray, shape (n, n_points, 2)
+    """
+    p = params.as_array()
+    strike_t, steps = [], []
+    if events is not None:
+        for i in range(len(events)):
+            pre, post = events.x_pre[i], events.x_post[i]
+            if post[0] == pre[1] and post[0] != pre[0]:
+                pts = model.points(pre, p)
+                strike_t.append(events.t[i])
+                steps.append(pts[-1] - pts[0])
+    offsets = np.zeros((len(t), 2))
+    for te, step in zip(strike_t, steps, strict=True):
+        offsets[np.asarray(t) > te] += step
+    return np.array([model.points(row, p) for row in x]) + offsets[:, None, :]
+
+
+def plot_solution(sol: Solution, model, params, out: Path, stem: str) -> list[Path]:
+    """Angles, energy, a phase portrait and (for walkers) a stick-figure GIF."""
+    traj = sol.record if sol.record is not None else sol.samples
+    paths = [
+        _save(plotting.plot_angles(sol, state_names=model.state_names,
+                                   phase_names=model.phase_names), out / f"{stem}_angles.png")
+    ]
+    if traj is None or len(traj) < 2:
+        return paths
+    kinetic, potential = model.energies(traj.x, params)
+    if model.is_walker:
+        # Potential energy relative to the current stance foot jumps at each heel strike;
+        # refer it to the world frame by the accumulated drop of the stance foot.
+        frames = walker_frames(model, params, traj.t, traj.x, sol.events)
+        total_mass = _total_mass(params)
+        potential = potential + total_mass * params.g * (frames[:, 0, 1] - frames[0, 0, 1])
+    events = sol.events.t if sol.events is not None else None
+    paths.append(_save(plotting.plot_energy(traj.t, kinetic, potential, event_times=events),
+                       out / f"{stem}_energy.png"))
+    n_q = model.n_x // 2
+    paths.append(_save(plotting.plot_phase_portrait(traj, 0, n_q, state_names=model.state_names),
+                       out / f"{stem}_phase_portrait.png"))
+    if model.is_walker or model.name == "double_pendulum":
+        t_frames = np.linspace(traj.t[0], traj.t[-1], min(120, len(traj)))
+        idx = np.searchsorted(traj.t, t_frames).clip(0, len(traj) - 1)
+        if model.is_walker:
+            frames = walker_frames(model, params, traj.t, traj.x, sol.events)[idx]
+        else:
+            frames = np.array([model.points(traj.x[i], params) for i in idx])
+        slope = float(getattr(params, "slope", 0.0))
+        anim_path = out / f"{stem}_walk.gif"
+        plotting.animate_walker(frames, model.segments, slope=slope, path=anim_path)
+        paths.append(anim_path)
+    return paths
+
+
+def _total_mass(params) -> float:
+    if hasattr(params, "mass_shank"):
+        return params.mass_hip + 2 * (params.mass_thigh + params.mass_shank)
+    if hasattr(params, "mass_leg"):
+        return params.mass_hip + 2 * params.mass_leg
+    return 1.0  # the simplest walker: energies are per unit hip mass
+
+
+def plot_file(path, out_dir=".") -> list[Path]:
+    """Draw every figure that fits the result stored in ``path`` into ``out_dir``.
+
+    Raises
+    ------
+    walker.storage.StorageError
+        the file is missing, damaged or not a walker result.
+    FileNotFoundError
+        ``out_dir`` does not exist.
+    """
+    from walker.storage import read
+
+    out = Path(out_dir)
+    if not out.is_dir():
+        raise FileNotFoundError(f"--out: directory {str(out)!r} does not exist")
+    result, prov = read(path)
+    stem = Path(path).stem
+    kind = prov["kind"]
+    if kind == "solution":
+        model, params = _params_from_provenance(prov)
+        return plot_solution(result, model, params, out, stem)
+    if kind == "fixed_point":
+        branch = Branch("", np.zeros(1), result.section[None, :], np.array([result.step_time]),
+                        result.multipliers[None, :], np.array([result.stable]), [],
+                        result.status, result.message, result.success, result.period)
+        return [_save(plotting.plot_multipliers(branch), out / f"{stem}_multipliers.png")]
+    if kind == "branch":
+        return [
+            _save(plotting.plot_bifurcation(result), out / f"{stem}_bifurcation.png"),
+            _save(plotting.plot_multipliers(result), out / f"{stem}_multipliers.png"),
+        ]
+    if kind == "orbit_diagram":
+        return [_save(plotting.plot_orbit_diagram(result), out / f"{stem}_orbit_diagram.png")]
+    if kind == "basin":
+        return [_save(plotting.plot_basin(result), out / f"{stem}_basin.png")]
+    if kind == "sweep":
+        return [_save(_plot_sweep(result), out / f"{stem}_sweep.png")]
+    raise ValueError(f"{path}: nothing to plot for a `{kind}` result")
+
+
+def _plot_sweep(table):
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.4, 4.8), layout="constrained")
+    ax = fig.add_subplot()
+    x = table.points[:, 0]
+    status = table.columns["status"]
+    ok = status == 0
+    if "section" in table.columns:
+        sec = table.columns["section"]
+        for j in range(sec.shape[1]):
+            ax.plot(x[ok], sec[ok, j], ".", label=f"section[{j}]")
+    ax.plot(x[~ok], np.zeros(np.sum(~ok)), "x", color="red", label="failed")
+    ax.set_xlabel(table.parameter_names[0])
+    ax.set_ylabel("value")
+    ax.legend()
+    return fig
