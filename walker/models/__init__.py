@@ -25,7 +25,7 @@ import numpy as np
 
 __all__ = ["WalkerModel", "get_model", "MODEL_NAMES"]
 
-MODEL_NAMES = ("simplest", "compass", "kneed", "double_pendulum")
+MODEL_NAMES = ("simplest", "compass", "kneed", "double_pendulum", "three_link")
 
 
 @dataclass(frozen=True, eq=False)
@@ -36,6 +36,11 @@ class WalkerModel:
     """
 
     name: str
+
+    def __reduce__(self):
+        # Pickle by name: the compiled functions are rebuilt (from numba's disk cache) in the
+        # receiving process, so models and stride maps travel to worker processes.
+        return (get_model, (self.name,))
 
     @cached_property
     def module(self):

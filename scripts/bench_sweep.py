@@ -1,0 +1,228 @@
+"""Throughput of parameter sweeps on different executors, against a plain Python loop.
+
+Two workloads on Goswami's compass gait (gaits/compass_goswami.toml, rtol 1e-10, atol 1e-12),
+over a slope x hip-mass grid:
+
+* outcome: one stride from the scene's section point at each grid point;
+* fixed_point: the period-one gait at each point (Newton, warm-started within a chunk).
+
+Each runs as a plain loop (the same per-point work, no chunks, no executor), through
+``sweep(executor="serial")``, a process pool of 1 and of 2 workers (created by ``sweep``, so
+its start-up is included), a process pool of 2 writing an HDF5 checkpoint, and a two-worker
+``dask.distributed.LocalCluster`` (started and warmed before timing).  Reported: points per
+second (best of ``--repeat`` runs) and the overhead per chunk,
+``(workers * wall - loop) / n_chunks``: the worker time a chunk costs beyond the plain loop's
+work (negative values are timing noise).
+
+Writes ``results/sweep/throughput.csv`` and ``results/sweep/README.md``.
+
+Usage::
+
+    python scripts/bench_sweep.py            # 10,000 outcome points, 1,000 fixed points
+    python scripts/bench_sweep.py --quick    # 2,000 and 200: a minute or two
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+import platform
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+SCENE = REPO / "gaits" / "compass_goswami.toml"
+OUT_DIR = REPO / "results" / "sweep"
+
+
+def build_map():
+    """The compass-gait stride map and its starting section point."""
+    from walker import StrideMap, load_scene
+
+    scene = load_scene(SCENE)
+    stride_map = StrideMap("compass", scene.params, rtol=1e-10, atol=1e-12)
+    z0 = stride_map.project(scene.state)
+    stride_map(z0, jacobian=True)  # load the compiled kernels before any timing
+    return stride_map, z0
+
+
+def grid(n_points: int) -> list[str]:
+    """A slope x hip-mass grid of about ``n_points`` points (10 hip masses)."""
+    n_slope = max(1, round(n_points / 10))
+    return [f"slope=0.02:0.07:{n_slope}", "mass_hip=8:12:10"]
+
+
+def plain_loop(stride_map, ranges, kind, z0) -> float:
+    """Wall time of the same per-point work in one Python loop (no chunks, no executor)."""
+    from walker.fixedpoint import find_fixed_point
+    from walker.sweep import grid_points
+
+    names, points = grid_points(ranges)
+    t0 = time.perf_counter()
+    guess = z0
+    for row in points:
+        point_map = stride_map.with_params(**dict(zip(names, row.tolist(), strict=True)))
+        if kind == "outcome":
+            point_map(z0)
+        else:
+            fp = find_fixed_point(point_map, guess, tol=1e-10)
+            guess = fp.section if fp.success else z0
+    return time.perf_counter() - t0
+
+
+def timed_sweep(stride_map, ranges, kind, z0, **kwargs) -> tuple[float, int, int]:
+    """Wall time, chunk size and number of chunks of one sweep."""
+    from walker.sweep import default_chunk_size, grid_points, sweep
+
+    n = grid_points(ranges)[1].shape[0]
+    t0 = time.perf_counter()
+    sweep(stride_map, ranges, kind=kind, z0=z0, progress=False, **kwargs)
+    wall = time.perf_counter() - t0
+    chunk = default_chunk_size(n, kind)
+    return wall, chunk, -(-n // chunk)
+
+
+def run(n_outcome: int, n_fixed: int, with_dask: bool = True, repeat: int = 3) -> list[dict]:
+    stride_map, z0 = build_map()
+    rows: list[dict] = []
+    client = cluster = None
+    if with_dask:
+        from distributed import Client, LocalCluster
+
+        t0 = time.perf_counter()
+        cluster = LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        )
+        client = Client(cluster)
+        from walker.sweep import sweep
+
+        sweep(
+            stride_map,
+            ["slope=0.05:0.06:4"],
+            kind="fixed_point",
+            z0=z0,
+            chunk_size=1,
+            executor=client,
+            progress=False,
+        )  # workers load the kernels
+        print(f"dask LocalCluster start + warm-up: {time.perf_counter() - t0:.2f} s")
+    try:
+        for kind, n in (("outcome", n_outcome), ("fixed_point", n_fixed)):
+            ranges = grid(n)
+            from walker.sweep import grid_points
+
+            n_pts = grid_points(ranges)[1].shape[0]
+            loop = min(plain_loop(stride_map, ranges, kind, z0) for _ in range(repeat))
+            rows.append(_row(kind, "plain loop", 1, n_pts, 0, 0, loop, loop))
+            print(f"{kind}: {n_pts} points, plain loop {loop:.2f} s")
+            configs = [
+                ("sweep serial", 1, {"executor": "serial"}),
+                ("process pool", 1, {"jobs": 1}),
+                ("process pool", 2, {"jobs": 2}),
+            ]
+            with tempfile.TemporaryDirectory() as tmp:
+                configs.append(
+                    ("process pool + HDF5", 2, {"jobs": 2, "out": Path(tmp) / f"{kind}.h5"})
+                )
+                if client is not None:
+                    configs.append(("dask LocalCluster", 2, {"executor": client}))
+                for label, workers, kwargs in configs:
+                    runs = [
+                        timed_sweep(stride_map, ranges, kind, z0, **_fresh(kwargs, r))
+                        for r in range(repeat)
+                    ]
+                    wall, chunk, n_chunks = min(runs)
+                    rows.append(_row(kind, label, workers, n_pts, chunk, n_chunks, wall, loop))
+                    print(f"  {label:22s} x{workers}: {wall:.2f} s, {n_pts / wall:.0f} points/s")
+    finally:
+        if client is not None:
+            client.close()
+            cluster.close()
+    return rows
+
+
+def _fresh(kwargs: dict, r: int) -> dict:
+    """``kwargs`` with a new checkpoint file per repeat (a reused one would skip all work)."""
+    if "out" not in kwargs:
+        return kwargs
+    out = Path(kwargs["out"])
+    return {**kwargs, "out": out.with_name(f"{out.stem}-{r}{out.suffix}")}
+
+
+def _row(kind, label, workers, n, chunk, n_chunks, wall, loop) -> dict:
+    overhead = (workers * wall - loop) / n_chunks * 1e3 if n_chunks else 0.0
+    return {
+        "kind": kind,
+        "executor": label,
+        "workers": workers,
+        "n_points": n,
+        "chunk_size": chunk,
+        "n_chunks": n_chunks,
+        "wall_s": round(wall, 4),
+        "points_per_s": round(n / wall, 1),
+        "speedup_vs_loop": round(loop / wall, 3),
+        "overhead_per_chunk_ms": round(overhead, 2),
+    }
+
+
+def write_results(rows: list[dict], out_dir: Path, command: str) -> None:
+    out_dir.mkdir(parents=True, exist_ok=True)
+    with open(out_dir / "throughput.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    import numba
+
+    lines = [
+        "# Sweep throughput",
+        "",
+        f"Written by `{command}` on {platform.platform()}, {os.cpu_count()} CPUs, Python "
+        f"{platform.python_version()}, numpy {np.__version__}, numba {numba.__version__}; "
+        f"1-minute load average when done: {os.getloadavg()[0]:.2f} (other jobs on the "
+        "machine inflate the multi-worker times).",
+        "",
+        "Compass gait (Goswami parameters), DOP853 at rtol 1e-10, atol 1e-12, slope x hip-mass "
+        "grid. *outcome*: one stride per point; *fixed_point*: Newton with exact Jacobians, "
+        "warm-started within a chunk. Process pools are created by `sweep` (start-up "
+        "included); the dask LocalCluster (2 worker processes) is started and warmed before "
+        "timing. Each time is the best of several runs. Overhead per chunk = (workers x wall - "
+        "plain loop) / chunks.",
+        "",
+        "| kind | executor | workers | points | chunk | chunks | wall [s] | points/s | "
+        "speed-up vs loop | overhead/chunk [ms] |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in rows:
+        lines.append(
+            f"| {r['kind']} | {r['executor']} | {r['workers']} | {r['n_points']} | "
+            f"{r['chunk_size'] or '-'} | {r['n_chunks'] or '-'} | {r['wall_s']:.3f} | "
+            f"{r['points_per_s']:.0f} | {r['speedup_vs_loop']:.2f} | "
+            f"{r['overhead_per_chunk_ms'] if r['n_chunks'] else '-'} |"
+        )
+    (out_dir / "README.md").write_text("\n".join(lines) + "\n")
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="2,000 outcome and 200 fixed points")
+    parser.add_argument("--outcome-points", type=int, default=None)
+    parser.add_argument("--fixed-points", type=int, default=None)
+    parser.add_argument("--no-dask", action="store_true", help="skip the LocalCluster runs")
+    parser.add_argument("--out-dir", type=Path, default=OUT_DIR)
+    parser.add_argument("--repeat", type=int, default=3, help="runs per case; the best is kept")
+    args = parser.parse_args(argv)
+    n_outcome = args.outcome_points or (2_000 if args.quick else 10_000)
+    n_fixed = args.fixed_points or (200 if args.quick else 1_000)
+    rows = run(n_outcome, n_fixed, with_dask=not args.no_dask, repeat=args.repeat)
+    command = "python scripts/bench_sweep.py " + " ".join(sys.argv[1:] if argv is None else argv)
+    write_results(rows, args.out_dir, command.strip())
+    print(f"wrote {args.out_dir / 'throughput.csv'} and README.md")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,771 @@
+"""Resumable parameter sweeps of a stride map on any :class:`concurrent.futures.Executor`.
+
+A sweep evaluates a walker at every point of a Cartesian grid of parameter values: either the
+outcome of ``n_strides`` strides from a fixed section point (``kind="outcome"``) or the
+period-``n_strides`` gait and its Floquet multipliers (``kind="fixed_point"``).
+
+How the work is cut and run (DESIGN.md, decision 10):
+
+1. The grid is flattened with the last parameter varying fastest and cut into chunks of
+   ``chunk_size`` consecutive points.  A chunk is one task: :func:`sweep_chunk`, a module-level
+   function of plain, picklable arguments (the stride map travels as :class:`MapSpec`, which
+   rebuilds it in the worker once per process).
+2. Chunks are independent.  A fixed-point sweep warm-starts Newton from the previous point's
+   gait *within* a chunk only; each chunk starts from ``z0``.  So a chunk's rows never depend
+   on which other chunks ran, where, or in what order: serial, a process pool and a dask
+   cluster give identical tables, and so does a resumed run.
+3. With ``out`` every chunk is written to a :class:`~walker.storage.SweepStore` checkpoint as
+   soon as it finishes; running the same call again after a kill computes only the chunks not
+   yet marked done.
+4. Everything is validated before any work starts; expected failures of a point (a fall,
+   Newton not converging) are statuses in the table, never exceptions.
+
+Examples
+--------
+>>> from walker import StrideMap, load_scene
+>>> from walker.sweep import sweep
+>>> scene = load_scene("gaits/simplest_garcia.toml")
+>>> P = StrideMap("simplest", scene.params, rtol=1e-10, atol=1e-12)
+>>> table = sweep(P, ["slope=0.008:0.010:3"], z0=P.project(scene.state),
+...               executor="serial", progress=False)
+>>> table.parameter_names, table.columns["status"].tolist()
+(('slope',), [0, 0, 0])
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import dataclasses
+import math
+import numbers
+import os
+import re
+import sys
+import warnings
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from walker.fixedpoint import find_fixed_point
+from walker.results import SweepTable
+from walker.stride import StrideMap
+
+__all__ = [
+    "KINDS",
+    "MapSpec",
+    "grid_points",
+    "parse_range",
+    "run_sweep_command",
+    "sweep",
+    "sweep_chunk",
+]
+
+KINDS = ("outcome", "fixed_point")
+"""Valid values of ``kind``."""
+
+DEFAULT_CHUNK_POINTS = {"outcome": 256, "fixed_point": 16}
+"""Largest default chunk per kind: a chunk takes roughly 0.1-0.3 s on a 2020s CPU, so the
+per-chunk overhead (submit, pickle, one HDF5 write with fsync: a few ms) stays small."""
+
+MIN_DEFAULT_CHUNKS = 16
+"""The default chunk size gives at least this many chunks (when there are as many points),
+so that a pool of a few workers is balanced and a killed sweep loses little."""
+
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_RANGE_RULE = (
+    "expected NAME=START:STOP:COUNT (COUNT an integer >= 1, values evenly spaced from START "
+    "to STOP inclusive) or NAME=V1,V2,... (finite numbers)"
+)
+
+
+# ---------------------------------------------------------------------------------------------
+# Grids
+# ---------------------------------------------------------------------------------------------
+
+
+def _finite_float(text: str, what: str, full: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise ValueError(
+            f"bad parameter range {full!r}: {what} {text!r} is not a number; {_RANGE_RULE}"
+        ) from None
+    if not math.isfinite(value):
+        raise ValueError(
+            f"bad parameter range {full!r}: {what} must be finite, got {text!r}; {_RANGE_RULE}"
+        )
+    return value
+
+
+def parse_range(text: str) -> tuple[str, np.ndarray]:
+    """Parse one parameter range of the command line.
+
+    Parameters
+    ----------
+    text : str
+        ``"NAME=START:STOP:COUNT"``: ``COUNT`` values evenly spaced from ``START`` to ``STOP``
+        inclusive (``numpy.linspace``; ``COUNT = 1`` gives ``START``); or ``"NAME=V1,V2,..."``:
+        the listed values in the given order (one value is allowed).  Values in the
+        parameter's own unit (``walker.params``); whitespace around parts is ignored.
+
+    Returns
+    -------
+    name : str
+    values : ndarray, shape (COUNT,)
+
+    Raises
+    ------
+    ValueError
+        the text does not follow either form; the message quotes it and states the rule.
+
+    Examples
+    --------
+    >>> parse_range("slope=0.001:0.003:3")
+    ('slope', array([0.001, 0.002, 0.003]))
+    >>> parse_range("mass_hip=10, 12")
+    ('mass_hip', array([10., 12.]))
+    """
+    if not isinstance(text, str):
+        raise TypeError(f"a parameter range must be a str, got {type(text).__name__}")
+    name, sep, spec = text.partition("=")
+    name = name.strip()
+    if not sep or not _NAME.match(name):
+        raise ValueError(
+            f"bad parameter range {text!r}: it must start with a parameter name and '='; "
+            f"{_RANGE_RULE}"
+        )
+    spec = spec.strip()
+    if not spec:
+        raise ValueError(f"bad parameter range {text!r}: no values after '='; {_RANGE_RULE}")
+    if ":" in spec:
+        parts = [s.strip() for s in spec.split(":")]
+        if len(parts) != 3:
+            raise ValueError(
+                f"bad parameter range {text!r}: START:STOP:COUNT needs exactly 3 parts, got "
+                f"{len(parts)}; {_RANGE_RULE}"
+            )
+        start = _finite_float(parts[0], "START", text)
+        stop = _finite_float(parts[1], "STOP", text)
+        if not re.fullmatch(r"[0-9]+", parts[2]) or int(parts[2]) < 1:
+            raise ValueError(
+                f"bad parameter range {text!r}: COUNT must be an integer >= 1, got "
+                f"{parts[2]!r}; {_RANGE_RULE}"
+            )
+        return name, np.linspace(start, stop, int(parts[2]))
+    values = [_finite_float(v.strip(), "value", text) for v in spec.split(",")]
+    return name, np.array(values, dtype=np.float64)
+
+
+def _normalize_ranges(ranges: Any) -> list[tuple[str, np.ndarray]]:
+    """``ranges`` as a list of (name, 1-D float array); accepts texts, pairs or a mapping."""
+    if isinstance(ranges, str):
+        ranges = [ranges]
+    if isinstance(ranges, Mapping):
+        items = list(ranges.items())
+    elif isinstance(ranges, Sequence) or isinstance(ranges, np.ndarray):
+        items = list(ranges)
+    else:
+        raise TypeError(
+            "`ranges` must be a sequence of 'NAME=...' texts or (name, values) pairs, or a "
+            f"mapping name -> values, got {type(ranges).__name__}"
+        )
+    if not items:
+        raise ValueError("`ranges` must name at least one parameter, got none")
+    out: list[tuple[str, np.ndarray]] = []
+    for item in items:
+        if isinstance(item, str):
+            name, values = parse_range(item)
+        else:
+            try:
+                name, values = item
+            except (TypeError, ValueError):
+                raise TypeError(
+                    f"each entry of `ranges` must be a 'NAME=...' text or a (name, values) "
+                    f"pair, got {item!r}"
+                ) from None
+            if not isinstance(name, str) or not _NAME.match(name):
+                raise ValueError(f"parameter names in `ranges` must be identifiers, got {name!r}")
+            values = np.asarray(values)
+            if values.ndim == 0:
+                values = values[None]
+            if values.ndim != 1 or values.shape[0] == 0 or values.dtype.kind not in "biuf":
+                raise ValueError(
+                    f"values of `{name}` in `ranges` must be a non-empty 1-D array of real "
+                    f"numbers, got shape {values.shape} dtype {values.dtype}"
+                )
+            values = values.astype(np.float64)
+            if not np.all(np.isfinite(values)):
+                raise ValueError(f"values of `{name}` in `ranges` must all be finite")
+        out.append((name, values))
+    names = [n for n, _ in out]
+    dup = sorted({n for n in names if names.count(n) > 1})
+    if dup:
+        raise ValueError(f"`ranges` names each parameter at most once; repeated: {dup}")
+    return out
+
+
+def grid_points(ranges: Any) -> tuple[tuple[str, ...], np.ndarray]:
+    """The Cartesian product of parameter ranges, last parameter varying fastest.
+
+    Parameters
+    ----------
+    ranges : sequence or mapping
+        ``"NAME=..."`` texts (:func:`parse_range`), ``(name, values)`` pairs, or a mapping
+        ``name -> values``; each name at most once.
+
+    Returns
+    -------
+    names : tuple of str, length k
+    points : ndarray, shape (n, k)
+        ``n`` is the product of the range lengths; row ``i`` is one parameter point, in
+        C order of the grid (``itertools.product`` order).
+
+    Examples
+    --------
+    >>> names, pts = grid_points(["a=1,2", "b=0:1:3"])
+    >>> names, pts.tolist()
+    (('a', 'b'), [[1.0, 0.0], [1.0, 0.5], [1.0, 1.0], [2.0, 0.0], [2.0, 0.5], [2.0, 1.0]])
+    """
+    items = _normalize_ranges(ranges)
+    names = tuple(n for n, _ in items)
+    mesh = np.meshgrid(*[v for _, v in items], indexing="ij")
+    points = np.stack([m.ravel() for m in mesh], axis=1)
+    return names, np.ascontiguousarray(points, dtype=np.float64)
+
+
+# ---------------------------------------------------------------------------------------------
+# The unit of work
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class MapSpec:
+    """A picklable recipe for a :class:`~walker.stride.StrideMap`.
+
+    A ``StrideMap`` holds its model's compiled kernels and module, which do not pickle; this
+    holds the model name and the map's other fields (parameters dataclass, method,
+    tolerances, ...), and :meth:`build` makes the map again in a worker.  Workers keep the
+    last map they built, so a worker rebuilds (and loads numba's on-disk cache) once, not
+    once per chunk.
+
+    Attributes
+    ----------
+    model : str
+        model name.
+    fields : tuple of (str, object)
+        the other ``StrideMap`` fields, by name.
+    """
+
+    model: str
+    fields: tuple[tuple[str, Any], ...]
+
+    @classmethod
+    def from_map(cls, stride_map: StrideMap) -> MapSpec:
+        fields = tuple(
+            (f.name, getattr(stride_map, f.name))
+            for f in dataclasses.fields(stride_map)
+            if f.name != "model"
+        )
+        return cls(stride_map.model.name, fields)
+
+    def build(self) -> StrideMap:
+        return StrideMap(self.model, **dict(self.fields))
+
+
+_WORKER_MAP: dict[MapSpec, Any] = {}
+
+
+def _materialize(section_map: Any) -> Any:
+    """The stride map a chunk runs on (built once per worker process from a MapSpec)."""
+    if not isinstance(section_map, MapSpec):
+        return section_map
+    cached = _WORKER_MAP.get(section_map)
+    if cached is None:
+        _WORKER_MAP.clear()
+        cached = section_map.build()
+        _WORKER_MAP[section_map] = cached
+    return cached
+
+
+def _columns(kind: str, n_z: int) -> dict[str, tuple[str, tuple[int, ...]]]:
+    """Column name -> (dtype, per-point shape) of a sweep table."""
+    cols: dict[str, tuple[str, tuple[int, ...]]] = {
+        "status": ("i8", ()),
+        "section": ("f8", (n_z,)),
+        "step_time": ("f8", ()),
+    }
+    if kind == "fixed_point":
+        cols.update(
+            multipliers_re=("f8", (n_z,)),
+            multipliers_im=("f8", (n_z,)),
+            residual=("f8", ()),
+            stable=("i8", ()),
+            n_iter=("i8", ()),
+        )
+    return cols
+
+
+def sweep_chunk(
+    section_map: MapSpec | Any,
+    names: tuple[str, ...],
+    points: np.ndarray,
+    kind: str,
+    z0: np.ndarray,
+    n_strides: int,
+    tol: float,
+) -> dict[str, np.ndarray]:
+    """Evaluate one chunk of a sweep (the task sent to an executor).
+
+    Module-level, with picklable arguments.  The rows depend only on the arguments, never on
+    other chunks.
+
+    Parameters
+    ----------
+    section_map : MapSpec or StrideMap
+        the base map; each point uses ``map.with_params(**point)``.
+    names : tuple of str, length k
+    points : ndarray, shape (m, k)
+    kind : {"outcome", "fixed_point"}
+    z0 : ndarray, shape (n_z,)
+        section point (outcome) or initial guess (fixed_point).
+    n_strides : int
+        strides per point (outcome) or the gait's period (fixed_point).
+    tol : float
+        Newton tolerance, max-norm of ``P^k(z) - z`` (fixed_point).
+
+    Returns
+    -------
+    dict
+        column name -> ndarray of shape ``(m, *shape)`` (see :func:`sweep`).
+    """
+    base = _materialize(section_map)
+    n_z = int(base.n_z)
+    m = points.shape[0]
+    out = {
+        name: np.full((m, *shape), -1 if dtype == "i8" else np.nan, dtype=dtype)
+        for name, (dtype, shape) in _columns(kind, n_z).items()
+    }
+    z_guess = z0
+    for i in range(m):
+        point_map = base.with_params(**dict(zip(names, points[i].tolist(), strict=True)))
+        if kind == "outcome":
+            r = point_map(z0, n_strides=n_strides)
+            out["status"][i] = int(r.status)
+            out["section"][i] = r.z
+            out["step_time"][i] = r.step_time
+            continue
+        fp = find_fixed_point(point_map, z_guess, period=n_strides, tol=tol)
+        if not fp.success and z_guess is not z0:
+            fp = find_fixed_point(point_map, z0, period=n_strides, tol=tol)
+        out["status"][i] = int(fp.status)
+        out["residual"][i] = fp.residual
+        out["n_iter"][i] = fp.n_iter
+        out["stable"][i] = int(bool(fp.stable) and fp.success)
+        if fp.success:
+            z_guess = fp.section
+            out["section"][i] = fp.section
+            out["step_time"][i] = fp.step_time
+            out["multipliers_re"][i] = fp.multipliers.real
+            out["multipliers_im"][i] = fp.multipliers.imag
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# The driver
+# ---------------------------------------------------------------------------------------------
+
+
+def _use_progress(progress: bool) -> bool:
+    if not progress:
+        return False
+    try:
+        return bool(sys.stderr.isatty())
+    except (AttributeError, ValueError):
+        return False
+
+
+def _positive_int(value: Any, name: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
+        raise ValueError(f"`{name}` must be an integer >= 1, got {value!r}")
+    return int(value)
+
+
+def default_chunk_size(n_points: int, kind: str) -> int:
+    """Chunk size used when none is given: depends only on the grid size and ``kind``.
+
+    (Not on the number of workers, so a sweep resumed with other ``jobs`` or another
+    executor finds the same chunks.)
+    """
+    return max(1, min(DEFAULT_CHUNK_POINTS[kind], -(-n_points // MIN_DEFAULT_CHUNKS)))
+
+
+def _sweep_provenance(stride_map: StrideMap, kind, z0, n_strides, tol, provenance) -> dict:
+    from walker.storage import parameters_with_units
+
+    auto: dict[str, Any] = {"sweep_kind": kind, "n_strides": n_strides, "z0": z0.tolist()}
+    if kind == "fixed_point":
+        auto["tol"] = tol
+    if isinstance(stride_map, StrideMap):
+        auto.update(
+            model=stride_map.model.name,
+            parameters=parameters_with_units(stride_map.params),
+            method=stride_map.method,
+            rtol=float(stride_map.rtol),
+            atol=float(stride_map.atol),
+            t_max=float(stride_map.t_max),
+            first_step=None if stride_map.first_step is None else float(stride_map.first_step),
+            kernel_hash=stride_map.model.kernel_hash,
+        )
+    if provenance is None:
+        return auto
+    if not isinstance(provenance, dict):
+        raise TypeError(f"`provenance` must be a dict or None, got {type(provenance).__name__}")
+    clash = sorted(k for k in provenance if k in auto and provenance[k] != auto[k])
+    if clash:
+        raise ValueError(
+            f"`provenance` must not contradict what the sweep records itself; differing keys: "
+            f"{clash}"
+        )
+    return {**auto, **provenance}
+
+
+def _validate(stride_map, ranges, kind, z0, n_strides, chunk_size, jobs, tol):
+    """Check the arguments of :func:`sweep`; returns the grid and the normalized values."""
+    if not (hasattr(stride_map, "with_params") and hasattr(stride_map, "params")):
+        raise TypeError(
+            f"`stride_map` must be a walker.stride.StrideMap, got {type(stride_map).__name__}"
+        )
+    if kind not in KINDS:
+        raise ValueError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}")
+    names, points = grid_points(ranges)
+    valid = tuple(stride_map.params.names())
+    for name in names:
+        if name not in valid:
+            raise ValueError(
+                f"unknown parameter `{name}` in `ranges` for model "
+                f"`{getattr(stride_map.model, 'name', stride_map.model)}`; valid names: "
+                f"{', '.join(valid)}"
+            )
+    for row in points:
+        try:
+            stride_map.params.replace(**dict(zip(names, row.tolist(), strict=True)))
+        except (TypeError, ValueError) as exc:
+            point = ", ".join(f"{n}={v!r}" for n, v in zip(names, row.tolist(), strict=True))
+            raise ValueError(f"grid point ({point}) is not valid: {exc}") from None
+    n_z = int(stride_map.n_z)
+    z0 = np.asarray(z0, dtype=float)
+    if z0.shape != (n_z,):
+        raise ValueError(f"`z0` must have shape ({n_z},) (the map's n_z), got {z0.shape}")
+    if not np.all(np.isfinite(z0)):
+        raise ValueError(f"All components of `z0` must be finite, got {z0}")
+    n_strides = _positive_int(n_strides, "n_strides")
+    n_points = points.shape[0]
+    chunk = (
+        default_chunk_size(n_points, kind)
+        if chunk_size is None
+        else _positive_int(chunk_size, "chunk_size")
+    )
+    if jobs is not None:
+        jobs = _positive_int(jobs, "jobs")
+    tol = float(tol)
+    if not (math.isfinite(tol) and tol > 0):
+        raise ValueError(f"`tol` must be positive and finite, got {tol}")
+    return names, points, z0, n_strides, chunk, jobs, tol
+
+
+def sweep(
+    stride_map: StrideMap,
+    ranges: Any,
+    *,
+    kind: str = "outcome",
+    z0: Any,
+    n_strides: int = 1,
+    chunk_size: int | None = None,
+    executor: cf.Executor | str | None = None,
+    jobs: int | None = None,
+    out: str | os.PathLike | None = None,
+    progress: bool = True,
+    provenance: dict | None = None,
+    tol: float = 1e-10,
+) -> SweepTable:
+    """Evaluate a stride map over a parameter grid, chunk by chunk, on an executor.
+
+    Parameters
+    ----------
+    stride_map : StrideMap
+        the base map: the walker, its base parameters and solver settings.  Each grid point
+        runs ``stride_map.with_params(**point)``.
+    ranges : sequence or mapping
+        parameters to vary: ``"NAME=START:STOP:COUNT"`` / ``"NAME=V1,V2"`` texts
+        (:func:`parse_range`), ``(name, values)`` pairs, or a mapping ``name -> values``.
+        The grid is their Cartesian product, last parameter fastest (:func:`grid_points`).
+    kind : {"outcome", "fixed_point"}
+        ``"outcome"``: the map applied ``n_strides`` times from ``z0`` at each point.
+        ``"fixed_point"``: the period-``n_strides`` gait by :func:`~walker.fixedpoint.
+        find_fixed_point` (tolerance ``tol``), warm-started from the last gait found earlier
+        in the same chunk, retried from ``z0`` if that fails; each chunk starts from ``z0``.
+    z0 : array_like, shape (n_z,)
+        section point (outcome) or initial guess (fixed_point).
+    n_strides : int
+        strides per point (outcome) or period of the gait (fixed_point), >= 1.
+    chunk_size : int, optional
+        points per task, >= 1.  Default :func:`default_chunk_size` (at most 256 for
+        outcome, 16 for fixed_point, and at least 16 chunks when there are 16 points).
+        A resumed sweep must use the chunk size it started with.
+    executor : concurrent.futures.Executor, dask.distributed.Client, "serial" or None
+        ``None``: a ``ProcessPoolExecutor(max_workers=jobs or os.cpu_count())`` created and
+        shut down here; ``"serial"``: run inline; an ``Executor`` is used as is (and left
+        running); a ``dask.distributed.Client`` through its ``get_executor()``.
+    jobs : int, optional
+        workers of the default pool (>= 1); ignored with a warning when ``executor`` is given.
+    out : str or os.PathLike, optional
+        HDF5 checkpoint (:class:`walker.storage.SweepStore`).  Each chunk is written as it
+        finishes; if the file exists and holds this same sweep (grid, columns, chunk size,
+        provenance), only the chunks not yet done are computed.
+    progress : bool
+        tqdm bar over points on stderr (only when stderr is a terminal).
+    provenance : dict, optional
+        extra provenance for ``out`` (e.g. the scene path).  The sweep records ``model``,
+        ``parameters`` (base values with units), ``method``, ``rtol``, ``atol``, ``t_max``,
+        ``first_step``, ``kernel_hash``, ``sweep_kind``, ``n_strides``, ``z0`` (and ``tol``
+        for fixed points) itself; the walker version is added by storage.
+    tol : float
+        Newton tolerance (fixed_point), > 0.
+
+    Returns
+    -------
+    SweepTable
+        ``points`` shape (n, k); ``columns``: ``status`` (int, :class:`Status` codes),
+        ``section`` (n, n_z), ``step_time`` [s]; for fixed points also ``multipliers_re``,
+        ``multipliers_im`` (n, n_z, sorted by decreasing modulus), ``residual``, ``stable``
+        (int 0/1), ``n_iter``.  Where a point failed, its section, step time and multipliers
+        are NaN (an outcome's ``step_time`` is then the time of the failure).
+
+    Raises
+    ------
+    ValueError
+        unknown parameter names (the message lists the valid ones), a grid point outside
+        the parameters' bounds, a bad ``z0``, ``kind``, ``n_strides``, ``chunk_size``,
+        ``jobs`` or ``tol``; all before any work.
+    FileNotFoundError
+        the directory of ``out`` does not exist.
+    walker.storage.StorageError
+        ``out`` exists but checkpoints a different sweep, or is corrupted.
+
+    Examples
+    --------
+    >>> from walker import StrideMap, load_scene
+    >>> scene = load_scene("gaits/compass_goswami.toml")
+    >>> P = StrideMap("compass", scene.params, rtol=1e-10, atol=1e-12)
+    >>> t = sweep(P, {"slope": [0.05, 0.0523598775598]}, kind="fixed_point",
+    ...           z0=P.project(scene.state), executor="serial", progress=False)
+    >>> t.columns["status"].tolist(), t.columns["stable"].tolist()
+    ([0, 0], [1, 1])
+    """
+    names, points, z0, n_strides, chunk, jobs, tol = _validate(
+        stride_map, ranges, kind, z0, n_strides, chunk_size, jobs, tol
+    )
+    n_points = points.shape[0]
+    n_z = int(stride_map.n_z)
+    if isinstance(executor, str) and executor != "serial":
+        raise ValueError(f"`executor` must be an Executor, 'serial' or None, got {executor!r}")
+    if hasattr(executor, "get_executor") and not isinstance(executor, cf.Executor):
+        executor = executor.get_executor()  # a dask.distributed Client
+    if executor is not None and not isinstance(executor, str | cf.Executor):
+        raise TypeError(
+            "`executor` must be a concurrent.futures.Executor, a dask.distributed.Client, "
+            f"'serial' or None, got {type(executor).__name__}"
+        )
+    if executor is not None and jobs is not None:
+        warnings.warn("`jobs` has no effect when `executor` is given", stacklevel=2)
+    columns = _columns(kind, n_z)
+    n_chunks = -(-n_points // chunk)
+    store = None
+    if out is not None:
+        from walker.storage import SweepStore
+
+        if not isinstance(out, str | os.PathLike):
+            raise TypeError(f"`out` must be a str or os.PathLike, got {type(out).__name__}")
+        parent = Path(out).parent
+        if not parent.is_dir():
+            raise FileNotFoundError(f"directory '{parent}' of `out` '{out}' does not exist")
+        prov = _sweep_provenance(stride_map, kind, z0, n_strides, tol, provenance)
+        store = SweepStore.create_or_open(
+            out,
+            parameter_names=names,
+            points=points,
+            columns=columns,
+            chunk_size=chunk,
+            provenance=prov,
+        )
+        pending = store.pending_chunks()
+    else:
+        if provenance is not None and not isinstance(provenance, dict):
+            raise TypeError(f"`provenance` must be a dict or None, got {type(provenance).__name__}")
+        pending = list(range(n_chunks))
+
+    # ---- the work ----------------------------------------------------------------------------
+    table = {
+        name: np.full((n_points, *shape), -1 if dtype == "i8" else np.nan, dtype=dtype)
+        for name, (dtype, shape) in columns.items()
+    }
+    task_map = MapSpec.from_map(stride_map) if isinstance(stride_map, StrideMap) else stride_map
+
+    def rows(i: int) -> slice:
+        return slice(i * chunk, min((i + 1) * chunk, n_points))
+
+    def args(i: int) -> tuple:
+        return (task_map, names, points[rows(i)], kind, z0, n_strides, tol)
+
+    def finish(i: int, values: dict[str, np.ndarray]) -> None:
+        if store is not None:
+            store.write_chunk(i, values)
+        else:
+            for name in columns:
+                table[name][rows(i)] = values[name]
+        bar.update(rows(i).stop - rows(i).start)
+
+    from tqdm.auto import tqdm
+
+    own_pool = None
+    if pending and executor is None:
+        n_workers = min(jobs or os.cpu_count() or 1, len(pending))
+        own_pool = cf.ProcessPoolExecutor(max_workers=n_workers)
+        executor = own_pool
+    n_done = n_points - sum(rows(i).stop - rows(i).start for i in pending)
+    bar = tqdm(
+        total=n_points,
+        initial=n_done,
+        unit="pt",
+        desc=f"sweep {kind}",
+        disable=not _use_progress(progress),
+    )
+    try:
+        if executor == "serial":
+            for i in pending:
+                finish(i, sweep_chunk(*args(i)))
+        elif pending:
+            futures = {executor.submit(sweep_chunk, *args(i)): i for i in pending}
+            try:
+                for fut in cf.as_completed(futures):
+                    finish(futures[fut], fut.result())
+            finally:
+                for fut in futures:
+                    fut.cancel()
+    finally:
+        bar.close()
+        if own_pool is not None:
+            own_pool.shutdown(wait=True, cancel_futures=True)
+    if store is not None:
+        return store.table()
+    return SweepTable(parameter_names=names, points=points, columns=table)
+
+
+# ---------------------------------------------------------------------------------------------
+# Command line
+# ---------------------------------------------------------------------------------------------
+
+
+def run_sweep_command(
+    scene_path: str | os.PathLike,
+    param_texts: Sequence[str],
+    *,
+    kind: str = "outcome",
+    jobs: int | None = None,
+    scheduler: str | None = None,
+    out: str | os.PathLike | None = None,
+    quiet: bool = False,
+    strides: int | None = None,
+    chunk_size: int | None = None,
+) -> SweepTable:
+    """``walker sweep SCENE --param NAME=START:STOP:COUNT ... --out FILE.h5``.
+
+    Loads the scene, builds its stride map from ``[compute]`` (method, rtol, atol, t_max,
+    first_step), starts from the section of the scene's initial state, and runs
+    :func:`sweep`.
+
+    Parameters
+    ----------
+    scene_path : str or os.PathLike
+        scene file (``gaits/*.toml``) of a walker.
+    param_texts : sequence of str
+        ``"NAME=START:STOP:COUNT"`` or ``"NAME=V1,V2,..."``, one per varied parameter.
+    kind : {"outcome", "fixed_point"}
+    jobs : int, optional
+        local worker processes (default: all CPUs); not used with ``scheduler``.
+    scheduler : str, optional
+        address of a ``dask.distributed`` scheduler (``"tcp://host:8786"``); the sweep runs
+        on that cluster through ``Client(scheduler).get_executor()``.
+    out : str or os.PathLike, optional
+        HDF5 checkpoint; rerunning the same command resumes.  Its provenance holds the scene
+        path, the model, the base parameters with units, method, rtol, atol, the kernel hash
+        and the walker version.
+    quiet : bool
+        no progress bar.
+    strides : int, optional
+        strides per point / period of the gait; default the scene's ``[compute].strides``.
+    chunk_size : int, optional
+        as in :func:`sweep`.
+
+    Returns
+    -------
+    SweepTable
+    """
+    from walker.scene import load_scene
+
+    if isinstance(param_texts, str) or not isinstance(param_texts, Sequence) or not param_texts:
+        raise ValueError(
+            f"`param_texts` must be a non-empty list of 'NAME=START:STOP:COUNT' texts, got "
+            f"{param_texts!r}"
+        )
+    if scheduler is not None and not isinstance(scheduler, str):
+        raise TypeError(f"`scheduler` must be an address str, got {type(scheduler).__name__}")
+    scene = load_scene(scene_path)
+    c = scene.compute
+    if strides is None:
+        strides = max(1, c.strides)
+    stride_map = StrideMap(
+        scene.model,
+        scene.params,
+        method=c.method,
+        rtol=c.rtol,
+        atol=c.atol,
+        t_max=c.t_max,
+        first_step=c.first_step,
+    )
+    z0 = stride_map.project(scene.state)
+    provenance = {"scene": os.fspath(scene_path)}
+    if scheduler is None:
+        return sweep(
+            stride_map,
+            list(param_texts),
+            kind=kind,
+            z0=z0,
+            n_strides=strides,
+            chunk_size=chunk_size,
+            jobs=jobs,
+            out=out,
+            progress=not quiet,
+            provenance=provenance,
+        )
+    if jobs is not None:
+        warnings.warn("`jobs` has no effect with `scheduler` (the cluster decides)", stacklevel=2)
+    # Validate before connecting (sweep() checks again, cheaply).
+    _validate(stride_map, list(param_texts), kind, z0, strides, chunk_size, None, 1e-10)
+    from distributed import Client
+
+    with Client(scheduler) as client:
+        return sweep(
+            stride_map,
+            list(param_texts),
+            kind=kind,
+            z0=z0,
+            n_strides=strides,
+            chunk_size=chunk_size,
+            executor=client,
+            out=out,
+            progress=not quiet,
+            provenance=provenance,
+        )
