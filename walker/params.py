@@ -54,6 +54,7 @@ __all__ = [
     "CompassParams",
     "KneedParams",
     "DoublePendulumParams",
+    "ThreeLinkParams",
     "params_class",
 ]
 
@@ -623,11 +624,182 @@ class DoublePendulumParams(_Params):
 
 
 # ------------------------------------------------------------------------------------------
+_BEZIER_DEGREE = 4  # must equal walker.control.BEZIER_DEGREE (checked there)
+
+
+def _bezier_field(output: str, k: int) -> Any:
+    return _param("rad", f"Bezier coefficient {k} of the desired {output} angle")
+
+
+@dataclasses.dataclass(frozen=True)
+class ThreeLinkParams(_Params):
+    """Grizzle's three-link walker (two legs, torso, two hip actuators) and its controller.
+
+    The first ten fields are the physical parameters the generated kernels take (order of
+    :data:`walker.symbolic.actuated.THREE_LINK_PARAMS`); ``friction`` is the ground's Coulomb
+    coefficient; the rest is the controller block read by :mod:`walker.control` (layout in
+    its docstring): the mode, gains, torque limit, the phase range and the Bezier
+    coefficients (degree 4) of the desired swing-leg and torso angles.
+
+    Attributes
+    ----------
+    mass_hip, mass_leg : float
+        hip point mass, mass of each leg [kg], > 0.
+    mass_torso : float
+        torso point mass [kg], >= 0 (0 only with the controller off: a massless torso).
+    com_from_foot, com_to_hip : float
+        leg mass position: above the foot, below the hip [m], >= 0; leg length their sum.
+    torso_length : float
+        hip to the torso mass [m], >= 0.
+    inertia_leg, inertia_torso : float
+        about the segment's centre of mass [kg m^2], >= 0.
+    slope : float
+        [rad], in (-pi/2, pi/2); 0 is level ground.
+    g : float
+        [m/s^2], > 0.
+    friction : float
+        ground friction coefficient mu [-], > 0: the ground reaction must stay in the cone
+        ``|F_t| <= mu F_n`` at impact and during stance.
+    controller : float
+        0: off (passive); 1: joint-space PD to the Bezier references; 2: virtual constraints
+        by input-output linearization (computed torque) with PD on the outputs.
+    kp, kd : float
+        output (or joint) gains [1/s^2], [1/s] for mode 2; [N m/rad], [N m s/rad] for mode 1.
+    torque_limit : float
+        actuator saturation |tau_i| <= torque_limit [N m], > 0.
+    theta_plus, theta_minus : float
+        stance angle at the start and the end of a step [rad] (the phase variable is the
+        stance angle, normalized to s = (q_stance - theta_plus)/(theta_minus - theta_plus)).
+    bezier_swing_0 .. bezier_swing_4, bezier_torso_0 .. bezier_torso_4 : float
+        Bezier coefficients [rad] of the desired absolute swing-leg and torso angles.
+
+    References
+    ----------
+    .. [1] J. W. Grizzle, G. Abba, F. Plestan, IEEE TAC 46(1):51-64, 2001.
+    .. [2] E. R. Westervelt, J. W. Grizzle, D. E. Koditschek, "Hybrid zero dynamics of planar
+       biped walkers", IEEE TAC 48(1):42-56, 2003.
+    .. [3] Westervelt, Grizzle, Chevallereau, Choi, Morris, *Feedback Control of Dynamic
+       Bipedal Robot Locomotion*, CRC Press 2007, example code
+       ``model_params_three_link.m``: r = 1, m = 5, Mh = 15, Mt = 10, L = 0.5, g = 9.8.
+    """
+
+    MODEL: ClassVar[str] = "three_link"
+    PRESETS: ClassVar[tuple[str, ...]] = ("grizzle",)
+
+    mass_hip: float = _param("kg", "point mass at the hip", 0.0, lo_open=True)
+    mass_leg: float = _param("kg", "point mass of each leg", 0.0, lo_open=True)
+    mass_torso: float = _param("kg", "point mass of the torso", 0.0)
+    com_from_foot: float = _param("m", "foot to the leg's mass", 0.0)
+    com_to_hip: float = _param("m", "leg's mass to the hip", 0.0)
+    torso_length: float = _param("m", "hip to the torso's mass", 0.0)
+    inertia_leg: float = _param("kg m^2", "leg inertia about its centre of mass", 0.0)
+    inertia_torso: float = _param("kg m^2", "torso inertia about its centre of mass", 0.0)
+    slope: float = _slope_field()
+    g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
+    friction: float = _param("1", "ground friction coefficient mu", 0.0, lo_open=True)
+    controller: float = _param("1", "0 off, 1 joint PD, 2 virtual constraints", 0.0, 2.0)
+    kp: float = _param("1/s^2", "proportional gain", 0.0)
+    kd: float = _param("1/s", "derivative gain", 0.0)
+    torque_limit: float = _param("N m", "actuator torque limit", 0.0, lo_open=True)
+    theta_plus: float = _param("rad", "stance angle at the start of a step")
+    theta_minus: float = _param("rad", "stance angle at the end of a step")
+    bezier_swing_0: float = _bezier_field("swing-leg", 0)
+    bezier_swing_1: float = _bezier_field("swing-leg", 1)
+    bezier_swing_2: float = _bezier_field("swing-leg", 2)
+    bezier_swing_3: float = _bezier_field("swing-leg", 3)
+    bezier_swing_4: float = _bezier_field("swing-leg", 4)
+    bezier_torso_0: float = _bezier_field("torso", 0)
+    bezier_torso_1: float = _bezier_field("torso", 1)
+    bezier_torso_2: float = _bezier_field("torso", 2)
+    bezier_torso_3: float = _bezier_field("torso", 3)
+    bezier_torso_4: float = _bezier_field("torso", 4)
+
+    @property
+    def leg_length(self) -> float:
+        """Leg length ``com_from_foot + com_to_hip`` [m]."""
+        return self.com_from_foot + self.com_to_hip
+
+    def _check_relations(self) -> None:
+        if not self.leg_length > 0.0:
+            raise _relation_error(
+                "leg length `com_from_foot + com_to_hip` must be > 0 [m]", f"{self.leg_length!r}"
+            )
+        if self.controller not in (0.0, 1.0, 2.0):
+            raise _relation_error("`controller` must be 0, 1 or 2", f"{self.controller!r}")
+        if self.controller != 0.0 and not self.theta_minus != self.theta_plus:
+            raise _relation_error(
+                "`theta_minus` must differ from `theta_plus` when the controller is on",
+                f"{self.theta_minus!r}",
+            )
+        if self.controller != 0.0 and not (self.mass_torso > 0.0 or self.inertia_torso > 0.0):
+            raise _relation_error(
+                "`mass_torso` or `inertia_torso` must be > 0 when the controller is on",
+                f"{self.mass_torso!r}",
+            )
+
+    @classmethod
+    def grizzle(cls, **changes: Any) -> ThreeLinkParams:
+        """Westervelt et al.'s three-link example [3]_ with walker's virtual-constraint design.
+
+        Masses and lengths from ``model_params_three_link.m`` [3]_ (legs' point masses at
+        r/2). The step angle pi/8 and the forward-leaning torso (pi/6 in [3]_'s clockwise
+        convention, -pi/6 here) are those of ``control_params_three_link.m``; the Bezier
+        coefficients are walker's own, made HZD-invariant by
+        :func:`walker.hzd.make_invariant` (see ``gaits/three_link_grizzle.toml``).
+
+        References
+        ----------
+        .. [3] Westervelt, Grizzle, Chevallereau, Choi, Morris, CRC Press 2007.
+        """
+        from walker.hzd import make_invariant  # lazy: hzd imports this module
+
+        return make_invariant(cls(**{**_GRIZZLE_DEFAULTS, **changes}))
+
+
+_GRIZZLE_DEFAULTS: dict[str, float] = {
+    # Westervelt et al. 2007, model_params_three_link.m
+    "mass_hip": 15.0,
+    "mass_leg": 5.0,
+    "mass_torso": 10.0,
+    "com_from_foot": 0.5,
+    "com_to_hip": 0.5,
+    "torso_length": 0.5,
+    "inertia_leg": 0.0,
+    "inertia_torso": 0.0,
+    "slope": 0.0,
+    "g": 9.8,
+    # walker's choices: ground friction, output gains (Westervelt's epsilon = 0.1 gives
+    # kp = 1/eps^2, kd = 2/eps), a torque limit that the gait never reaches
+    "friction": 0.8,
+    "controller": 2.0,
+    "kp": 100.0,
+    "kd": 20.0,
+    "torque_limit": 150.0,
+    # step angle pi/8 (control_params_three_link.m: th1d = pi/8); theta_plus, the first two
+    # coefficients of each output and bezier_swing_4 are set by make_invariant
+    "theta_plus": math.pi / 8,
+    "theta_minus": -math.pi / 8,
+    "bezier_swing_0": 0.0,
+    "bezier_swing_1": 0.0,
+    "bezier_swing_2": -0.1,
+    "bezier_swing_3": 0.4,
+    "bezier_swing_4": 0.0,
+    # torso leaning forward by pi/6 (th3d = pi/6 in [3]_'s clockwise convention)
+    "bezier_torso_0": 0.0,
+    "bezier_torso_1": 0.0,
+    "bezier_torso_2": -math.pi / 6,
+    "bezier_torso_3": -math.pi / 6,
+    "bezier_torso_4": -math.pi / 6,
+}
+
+
+# ------------------------------------------------------------------------------------------
 PARAMS: dict[str, type[_Params]] = {
     "simplest": SimplestParams,
     "compass": CompassParams,
     "kneed": KneedParams,
     "double_pendulum": DoublePendulumParams,
+    "three_link": ThreeLinkParams,
 }
 """Model name -> parameter class."""
 
@@ -640,6 +812,12 @@ STATE_NAMES: dict[str, tuple[str, ...]] = {
     "kneed": ("q1", "q2", "q3", "qd1", "qd2", "qd3"),
     # q1 link 1, q2 link 2 (the model module states whether q2 is absolute or relative)
     "double_pendulum": ("q1", "q2", "qd1", "qd2"),
+    # stance leg, swing leg, torso (absolute, counterclockwise positive); then the actuator
+    # work since t0 [J] and the time spent with a saturated torque [s]
+    "three_link": (
+        "q_stance", "q_swing", "q_torso", "qd_stance", "qd_swing", "qd_torso",
+        "actuator_work", "saturated_time",
+    ),
 }
 """Model name -> names of the full state's components, in order."""
 
@@ -648,6 +826,7 @@ HAS_EVENTS: dict[str, bool] = {
     "compass": True,
     "kneed": True,
     "double_pendulum": False,
+    "three_link": True,
 }
 """Model name -> whether the model has guards and resets (strides)."""
 

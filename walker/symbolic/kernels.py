@@ -100,6 +100,10 @@ def kernels_for(name: str) -> list[Kernel]:
         )
     if name == "double_pendulum":
         return _dynamics_kernels(models.double_pendulum(), "")
+    if name == "three_link":
+        from walker.symbolic import actuated
+
+        return actuated.three_link_kernels()
     raise ValueError(f"unknown generated module `{name}`; valid: {sorted(GENERATED_MODULES)}")
 
 
@@ -114,6 +118,10 @@ def module_extra(name: str) -> str:
         )
     if name == "double_pendulum":
         return f"POINTS = {tuple(models.double_pendulum().points)!r}\n"
+    if name == "three_link":
+        from walker.symbolic import actuated
+
+        return actuated.three_link_extra()
     return ""
 
 
@@ -122,4 +130,8 @@ GENERATED_MODULES = {
     "compass": "Compass gait: single-support dynamics and the floating-base heel-strike model.",
     "kneed": "Kneed walker: knee-free (3-DOF) and knee-locked (2-DOF) swing, floating base.",
     "double_pendulum": "The course's double pendulum (planar elbow coordinates).",
+    "three_link": (
+        "Grizzle's three-link walker (legs and torso, hip actuators): pinned dynamics, ground "
+        "reaction, floating-base heel-strike model."
+    ),
 }

@@ -1,0 +1,318 @@
+"""Grizzle's three-link walker in closed loop: virtual constraints, hybrid zero dynamics, the
+full-order gait, energy balance, the compass-gait limit and Newton–Euler torques."""
+
+import math
+from functools import cache
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+from walker import hzd
+from walker._generated import compass as KC
+from walker._generated import three_link as K3
+from walker.control import bezier
+from walker.fixedpoint import find_fixed_point
+from walker.models import three_link as TL
+from walker.params import CompassParams, ThreeLinkParams
+from walker.scene import load_scene
+from walker.status import Status
+from walker.stride import StrideMap, simulate
+from walker.symbolic.newton_euler import PlanarChain, inverse_dynamics
+
+RNG = np.random.default_rng(20260308)
+PERTURBATION = np.array([0.0, 0.02, 0.05, -0.05, 0.1])
+
+
+@cache
+def grizzle():
+    return ThreeLinkParams.grizzle()
+
+
+@cache
+def hzd_orbit():
+    return hzd.restricted_fixed_point(grizzle())
+
+
+@cache
+def full_orbit():
+    """Full-order fixed point, Newton started from a perturbed section point."""
+    S = StrideMap("three_link", grizzle())
+    return find_fixed_point(S, hzd_orbit().section + PERTURBATION, tol=1e-12)
+
+
+# ----------------------------------------------------------------------------- control pieces
+def test_bezier_derivatives_match_differences():
+    a = RNG.uniform(-1, 1, 5)
+    e = 1e-4
+    for s in (-0.1, 0.0, 0.37, 1.0):
+        b, b1, b2 = bezier(a, s)
+        fp, fm = bezier(a, s + e)[0], bezier(a, s - e)[0]
+        # central differences: truncation e^2 b'''/6 ~ 1e-7 relative here; round-off of the
+        # second difference eps/e^2 ~ 1e-8
+        assert_allclose(b1, (fp - fm) / (2 * e), rtol=1e-6, atol=1e-9)
+        assert_allclose(b2, (fp - 2 * b + fm) / e**2, rtol=1e-5, atol=1e-5)
+    # end points interpolate the first and last coefficients
+    assert_allclose(bezier(a, 0.0)[0], a[0], rtol=0, atol=1e-15)
+    assert_allclose(bezier(a, 1.0)[0], a[4], rtol=0, atol=1e-15)
+
+
+def test_params_validation():
+    with pytest.raises(ValueError, match="`controller` must be 0, 1 or 2"):
+        grizzle().replace(controller=1.5)
+    with pytest.raises(ValueError, match="`theta_minus` must differ"):
+        grizzle().replace(theta_minus=grizzle().theta_plus)
+
+
+# ------------------------------------------------------------------------ hybrid zero dynamics
+def test_make_invariant_gives_hybrid_invariance():
+    """Invariance h(Delta(q-)) = 0 and L_f h(Delta(q-, qd-)) = 0 after the adjustment (1e-12),
+    and not before it."""
+    raw = grizzle().replace(bezier_swing_1=0.0, bezier_torso_0=0.0, bezier_torso_1=0.0)
+    h0, lfh0 = hzd.invariance_residual(raw)
+    assert np.max(np.abs(np.r_[h0, lfh0])) > 1e-2
+    for seed_shift in range(3):
+        free = RNG.uniform(-0.2, 0.2, 3)
+        design = hzd.make_invariant(raw.replace(
+            theta_minus=-0.3 - 0.05 * seed_shift, slope=0.01 * seed_shift,
+            bezier_swing_2=free[0], bezier_swing_3=0.3 + free[1], bezier_torso_2=free[2],
+        ))
+        h, lfh = hzd.invariance_residual(design)
+        assert_allclose(h, 0.0, rtol=0, atol=1e-12)
+        assert_allclose(lfh, 0.0, rtol=0, atol=1e-12)
+
+
+def test_restricted_map_multiplier_is_delta_zero_squared():
+    """The numerical derivative of rho equals the closed form delta_zero^2 (Westervelt et al.
+    2003): central differences with step 1e-5 on a map integrated at rtol 1e-12 -> ~1e-9."""
+    o = hzd_orbit()
+    assert o.success
+    assert_allclose(o.multiplier, o.multiplier_closed_form, rtol=0, atol=1e-8)
+    assert 0.0 < o.multiplier < 1.0
+    r = hzd.restricted_map(grizzle(), o.theta_dot_plus)
+    assert r.status == Status.COMPLETED
+    assert_allclose(r.theta_dot_plus, o.theta_dot_plus, rtol=0, atol=1e-12)
+    # the impact impulse is inside the friction cone with margin
+    assert r.impulse[1] > 0 and abs(r.impulse[0]) < grizzle().friction * r.impulse[1]
+
+
+def test_zero_dynamics_equals_closed_loop_on_the_surface():
+    """On Z the closed-loop stance accelerations equal the zero dynamics' (y = 0 exactly)."""
+    P = grizzle()
+    p = P.as_array()
+    for theta in np.linspace(P.theta_plus, P.theta_minus, 5):
+        thd = RNG.uniform(-2.0, -0.5)
+        q, sigma, dsigma = hzd.surface(P, theta)
+        x = np.r_[q, sigma * thd, 0.0, 0.0]
+        dx = np.empty(8)
+        TL.rhs(0, 0.0, x, p, dx)
+        thdd = hzd.zero_dynamics_accel(P, theta, thd)
+        assert_allclose(dx[3:6], sigma * thdd + dsigma * thd**2, rtol=1e-11, atol=1e-11)
+
+
+# ------------------------------------------------------------------------- full-order gait
+def test_closed_loop_converges_to_period_one_gait():
+    """From a perturbed start the walker converges to the HZD orbit on level ground."""
+    P = grizzle()
+    S = StrideMap("three_link", P)
+    sol = simulate("three_link", P, S.lift(hzd_orbit().section + PERTURBATION), n_strides=25)
+    assert sol.status == Status.COMPLETED
+    # contraction 0.52 per stride: 0.52^25 * 0.1 ~ 1e-8
+    assert_allclose(S.project(sol.x), hzd_orbit().section, rtol=0, atol=1e-6)
+    assert sol.x[7] == 0.0  # never saturated
+
+
+def test_full_order_fixed_point_agrees_with_hzd():
+    """Z is invariant under the closed loop, so the full-order orbit IS the HZD orbit and
+    rho' = delta_zero^2 is an eigenvalue of the full-order Jacobian; with kp = 100, kd = 20
+    the transverse multipliers (~1e-4) are far smaller, so it is the dominant one.  The
+    orbit agrees to the integration tolerance (1e-10); the multiplier to 1e-7, the accuracy of
+    the central-difference vector-field Jacobian (step 1e-6) in the variational equations."""
+    fp = full_orbit()
+    o = hzd_orbit()
+    assert fp.success, fp.message
+    assert fp.stable and np.all(np.abs(fp.multipliers) < 1.0)
+    assert_allclose(fp.section, o.section, rtol=0, atol=1e-10)
+    assert_allclose(fp.multipliers[0].real, o.multiplier_closed_form, rtol=0, atol=1e-7)
+    assert abs(fp.multipliers[0].imag) == 0.0
+    assert np.all(np.abs(fp.multipliers[1:]) < 1e-3)
+    assert_allclose(fp.step_time, o.step_time, rtol=1e-9)
+
+
+def test_scene_reference_is_the_orbit():
+    scene = load_scene("gaits/three_link_grizzle.toml")
+    fp = full_orbit()
+    assert scene.params == grizzle()
+    assert_allclose(scene.state[:6], fp.state[:6], rtol=0, atol=1e-10)
+    ref = scene.reference
+    mult = np.asarray(ref["multipliers"], dtype=complex)
+    assert_allclose(mult, fp.multipliers, rtol=0, atol=ref["tolerance"])
+
+
+def test_actuator_work_equals_impact_loss():
+    """Level ground, periodic orbit: the actuators' work over one stride replaces the kinetic
+    energy lost at heel strike (1e-9 relative)."""
+    P = grizzle()
+    p = P.as_array()
+    sol = simulate("three_link", P, full_orbit().state, n_strides=1, output="events")
+    assert sol.status == Status.COMPLETED
+    x_pre, x_post = sol.events.x_pre[-1], sol.events.x_post[-1]
+    loss = TL.energy(x_pre, p)[0] - TL.energy(x_post, p)[0]
+    work = sol.x[6]
+    assert loss > 1.0  # joules: the impact is not trivial
+    assert_allclose(work, loss, rtol=1e-9)
+
+
+def test_ground_reaction_is_newton_law():
+    """The stance-foot force equals the total momentum rate minus gravity (finite differences
+    of the centre-of-mass velocity along the closed-loop flow)."""
+    P = grizzle()
+    p = P.as_array()
+    x = full_orbit().state.copy()
+    x[3:6] *= 1.1
+    dx = np.empty(8)
+    TL.rhs(0, 0.0, x, p, dx)
+    masses = np.array([P.mass_hip, P.mass_leg, P.mass_leg, P.mass_torso])
+
+    def momentum(xx):
+        q, qd = xx[:3], xx[3:6]
+        e = 1e-7
+        pos = lambda qq: _com(qq, P)  # noqa: E731
+        v = (pos(q + e * qd) - pos(q - e * qd)) / (2 * e)
+        return masses.sum() * v
+
+    h = 1e-5
+    dp = (momentum(x + h * dx) - momentum(x - h * dx)) / (2 * h)
+    F = np.array(TL.ground_reaction(x, p))
+    assert_allclose(F, dp + np.array([0.0, masses.sum() * P.g]), rtol=1e-5, atol=1e-4)
+
+
+def _com(q, P):
+    r = P.leg_length
+    u = lambda a: np.array([-math.sin(a), math.cos(a)])  # noqa: E731
+    hip = r * u(q[0])
+    pts = [hip, hip - P.com_to_hip * u(q[0]), hip - P.com_to_hip * u(q[1]),
+           hip + P.torso_length * u(q[2])]
+    m = np.array([P.mass_hip, P.mass_leg, P.mass_leg, P.mass_torso])
+    return (m[:, None] * np.array(pts)).sum(axis=0) / m.sum()
+
+
+# ------------------------------------------------------------------------------ outcomes
+def test_saturation_is_reported():
+    """A torque limit below the gait's peak torque (~50 N m) clips the torque: the
+    saturated time grows and the applied torque never exceeds the limit."""
+    P = grizzle().replace(torque_limit=30.0)
+    p = P.as_array()
+    sol = simulate("three_link", P, full_orbit().state, n_strides=1, output="full")
+    assert sol.x[7] > 0.0
+    u = np.array([TL.torques(x, p) for x in sol.record.x])
+    assert np.max(np.abs(u)) <= 30.0
+
+
+def test_slip_is_an_outcome():
+    """Friction 0.2 is below the impact's |P_t|/P_n ~ 0.49: the run ends with a status."""
+    P = grizzle().replace(friction=0.2)
+    sol = simulate("three_link", P, full_orbit().state, n_strides=2, output="events")
+    assert sol.status == Status.NONPHYSICAL_IMPACT
+    assert sol.events.guard[-1] in (0, 3, 4)
+
+
+def test_joint_pd_walks_some_strides():
+    """Joint-space PD (no model inversion) to the same references: a status, not a crash,
+    and with stiff gains it tracks well enough to keep walking."""
+    P = grizzle().replace(controller=1.0, kp=1000.0, kd=100.0)
+    sol = simulate("three_link", P, full_orbit().state, n_strides=10)
+    assert sol.status == Status.COMPLETED
+    assert sol.x[6] > 0.0  # the actuators did positive work
+
+
+# -------------------------------------------------------------------------- compass limit
+def _massless_torso(compass: CompassParams, **extra):
+    return ThreeLinkParams(
+        mass_hip=compass.mass_hip, mass_leg=compass.mass_leg, mass_torso=0.0,
+        com_from_foot=compass.com_from_foot, com_to_hip=compass.com_to_hip, torso_length=0.5,
+        inertia_leg=compass.inertia_leg, inertia_torso=0.0, slope=compass.slope, g=compass.g,
+        friction=1.0, controller=0.0, kp=0.0, kd=0.0, torque_limit=1.0, theta_plus=0.2,
+        theta_minus=-0.2, **{f"bezier_{o}_{k}": 0.0 for o in ("swing", "torso")
+                             for k in range(5)},
+    ).replace(**extra)
+
+
+def test_massless_torso_reduces_to_compass_matrices():
+    compass = CompassParams.goswami().replace(inertia_leg=0.02)
+    pc = compass.as_array()
+    p3 = _massless_torso(compass).as_array()
+    for _ in range(20):
+        q = RNG.uniform(-1, 1, 3)
+        qd = RNG.uniform(-2, 2, 3)
+        D3, C3, G3 = np.empty((3, 3)), np.empty((3, 3)), np.empty(3)
+        K3.mass_matrix(q, p3, D3)
+        K3.coriolis(q, qd, p3, C3)
+        K3.gravity(q, p3, G3)
+        D2, C2, G2 = np.empty((2, 2)), np.empty((2, 2)), np.empty(2)
+        KC.mass_matrix(q[:2], pc, D2)
+        KC.coriolis(q[:2], qd[:2], pc, C2)
+        KC.gravity(q[:2], pc, G2)
+        assert_allclose(D3[:2, :2], D2, rtol=1e-14, atol=1e-14)
+        assert_allclose(C3[:2, :2], C2, rtol=1e-14, atol=1e-14)
+        assert_allclose(G3[:2], G2, rtol=1e-14, atol=1e-13)
+        assert_allclose(D3[2], 0.0, rtol=0, atol=0)
+        assert_allclose(G3[2], 0.0, rtol=0, atol=0)
+
+
+def test_torso_rotor_reproduces_passive_compass_gait():
+    """Controller off, torso mass at the hip (torso_length 0) with an inertia: the torso is a
+    free rotor that the legs do not feel, so the compass gait's passive fixed point (Goswami,
+    3 degrees, split hip mass) is a three-link stride too (to the tolerance 1e-9)."""
+    compass = CompassParams.goswami()
+    fp = find_fixed_point(StrideMap("compass", compass), np.array([0.2187, -1.0918, -0.3772]))
+    assert fp.success
+    P = _massless_torso(compass, mass_hip=6.0, mass_torso=4.0, torso_length=0.0,
+                        inertia_torso=0.3)
+    x0 = np.r_[fp.state[0], fp.state[1], 0.0, fp.state[2], fp.state[3], 0.0, 0.0, 0.0]
+    sol = simulate("three_link", P, x0, n_strides=1)
+    assert sol.status == Status.COMPLETED
+    assert_allclose(sol.x[[0, 1, 3, 4]], fp.state, rtol=0, atol=1e-9)
+    assert_allclose(sol.t, fp.step_time, rtol=1e-9)
+    assert sol.x[6] == 0.0
+
+
+# --------------------------------------------------------------------------- Newton–Euler
+def test_newton_euler_reproduces_applied_torques():
+    """Inverse dynamics of the tree (stance leg -> swing leg, stance leg -> torso) along a
+    closed-loop stride gives the controller's torques: swing hip joint u_2, torso joint
+    -u_1 - u_2 (virtual work of B = [[1, 0], [0, 1], [-1, -1]]), stance foot 0 (1e-10 N m)."""
+    P = grizzle()
+    p = P.as_array()
+    times = np.linspace(0.0, full_orbit().step_time * 0.999, 9)
+    sol = simulate("three_link", P, full_orbit().state + np.r_[0, 0, 0.02, 0.1, 0, 0, 0, 0],
+                   n_strides=1, output="samples", sample_times=times)
+    a, b, r, L = P.com_from_foot, P.com_to_hip, P.leg_length, P.torso_length
+    m_st, c_st = P.mass_leg + P.mass_hip, (P.mass_leg * a + P.mass_hip * r)
+    c_st /= m_st
+    I_st = P.mass_leg * (a - c_st) ** 2 + P.mass_hip * (r - c_st) ** 2
+    eps = 1e-3  # a stance link of (almost) no mass for the torso branch, subtracted below
+    chain_a = PlanarChain([r, b], [[c_st, 0], [b, 0]], [m_st, P.mass_leg], [I_st, 0.0])
+    chain_b = PlanarChain([r, L], [[a, 0], [L, 0]], [eps, P.mass_torso], [0.0, 0.0])
+    chain_c = PlanarChain([r], [[a, 0]], [eps], [0.0])
+    gravity = (0.0, -P.g)
+    n_checked = 0
+    for x in sol.samples.x:
+        dx = np.empty(8)
+        TL.rhs(0, 0.0, x, p, dx)
+        q, qd, qdd = x[:3], x[3:6], dx[3:6]
+        u = TL.torques(x, p)
+        # relative joint angles of the two serial chains (link axes along foot->hip,
+        # hip->swing foot, hip->torso)
+        phi_a = [q[0] + math.pi / 2, q[1] - q[0] - math.pi]
+        phi_b = [q[0] + math.pi / 2, q[2] - q[0]]
+        tau_a = inverse_dynamics(chain_a, phi_a, [qd[0], qd[1] - qd[0]],
+                                 [qdd[0], qdd[1] - qdd[0]], gravity=gravity)
+        tau_b = inverse_dynamics(chain_b, phi_b, [qd[0], qd[2] - qd[0]],
+                                 [qdd[0], qdd[2] - qdd[0]], gravity=gravity)
+        tau_c = inverse_dynamics(chain_c, phi_b[:1], qd[:1], qdd[:1], gravity=gravity)
+        assert_allclose(tau_a[1], u[1], rtol=0, atol=1e-10)
+        assert_allclose(tau_b[1], -u[0] - u[1], rtol=0, atol=1e-10)
+        assert_allclose(tau_a[0] + tau_b[0] - tau_c[0], 0.0, rtol=0, atol=1e-10)
+        n_checked += 1
+    assert n_checked == len(times)

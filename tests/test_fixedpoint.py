@@ -1,0 +1,187 @@
+"""Fixed points, Floquet multipliers and classification on toy section maps."""
+
+import numpy as np
+import pytest
+from _toy_maps import CubicBasinMap, HenonMap, LogisticMap, ShiftMap, henon_fixed_points
+from numpy.testing import assert_allclose
+
+from walker.fixedpoint import SectionMap, classify, find_fixed_point, floquet
+from walker.status import Status
+
+B = 0.3
+
+
+def test_toy_maps_satisfy_protocol():
+    for m in (HenonMap(), LogisticMap(), ShiftMap(), CubicBasinMap()):
+        assert isinstance(m, SectionMap)
+
+
+@pytest.mark.parametrize("a", [0.05, 0.2, 0.35])
+@pytest.mark.parametrize("mode", ["exact", "fd"])
+def test_henon_fixed_point_matches_closed_form(a, mode):
+    exact = henon_fixed_points(a, B)[0]
+    fp = find_fixed_point(HenonMap(a, B), exact + [0.1, -0.05], jacobian=mode)
+    assert fp.status == Status.COMPLETED and fp.success
+    assert "Converged" in fp.message
+    assert_allclose(fp.section, exact, rtol=0, atol=1e-12)
+    assert fp.residual <= 1e-12
+    assert fp.parameters == {"a": a}
+    assert fp.period == 1
+    assert_allclose(fp.state, np.append(fp.section, 0.0), rtol=0, atol=0)
+    # Multipliers: roots of lambda^2 + 2 a x lambda - b = 0 (characteristic polynomial of
+    # J = [[-2 a x, 1], [b, 0]]), sorted by decreasing modulus.
+    x = exact[0]
+    roots = np.roots([1.0, 2 * a * x, -B])
+    roots = roots[np.argsort(-np.abs(roots))]
+    assert_allclose(fp.multipliers, roots, rtol=0, atol=1e-7 if mode == "fd" else 1e-12)
+    assert np.all(np.diff(np.abs(fp.multipliers)) <= 0)
+    assert fp.stable == bool(np.all(np.abs(roots) < 1))
+    # eigenvector columns match the multipliers
+    for k in range(2):
+        v = fp.eigenvectors[:, k]
+        assert_allclose(fp.jacobian @ v, fp.multipliers[k] * v, rtol=0, atol=1e-7)
+
+
+def test_newton_converges_quadratically():
+    a = 0.2
+    exact = henon_fixed_points(a, B)[0]
+    fp = find_fixed_point(HenonMap(a, B), exact + [0.3, -0.1])
+    h = fp.history
+    assert fp.success and fp.n_iter == len(h) - 1
+    assert h[0] > 0.1 and h[-1] <= 1e-12
+    # e_{k+1} <= C e_k^2 once in the asymptotic range (e_k < 1e-2), C of order |F''|/|F'|.
+    tail = [(h[k], h[k + 1]) for k in range(len(h) - 1) if 1e-12 < h[k] < 1e-2]
+    assert len(tail) >= 2
+    for e0, e1 in tail:
+        assert e1 <= 5.0 * e0**2
+    # and superlinear: each of those steps gains more than a factor 30
+    assert all(e1 < e0 / 30 for e0, e1 in tail)
+
+
+def test_exact_and_fd_jacobians_agree():
+    a = 0.3
+    z = henon_fixed_points(a, B)[0]
+    lam_e, _, j_e = floquet(HenonMap(a, B), z, 1, jacobian="exact")
+    lam_f, _, j_f = floquet(HenonMap(a, B), z, 1, jacobian="fd")
+    assert_allclose(j_f, j_e, rtol=0, atol=1e-7)
+    assert_allclose(lam_f, lam_e, rtol=0, atol=1e-7)
+    # period 3: the exact Jacobian of the composition vs central differences of P^3
+    _, _, j3e = floquet(HenonMap(a, B), z + 0.05, 3, jacobian="exact")
+    _, _, j3f = floquet(HenonMap(a, B), z + 0.05, 3, jacobian="fd")
+    assert_allclose(j3f, j3e, rtol=0, atol=1e-7)
+
+
+def test_floquet_of_failing_point_is_nan():
+    lam, vec, jac = floquet(HenonMap(fall_radius=1.0), np.array([2.0, 0.0]))
+    assert np.all(np.isnan(lam)) and np.all(np.isnan(jac)) and np.all(np.isnan(vec))
+
+
+def test_period_two_logistic_fixed_point():
+    # 2-cycle of r x (1 - x): roots of r^2 x^2 - r (r + 1) x + (r + 1) = 0, i.e.
+    # x = ((r + 1) -+ sqrt((r + 1)(r - 3))) / (2 r) (f(f(x)) = x divided by the fixed-point
+    # factor); its multiplier is f'(x1) f'(x2) = 4 + 2 r - r^2.
+    r = 3.2
+    x_lo = ((r + 1) - np.sqrt((r + 1) * (r - 3))) / (2 * r)
+    fp = find_fixed_point(LogisticMap(r), np.array([x_lo + 0.01]), period=2)
+    assert fp.success and fp.period == 2
+    assert_allclose(fp.section, [x_lo], rtol=0, atol=1e-12)
+    assert_allclose(fp.multipliers.real, [4 + 2 * r - r * r], rtol=0, atol=1e-12)
+    assert fp.stable
+    assert fp.step_time == 2.0
+
+
+def test_no_fixed_point_is_not_converged():
+    fp = find_fixed_point(ShiftMap(shift=1.0, wiggle=0.1), np.array([0.0]))
+    assert fp.status == Status.NOT_CONVERGED and not fp.success
+    assert "initial guess" in fp.message
+    assert fp.residual >= 0.9 - 1e-12  # |F| = |1 + 0.1 sin z| >= 0.9 everywhere
+    assert np.all(np.isnan(fp.multipliers)) and not fp.stable
+    assert len(fp.history) == fp.n_iter + 1
+
+
+def test_singular_jacobian_status():
+    # z -> z + 1: DP - I = 0 everywhere.
+    fp = find_fixed_point(ShiftMap(shift=1.0), np.array([0.0]), fallback=False)
+    assert fp.status == Status.LINEAR_SOLVE_FAILED
+    assert "fallback=True" in fp.message
+    fp = find_fixed_point(ShiftMap(shift=1.0), np.array([0.0]), fallback=True)
+    assert fp.status == Status.NOT_CONVERGED
+    assert "Levenberg-Marquardt" in fp.message
+
+
+def test_max_iter_exhausted():
+    exact = henon_fixed_points(0.2, B)[0]
+    fp = find_fixed_point(HenonMap(0.2, B), exact + 0.3, max_iter=1)
+    assert fp.status == Status.NOT_CONVERGED
+    assert "max_iter" in fp.message and fp.n_iter == 1
+
+
+def test_falling_start_passes_status_through():
+    fp = find_fixed_point(HenonMap(0.2, B, fall_radius=2.0), np.array([3.0, 0.0]))
+    assert fp.status == Status.FELL_FORWARD and not fp.success
+    assert "walks" in fp.message
+    # a guess inside the walking region converges normally
+    fp = find_fixed_point(HenonMap(0.2, B, fall_radius=2.0), np.array([1.0, 0.3]))
+    assert fp.success
+
+
+def test_lm_fallback_rescues_singular_newton():
+    # det(DP - I) = 1 + 2 a x - b vanishes on the line x = -(1 - b) / (2 a) (here x = -1.75):
+    # Newton cannot start there, Levenberg-Marquardt can.
+    a = 0.2
+    z0 = np.array([-(1 - B) / (2 * a), 0.0])
+    fp = find_fixed_point(HenonMap(a, B), z0, fallback=False)
+    assert fp.status == Status.LINEAR_SOLVE_FAILED
+    fp = find_fixed_point(HenonMap(a, B), z0, fallback=True)
+    assert fp.success
+    roots = henon_fixed_points(a, B)
+    assert min(np.max(np.abs(fp.section - r)) for r in roots) <= 1e-12
+
+
+def test_classify_rule():
+    assert classify([0.9, -0.5 + 0.3j, -0.5 - 0.3j]) == "stable"
+    assert classify([1.5, -1.2]) == "unstable"
+    assert classify([1.0, 0.5]) == "saddle"  # on the unit circle counts as not inside
+    assert classify([2.0, 0.1]) == "saddle"
+    assert classify(np.array([1.0, 1.0])) == "unstable"
+    with pytest.raises(ValueError, match="`multipliers` must be finite|All `multipliers`"):
+        classify([np.nan, 0.5])
+    with pytest.raises(ValueError, match="non-empty 1-D"):
+        classify([])
+
+
+def test_classify_henon_branches():
+    a = 0.2
+    stable_fp, saddle_fp = henon_fixed_points(a, B)
+    fp1 = find_fixed_point(HenonMap(a, B), stable_fp)
+    fp2 = find_fixed_point(HenonMap(a, B), saddle_fp)
+    assert classify(fp1.multipliers) == "stable" and fp1.stable
+    assert classify(fp2.multipliers) == "saddle" and not fp2.stable
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"z0": np.zeros(3)}, r"`z0` must have shape \(2,\)"),
+        ({"z0": np.array([np.nan, 0.0])}, r"`z0` must be finite"),
+        ({"period": 0}, r"`period` must be an integer >= 1"),
+        ({"period": 1.5}, r"`period` must be an integer >= 1"),
+        ({"tol": 0.0}, r"`tol` must be positive"),
+        ({"tol": -1e-3}, r"`tol` must be positive"),
+        ({"jacobian": "analytic"}, r"`jacobian` must be one of"),
+        ({"max_iter": 0}, r"`max_iter` must be an integer >= 1"),
+        ({"fd_step": 0.0}, r"`fd_step` must be positive"),
+    ],
+)
+def test_validation(kwargs, match):
+    args = {"z0": np.array([1.0, 0.3])} | kwargs
+    z0 = args.pop("z0")
+    with pytest.raises(ValueError, match=match):
+        find_fixed_point(HenonMap(), z0, **args)
+
+
+def test_floquet_validation():
+    with pytest.raises(ValueError, match=r"`z` must have shape \(2,\)"):
+        floquet(HenonMap(), np.zeros(1))
+    with pytest.raises(ValueError, match=r"`period` must be an integer >= 1"):
+        floquet(HenonMap(), np.zeros(2), 0)

@@ -1,0 +1,557 @@
+# generated, do not edit: walker kernels for `three_link`
+# input hash: sha256:64abd3f94bb854fe9376cfd715007c978ac37e960366a3b9e7ef02bb1808ca80
+# sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
+# argument order:
+#   q = [q_stance, q_swing, q_torso]
+#   p = [mass_hip, mass_leg, mass_torso, com_from_foot, com_to_hip, torso_length, inertia_leg, inertia_torso, slope, g]
+#   qd = [q_stance_dot, q_swing_dot, q_torso_dot]
+#   qdd = [q_stance_ddot, q_swing_ddot, q_torso_ddot]
+#   q = [q_stance, q_swing, q_torso, x_hip, y_hip]
+# kernels:
+#   mass_matrix(q, p)
+#   coriolis(q, qd, p)
+#   gravity(q, p)
+#   bias(q, qd, p)
+#   dmass(q, p)
+#   dbias_dq(q, qd, p)
+#   dbias_dqd(q, qd, p)
+#   kinetic(q, qd, p)
+#   potential(q, p)
+#   points(q, p)
+#   hip_jac(q, p)
+#   ground_reaction(q, qd, qdd, p)
+#   ext_mass_matrix(q, p)
+#   ext_swing_contact_jac(q, p)
+#   ext_stance_contact_jac(q, p)
+"""Generated numba kernels for the `three_link` model.
+
+Grizzle's three-link walker (legs and torso, hip actuators): pinned dynamics, ground reaction, floating-base heel-strike model.
+"""
+
+import math  # noqa: F401
+
+from numba import njit
+
+KERNEL_HASH = "64abd3f94bb854fe9376cfd715007c978ac37e960366a3b9e7ef02bb1808ca80"
+ARGUMENT_ORDER = {'mass_matrix': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'coriolis': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'gravity': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'bias': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dmass': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dbias_dq': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'kinetic': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'potential': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'points': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'hip_jac': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ground_reaction': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'qdd': ('q_stance_ddot', 'q_swing_ddot', 'q_torso_ddot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}}
+
+@njit(cache=True)
+def mass_matrix(q, p, out):
+    """Mass matrix D(q), out (n, n)."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    mass_hip = p[0]
+    mass_leg = p[1]
+    mass_torso = p[2]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    inertia_leg = p[6]
+    inertia_torso = p[7]
+    x0 = math.sin(q_stance)
+    x1 = x0*x0
+    x2 = com_from_foot*com_from_foot
+    x3 = mass_hip*x2
+    x4 = math.cos(q_stance)
+    x5 = x4*x4
+    x6 = mass_torso*x2
+    x7 = com_to_hip*com_to_hip
+    x8 = mass_hip*x7
+    x9 = mass_leg*x7
+    x10 = mass_torso*x7
+    x11 = 2*x1
+    x12 = com_from_foot*com_to_hip
+    x13 = mass_hip*x12
+    x14 = 2*x5
+    x15 = mass_leg*x12
+    x16 = mass_torso*x12
+    x17 = mass_leg*x2
+    x18 = math.sin(q_swing)
+    x19 = x0*x18
+    x20 = math.cos(q_swing)
+    x21 = x20*x4
+    x22 = -x15*x19 - x15*x21 - x19*x9 - x21*x9
+    x23 = mass_torso*torso_length
+    x24 = com_from_foot*x23
+    x25 = math.sin(q_torso)
+    x26 = x0*x25
+    x27 = math.cos(q_torso)
+    x28 = x27*x4
+    x29 = com_to_hip*x23
+    x30 = x24*x26 + x24*x28 + x26*x29 + x28*x29
+    x31 = mass_torso*torso_length*torso_length
+    out[0, 0] = inertia_leg + x1*x10 + x1*x3 + x1*x6 + x1*x8 + x1*x9 + x10*x5 + x11*x13 + x11*x15 + x11*x16 + x11*x17 + x13*x14 + x14*x15 + x14*x16 + x14*x17 + x3*x5 + x5*x6 + x5*x8 + x5*x9
+    out[0, 1] = x22
+    out[0, 2] = x30
+    out[1, 0] = x22
+    out[1, 1] = inertia_leg + x18*x18*x9 + x20*x20*x9
+    out[1, 2] = 0
+    out[2, 0] = x30
+    out[2, 1] = 0
+    out[2, 2] = inertia_torso + x25*x25*x31 + x27*x27*x31
+
+
+@njit(cache=True)
+def coriolis(q, qd, p, out):
+    """Coriolis matrix C(q, qd), out (n, n)."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    q_stance_dot = qd[0]
+    q_swing_dot = qd[1]
+    q_torso_dot = qd[2]
+    mass_leg = p[1]
+    mass_torso = p[2]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    x0 = math.sin(q_stance)
+    x1 = x0*math.cos(q_swing)
+    x2 = com_to_hip*com_to_hip
+    x3 = math.sin(q_swing)
+    x4 = math.cos(q_stance)
+    x5 = com_from_foot*com_to_hip*mass_leg*x1 - com_from_foot*com_to_hip*mass_leg*x3*x4 + mass_leg*x1*x2 - mass_leg*x2*x3*x4
+    x6 = mass_torso*torso_length
+    x7 = com_from_foot*x6
+    x8 = x0*math.cos(q_torso)
+    x9 = com_to_hip*x6
+    x10 = x4*math.sin(q_torso)
+    x11 = -x10*x7 - x10*x9 + x7*x8 + x8*x9
+    out[0, 0] = 0
+    out[0, 1] = -q_swing_dot*x5
+    out[0, 2] = q_torso_dot*x11
+    out[1, 0] = q_stance_dot*x5
+    out[1, 1] = 0
+    out[1, 2] = 0
+    out[2, 0] = -q_stance_dot*x11
+    out[2, 1] = 0
+    out[2, 2] = 0
+
+
+@njit(cache=True)
+def gravity(q, p, out):
+    """Gravity vector g(q) = dP/dq, out (n,)."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    mass_hip = p[0]
+    mass_leg = p[1]
+    mass_torso = p[2]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    g = p[9]
+    x0 = math.sin(q_stance)
+    x1 = x0*(com_from_foot + com_to_hip)
+    x2 = g*x1
+    x3 = g*mass_leg
+    out[0] = g*mass_leg*(com_to_hip*x0 - x1) - mass_hip*x2 - mass_torso*x2 - x1*x3
+    out[1] = com_to_hip*x3*math.sin(q_swing)
+    out[2] = -g*mass_torso*torso_length*math.sin(q_torso)
+
+
+@njit(cache=True)
+def bias(q, qd, p, out):
+    """h(q, qd) = C(q, qd) qd + g(q), out (n,)."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    q_stance_dot = qd[0]
+    q_swing_dot = qd[1]
+    q_torso_dot = qd[2]
+    mass_hip = p[0]
+    mass_leg = p[1]
+    mass_torso = p[2]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    g = p[9]
+    x0 = math.sin(q_stance)
+    x1 = x0*(com_from_foot + com_to_hip)
+    x2 = g*x1
+    x3 = g*mass_leg
+    x4 = com_to_hip*x0
+    x5 = mass_torso*torso_length
+    x6 = x5*math.cos(q_torso)
+    x7 = math.cos(q_stance)
+    x8 = x5*math.sin(q_torso)
+    x9 = x7*x8
+    x10 = com_from_foot*x0*x6 - com_from_foot*x9 - com_to_hip*x9 + x4*x6
+    x11 = math.cos(q_swing)
+    x12 = com_to_hip*com_to_hip
+    x13 = math.sin(q_swing)
+    x14 = -com_from_foot*com_to_hip*mass_leg*x13*x7 + com_from_foot*mass_leg*x11*x4 + mass_leg*x0*x11*x12 - mass_leg*x12*x13*x7
+    x15 = q_stance_dot*q_stance_dot
+    out[0] = g*mass_leg*(-x1 + x4) - mass_hip*x2 - mass_torso*x2 - q_swing_dot*q_swing_dot*x14 + q_torso_dot*q_torso_dot*x10 - x1*x3
+    out[1] = com_to_hip*x13*x3 + x14*x15
+    out[2] = -g*x8 - x10*x15
+
+
+@njit(cache=True)
+def dmass(q, p, out):
+    """dD/dq_k for every k, out (n, n, n): out[k] = dD/dq_k."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    mass_leg = p[1]
+    mass_torso = p[2]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    x0 = math.sin(q_stance)
+    x1 = x0*math.cos(q_swing)
+    x2 = com_from_foot*com_to_hip*mass_leg
+    x3 = com_to_hip*com_to_hip*mass_leg
+    x4 = math.cos(q_stance)
+    x5 = x4*math.sin(q_swing)
+    x6 = x1*x2 + x1*x3 - x2*x5 - x3*x5
+    x7 = mass_torso*torso_length
+    x8 = x0*math.cos(q_torso)
+    x9 = math.sin(q_torso)
+    x10 = -com_from_foot*mass_torso*torso_length*x4*x9 + com_from_foot*x7*x8 - com_to_hip*mass_torso*torso_length*x4*x9 + com_to_hip*x7*x8
+    x11 = -x10
+    x12 = -x6
+    out[0, 0, 0] = 0
+    out[0, 0, 1] = x6
+    out[0, 0, 2] = x11
+    out[0, 1, 0] = x6
+    out[0, 1, 1] = 0
+    out[0, 1, 2] = 0
+    out[0, 2, 0] = x11
+    out[0, 2, 1] = 0
+    out[0, 2, 2] = 0
+    out[1, 0, 0] = 0
+    out[1, 0, 1] = x12
+    out[1, 0, 2] = 0
+    out[1, 1, 0] = x12
+    out[1, 1, 1] = 0
+    out[1, 1, 2] = 0
+    out[1, 2, 0] = 0
+    out[1, 2, 1] = 0
+    out[1, 2, 2] = 0
+    out[2, 0, 0] = 0
+    out[2, 0, 1] = 0
+    out[2, 0, 2] = x10
+    out[2, 1, 0] = 0
+    out[2, 1, 1] = 0
+    out[2, 1, 2] = 0
+    out[2, 2, 0] = x10
+    out[2, 2, 1] = 0
+    out[2, 2, 2] = 0
+
+
+@njit(cache=True)
+def dbias_dq(q, qd, p, out):
+    """dh/dq, out (n, n)."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    q_stance_dot = qd[0]
+    q_swing_dot = qd[1]
+    q_torso_dot = qd[2]
+    mass_hip = p[0]
+    mass_leg = p[1]
+    mass_torso = p[2]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    g = p[9]
+    x0 = math.cos(q_stance)
+    x1 = x0*(com_from_foot + com_to_hip)
+    x2 = g*x1
+    x3 = g*mass_leg
+    x4 = com_to_hip*x0
+    x5 = q_torso_dot*q_torso_dot
+    x6 = math.sin(q_stance)
+    x7 = mass_torso*torso_length
+    x8 = x6*x7*math.sin(q_torso)
+    x9 = x7*math.cos(q_torso)
+    x10 = com_from_foot*x0*x9 + com_from_foot*x8 + com_to_hip*x8 + x4*x9
+    x11 = q_swing_dot*q_swing_dot
+    x12 = x6*math.sin(q_swing)
+    x13 = com_from_foot*mass_leg
+    x14 = math.cos(q_swing)
+    x15 = com_to_hip*com_to_hip*mass_leg
+    x16 = com_to_hip*x12*x13 + x0*x14*x15 + x12*x15 + x13*x14*x4
+    x17 = -x16
+    x18 = -x10
+    x19 = q_stance_dot*q_stance_dot
+    out[0, 0] = g*mass_leg*(-x1 + x4) - mass_hip*x2 - mass_torso*x2 - x1*x3 + x10*x5 + x11*x17
+    out[0, 1] = x11*x16
+    out[0, 2] = x18*x5
+    out[1, 0] = x16*x19
+    out[1, 1] = com_to_hip*x14*x3 + x17*x19
+    out[1, 2] = 0
+    out[2, 0] = x18*x19
+    out[2, 1] = 0
+    out[2, 2] = -g*x9 + x10*x19
+
+
+@njit(cache=True)
+def dbias_dqd(q, qd, p, out):
+    """dh/dqd, out (n, n)."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    q_stance_dot = qd[0]
+    q_swing_dot = qd[1]
+    q_torso_dot = qd[2]
+    mass_leg = p[1]
+    mass_torso = p[2]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    x0 = math.sin(q_stance)
+    x1 = x0*math.cos(q_swing)
+    x2 = com_to_hip*com_to_hip
+    x3 = math.sin(q_swing)
+    x4 = math.cos(q_stance)
+    x5 = com_from_foot*com_to_hip*mass_leg*x1 - com_from_foot*com_to_hip*mass_leg*x3*x4 + mass_leg*x1*x2 - mass_leg*x2*x3*x4
+    x6 = mass_torso*torso_length
+    x7 = com_from_foot*x6
+    x8 = x0*math.cos(q_torso)
+    x9 = com_to_hip*x6
+    x10 = x4*math.sin(q_torso)
+    x11 = -x10*x7 - x10*x9 + x7*x8 + x8*x9
+    x12 = 2*q_stance_dot
+    out[0, 0] = 0
+    out[0, 1] = -2*q_swing_dot*x5
+    out[0, 2] = 2*q_torso_dot*x11
+    out[1, 0] = x12*x5
+    out[1, 1] = 0
+    out[1, 2] = 0
+    out[2, 0] = -x11*x12
+    out[2, 1] = 0
+    out[2, 2] = 0
+
+
+@njit(cache=True)
+def kinetic(q, qd, p):
+    """Kinetic energy [J]."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    q_stance_dot = qd[0]
+    q_swing_dot = qd[1]
+    q_torso_dot = qd[2]
+    mass_hip = p[0]
+    mass_leg = p[1]
+    mass_torso = p[2]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    inertia_leg = p[6]
+    inertia_torso = p[7]
+    x0 = q_stance_dot*q_stance_dot
+    x1 = ((1.0/2.0))*inertia_leg
+    x2 = math.sin(q_stance)
+    x3 = com_from_foot + com_to_hip
+    x4 = x0*x3*x3
+    x5 = math.cos(q_stance)
+    x6 = com_to_hip*q_swing_dot
+    x7 = x2*x3
+    x8 = q_stance_dot*x7
+    x9 = x3*x5
+    x10 = q_stance_dot*x9
+    x11 = ((1.0/2.0))*mass_leg
+    x12 = q_torso_dot*torso_length
+    return ((1.0/2.0))*inertia_torso*q_torso_dot*q_torso_dot + ((1.0/2.0))*mass_hip*(x2*x2*x4 + x4*x5*x5) + ((1.0/2.0))*mass_torso*((-x10 - x12*math.cos(q_torso))*(-x10 - x12*math.cos(q_torso)) + (-x12*math.sin(q_torso) - x8)*(-x12*math.sin(q_torso) - x8)) + q_swing_dot*q_swing_dot*x1 + x0*x1 + x11*(x0*(com_to_hip*x2 - x7)*(com_to_hip*x2 - x7) + x0*(com_to_hip*x5 - x9)*(com_to_hip*x5 - x9)) + x11*((-x10 + x6*math.cos(q_swing))*(-x10 + x6*math.cos(q_swing)) + (x6*math.sin(q_swing) - x8)*(x6*math.sin(q_swing) - x8))
+
+
+@njit(cache=True)
+def potential(q, p):
+    """Potential energy [J] (y = 0 at the origin)."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    mass_hip = p[0]
+    mass_leg = p[1]
+    mass_torso = p[2]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    g = p[9]
+    x0 = math.cos(q_stance)
+    x1 = com_from_foot + com_to_hip
+    x2 = x0*x1
+    x3 = -x0*x1
+    x4 = g*mass_leg
+    return g*mass_hip*x2 + g*mass_torso*(torso_length*math.cos(q_torso) + x2) + x4*(-com_to_hip*x0 - x3) + x4*(-com_to_hip*math.cos(q_swing) - x3)
+
+
+@njit(cache=True)
+def points(q, p, out):
+    """Named points in the world frame, out (n_points, 2); names in POINTS."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    x0 = com_from_foot + com_to_hip
+    x1 = x0*math.sin(q_stance)
+    x2 = x0*math.cos(q_stance)
+    out[0, 0] = 0
+    out[0, 1] = 0
+    out[1, 0] = -x1
+    out[1, 1] = x2
+    out[2, 0] = x0*math.sin(q_swing) - x1
+    out[2, 1] = -x0*math.cos(q_swing) + x2
+    out[3, 0] = -torso_length*math.sin(q_torso) - x1
+    out[3, 1] = torso_length*math.cos(q_torso) + x2
+
+
+@njit(cache=True)
+def hip_jac(q, p, out):
+    """Jacobian of the hip position, out (2, n)."""
+    q_stance = q[0]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    x0 = com_from_foot + com_to_hip
+    out[0, 0] = -x0*math.cos(q_stance)
+    out[0, 1] = 0
+    out[0, 2] = 0
+    out[1, 0] = -x0*math.sin(q_stance)
+    out[1, 1] = 0
+    out[1, 2] = 0
+
+
+@njit(cache=True)
+def ground_reaction(q, qd, qdd, p, out):
+    """World-frame ground force on the stance foot (F_x, F_y) [N], out (2,)."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    q_stance_dot = qd[0]
+    q_swing_dot = qd[1]
+    q_torso_dot = qd[2]
+    q_stance_ddot = qdd[0]
+    q_swing_ddot = qdd[1]
+    q_torso_ddot = qdd[2]
+    mass_hip = p[0]
+    mass_leg = p[1]
+    mass_torso = p[2]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    g = p[9]
+    x0 = com_from_foot*mass_hip
+    x1 = math.cos(q_stance)
+    x2 = q_stance_ddot*x1
+    x3 = mass_torso*x2
+    x4 = com_to_hip*mass_hip
+    x5 = com_to_hip*mass_leg
+    x6 = mass_torso*torso_length
+    x7 = x6*math.cos(q_torso)
+    x8 = 2*com_from_foot*mass_leg
+    x9 = math.cos(q_swing)
+    x10 = math.sin(q_swing)
+    x11 = q_swing_dot*q_swing_dot
+    x12 = math.sin(q_stance)
+    x13 = q_stance_dot*q_stance_dot
+    x14 = math.sin(q_torso)
+    x15 = q_torso_dot*q_torso_dot
+    x16 = q_stance_ddot*x12
+    x17 = com_from_foot*mass_torso
+    x18 = com_to_hip*mass_torso
+    x19 = x1*x13
+    out[0] = com_from_foot*mass_hip*x12*x13 + 2*com_from_foot*mass_leg*x12*x13 + com_from_foot*mass_torso*x12*x13 - com_from_foot*x3 + com_to_hip*mass_hip*x12*x13 + com_to_hip*mass_leg*q_swing_ddot*x9 + com_to_hip*mass_leg*x12*x13 + com_to_hip*mass_torso*x12*x13 - com_to_hip*x3 + mass_torso*torso_length*x14*x15 - q_torso_ddot*x7 - x0*x2 - x10*x11*x5 - x2*x4 - x2*x5 - x2*x8
+    out[1] = com_to_hip*mass_leg*q_swing_ddot*x10 + com_to_hip*mass_leg*x11*x9 + g*mass_hip + 2*g*mass_leg + g*mass_torso - q_torso_ddot*x14*x6 - x0*x16 - x0*x19 - x15*x7 - x16*x17 - x16*x18 - x16*x4 - x16*x5 - x16*x8 - x17*x19 - x18*x19 - x19*x4 - x19*x5 - x19*x8
+
+
+@njit(cache=True)
+def ext_mass_matrix(q, p, out):
+    """Floating-base mass matrix, out (5, 5)."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    mass_hip = p[0]
+    mass_leg = p[1]
+    mass_torso = p[2]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    inertia_leg = p[6]
+    inertia_torso = p[7]
+    x0 = math.sin(q_stance)
+    x1 = com_to_hip*com_to_hip*mass_leg
+    x2 = math.cos(q_stance)
+    x3 = com_to_hip*mass_leg
+    x4 = x2*x3
+    x5 = x0*x3
+    x6 = math.sin(q_swing)
+    x7 = math.cos(q_swing)
+    x8 = x3*x7
+    x9 = x3*x6
+    x10 = math.sin(q_torso)
+    x11 = mass_torso*torso_length*torso_length
+    x12 = math.cos(q_torso)
+    x13 = mass_torso*torso_length
+    x14 = -x12*x13
+    x15 = -x10*x13
+    x16 = mass_hip + 2*mass_leg + mass_torso
+    out[0, 0] = inertia_leg + x0*x0*x1 + x1*x2*x2
+    out[0, 1] = 0
+    out[0, 2] = 0
+    out[0, 3] = x4
+    out[0, 4] = x5
+    out[1, 0] = 0
+    out[1, 1] = inertia_leg + x1*x6*x6 + x1*x7*x7
+    out[1, 2] = 0
+    out[1, 3] = x8
+    out[1, 4] = x9
+    out[2, 0] = 0
+    out[2, 1] = 0
+    out[2, 2] = inertia_torso + x10*x10*x11 + x11*x12*x12
+    out[2, 3] = x14
+    out[2, 4] = x15
+    out[3, 0] = x4
+    out[3, 1] = x8
+    out[3, 2] = x14
+    out[3, 3] = x16
+    out[3, 4] = 0
+    out[4, 0] = x5
+    out[4, 1] = x9
+    out[4, 2] = x15
+    out[4, 3] = 0
+    out[4, 4] = x16
+
+
+@njit(cache=True)
+def ext_swing_contact_jac(q, p, out):
+    """Jacobian of the swing foot position, out (2, 5)."""
+    q_swing = q[1]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    x0 = com_from_foot + com_to_hip
+    out[0, 0] = 0
+    out[0, 1] = x0*math.cos(q_swing)
+    out[0, 2] = 0
+    out[0, 3] = 1
+    out[0, 4] = 0
+    out[1, 0] = 0
+    out[1, 1] = x0*math.sin(q_swing)
+    out[1, 2] = 0
+    out[1, 3] = 0
+    out[1, 4] = 1
+
+
+@njit(cache=True)
+def ext_stance_contact_jac(q, p, out):
+    """Jacobian of the stance foot position, out (2, 5)."""
+    q_stance = q[0]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    x0 = com_from_foot + com_to_hip
+    out[0, 0] = x0*math.cos(q_stance)
+    out[0, 1] = 0
+    out[0, 2] = 0
+    out[0, 3] = 1
+    out[0, 4] = 0
+    out[1, 0] = x0*math.sin(q_stance)
+    out[1, 1] = 0
+    out[1, 2] = 0
+    out[1, 3] = 0
+    out[1, 4] = 1
+
+POINTS = ('stance_contact', 'hip', 'swing_contact', 'torso')

@@ -1,0 +1,375 @@
+"""Hybrid zero dynamics (HZD) of the three-link walker under virtual constraints.
+
+With the outputs ``y = q[1:] - b(s(theta))`` of :mod:`walker.control` held at zero, the
+walker moves on the zero-dynamics surface ``Z = {y = 0, yd = 0}``: ``q = q_Z(theta) =
+(theta, b(s(theta)))`` and ``qd = sigma(theta) theta_dot`` with ``sigma = dq_Z/dtheta``.  Its
+motion is the two-dimensional zero dynamics in ``(theta, theta_dot)``, given by the
+unactuated row of the Lagrangian dynamics: ``beta = (1, 1, 1)`` annihilates the input map
+``B`` (``beta B = 0``), so ``beta (D qdd + h) = 0`` with ``qdd = sigma theta_ddot +
+sigma' theta_dot^2`` (Westervelt, Grizzle, Koditschek 2003 [1]_).
+
+``Z`` is *hybrid invariant* when the heel-strike impact maps ``S ∩ Z`` into ``Z``:
+``h(Delta_q(q-)) = 0`` and ``L_f h(Delta(q-, qd-)) = 0`` [1]_.  Then the restricted Poincaré
+map ``rho`` on ``S ∩ Z`` is one-dimensional; here it acts on ``theta_dot`` just after heel
+strike.  In the coordinates ``zeta = (beta D qd)^2 / 2`` (the squared angular momentum about
+the stance foot, ``beta D qd = I(theta) theta_dot``) the zero dynamics integrate in closed
+form, ``zeta- = zeta+ - V(theta-)``, and the impact scales the momentum by a constant
+``delta_zero``, so ``rho(zeta) = delta_zero^2 (zeta - V(theta-))`` and the multiplier of its
+fixed point is ``delta_zero^2`` whatever the coordinates [1]_ (Theorem 3 / Corollary 2).
+
+Every function takes a :class:`walker.params.ThreeLinkParams` whose controller block holds
+the design.  The phase variable and the impact surface: a step ends when the stance angle
+reaches ``theta_minus``; :func:`make_invariant` places the swing foot on the ground there.
+
+References
+----------
+.. [1] E. R. Westervelt, J. W. Grizzle, D. E. Koditschek, "Hybrid zero dynamics of planar
+   biped walkers", IEEE TAC 48(1):42-56, 2003.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from walker._generated import three_link as K
+from walker.control import BEZIER_DEGREE, bezier
+from walker.models import three_link as TL
+from walker.params import ThreeLinkParams
+from walker.status import Status
+
+__all__ = [
+    "RestrictedMap",
+    "HZDOrbit",
+    "surface",
+    "zero_dynamics_accel",
+    "invariance_residual",
+    "make_invariant",
+    "impact_momentum_ratio",
+    "restricted_map",
+    "restricted_fixed_point",
+]
+
+BETA = np.array([1.0, 1.0, 1.0])
+"""Annihilator of the input map: ``BETA @ B = 0``."""
+
+
+def _check(params) -> np.ndarray:
+    if not isinstance(params, ThreeLinkParams):
+        raise TypeError(f"`params` must be a ThreeLinkParams, got {type(params).__name__}")
+    return params.as_array()
+
+
+def _coefficients(p: np.ndarray) -> np.ndarray:
+    c = TL.CONTROL_OFFSET + 6
+    m1 = BEZIER_DEGREE + 1
+    return p[c:c + 2 * m1].reshape(2, m1)
+
+
+def surface(params: ThreeLinkParams, theta: float):
+    """The zero-dynamics surface at phase ``theta``.
+
+    Parameters
+    ----------
+    params : ThreeLinkParams
+    theta : float
+        stance angle [rad].
+
+    Returns
+    -------
+    q : ndarray, shape (3,)
+        ``q_Z(theta)`` [rad].
+    sigma : ndarray, shape (3,)
+        ``dq_Z/dtheta``.
+    dsigma : ndarray, shape (3,)
+        ``d^2 q_Z/dtheta^2``.
+    """
+    p = _check(params)
+    return _surface(p, float(theta))
+
+
+def _surface(p, theta):
+    tp, tm = p[TL.CONTROL_OFFSET + 4], p[TL.CONTROL_OFFSET + 5]
+    ds = 1.0 / (tm - tp)
+    s = (theta - tp) * ds
+    a = _coefficients(p)
+    q = np.array([theta, 0.0, 0.0])
+    sigma = np.array([1.0, 0.0, 0.0])
+    dsigma = np.zeros(3)
+    for i in range(2):
+        b, b1, b2 = bezier(np.ascontiguousarray(a[i]), s)
+        q[i + 1] = b
+        sigma[i + 1] = b1 * ds
+        dsigma[i + 1] = b2 * ds * ds
+    return q, sigma, dsigma
+
+
+def _accel(p, theta, theta_dot):
+    q, sigma, dsigma = _surface(p, theta)
+    D = np.empty((3, 3))
+    h = np.empty(3)
+    K.mass_matrix(q, p, D)
+    K.bias(q, sigma * theta_dot, p, h)
+    bD = BETA @ D
+    return -(bD @ dsigma * theta_dot**2 + BETA @ h) / (bD @ sigma)
+
+
+def zero_dynamics_accel(params: ThreeLinkParams, theta: float, theta_dot: float) -> float:
+    """``theta_ddot`` of the zero dynamics at ``(theta, theta_dot)`` [rad/s^2]."""
+    return float(_accel(_check(params), float(theta), float(theta_dot)))
+
+
+def _state(q, qd):
+    return np.concatenate([q, qd, [0.0, 0.0]])
+
+
+def _impact(p, theta_minus, theta_dot_minus):
+    """Heel strike from the surface point at ``theta_minus``: (x_plus, impulse, status)."""
+    q, sigma, _ = _surface(p, theta_minus)
+    x = _state(q, sigma * theta_dot_minus)
+    x_new = x.copy()
+    impulse = np.zeros(2)
+    status = TL.heel_strike(x, p, x_new, impulse)
+    return x_new, impulse, int(status)
+
+
+def invariance_residual(params: ThreeLinkParams) -> tuple[np.ndarray, np.ndarray]:
+    """How far the impact throws ``S ∩ Z`` off ``Z``.
+
+    The pre-impact state is the surface point at ``theta_minus`` with ``theta_dot = -1``
+    (``L_f h`` is linear in the rates, so this is a normalization).
+
+    Returns
+    -------
+    h_plus : ndarray, shape (2,)
+        ``y`` just after the impact [rad]: ``h(Delta_q(q-))``.
+    lfh_plus : ndarray, shape (2,)
+        ``yd`` just after the impact per unit ``theta_dot-`` [rad/s per rad/s].
+    """
+    p = _check(params)
+    tm = p[TL.CONTROL_OFFSET + 5]
+    x, _, _ = _impact(p, tm, -1.0)
+    q, sigma, _ = _surface(p, x[0])
+    return x[1:3] - q[1:], x[4:6] - sigma[1:] * x[3]
+
+
+def make_invariant(params: ThreeLinkParams) -> ThreeLinkParams:
+    """Adjust the design so that the zero-dynamics surface is hybrid invariant.
+
+    Keeps ``theta_minus``, the slope, and the coefficients ``bezier_*_2 .. bezier_*_4``
+    except ``bezier_swing_4``; sets (Westervelt et al. 2003 [1]_, Sect. V):
+
+    1. ``theta_plus = -theta_minus - 2 slope`` and ``bezier_swing_4 = theta_plus``: at
+       ``theta_minus`` the swing foot touches the ground, and the legs swap;
+    2. ``bezier_*_0 = Delta_q(q-)``: the post-impact configuration is on ``Z``
+       (``bezier_swing_0 = theta_minus``, ``bezier_torso_0 = bezier_torso_4``);
+    3. ``bezier_*_1 = bezier_*_0 + (qd+_i / qd+_stance) / (M ds/dtheta)``: the post-impact
+       velocity is tangent to ``Z`` (``b'(0) ds/dtheta = qd+_i / qd+_stance``).
+
+    Parameters
+    ----------
+    params : ThreeLinkParams
+
+    Returns
+    -------
+    ThreeLinkParams
+        the adjusted design (validated).
+    """
+    p = _check(params)
+    tm = params.theta_minus
+    tp = -tm - 2.0 * params.slope
+    if not tp != tm:
+        raise ValueError(f"`theta_minus` must differ from -slope, got {tm!r}")
+    changes = {"theta_plus": tp, "bezier_swing_4": tp, "bezier_swing_0": tm,
+               "bezier_torso_0": params.bezier_torso_4}
+    p1 = params.replace(**changes)
+    p = p1.as_array()
+    x, _, _ = _impact(p, tm, -1.0)
+    ds = 1.0 / (tm - tp)
+    for i, name in enumerate(("swing", "torso")):
+        a0 = changes[f"bezier_{name}_0"]
+        changes[f"bezier_{name}_1"] = a0 + (x[4 + i] / x[3]) / (BEZIER_DEGREE * ds)
+    return params.replace(**changes)
+
+
+def impact_momentum_ratio(params: ThreeLinkParams) -> float:
+    """``delta_zero``: angular momentum about the new stance foot just after the impact over
+    that about the old one just before, on ``S ∩ Z`` (a constant of the design) [1]_."""
+    p = _check(params)
+    tm = p[TL.CONTROL_OFFSET + 5]
+    q, sigma, _ = _surface(p, tm)
+    x, _, _ = _impact(p, tm, -1.0)
+    D = np.empty((3, 3))
+    K.mass_matrix(q, p, D)
+    before = BETA @ D @ (-sigma)
+    K.mass_matrix(np.ascontiguousarray(x[:3]), p, D)
+    after = BETA @ D @ x[3:6]
+    return float(after / before)
+
+
+@dataclass
+class RestrictedMap:
+    """One step of the restricted Poincaré map.
+
+    Attributes
+    ----------
+    status : Status
+        COMPLETED, FELL_BACKWARD (``theta_dot`` reached zero before ``theta_minus``),
+        NO_EVENT, or NONPHYSICAL_IMPACT (the impact on Z is not physical).
+    theta_dot_plus : float
+        next post-impact stance rate [rad/s] (NaN on failure).
+    theta_dot_minus : float
+        pre-impact stance rate [rad/s].
+    step_time : float
+        [s].
+    impulse : ndarray, shape (2,)
+        impact impulse (tangential, normal) [N s].
+    """
+
+    status: Status
+    theta_dot_plus: float
+    theta_dot_minus: float
+    step_time: float
+    impulse: np.ndarray
+
+
+def restricted_map(
+    params: ThreeLinkParams, theta_dot_plus: float, *, rtol: float = 1e-12, atol: float = 1e-12
+) -> RestrictedMap:
+    """The restricted Poincaré map ``rho`` on ``S ∩ Z``, by integrating the zero dynamics.
+
+    Integrates ``(theta, theta_dot)`` from ``(theta_plus, theta_dot_plus)`` with DOP853 until
+    ``theta = theta_minus``, then applies the heel-strike impact from the surface point there
+    and reads the new stance rate.  Exact on an invariant design; on a non-invariant one it
+    is the map of the zero dynamics with the impact projected back to ``theta_dot``.
+
+    Parameters
+    ----------
+    params : ThreeLinkParams
+    theta_dot_plus : float
+        post-impact stance rate [rad/s], < 0 for forward walking.
+    rtol, atol : float
+        integration tolerances.
+
+    Returns
+    -------
+    RestrictedMap
+    """
+    p = _check(params)
+    if not np.isfinite(theta_dot_plus):
+        raise ValueError(f"`theta_dot_plus` must be finite, got {theta_dot_plus!r}")
+    tp, tm = p[TL.CONTROL_OFFSET + 4], p[TL.CONTROL_OFFSET + 5]
+
+    def f(t, z):
+        return [z[1], _accel(p, z[0], z[1])]
+
+    def end(t, z):
+        return z[0] - tm
+
+    end.terminal = True
+    end.direction = -1.0 if tm < tp else 1.0
+
+    def stall(t, z):
+        return z[1]
+
+    stall.terminal = True
+    t_max = 20.0 * np.sqrt(params.leg_length / params.g)
+    sol = solve_ivp(f, (0.0, t_max), [tp, float(theta_dot_plus)], method="DOP853",
+                    rtol=rtol, atol=atol, events=(end, stall))
+    nan = float("nan")
+    if sol.t_events[1].size:
+        return RestrictedMap(Status.FELL_BACKWARD, nan, nan, float(sol.t[-1]), np.full(2, nan))
+    if not sol.t_events[0].size:
+        return RestrictedMap(Status.NO_EVENT, nan, nan, float(sol.t[-1]), np.full(2, nan))
+    thd_minus = float(sol.y_events[0][0][1])
+    x, impulse, status = _impact(p, tm, thd_minus)
+    st = Status.COMPLETED if status == 0 else Status(status)
+    return RestrictedMap(st, float(x[3]), thd_minus, float(sol.t_events[0][0]), impulse)
+
+
+@dataclass
+class HZDOrbit:
+    """Fixed point of the restricted Poincaré map.
+
+    Attributes
+    ----------
+    success : bool
+    theta_dot_plus : float
+        post-impact stance rate on the orbit [rad/s].
+    multiplier : float
+        ``rho'`` at the fixed point, by central differences.
+    multiplier_closed_form : float
+        ``delta_zero^2`` (module docstring).
+    section : ndarray, shape (5,)
+        the orbit's point in the full model's section coordinates.
+    step_time : float
+        [s].
+    """
+
+    success: bool
+    theta_dot_plus: float
+    multiplier: float
+    multiplier_closed_form: float
+    section: np.ndarray
+    step_time: float
+
+
+def restricted_fixed_point(
+    params: ThreeLinkParams,
+    bracket: tuple[float, float] = (-4.0, -0.2),
+    *,
+    n_scan: int = 40,
+    fd_step: float = 1e-5,
+) -> HZDOrbit:
+    """Fixed point of :func:`restricted_map` by Brent's method on ``rho(w) - w``.
+
+    ``rho(w) - w`` is sampled at ``n_scan`` points of ``bracket``; the sign change nearest
+    ``bracket[1]`` (among walking steps) is refined.
+
+    Parameters
+    ----------
+    params : ThreeLinkParams
+    bracket : (float, float)
+        range of post-impact stance rates [rad/s] to search.
+    n_scan : int
+        number of samples of the bracket (>= 2).
+    fd_step : float
+        step of the central difference for the multiplier [rad/s].
+
+    Returns
+    -------
+    HZDOrbit
+        ``success`` False when the bracket holds no sign change of walking steps.
+    """
+    lo, hi = (float(b) for b in bracket)
+    if not lo < hi:
+        raise ValueError(f"`bracket` must be increasing, got {bracket!r}")
+    if isinstance(n_scan, bool) or not isinstance(n_scan, int) or n_scan < 2:
+        raise ValueError(f"`n_scan` must be an int >= 2, got {n_scan!r}")
+
+    def F(w):
+        r = restricted_map(params, w)
+        return r.theta_dot_plus - w if r.status == Status.COMPLETED else np.nan
+
+    grid = np.linspace(lo, hi, n_scan)
+    values = np.array([F(w) for w in grid])
+    nan = float("nan")
+    change = np.flatnonzero(
+        np.isfinite(values[:-1]) & np.isfinite(values[1:]) & (values[:-1] * values[1:] < 0)
+    )
+    if change.size == 0:
+        return HZDOrbit(False, nan, nan, nan, np.full(5, nan), nan)
+    i = change[-1]  # the slowest walking gait in the bracket
+    w = brentq(F, grid[i], grid[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+    rp = restricted_map(params, w + fd_step).theta_dot_plus
+    rm = restricted_map(params, w - fd_step).theta_dot_plus
+    r = restricted_map(params, w)
+    p = params.as_array()
+    q, sigma, _ = _surface(p, params.theta_plus)
+    qd = sigma * w
+    section = np.array([q[0], q[2], qd[0], qd[1], qd[2]])
+    return HZDOrbit(True, float(w), float((rp - rm) / (2 * fd_step)),
+                    impact_momentum_ratio(params) ** 2, section, r.step_time)
