@@ -1,12 +1,13 @@
 # generated, do not edit: walker kernels for `compass`
-# input hash: sha256:920bc6fb795552a1dd563e74662ad44395ca4bf6c3f2246d5aa5ca1de548d0b9
+# input hash: sha256:c6e721b4d888d4068053fb82c46ad51a4637d7b1b2bcbdd1a911effee247a25e
 # sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
 # argument order:
 #   q = [q_stance, q_swing]
-#   p = [mass_hip, mass_leg, com_from_foot, com_to_hip, inertia_leg, foot_radius, slope, g]
 #   qd = [q_stance_dot, q_swing_dot]
+#   p = [mass_hip, mass_leg, com_from_foot, com_to_hip, inertia_leg, foot_radius, slope, g]
 #   q = [q_stance, q_swing, x_hip, y_hip]
 # kernels:
+#   accel(q, qd, p)
 #   mass_matrix(q, p)
 #   coriolis(q, qd, p)
 #   gravity(q, p)
@@ -30,8 +31,100 @@ import math  # noqa: F401
 
 from numba import njit
 
-KERNEL_HASH = "920bc6fb795552a1dd563e74662ad44395ca4bf6c3f2246d5aa5ca1de548d0b9"
-ARGUMENT_ORDER = {'mass_matrix': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'coriolis': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'gravity': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'bias': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dmass': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dbias_dq': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'kinetic': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'potential': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'points': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'hip_jac': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}}
+KERNEL_HASH = "c6e721b4d888d4068053fb82c46ad51a4637d7b1b2bcbdd1a911effee247a25e"
+ARGUMENT_ORDER = {'accel': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'mass_matrix': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'coriolis': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'gravity': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'bias': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dmass': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dbias_dq': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'kinetic': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'potential': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'points': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'hip_jac': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}}
+
+@njit(cache=True)
+def accel(q, qd, p, out):
+    """Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,)."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_stance_dot = qd[0]
+    q_swing_dot = qd[1]
+    mass_hip = p[0]
+    mass_leg = p[1]
+    com_from_foot = p[2]
+    com_to_hip = p[3]
+    inertia_leg = p[4]
+    foot_radius = p[5]
+    slope = p[6]
+    g = p[7]
+    x0 = math.sin(q_stance)
+    x1 = x0*x0
+    x2 = com_from_foot*com_from_foot
+    x3 = mass_hip*x2
+    x4 = math.cos(q_stance)
+    x5 = x4*x4
+    x6 = com_to_hip*com_to_hip
+    x7 = mass_hip*x6
+    x8 = mass_leg*x6
+    x9 = foot_radius*foot_radius
+    x10 = mass_hip*x9
+    x11 = math.sin(slope)
+    x12 = x11*x11
+    x13 = math.cos(slope)
+    x14 = x13*x13
+    x15 = 2*mass_hip
+    x16 = com_from_foot*com_to_hip
+    x17 = x15*x16
+    x18 = 2*mass_leg
+    x19 = x16*x18
+    x20 = com_from_foot*foot_radius
+    x21 = x1*x20
+    x22 = x20*x5
+    x23 = 4*mass_leg
+    x24 = com_to_hip*foot_radius
+    x25 = x15*x24
+    x26 = x18*x24
+    x27 = foot_radius*x11
+    x28 = com_from_foot*x27
+    x29 = x0*x28
+    x30 = x13*x4
+    x31 = x20*x30
+    x32 = com_to_hip*x27
+    x33 = x0*x32
+    x34 = x18*x2
+    x35 = x18*x9
+    x36 = x23*x9
+    x37 = math.sin(q_swing)
+    x38 = com_to_hip*x37
+    x39 = mass_leg*x38
+    x40 = math.cos(q_swing)
+    x41 = mass_leg*x4
+    x42 = x13*x24
+    x43 = mass_leg*x40
+    x44 = x0*x8
+    x45 = x4*x8
+    x46 = com_from_foot - foot_radius
+    x47 = g*mass_leg
+    x48 = g*(-x0*(com_to_hip + x46) + x27)
+    x49 = x38*x41
+    x50 = com_from_foot*x49
+    x51 = x0*x43
+    x52 = x24*x51
+    x53 = x37*x45
+    x54 = x16*x51
+    x55 = foot_radius*x49
+    x56 = x40*x44
+    x57 = q_stance_dot*q_stance_dot
+    x58 = x0*x13*x20
+    x59 = mass_hip*x4
+    x60 = x0*x42
+    d00 = inertia_leg + 2*x0*x10*x11 + x0*x11*x36 + x1*x10 + x1*x17 + x1*x19 - x1*x25 - x1*x26 + x1*x3 + x1*x34 + x1*x35 + x1*x7 + x1*x8 + x10*x12 - 2*x10*x13*x4 + x10*x14 + x10*x5 + x12*x35 + x14*x35 - x15*x21 - x15*x22 - x15*x29 + x15*x31 - x15*x33 + x17*x5 - x18*x33 + x19*x5 - x21*x23 - x22*x23 - x23*x29 + x23*x31 + x25*x30 - x25*x5 + x26*x30 - x26*x5 + x3*x5 - x30*x36 + x34*x5 + x35*x5 + x5*x7 + x5*x8
+    d10 = -com_from_foot*x0*x39 + com_to_hip*foot_radius*mass_leg*x0*x37 + com_to_hip*foot_radius*mass_leg*x11*x37 + com_to_hip*foot_radius*mass_leg*x4*x40 - x16*x40*x41 - x37*x44 - x40*x45 - x42*x43
+    d11 = inertia_leg + x37*x37*x8 + x40*x40*x8
+    h0 = mass_hip*x48 + mass_leg*x48 + q_swing_dot*q_swing_dot*(foot_radius*x13*x39 + x32*x43 + x50 + x52 + x53 - x54 - x55 - x56) + x47*(-x0*x46 + x27) + x57*(mass_hip*x0*x13*x9 + mass_hip*x11*x4*x9 - mass_hip*x58 - mass_hip*x60 + 2*mass_leg*x0*x13*x9 + 2*mass_leg*x11*x4*x9 - mass_leg*x60 - x18*x28*x4 - x18*x58 - x28*x59 - x32*x41 - x32*x59)
+    h1 = x38*x47 + x57*(-x50 - x52 - x53 + x54 + x55 + x56)
+    l00 = math.sqrt(d00)
+    l10 = (d10)/l00
+    l11 = math.sqrt(d11 - l10*l10)
+    y0 = (-h0)/l00
+    y1 = (-h1 - l10*y0)/l11
+    z1 = (y1)/l11
+    z0 = (y0 - l10*z1)/l00
+    out[0] = z0
+    out[1] = z1
+
 
 @njit(cache=True)
 def mass_matrix(q, p, out):

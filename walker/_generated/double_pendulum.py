@@ -1,11 +1,12 @@
 # generated, do not edit: walker kernels for `double_pendulum`
-# input hash: sha256:a4c4d7dc1ea8b19d324aeb2ec9c5f053478757c81d1ae6b16194013de6ae2f74
+# input hash: sha256:6330be664a1622a2c6496c2600d3c4204af3d1e47212f19f20b559d4ec889c3c
 # sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
 # argument order:
 #   q = [q1, q2]
-#   p = [mass_1, mass_2, inertia_1, inertia_2, length_1, length_2, com_1, com_2, g]
 #   qd = [q1_dot, q2_dot]
+#   p = [mass_1, mass_2, inertia_1, inertia_2, length_1, length_2, com_1, com_2, g]
 # kernels:
+#   accel(q, qd, p)
 #   mass_matrix(q, p)
 #   coriolis(q, qd, p)
 #   gravity(q, p)
@@ -25,8 +26,60 @@ import math  # noqa: F401
 
 from numba import njit
 
-KERNEL_HASH = "a4c4d7dc1ea8b19d324aeb2ec9c5f053478757c81d1ae6b16194013de6ae2f74"
-ARGUMENT_ORDER = {'mass_matrix': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'coriolis': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'gravity': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'bias': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dmass': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dq': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dqd': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'kinetic': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'potential': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'points': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}}
+KERNEL_HASH = "6330be664a1622a2c6496c2600d3c4204af3d1e47212f19f20b559d4ec889c3c"
+ARGUMENT_ORDER = {'accel': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'mass_matrix': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'coriolis': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'gravity': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'bias': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dmass': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dq': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dqd': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'kinetic': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'potential': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'points': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}}
+
+@njit(cache=True)
+def accel(q, qd, p, out):
+    """Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,)."""
+    q1 = q[0]
+    q2 = q[1]
+    q1_dot = qd[0]
+    q2_dot = qd[1]
+    mass_1 = p[0]
+    mass_2 = p[1]
+    inertia_1 = p[2]
+    inertia_2 = p[3]
+    length_1 = p[4]
+    com_1 = p[6]
+    com_2 = p[7]
+    g = p[8]
+    x0 = math.cos(q1)
+    x1 = x0*x0
+    x2 = com_1*com_1*mass_1
+    x3 = math.sin(q1)
+    x4 = x3*x3
+    x5 = length_1*length_1*mass_2
+    x6 = length_1*x0
+    x7 = q1 + q2
+    x8 = math.cos(x7)
+    x9 = com_2*x8
+    x10 = mass_2*x9
+    x11 = x10*x6
+    x12 = length_1*x3
+    x13 = math.sin(x7)
+    x14 = com_2*mass_2*x13
+    x15 = x12*x14
+    x16 = com_2*com_2*mass_2
+    x17 = inertia_2 + x13*x13*x16 + x16*x8*x8
+    x18 = g*mass_2
+    x19 = x10*x12 - x14*x6
+    x20 = q1_dot*x19
+    d00 = inertia_1 + x1*x2 + x1*x5 + 2*x11 + 2*x15 + x17 + x2*x4 + x4*x5
+    d10 = x11 + x15 + x17
+    d11 = x17
+    h0 = com_1*g*mass_1*x0 + q2_dot*x20 + q2_dot*(q2_dot*x19 + x20) + x18*(x6 + x9)
+    h1 = -q1_dot*q1_dot*x19 + x18*x9
+    l00 = math.sqrt(d00)
+    l10 = (d10)/l00
+    l11 = math.sqrt(d11 - l10*l10)
+    y0 = (-h0)/l00
+    y1 = (-h1 - l10*y0)/l11
+    z1 = (y1)/l11
+    z0 = (y0 - l10*z1)/l00
+    out[0] = z0
+    out[1] = z1
+
 
 @njit(cache=True)
 def mass_matrix(q, p, out):

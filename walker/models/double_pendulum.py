@@ -22,16 +22,9 @@ SECTION_NAMES = ()
 
 @njit(cache=True)
 def rhs(phase, t, x, p, dx):
-    D = np.empty((2, 2))
-    h = np.empty(2)
-    K.mass_matrix(x[:2], p, D)
-    K.bias(x[:2], x[2:], p, h)
-    qdd = np.empty(2)
-    accelerations(D, h, qdd)
     dx[0] = x[2]
     dx[1] = x[3]
-    dx[2] = qdd[0]
-    dx[3] = qdd[1]
+    K.accel(x[:2], x[2:], p, dx[2:])
 
 
 @njit(cache=True)

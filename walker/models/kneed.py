@@ -62,30 +62,17 @@ def _lengths(p):
 @njit(cache=True)
 def rhs(phase, t, x, p, dx):
     if phase == 0:
-        D = np.empty((3, 3))
-        h = np.empty(3)
-        K.unlocked_mass_matrix(x[:3], p, D)
-        K.unlocked_bias(x[:3], x[3:], p, h)
-        qdd = np.empty(3)
-        accelerations(D, h, qdd)
-        for i in range(3):
-            dx[i] = x[3 + i]
-            dx[3 + i] = qdd[i]
+        dx[0] = x[3]
+        dx[1] = x[4]
+        dx[2] = x[5]
+        K.unlocked_accel(x[:3], x[3:], p, dx[3:])
     else:
-        q = np.array([x[0], x[1]])
-        qd = np.array([x[3], x[4]])
-        D = np.empty((2, 2))
-        h = np.empty(2)
-        K.locked_mass_matrix(q, p, D)
-        K.locked_bias(q, qd, p, h)
-        qdd = np.empty(2)
-        accelerations(D, h, qdd)
+        # Locked: (q1, q2) and (qd1, qd2) are contiguous slices of the state.
         dx[0] = x[3]
         dx[1] = x[4]
         dx[2] = x[4]
-        dx[3] = qdd[0]
-        dx[4] = qdd[1]
-        dx[5] = qdd[1]
+        K.locked_accel(x[:2], x[3:5], p, dx[3:5])
+        dx[5] = dx[4]
 
 
 @njit(cache=True)

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-__all__ = ["Kernel", "render_module", "symbolic_hash"]
+__all__ = ["AccelKernel", "Kernel", "render_module", "symbolic_hash"]
 
 
 @dataclass(frozen=True)
@@ -43,6 +43,87 @@ class Kernel:
     args: tuple
     expr: object
     doc: str = ""
+
+
+@dataclass(frozen=True)
+class AccelKernel:
+    """Accelerations ``qdd = -D^{-1} h`` of a Lagrangian model, fused into one function.
+
+    The entries of the symmetric positive-definite ``D`` and of ``h`` share one
+    common-subexpression pass, and the solve is an unrolled Cholesky factorization, so the
+    hot path allocates nothing and evaluates each sine and cosine once.  ``D`` is never
+    inverted symbolically.  Signature ``name(q, qd, p, out)``; ``out[:n]`` receives ``qdd``.
+
+    Parameters
+    ----------
+    name : str
+    args : tuple of (str, tuple of Symbol)
+        ``(("q", q), ("qd", qd), ("p", params))``.
+    D : Matrix (n, n)
+    h : Matrix (n, 1)
+    doc : str
+    """
+
+    name: str
+    args: tuple
+    D: sp.Matrix
+    h: sp.Matrix
+    doc: str = ""
+
+    @property
+    def expr(self):
+        """``(D, h)``: what the kernel solves (for hashing and staleness checks)."""
+        return [self.D, self.h]
+
+
+def render_accel_kernel(kernel: AccelKernel, printer: _Printer | None = None) -> str:
+    """Source text of a fused acceleration kernel (see :class:`AccelKernel`)."""
+    printer = printer or _Printer()
+    n = kernel.D.rows
+    entries = [kernel.D[i, j] for i in range(n) for j in range(i + 1)]
+    entries += [kernel.h[i] for i in range(n)]
+    allowed = {s for _, syms in kernel.args for s in syms}
+    free = set().union(*(sp.sympify(e).free_symbols for e in entries))
+    stray = sorted(str(s) for s in free - allowed)
+    if stray:
+        raise ValueError(
+            f"kernel `{kernel.name}`: symbols {stray} are not in its arguments "
+            f"{[name for name, _ in kernel.args]}"
+        )
+    lines = ["@njit(cache=True)", f"def {kernel.name}(q, qd, p, out):"]
+    lines.append(f'    """{kernel.doc or kernel.name}"""')
+    for name, syms in kernel.args:
+        for i, s in enumerate(syms):
+            if s in free:
+                lines.append(f"    {s} = {name}[{i}]")
+    repl, reduced = sp.cse(entries, symbols=sp.numbered_symbols("x"))
+    for sym, sub in repl:
+        lines.append(f"    {sym} = {printer.doprint(sub)}")
+    k = 0
+    for i in range(n):
+        for j in range(i + 1):
+            lines.append(f"    d{i}{j} = {printer.doprint(reduced[k])}")
+            k += 1
+    for i in range(n):
+        lines.append(f"    h{i} = {printer.doprint(reduced[k])}")
+        k += 1
+    # Cholesky D = L L^T, unrolled.
+    for j in range(n):
+        acc = " - ".join([f"d{j}{j}"] + [f"l{j}{m}*l{j}{m}" for m in range(j)])
+        lines.append(f"    l{j}{j} = math.sqrt({acc})")
+        for i in range(j + 1, n):
+            acc = " - ".join([f"d{i}{j}"] + [f"l{i}{m}*l{j}{m}" for m in range(j)])
+            lines.append(f"    l{i}{j} = ({acc})/l{j}{j}")
+    # L y = -h, then L^T qdd = y.
+    for i in range(n):
+        acc = " - ".join([f"-h{i}"] + [f"l{i}{m}*y{m}" for m in range(i)])
+        lines.append(f"    y{i} = ({acc})/l{i}{i}")
+    for i in reversed(range(n)):
+        acc = " - ".join([f"y{i}"] + [f"l{m}{i}*z{m}" for m in range(i + 1, n)])
+        lines.append(f"    z{i} = ({acc})/l{i}{i}")
+    for i in range(n):
+        lines.append(f"    out[{i}] = z{i}")
+    return "\n".join(lines) + "\n"
 
 
 class _Printer(PythonCodePrinter):
@@ -126,6 +207,8 @@ def symbolic_hash(kernels) -> str:
             h.update(name.encode())
             h.update(",".join(str(s) for s in syms).encode())
         h.update(sp.srepr(k.expr).encode())
+        if isinstance(k, AccelKernel):
+            h.update(b"accel-cholesky")
     return h.hexdigest()
 
 
@@ -177,5 +260,8 @@ def render_module(name: str, kernels, *, doc: str = "", extra: str = "") -> str:
         f"ARGUMENT_ORDER = {seen!r}",
         "",
     ]
-    body = "\n\n".join(render_kernel(k) for k in kernels)
+    body = "\n\n".join(
+        render_accel_kernel(k) if isinstance(k, AccelKernel) else render_kernel(k)
+        for k in kernels
+    )
     return "\n".join(header) + "\n" + body + ("\n" + extra if extra else "")
