@@ -28,8 +28,9 @@ RTOL = 1e-12
 
 # Sampling ranges of the parameters, by name (every parameter of every generated module).
 PARAM_RANGES = {
-    # compass / kneed / double pendulum masses [kg] and inertias [kg m^2]
-    "mass_hip": (0.5, 10.0),
+    # compass / kneed / double pendulum / three-link masses [kg] and inertias [kg m^2]
+    # (Westervelt et al. 2007, model_params_three_link.m: Mh = 15, m = 5, Mt = 10)
+    "mass_hip": (0.5, 20.0),
     "mass_leg": (0.5, 5.0),
     "mass_thigh": (0.1, 2.0),
     "mass_shank": (0.02, 1.0),
@@ -40,6 +41,8 @@ PARAM_RANGES = {
     "inertia_shank": (0.001, 0.1),
     "inertia_1": (0.0, 1.0),
     "inertia_2": (0.0, 1.0),
+    "mass_torso": (0.5, 15.0),
+    "inertia_torso": (0.0, 1.0),
     # lengths [m]
     "com_from_foot": (0.2, 1.0),
     "com_to_hip": (0.2, 1.0),
@@ -55,6 +58,7 @@ PARAM_RANGES = {
     "com_1": (-0.5, 1.5),
     "com_2": (-0.5, 1.5),
     "leg_length": (0.5, 2.0),
+    "torso_length": (0.1, 1.0),  # hip to the torso's mass (L = 0.5 in Westervelt et al.)
     # slope [rad], gravity [m/s^2]
     "slope": (-0.2, 0.2),
     "g": (1.0, 20.0),
@@ -93,9 +97,19 @@ def _sample_args(kernel, rng, n_samples):
 
 
 def _reference(kernel, arrays, n_samples):
-    """The kernel's expression by a fresh lambdify, vectorized over samples."""
-    shape, entries = _flatten(kernel.expr)
-    flat_syms = [s for _, syms in kernel.args for s in syms]
+    """The kernel's output by a fresh lambdify, vectorized over samples: its expression, or
+    for a fused acceleration kernel ``qdd = -D^{-1} h`` solved by numpy from fresh D and h."""
+    if isinstance(kernel, codegen.AccelKernel):
+        D = _evaluate(kernel.args, kernel.D, arrays, n_samples)
+        h = _evaluate(kernel.args, kernel.h, arrays, n_samples)
+        return np.linalg.solve(D, -h[..., None])[..., 0]
+    return _evaluate(kernel.args, kernel.expr, arrays, n_samples)
+
+
+def _evaluate(args, expr, arrays, n_samples):
+    """``expr`` by a fresh lambdify over the kernel arguments ``args``, shape (n_samples, ...)."""
+    shape, entries = _flatten(expr)
+    flat_syms = [s for _, syms in args for s in syms]
     fun = sp.lambdify(flat_syms, entries, "numpy")
     columns = [a[:, j] for a in arrays for j in range(a.shape[1])]
     values = [np.broadcast_to(np.asarray(v, dtype=float), (n_samples,)) for v in fun(*columns)]
@@ -110,6 +124,18 @@ def _compiled(module, kernel, arrays, shape, k):
     out = np.empty(shape)
     fun(*args, out)
     return out
+
+
+@pytest.mark.parametrize("name", sorted(GENERATED_MODULES))
+def test_every_parameter_has_a_sampling_range(name):
+    module = importlib.import_module(f"walker._generated.{name}")
+    names = {n for args in module.ARGUMENT_ORDER.values() for n in args.get("p", ())}
+    assert names, f"{name} has no parameter vector"
+    missing = sorted(names - set(PARAM_RANGES))
+    assert not missing, f"no PARAM_RANGES entry for {missing}"
+    for n in names:
+        lo, hi = PARAM_RANGES[n]
+        assert lo < hi, n
 
 
 @pytest.mark.parametrize("name", sorted(GENERATED_MODULES))

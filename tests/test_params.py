@@ -15,8 +15,10 @@ from walker.params import (
     DoublePendulumParams,
     KneedParams,
     SimplestParams,
+    ThreeLinkParams,
     params_class,
 )
+from walker.symbolic.actuated import THREE_LINK_PARAMS
 
 ALL_PRESETS = [(cls, name) for cls in PARAMS.values() for name in cls.PRESETS]
 ALL_FIELDS = [(cls, name) for cls in PARAMS.values() for name in cls.names()]
@@ -70,6 +72,19 @@ def test_field_order_is_the_kernel_order():
         "com_2",
         "g",
     )
+    # the physical parameters first, in the order the generated kernels take them
+    assert ThreeLinkParams.names()[: len(THREE_LINK_PARAMS)] == THREE_LINK_PARAMS
+    assert ThreeLinkParams.names()[len(THREE_LINK_PARAMS) :] == (
+        "friction",
+        "controller",
+        "kp",
+        "kd",
+        "torque_limit",
+        "theta_plus",
+        "theta_minus",
+        *(f"bezier_swing_{k}" for k in range(5)),
+        *(f"bezier_torso_{k}" for k in range(5)),
+    )
 
 
 @pytest.mark.parametrize(("cls", "name"), ALL_FIELDS, ids=_ids(ALL_FIELDS))
@@ -96,14 +111,21 @@ def test_units_and_docs_follow_the_canonical_order():
 
 def test_registry_tables_agree():
     assert set(PARAMS) == set(STATE_NAMES) == set(HAS_EVENTS)
-    assert [len(STATE_NAMES[m]) for m in PARAMS] == [4, 4, 6, 4]
+    assert list(PARAMS) == ["simplest", "compass", "kneed", "double_pendulum", "three_link"]
+    assert [len(STATE_NAMES[m]) for m in PARAMS] == [4, 4, 6, 4, 8]
+    assert [HAS_EVENTS[m] for m in PARAMS] == [True, True, True, False, True]
+    assert STATE_NAMES["three_link"][6:] == ("actuator_work", "saturated_time")
     for model, cls in PARAMS.items():
         assert cls.MODEL == model
         assert params_class(model) is cls
 
 
 def test_params_class_unknown_model():
-    with pytest.raises(ValueError, match=r"unknown model 'biped'; valid models: simplest, "):
+    with pytest.raises(
+        ValueError,
+        match=r"^unknown model 'biped'; valid models: simplest, compass, kneed, double_pendulum, "
+        r"three_link$",
+    ):
         params_class("biped")
 
 
@@ -182,6 +204,27 @@ def test_mcgeer_preset():
     )
 
 
+def test_grizzle_preset():
+    p = ThreeLinkParams.grizzle()
+    # Westervelt, Grizzle, Chevallereau, Choi, Morris 2007, model_params_three_link.m:
+    # Mh = 15, m = 5, Mt = 10, r = 1 (leg masses at r/2), L = 0.5, g = 9.8, point masses
+    assert (p.mass_hip, p.mass_leg, p.mass_torso) == (15.0, 5.0, 10.0)
+    assert (p.torso_length, p.g) == (0.5, 9.8)
+    assert (p.com_from_foot, p.com_to_hip, p.leg_length) == (0.5, 0.5, 1.0)
+    assert (p.inertia_leg, p.inertia_torso, p.slope) == (0.0, 0.0, 0.0)
+    # control_params_three_link.m: step angle pi/8, torso leaning forward by pi/6 (clockwise
+    # in [3]; counterclockwise-positive here, so -pi/6)
+    assert p.controller == 2.0 and p.theta_minus == -math.pi / 8
+    assert (p.bezier_torso_2, p.bezier_torso_3, p.bezier_torso_4) == (-math.pi / 6,) * 3
+    # keyword changes go through make_invariant, unlike preset(..., **changes)
+    assert ThreeLinkParams.grizzle(kp=50.0).kp == 50.0
+    assert ThreeLinkParams.preset("grizzle", torque_limit=80.0).torque_limit == 80.0
+    with pytest.raises(
+        ValueError, match=r"^unknown ThreeLinkParams preset `westervelt`; valid presets: grizzle$"
+    ):
+        ThreeLinkParams.preset("westervelt")
+
+
 def test_course_preset():
     p = DoublePendulumParams.course()
     assert_allclose(p.as_array(), [1, 1, 0.5, 0.5, 1, 1, 0.5, 0.5, 10], rtol=0, atol=0)
@@ -246,7 +289,32 @@ BOUND_CASES = [
     (DoublePendulumParams, "com_1", -0.1, r"`com_1` must be >= 0 \[m\]"),
     (DoublePendulumParams, "com_2", -0.1, r"`com_2` must be >= 0 \[m\]"),
     (DoublePendulumParams, "g", -1.0, r"`g` must be >= 0 \[m/s\^2\], got -1.0"),
+    (ThreeLinkParams, "mass_hip", 0.0, r"`mass_hip` must be > 0 \[kg\], got 0.0"),
+    (ThreeLinkParams, "mass_leg", -5.0, r"`mass_leg` must be > 0 \[kg\], got -5.0"),
+    (ThreeLinkParams, "mass_torso", -1.0, r"`mass_torso` must be >= 0 \[kg\], got -1.0"),
+    (ThreeLinkParams, "com_from_foot", -0.1, r"`com_from_foot` must be >= 0 \[m\], got -0.1"),
+    (ThreeLinkParams, "com_to_hip", -0.1, r"`com_to_hip` must be >= 0 \[m\], got -0.1"),
+    (ThreeLinkParams, "torso_length", -0.5, r"`torso_length` must be >= 0 \[m\], got -0.5"),
+    (ThreeLinkParams, "inertia_leg", -1e-3, r"`inertia_leg` must be >= 0 \[kg m\^2\], got"),
+    (ThreeLinkParams, "inertia_torso", -1.0, r"`inertia_torso` must be >= 0 \[kg m\^2\]"),
+    (ThreeLinkParams, "slope", 1.6, r"`slope` must be in \(-pi/2, pi/2\) \[rad\], got 1.6"),
+    (ThreeLinkParams, "g", 0.0, r"`g` must be > 0 \[m/s\^2\], got 0.0"),
+    (ThreeLinkParams, "friction", 0.0, r"`friction` must be > 0 \[1\], got 0.0"),
+    (ThreeLinkParams, "controller", -1.0, r"`controller` must be in \[0, 2\] \[1\], got -1.0"),
+    (ThreeLinkParams, "controller", 3.0, r"`controller` must be in \[0, 2\] \[1\], got 3.0"),
+    (ThreeLinkParams, "kp", -1.0, r"`kp` must be >= 0 \[1/s\^2\], got -1.0"),
+    (ThreeLinkParams, "kd", -1.0, r"`kd` must be >= 0 \[1/s\], got -1.0"),
+    (ThreeLinkParams, "torque_limit", 0.0, r"`torque_limit` must be > 0 \[N m\], got 0.0"),
 ]
+
+# Fields without bounds: angles and offsets, limited only by cross-field rules (or not at all).
+UNBOUNDED = {
+    (KneedParams, "offset_thigh"),
+    (KneedParams, "offset_shank"),
+    (ThreeLinkParams, "theta_plus"),
+    (ThreeLinkParams, "theta_minus"),
+    *((ThreeLinkParams, f"bezier_{out}_{k}") for out in ("swing", "torso") for k in range(5)),
+}
 
 
 @pytest.mark.parametrize(
@@ -263,8 +331,9 @@ def test_bounds(cls, name, value, message):
 def test_every_bounded_field_has_a_bound_case(cls, name):
     lo, hi = cls.bounds()[name]
     if lo is None and hi is None:
-        assert name.startswith("offset_")  # the only unbounded fields (cross-field rule only)
+        assert (cls, name) in UNBOUNDED
     else:
+        assert (cls, name) not in UNBOUNDED
         assert (cls, name) in {(c, n) for c, n, _, _ in BOUND_CASES}
 
 
@@ -273,6 +342,11 @@ def test_closed_bounds_are_accepted():
     DoublePendulumParams.course().replace(g=0.0, com_1=0.0, com_2=1.0)
     KneedParams.hsu_chen().replace(offset_thigh=0.5, offset_shank=-0.5)
     SimplestParams.garcia(slope=-1.5)
+    t = ThreeLinkParams.grizzle()
+    t.replace(controller=0.0, mass_torso=0.0, inertia_torso=0.0, theta_minus=t.theta_plus)
+    t.replace(controller=1.0, kp=0.0, kd=0.0, torso_length=0.0, inertia_leg=0.0)
+    t.replace(mass_torso=0.0, inertia_torso=0.1)  # a torso with inertia only
+    t.replace(theta_plus=-4.0, bezier_swing_2=10.0, bezier_torso_4=-10.0)  # unbounded
 
 
 # ---- cross-field rules -------------------------------------------------------------------
@@ -314,6 +388,22 @@ CROSS_CASES = [
         r"`com_1` must be <= `length_1` = 1.0 \[m\] \(centre of mass inside its link\), got 1.5",
     ),
     (DoublePendulumParams, {"com_2": 1.01}, r"`com_2` must be <= `length_2` = 1.0 \[m\]"),
+    (
+        ThreeLinkParams,
+        {"com_from_foot": 0.0, "com_to_hip": 0.0},
+        r"leg length `com_from_foot \+ com_to_hip` must be > 0 \[m\], got 0.0$",
+    ),
+    (ThreeLinkParams, {"controller": 1.5}, r"`controller` must be 0, 1 or 2, got 1.5$"),
+    (
+        ThreeLinkParams,
+        {"controller": 1.0, "theta_plus": 0.3, "theta_minus": 0.3},
+        r"`theta_minus` must differ from `theta_plus` when the controller is on, got 0.3$",
+    ),
+    (
+        ThreeLinkParams,
+        {"mass_torso": 0.0},
+        r"`mass_torso` or `inertia_torso` must be > 0 when the controller is on, got 0.0$",
+    ),
 ]
 
 

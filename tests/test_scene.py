@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from walker.params import STATE_NAMES, CompassParams, KneedParams
+from walker.models import get_model
+from walker.params import STATE_NAMES, CompassParams, KneedParams, ThreeLinkParams
 from walker.scene import ComputeSettings, Scene, load_scene
 from walker.status import METHOD_DOP853, METHOD_DP5, METHOD_EULER, METHOD_RK4
 
@@ -19,7 +20,10 @@ SHIPPED = [
     "kneed_hsu",
     "kneed_mcgeer_roundfoot",
     "double_pendulum",
+    "three_link_grizzle",
 ]
+# scenes carrying walker's own high-accuracy [reference] values
+WITH_REFERENCE = ["simplest_garcia", "compass_goswami", "kneed_hsu", "three_link_grizzle"]
 
 COMPASS_FULL = """\
 mass_hip = 10.0
@@ -66,8 +70,43 @@ def test_shipped_scenes_load(name):
     assert scene.state.shape == (len(STATE_NAMES[scene.model]),)
     assert scene.state.dtype == np.float64
     assert scene.description and scene.source
-    assert scene.reference is None  # no high-accuracy values yet
+    assert (scene.reference is not None) == (name in WITH_REFERENCE)
     assert type(scene.params).MODEL == scene.model
+
+
+@pytest.mark.parametrize("name", WITH_REFERENCE)
+def test_shipped_references(name):
+    """Each [reference] holds a full state on the Poincare section, one multiplier per
+    section coordinate (a conjugate-closed set: the stride map is real), a positive step time
+    and tolerance, and a note saying how the values were computed."""
+    scene = load_scene(GAITS / f"{name}.toml")
+    ref = scene.reference
+    model = get_model(scene.model)
+    n_x, n_z = len(STATE_NAMES[scene.model]), model.n_z
+    assert set(ref) >= {"state", "multipliers", "step_time", "tolerance", "note"}
+    assert ref["state"].shape == (n_x,) and ref["state"].dtype == np.float64
+    assert ref["multipliers"].shape == (n_z,) and ref["multipliers"].dtype == np.complex128
+    mult = ref["multipliers"]
+    assert_allclose(np.sort_complex(mult.conj()), np.sort_complex(mult), rtol=0, atol=0)
+    # every shipped gait is described as stable: all multipliers inside the unit circle
+    assert np.abs(mult).max() < 1.0
+    assert ref["step_time"] > 0.0 and 0.0 < ref["tolerance"] < 1e-5 and ref["note"]
+    # the state is just after heel strike: lifting its section coordinates gives it back
+    z = model.project(ref["state"], scene.params)
+    assert z.shape == (n_z,)
+    assert_allclose(model.lift(z, scene.params), ref["state"], rtol=0, atol=1e-15)
+    if "section" in ref:
+        assert ref["section"].shape == (n_z,) and ref["section"].dtype == np.float64
+        assert_allclose(ref["section"], z, rtol=0, atol=0)
+
+
+def test_references_agree_with_published_digits():
+    # Garcia et al. 1998 give theta, theta_dot to 14 digits; walker's values differ by < 1e-10
+    s = load_scene(GAITS / "simplest_garcia.toml")
+    assert_allclose(s.reference["state"][[0, 2]], s.state[[0, 2]], rtol=0, atol=1e-10)
+    # Spong et al. 2007 round the compass-gait cycle to 4 decimals: agree to half a unit
+    c = load_scene(GAITS / "compass_goswami.toml")
+    assert_allclose(c.reference["state"], c.state, rtol=0, atol=5e-5)
 
 
 def test_shipped_scene_contents():
@@ -101,6 +140,18 @@ def test_shipped_scene_contents():
     d = load_scene(GAITS / "double_pendulum.toml")
     assert_allclose(d.state, [math.pi / 2 - 0.1, math.pi, 0.0, 0.0], rtol=1e-16, atol=0)
     assert (d.compute.task, d.compute.strides, d.compute.t_max) == ("simulate", 0, 10.0)
+
+    t = load_scene(GAITS / "three_link_grizzle.toml")
+    p = t.params
+    assert p == ThreeLinkParams.grizzle()
+    assert (t.compute.task, t.compute.strides, t.phase) == ("fixed_point", 1, 0)
+    # walker's own fixed point; the initial state is the reference state
+    assert_allclose(t.state, t.reference["state"], rtol=0, atol=0)
+    # at heel strike the outputs vanish (phase s = 0): stance at theta_plus, swing and torso
+    # at their first Bezier coefficients; no actuator work or saturation yet
+    on_surface = [p.theta_plus, p.bezier_swing_0, p.bezier_torso_0]
+    assert_allclose(t.state[:3], on_surface, rtol=0, atol=1e-12)
+    assert_allclose(t.state[6:], [0.0, 0.0], rtol=0, atol=0)
 
 
 def test_state_is_read_only():
@@ -228,7 +279,7 @@ def test_scene_table_errors(tmp_path):
     _fails(
         tmp_path,
         r"\[scene\] `model` must be one of simplest, compass, kneed, "
-        r"double_pendulum, got 'biped'$",
+        r"double_pendulum, three_link, got 'biped'$",
         {"scene": 'model = "biped"'},
     )
     _fails(

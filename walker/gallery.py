@@ -135,17 +135,31 @@ def plot_file(path, out_dir=".") -> list[Path]:
                         result.status, result.message, result.success, result.period)
         return [_save(plotting.plot_multipliers(branch), out / f"{stem}_multipliers.png")]
     if kind == "branch":
+        fig = plotting.plot_bifurcation(result)
+        _label_section(fig, prov, 0)
         return [
-            _save(plotting.plot_bifurcation(result), out / f"{stem}_bifurcation.png"),
+            _save(fig, out / f"{stem}_bifurcation.png"),
             _save(plotting.plot_multipliers(result), out / f"{stem}_multipliers.png"),
         ]
     if kind == "orbit_diagram":
-        return [_save(plotting.plot_orbit_diagram(result), out / f"{stem}_orbit_diagram.png")]
+        fig = plotting.plot_orbit_diagram(result)
+        _label_section(fig, prov, result.coordinate)
+        return [_save(fig, out / f"{stem}_orbit_diagram.png")]
     if kind == "basin":
         return [_save(plotting.plot_basin(result), out / f"{stem}_basin.png")]
     if kind == "sweep":
         return [_save(_plot_sweep(result), out / f"{stem}_sweep.png")]
     raise ValueError(f"{path}: nothing to plot for a `{kind}` result")
+
+
+def _label_section(fig, prov, coordinate):
+    """Name the section coordinate on the y axis when the model is known."""
+    from walker.models import MODEL_NAMES, get_model
+
+    if prov.get("model") in MODEL_NAMES:
+        names = get_model(prov["model"]).section_names
+        if coordinate < len(names):
+            fig.axes[0].set_ylabel(f"{names[coordinate]} just after heel strike")
 
 
 def _plot_sweep(table):

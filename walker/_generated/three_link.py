@@ -1,13 +1,14 @@
 # generated, do not edit: walker kernels for `three_link`
-# input hash: sha256:64abd3f94bb854fe9376cfd715007c978ac37e960366a3b9e7ef02bb1808ca80
+# input hash: sha256:b97c30661ed0522acfca0bc8c23f6f2d6dd75780255395d370d019acd380bdc9
 # sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
 # argument order:
 #   q = [q_stance, q_swing, q_torso]
-#   p = [mass_hip, mass_leg, mass_torso, com_from_foot, com_to_hip, torso_length, inertia_leg, inertia_torso, slope, g]
 #   qd = [q_stance_dot, q_swing_dot, q_torso_dot]
+#   p = [mass_hip, mass_leg, mass_torso, com_from_foot, com_to_hip, torso_length, inertia_leg, inertia_torso, slope, g]
 #   qdd = [q_stance_ddot, q_swing_ddot, q_torso_ddot]
 #   q = [q_stance, q_swing, q_torso, x_hip, y_hip]
 # kernels:
+#   accel(q, qd, p)
 #   mass_matrix(q, p)
 #   coriolis(q, qd, p)
 #   gravity(q, p)
@@ -32,8 +33,90 @@ import math  # noqa: F401
 
 from numba import njit
 
-KERNEL_HASH = "64abd3f94bb854fe9376cfd715007c978ac37e960366a3b9e7ef02bb1808ca80"
-ARGUMENT_ORDER = {'mass_matrix': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'coriolis': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'gravity': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'bias': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dmass': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dbias_dq': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'kinetic': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'potential': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'points': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'hip_jac': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ground_reaction': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'qdd': ('q_stance_ddot', 'q_swing_ddot', 'q_torso_ddot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}}
+KERNEL_HASH = "b97c30661ed0522acfca0bc8c23f6f2d6dd75780255395d370d019acd380bdc9"
+ARGUMENT_ORDER = {'accel': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'mass_matrix': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'coriolis': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'gravity': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'bias': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dmass': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dbias_dq': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'kinetic': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'potential': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'points': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'hip_jac': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ground_reaction': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'qdd': ('q_stance_ddot', 'q_swing_ddot', 'q_torso_ddot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}}
+
+@njit(cache=True)
+def accel(q, qd, p, out):
+    """Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,)."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    q_stance_dot = qd[0]
+    q_swing_dot = qd[1]
+    q_torso_dot = qd[2]
+    mass_hip = p[0]
+    mass_leg = p[1]
+    mass_torso = p[2]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    inertia_leg = p[6]
+    inertia_torso = p[7]
+    g = p[9]
+    x0 = math.sin(q_stance)
+    x1 = x0*x0
+    x2 = com_from_foot*com_from_foot
+    x3 = mass_hip*x2
+    x4 = math.cos(q_stance)
+    x5 = x4*x4
+    x6 = mass_torso*x2
+    x7 = com_to_hip*com_to_hip
+    x8 = mass_hip*x7
+    x9 = mass_leg*x7
+    x10 = mass_torso*x7
+    x11 = 2*x1
+    x12 = com_from_foot*com_to_hip
+    x13 = mass_hip*x12
+    x14 = 2*x5
+    x15 = mass_leg*x12
+    x16 = mass_torso*x12
+    x17 = mass_leg*x2
+    x18 = math.sin(q_swing)
+    x19 = com_to_hip*x0
+    x20 = com_from_foot*mass_leg*x19
+    x21 = math.cos(q_swing)
+    x22 = x0*x9
+    x23 = math.sin(q_torso)
+    x24 = mass_torso*torso_length
+    x25 = x23*x24
+    x26 = com_from_foot*x0
+    x27 = math.cos(q_torso)
+    x28 = x24*x27
+    x29 = com_from_foot*x4
+    x30 = com_to_hip*x4
+    x31 = mass_torso*torso_length*torso_length
+    x32 = x0*(com_from_foot + com_to_hip)
+    x33 = g*x32
+    x34 = g*mass_leg
+    x35 = x19*x28 - x25*x29 - x25*x30 + x26*x28
+    x36 = -com_from_foot*com_to_hip*mass_leg*x18*x4 - mass_leg*x18*x4*x7 + x20*x21 + x21*x22
+    x37 = q_stance_dot*q_stance_dot
+    d00 = inertia_leg + x1*x10 + x1*x3 + x1*x6 + x1*x8 + x1*x9 + x10*x5 + x11*x13 + x11*x15 + x11*x16 + x11*x17 + x13*x14 + x14*x15 + x14*x16 + x14*x17 + x3*x5 + x5*x6 + x5*x8 + x5*x9
+    d10 = -x15*x21*x4 - x18*x20 - x18*x22 - x21*x4*x9
+    d11 = inertia_leg + x18*x18*x9 + x21*x21*x9
+    d20 = x19*x25 + x25*x26 + x28*x29 + x28*x30
+    d21 = 0
+    d22 = inertia_torso + x23*x23*x31 + x27*x27*x31
+    h0 = g*mass_leg*(x19 - x32) - mass_hip*x33 - mass_torso*x33 - q_swing_dot*q_swing_dot*x36 + q_torso_dot*q_torso_dot*x35 - x32*x34
+    h1 = com_to_hip*x18*x34 + x36*x37
+    h2 = -g*x25 - x35*x37
+    l00 = math.sqrt(d00)
+    l10 = (d10)/l00
+    l20 = (d20)/l00
+    l11 = math.sqrt(d11 - l10*l10)
+    l21 = (d21 - l20*l10)/l11
+    l22 = math.sqrt(d22 - l20*l20 - l21*l21)
+    y0 = (-h0)/l00
+    y1 = (-h1 - l10*y0)/l11
+    y2 = (-h2 - l20*y0 - l21*y1)/l22
+    z2 = (y2)/l22
+    z1 = (y1 - l21*z2)/l11
+    z0 = (y0 - l10*z1 - l20*z2)/l00
+    out[0] = z0
+    out[1] = z1
+    out[2] = z2
+
 
 @njit(cache=True)
 def mass_matrix(q, p, out):
