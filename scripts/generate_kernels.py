@@ -30,6 +30,19 @@ def generate(name: str) -> Path:
     return target
 
 
+def clear_numba_cache() -> int:
+    """Delete numba's cache files under walker/.
+
+    numba keys a cached function on its own source file only, so a model function that
+    calls a regenerated kernel would keep running the old kernel from its cache.
+    """
+    n = 0
+    for path in OUT.parent.rglob("__pycache__/*.nb[ic]"):
+        path.unlink()
+        n += 1
+    return n
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("modules", nargs="*", default=sorted(GENERATED_MODULES))
@@ -42,6 +55,7 @@ def main(argv=None) -> None:
         t = time.perf_counter()
         path = generate(name)
         print(f"{path.relative_to(OUT.parents[1])}: {time.perf_counter() - t:.1f} s")
+    print(f"cleared {clear_numba_cache()} numba cache files (callers cache stale kernels)")
 
 
 if __name__ == "__main__":
