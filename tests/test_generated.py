@@ -103,6 +103,19 @@ def _reference(kernel, arrays, n_samples):
         D = _evaluate(kernel.args, kernel.D, arrays, n_samples)
         h = _evaluate(kernel.args, kernel.h, arrays, n_samples)
         return np.linalg.solve(D, -h[..., None])[..., 0]
+    if isinstance(kernel, codegen.AccelJacobianKernel):
+        # d qdd/d q_k = -D^{-1} (dh/dq_k + dD/dq_k qdd), d qdd/d qd = -D^{-1} dh/dqd, from
+        # freshly derived D, h and their derivatives, solved by numpy.
+        q = [s for name, syms in kernel.args if name == "q" for s in syms]
+        qd = [s for name, syms in kernel.args if name == "qd" for s in syms]
+        D = _evaluate(kernel.args, kernel.D, arrays, n_samples)
+        h = _evaluate(kernel.args, kernel.h, arrays, n_samples)
+        dD = _evaluate(kernel.args, [kernel.D.diff(qk) for qk in q], arrays, n_samples)
+        hq = _evaluate(kernel.args, kernel.h.jacobian(sp.Matrix(q)), arrays, n_samples)
+        hv = _evaluate(kernel.args, kernel.h.jacobian(sp.Matrix(qd)), arrays, n_samples)
+        qdd = np.linalg.solve(D, -h[..., None])[..., 0]
+        rhs_q = -(hq + np.einsum("skij,sj->sik", dD, qdd))
+        return np.linalg.solve(D, np.concatenate([rhs_q, -hv], axis=-1))
     return _evaluate(kernel.args, kernel.expr, arrays, n_samples)
 
 

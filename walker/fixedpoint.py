@@ -177,12 +177,27 @@ def _nan_fixed_point(n_z, status, message, z, history, n_iter, period, parameter
     )
 
 
-def _residual(section_map, z, period, parameter):
-    """``F(z) = P^k(z) - z`` and the map result (F is None when the stride failed)."""
-    res = _map_value(section_map, z, period, parameter)
+def _residual(section_map, z, period, parameter, with_jacobian=False):
+    """``F(z) = P^k(z) - z`` and the map result (F is None when the stride failed).
+
+    With ``with_jacobian`` the map is evaluated with its exact Jacobian in the same call, so
+    an accepted Newton trial point brings the next iteration's Jacobian with it.
+    """
+    if with_jacobian:
+        res = section_map(z, jacobian=True, n_strides=period, parameter=parameter)
+    else:
+        res = _map_value(section_map, z, period, parameter)
     if not res.success or not np.all(np.isfinite(res.z)):
         return None, res
     return res.z - z, res
+
+
+def _usable_jacobian(res):
+    jac = getattr(res, "jac", None)
+    if jac is None:
+        return None
+    jac = np.asarray(jac, dtype=float)
+    return jac if np.all(np.isfinite(jac)) else None
 
 
 def _solve_fixed_point(
@@ -199,13 +214,17 @@ def _solve_fixed_point(
 ):
     """Damped Newton + LM on ``P^k(z) - z`` at a fixed parameter.
 
-    Returns ``(status, message, z, history, n_iter, jac_map)`` where ``jac_map`` is the
-    Jacobian of ``P^k`` at the returned ``z`` when it was computed there (else None).
+    Returns ``(status, message, z, history, n_iter, known)`` where ``known`` is the map
+    result at the returned ``z`` when it was computed there with its exact Jacobian (else
+    None), so the Jacobian at the solution is not computed twice.
     """
     z = z0.copy()
     n = z.shape[0]
     eye = np.eye(n)
-    f, res = _residual(section_map, z, period, parameter)
+    exact = mode == "exact"
+    f, res = _residual(section_map, z, period, parameter, with_jacobian=exact)
+    jac_here = _usable_jacobian(res) if exact else None
+    res_here = res
     if f is None:
         msg = (
             f"The starting point fails within {period} stride(s): {res.status.message} "
@@ -216,10 +235,14 @@ def _solve_fixed_point(
     lm = LM_START
     for it in range(max_iter + 1):
         if history[-1] <= tol:
-            return Status.COMPLETED, _converged_message(tol, it, history), z, history, it, None
+            known = res_here if jac_here is not None else None
+            return Status.COMPLETED, _converged_message(tol, it, history), z, history, it, known
         if it == max_iter:
             break
-        _, jac_map, st = _map_jacobian(section_map, z, period, parameter, mode, fd_step)
+        if jac_here is not None:
+            jac_map, st = jac_here, Status.COMPLETED
+        else:
+            _, jac_map, st = _map_jacobian(section_map, z, period, parameter, mode, fd_step)
         if jac_map is None:
             msg = (
                 f"Computing the Jacobian at iterate {it} failed ({st.name}): {st.message} "
@@ -237,7 +260,9 @@ def _solve_fixed_point(
             alpha = 1.0
             for _ in range(MAX_HALVINGS):
                 z_try = z + alpha * dz
-                f_try, res_try = _residual(section_map, z_try, period, parameter)
+                f_try, res_try = _residual(
+                    section_map, z_try, period, parameter, with_jacobian=exact and alpha == 1.0
+                )
                 if alpha == 1.0 and f_try is None:
                     full_step_status = res_try.status
                 if f_try is not None and np.linalg.norm(f_try) <= (1 - ARMIJO * alpha) * merit:
@@ -263,7 +288,7 @@ def _solve_fixed_point(
                     lm *= LM_GROW
                     continue
                 z_try = z + dz
-                f_try, _ = _residual(section_map, z_try, period, parameter)
+                f_try, res_try = _residual(section_map, z_try, period, parameter)
                 if f_try is not None and np.linalg.norm(f_try) < merit:
                     accepted = True
                     lm = max(lm * LM_SHRINK, 1e-12)
@@ -289,6 +314,8 @@ def _solve_fixed_point(
             return Status.NOT_CONVERGED, msg, z, history, it, None
         z = z_try
         f = f_try
+        jac_here = _usable_jacobian(res_try) if exact else None
+        res_here = res_try
         history.append(float(np.max(np.abs(f))))
     msg = (
         f"Newton did not reach max|P^{period}(z) - z| <= {tol:.3g} in {max_iter} iterations "
@@ -305,8 +332,10 @@ def _converged_message(tol, n_iter, history):
     )
 
 
-def _finish(section_map, z, *, period, parameter, mode, fd_step, status, message, history, n_iter):
-    """Build the FixedPoint: recompute the Jacobian at the solution, multipliers, lift."""
+def _finish(section_map, z, *, period, parameter, mode, fd_step, status, message, history, n_iter,
+            known=None):
+    """Build the FixedPoint: the Jacobian at the solution (reused from the last Newton
+    evaluation when it carried one), multipliers, lift."""
     n_z = z.shape[0]
     pvalue = section_map.parameter_value if parameter is None else parameter
     parameters = {section_map.parameter_name: float(pvalue)}
@@ -327,7 +356,10 @@ def _finish(section_map, z, *, period, parameter, mode, fd_step, status, message
             parameters,
             np.full_like(state, np.nan),
         )
-    res, jac, st = _map_jacobian(section_map, z, period, parameter, mode, fd_step)
+    if known is not None:
+        res, jac, st = known, np.asarray(known.jac, dtype=float), Status.COMPLETED
+    else:
+        res, jac, st = _map_jacobian(section_map, z, period, parameter, mode, fd_step)
     if jac is None:
         msg = (
             f"Converged, but the Jacobian at the solution failed ({st.name}): {st.message} "
@@ -453,7 +485,7 @@ def find_fixed_point(
         raise ValueError(f"`max_iter` must be an integer >= 1, got {max_iter!r}")
     mode = _validate_jacobian_mode(jacobian)
     fd_step = _positive(fd_step, "fd_step")
-    status, message, z, history, n_iter, _ = _solve_fixed_point(
+    status, message, z, history, n_iter, jac_at_z = _solve_fixed_point(
         section_map,
         z0,
         period=period,
@@ -467,6 +499,7 @@ def find_fixed_point(
     return _finish(
         section_map,
         z,
+        known=jac_at_z,
         period=period,
         parameter=parameter,
         mode=mode,

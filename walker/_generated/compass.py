@@ -1,5 +1,5 @@
 # generated, do not edit: walker kernels for `compass`
-# input hash: sha256:c6e721b4d888d4068053fb82c46ad51a4637d7b1b2bcbdd1a911effee247a25e
+# input hash: sha256:1cb15ef1658dab8d3363d5a851124eedc7f3d2bbf419bde71701e5ad7b600f0f
 # sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
 # argument order:
 #   q = [q_stance, q_swing]
@@ -8,6 +8,7 @@
 #   q = [q_stance, q_swing, x_hip, y_hip]
 # kernels:
 #   accel(q, qd, p)
+#   accel_jac(q, qd, p)
 #   mass_matrix(q, p)
 #   coriolis(q, qd, p)
 #   gravity(q, p)
@@ -31,8 +32,8 @@ import math  # noqa: F401
 
 from numba import njit
 
-KERNEL_HASH = "c6e721b4d888d4068053fb82c46ad51a4637d7b1b2bcbdd1a911effee247a25e"
-ARGUMENT_ORDER = {'accel': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'mass_matrix': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'coriolis': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'gravity': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'bias': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dmass': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dbias_dq': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'kinetic': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'potential': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'points': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'hip_jac': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}}
+KERNEL_HASH = "1cb15ef1658dab8d3363d5a851124eedc7f3d2bbf419bde71701e5ad7b600f0f"
+ARGUMENT_ORDER = {'accel': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'accel_jac': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'mass_matrix': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'coriolis': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'gravity': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'bias': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dmass': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dbias_dq': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'kinetic': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'potential': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'points': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'hip_jac': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}}
 
 @njit(cache=True)
 def accel(q, qd, p, out):
@@ -124,6 +125,150 @@ def accel(q, qd, p, out):
     z0 = (y0 - l10*z1)/l00
     out[0] = z0
     out[1] = z1
+
+
+@njit(cache=True)
+def accel_jac(q, qd, p, out):
+    """d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_stance_dot = qd[0]
+    q_swing_dot = qd[1]
+    mass_hip = p[0]
+    mass_leg = p[1]
+    com_from_foot = p[2]
+    com_to_hip = p[3]
+    inertia_leg = p[4]
+    foot_radius = p[5]
+    slope = p[6]
+    g = p[7]
+    x0 = math.sin(q_stance)
+    x1 = x0*x0
+    x2 = com_from_foot*com_from_foot
+    x3 = mass_hip*x2
+    x4 = math.cos(q_stance)
+    x5 = x4*x4
+    x6 = com_to_hip*com_to_hip
+    x7 = mass_hip*x6
+    x8 = mass_leg*x6
+    x9 = foot_radius*foot_radius
+    x10 = mass_hip*x9
+    x11 = math.sin(slope)
+    x12 = x11*x11
+    x13 = math.cos(slope)
+    x14 = x13*x13
+    x15 = 2*mass_hip
+    x16 = com_from_foot*com_to_hip
+    x17 = x15*x16
+    x18 = 2*mass_leg
+    x19 = x16*x18
+    x20 = com_from_foot*foot_radius
+    x21 = x1*x20
+    x22 = x20*x5
+    x23 = 4*mass_leg
+    x24 = com_to_hip*foot_radius
+    x25 = x15*x24
+    x26 = x18*x24
+    x27 = foot_radius*x11
+    x28 = com_from_foot*x27
+    x29 = x0*x28
+    x30 = x13*x4
+    x31 = x20*x30
+    x32 = com_to_hip*x27
+    x33 = x0*x32
+    x34 = x18*x2
+    x35 = x18*x9
+    x36 = x0*x10*x11
+    x37 = x10*x13*x4
+    x38 = x23*x9
+    x39 = math.cos(q_swing)
+    x40 = mass_leg*x24
+    x41 = x13*x40
+    x42 = math.sin(q_swing)
+    x43 = mass_leg*x16
+    x44 = x0*x8
+    x45 = x4*x8
+    x46 = -com_to_hip*foot_radius*mass_leg*x0*x42 - com_to_hip*foot_radius*mass_leg*x39*x4 + x0*x42*x43 + x39*x4*x43 + x39*x45 + x42*x44
+    x47 = -com_to_hip*foot_radius*mass_leg*x11*x42 + x39*x41 + x46
+    x48 = com_from_foot - foot_radius
+    x49 = g*mass_leg
+    x50 = com_to_hip + x48
+    x51 = g*(-x0*x50 + x27)
+    x52 = q_swing_dot*q_swing_dot
+    x53 = mass_leg*x16*x4*x42
+    x54 = x0*x39
+    x55 = x40*x54
+    x56 = mass_leg*x32
+    x57 = x42*x45
+    x58 = x43*x54
+    x59 = x4*x40*x42
+    x60 = x39*x44
+    x61 = x39*x56 + x41*x42 + x53 + x55 + x57 - x58 - x59 - x60
+    x62 = q_stance_dot*q_stance_dot
+    x63 = x0*x13
+    x64 = mass_hip*x63
+    x65 = mass_hip*x4
+    x66 = x20*x63
+    x67 = x28*x4
+    x68 = mass_hip*x0*x13*x9 + mass_hip*x11*x4*x9 + 2*mass_leg*x0*x13*x9 + 2*mass_leg*x11*x4*x9 - x0*x41 - x18*x66 - x18*x67 - x20*x64 - x24*x64 - x28*x65 - x32*x65 - x4*x56
+    x69 = com_to_hip*x49
+    x70 = -x53 - x55 - x57 + x58 + x59 + x60
+    x71 = x32*x4
+    x72 = x4*x50
+    x73 = -x46
+    x74 = mass_hip*x0
+    x75 = mass_hip*x30
+    x76 = 2*q_stance_dot
+    d00 = inertia_leg + x0*x11*x38 + x1*x10 + x1*x17 + x1*x19 - x1*x25 - x1*x26 + x1*x3 + x1*x34 + x1*x35 + x1*x7 + x1*x8 + x10*x12 + x10*x14 + x10*x5 + x12*x35 + x14*x35 - x15*x21 - x15*x22 - x15*x29 + x15*x31 - x15*x33 + x17*x5 - x18*x33 + x19*x5 - x21*x23 - x22*x23 - x23*x29 + x23*x31 + x25*x30 - x25*x5 + x26*x30 - x26*x5 + x3*x5 - x30*x38 + x34*x5 + x35*x5 + 2*x36 - 2*x37 + x5*x7 + x5*x8
+    d10 = -x47
+    d11 = inertia_leg + x39*x39*x8 + x42*x42*x8
+    h0 = mass_hip*x51 + mass_leg*x51 + x49*(-x0*x48 + x27) + x52*x61 + x62*x68
+    h1 = x42*x69 + x62*x70
+    dD0_00 = 2*mass_hip*x0*x13*x9 + 2*mass_hip*x11*x4*x9 + 4*mass_leg*x0*x13*x9 + 4*mass_leg*x11*x4*x9 - x15*x66 - x15*x67 - x15*x71 - x18*x71 - x23*x66 - x23*x67 - x25*x63 - x26*x63
+    dD0_10 = x70
+    dD0_11 = 0
+    dD1_00 = 0
+    dD1_10 = x61
+    dD1_11 = 0
+    hq0_0 = -g*mass_hip*x72 - x4*x48*x49 - x49*x72 + x52*x73 + x62*(-x0*x11*x35 + x0*x56 + x18*x29 - x18*x31 - x20*x75 - x24*x75 + x28*x74 + x30*x35 - x30*x40 + x32*x74 - x36 + x37)
+    hv0_0 = x68*x76
+    hq1_0 = x46*x62
+    hv1_0 = x70*x76
+    hq0_1 = x47*x52
+    hv0_1 = 2*q_swing_dot*x61
+    hq1_1 = x39*x69 + x62*x73
+    hv1_1 = 0
+    l00 = math.sqrt(d00)
+    l10 = (d10)/l00
+    l11 = math.sqrt(d11 - l10*l10)
+    a0_y = (-h0)/l00
+    a1_y = (-h1 - l10*a0_y)/l11
+    a1 = (a1_y)/l11
+    a0 = (a0_y - l10*a1)/l00
+    jq0_0_y = (-(hq0_0 + dD0_00*a0 + dD0_10*a1))/l00
+    jq1_0_y = (-(hq1_0 + dD0_10*a0 + dD0_11*a1) - l10*jq0_0_y)/l11
+    jq1_0 = (jq1_0_y)/l11
+    jq0_0 = (jq0_0_y - l10*jq1_0)/l00
+    jv0_0_y = (-hv0_0)/l00
+    jv1_0_y = (-hv1_0 - l10*jv0_0_y)/l11
+    jv1_0 = (jv1_0_y)/l11
+    jv0_0 = (jv0_0_y - l10*jv1_0)/l00
+    jq0_1_y = (-(hq0_1 + dD1_00*a0 + dD1_10*a1))/l00
+    jq1_1_y = (-(hq1_1 + dD1_10*a0 + dD1_11*a1) - l10*jq0_1_y)/l11
+    jq1_1 = (jq1_1_y)/l11
+    jq0_1 = (jq0_1_y - l10*jq1_1)/l00
+    jv0_1_y = (-hv0_1)/l00
+    jv1_1_y = (-hv1_1 - l10*jv0_1_y)/l11
+    jv1_1 = (jv1_1_y)/l11
+    jv0_1 = (jv0_1_y - l10*jv1_1)/l00
+    out[0, 0] = jq0_0
+    out[0, 2] = jv0_0
+    out[0, 1] = jq0_1
+    out[0, 3] = jv0_1
+    out[1, 0] = jq1_0
+    out[1, 2] = jv1_0
+    out[1, 1] = jq1_1
+    out[1, 3] = jv1_1
 
 
 @njit(cache=True)

@@ -1,5 +1,5 @@
 # generated, do not edit: walker kernels for `double_pendulum`
-# input hash: sha256:6330be664a1622a2c6496c2600d3c4204af3d1e47212f19f20b559d4ec889c3c
+# input hash: sha256:728039fa0d577824d9ef1b7a65cb3634b46f1615107d23600400eed94188b857
 # sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
 # argument order:
 #   q = [q1, q2]
@@ -7,6 +7,7 @@
 #   p = [mass_1, mass_2, inertia_1, inertia_2, length_1, length_2, com_1, com_2, g]
 # kernels:
 #   accel(q, qd, p)
+#   accel_jac(q, qd, p)
 #   mass_matrix(q, p)
 #   coriolis(q, qd, p)
 #   gravity(q, p)
@@ -26,8 +27,8 @@ import math  # noqa: F401
 
 from numba import njit
 
-KERNEL_HASH = "6330be664a1622a2c6496c2600d3c4204af3d1e47212f19f20b559d4ec889c3c"
-ARGUMENT_ORDER = {'accel': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'mass_matrix': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'coriolis': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'gravity': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'bias': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dmass': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dq': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dqd': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'kinetic': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'potential': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'points': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}}
+KERNEL_HASH = "728039fa0d577824d9ef1b7a65cb3634b46f1615107d23600400eed94188b857"
+ARGUMENT_ORDER = {'accel': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'accel_jac': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'mass_matrix': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'coriolis': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'gravity': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'bias': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dmass': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dq': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dqd': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'kinetic': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'potential': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'points': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}}
 
 @njit(cache=True)
 def accel(q, qd, p, out):
@@ -79,6 +80,107 @@ def accel(q, qd, p, out):
     z0 = (y0 - l10*z1)/l00
     out[0] = z0
     out[1] = z1
+
+
+@njit(cache=True)
+def accel_jac(q, qd, p, out):
+    """d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve."""
+    q1 = q[0]
+    q2 = q[1]
+    q1_dot = qd[0]
+    q2_dot = qd[1]
+    mass_1 = p[0]
+    mass_2 = p[1]
+    inertia_1 = p[2]
+    inertia_2 = p[3]
+    length_1 = p[4]
+    com_1 = p[6]
+    com_2 = p[7]
+    g = p[8]
+    x0 = math.cos(q1)
+    x1 = x0*x0
+    x2 = com_1*com_1*mass_1
+    x3 = math.sin(q1)
+    x4 = x3*x3
+    x5 = length_1*length_1*mass_2
+    x6 = length_1*x0
+    x7 = q1 + q2
+    x8 = math.cos(x7)
+    x9 = com_2*x8
+    x10 = mass_2*x9
+    x11 = x10*x6
+    x12 = length_1*x3
+    x13 = math.sin(x7)
+    x14 = com_2*x13
+    x15 = mass_2*x14
+    x16 = x12*x15
+    x17 = com_2*com_2*mass_2
+    x18 = inertia_2 + x13*x13*x17 + x17*x8*x8
+    x19 = x11 + x16
+    x20 = com_1*g*mass_1
+    x21 = g*mass_2
+    x22 = x10*x12
+    x23 = x15*x6
+    x24 = x22 - x23
+    x25 = q1_dot*x24
+    x26 = q2_dot*x24
+    x27 = q1_dot*q1_dot
+    x28 = -x24
+    x29 = 2*x26
+    x30 = x14*x21
+    x31 = -x30
+    x32 = -x19
+    x33 = q1_dot*x32
+    d00 = inertia_1 + x1*x2 + x1*x5 + 2*x11 + 2*x16 + x18 + x2*x4 + x4*x5
+    d10 = x18 + x19
+    d11 = x18
+    h0 = q2_dot*x25 + q2_dot*(x25 + x26) + x0*x20 + x21*(x6 + x9)
+    h1 = x21*x9 + x27*x28
+    dD0_00 = 0
+    dD0_10 = 0
+    dD0_11 = 0
+    dD1_00 = 2*x22 - 2*x23
+    dD1_10 = x24
+    dD1_11 = 0
+    hq0_0 = g*mass_2*(-x12 - x14) - x20*x3
+    hv0_0 = x29
+    hq1_0 = x31
+    hv1_0 = 2*q1_dot*x28
+    hq0_1 = q2_dot*x33 + q2_dot*(q2_dot*x32 + x33) + x31
+    hv0_1 = 2*x25 + x29
+    hq1_1 = x19*x27 - x30
+    hv1_1 = 0
+    l00 = math.sqrt(d00)
+    l10 = (d10)/l00
+    l11 = math.sqrt(d11 - l10*l10)
+    a0_y = (-h0)/l00
+    a1_y = (-h1 - l10*a0_y)/l11
+    a1 = (a1_y)/l11
+    a0 = (a0_y - l10*a1)/l00
+    jq0_0_y = (-(hq0_0 + dD0_00*a0 + dD0_10*a1))/l00
+    jq1_0_y = (-(hq1_0 + dD0_10*a0 + dD0_11*a1) - l10*jq0_0_y)/l11
+    jq1_0 = (jq1_0_y)/l11
+    jq0_0 = (jq0_0_y - l10*jq1_0)/l00
+    jv0_0_y = (-hv0_0)/l00
+    jv1_0_y = (-hv1_0 - l10*jv0_0_y)/l11
+    jv1_0 = (jv1_0_y)/l11
+    jv0_0 = (jv0_0_y - l10*jv1_0)/l00
+    jq0_1_y = (-(hq0_1 + dD1_00*a0 + dD1_10*a1))/l00
+    jq1_1_y = (-(hq1_1 + dD1_10*a0 + dD1_11*a1) - l10*jq0_1_y)/l11
+    jq1_1 = (jq1_1_y)/l11
+    jq0_1 = (jq0_1_y - l10*jq1_1)/l00
+    jv0_1_y = (-hv0_1)/l00
+    jv1_1_y = (-hv1_1 - l10*jv0_1_y)/l11
+    jv1_1 = (jv1_1_y)/l11
+    jv0_1 = (jv0_1_y - l10*jv1_1)/l00
+    out[0, 0] = jq0_0
+    out[0, 2] = jv0_0
+    out[0, 1] = jq0_1
+    out[0, 3] = jv0_1
+    out[1, 0] = jq1_0
+    out[1, 2] = jv1_0
+    out[1, 1] = jq1_1
+    out[1, 3] = jv1_1
 
 
 @njit(cache=True)

@@ -1,5 +1,5 @@
 # generated, do not edit: walker kernels for `three_link`
-# input hash: sha256:b97c30661ed0522acfca0bc8c23f6f2d6dd75780255395d370d019acd380bdc9
+# input hash: sha256:465e18f0b2825de7b1a416701aa361092e6d3db4a27b327992c27d8b1ae9763a
 # sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
 # argument order:
 #   q = [q_stance, q_swing, q_torso]
@@ -9,6 +9,7 @@
 #   q = [q_stance, q_swing, q_torso, x_hip, y_hip]
 # kernels:
 #   accel(q, qd, p)
+#   accel_jac(q, qd, p)
 #   mass_matrix(q, p)
 #   coriolis(q, qd, p)
 #   gravity(q, p)
@@ -33,8 +34,8 @@ import math  # noqa: F401
 
 from numba import njit
 
-KERNEL_HASH = "b97c30661ed0522acfca0bc8c23f6f2d6dd75780255395d370d019acd380bdc9"
-ARGUMENT_ORDER = {'accel': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'mass_matrix': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'coriolis': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'gravity': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'bias': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dmass': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dbias_dq': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'kinetic': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'potential': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'points': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'hip_jac': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ground_reaction': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'qdd': ('q_stance_ddot', 'q_swing_ddot', 'q_torso_ddot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}}
+KERNEL_HASH = "465e18f0b2825de7b1a416701aa361092e6d3db4a27b327992c27d8b1ae9763a"
+ARGUMENT_ORDER = {'accel': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'accel_jac': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'mass_matrix': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'coriolis': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'gravity': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'bias': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dmass': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dbias_dq': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'kinetic': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'potential': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'points': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'hip_jac': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ground_reaction': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'qdd': ('q_stance_ddot', 'q_swing_ddot', 'q_torso_ddot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}}
 
 @njit(cache=True)
 def accel(q, qd, p, out):
@@ -116,6 +117,191 @@ def accel(q, qd, p, out):
     out[0] = z0
     out[1] = z1
     out[2] = z2
+
+
+@njit(cache=True)
+def accel_jac(q, qd, p, out):
+    """d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve."""
+    q_stance = q[0]
+    q_swing = q[1]
+    q_torso = q[2]
+    q_stance_dot = qd[0]
+    q_swing_dot = qd[1]
+    q_torso_dot = qd[2]
+    mass_hip = p[0]
+    mass_leg = p[1]
+    mass_torso = p[2]
+    com_from_foot = p[3]
+    com_to_hip = p[4]
+    torso_length = p[5]
+    inertia_leg = p[6]
+    inertia_torso = p[7]
+    g = p[9]
+    x0 = math.sin(q_stance)
+    x1 = x0*x0
+    x2 = com_from_foot*com_from_foot
+    x3 = mass_hip*x2
+    x4 = math.cos(q_stance)
+    x5 = x4*x4
+    x6 = mass_torso*x2
+    x7 = com_to_hip*com_to_hip
+    x8 = mass_hip*x7
+    x9 = mass_leg*x7
+    x10 = mass_torso*x7
+    x11 = 2*x1
+    x12 = com_from_foot*com_to_hip
+    x13 = mass_hip*x12
+    x14 = 2*x5
+    x15 = mass_leg*x12
+    x16 = mass_torso*x12
+    x17 = mass_leg*x2
+    x18 = math.sin(q_swing)
+    x19 = com_to_hip*x0
+    x20 = com_from_foot*mass_leg
+    x21 = x19*x20
+    x22 = math.cos(q_swing)
+    x23 = com_to_hip*x4
+    x24 = x0*x9
+    x25 = x18*x21 + x18*x24 + x20*x22*x23 + x22*x4*x9
+    x26 = -x25
+    x27 = math.sin(q_torso)
+    x28 = mass_torso*torso_length
+    x29 = com_from_foot*x28
+    x30 = x27*x29
+    x31 = math.cos(q_torso)
+    x32 = x29*x31
+    x33 = x27*x28
+    x34 = x28*x31
+    x35 = x0*x30 + x19*x33 + x23*x34 + x32*x4
+    x36 = mass_torso*torso_length*torso_length
+    x37 = com_from_foot + com_to_hip
+    x38 = x0*x37
+    x39 = g*x38
+    x40 = g*mass_leg
+    x41 = q_torso_dot*q_torso_dot
+    x42 = x0*x32 + x19*x34 - x23*x33 - x30*x4
+    x43 = q_swing_dot*q_swing_dot
+    x44 = -com_from_foot*com_to_hip*mass_leg*x18*x4 - mass_leg*x18*x4*x7 + x21*x22 + x22*x24
+    x45 = -x44
+    x46 = com_to_hip*x40
+    x47 = q_stance_dot*q_stance_dot
+    x48 = g*mass_torso
+    x49 = torso_length*x48
+    x50 = -x42
+    x51 = x37*x4
+    x52 = 2*q_stance_dot
+    x53 = -x35
+    d00 = inertia_leg + x1*x10 + x1*x3 + x1*x6 + x1*x8 + x1*x9 + x10*x5 + x11*x13 + x11*x15 + x11*x16 + x11*x17 + x13*x14 + x14*x15 + x14*x16 + x14*x17 + x3*x5 + x5*x6 + x5*x8 + x5*x9
+    d10 = x26
+    d11 = inertia_leg + x18*x18*x9 + x22*x22*x9
+    d20 = x35
+    d21 = 0
+    d22 = inertia_torso + x27*x27*x36 + x31*x31*x36
+    h0 = g*mass_leg*(x19 - x38) - mass_hip*x39 - mass_torso*x39 - x38*x40 + x41*x42 + x43*x45
+    h1 = x18*x46 + x44*x47
+    h2 = -x27*x49 + x47*x50
+    dD0_00 = 0
+    dD0_10 = x44
+    dD0_11 = 0
+    dD0_20 = x50
+    dD0_21 = 0
+    dD0_22 = 0
+    dD1_00 = 0
+    dD1_10 = x45
+    dD1_11 = 0
+    dD1_20 = 0
+    dD1_21 = 0
+    dD1_22 = 0
+    dD2_00 = 0
+    dD2_10 = 0
+    dD2_11 = 0
+    dD2_20 = x42
+    dD2_21 = 0
+    dD2_22 = 0
+    hq0_0 = -g*mass_hip*x51 + g*mass_leg*(x23 - x51) + x26*x43 + x35*x41 - x40*x51 - x48*x51
+    hv0_0 = 0
+    hq1_0 = x25*x47
+    hv1_0 = x44*x52
+    hq2_0 = x47*x53
+    hv2_0 = x50*x52
+    hq0_1 = x25*x43
+    hv0_1 = 2*q_swing_dot*x45
+    hq1_1 = x22*x46 + x26*x47
+    hv1_1 = 0
+    hq2_1 = 0
+    hv2_1 = 0
+    hq0_2 = x41*x53
+    hv0_2 = 2*q_torso_dot*x42
+    hq1_2 = 0
+    hv1_2 = 0
+    hq2_2 = -x31*x49 + x35*x47
+    hv2_2 = 0
+    l00 = math.sqrt(d00)
+    l10 = (d10)/l00
+    l20 = (d20)/l00
+    l11 = math.sqrt(d11 - l10*l10)
+    l21 = (d21 - l20*l10)/l11
+    l22 = math.sqrt(d22 - l20*l20 - l21*l21)
+    a0_y = (-h0)/l00
+    a1_y = (-h1 - l10*a0_y)/l11
+    a2_y = (-h2 - l20*a0_y - l21*a1_y)/l22
+    a2 = (a2_y)/l22
+    a1 = (a1_y - l21*a2)/l11
+    a0 = (a0_y - l10*a1 - l20*a2)/l00
+    jq0_0_y = (-(hq0_0 + dD0_00*a0 + dD0_10*a1 + dD0_20*a2))/l00
+    jq1_0_y = (-(hq1_0 + dD0_10*a0 + dD0_11*a1 + dD0_21*a2) - l10*jq0_0_y)/l11
+    jq2_0_y = (-(hq2_0 + dD0_20*a0 + dD0_21*a1 + dD0_22*a2) - l20*jq0_0_y - l21*jq1_0_y)/l22
+    jq2_0 = (jq2_0_y)/l22
+    jq1_0 = (jq1_0_y - l21*jq2_0)/l11
+    jq0_0 = (jq0_0_y - l10*jq1_0 - l20*jq2_0)/l00
+    jv0_0_y = (-hv0_0)/l00
+    jv1_0_y = (-hv1_0 - l10*jv0_0_y)/l11
+    jv2_0_y = (-hv2_0 - l20*jv0_0_y - l21*jv1_0_y)/l22
+    jv2_0 = (jv2_0_y)/l22
+    jv1_0 = (jv1_0_y - l21*jv2_0)/l11
+    jv0_0 = (jv0_0_y - l10*jv1_0 - l20*jv2_0)/l00
+    jq0_1_y = (-(hq0_1 + dD1_00*a0 + dD1_10*a1 + dD1_20*a2))/l00
+    jq1_1_y = (-(hq1_1 + dD1_10*a0 + dD1_11*a1 + dD1_21*a2) - l10*jq0_1_y)/l11
+    jq2_1_y = (-(hq2_1 + dD1_20*a0 + dD1_21*a1 + dD1_22*a2) - l20*jq0_1_y - l21*jq1_1_y)/l22
+    jq2_1 = (jq2_1_y)/l22
+    jq1_1 = (jq1_1_y - l21*jq2_1)/l11
+    jq0_1 = (jq0_1_y - l10*jq1_1 - l20*jq2_1)/l00
+    jv0_1_y = (-hv0_1)/l00
+    jv1_1_y = (-hv1_1 - l10*jv0_1_y)/l11
+    jv2_1_y = (-hv2_1 - l20*jv0_1_y - l21*jv1_1_y)/l22
+    jv2_1 = (jv2_1_y)/l22
+    jv1_1 = (jv1_1_y - l21*jv2_1)/l11
+    jv0_1 = (jv0_1_y - l10*jv1_1 - l20*jv2_1)/l00
+    jq0_2_y = (-(hq0_2 + dD2_00*a0 + dD2_10*a1 + dD2_20*a2))/l00
+    jq1_2_y = (-(hq1_2 + dD2_10*a0 + dD2_11*a1 + dD2_21*a2) - l10*jq0_2_y)/l11
+    jq2_2_y = (-(hq2_2 + dD2_20*a0 + dD2_21*a1 + dD2_22*a2) - l20*jq0_2_y - l21*jq1_2_y)/l22
+    jq2_2 = (jq2_2_y)/l22
+    jq1_2 = (jq1_2_y - l21*jq2_2)/l11
+    jq0_2 = (jq0_2_y - l10*jq1_2 - l20*jq2_2)/l00
+    jv0_2_y = (-hv0_2)/l00
+    jv1_2_y = (-hv1_2 - l10*jv0_2_y)/l11
+    jv2_2_y = (-hv2_2 - l20*jv0_2_y - l21*jv1_2_y)/l22
+    jv2_2 = (jv2_2_y)/l22
+    jv1_2 = (jv1_2_y - l21*jv2_2)/l11
+    jv0_2 = (jv0_2_y - l10*jv1_2 - l20*jv2_2)/l00
+    out[0, 0] = jq0_0
+    out[0, 3] = jv0_0
+    out[0, 1] = jq0_1
+    out[0, 4] = jv0_1
+    out[0, 2] = jq0_2
+    out[0, 5] = jv0_2
+    out[1, 0] = jq1_0
+    out[1, 3] = jv1_0
+    out[1, 1] = jq1_1
+    out[1, 4] = jv1_1
+    out[1, 2] = jq1_2
+    out[1, 5] = jv1_2
+    out[2, 0] = jq2_0
+    out[2, 3] = jv2_0
+    out[2, 1] = jq2_1
+    out[2, 4] = jv2_1
+    out[2, 2] = jq2_2
+    out[2, 5] = jv2_2
 
 
 @njit(cache=True)

@@ -1,5 +1,6 @@
-"""Compiled pieces shared by the walkers: Lagrangian accelerations and their Jacobian,
-and impacts as augmented linear systems."""
+"""Compiled pieces shared by the walkers: the fall threshold and impacts as augmented
+linear systems.  (Accelerations and their Jacobian are generated kernels: ``accel`` and
+``accel_jac`` in walker/_generated.)"""
 
 import numpy as np
 from numba import njit
@@ -9,39 +10,6 @@ from walker._linalg import solve_inplace
 # A stance leg this far from the slope normal [rad] (70 degrees) means the walker is falling:
 # no passive gait comes near it, and stopping there saves integrating the whole fall.
 FALL_ANGLE = 1.2217304763960306
-
-
-@njit(cache=True)
-def accelerations(D, h, qdd):
-    """``qdd = -D^{-1} h`` (D and h are overwritten). Returns False if D is singular."""
-    n = h.shape[0]
-    for i in range(n):
-        qdd[i] = -h[i]
-    return solve_inplace(D, qdd)
-
-
-@njit(cache=True)
-def lagrange_jacobian(D, dD, dh_dq, dh_dqd, qdd, J, n, row0, col_q, col_qd):
-    """Fill the acceleration rows of the state Jacobian ``J`` (``D qdd + h = 0``).
-
-    ``d qdd / d q_k = -D^{-1} (dh/dq_k + dD/dq_k qdd)``, ``d qdd / d qd = -D^{-1} dh/dqd``.
-    Rows ``row0 .. row0+n-1`` of J receive them, in the columns ``col_q[k]`` / ``col_qd[k]``
-    of the state.  ``D`` is overwritten.
-    """
-    rhs = np.empty((n, 2 * n))
-    for k in range(n):
-        for i in range(n):
-            s = dh_dq[i, k]
-            for j in range(n):
-                s += dD[k, i, j] * qdd[j]
-            rhs[i, k] = -s
-            rhs[i, n + k] = -dh_dqd[i, k]
-    ok = solve_inplace(D, rhs)
-    for i in range(n):
-        for k in range(n):
-            J[row0 + i, col_q[k]] += rhs[i, k]
-            J[row0 + i, col_qd[k]] += rhs[i, n + k]
-    return ok
 
 
 @njit(cache=True)

@@ -8,7 +8,6 @@ import numpy as np
 from numba import njit
 
 from walker._generated import double_pendulum as K
-from walker.models._common import accelerations, lagrange_jacobian
 from walker.status import EVENT_IGNORE
 
 N_X = 4
@@ -29,25 +28,10 @@ def rhs(phase, t, x, p, dx):
 
 @njit(cache=True)
 def jac(phase, t, x, p, J):
-    q = x[:2]
-    qd = x[2:]
-    D = np.empty((2, 2))
-    h = np.empty(2)
-    K.mass_matrix(q, p, D)
-    K.bias(q, qd, p, h)
-    qdd = np.empty(2)
-    accelerations(D, h, qdd)
-    K.mass_matrix(q, p, D)
-    dD = np.empty((2, 2, 2))
-    K.dmass(q, p, dD)
-    dh_dq = np.empty((2, 2))
-    dh_dqd = np.empty((2, 2))
-    K.dbias_dq(q, qd, p, dh_dq)
-    K.dbias_dqd(q, qd, p, dh_dqd)
     J[:, :] = 0.0
     J[0, 2] = 1.0
     J[1, 3] = 1.0
-    lagrange_jacobian(D, dD, dh_dq, dh_dqd, qdd, J, 2, 2, np.array([0, 1]), np.array([2, 3]))
+    K.accel_jac(x[:2], x[2:], p, J[2:, :])
 
 
 @njit(cache=True)

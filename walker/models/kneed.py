@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 from walker._generated import kneed as K
-from walker.models._common import FALL_ANGLE, accelerations, impact, lagrange_jacobian
+from walker.models._common import FALL_ANGLE, impact
 from walker.status import (
     EVENT_CONTINUE,
     EVENT_IGNORE,
@@ -79,46 +79,22 @@ def rhs(phase, t, x, p, dx):
 def jac(phase, t, x, p, J):
     J[:, :] = 0.0
     if phase == 0:
-        q = x[:3]
-        qd = x[3:]
-        D = np.empty((3, 3))
-        h = np.empty(3)
-        K.unlocked_mass_matrix(q, p, D)
-        K.unlocked_bias(q, qd, p, h)
-        qdd = np.empty(3)
-        accelerations(D, h, qdd)
-        K.unlocked_mass_matrix(q, p, D)
-        dD = np.empty((3, 3, 3))
-        K.unlocked_dmass(q, p, dD)
-        dh_dq = np.empty((3, 3))
-        dh_dqd = np.empty((3, 3))
-        K.unlocked_dbias_dq(q, qd, p, dh_dq)
-        K.unlocked_dbias_dqd(q, qd, p, dh_dqd)
-        for i in range(3):
-            J[i, 3 + i] = 1.0
-        lagrange_jacobian(D, dD, dh_dq, dh_dqd, qdd, J, 3, 3,
-                          np.array([0, 1, 2]), np.array([3, 4, 5]))
+        J[0, 3] = 1.0
+        J[1, 4] = 1.0
+        J[2, 5] = 1.0
+        K.unlocked_accel_jac(x[:3], x[3:], p, J[3:, :])
     else:
-        q = np.array([x[0], x[1]])
-        qd = np.array([x[3], x[4]])
-        D = np.empty((2, 2))
-        h = np.empty(2)
-        K.locked_mass_matrix(q, p, D)
-        K.locked_bias(q, qd, p, h)
-        qdd = np.empty(2)
-        accelerations(D, h, qdd)
-        K.locked_mass_matrix(q, p, D)
-        dD = np.empty((2, 2, 2))
-        K.locked_dmass(q, p, dD)
-        dh_dq = np.empty((2, 2))
-        dh_dqd = np.empty((2, 2))
-        K.locked_dbias_dq(q, qd, p, dh_dq)
-        K.locked_dbias_dqd(q, qd, p, dh_dqd)
+        # Locked: rows of q3 and qd3 copy those of q2 and qd2; columns of q3, qd3 are zero.
+        a = np.empty((2, 4))
+        K.locked_accel_jac(x[:2], x[3:5], p, a)
         J[0, 3] = 1.0
         J[1, 4] = 1.0
         J[2, 4] = 1.0
-        lagrange_jacobian(D, dD, dh_dq, dh_dqd, qdd, J, 2, 3,
-                          np.array([0, 1]), np.array([3, 4]))
+        for i in range(2):
+            J[3 + i, 0] = a[i, 0]
+            J[3 + i, 1] = a[i, 1]
+            J[3 + i, 3] = a[i, 2]
+            J[3 + i, 4] = a[i, 3]
         for j in range(6):
             J[5, j] = J[4, j]
 
@@ -239,7 +215,8 @@ def reset(phase, k, t, x, p, x_new, impulse):
             return EVENT_TERMINAL, phase, status
         shank, thigh = _lengths(p)
         height, ahead = swing_foot(x_new, p)
-        if abs(height) <= 1e-12 * (shank + thigh) and ahead > 0.0 and _swing_foot_rate(x_new, p) < 0:
+        touching = abs(height) <= 1e-12 * (shank + thigh)
+        if touching and ahead > 0.0 and _swing_foot_rate(x_new, p) < 0:
             locked = x_new.copy()
             status = heel_strike(locked, p, x_new, impulse)
             if status != 0:

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-__all__ = ["AccelKernel", "Kernel", "render_module", "symbolic_hash"]
+__all__ = ["AccelJacobianKernel", "AccelKernel", "Kernel", "render_module", "symbolic_hash"]
 
 
 @dataclass(frozen=True)
@@ -126,6 +126,115 @@ def render_accel_kernel(kernel: AccelKernel, printer: _Printer | None = None) ->
     return "\n".join(lines) + "\n"
 
 
+@dataclass(frozen=True)
+class AccelJacobianKernel:
+    """Jacobian of ``qdd = -D^{-1} h`` with respect to ``(q, qd)``, fused like
+    :class:`AccelKernel`: ``d qdd/d q_k = -D^{-1} (dh/dq_k + dD/dq_k qdd)`` and
+    ``d qdd/d qd_k = -D^{-1} dh/dqd_k``, with one cse pass over ``D``, ``h`` and their
+    derivatives and one unrolled Cholesky factorization.  Signature
+    ``name(q, qd, p, out)``; ``out[:n, :2n]`` receives the Jacobian.
+    """
+
+    name: str
+    args: tuple
+    D: sp.Matrix
+    h: sp.Matrix
+    doc: str = ""
+
+    @property
+    def expr(self):
+        return [self.D, self.h]
+
+
+def _cholesky_lines(n):
+    lines = []
+    for j in range(n):
+        acc = " - ".join([f"d{j}{j}"] + [f"l{j}{m}*l{j}{m}" for m in range(j)])
+        lines.append(f"    l{j}{j} = math.sqrt({acc})")
+        for i in range(j + 1, n):
+            acc = " - ".join([f"d{i}{j}"] + [f"l{i}{m}*l{j}{m}" for m in range(j)])
+            lines.append(f"    l{i}{j} = ({acc})/l{j}{j}")
+    return lines
+
+
+def _solve_lines(n, rhs, out):
+    """Lines solving ``L L^T x = rhs`` (rhs names per row) into names ``out`` per row."""
+    lines = []
+    for i in range(n):
+        acc = " - ".join([rhs[i]] + [f"l{i}{m}*{out[m]}_y" for m in range(i)])
+        lines.append(f"    {out[i]}_y = ({acc})/l{i}{i}")
+    for i in reversed(range(n)):
+        acc = " - ".join([f"{out[i]}_y"] + [f"l{m}{i}*{out[m]}" for m in range(i + 1, n)])
+        lines.append(f"    {out[i]} = ({acc})/l{i}{i}")
+    return lines
+
+
+def render_accel_jacobian_kernel(kernel: AccelJacobianKernel, printer=None) -> str:
+    """Source text of a fused acceleration-Jacobian kernel."""
+    printer = printer or _Printer()
+    n = kernel.D.rows
+    q = [s for name, syms in kernel.args if name == "q" for s in syms]
+    qd = [s for name, syms in kernel.args if name == "qd" for s in syms]
+    names, entries = [], []
+    for i in range(n):
+        for j in range(i + 1):
+            names.append(f"d{i}{j}")
+            entries.append(kernel.D[i, j])
+    for i in range(n):
+        names.append(f"h{i}")
+        entries.append(kernel.h[i])
+    for k in range(n):
+        dD = kernel.D.diff(q[k])
+        for i in range(n):
+            for j in range(i + 1):
+                names.append(f"dD{k}_{i}{j}")
+                entries.append(dD[i, j])
+    for k in range(n):
+        for i in range(n):
+            names.append(f"hq{i}_{k}")
+            entries.append(sp.diff(kernel.h[i], q[k]))
+            names.append(f"hv{i}_{k}")
+            entries.append(sp.diff(kernel.h[i], qd[k]))
+    allowed = {s for _, syms in kernel.args for s in syms}
+    free = set().union(*(sp.sympify(e).free_symbols for e in entries))
+    stray = sorted(str(s) for s in free - allowed)
+    if stray:
+        raise ValueError(
+            f"kernel `{kernel.name}`: symbols {stray} are not in its arguments "
+            f"{[name for name, _ in kernel.args]}"
+        )
+    lines = ["@njit(cache=True)", f"def {kernel.name}(q, qd, p, out):"]
+    lines.append(f'    """{kernel.doc or kernel.name}"""')
+    for name, syms in kernel.args:
+        for i, sym in enumerate(syms):
+            if sym in free:
+                lines.append(f"    {sym} = {name}[{i}]")
+    repl, reduced = sp.cse(entries, symbols=sp.numbered_symbols("x"))
+    for sym, sub in repl:
+        lines.append(f"    {sym} = {printer.doprint(sub)}")
+    for name, e in zip(names, reduced, strict=True):
+        lines.append(f"    {name} = {printer.doprint(e)}")
+    lines += _cholesky_lines(n)
+    lines += _solve_lines(n, [f"-h{i}" for i in range(n)], [f"a{i}" for i in range(n)])
+
+    def dd(k, i, j):
+        return f"dD{k}_{i}{j}" if j <= i else f"dD{k}_{j}{i}"
+
+    for k in range(n):
+        rhs = []
+        for i in range(n):
+            terms = " + ".join(f"{dd(k, i, j)}*a{j}" for j in range(n))
+            rhs.append(f"-(hq{i}_{k} + {terms})")
+        lines += _solve_lines(n, rhs, [f"jq{i}_{k}" for i in range(n)])
+        lines += _solve_lines(n, [f"-hv{i}_{k}" for i in range(n)],
+                              [f"jv{i}_{k}" for i in range(n)])
+    for i in range(n):
+        for k in range(n):
+            lines.append(f"    out[{i}, {k}] = jq{i}_{k}")
+            lines.append(f"    out[{i}, {n + k}] = jv{i}_{k}")
+    return "\n".join(lines) + "\n"
+
+
 class _Printer(PythonCodePrinter):
     """Python printer whose output numba compiles (math module, plain floats)."""
 
@@ -209,6 +318,8 @@ def symbolic_hash(kernels) -> str:
         h.update(sp.srepr(k.expr).encode())
         if isinstance(k, AccelKernel):
             h.update(b"accel-cholesky")
+        if isinstance(k, AccelJacobianKernel):
+            h.update(b"accel-jacobian-cholesky")
     return h.hexdigest()
 
 
@@ -260,8 +371,12 @@ def render_module(name: str, kernels, *, doc: str = "", extra: str = "") -> str:
         f"ARGUMENT_ORDER = {seen!r}",
         "",
     ]
-    body = "\n\n".join(
-        render_accel_kernel(k) if isinstance(k, AccelKernel) else render_kernel(k)
-        for k in kernels
-    )
+    def render(k):
+        if isinstance(k, AccelKernel):
+            return render_accel_kernel(k)
+        if isinstance(k, AccelJacobianKernel):
+            return render_accel_jacobian_kernel(k)
+        return render_kernel(k)
+
+    body = "\n\n".join(render(k) for k in kernels)
     return "\n".join(header) + "\n" + body + ("\n" + extra if extra else "")

@@ -6,7 +6,7 @@ from __future__ import annotations
 import sympy as sp
 
 from walker.symbolic import models
-from walker.symbolic.codegen import AccelKernel, Kernel
+from walker.symbolic.codegen import AccelJacobianKernel, AccelKernel, Kernel
 from walker.symbolic.mechanics import LagrangianModel
 
 __all__ = ["GENERATED_MODULES", "kernels_for", "module_extra"]
@@ -19,6 +19,8 @@ def _dynamics_kernels(m: LagrangianModel, prefix: str) -> list[Kernel]:
     return [
         AccelKernel(f"{prefix}accel", (q, qd, p), m.D, h,
                     "Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,)."),
+        AccelJacobianKernel(f"{prefix}accel_jac", (q, qd, p), m.D, h,
+                            "d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve."),
         Kernel(f"{prefix}mass_matrix", (q, p), m.D, "Mass matrix D(q), out (n, n)."),
         Kernel(f"{prefix}coriolis", (q, qd, p), m.C, "Coriolis matrix C(q, qd), out (n, n)."),
         Kernel(f"{prefix}gravity", (q, p), m.G, "Gravity vector g(q) = dP/dq, out (n,)."),
