@@ -39,6 +39,7 @@ def stride_solve_ivp(x0, p, method, rtol, atol):
     t0 = 0.0
     nfev = 0
     for phase in (0, 1):
+
         def f(t, y, phase=phase):
             dy = np.empty(6)
             K.rhs(phase, t, y, p, dy)
@@ -46,11 +47,11 @@ def stride_solve_ivp(x0, p, method, rtol, atol):
 
         g = np.empty(4)
 
-        def knee(t, y):
+        def knee(t, y, g=g):
             K.guards(0, t, y, p, g)
             return g[0]
 
-        def heel(t, y):
+        def heel(t, y, g=g):
             K.guards(1, t, y, p, g)
             return g[1] if K.swing_foot(y, p)[1] > 0 else 1.0
 
@@ -98,8 +99,9 @@ def stride_solve_ivp_python(x0, p, method, rtol, atol, kernels):
                 q, qd = y[:3], y[3:]
             else:
                 q, qd = y[[0, 1]], y[[3, 4]]
-            qdd = np.linalg.solve(np.asarray(D(q, pl), dtype=float),
-                                  -np.asarray(h(q, qd, pl), dtype=float).ravel())
+            qdd = np.linalg.solve(
+                np.asarray(D(q, pl), dtype=float), -np.asarray(h(q, qd, pl), dtype=float).ravel()
+            )
             if phase == 0:
                 return np.concatenate([qd, qdd])
             return np.array([qd[0], qd[1], qd[1], qdd[0], qdd[1], qdd[1]])
@@ -150,8 +152,14 @@ def jit_times():
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
         for label in ("cold", "warm"):
-            r = subprocess.run([sys.executable, "-c", code], cwd=root, env=env,
-                               capture_output=True, text=True, check=True)
+            r = subprocess.run(
+                [sys.executable, "-c", code],
+                cwd=root,
+                env=env,
+                capture_output=True,
+                text=True,
+                check=True,
+            )
             out[label] = float(r.stdout.strip().splitlines()[-1])
     return out
 
@@ -167,27 +175,37 @@ def main(argv=None):
     x0 = scene.state.copy()
     ref = simulate("kneed", params, x0, rtol=3e-14, atol=1e-15).x
     check, _ = stride_solve_ivp(x0, p, "DOP853", 1e-13, 1e-13)
-    print(f"reference: walker DOP853 3e-14 vs solve_ivp DOP853 1e-13: "
-          f"{np.abs(check - ref).max():.2e}")
+    print(
+        f"reference: walker DOP853 3e-14 vs solve_ivp DOP853 1e-13: {np.abs(check - ref).max():.2e}"
+    )
 
     tols = [1e-4, 1e-6, 1e-8, 1e-10, 1e-12] if args.quick else [10.0**-k for k in range(3, 14)]
-    steps = [2e-3, 1e-3, 5e-4, 2e-4, 1e-4] if args.quick else [2e-3, 1e-3, 5e-4, 2e-4, 1e-4,
-                                                               5e-5, 2e-5, 1e-5]
+    steps = (
+        [2e-3, 1e-3, 5e-4, 2e-4, 1e-4]
+        if args.quick
+        else [2e-3, 1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5]
+    )
     rows = []
     for method in ("DOP853", "RK45"):
         for tol in tols:
             sol = simulate("kneed", params, x0, rtol=tol, atol=tol, method=method)
             err = np.abs(sol.x - ref).max()
-            t = timed(lambda m=method, tol=tol: simulate("kneed", params, x0, rtol=tol,
-                                                         atol=tol, method=m))
+            t = timed(
+                lambda m=method, tol=tol: simulate(
+                    "kneed", params, x0, rtol=tol, atol=tol, method=m
+                )
+            )
             rows.append(("walker " + method, tol, err, t, sol.n_rhs))
             print(rows[-1])
     for method in ("RK4", "Euler"):
         for h in steps if method == "RK4" else [s / 10 for s in steps]:
             sol = simulate("kneed", params, x0, method=method, first_step=h)
             err = np.abs(sol.x - ref).max()
-            t = timed(lambda m=method, h=h: simulate("kneed", params, x0, method=m,
-                                                     first_step=h), min_time=0.2, max_reps=50)
+            t = timed(
+                lambda m=method, h=h: simulate("kneed", params, x0, method=m, first_step=h),
+                min_time=0.2,
+                max_reps=50,
+            )
             rows.append(("walker " + method, h, err, t, sol.n_rhs))
             print(rows[-1])
     for method in ("RK45", "DOP853", "LSODA", "Radau"):
@@ -198,8 +216,11 @@ def main(argv=None):
             if x is None:
                 continue
             err = np.abs(x - ref).max()
-            t = timed(lambda m=method, tol=tol: stride_solve_ivp(x0, p, m, tol, tol),
-                      min_time=0.3, max_reps=20)
+            t = timed(
+                lambda m=method, tol=tol: stride_solve_ivp(x0, p, m, tol, tol),
+                min_time=0.3,
+                max_reps=20,
+            )
             rows.append(("solve_ivp " + method, tol, err, t, nfev))
             print(rows[-1])
 
@@ -210,9 +231,11 @@ def main(argv=None):
             if x is None:
                 continue
             err = np.abs(x - ref).max()
-            t = timed(lambda m=method, tol=tol: stride_solve_ivp_python(x0, p, m, tol, tol,
-                                                                      kernels),
-                      min_time=0.3, max_reps=10)
+            t = timed(
+                lambda m=method, tol=tol: stride_solve_ivp_python(x0, p, m, tol, tol, kernels),
+                min_time=0.3,
+                max_reps=10,
+            )
             rows.append(("solve_ivp " + method + " (numpy model)", tol, err, t, 0))
             print(rows[-1])
 
@@ -242,22 +265,26 @@ def main(argv=None):
         return 10 ** np.interp(np.log10(target), le, lt)
 
     jit = jit_times()
-    lines = ["# Kneed-walker stride benchmark", "",
-             "Generated by `python scripts/bench_stride.py`; all timings from one run on one "
-             "machine (2 cores, shared), so read the ratios, not the absolute times. Error: "
-             "max-norm of the post-stride state against walker DOP853 at rtol 3e-14 (which "
-             "agrees with solve_ivp DOP853 at 1e-13 to 2e-13).", "",
-             "Two solve_ivp baselines: *compiled model* calls walker's own compiled vector "
-             "field and impact maps (so only the integrator and its Python loop differ); "
-             "*numpy model* is the straightforward implementation (sympy's D and h lambdified "
-             "to numpy, numpy.linalg.solve per call).", "",
-             "| error target | walker DOP853 [µs] | best solve_ivp, compiled model | [µs] | "
-             "ratio | best solve_ivp, numpy model | [µs] | ratio |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "# Kneed-walker stride benchmark",
+        "",
+        "Generated by `python scripts/bench_stride.py`; all timings from one run on one "
+        "machine (2 cores, shared), so read the ratios, not the absolute times. Error: "
+        "max-norm of the post-stride state against walker DOP853 at rtol 3e-14 (which "
+        "agrees with solve_ivp DOP853 at 1e-13 to 2e-13).",
+        "",
+        "Two solve_ivp baselines: *compiled model* calls walker's own compiled vector "
+        "field and impact maps (so only the integrator and its Python loop differ); "
+        "*numpy model* is the straightforward implementation (sympy's D and h lambdified "
+        "to numpy, numpy.linalg.solve per call).",
+        "",
+        "| error target | walker DOP853 [µs] | best solve_ivp, compiled model | [µs] | "
+        "ratio | best solve_ivp, numpy model | [µs] | ratio |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
 
     def best_of(names, target):
-        return min(((time_at(n, target), n) for n in names),
-                   key=lambda v: (np.isnan(v[0]), v[0]))
+        return min(((time_at(n, target), n) for n in names), key=lambda v: (np.isnan(v[0]), v[0]))
 
     compiled = [n for n in table if n.startswith("solve_ivp") and "numpy" not in n]
     numpy_model = [n for n in table if "numpy model" in n]
@@ -265,12 +292,19 @@ def main(argv=None):
         ours = time_at("walker DOP853", target)
         b1 = best_of(compiled, target)
         b2 = best_of(numpy_model, target)
-        lines.append(f"| {target:.0e} | {ours * 1e6:.0f} | {b1[1]} | {b1[0] * 1e6:.0f} | "
-                     f"{b1[0] / ours:.0f}x | {b2[1]} | {b2[0] * 1e6:.0f} | "
-                     f"{b2[0] / ours:.0f}x |")
-    lines += ["", f"JIT compile on a cold cache: {jit['cold']:.1f} s; start-up with a warm "
-              f"cache (import + first stride): {jit['warm']:.2f} s.", "",
-              "![work-precision](work_precision.png)", ""]
+        lines.append(
+            f"| {target:.0e} | {ours * 1e6:.0f} | {b1[1]} | {b1[0] * 1e6:.0f} | "
+            f"{b1[0] / ours:.0f}x | {b2[1]} | {b2[0] * 1e6:.0f} | "
+            f"{b2[0] / ours:.0f}x |"
+        )
+    lines += [
+        "",
+        f"JIT compile on a cold cache: {jit['cold']:.1f} s; start-up with a warm "
+        f"cache (import + first stride): {jit['warm']:.2f} s.",
+        "",
+        "![work-precision](work_precision.png)",
+        "",
+    ]
     (OUT / "README.md").write_text("\n".join(lines))
     print("\n".join(lines))
 

@@ -49,8 +49,9 @@ def kneed_walk(quick):
     fp = find_fixed_point(P, P.project(scene.state))
     first = simulate("kneed", scene.params, fp.state, n_strides=4, output="events")
     times = np.linspace(0.0, first.t, 200 if quick else 600)
-    sol = simulate("kneed", scene.params, fp.state, n_strides=4, output="samples",
-                   sample_times=times)
+    sol = simulate(
+        "kneed", scene.params, fp.state, n_strides=4, output="samples", sample_times=times
+    )
     return _store_and_plot(sol, scene, "kneed_walk")
 
 
@@ -76,8 +77,15 @@ def compass_basin(quick):
     P = StrideMap("compass", scene.params, rtol=1e-9, atol=1e-9)
     fp = find_fixed_point(P, P.project(scene.state))
     n = 40 if quick else 100
-    bm = basin_map(P, fp, axes=(1, 2), ranges=((-2.0, -0.4), (-2.0, 1.5)), n=(n, n),
-                   n_strides=40, progress=False)
+    bm = basin_map(
+        P,
+        fp,
+        axes=(1, 2),
+        ranges=((-2.0, -0.4), (-2.0, 1.5)),
+        n=(n, n),
+        n_strides=40,
+        progress=False,
+    )
     return _store_and_plot(bm, scene, "compass_basin")
 
 
@@ -89,8 +97,10 @@ def main(argv=None):
     for job in (kneed_walk, simplest_branch, compass_orbits, compass_basin):
         t = time.perf_counter()
         paths = job(args.quick)
-        print(f"{job.__name__}: {time.perf_counter() - t:.1f} s -> "
-              + ", ".join(p.name for p in paths))
+        print(
+            f"{job.__name__}: {time.perf_counter() - t:.1f} s -> "
+            + ", ".join(p.name for p in paths)
+        )
 
 
 if __name__ == "__main__":

@@ -29,23 +29,23 @@ def reference(scene_name: str) -> str:
             return f"# {scene_name}: {fp.status.name}: {fp.message}"
         results.append(fp)
     best = results[-1]
-    spread = max(
-        np.abs(r.state - best.state).max() for r in results[:-1]
-    )
+    spread = max(np.abs(r.state - best.state).max() for r in results[:-1])
     mspread = max(np.abs(r.multipliers - best.multipliers).max() for r in results[:-1])
     tol = float(f"{max(spread, mspread, 1e-13) * 10:.0e}")
     fmt = ", ".join(f"{v:.15g}" for v in best.state)
     mult = ", ".join(f"[{m.real:.13g}, {m.imag:.13g}]" for m in best.multipliers)
-    return "\n".join([
-        f"# {scene_name}",
-        "[reference]",
-        f"state = [{fmt}]",
-        f"multipliers = [{mult}]",
-        f"step_time = {best.step_time:.15g}",
-        f"tolerance = {tol:g}",
-        f'note = "walker DOP853 at rtol = atol = 1e-13, Newton residual {best.residual:.1e}; '
-        f'tolerance = 10x the spread over rtol 1e-11..1e-13 (scripts/reference_values.py)"',
-    ])
+    return "\n".join(
+        [
+            f"# {scene_name}",
+            "[reference]",
+            f"state = [{fmt}]",
+            f"multipliers = [{mult}]",
+            f"step_time = {best.step_time:.15g}",
+            f"tolerance = {tol:g}",
+            f'note = "walker DOP853 at rtol = atol = 1e-13, Newton residual {best.residual:.1e}; '
+            f'tolerance = 10x the spread over rtol 1e-11..1e-13 (scripts/reference_values.py)"',
+        ]
+    )
 
 
 def main(argv=None):

@@ -34,8 +34,9 @@ def test_garcia_gaits_to_1e9_and_multipliers_within_2e3():
     assert_allclose(stable.section, GARCIA_STABLE, atol=1e-9, rtol=0)
     assert_allclose(unstable.section, GARCIA_UNSTABLE, atol=1e-9, rtol=0)
     assert stable.stable and not unstable.stable
-    assert_allclose(np.sort_complex(stable.multipliers), np.sort_complex(GARCIA_MULTIPLIERS),
-                    atol=2e-3, rtol=0)
+    assert_allclose(
+        np.sort_complex(stable.multipliers), np.sort_complex(GARCIA_MULTIPLIERS), atol=2e-3, rtol=0
+    )
 
 
 @pytest.mark.parametrize("name", ["simplest_garcia", "compass_goswami", "kneed_hsu"])
@@ -74,8 +75,12 @@ def test_exact_jacobian_matches_finite_differences(name):
         e = np.zeros(P.n_z)
         e[j] = h
         # fourth-order central differences
-        fd[:, j] = (-P(fp.section + 2 * e).z + 8 * P(fp.section + e).z
-                    - 8 * P(fp.section - e).z + P(fp.section - 2 * e).z) / (12 * h)
+        fd[:, j] = (
+            -P(fp.section + 2 * e).z
+            + 8 * P(fp.section + e).z
+            - 8 * P(fp.section - e).z
+            + P(fp.section - 2 * e).z
+        ) / (12 * h)
     assert_allclose(exact, fd, atol=1e-7, rtol=0)
 
 
@@ -120,8 +125,16 @@ def test_period_doubling_and_stable_period_two(model, scene_name, to, expected):
 
 def test_compass_basin_contains_the_gait_and_reports_falls():
     scene, P, fp = _fixed_point("compass_goswami", rtol=1e-9, atol=1e-9)
-    bm = basin_map(P, fp, axes=(1, 2), ranges=((-1.6, -0.6), (-1.5, 0.8)), n=(12, 10),
-                   n_strides=40, executor="serial", progress=False)
+    bm = basin_map(
+        P,
+        fp,
+        axes=(1, 2),
+        ranges=((-1.6, -0.6), (-1.5, 0.8)),
+        n=(12, 10),
+        n_strides=40,
+        executor="serial",
+        progress=False,
+    )
     assert bm.outcome.shape == (10, 12)
     # The grid cell nearest the fixed point converges.
     i = np.argmin(np.abs(bm.y - fp.section[2]))

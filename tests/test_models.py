@@ -5,17 +5,15 @@ import math
 
 import numpy as np
 import pytest
+from _mechanics import angular_momentum, body_functions, point
 from numpy.testing import assert_allclose
 
 from walker import get_model, load_scene, simulate
 from walker.models import compass as C
 from walker.models import kneed as KN
-from walker.models import simplest as S
 from walker.params import CompassParams, KneedParams, SimplestParams
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, Status
 from walker.symbolic import models as sym
-
-from _mechanics import angular_momentum, body_functions, point
 
 RNG = np.random.default_rng(20261122)
 
@@ -72,10 +70,13 @@ def _goswami_transition(x, params):
     q_st, q_sw, qd_st, qd_sw = x
     alpha = 0.5 * (q_sw - q_st)
     c = math.cos(2 * alpha)
-    Qm = np.array([[-m * a * b, -m * a * b + (mh * l * l + 2 * m * a * l) * c],
-                   [0.0, -m * a * b]])
-    Qp = np.array([[m * b * (b - l * c), m * l * (l - b * c) + m * a * a + mh * l * l],
-                   [m * b * b, -m * b * l * c]])
+    Qm = np.array([[-m * a * b, -m * a * b + (mh * l * l + 2 * m * a * l) * c], [0.0, -m * a * b]])
+    Qp = np.array(
+        [
+            [m * b * (b - l * c), m * l * (l - b * c) + m * a * a + mh * l * l],
+            [m * b * b, -m * b * l * c],
+        ]
+    )
     qd_plus = np.linalg.solve(Qp, Qm @ np.array([qd_sw, qd_st]))
     # (new swing, new stance) -> our (stance, swing)
     return np.array([q_sw, q_st, qd_plus[1], qd_plus[0]])
@@ -138,8 +139,10 @@ def test_energy_balance_over_one_stride_on_the_cycle():
         pts = model.points(ev.x_pre[-1], p)
         foot_drop = pts[0, 1] - pts[-1, 1]
         total_mass = scene.params.mass_hip + 2 * (
-            scene.params.mass_leg if name == "compass"
-            else scene.params.mass_thigh + scene.params.mass_shank)
+            scene.params.mass_leg
+            if name == "compass"
+            else scene.params.mass_thigh + scene.params.mass_shank
+        )
         assert_allclose(loss, total_mass * scene.params.g * foot_drop, rtol=1e-10)
 
 
@@ -150,8 +153,9 @@ def _kneed_p(**changes):
 
 @pytest.mark.parametrize("offsets", [(0.0, 0.0), (0.02, -0.01)])
 def test_knee_lock_conserves_angular_momenta(offsets):
-    p = _kneed_p(offset_thigh=offsets[0], offset_shank=offsets[1], inertia_thigh=0.01,
-                 inertia_shank=0.003)
+    p = _kneed_p(
+        offset_thigh=offsets[0], offset_shank=offsets[1], inertia_thigh=0.01, inertia_shank=0.003
+    )
     model = sym.kneed_unlocked()
     bodies = body_functions(model)
     for _ in range(30):
@@ -169,12 +173,20 @@ def test_knee_lock_conserves_angular_momenta(offsets):
         qn, qdn = x_new[:3], x_new[3:]
         assert qdn[1] == qdn[2] and qn[1] == qn[2]
         origin = point(model, "stance_contact", q, p)
-        assert_allclose(angular_momentum(bodies, qn, qdn, p, origin),
-                        angular_momentum(bodies, q, qd, p, origin), rtol=1e-12, atol=1e-12)
+        assert_allclose(
+            angular_momentum(bodies, qn, qdn, p, origin),
+            angular_momentum(bodies, q, qd, p, origin),
+            rtol=1e-12,
+            atol=1e-12,
+        )
         hip = point(model, "hip", q, p)
         swing = {"swing_thigh", "swing_shank"}
-        assert_allclose(angular_momentum(bodies, qn, qdn, p, hip, swing),
-                        angular_momentum(bodies, q, qd, p, hip, swing), rtol=1e-12, atol=1e-12)
+        assert_allclose(
+            angular_momentum(bodies, qn, qdn, p, hip, swing),
+            angular_momentum(bodies, q, qd, p, hip, swing),
+            rtol=1e-12,
+            atol=1e-12,
+        )
         assert KN.energy(x_new, p)[0] <= KN.energy(x, p)[0]
 
 
@@ -197,13 +209,19 @@ def test_kneed_heel_strike_conserves_angular_momenta():
         qn, qdn = x_new[:3], x_new[3:]
         assert qn[1] == qn[2] and qdn[1] == qdn[2]  # new swing knee straight
         contact = point(model, "swing_contact", q, p)
-        assert_allclose(angular_momentum(bodies, qn, qdn, p, np.zeros(2)),
-                        angular_momentum(bodies, q, x[3:], p, contact), rtol=1e-12, atol=1e-12)
+        assert_allclose(
+            angular_momentum(bodies, qn, qdn, p, np.zeros(2)),
+            angular_momentum(bodies, q, x[3:], p, contact),
+            rtol=1e-12,
+            atol=1e-12,
+        )
         hip, hip_new = point(model, "hip", q, p), point(model, "hip", qn, p)
         assert_allclose(
             angular_momentum(bodies, qn, qdn, p, hip_new, {"swing_thigh", "swing_shank"}),
             angular_momentum(bodies, q, x[3:], p, hip, {"stance_thigh", "stance_shank"}),
-            rtol=1e-12, atol=1e-12)
+            rtol=1e-12,
+            atol=1e-12,
+        )
         assert KN.energy(x_new, p)[0] <= KN.energy(x, p)[0]
     assert n_checked > 10
 
@@ -251,10 +269,19 @@ def test_compass_approaches_simplest_walker_as_leg_mass_vanishes():
     diffs = []
     betas = (1e-3, 1e-4)
     for beta in betas:
-        params = CompassParams(mass_hip=1.0, mass_leg=beta, com_from_foot=0.0, com_to_hip=1.0,
-                               inertia_leg=0.0, foot_radius=0.0, slope=gamma, g=1.0)
+        params = CompassParams(
+            mass_hip=1.0,
+            mass_leg=beta,
+            com_from_foot=0.0,
+            com_to_hip=1.0,
+            inertia_leg=0.0,
+            foot_radius=0.0,
+            slope=gamma,
+            g=1.0,
+        )
         P = StrideMap("compass", params)
-        # Garcia's theta, theta - phi: legs from the slope normal; qd_swing = cos(2 theta) theta_dot.
+        # Garcia's theta, theta - phi: legs from the slope normal;
+        # qd_swing = cos(2 theta) theta_dot.
         z0 = np.array([zs[0] - gamma, zs[1], math.cos(2 * zs[0]) * zs[1]])
         fp = find_fixed_point(P, z0)
         assert fp.success
@@ -268,10 +295,12 @@ def test_compass_approaches_simplest_walker_as_leg_mass_vanishes():
 def test_round_feet_reduce_to_point_feet():
     from walker import StrideMap
 
-    for name, params in (("compass", CompassParams.goswami()),
-                         ("kneed", KneedParams.hsu_chen())):
-        scene_state = (load_scene("gaits/compass_goswami.toml").state if name == "compass"
-                       else load_scene("gaits/kneed_hsu.toml").state)
+    for name, params in (("compass", CompassParams.goswami()), ("kneed", KneedParams.hsu_chen())):
+        scene_state = (
+            load_scene("gaits/compass_goswami.toml").state
+            if name == "compass"
+            else load_scene("gaits/kneed_hsu.toml").state
+        )
         P0 = StrideMap(name, params)
         Pr = StrideMap(name, params.replace(foot_radius=1e-9))
         z = P0.project(scene_state)
@@ -282,10 +311,16 @@ def test_kneed_with_massless_shank_and_locked_knee_is_the_compass_gait():
     """Knee held locked from the start (phase 1) and shank mass -> 0: one stride of the
     kneed walker equals the compass gait with the thigh mass as leg mass."""
     kp = KneedParams.hsu_chen().replace(mass_shank=1e-12)
-    cp = CompassParams(mass_hip=kp.mass_hip, mass_leg=kp.mass_thigh,
-                       com_from_foot=kp.shank_com_from_foot + kp.shank_com_to_knee
-                       + kp.thigh_com_from_knee, com_to_hip=kp.thigh_com_to_hip,
-                       inertia_leg=0.0, foot_radius=0.0, slope=kp.slope, g=kp.g)
+    cp = CompassParams(
+        mass_hip=kp.mass_hip,
+        mass_leg=kp.mass_thigh,
+        com_from_foot=kp.shank_com_from_foot + kp.shank_com_to_knee + kp.thigh_com_from_knee,
+        com_to_hip=kp.thigh_com_to_hip,
+        inertia_leg=0.0,
+        foot_radius=0.0,
+        slope=kp.slope,
+        g=kp.g,
+    )
     xc = np.array([0.19, -0.29, -1.1, -0.2])
     slope = kp.slope
     xc[1] = -2 * slope - xc[0]

@@ -46,8 +46,14 @@ def _stride_map(scene, parameter_name="slope"):
 
     c = scene.compute
     return StrideMap(
-        scene.model, scene.params, method=c.method, rtol=c.rtol, atol=c.atol,
-        t_max=c.t_max, first_step=c.first_step, parameter_name=parameter_name,
+        scene.model,
+        scene.params,
+        method=c.method,
+        rtol=c.rtol,
+        atol=c.atol,
+        t_max=c.t_max,
+        first_step=c.first_step,
+        parameter_name=parameter_name,
     )
 
 
@@ -93,7 +99,10 @@ def cmd_find(args) -> int:
     P = _stride_map(scene)
     period = args.period or max(1, scene.compute.strides)
     fp = find_fixed_point(
-        P, P.project(scene.state), period=period, tol=args.tol,
+        P,
+        P.project(scene.state),
+        period=period,
+        tol=args.tol,
         jacobian="fd" if args.fd else "exact",
     )
     record = {
@@ -117,8 +126,12 @@ def cmd_find(args) -> int:
     if out is not None:
         from walker.storage import write
 
-        write(out, fp, provenance=provenance(scene, {"status": fp.status.name}),
-              overwrite=args.overwrite)
+        write(
+            out,
+            fp,
+            provenance=provenance(scene, {"status": fp.status.name}),
+            overwrite=args.overwrite,
+        )
     if args.json:
         print(json.dumps(record))
     else:
@@ -153,11 +166,16 @@ def cmd_run(args) -> int:
     strides = c.strides if args.strides is None else args.strides
     if strides < 0:
         raise UsageError(f"--strides must be >= 0, got {strides}")
-    if args.sample_rate is not None and not (args.sample_rate > 0 and math.isfinite(
-            args.sample_rate)):
+    if args.sample_rate is not None and not (
+        args.sample_rate > 0 and math.isfinite(args.sample_rate)
+    ):
         raise UsageError(f"--sample-rate must be a positive number, got {args.sample_rate}")
     common = dict(
-        n_strides=strides, phase0=scene.phase, method=c.method, rtol=c.rtol, atol=c.atol,
+        n_strides=strides,
+        phase0=scene.phase,
+        method=c.method,
+        rtol=c.rtol,
+        atol=c.atol,
         first_step=c.first_step,
         t_max=c.t_max * max(1, strides),
     )
@@ -166,14 +184,21 @@ def cmd_run(args) -> int:
     else:
         first = simulate(scene.model, scene.params, scene.state, output="events", **common)
         times = np.arange(0.0, first.t, 1.0 / args.sample_rate)
-        sol = simulate(scene.model, scene.params, scene.state, output="samples",
-                       sample_times=times, **common)
+        sol = simulate(
+            scene.model, scene.params, scene.state, output="samples", sample_times=times, **common
+        )
     print(f"status {sol.status.name}: {sol.message}")
-    print(f"t = {sol.t:.12g} s, strides {sol.n_strides}, events {sol.n_events}, "
-          f"steps {sol.n_steps} ({sol.n_rejected} rejected), rhs {sol.n_rhs}")
+    print(
+        f"t = {sol.t:.12g} s, strides {sol.n_strides}, events {sol.n_events}, "
+        f"steps {sol.n_steps} ({sol.n_rejected} rejected), rhs {sol.n_rhs}"
+    )
     if out is not None:
-        write(out, sol, provenance=provenance(scene, {"status": sol.status.name}),
-              overwrite=args.overwrite)
+        write(
+            out,
+            sol,
+            provenance=provenance(scene, {"status": sol.status.name}),
+            overwrite=args.overwrite,
+        )
         print(f"wrote {out}")
     return EXIT_OK if sol.success else EXIT_OUTCOME
 
@@ -195,32 +220,55 @@ def cmd_continue(args) -> int:
     if args.step is not None:
         kwargs["step"] = args.step
     branch = continue_branch(
-        P, fp.section, to=args.to, method="natural" if args.natural else "arclength",
-        max_points=args.max_points, **kwargs,
+        P,
+        fp.section,
+        to=args.to,
+        method="natural" if args.natural else "arclength",
+        max_points=args.max_points,
+        **kwargs,
     )
     out = _check_out(args.out)
     if out is not None:
         from walker.storage import write
 
-        write(out, branch, provenance=provenance(scene, {"status": branch.status.name}),
-              overwrite=args.overwrite)
+        write(
+            out,
+            branch,
+            provenance=provenance(scene, {"status": branch.status.name}),
+            overwrite=args.overwrite,
+        )
     bifs = [
-        {"kind": b.kind, "parameter": args.param, "parameter_value": float(b.parameter_value),
-         "section": [float(v) for v in b.section],
-         "multipliers": _complex_pairs(b.multipliers)}
+        {
+            "kind": b.kind,
+            "parameter": args.param,
+            "parameter_value": float(b.parameter_value),
+            "section": [float(v) for v in b.section],
+            "multipliers": _complex_pairs(b.multipliers),
+        }
         for b in branch.bifurcations
     ]
     if args.json:
-        print(json.dumps({
-            "status": branch.status.name, "message": branch.message,
-            "parameter": args.param, "n_points": int(len(branch.parameter)),
-            "parameter_range": [float(branch.parameter.min()), float(branch.parameter.max())],
-            "bifurcations": bifs,
-        }))
+        print(
+            json.dumps(
+                {
+                    "status": branch.status.name,
+                    "message": branch.message,
+                    "parameter": args.param,
+                    "n_points": int(len(branch.parameter)),
+                    "parameter_range": [
+                        float(branch.parameter.min()),
+                        float(branch.parameter.max()),
+                    ],
+                    "bifurcations": bifs,
+                }
+            )
+        )
     else:
         print(f"status {branch.status.name}: {branch.message}")
-        print(f"{len(branch.parameter)} points, {args.param} from "
-              f"{branch.parameter[0]:.10g} to {branch.parameter[-1]:.10g}")
+        print(
+            f"{len(branch.parameter)} points, {args.param} from "
+            f"{branch.parameter[0]:.10g} to {branch.parameter[-1]:.10g}"
+        )
         for b in bifs:
             mult = ", ".join(f"{re:.6f}{im:+.6f}i" for re, im in b["multipliers"])
             print(f"  {b['kind']:<16s} {args.param} = {b['parameter_value']:.12g}   [{mult}]")
@@ -245,12 +293,23 @@ def cmd_basin(args) -> int:
         return EXIT_OUTCOME
     span = args.span
     ranges = tuple(
-        (fp.section[a] - span * max(abs(fp.section[a]), 0.1),
-         fp.section[a] + span * max(abs(fp.section[a]), 0.1)) for a in axes
+        (
+            fp.section[a] - span * max(abs(fp.section[a]), 0.1),
+            fp.section[a] + span * max(abs(fp.section[a]), 0.1),
+        )
+        for a in axes
     )
     executor = "serial" if args.jobs == 1 else None
-    bm = basin_map(P, fp, axes=axes, ranges=ranges, n=(args.n, args.n),
-                   n_strides=args.strides, executor=executor, progress=not args.quiet)
+    bm = basin_map(
+        P,
+        fp,
+        axes=axes,
+        ranges=ranges,
+        n=(args.n, args.n),
+        n_strides=args.strides,
+        executor=executor,
+        progress=not args.quiet,
+    )
     write(out, bm, provenance=provenance(scene), overwrite=args.overwrite)
     from walker.results import BASIN_CONVERGED
 
@@ -265,8 +324,15 @@ def cmd_sweep(args) -> int:
 
     _check_out(args.out)
     table = run_sweep_command(
-        args.scene, args.param, kind=args.kind, jobs=args.jobs, scheduler=args.scheduler,
-        out=args.out, quiet=args.quiet, strides=args.strides, chunk_size=args.chunk_size,
+        args.scene,
+        args.param,
+        kind=args.kind,
+        jobs=args.jobs,
+        scheduler=args.scheduler,
+        out=args.out,
+        quiet=args.quiet,
+        strides=args.strides,
+        chunk_size=args.chunk_size,
     )
     n_ok = int(np.sum(table.columns["status"] == 0))
     print(f"wrote {args.out}: {len(table.points)} points, {n_ok} completed")
@@ -295,8 +361,9 @@ def build_parser() -> argparse.ArgumentParser:
     def scene_cmd(name, help_):
         p = sub.add_parser(name, help=help_)
         p.add_argument("scene", help="scene file (gaits/*.toml)")
-        p.add_argument("--set", action="append", metavar="NAME=VALUE",
-                       help="override a parameter (repeatable)")
+        p.add_argument(
+            "--set", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable)"
+        )
         return p
 
     p = scene_cmd("find", "find the periodic gait (fixed point of the stride map)")
@@ -311,8 +378,13 @@ def build_parser() -> argparse.ArgumentParser:
     p = scene_cmd("run", "simulate strides and store the trajectory")
     p.add_argument("--strides", type=int, default=None)
     p.add_argument("--out", help="HDF5 file to write")
-    p.add_argument("--sample-rate", type=float, default=None, metavar="HZ",
-                   help="store samples at this rate instead of every step")
+    p.add_argument(
+        "--sample-rate",
+        type=float,
+        default=None,
+        metavar="HZ",
+        help="store samples at this rate instead of every step",
+    )
     p.add_argument("--overwrite", action="store_true")
     p.set_defaults(func=cmd_run)
 
@@ -331,8 +403,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True)
     p.add_argument("--axes", default="0,1", help="two section indices, e.g. 0,1")
     p.add_argument("--n", type=int, default=50, help="grid points per axis")
-    p.add_argument("--span", type=float, default=0.5,
-                   help="half-width of each axis relative to the fixed point's value")
+    p.add_argument(
+        "--span",
+        type=float,
+        default=0.5,
+        help="half-width of each axis relative to the fixed point's value",
+    )
     p.add_argument("--strides", type=int, default=20)
     p.add_argument("--jobs", type=int, default=None)
     p.add_argument("--quiet", action="store_true")
@@ -341,8 +417,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("sweep", help="resumable parameter sweep")
     p.add_argument("scene")
-    p.add_argument("--param", action="append", required=True,
-                   metavar="NAME=START:STOP:COUNT")
+    p.add_argument("--param", action="append", required=True, metavar="NAME=START:STOP:COUNT")
     p.add_argument("--kind", choices=("outcome", "fixed_point"), default="fixed_point")
     p.add_argument("--strides", type=int, default=1)
     p.add_argument("--jobs", type=int, default=None)
@@ -366,8 +441,14 @@ def main(argv=None) -> int:
 
     try:
         return args.func(args)
-    except (UsageError, ValueError, TypeError, FileNotFoundError, FileExistsError,
-            StorageError) as exc:
+    except (
+        UsageError,
+        ValueError,
+        TypeError,
+        FileNotFoundError,
+        FileExistsError,
+        StorageError,
+    ) as exc:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         print(f"walker: error: {msg}", file=sys.stderr)
         return EXIT_USAGE

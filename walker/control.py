@@ -113,7 +113,7 @@ def outputs(q, qd, c, y, yd, H, cterm):
     ds = 1.0 / (c[I_THETA_MINUS] - c[I_THETA_PLUS])
     s = (q[0] - c[I_THETA_PLUS]) * ds
     for i in range(n - 1):
-        b, b1, b2 = bezier(c[I_BEZIER + i * M1:I_BEZIER + (i + 1) * M1], s)
+        b, b1, b2 = bezier(c[I_BEZIER + i * M1 : I_BEZIER + (i + 1) * M1], s)
         y[i] = q[i + 1] - b
         yd[i] = qd[i + 1] - b1 * ds * qd[0]
         for j in range(n):

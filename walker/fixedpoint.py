@@ -332,8 +332,20 @@ def _converged_message(tol, n_iter, history):
     )
 
 
-def _finish(section_map, z, *, period, parameter, mode, fd_step, status, message, history, n_iter,
-            known=None):
+def _finish(
+    section_map,
+    z,
+    *,
+    period,
+    parameter,
+    mode,
+    fd_step,
+    status,
+    message,
+    history,
+    n_iter,
+    known=None,
+):
     """Build the FixedPoint: the Jacobian at the solution (reused from the last Newton
     evaluation when it carried one), multipliers, lift."""
     n_z = z.shape[0]

@@ -68,8 +68,10 @@ def plot_solution(sol: Solution, model, params, out: Path, stem: str) -> list[Pa
     """Angles, energy, a phase portrait and (for walkers) a stick-figure GIF."""
     traj = sol.record if sol.record is not None else sol.samples
     paths = [
-        _save(plotting.plot_angles(sol, state_names=model.state_names,
-                                   phase_names=model.phase_names), out / f"{stem}_angles.png")
+        _save(
+            plotting.plot_angles(sol, state_names=model.state_names, phase_names=model.phase_names),
+            out / f"{stem}_angles.png",
+        )
     ]
     if traj is None or len(traj) < 2:
         return paths
@@ -81,11 +83,19 @@ def plot_solution(sol: Solution, model, params, out: Path, stem: str) -> list[Pa
         total_mass = _total_mass(params)
         potential = potential + total_mass * params.g * (frames[:, 0, 1] - frames[0, 0, 1])
     events = sol.events.t if sol.events is not None else None
-    paths.append(_save(plotting.plot_energy(traj.t, kinetic, potential, event_times=events),
-                       out / f"{stem}_energy.png"))
+    paths.append(
+        _save(
+            plotting.plot_energy(traj.t, kinetic, potential, event_times=events),
+            out / f"{stem}_energy.png",
+        )
+    )
     n_q = model.n_x // 2
-    paths.append(_save(plotting.plot_phase_portrait(traj, 0, n_q, state_names=model.state_names),
-                       out / f"{stem}_phase_portrait.png"))
+    paths.append(
+        _save(
+            plotting.plot_phase_portrait(traj, 0, n_q, state_names=model.state_names),
+            out / f"{stem}_phase_portrait.png",
+        )
+    )
     if model.is_walker or model.name == "double_pendulum":
         t_frames = np.linspace(traj.t[0], traj.t[-1], min(120, len(traj)))
         idx = np.searchsorted(traj.t, t_frames).clip(0, len(traj) - 1)
@@ -130,9 +140,19 @@ def plot_file(path, out_dir=".") -> list[Path]:
         model, params = _params_from_provenance(prov)
         return plot_solution(result, model, params, out, stem)
     if kind == "fixed_point":
-        branch = Branch("", np.zeros(1), result.section[None, :], np.array([result.step_time]),
-                        result.multipliers[None, :], np.array([result.stable]), [],
-                        result.status, result.message, result.success, result.period)
+        branch = Branch(
+            "",
+            np.zeros(1),
+            result.section[None, :],
+            np.array([result.step_time]),
+            result.multipliers[None, :],
+            np.array([result.stable]),
+            [],
+            result.status,
+            result.message,
+            result.success,
+            result.period,
+        )
         return [_save(plotting.plot_multipliers(branch), out / f"{stem}_multipliers.png")]
     if kind == "branch":
         fig = plotting.plot_bifurcation(result)

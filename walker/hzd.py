@@ -66,7 +66,7 @@ def _check(params) -> np.ndarray:
 def _coefficients(p: np.ndarray) -> np.ndarray:
     c = TL.CONTROL_OFFSET + 6
     m1 = BEZIER_DEGREE + 1
-    return p[c:c + 2 * m1].reshape(2, m1)
+    return p[c : c + 2 * m1].reshape(2, m1)
 
 
 def surface(params: ThreeLinkParams, theta: float):
@@ -183,8 +183,12 @@ def make_invariant(params: ThreeLinkParams) -> ThreeLinkParams:
     tp = -tm - 2.0 * params.slope
     if not tp != tm:
         raise ValueError(f"`theta_minus` must differ from -slope, got {tm!r}")
-    changes = {"theta_plus": tp, "bezier_swing_4": tp, "bezier_swing_0": tm,
-               "bezier_torso_0": params.bezier_torso_4}
+    changes = {
+        "theta_plus": tp,
+        "bezier_swing_4": tp,
+        "bezier_swing_0": tm,
+        "bezier_torso_0": params.bezier_torso_4,
+    }
     p1 = params.replace(**changes)
     p = p1.as_array()
     x, _, _ = _impact(p, tm, -1.0)
@@ -277,8 +281,15 @@ def restricted_map(
 
     stall.terminal = True
     t_max = 20.0 * np.sqrt(params.leg_length / params.g)
-    sol = solve_ivp(f, (0.0, t_max), [tp, float(theta_dot_plus)], method="DOP853",
-                    rtol=rtol, atol=atol, events=(end, stall))
+    sol = solve_ivp(
+        f,
+        (0.0, t_max),
+        [tp, float(theta_dot_plus)],
+        method="DOP853",
+        rtol=rtol,
+        atol=atol,
+        events=(end, stall),
+    )
     nan = float("nan")
     if sol.t_events[1].size:
         return RestrictedMap(Status.FELL_BACKWARD, nan, nan, float(sol.t[-1]), np.full(2, nan))
@@ -371,5 +382,11 @@ def restricted_fixed_point(
     q, sigma, _ = _surface(p, params.theta_plus)
     qd = sigma * w
     section = np.array([q[0], q[2], qd[0], qd[1], qd[2]])
-    return HZDOrbit(True, float(w), float((rp - rm) / (2 * fd_step)),
-                    impact_momentum_ratio(params) ** 2, section, r.step_time)
+    return HZDOrbit(
+        True,
+        float(w),
+        float((rp - rm) / (2 * fd_step)),
+        impact_momentum_ratio(params) ** 2,
+        section,
+        r.step_time,
+    )

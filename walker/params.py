@@ -815,8 +815,14 @@ STATE_NAMES: dict[str, tuple[str, ...]] = {
     # stance leg, swing leg, torso (absolute, counterclockwise positive); then the actuator
     # work since t0 [J] and the time spent with a saturated torque [s]
     "three_link": (
-        "q_stance", "q_swing", "q_torso", "qd_stance", "qd_swing", "qd_torso",
-        "actuator_work", "saturated_time",
+        "q_stance",
+        "q_swing",
+        "q_torso",
+        "qd_stance",
+        "qd_swing",
+        "qd_torso",
+        "actuator_work",
+        "saturated_time",
     ),
 }
 """Model name -> names of the full state's components, in order."""

@@ -234,14 +234,40 @@ class StrideMap:
         p = self.params.as_array()
         x0 = self.model.lift(np.asarray(z, dtype=float), p)
         if sample_rate is None:
-            return simulate(self.model, self.params, x0, n_strides=n_strides,
-                            t_max=self.t_max * n_strides, method=self.method, rtol=self.rtol,
-                            atol=self.atol, first_step=self.first_step, output="full")
-        first = simulate(self.model, self.params, x0, n_strides=n_strides,
-                         t_max=self.t_max * n_strides, method=self.method, rtol=self.rtol,
-                         atol=self.atol, first_step=self.first_step)
+            return simulate(
+                self.model,
+                self.params,
+                x0,
+                n_strides=n_strides,
+                t_max=self.t_max * n_strides,
+                method=self.method,
+                rtol=self.rtol,
+                atol=self.atol,
+                first_step=self.first_step,
+                output="full",
+            )
+        first = simulate(
+            self.model,
+            self.params,
+            x0,
+            n_strides=n_strides,
+            t_max=self.t_max * n_strides,
+            method=self.method,
+            rtol=self.rtol,
+            atol=self.atol,
+            first_step=self.first_step,
+        )
         times = np.arange(0.0, first.t, 1.0 / sample_rate)
-        return simulate(self.model, self.params, x0, n_strides=n_strides,
-                        t_max=self.t_max * n_strides, method=self.method, rtol=self.rtol,
-                        atol=self.atol, first_step=self.first_step, output="samples",
-                        sample_times=times)
+        return simulate(
+            self.model,
+            self.params,
+            x0,
+            n_strides=n_strides,
+            t_max=self.t_max * n_strides,
+            method=self.method,
+            rtol=self.rtol,
+            atol=self.atol,
+            first_step=self.first_step,
+            output="samples",
+            sample_times=times,
+        )

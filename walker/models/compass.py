@@ -67,9 +67,7 @@ def swing_foot(x, p):
     slope = p[_I_SLOPE]
     psi1 = x[0] + slope
     psi2 = x[1] + slope
-    return (L - R) * (math.cos(psi1) - math.cos(psi2)), (L - R) * (
-        math.sin(psi2) - math.sin(psi1)
-    )
+    return (L - R) * (math.cos(psi1) - math.cos(psi2)), (L - R) * (math.sin(psi2) - math.sin(psi1))
 
 
 @njit(cache=True)
@@ -94,9 +92,14 @@ def heel_strike(x, p, x_new, impulse):
     hip_J = np.empty((2, 2))
     K.hip_jac(q, p, hip_J)
     qf = np.array([x[0], x[1], pts[1, 0], pts[1, 1]])
-    qdf = np.array([x[2], x[3],
-                    hip_J[0, 0] * x[2] + hip_J[0, 1] * x[3],
-                    hip_J[1, 0] * x[2] + hip_J[1, 1] * x[3]])
+    qdf = np.array(
+        [
+            x[2],
+            x[3],
+            hip_J[0, 0] * x[2] + hip_J[0, 1] * x[3],
+            hip_J[1, 0] * x[2] + hip_J[1, 1] * x[3],
+        ]
+    )
     M = np.empty((4, 4))
     K.ext_mass_matrix(qf, p, M)
     Jsw = np.empty((2, 4))

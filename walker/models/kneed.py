@@ -169,9 +169,14 @@ def heel_strike(x, p, x_new, impulse):
     hip_J = np.empty((2, 2))
     K.locked_hip_jac(q, p, hip_J)
     qf = np.array([x[0], x[1], pts[1, 0], pts[1, 1]])
-    qdf = np.array([x[3], x[4],
-                    hip_J[0, 0] * x[3] + hip_J[0, 1] * x[4],
-                    hip_J[1, 0] * x[3] + hip_J[1, 1] * x[4]])
+    qdf = np.array(
+        [
+            x[3],
+            x[4],
+            hip_J[0, 0] * x[3] + hip_J[0, 1] * x[4],
+            hip_J[1, 0] * x[3] + hip_J[1, 1] * x[4],
+        ]
+    )
     M = np.empty((4, 4))
     K.ext_mass_matrix(qf, p, M)
     Jsw = np.empty((2, 4))

@@ -103,9 +103,7 @@ def lift(z, p):
 
 def lift_jacobian(z, p):
     s2 = math.sin(2.0 * z[0])
-    return np.array(
-        [[1.0, 0], [2.0, 0], [0, 1.0], [2.0 * s2 * z[1], 1.0 - math.cos(2.0 * z[0])]]
-    )
+    return np.array([[1.0, 0], [2.0, 0], [0, 1.0], [2.0 * s2 * z[1], 1.0 - math.cos(2.0 * z[0])]])
 
 
 def project(x, p):

@@ -46,12 +46,23 @@ N_Q = 3
 N_IMPULSE = 2
 PHASE_NAMES = ("stance",)
 GUARD_NAMES = (
-    "heel_strike", "fall_forward", "fall_backward", "slip_forward", "slip_backward", "lift_off",
+    "heel_strike",
+    "fall_forward",
+    "fall_backward",
+    "slip_forward",
+    "slip_backward",
+    "lift_off",
 )
 DIRECTIONS = np.array([[-1, -1, 1, -1, -1, -1]], dtype=np.int64)
 STATE_NAMES = (
-    "q_stance", "q_swing", "q_torso", "qd_stance", "qd_swing", "qd_torso",
-    "actuator_work", "saturated_time",
+    "q_stance",
+    "q_swing",
+    "q_torso",
+    "qd_stance",
+    "qd_swing",
+    "qd_torso",
+    "actuator_work",
+    "saturated_time",
 )
 SECTION_NAMES = ("q_stance", "q_torso", "qd_stance", "qd_swing", "qd_torso")
 
@@ -139,8 +150,10 @@ def ground_reaction(x, p):
     F = np.empty(2)
     K.ground_reaction(x[:3], x[3:6], qdd, p, F)
     slope = p[I_SLOPE]
-    return (F[0] * math.cos(slope) - F[1] * math.sin(slope),
-            F[0] * math.sin(slope) + F[1] * math.cos(slope))
+    return (
+        F[0] * math.cos(slope) - F[1] * math.sin(slope),
+        F[0] * math.sin(slope) + F[1] * math.cos(slope),
+    )
 
 
 @njit(cache=True)

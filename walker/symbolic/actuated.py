@@ -113,8 +113,14 @@ def three_link() -> LagrangianModel:
         "torso": hip + L * _u(q3),
     }
     return derive(
-        "three_link", (q1, q2, q3), (q1d, q2d, q3d), _bodies(q1, q2, q3, hip, params), g,
-        params, points=points, B=B_MATRIX,
+        "three_link",
+        (q1, q2, q3),
+        (q1d, q2d, q3d),
+        _bodies(q1, q2, q3, hip, params),
+        g,
+        params,
+        points=points,
+        B=B_MATRIX,
     )
 
 
@@ -134,8 +140,14 @@ def three_link_extended() -> LagrangianModel:
     }
     B = sp.Matrix([[1, 0], [0, 1], [-1, -1], [0, 0], [0, 0]])
     return derive(
-        "three_link_extended", (q1, q2, q3, xh, yh), qd, _bodies(q1, q2, q3, hip, params), g,
-        params, points=points, B=B,
+        "three_link_extended",
+        (q1, q2, q3, xh, yh),
+        qd,
+        _bodies(q1, q2, q3, hip, params),
+        g,
+        params,
+        points=points,
+        B=B,
     )
 
 
@@ -170,26 +182,28 @@ def three_link_kernels() -> list[Kernel]:
     ext = three_link_extended()
     qdd = sp.symbols("q_stance_ddot q_swing_ddot q_torso_ddot", real=True)
     q, p = ("q", ext.q), ("p", ext.params)
-    return (
-        _dynamics_kernels(m, "")
-        + [
-            _hip_jacobian(m, ""),
-            Kernel(
-                "ground_reaction", (("q", m.q), ("qd", m.qd), ("qdd", qdd), ("p", m.params)),
-                ground_reaction(m, qdd),
-                "World-frame ground force on the stance foot (F_x, F_y) [N], out (2,).",
-            ),
-            Kernel("ext_mass_matrix", (q, p), ext.D, "Floating-base mass matrix, out (5, 5)."),
-            Kernel(
-                "ext_swing_contact_jac", (q, p), ext.point_jacobian("swing_contact"),
-                "Jacobian of the swing foot position, out (2, 5).",
-            ),
-            Kernel(
-                "ext_stance_contact_jac", (q, p), ext.point_jacobian("stance_contact"),
-                "Jacobian of the stance foot position, out (2, 5).",
-            ),
-        ]
-    )
+    return _dynamics_kernels(m, "") + [
+        _hip_jacobian(m, ""),
+        Kernel(
+            "ground_reaction",
+            (("q", m.q), ("qd", m.qd), ("qdd", qdd), ("p", m.params)),
+            ground_reaction(m, qdd),
+            "World-frame ground force on the stance foot (F_x, F_y) [N], out (2,).",
+        ),
+        Kernel("ext_mass_matrix", (q, p), ext.D, "Floating-base mass matrix, out (5, 5)."),
+        Kernel(
+            "ext_swing_contact_jac",
+            (q, p),
+            ext.point_jacobian("swing_contact"),
+            "Jacobian of the swing foot position, out (2, 5).",
+        ),
+        Kernel(
+            "ext_stance_contact_jac",
+            (q, p),
+            ext.point_jacobian("stance_contact"),
+            "Jacobian of the stance foot position, out (2, 5).",
+        ),
+    ]
 
 
 def three_link_extra() -> str:

@@ -226,8 +226,9 @@ def render_accel_jacobian_kernel(kernel: AccelJacobianKernel, printer=None) -> s
             terms = " + ".join(f"{dd(k, i, j)}*a{j}" for j in range(n))
             rhs.append(f"-(hq{i}_{k} + {terms})")
         lines += _solve_lines(n, rhs, [f"jq{i}_{k}" for i in range(n)])
-        lines += _solve_lines(n, [f"-hv{i}_{k}" for i in range(n)],
-                              [f"jv{i}_{k}" for i in range(n)])
+        lines += _solve_lines(
+            n, [f"-hv{i}_{k}" for i in range(n)], [f"jv{i}_{k}" for i in range(n)]
+        )
     for i in range(n):
         for k in range(n):
             lines.append(f"    out[{i}, {k}] = jq{i}_{k}")
@@ -340,9 +341,7 @@ def render_module(name: str, kernels, *, doc: str = "", extra: str = "") -> str:
     digest = symbolic_hash(kernels)
     arg_lines = []
     for k in kernels:
-        arg_lines.append(
-            f"#   {k.name}(" + ", ".join(n for n, _ in k.args) + ")"
-        )
+        arg_lines.append(f"#   {k.name}(" + ", ".join(n for n, _ in k.args) + ")")
     seen = {}
     for k in kernels:
         seen[k.name] = {n: tuple(str(s) for s in syms) for n, syms in k.args}
@@ -371,6 +370,7 @@ def render_module(name: str, kernels, *, doc: str = "", extra: str = "") -> str:
         f"ARGUMENT_ORDER = {seen!r}",
         "",
     ]
+
     def render(k):
         if isinstance(k, AccelKernel):
             return render_accel_kernel(k)

@@ -17,16 +17,28 @@ def _dynamics_kernels(m: LagrangianModel, prefix: str) -> list[Kernel]:
     h = m.bias
     qv, qdv = sp.Matrix(m.q), sp.Matrix(m.qd)
     return [
-        AccelKernel(f"{prefix}accel", (q, qd, p), m.D, h,
-                    "Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,)."),
-        AccelJacobianKernel(f"{prefix}accel_jac", (q, qd, p), m.D, h,
-                            "d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve."),
+        AccelKernel(
+            f"{prefix}accel",
+            (q, qd, p),
+            m.D,
+            h,
+            "Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,).",
+        ),
+        AccelJacobianKernel(
+            f"{prefix}accel_jac",
+            (q, qd, p),
+            m.D,
+            h,
+            "d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve.",
+        ),
         Kernel(f"{prefix}mass_matrix", (q, p), m.D, "Mass matrix D(q), out (n, n)."),
         Kernel(f"{prefix}coriolis", (q, qd, p), m.C, "Coriolis matrix C(q, qd), out (n, n)."),
         Kernel(f"{prefix}gravity", (q, p), m.G, "Gravity vector g(q) = dP/dq, out (n,)."),
         Kernel(f"{prefix}bias", (q, qd, p), h, "h(q, qd) = C(q, qd) qd + g(q), out (n,)."),
         Kernel(
-            f"{prefix}dmass", (q, p), [m.D.diff(qi) for qi in m.q],
+            f"{prefix}dmass",
+            (q, p),
+            [m.D.diff(qi) for qi in m.q],
             "dD/dq_k for every k, out (n, n, n): out[k] = dD/dq_k.",
         ),
         Kernel(f"{prefix}dbias_dq", (q, qd, p), h.jacobian(qv), "dh/dq, out (n, n)."),
@@ -34,10 +46,10 @@ def _dynamics_kernels(m: LagrangianModel, prefix: str) -> list[Kernel]:
         Kernel(f"{prefix}kinetic", (q, qd, p), m.K, "Kinetic energy [J]."),
         Kernel(f"{prefix}potential", (q, p), m.P, "Potential energy [J] (y = 0 at the origin)."),
         Kernel(
-            f"{prefix}points", (q, p),
+            f"{prefix}points",
+            (q, p),
             sp.Matrix([[v[0], v[1]] for v in m.points.values()]),
-            "Named points in the world frame, out (n_points, 2); names in "
-            f"{prefix.upper()}POINTS.",
+            f"Named points in the world frame, out (n_points, 2); names in {prefix.upper()}POINTS.",
         ),
     ]
 
@@ -52,11 +64,15 @@ def _extended_kernels(m: LagrangianModel, prefix: str, swing_index: int) -> list
     return [
         Kernel(f"{prefix}mass_matrix", (q, p), m.D, "Floating-base mass matrix, out (n_f, n_f)."),
         Kernel(
-            f"{prefix}swing_contact_jac", (q, p), J_sw,
+            f"{prefix}swing_contact_jac",
+            (q, p),
+            J_sw,
             "Jacobian of the swing foot's material contact velocity, out (2, n_f).",
         ),
         Kernel(
-            f"{prefix}stance_contact_jac", (q, p), J_st,
+            f"{prefix}stance_contact_jac",
+            (q, p),
+            J_st,
             "Jacobian of the stance foot's material contact velocity, out (2, n_f).",
         ),
     ]
@@ -68,7 +84,9 @@ def _model_of(m: LagrangianModel) -> str:
 
 def _hip_jacobian(m: LagrangianModel, prefix: str) -> Kernel:
     return Kernel(
-        f"{prefix}hip_jac", (("q", m.q), ("p", m.params)), m.point_jacobian("hip"),
+        f"{prefix}hip_jac",
+        (("q", m.q), ("p", m.params)),
+        m.point_jacobian("hip"),
         "Jacobian of the hip position, out (2, n).",
     )
 

@@ -233,7 +233,12 @@ def compass_extended() -> LagrangianModel:
     }
     bodies = _compass_bodies(q1, q2, hip, params, stance_center)
     return derive(
-        "compass_extended", (q1, q2, xh, yh), (q1d, q2d, xhd, yhd), bodies, g, params,
+        "compass_extended",
+        (q1, q2, xh, yh),
+        (q1d, q2d, xhd, yhd),
+        bodies,
+        g,
+        params,
         points=points,
     )
 
@@ -300,9 +305,7 @@ def kneed_unlocked() -> LagrangianModel:
         "swing_center": swing_center,
         "swing_contact": swing_center - R * n,
     }
-    return derive(
-        "kneed_unlocked", (q1, q2, q3), (q1d, q2d, q3d), bodies, g, params, points=points
-    )
+    return derive("kneed_unlocked", (q1, q2, q3), (q1d, q2d, q3d), bodies, g, params, points=points)
 
 
 @cache
@@ -315,8 +318,13 @@ def kneed_locked() -> LagrangianModel:
     (p1, p2), (p1d, p2d) = _coords(("q1", "q2"))
     sub = {q1: p1, q2: p2, q3: p2}
     bodies = [
-        Body(b.name, b.mass, b.position.subs(sub), None if b.angle is None else b.angle.subs(sub),
-             b.inertia)
+        Body(
+            b.name,
+            b.mass,
+            b.position.subs(sub),
+            None if b.angle is None else b.angle.subs(sub),
+            b.inertia,
+        )
         for b in full.bodies
     ]
     points = {k: v.subs(sub) for k, v in full.points.items()}
@@ -347,7 +355,12 @@ def kneed_extended() -> LagrangianModel:
         "hip": hip,
     }
     return derive(
-        "kneed_extended", (q1, q2, xh, yh), (q1d, q2d, xhd, yhd), bodies, g, params,
+        "kneed_extended",
+        (q1, q2, xh, yh),
+        (q1d, q2d, xhd, yhd),
+        bodies,
+        g,
+        params,
         points=points,
     )
 
