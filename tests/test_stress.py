@@ -1,0 +1,337 @@
+"""Stress tests of the hybrid integrator and the walkers: long runs, grazing contacts,
+degenerate events, extreme parameters, scaling laws, random input and a tolerance sweep.
+
+The measurement functions live in ``scripts/stress.py`` (which writes the full tables under
+``results/stress/``); these tests run short versions.  Tests marked ``xfail(strict=True)``
+pin behaviour the library does not yet have; each reason says what goes wrong.
+"""
+
+import importlib.util
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from numpy.testing import assert_allclose
+
+from walker import simulate
+from walker.integrate import GUARD_TOL, hybrid_solve
+from walker.params import CompassParams, KneedParams
+from walker.status import Status
+
+_SPEC = importlib.util.spec_from_file_location(
+    "walker_stress_script", Path(__file__).resolve().parents[1] / "scripts" / "stress.py"
+)
+stress = importlib.util.module_from_spec(_SPEC)
+_SPEC.loader.exec_module(stress)
+
+TOLS = [10.0**-k for k in range(3, 13)]
+
+
+@pytest.fixture(scope="module")
+def compass_gait():
+    return stress.fixed_point("compass")
+
+
+@pytest.fixture(scope="module")
+def kneed_gait():
+    return stress.fixed_point("kneed")
+
+
+# ---------------------------------------------------------------------------- long runs
+
+
+@pytest.mark.parametrize("model", ["compass", "kneed"])
+def test_long_run_stays_on_cycle_and_closes_energy(model):
+    r = stress.long_run(model, 2000, chunk=1000)
+    assert r["status"] == "COMPLETED"
+    assert r["n_strides"] == 2000
+    assert r["max_dev"] < 1e-9
+    assert r["closure"] < 1e-9
+    # the bookkeeping is not vacuous: about 5.5 J (compass) / 0.37 J (kneed) per stride
+    assert r["released"] / 2000 > 0.1
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("model", ["compass", "kneed"])
+def test_100k_strides_from_t0_zero_each_chunk(model):
+    r = stress.long_run(model, 100_000, chunk=1000, restart_time=True)
+    assert r["n_strides"] == 100_000
+    assert r["max_dev"] < 1e-9
+    assert r["closure"] < 1e-9
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(
+    strict=True,
+    reason="with accumulated time (t reaches 7.3e4 s after 1e5 compass strides) event "
+    "times are resolved to a few ulps of t (1.5e-11 s there) and the state drifts to "
+    "1.3e-9 from the fixed point; restarting t at 0 per chunk stays at ~1e-12",
+)
+def test_100k_compass_strides_with_accumulated_time():
+    r = stress.long_run("compass", 100_000, chunk=1000)
+    assert r["max_dev"] < 1e-9
+
+
+# ---------------------------------------------------------------------------- grazing
+
+
+@pytest.mark.parametrize("kind,duration", [("oscillator", 0.32), ("parabola", 0.57)])
+def test_long_dips_found_at_every_tolerance(kind, duration):
+    for tol in TOLS:
+        found, t_ev = stress.graze_found(kind, duration, tol)
+        assert found, f"rtol={tol:g}"
+        centre = math.pi if kind == "oscillator" else 1.0
+        # |dg/dt| ~ 0.2 at the root: time error ~ 5x the state error
+        assert_allclose(t_ev, centre - 0.5 * duration, rtol=0, atol=1e-6 + 100 * tol)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="guards are only sampled at n_interior=4 interior points per step: a dip "
+    "shorter than about h/5 (10 us here, steps of 0.1..1 s) is walked through at every "
+    "tolerance; see results/stress/README.md for the smallest dip found per rtol",
+)
+@pytest.mark.parametrize("kind", ["oscillator", "parabola"])
+def test_microsecond_dip_found_at_every_tolerance(kind):
+    missed = [tol for tol in TOLS if not stress.graze_found(kind, 1e-5, tol)[0]]
+    assert not missed
+
+
+def test_compass_scuff_ignored_the_same_way_at_every_tolerance(compass_gait):
+    rows = stress.compass_scuff_outcomes(TOLS)
+    for r in rows:
+        assert r["status"] == "COMPLETED"
+        assert r["dev"] <= 100 * r["rtol"]
+
+
+# --------------------------------------------------------------- degenerate event timing
+
+
+def test_post_impact_state_on_guard_does_not_fire_at_once(compass_gait):
+    P, fp = compass_gait
+    g = np.empty(3)
+    P.model.module.guards(0, 0.0, fp.state, P.params.as_array(), g)
+    assert abs(g[0]) <= 1e-15  # the lifted section point sits on the heel-strike guard
+    sol = simulate("compass", P.params, fp.state, rtol=1e-12, atol=1e-12, output="events")
+    assert sol.status == Status.COMPLETED
+    assert len(sol.events) == 1
+    assert_allclose(sol.t, fp.step_time, rtol=1e-10, atol=0)
+
+
+def test_guard_zero_at_start_moving_into_fire_side_waits_for_next_crossing():
+    # oscillator toy on the unit circle with u = c exactly, u increasing: g = c - u starts
+    # at 0 going negative.  Disarmed at the start, it fires at the next downward crossing
+    # one period later (the documented arming rule).
+    c = 0.5
+    x0 = [c, math.sqrt(1 - c * c)]
+    sol = hybrid_solve(stress.GRAZE, x0, [c], t_max=10.0, rtol=1e-12, atol=1e-12)
+    assert sol.status == Status.COMPLETED
+    assert_allclose(sol.t, 2 * math.pi, rtol=0, atol=1e-9)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="a phase starting with a guard within GUARD_TOL = 1e-10 of zero on its pre-fire "
+    "side and moving into it is disarmed, so the crossing 5e-11 s later is missed and the "
+    "event fires a whole period later",
+)
+def test_guard_just_above_zero_at_start_fires():
+    c = 0.5
+    u0 = c - 0.5 * GUARD_TOL
+    x0 = [u0, math.sqrt(1 - u0 * u0)]
+    sol = hybrid_solve(stress.GRAZE, x0, [c], t_max=10.0, rtol=1e-12, atol=1e-12)
+    assert sol.t < 1e-9
+
+
+# A kneed-walker state (Hsu set) 0.01 s before the knee locks and the swing foot lands at
+# the same instant: the pre-heel-strike state of the fixed-point stride with the shank rate
+# raised by 0.5 rad/s (knee still closing), integrated back 0.01 s with scipy DOP853 at
+# rtol = atol = 1e-13 (both guards cross within ~1e-12 s of each other).
+KNEE_AND_HEEL = np.array(
+    [
+        -0.2737949656278644,
+        0.20718845604962768,
+        0.2042692465411895,
+        -1.4840653356845783,
+        -1.8152615948529944,
+        -1.7329186878956588,
+    ]
+)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="knee lock and heel strike at (numerically) the same instant: the outcome "
+    "depends on rtol -- TRIPPED when the foot guard's root lands a few 1e-15 s before the "
+    "knee's (no window in the trip check), COMPLETED when the knee fires first within the "
+    "reset's 1e-12*L height window, FELL_FORWARD at rtol=1e-10 (next test)",
+)
+def test_simultaneous_knee_lock_and_heel_strike_is_a_stride():
+    prm = KneedParams.hsu_chen()
+    outcomes = {}
+    for tol in (1e-3, 1e-6, 1e-8, 1e-10, 1e-12):
+        sol = simulate("kneed", prm, KNEE_AND_HEEL, rtol=tol, atol=tol)
+        outcomes[tol] = sol.status.name
+    assert set(outcomes.values()) == {"COMPLETED"}, outcomes
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="knee lock fires 1e-11 s before heel strike; after the reset the foot is "
+    "8.8e-12 m above the ground, outside the reset's combined-impact window (1e-12*L) but "
+    "inside GUARD_TOL (1e-10), so the heel-strike guard starts disarmed, the foot passes "
+    "through the ground and the walker FELL_FORWARD",
+)
+def test_knee_lock_just_before_heel_strike_does_not_walk_through_ground():
+    sol = simulate("kneed", KneedParams.hsu_chen(), KNEE_AND_HEEL, rtol=1e-10, atol=1e-10)
+    assert sol.status == Status.COMPLETED
+
+
+def test_stride_ending_exactly_at_t_max(compass_gait):
+    P, fp = compass_gait
+    T = fp.step_time
+    at = simulate("compass", P.params, fp.state, t_max=T, rtol=1e-12, atol=1e-12)
+    assert at.status == Status.COMPLETED
+    assert at.n_strides == 1
+    before = simulate("compass", P.params, fp.state, t_max=T * (1 - 1e-6), rtol=1e-12, atol=1e-12)
+    assert before.status == Status.NO_EVENT
+    after = simulate("compass", P.params, fp.state, t_max=T * (1 + 1e-9), rtol=1e-12, atol=1e-12)
+    assert after.status == Status.COMPLETED
+    assert_allclose(after.x, at.x, rtol=0, atol=1e-9)
+
+
+# ------------------------------------------------------------------- extreme parameters
+
+
+def _kneed_cases():
+    base = KneedParams.hsu_chen()
+    out = []
+    for ratio in (1e-4, 1e4):
+        out.append((f"kneed hip/thigh={ratio:g}", base.replace(mass_hip=base.mass_thigh * ratio)))
+    for slope in (0.0, 0.2, 1.0, 1.5):
+        out.append((f"kneed slope={slope:g}", base.replace(slope=slope)))
+    for g in (1.0, 100.0):
+        out.append((f"kneed g={g:g}", base.replace(g=g)))
+    return out
+
+
+_CASES = stress.extreme_compass_cases() + _kneed_cases()
+
+
+@pytest.mark.parametrize("label,params", _CASES, ids=[c[0] for c in _CASES])
+def test_extreme_parameters_end_with_a_defined_outcome(label, params, compass_gait, kneed_gait):
+    P, fp = compass_gait if isinstance(params, CompassParams) else kneed_gait
+    x0 = fp.state.copy()
+    n = P.model.n_x // 2
+    x0[n:] *= math.sqrt(params.g / P.params.g * P.params.leg_length / params.leg_length)
+    model = "compass" if isinstance(params, CompassParams) else "kneed"
+    for tol in (1e-4, 1e-10):
+        sol, seconds = stress.run_case(model, params, x0, n_strides=10, rtol=tol)
+        assert isinstance(sol.status, Status)
+        assert seconds < 10.0
+        if sol.success:
+            assert np.all(np.isfinite(sol.x)) and sol.n_strides == 10
+        assert np.all(np.isfinite(sol.x)) or sol.status == Status.NONFINITE
+
+
+def test_scaling_laws_compass():
+    rows = stress.scaling_errors(lams=(1e-3, 1e3), kappas=(1 / 9.8, 100 / 9.8), mus=(1e-4, 1e4))
+    assert len(rows) == 6
+    for r in rows:
+        assert r["status"] == "COMPLETED", r
+        assert r["angle_abs_err"] < 1e-10, r
+        assert r["rate_rel_err"] < 1e-9, r
+        assert r["step_time_rel_err"] < 1e-10, r
+        assert r["multiplier_abs_err"] < 1e-9, r
+
+
+# ------------------------------------------------------------------------- random input
+
+_angle = st.floats(-0.6, 0.6)
+_rate = st.floats(-4.0, 4.0)
+_tol = st.sampled_from([1e-3, 1e-6, 1e-9, 1e-12])
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    q=st.tuples(_angle, _angle),
+    qd=st.tuples(_rate, _rate),
+    tol=_tol,
+    ratio=st.floats(1e-3, 1e3),
+    slope=st.floats(0.0, 0.5),
+    g=st.floats(1.0, 100.0),
+    length=st.floats(1e-2, 1e2),
+)
+def test_random_compass_runs_are_defined(q, qd, tol, ratio, slope, g, length):
+    prm = stress.scaled_compass(CompassParams.goswami(), length, g / 9.8).replace(
+        mass_hip=5.0 * ratio, slope=slope
+    )
+    t0 = time.perf_counter()
+    sol = simulate("compass", prm, [*q, *qd], n_strides=3, rtol=tol, atol=tol)
+    assert time.perf_counter() - t0 < 5.0
+    assert isinstance(sol.status, Status)
+    if sol.success:
+        assert np.all(np.isfinite(sol.x)) and math.isfinite(sol.t)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    q=st.tuples(_angle, _angle, _angle),
+    qd=st.tuples(_rate, _rate, _rate),
+    tol=_tol,
+    ratio=st.floats(1e-2, 1e2),
+    slope=st.floats(0.0, 0.5),
+    g=st.floats(1.0, 100.0),
+)
+def test_random_kneed_runs_are_defined(q, qd, tol, ratio, slope, g):
+    prm = KneedParams.hsu_chen().replace(mass_hip=0.5 * ratio, slope=slope, g=g)
+    t0 = time.perf_counter()
+    sol = simulate("kneed", prm, [*q, *qd], n_strides=3, rtol=tol, atol=tol)
+    assert time.perf_counter() - t0 < 5.0
+    assert isinstance(sol.status, Status)
+    if sol.success:
+        assert np.all(np.isfinite(sol.x)) and math.isfinite(sol.t)
+
+
+# ---------------------------------------------------------------------- tolerance sweep
+
+
+@pytest.fixture(scope="module")
+def sweeps():
+    return {m: stress.tolerance_sweep(m) for m in ("compass", "kneed")}
+
+
+@pytest.mark.parametrize("model", ["compass", "kneed"])
+def test_stride_error_falls_with_tolerance(sweeps, model):
+    rows, info = sweeps[model]
+    err = np.array([r["err"] for r in rows])
+    tol = np.array([r["rtol"] for r in rows])
+    assert all(r["status"] == "COMPLETED" for r in rows)
+    assert np.all(err <= 10 * tol + 1e-13)
+    # monotone within noise: never worse than the error two decades looser
+    assert np.all(err[2:] <= err[:-2])
+    if model == "compass":
+        # the reference agrees with scipy's DOP853 at rtol = atol = 1e-13
+        assert info["scipy_state_diff"] < 1e-12
+
+
+def test_error_estimate_bounds_true_error_compass(sweeps):
+    rows, _ = sweeps["compass"]
+    for r in rows:
+        assert r["estimate"] >= r["err"], r
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="Solution.error_estimate (sum of local error norms * rtol) is 0.42x the true "
+    "kneed-stride error at rtol = atol = 1e-6 (3.8e-6 true, 1.6e-6 estimated); it is "
+    "documented only as a rough indicator",
+)
+def test_error_estimate_bounds_true_error_kneed(sweeps):
+    rows, _ = sweeps["kneed"]
+    for r in rows:
+        assert r["estimate"] >= r["err"], r
