@@ -65,12 +65,6 @@ def test_100k_strides_from_t0_zero_each_chunk(model):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="with accumulated time (t reaches 7.3e4 s after 1e5 compass strides) event "
-    "times are resolved to a few ulps of t (1.5e-11 s there) and the state drifts to "
-    "1.3e-9 from the fixed point; restarting t at 0 per chunk stays at ~1e-12",
-)
 def test_100k_compass_strides_with_accumulated_time():
     r = stress.long_run("compass", 100_000, chunk=1000)
     assert r["max_dev"] < 1e-9
@@ -133,12 +127,6 @@ def test_guard_zero_at_start_moving_into_fire_side_waits_for_next_crossing():
     assert_allclose(sol.t, 2 * math.pi, rtol=0, atol=1e-9)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="a phase starting with a guard within GUARD_TOL = 1e-10 of zero on its pre-fire "
-    "side and moving into it is disarmed, so the crossing 5e-11 s later is missed and the "
-    "event fires a whole period later",
-)
 def test_guard_just_above_zero_at_start_fires():
     c = 0.5
     u0 = c - 0.5 * GUARD_TOL
@@ -163,13 +151,6 @@ KNEE_AND_HEEL = np.array(
 )
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="knee lock and heel strike at (numerically) the same instant: the outcome "
-    "depends on rtol -- TRIPPED when the foot guard's root lands a few 1e-15 s before the "
-    "knee's (no window in the trip check), COMPLETED when the knee fires first within the "
-    "reset's 1e-12*L height window, FELL_FORWARD at rtol=1e-10 (next test)",
-)
 def test_simultaneous_knee_lock_and_heel_strike_is_a_stride():
     prm = KneedParams.hsu_chen()
     outcomes = {}
@@ -179,13 +160,6 @@ def test_simultaneous_knee_lock_and_heel_strike_is_a_stride():
     assert set(outcomes.values()) == {"COMPLETED"}, outcomes
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="knee lock fires 1e-11 s before heel strike; after the reset the foot is "
-    "8.8e-12 m above the ground, outside the reset's combined-impact window (1e-12*L) but "
-    "inside GUARD_TOL (1e-10), so the heel-strike guard starts disarmed, the foot passes "
-    "through the ground and the walker FELL_FORWARD",
-)
 def test_knee_lock_just_before_heel_strike_does_not_walk_through_ground():
     sol = simulate("kneed", KneedParams.hsu_chen(), KNEE_AND_HEEL, rtol=1e-10, atol=1e-10)
     assert sol.status == Status.COMPLETED

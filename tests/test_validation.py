@@ -1,7 +1,5 @@
 """Bad input everywhere public: each raises ValueError/TypeError naming the argument, before
 any work; the CLI turns it into one ``walker: error: ...`` line and exit status 2.
-
-Tests marked ``xfail(strict=True)`` pin input that is not yet rejected as it should be.
 """
 
 import numpy as np
@@ -182,7 +180,9 @@ CASES = [
     ),
     (
         "hybrid_solve p nan",
-        lambda prm, x, P, fp: hybrid_solve(P.model.system, x, np.full(8, np.nan)),
+        lambda prm, x, P, fp: hybrid_solve(
+            P.model.system, x, np.full(P.params.as_array().size, np.nan)
+        ),
         ValueError,
         "`p` must be finite",
     ),
@@ -447,70 +447,42 @@ def test_corrupted_hdf5_raises(tmp_path):
         storage.read(bad)
 
 
-# ------------------------------------------------------- not yet rejected (xfail, strict)
+# ------------------------------------- rejected before any work (were strict xfails)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="StrideMap.__post_init__ does not validate `rtol`; "
-    "the error comes only on the first call",
-)
 def test_stride_map_rejects_negative_rtol_at_construction(setup):
     with pytest.raises(ValueError, match="`rtol` must be positive"):
         StrideMap("compass", setup[0], rtol=-1.0)
 
 
-@pytest.mark.xfail(strict=True, reason="StrideMap.__post_init__ does not validate `t_max`")
 def test_stride_map_rejects_negative_t_max_at_construction(setup):
     with pytest.raises(ValueError, match="`t_max` must be"):
         StrideMap("compass", setup[0], t_max=-1.0)
 
 
-@pytest.mark.xfail(strict=True, reason="StrideMap.__post_init__ does not validate `method`")
 def test_stride_map_rejects_unknown_method_at_construction(setup):
     with pytest.raises(ValueError, match="`method` must be one of"):
         StrideMap("compass", setup[0], method="foo")
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="StrideMap.__call__ with a NaN `z` raises from "
-    "hybrid_solve, naming the lifted state `x0` instead of `z`",
-)
 def test_stride_map_call_nan_names_z(setup):
     with pytest.raises(ValueError, match="`z`"):
         setup[2](NAN3)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="StrideMap.__call__(n_strides=0) raises about "
-    "`t_max` (t_max * 0 <= t0), not `n_strides`",
-)
 def test_stride_map_call_zero_strides_names_n_strides(setup):
     with pytest.raises(ValueError, match="`n_strides`"):
         setup[2](setup[3].section, n_strides=0)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="hybrid_solve does not check the length of `p`: a "
-    "compass system run with 3 parameters instead of 8 reads past the array "
-    "inside compiled code and returns a Solution",
-)
 def test_hybrid_solve_rejects_short_parameter_vector(setup):
     prm, x, P, fp = setup
     with pytest.raises(ValueError, match="`p`"):
         hybrid_solve(P.model.system, x, np.zeros(3))
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="a non-numeric `x0` raises numpy's 'could not convert "
-    "string to float', which does not name `x0`",
-)
 def test_simulate_string_x0_names_x0(setup):
-    with pytest.raises(ValueError, match="`x0`"):
+    with pytest.raises(TypeError, match="`x0`"):
         simulate("compass", setup[0], "abcd")
 
 

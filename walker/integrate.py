@@ -38,13 +38,22 @@ Arming: at the start of every phase segment a guard is armed only if its value l
 ``GUARD_TOL`` on its pre-fire side (``g > GUARD_TOL`` for direction -1, ``g < -GUARD_TOL`` for
 +1, ``|g| > GUARD_TOL`` for 0).  A disarmed guard arms once it has been seen strictly beyond
 ``GUARD_TOL`` on the pre-fire side at a step end or interior point.  A post-impact state that
-sits on a guard therefore never fires at once.  A guard whose crossing was ignored
+sits on a guard therefore never fires at once.  Exception: a guard that starts within
+``GUARD_TOL`` of zero but strictly on its pre-fire side *and moving toward firing* (its rate
+along the vector field, probed by one extra guard evaluation) is armed at once, so a state a
+hair above the ground and falling into it still sees the crossing.  A guard whose crossing was ignored
 (``EVENT_IGNORE``) is disarmed in the same way; the search continues in the rest of the same
 step, so a scuff followed by a heel strike inside one step is handled.  In the step that ends
 at ``t_max``, an armed guard that reaches ``0 < u <= GUARD_TOL`` (pre-fire side, within the
 tolerance) at ``t_max`` counts as firing at ``t_max``.
 
 The reset receives ``x_new`` pre-filled with the pre-event state and ``impulse`` zeroed.
+
+Time: the kernel integrates each phase segment in a local time starting at 0 and keeps the
+absolute time as a compensated sum of segment durations, so after 1e5 strides event times
+are still resolved to rounding of the stride, not of the elapsed time.  The ``t`` passed to
+the model functions is this local time since the last applied event (every walker model is
+autonomous); ``Solution.t``, event and sample times are absolute.
 
 References
 ----------
@@ -90,7 +99,14 @@ from walker.status import (
     Status,
 )
 
-__all__ = ["GUARD_TOL", "HybridSystem", "METHODS", "OUTPUTS", "hybrid_solve"]
+__all__ = [
+    "GUARD_TOL",
+    "HybridSystem",
+    "METHODS",
+    "OUTPUTS",
+    "check_solver_settings",
+    "hybrid_solve",
+]
 
 GUARD_TOL = 1e-10
 """Absolute guard tolerance used for arming (see the module docstring)."""
@@ -251,6 +267,9 @@ class HybridSystem:
     directions : ndarray of int64, shape (n_phases, n_guards)
     phase_names : tuple of str, length n_phases
     guard_names : tuple of str, length n_guards
+    n_params : int or None
+        length of the parameter vector the functions index; when given, ``hybrid_solve``
+        rejects a ``p`` of another length (compiled code does not check bounds).
     """
 
     name: str
@@ -265,6 +284,7 @@ class HybridSystem:
     directions: np.ndarray
     phase_names: tuple[str, ...]
     guard_names: tuple[str, ...]
+    n_params: int | None = None
 
     def __post_init__(self):
         for name, low in (("n_x", 1), ("n_phases", 1), ("n_guards", 0), ("n_impulse", 1)):
@@ -682,9 +702,50 @@ def _init_arming(directions, phase, g, armed):
         armed[i] = _pre_side(directions[phase, i], g[i])
 
 
+@njit(cache=True)
+def _arm_approaching(guards, directions, phase, t, x, f, p, g, armed, xbuf, gbuf):
+    """Arm a guard that starts within GUARD_TOL of zero, strictly on its pre-fire side, and
+    is moving toward firing (its rate along ``f``, probed by one guard evaluation).
+
+    A post-impact state sits on a guard moving away from it and stays disarmed; a state a
+    hair above the ground and moving into it must still see the crossing.
+    """
+    probed = False
+    eps = 1e-9
+    for i in range(g.shape[0]):
+        if armed[i] or abs(g[i]) > GUARD_TOL or g[i] == 0.0:
+            continue
+        if not probed:
+            for k in range(x.shape[0]):
+                xbuf[k] = x[k] + eps * f[k]
+            guards(phase, t, xbuf, p, gbuf)
+            probed = True
+        rate = gbuf[i] - g[i]
+        d = directions[phase, i]
+        if d <= 0 and g[i] > 0.0 and rate < 0.0:
+            armed[i] = True
+        elif d >= 0 and g[i] < 0.0 and rate > 0.0:
+            armed[i] = True
+
+
 # =============================================================================================
 # The kernel: one call = one whole run
 # =============================================================================================
+
+
+@njit(cache=True)
+def _two_sum(hi, lo, x):
+    """Add ``x`` to the compensated sum ``hi + lo`` (Knuth's two-sum)."""
+    s = hi + x
+    bp = s - hi
+    err = (hi - (s - bp)) + (x - bp)
+    return s, lo + err
+
+
+@njit(cache=True)
+def _local(t_abs, t_off, t_off_c):
+    """Absolute time -> local time of the current segment."""
+    return (t_abs - t_off) - t_off_c
 
 
 @njit(cache=True)
@@ -817,10 +878,16 @@ def _kernel(
     err_sum = 0.0
     status = _RUNNING
 
-    t = t0
+    # Time is kept as a compensated absolute offset (at the start of the current segment)
+    # plus a local time from 0: event times stay resolved to ~1e-16 of a stride even after
+    # 1e5 strides, where absolute times lose 1e-11 s to rounding.
+    t_off = t0
+    t_off_c = 0.0
+    t = 0.0
+    t_end = t_max - t0
     phase = phase0
     if output == OUTPUT_FULL:
-        r_t[0] = t
+        r_t[0] = t_off
         r_x[0] = z[:n_x]
         r_ph[0] = phase
         n_rec = 1
@@ -831,9 +898,10 @@ def _kernel(
     if n_guards > 0:
         guards(phase, t, z[:n_x], p, ga)
         _init_arming(directions, phase, ga, armed)
+        _arm_approaching(guards, directions, phase, t, z[:n_x], f0, p, ga, armed, xbuf, gbuf)
     if adaptive:
         if first_step > 0.0:
-            h = min(first_step, max_step, t_max - t)
+            h = min(first_step, max_step, t_end - t)
         else:
             h = _initial_step(
                 rhs,
@@ -850,7 +918,7 @@ def _kernel(
                 rtol,
                 atol,
                 max_step,
-                t_max - t,
+                t_end - t,
                 tmp,
                 f1,
             )
@@ -862,7 +930,7 @@ def _kernel(
     m_sub = n_interior + 1
 
     while status == _RUNNING:
-        if t >= t_max:
+        if t >= t_end:
             status = _COMPLETED if n_strides == 0 else _NO_EVENT
             break
         if n_steps + n_rej >= max_steps:
@@ -870,8 +938,8 @@ def _kernel(
             break
         h = min(h, max_step)
         last = False
-        if t + 1.01 * h >= t_max:
-            h = t_max - t
+        if t + 1.01 * h >= t_end:
+            h = t_end - t
             last = True
         min_step = 10.0 * np.spacing(abs(t))
         if adaptive and h < min_step:
@@ -882,7 +950,7 @@ def _kernel(
         n_rhs += _rk_stages(
             rhs, jac, want_jac, J, phase, t, z, h, p, n_x, A, C, B, n_stages, K, y_new, tmp
         )
-        t_new = t_max if last else t + h
+        t_new = t_end if last else t + h
         err = 0.0
         if adaptive:
             for i in range(n_z):
@@ -1008,8 +1076,8 @@ def _kernel(
                         armed[i] = _pre_side(directions[phase, i], ga[i])
                 continue
             # samples up to and including the event time come from the pre-event segment
-            while n_samp < n_samp_total and sample_times[n_samp] <= best_t:
-                _dense_eval(kind, Q, z, (sample_times[n_samp] - t) / h, n_x, s_x[n_samp])
+            while n_samp < n_samp_total and _local(sample_times[n_samp], t_off, t_off_c) <= best_t:
+                _dense_eval(kind, Q, z, (_local(sample_times[n_samp], t_off, t_off_c) - t) / h, n_x, s_x[n_samp])
                 s_ph[n_samp] = phase
                 n_samp += 1
             if store_events:
@@ -1021,7 +1089,7 @@ def _kernel(
                 ev_xm = _grow2f(ev_xm, n_log)
                 ev_xp = _grow2f(ev_xp, n_log)
                 ev_imp = _grow2f(ev_imp, n_log)
-                ev_t[n_log - 1] = best_t
+                ev_t[n_log - 1] = t_off + (best_t + t_off_c)
                 ev_g[n_log - 1] = best_i
                 ev_pb[n_log - 1] = phase
                 ev_xm[n_log - 1] = zev[:n_x]
@@ -1043,7 +1111,7 @@ def _kernel(
                     r_t = _grow1f(r_t, n_rec)
                     r_x = _grow2f(r_x, n_rec)
                     r_ph = _grow1i(r_ph, n_rec)
-                    r_t[n_rec - 1] = t
+                    r_t[n_rec - 1] = t_off + (t + t_off_c)
                     r_x[n_rec - 1] = z[:n_x]
                     r_ph[n_rec - 1] = phase
                 event_applied = True
@@ -1117,13 +1185,17 @@ def _kernel(
                 r_t = _grow1f(r_t, n_rec)
                 r_x = _grow2f(r_x, n_rec)
                 r_ph = _grow1i(r_ph, n_rec)
-                r_t[n_rec - 2] = t
+                r_t[n_rec - 2] = t_off + (t + t_off_c)
                 r_x[n_rec - 2] = zev[:n_x]
                 r_ph[n_rec - 2] = phase_before
-                r_t[n_rec - 1] = t
+                r_t[n_rec - 1] = t_off + (t + t_off_c)
                 r_x[n_rec - 1] = z[:n_x]
                 r_ph[n_rec - 1] = phase
             event_applied = True
+            # re-base local time at the event
+            t_off, t_off_c = _two_sum(t_off, t_off_c, t)
+            t = 0.0
+            t_end = (t_max - t_off) - t_off_c
             if finishing:
                 status = _COMPLETED
                 break
@@ -1132,8 +1204,9 @@ def _kernel(
             n_rhs += 1
             guards(phase, t, z[:n_x], p, ga)
             _init_arming(directions, phase, ga, armed)
+            _arm_approaching(guards, directions, phase, t, z[:n_x], f0, p, ga, armed, xbuf, gbuf)
             if adaptive:
-                if t < t_max:
+                if t < t_end:
                     h = _initial_step(
                         rhs,
                         jac,
@@ -1149,7 +1222,7 @@ def _kernel(
                         rtol,
                         atol,
                         max_step,
-                        t_max - t,
+                        t_end - t,
                         tmp,
                         f1,
                     )
@@ -1161,14 +1234,14 @@ def _kernel(
         if event_applied:
             continue
         # ---- no event in this step: samples, record, advance ----
-        if n_samp < n_samp_total and sample_times[n_samp] <= t_new:
+        if n_samp < n_samp_total and _local(sample_times[n_samp], t_off, t_off_c) <= t_new:
             if not dense_ready:
                 n_rhs += _dense_prepare(
                     kind, rhs, jac, want_jac, J, phase, t, z, y_new, h, p, n_x, K, Q, tmp
                 )
                 dense_ready = True
-            while n_samp < n_samp_total and sample_times[n_samp] <= t_new:
-                _dense_eval(kind, Q, z, (sample_times[n_samp] - t) / h, n_x, s_x[n_samp])
+            while n_samp < n_samp_total and _local(sample_times[n_samp], t_off, t_off_c) <= t_new:
+                _dense_eval(kind, Q, z, (_local(sample_times[n_samp], t_off, t_off_c) - t) / h, n_x, s_x[n_samp])
                 s_ph[n_samp] = phase
                 n_samp += 1
         t = t_new
@@ -1180,7 +1253,7 @@ def _kernel(
             r_t = _grow1f(r_t, n_rec)
             r_x = _grow2f(r_x, n_rec)
             r_ph = _grow1i(r_ph, n_rec)
-            r_t[n_rec - 1] = t
+            r_t[n_rec - 1] = t_off + (t + t_off_c)
             r_x[n_rec - 1] = z[:n_x]
             r_ph[n_rec - 1] = phase
         if last:
@@ -1203,7 +1276,7 @@ def _kernel(
     counters = np.array([n_steps, n_rej, n_rhs, n_events, n_done, n_log, n_samp, n_rec])
     return (
         int(status),
-        t,
+        t_off + (t + t_off_c),
         z[:n_x].copy(),
         phase,
         counters,
@@ -1250,6 +1323,35 @@ def _check_int(name, value, low):
     if value < low:
         raise ValueError(f"`{name}` must be >= {low}, got {value}")
     return int(value)
+
+
+def check_solver_settings(method, rtol, atol, first_step, *, fixed_step=False):
+    """Validate solver settings; returns ``(method_code, rtol, atol, first_step, adaptive)``.
+
+    Raises ``ValueError``/``TypeError`` naming the argument: an unknown ``method``,
+    non-positive or non-finite ``rtol``/``atol``, ``rtol < 100 eps``, a fixed-step method
+    without a positive ``first_step``.  ``first_step`` is returned as 0.0 when it is None
+    (adaptive methods choose their own).
+    """
+    if method not in METHODS:
+        raise ValueError(f"`method` must be one of {sorted(METHODS)}, got {method!r}")
+    code = METHODS[method]
+    rtol = _check_positive_float("rtol", rtol)
+    atol = _check_positive_float("atol", atol)
+    if rtol < 100 * np.finfo(float).eps:
+        raise ValueError(
+            f"`rtol` must be >= 100 * eps = {100 * np.finfo(float).eps:.3g}, got {rtol!r}"
+        )
+    adaptive = code in (METHOD_DOP853, METHOD_DP5) and not fixed_step
+    if first_step is None:
+        if not adaptive:
+            raise ValueError(
+                f"`first_step` must be given (a positive fixed step) for method {method!r}"
+            )
+        first_step = 0.0
+    else:
+        first_step = _check_positive_float("first_step", first_step)
+    return code, rtol, atol, first_step, adaptive
 
 
 def hybrid_solve(
@@ -1394,6 +1496,11 @@ def _solve(
     p = np.ascontiguousarray(p, dtype=np.float64)
     if p.ndim != 1:
         raise ValueError(f"`p` must be 1-D, got shape {p.shape}")
+    if system.n_params is not None and p.shape[0] != system.n_params:
+        raise ValueError(
+            f"`p` must have length {system.n_params} for system `{system.name}`, "
+            f"got {p.shape[0]}"
+        )
     if not np.all(np.isfinite(p)):
         raise ValueError("All parameters `p` must be finite.")
     phase0 = _check_int("phase0", phase0, 0)
@@ -1409,24 +1516,9 @@ def _solve(
     if not t_max > t0:
         raise ValueError(f"`t_max` must be greater than `t0` = {t0}, got {t_max}")
     n_strides = _check_int("n_strides", n_strides, 0)
-    if method not in METHODS:
-        raise ValueError(f"`method` must be one of {sorted(METHODS)}, got {method!r}")
-    code = METHODS[method]
-    rtol = _check_positive_float("rtol", rtol)
-    atol = _check_positive_float("atol", atol)
-    if rtol < 100 * np.finfo(float).eps:
-        raise ValueError(
-            f"`rtol` must be >= 100 * eps = {100 * np.finfo(float).eps:.3g}, got {rtol!r}"
-        )
-    adaptive = code in (METHOD_DOP853, METHOD_DP5) and not fixed_step
-    if first_step is None:
-        if not adaptive:
-            raise ValueError(
-                f"`first_step` must be given (a positive fixed step) for method {method!r}"
-            )
-        first_step = 0.0
-    else:
-        first_step = _check_positive_float("first_step", first_step)
+    code, rtol, atol, first_step, adaptive = check_solver_settings(
+        method, rtol, atol, first_step, fixed_step=fixed_step
+    )
     max_step = _check_positive_float("max_step", max_step, allow_inf=True)
     max_steps = _check_int("max_steps", max_steps, 1)
     if output not in OUTPUTS:

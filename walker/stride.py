@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from walker.integrate import hybrid_solve
+from walker.integrate import check_solver_settings, hybrid_solve
 from walker.models import WalkerModel, get_model
 from walker.results import MapResult, Solution
 from walker.status import Status
@@ -82,6 +82,7 @@ def simulate(
     ('COMPLETED', 3)
     """
     model = _resolve(model, params)
+    x0 = _as_vector(x0, "x0")
     if t_max is None:
         t_max = 20.0 * max(1, n_strides) * _time_scale(params)
     return hybrid_solve(
@@ -100,6 +101,14 @@ def simulate(
         jacobian=jacobian,
         max_steps=max_steps,
     )
+
+
+def _as_vector(value, name: str) -> np.ndarray:
+    """``value`` as a float array, or a TypeError naming the argument."""
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"`{name}` must be an array of real numbers, got {value!r}") from None
 
 
 def _time_scale(params) -> float:
@@ -156,8 +165,13 @@ class StrideMap:
                 f"`parameter_name` must be a parameter of `{model.name}` "
                 f"({', '.join(model.params_class.names())}), got {self.parameter_name!r}"
             )
+        check_solver_settings(self.method, self.rtol, self.atol, self.first_step)
         if self.t_max is None:
             object.__setattr__(self, "t_max", 20.0 * _time_scale(self.params))
+        if isinstance(self.t_max, bool) or not isinstance(self.t_max, int | float | np.floating):
+            raise TypeError(f"`t_max` must be a real number, got {type(self.t_max).__name__}")
+        if not (np.isfinite(self.t_max) and self.t_max > 0):
+            raise ValueError(f"`t_max` must be positive and finite, got {self.t_max!r}")
         # project() is a selection of state components: its matrix, for Jacobians.
         p = self.params.as_array()
         proj = np.array([model.project(e, p) for e in np.eye(model.n_x)]).T
@@ -204,9 +218,15 @@ class StrideMap:
         """
         if parameter is not None and parameter != self.parameter_value:
             return self.with_parameter(parameter)(z, jacobian=jacobian, n_strides=n_strides)
-        z = np.asarray(z, dtype=float)
+        z = _as_vector(z, "z")
         if z.shape != (self.n_z,):
             raise ValueError(f"`z` must have shape ({self.n_z},), got {z.shape}")
+        if not np.all(np.isfinite(z)):
+            raise ValueError("All components of the section point `z` must be finite.")
+        if isinstance(n_strides, bool) or not isinstance(n_strides, int | np.integer):
+            raise TypeError(f"`n_strides` must be an int, got {type(n_strides).__name__}")
+        if n_strides < 1:
+            raise ValueError(f"`n_strides` must be >= 1, got {n_strides}")
         p = self.params.as_array()
         x0 = self.model.lift(z, p)
         sol = hybrid_solve(

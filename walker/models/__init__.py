@@ -25,7 +25,7 @@ import numpy as np
 
 __all__ = ["WalkerModel", "get_model", "MODEL_NAMES"]
 
-MODEL_NAMES = ("simplest", "compass", "kneed", "double_pendulum", "three_link")
+MODEL_NAMES = ("simplest", "compass", "kneed", "double_pendulum", "three_link", "five_link")
 
 
 @dataclass(frozen=True, eq=False)
@@ -65,6 +65,7 @@ class WalkerModel:
             directions=m.DIRECTIONS,
             phase_names=m.PHASE_NAMES,
             guard_names=m.GUARD_NAMES,
+            n_params=len(self.params_class.names()),
         )
 
     @property

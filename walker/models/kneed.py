@@ -45,6 +45,9 @@ STATE_NAMES = ("q1", "q2", "q3", "qd1", "qd2", "qd3")
 SECTION_NAMES = ("q1", "qd1", "qd2")
 
 _I_R, _I_SLOPE = 11, 12
+# |q3 - q2| [rad] below which a foot contact with the knee unlocked counts as simultaneous
+# with knee lock rather than as a trip.
+_KNEE_TOL = 1e-6
 _NONPHYSICAL = int(Status.NONPHYSICAL_IMPACT)
 _FELL_FORWARD = int(Status.FELL_FORWARD)
 _FELL_BACKWARD = int(Status.FELL_BACKWARD)
@@ -209,27 +212,38 @@ def heel_strike(x, p, x_new, impulse):
 
 
 @njit(cache=True)
+def _knee_lock_event(phase, x, p, x_new, impulse):
+    """Knee lock, followed in the same reset by heel strike when the swing foot is on the
+    ground (within the integrator's guard tolerance), ahead and moving down."""
+    status = knee_lock(x, p, x_new, impulse)
+    if status != 0:
+        return EVENT_TERMINAL, phase, status
+    shank, thigh = _lengths(p)
+    height, ahead = swing_foot(x_new, p)
+    touching = height <= 1e-9 * (shank + thigh)
+    if touching and ahead > 0.0 and _swing_foot_rate(x_new, p) < 0:
+        locked = x_new.copy()
+        status = heel_strike(locked, p, x_new, impulse)
+        if status != 0:
+            return EVENT_TERMINAL, 1, status
+        return EVENT_STRIDE, 0, 0
+    return EVENT_CONTINUE, 1, 0
+
+
+@njit(cache=True)
 def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
     impulse[0] = 0.0
     impulse[1] = 0.0
     if k == 0:
-        status = knee_lock(x, p, x_new, impulse)
-        if status != 0:
-            return EVENT_TERMINAL, phase, status
-        shank, thigh = _lengths(p)
-        height, ahead = swing_foot(x_new, p)
-        touching = abs(height) <= 1e-12 * (shank + thigh)
-        if touching and ahead > 0.0 and _swing_foot_rate(x_new, p) < 0:
-            locked = x_new.copy()
-            status = heel_strike(locked, p, x_new, impulse)
-            if status != 0:
-                return EVENT_TERMINAL, 1, status
-            return EVENT_STRIDE, 0, 0
-        return EVENT_CONTINUE, 1, 0
+        return _knee_lock_event(phase, x, p, x_new, impulse)
     if k == 1:
         if phase == 0:
+            if abs(x[2] - x[1]) <= _KNEE_TOL and swing_foot(x, p)[1] > 0.0:
+                # The knee locks at this same instant (its guard a hair behind): knee lock
+                # first, then heel strike, as when the knee-lock guard fires first.
+                return _knee_lock_event(phase, x, p, x_new, impulse)
             return EVENT_TERMINAL, phase, _TRIPPED
         if swing_foot(x, p)[1] <= 0.0:
             return EVENT_IGNORE, phase, 0
