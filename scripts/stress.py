@@ -219,7 +219,7 @@ def long_run(
 # constant, so the error estimate is exactly zero and the step grows by the maximal factor.
 
 
-@njit(cache=True)
+@njit(cache=False)  # loaded by file path in tests: a disk cache cannot find this module again
 def _osc_rhs(phase, t, x, p, dx):
     if phase == 0:
         dx[0] = x[1]
@@ -229,7 +229,7 @@ def _osc_rhs(phase, t, x, p, dx):
         dx[1] = 0.0
 
 
-@njit(cache=True)
+@njit(cache=False)
 def _osc_jac(phase, t, x, p, J):
     J[:, :] = 0.0
     if phase == 0:
@@ -237,7 +237,7 @@ def _osc_jac(phase, t, x, p, J):
         J[1, 0] = -1.0
 
 
-@njit(cache=True)
+@njit(cache=False)
 def _osc_guards(phase, t, x, p, g):
     if phase == 0:
         g[0] = p[0] - x[0]
@@ -246,7 +246,7 @@ def _osc_guards(phase, t, x, p, g):
         g[0] = d * d - p[0] * p[0]
 
 
-@njit(cache=True)
+@njit(cache=False)
 def _osc_reset(phase, k, t, x, p, x_new, impulse):
     return EVENT_STRIDE, phase, 0
 

@@ -27,7 +27,12 @@ phase segment (at ``t0`` and after each applied event) is chosen by Hairer's rul
 Events
 ------
 After each accepted step the guards are evaluated at ``n_interior`` equally spaced interior
-points of the dense output and at the step end.  In the first sub-interval where an *armed*
+points of the dense output and at the step end.  A tangency check adds one more point: an
+armed guard that is on its pre-fire side at both ends of the step, with its rate (probed
+along the vector field) pointing toward firing at the start and away at the end, has an
+extremum inside; it is found on the dense output by golden-section search, and when the
+guard has crossed zero there that instant is sampled too, so a dip much shorter than the
+step (a grazing foot) is not walked through.  In the first sub-interval where an *armed*
 guard changes sign in its direction, the root is bracketed and located on the interpolant
 (Illinois regula falsi with bisection safeguard) until the bracket is a few ulps of ``t``
 wide; the event time is the bracket end on the fired side and the event state is the dense
@@ -41,11 +46,11 @@ Arming: at the start of every phase segment a guard is armed only if its value l
 sits on a guard therefore never fires at once.  Exception: a guard that starts within
 ``GUARD_TOL`` of zero but strictly on its pre-fire side *and moving toward firing* (its rate
 along the vector field, probed by one extra guard evaluation) is armed at once, so a state a
-hair above the ground and falling into it still sees the crossing.  A guard whose crossing was ignored
-(``EVENT_IGNORE``) is disarmed in the same way; the search continues in the rest of the same
-step, so a scuff followed by a heel strike inside one step is handled.  In the step that ends
-at ``t_max``, an armed guard that reaches ``0 < u <= GUARD_TOL`` (pre-fire side, within the
-tolerance) at ``t_max`` counts as firing at ``t_max``.
+hair above the ground and falling into it still sees the crossing.  A guard whose crossing
+was ignored (``EVENT_IGNORE``) is disarmed in the same way; the search continues in the rest
+of the same step, so a scuff followed by a heel strike inside one step is handled.  In the
+step that ends at ``t_max``, an armed guard that reaches ``0 < u <= GUARD_TOL`` (pre-fire
+side, within the tolerance) at ``t_max`` counts as firing at ``t_max``.
 
 The reset receives ``x_new`` pre-filled with the pre-event state and ``impulse`` zeroed.
 
@@ -734,6 +739,60 @@ def _arm_approaching(guards, directions, phase, t, x, f, p, g, armed, xbuf, gbuf
 
 
 @njit(cache=True)
+def _guard_rates(guards, phase, t, x, f, p, g, rate, xbuf):
+    """Signs of the guards' rates along ``f``: ``g(x + eps f) - g(x)`` (one guard call)."""
+    eps = 1e-9
+    for k in range(x.shape[0]):
+        xbuf[k] = x[k] + eps * f[k]
+    guards(phase, t, xbuf, p, rate)
+    for i in range(g.shape[0]):
+        rate[i] = rate[i] - g[i]
+
+
+@njit(cache=True)
+def _dip(guards, kind, Q, y_old, phase, t, p, n_x, xbuf, gbuf, i, sign):
+    """Extremum of guard ``i`` over the step on the dense output (golden section).
+
+    ``sign`` = +1 looks for a minimum, -1 for a maximum.  Returns ``(theta, value)`` with
+    ``theta`` in (0, 1) the step fraction of the extremum found and ``value`` the guard
+    there.
+    """
+    invphi = 0.6180339887498949
+    a = 0.0
+    b = 1.0
+    c = b - invphi * (b - a)
+    d = a + invphi * (b - a)
+    _dense_eval(kind, Q, y_old, c, n_x, xbuf)
+    guards(phase, t, xbuf, p, gbuf)
+    fc = sign * gbuf[i]
+    _dense_eval(kind, Q, y_old, d, n_x, xbuf)
+    guards(phase, t, xbuf, p, gbuf)
+    fd = sign * gbuf[i]
+    for _ in range(40):
+        if fc < fd:
+            b = d
+            d = c
+            fd = fc
+            c = b - invphi * (b - a)
+            _dense_eval(kind, Q, y_old, c, n_x, xbuf)
+            guards(phase, t, xbuf, p, gbuf)
+            fc = sign * gbuf[i]
+        else:
+            a = c
+            c = d
+            fc = fd
+            d = a + invphi * (b - a)
+            _dense_eval(kind, Q, y_old, d, n_x, xbuf)
+            guards(phase, t, xbuf, p, gbuf)
+            fd = sign * gbuf[i]
+        if fc <= 0.0 or fd <= 0.0:
+            break
+    if fc < fd:
+        return c, sign * fc
+    return d, sign * fd
+
+
+@njit(cache=True)
 def _two_sum(hi, lo, x):
     """Add ``x`` to the compensated sum ``hi + lo`` (Knuth's two-sum)."""
     s = hi + x
@@ -842,6 +901,10 @@ def _kernel(
     gb = np.empty(n_guards)
     gbuf = np.empty(n_guards)
     armed = np.zeros(n_guards, dtype=np.bool_)
+    rate_a = np.zeros(n_guards)
+    rate_b = np.zeros(n_guards)
+    g_end = np.empty(n_guards)
+    frac = np.empty(n_interior + 2)
     fm = np.empty(n_x)
     fp = np.empty(n_x)
     jac_out = np.zeros((n_x, n_x))
@@ -899,6 +962,7 @@ def _kernel(
         guards(phase, t, z[:n_x], p, ga)
         _init_arming(directions, phase, ga, armed)
         _arm_approaching(guards, directions, phase, t, z[:n_x], f0, p, ga, armed, xbuf, gbuf)
+        _guard_rates(guards, phase, t, z[:n_x], f0, p, ga, rate_a, xbuf)
     if adaptive:
         if first_step > 0.0:
             h = min(first_step, max_step, t_end - t)
@@ -981,8 +1045,44 @@ def _kernel(
         event_applied = False
         ta = t
         j = 1
-        while n_guards > 0 and j <= m_sub:
-            if j == m_sub:
+        n_frac = m_sub
+        for q in range(m_sub):
+            frac[q] = (q + 1.0) / m_sub
+        if n_guards > 0:
+            # Tangency check: an armed guard on its pre-fire side at both ends of the step
+            # whose rate turns from "toward firing" to "away" has an extremum inside; find
+            # it on the dense output, and if the guard dips past zero there, sample that
+            # instant too, so a dip far shorter than the step is not walked through.
+            guards(phase, t_new, y_new[:n_x], p, g_end)
+            _guard_rates(guards, phase, t_new, y_new[:n_x], K[n_stages], p, g_end, rate_b, xbuf)
+            theta_dip = 2.0
+            for i in range(n_guards):
+                if not armed[i]:
+                    continue
+                d = directions[phase, i]
+                sign = 0.0
+                if d <= 0 and ga[i] > 0.0 and g_end[i] > 0.0 and rate_a[i] < 0.0 < rate_b[i]:
+                    sign = 1.0
+                elif d >= 0 and ga[i] < 0.0 and g_end[i] < 0.0 and rate_a[i] > 0.0 > rate_b[i]:
+                    sign = -1.0
+                if sign != 0.0:
+                    if not dense_ready:
+                        n_rhs += _dense_prepare(
+                            kind, rhs, jac, want_jac, J, phase, t, z, y_new, h, p, n_x, K, Q, tmp
+                        )
+                        dense_ready = True
+                    th, gv = _dip(guards, kind, Q, z, phase, t, p, n_x, xbuf, gbuf, i, sign)
+                    if sign * gv <= 0.0 and th < theta_dip:
+                        theta_dip = th
+            if theta_dip < 1.0:
+                q = n_frac
+                while q > 0 and frac[q - 1] > theta_dip:
+                    frac[q] = frac[q - 1]
+                    q -= 1
+                frac[q] = theta_dip
+                n_frac += 1
+        while n_guards > 0 and j <= n_frac:
+            if j == n_frac:
                 tb = t_new
                 guards(phase, tb, y_new[:n_x], p, gb)
             else:
@@ -991,8 +1091,8 @@ def _kernel(
                         kind, rhs, jac, want_jac, J, phase, t, z, y_new, h, p, n_x, K, Q, tmp
                     )
                     dense_ready = True
-                tb = t + (j / m_sub) * h
-                _dense_eval(kind, Q, z, j / m_sub, n_x, xbuf)
+                tb = t + frac[j - 1] * h
+                _dense_eval(kind, Q, z, frac[j - 1], n_x, xbuf)
                 guards(phase, tb, xbuf, p, gb)
             best_t = np.inf
             best_i = -1
@@ -1039,7 +1139,7 @@ def _kernel(
                         ga[i],
                         gb[i],
                     )
-                elif last and j == m_sub:
+                elif last and j == n_frac:
                     # at t_max: an armed guard within GUARD_TOL on its pre-fire side fires.
                     u = gb[i] if ga[i] > 0.0 else -gb[i]
                     if abs(ga[i]) > 0.0 and 0.0 < u <= GUARD_TOL:
@@ -1077,7 +1177,14 @@ def _kernel(
                 continue
             # samples up to and including the event time come from the pre-event segment
             while n_samp < n_samp_total and _local(sample_times[n_samp], t_off, t_off_c) <= best_t:
-                _dense_eval(kind, Q, z, (_local(sample_times[n_samp], t_off, t_off_c) - t) / h, n_x, s_x[n_samp])
+                _dense_eval(
+                    kind,
+                    Q,
+                    z,
+                    (_local(sample_times[n_samp], t_off, t_off_c) - t) / h,
+                    n_x,
+                    s_x[n_samp],
+                )
                 s_ph[n_samp] = phase
                 n_samp += 1
             if store_events:
@@ -1205,6 +1312,7 @@ def _kernel(
             guards(phase, t, z[:n_x], p, ga)
             _init_arming(directions, phase, ga, armed)
             _arm_approaching(guards, directions, phase, t, z[:n_x], f0, p, ga, armed, xbuf, gbuf)
+            _guard_rates(guards, phase, t, z[:n_x], f0, p, ga, rate_a, xbuf)
             if adaptive:
                 if t < t_end:
                     h = _initial_step(
@@ -1241,13 +1349,22 @@ def _kernel(
                 )
                 dense_ready = True
             while n_samp < n_samp_total and _local(sample_times[n_samp], t_off, t_off_c) <= t_new:
-                _dense_eval(kind, Q, z, (_local(sample_times[n_samp], t_off, t_off_c) - t) / h, n_x, s_x[n_samp])
+                _dense_eval(
+                    kind,
+                    Q,
+                    z,
+                    (_local(sample_times[n_samp], t_off, t_off_c) - t) / h,
+                    n_x,
+                    s_x[n_samp],
+                )
                 s_ph[n_samp] = phase
                 n_samp += 1
         t = t_new
         for i in range(n_z):
             z[i] = y_new[i]
             f0[i] = K[n_stages, i]
+        for i in range(n_guards):
+            rate_a[i] = rate_b[i]
         if output == OUTPUT_FULL:
             n_rec += 1
             r_t = _grow1f(r_t, n_rec)
@@ -1498,8 +1615,7 @@ def _solve(
         raise ValueError(f"`p` must be 1-D, got shape {p.shape}")
     if system.n_params is not None and p.shape[0] != system.n_params:
         raise ValueError(
-            f"`p` must have length {system.n_params} for system `{system.name}`, "
-            f"got {p.shape[0]}"
+            f"`p` must have length {system.n_params} for system `{system.name}`, got {p.shape[0]}"
         )
     if not np.all(np.isfinite(p)):
         raise ValueError("All parameters `p` must be finite.")
