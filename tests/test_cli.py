@@ -1,0 +1,131 @@
+"""The ``walker`` command line, end to end on the shipped scenes."""
+
+import json
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+from walker.cli import main
+from walker.storage import read
+
+
+def _run(capsys, argv):
+    code = main(argv)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_find_json_has_the_documented_fields(capsys):
+    code, out, _ = _run(capsys, ["find", "gaits/compass_goswami.toml", "--json"])
+    assert code == 0
+    rec = json.loads(out)
+    for key in ("status", "section", "state", "step_time", "multipliers", "parameters"):
+        assert key in rec
+    assert rec["status"] == "COMPLETED"
+    # Spong et al. (2007): [0.2187, -0.3234, -1.0918, -0.3772]
+    assert_allclose(rec["state"], [0.2187, -0.3234, -1.0918, -0.3772], atol=5e-5)
+    assert len(rec["multipliers"]) == 3 and all(len(m) == 2 for m in rec["multipliers"])
+    assert rec["parameters"]["slope"] == pytest.approx(np.deg2rad(3.0))
+
+
+def test_find_kneed_prints_the_gait(capsys):
+    code, out, _ = _run(capsys, ["find", "gaits/kneed_hsu.toml"])
+    assert code == 0
+    assert "COMPLETED" in out and "Floquet multipliers" in out and "qd3" in out
+
+
+def test_find_with_set_changes_the_parameter(capsys):
+    code, out, _ = _run(
+        capsys, ["find", "gaits/simplest_garcia.toml", "--set", "slope=0.012", "--json"]
+    )
+    rec = json.loads(out)
+    assert code == 0 and rec["parameters"]["slope"] == 0.012
+    assert rec["section"][0] > 0.2003  # a steeper slope gives a longer step
+
+
+def test_run_then_plot(tmp_path, capsys):
+    out = tmp_path / "kneed.h5"
+    code, text, _ = _run(
+        capsys,
+        [
+            "run",
+            "gaits/kneed_hsu.toml",
+            "--strides",
+            "2",
+            "--out",
+            str(out),
+            "--sample-rate",
+            "200",
+        ],
+    )
+    assert code == 0 and out.exists()
+    sol, prov = read(out)
+    assert sol.n_strides == 2 and prov["model"] == "kneed" and prov["kernel_hash"]
+    assert sol.samples is not None and len(sol.samples) > 100
+    figs = tmp_path / "figs"
+    figs.mkdir()
+    code, text, _ = _run(capsys, ["plot", str(out), "--out", str(figs)])
+    assert code == 0
+    names = sorted(p.name for p in figs.iterdir())
+    assert "kneed_angles.png" in names and "kneed_walk.gif" in names
+
+
+def test_continue_reports_the_period_doubling(capsys):
+    code, out, _ = _run(
+        capsys,
+        ["continue", "gaits/simplest_garcia.toml", "--param", "slope", "--to", "0.017", "--json"],
+    )
+    assert code == 0
+    rec = json.loads(out)
+    kinds = [b["kind"] for b in rec["bifurcations"]]
+    assert "period_doubling" in kinds
+    pd = rec["bifurcations"][kinds.index("period_doubling")]
+    assert abs(pd["parameter_value"] - 0.01509) < 1e-4
+
+
+def test_basin_writes_a_map(tmp_path, capsys):
+    out = tmp_path / "basin.h5"
+    code, text, _ = _run(
+        capsys,
+        [
+            "basin",
+            "gaits/compass_goswami.toml",
+            "--n",
+            "6",
+            "--strides",
+            "30",
+            "--jobs",
+            "1",
+            "--quiet",
+            "--axes",
+            "1,2",
+            "--out",
+            str(out),
+        ],
+    )
+    assert code == 0
+    bm, _ = read(out)
+    assert bm.outcome.shape == (6, 6)
+
+
+def test_sweep_writes_a_table(tmp_path, capsys):
+    out = tmp_path / "sweep.h5"
+    code, text, _ = _run(
+        capsys,
+        [
+            "sweep",
+            "gaits/compass_goswami.toml",
+            "--param",
+            "slope=0.04:0.06:4",
+            "--jobs",
+            "1",
+            "--quiet",
+            "--out",
+            str(out),
+        ],
+    )
+    assert code == 0
+    table, _ = read(out)
+    assert table.points.shape == (4, 1)
+    assert np.all(table.columns["status"] == 0)
