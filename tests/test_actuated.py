@@ -73,10 +73,15 @@ def test_make_invariant_gives_hybrid_invariance():
     assert np.max(np.abs(np.r_[h0, lfh0])) > 1e-2
     for seed_shift in range(3):
         free = RNG.uniform(-0.2, 0.2, 3)
-        design = hzd.make_invariant(raw.replace(
-            theta_minus=-0.3 - 0.05 * seed_shift, slope=0.01 * seed_shift,
-            bezier_swing_2=free[0], bezier_swing_3=0.3 + free[1], bezier_torso_2=free[2],
-        ))
+        design = hzd.make_invariant(
+            raw.replace(
+                theta_minus=-0.3 - 0.05 * seed_shift,
+                slope=0.01 * seed_shift,
+                bezier_swing_2=free[0],
+                bezier_swing_3=0.3 + free[1],
+                bezier_torso_2=free[2],
+            )
+        )
         h, lfh = hzd.invariance_residual(design)
         assert_allclose(h, 0.0, rtol=0, atol=1e-12)
         assert_allclose(lfh, 0.0, rtol=0, atol=1e-12)
@@ -180,8 +185,12 @@ def test_ground_reaction_is_newton_law():
     # Fourth-order central differences along the flow of the exact momentum (a nested
     # finite difference here loses ~5e-5 to rounding).
     h = 1e-3
-    dp = (-momentum(x + 2 * h * dx) + 8 * momentum(x + h * dx) - 8 * momentum(x - h * dx)
-          + momentum(x - 2 * h * dx)) / (12 * h)
+    dp = (
+        -momentum(x + 2 * h * dx)
+        + 8 * momentum(x + h * dx)
+        - 8 * momentum(x - h * dx)
+        + momentum(x - 2 * h * dx)
+    ) / (12 * h)
     F = np.array(TL.ground_reaction(x, p))
     assert_allclose(F, dp + np.array([0.0, masses.sum() * P.g]), rtol=1e-5, atol=1e-4)
 
@@ -191,8 +200,12 @@ def _com_velocity(q, qd, P):
     r = P.leg_length
     du = lambda a, w: w * np.array([-math.cos(a), -math.sin(a)])  # noqa: E731
     hip = r * du(q[0], qd[0])
-    vel = [hip, hip - P.com_to_hip * du(q[0], qd[0]), hip - P.com_to_hip * du(q[1], qd[1]),
-           hip + P.torso_length * du(q[2], qd[2])]
+    vel = [
+        hip,
+        hip - P.com_to_hip * du(q[0], qd[0]),
+        hip - P.com_to_hip * du(q[1], qd[1]),
+        hip + P.torso_length * du(q[2], qd[2]),
+    ]
     m = np.array([P.mass_hip, P.mass_leg, P.mass_leg, P.mass_torso])
     return (m[:, None] * np.array(vel)).sum(axis=0) / m.sum()
 
@@ -201,8 +214,12 @@ def _com(q, P):
     r = P.leg_length
     u = lambda a: np.array([-math.sin(a), math.cos(a)])  # noqa: E731
     hip = r * u(q[0])
-    pts = [hip, hip - P.com_to_hip * u(q[0]), hip - P.com_to_hip * u(q[1]),
-           hip + P.torso_length * u(q[2])]
+    pts = [
+        hip,
+        hip - P.com_to_hip * u(q[0]),
+        hip - P.com_to_hip * u(q[1]),
+        hip + P.torso_length * u(q[2]),
+    ]
     m = np.array([P.mass_hip, P.mass_leg, P.mass_leg, P.mass_torso])
     return (m[:, None] * np.array(pts)).sum(axis=0) / m.sum()
 
@@ -239,12 +256,24 @@ def test_joint_pd_walks_some_strides():
 # -------------------------------------------------------------------------- compass limit
 def _massless_torso(compass: CompassParams, **extra):
     return ThreeLinkParams(
-        mass_hip=compass.mass_hip, mass_leg=compass.mass_leg, mass_torso=0.0,
-        com_from_foot=compass.com_from_foot, com_to_hip=compass.com_to_hip, torso_length=0.5,
-        inertia_leg=compass.inertia_leg, inertia_torso=0.0, slope=compass.slope, g=compass.g,
-        friction=1.0, controller=0.0, kp=0.0, kd=0.0, torque_limit=1.0, theta_plus=0.2,
-        theta_minus=-0.2, **{f"bezier_{o}_{k}": 0.0 for o in ("swing", "torso")
-                             for k in range(5)},
+        mass_hip=compass.mass_hip,
+        mass_leg=compass.mass_leg,
+        mass_torso=0.0,
+        com_from_foot=compass.com_from_foot,
+        com_to_hip=compass.com_to_hip,
+        torso_length=0.5,
+        inertia_leg=compass.inertia_leg,
+        inertia_torso=0.0,
+        slope=compass.slope,
+        g=compass.g,
+        friction=1.0,
+        controller=0.0,
+        kp=0.0,
+        kd=0.0,
+        torque_limit=1.0,
+        theta_plus=0.2,
+        theta_minus=-0.2,
+        **{f"bezier_{o}_{k}": 0.0 for o in ("swing", "torso") for k in range(5)},
     ).replace(**extra)
 
 
@@ -277,8 +306,7 @@ def test_torso_rotor_reproduces_passive_compass_gait():
     compass = CompassParams.goswami()
     fp = find_fixed_point(StrideMap("compass", compass), np.array([0.2187, -1.0918, -0.3772]))
     assert fp.success
-    P = _massless_torso(compass, mass_hip=6.0, mass_torso=4.0, torso_length=0.0,
-                        inertia_torso=0.3)
+    P = _massless_torso(compass, mass_hip=6.0, mass_torso=4.0, torso_length=0.0, inertia_torso=0.3)
     x0 = np.r_[fp.state[0], fp.state[1], 0.0, fp.state[2], fp.state[3], 0.0, 0.0, 0.0]
     sol = simulate("three_link", P, x0, n_strides=1)
     assert sol.status == Status.COMPLETED
@@ -295,8 +323,14 @@ def test_newton_euler_reproduces_applied_torques():
     P = grizzle()
     p = P.as_array()
     times = np.linspace(0.0, full_orbit().step_time * 0.999, 9)
-    sol = simulate("three_link", P, full_orbit().state + np.r_[0, 0, 0.02, 0.1, 0, 0, 0, 0],
-                   n_strides=1, output="samples", sample_times=times)
+    sol = simulate(
+        "three_link",
+        P,
+        full_orbit().state + np.r_[0, 0, 0.02, 0.1, 0, 0, 0, 0],
+        n_strides=1,
+        output="samples",
+        sample_times=times,
+    )
     a, b, r, L = P.com_from_foot, P.com_to_hip, P.leg_length, P.torso_length
     m_st, c_st = P.mass_leg + P.mass_hip, (P.mass_leg * a + P.mass_hip * r)
     c_st /= m_st
@@ -316,10 +350,12 @@ def test_newton_euler_reproduces_applied_torques():
         # hip->swing foot, hip->torso)
         phi_a = [q[0] + math.pi / 2, q[1] - q[0] - math.pi]
         phi_b = [q[0] + math.pi / 2, q[2] - q[0]]
-        tau_a = inverse_dynamics(chain_a, phi_a, [qd[0], qd[1] - qd[0]],
-                                 [qdd[0], qdd[1] - qdd[0]], gravity=gravity)
-        tau_b = inverse_dynamics(chain_b, phi_b, [qd[0], qd[2] - qd[0]],
-                                 [qdd[0], qdd[2] - qdd[0]], gravity=gravity)
+        tau_a = inverse_dynamics(
+            chain_a, phi_a, [qd[0], qd[1] - qd[0]], [qdd[0], qdd[1] - qdd[0]], gravity=gravity
+        )
+        tau_b = inverse_dynamics(
+            chain_b, phi_b, [qd[0], qd[2] - qd[0]], [qdd[0], qdd[2] - qdd[0]], gravity=gravity
+        )
         tau_c = inverse_dynamics(chain_c, phi_b[:1], qd[:1], qdd[:1], gravity=gravity)
         assert_allclose(tau_a[1], u[1], rtol=0, atol=1e-10)
         assert_allclose(tau_b[1], -u[0] - u[1], rtol=0, atol=1e-10)

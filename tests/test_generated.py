@@ -59,9 +59,24 @@ PARAM_RANGES = {
     "com_2": (-0.5, 1.5),
     "leg_length": (0.5, 2.0),
     "torso_length": (0.1, 1.0),  # hip to the torso's mass (L = 0.5 in Westervelt et al.)
+    # five-link walker (RABBIT, Westervelt, Grizzle, Koditschek 2003, Table I: M_f = 6.8,
+    # M_t = 3.2 kg, I_f = 0.47, I_t = 0.20 kg m^2, L_f = L_t = 0.4, p_MT = 0.24, p_Mf = 0.11,
+    # p_Mt = 0.24 m)
+    "mass_femur": (0.5, 10.0),
+    "mass_tibia": (0.5, 5.0),
+    "inertia_femur": (0.0, 1.0),
+    "inertia_tibia": (0.0, 0.5),
+    "length_femur": (0.2, 0.6),
+    "length_tibia": (0.2, 0.6),
+    "com_torso": (0.0, 0.6),
+    "com_femur": (0.0, 0.4),
+    "com_tibia": (0.0, 0.4),
     # slope [rad], gravity [m/s^2]
     "slope": (-0.2, 0.2),
     "g": (1.0, 20.0),
+    # viscous joint damping [N m s/rad]
+    "damping_hip": (0.0, 5.0),
+    "damping_knee": (0.0, 1.0),
 }
 
 GENERATED_DIR = Path(importlib.import_module("walker._generated").__file__).parent

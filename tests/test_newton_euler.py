@@ -183,7 +183,7 @@ def _kneed_chain(pv) -> tuple[PlanarChain, float]:
     :mod:`walker.symbolic.models`), so a fore-aft offset ``off * w`` has ``y = -off`` on the
     stance leg and ``+off`` on the swing leg.
     """
-    (m_h, m_t, m_s, a1, b1, a2, b2, I_t, I_s, off_t, off_s, R, slope, g) = pv
+    (m_h, m_t, m_s, a1, b1, a2, b2, I_t, I_s, off_t, off_s, R, slope, g) = pv[:14]
     assert R == 0.0, "the chain has a pinned point foot"
     l_s, l_t = a1 + b1, a2 + b2
     L = l_s + l_t
@@ -227,6 +227,8 @@ def _random_kneed_params(rng, offsets: bool) -> np.ndarray:
             0.0,  # foot_radius: point feet
             rng.uniform(-0.3, 0.3),  # slope (does not enter with point feet)
             rng.uniform(1.0, 20.0),  # g
+            0.0,  # damping_hip (D, C, g do not depend on it)
+            0.0,  # damping_knee
         ]
     )
 

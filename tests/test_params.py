@@ -13,6 +13,7 @@ from walker.params import (
     STATE_NAMES,
     CompassParams,
     DoublePendulumParams,
+    FiveLinkParams,
     KneedParams,
     SimplestParams,
     ThreeLinkParams,
@@ -44,6 +45,7 @@ def test_field_order_is_the_kernel_order():
         "foot_radius",
         "slope",
         "g",
+        "damping_hip",
     )
     assert KneedParams.names() == (
         "mass_hip",
@@ -60,6 +62,8 @@ def test_field_order_is_the_kernel_order():
         "foot_radius",
         "slope",
         "g",
+        "damping_hip",
+        "damping_knee",
     )
     assert DoublePendulumParams.names() == (
         "mass_1",
@@ -106,14 +110,24 @@ def test_units_and_docs_follow_the_canonical_order():
     assert units["g"] == "m/s^2"
     assert tuple(KneedParams.docs()) == KneedParams.names()
     assert CompassParams.bounds()["mass_hip"] == (0.0, None)
-    assert CompassParams.n_params() == 8
+    assert units["damping_hip"] == "N m s/rad"
+    assert KneedParams.units()["damping_knee"] == "N m s/rad"
+    assert CompassParams.n_params() == 9
 
 
 def test_registry_tables_agree():
     assert set(PARAMS) == set(STATE_NAMES) == set(HAS_EVENTS)
-    assert list(PARAMS) == ["simplest", "compass", "kneed", "double_pendulum", "three_link"]
-    assert [len(STATE_NAMES[m]) for m in PARAMS] == [4, 4, 6, 4, 8]
-    assert [HAS_EVENTS[m] for m in PARAMS] == [True, True, True, False, True]
+    assert list(PARAMS) == [
+        "simplest",
+        "compass",
+        "kneed",
+        "double_pendulum",
+        "three_link",
+        "five_link",
+    ]
+    assert [len(STATE_NAMES[m]) for m in PARAMS] == [4, 4, 6, 4, 8, 12]
+    assert [HAS_EVENTS[m] for m in PARAMS] == [True, True, True, False, True, True]
+    assert STATE_NAMES["five_link"][10:] == ("actuator_work", "saturated_time")
     assert STATE_NAMES["three_link"][6:] == ("actuator_work", "saturated_time")
     for model, cls in PARAMS.items():
         assert cls.MODEL == model
@@ -124,7 +138,7 @@ def test_params_class_unknown_model():
     with pytest.raises(
         ValueError,
         match=r"^unknown model 'biped'; valid models: simplest, compass, kneed, double_pendulum, "
-        r"three_link$",
+        r"three_link, five_link$",
     ):
         params_class("biped")
 
@@ -268,6 +282,7 @@ BOUND_CASES = [
     (CompassParams, "foot_radius", -0.1, r"`foot_radius` must be >= 0 \[m\], got -0.1"),
     (CompassParams, "slope", math.pi / 2, r"`slope` must be in \(-pi/2, pi/2\) \[rad\]"),
     (CompassParams, "g", -9.8, r"`g` must be > 0 \[m/s\^2\], got -9.8"),
+    (CompassParams, "damping_hip", -0.1, r"`damping_hip` must be >= 0 \[N m s/rad\], got -0.1"),
     (KneedParams, "mass_hip", 0.0, r"`mass_hip` must be > 0 \[kg\]"),
     (KneedParams, "mass_thigh", -0.5, r"`mass_thigh` must be > 0 \[kg\], got -0.5"),
     (KneedParams, "mass_shank", 0.0, r"`mass_shank` must be > 0 \[kg\]"),
@@ -280,6 +295,8 @@ BOUND_CASES = [
     (KneedParams, "foot_radius", -0.01, r"`foot_radius` must be >= 0 \[m\], got -0.01"),
     (KneedParams, "slope", -2.0, r"`slope` must be in \(-pi/2, pi/2\) \[rad\], got -2.0"),
     (KneedParams, "g", 0.0, r"`g` must be > 0 \[m/s\^2\]"),
+    (KneedParams, "damping_hip", -1.0, r"`damping_hip` must be >= 0 \[N m s/rad\]"),
+    (KneedParams, "damping_knee", -1.0, r"`damping_knee` must be >= 0 \[N m s/rad\]"),
     (DoublePendulumParams, "mass_1", 0.0, r"`mass_1` must be > 0 \[kg\]"),
     (DoublePendulumParams, "mass_2", -1.0, r"`mass_2` must be > 0 \[kg\]"),
     (DoublePendulumParams, "inertia_1", -1.0, r"`inertia_1` must be >= 0 \[kg m\^2\]"),
@@ -305,6 +322,24 @@ BOUND_CASES = [
     (ThreeLinkParams, "kp", -1.0, r"`kp` must be >= 0 \[1/s\^2\], got -1.0"),
     (ThreeLinkParams, "kd", -1.0, r"`kd` must be >= 0 \[1/s\], got -1.0"),
     (ThreeLinkParams, "torque_limit", 0.0, r"`torque_limit` must be > 0 \[N m\], got 0.0"),
+    (FiveLinkParams, "mass_torso", 0.0, r"`mass_torso` must be > 0 \[kg\], got 0.0"),
+    (FiveLinkParams, "mass_femur", -1.0, r"`mass_femur` must be > 0 \[kg\], got -1.0"),
+    (FiveLinkParams, "mass_tibia", 0.0, r"`mass_tibia` must be > 0 \[kg\], got 0.0"),
+    (FiveLinkParams, "length_femur", 0.0, r"`length_femur` must be > 0 \[m\], got 0.0"),
+    (FiveLinkParams, "length_tibia", -0.4, r"`length_tibia` must be > 0 \[m\], got -0.4"),
+    (FiveLinkParams, "com_torso", -0.1, r"`com_torso` must be >= 0 \[m\], got -0.1"),
+    (FiveLinkParams, "com_femur", -0.1, r"`com_femur` must be >= 0 \[m\], got -0.1"),
+    (FiveLinkParams, "com_tibia", -0.1, r"`com_tibia` must be >= 0 \[m\], got -0.1"),
+    (FiveLinkParams, "inertia_torso", -1.0, r"`inertia_torso` must be >= 0 \[kg m\^2\]"),
+    (FiveLinkParams, "inertia_femur", -1.0, r"`inertia_femur` must be >= 0 \[kg m\^2\]"),
+    (FiveLinkParams, "inertia_tibia", -1.0, r"`inertia_tibia` must be >= 0 \[kg m\^2\]"),
+    (FiveLinkParams, "slope", -1.6, r"`slope` must be in \(-pi/2, pi/2\) \[rad\], got -1.6"),
+    (FiveLinkParams, "g", 0.0, r"`g` must be > 0 \[m/s\^2\], got 0.0"),
+    (FiveLinkParams, "friction", 0.0, r"`friction` must be > 0 \[1\], got 0.0"),
+    (FiveLinkParams, "controller", 3.0, r"`controller` must be in \[0, 2\] \[1\], got 3.0"),
+    (FiveLinkParams, "kp", -1.0, r"`kp` must be >= 0 \[1/s\^2\], got -1.0"),
+    (FiveLinkParams, "kd", -1.0, r"`kd` must be >= 0 \[1/s\], got -1.0"),
+    (FiveLinkParams, "torque_limit", 0.0, r"`torque_limit` must be > 0 \[N m\], got 0.0"),
 ]
 
 # Fields without bounds: angles and offsets, limited only by cross-field rules (or not at all).
@@ -314,6 +349,13 @@ UNBOUNDED = {
     (ThreeLinkParams, "theta_plus"),
     (ThreeLinkParams, "theta_minus"),
     *((ThreeLinkParams, f"bezier_{out}_{k}") for out in ("swing", "torso") for k in range(5)),
+    (FiveLinkParams, "theta_plus"),
+    (FiveLinkParams, "theta_minus"),
+    *(
+        (FiveLinkParams, f"bezier_{out}_{k}")
+        for out in ("knee", "torso", "femur", "tibia")
+        for k in range(5)
+    ),
 }
 
 
@@ -446,11 +488,11 @@ def test_from_array_validates():
     good = CompassParams.goswami().as_array()
     with pytest.raises(
         ValueError,
-        match=r"`p` must have shape \(8,\) for CompassParams .*"
-        r"got shape \(7,\)",
+        match=r"`p` must have shape \(9,\) for CompassParams .*"
+        r"got shape \(8,\)",
     ):
-        CompassParams.from_array(good[:7])
-    with pytest.raises(ValueError, match=r"`p` must have shape \(8,\).*got shape \(1, 8\)"):
+        CompassParams.from_array(good[:8])  # a vector from before joint damping was added
+    with pytest.raises(ValueError, match=r"`p` must have shape \(9,\).*got shape \(1, 9\)"):
         CompassParams.from_array(good[None, :])
     with pytest.raises(TypeError, match=r"`p` must hold real numbers, got dtype complex128"):
         CompassParams.from_array(good.astype(complex))

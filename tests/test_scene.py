@@ -21,9 +21,16 @@ SHIPPED = [
     "kneed_mcgeer_roundfoot",
     "double_pendulum",
     "three_link_grizzle",
+    "five_link_hzd",
 ]
 # scenes carrying walker's own high-accuracy [reference] values
-WITH_REFERENCE = ["simplest_garcia", "compass_goswami", "kneed_hsu", "three_link_grizzle"]
+WITH_REFERENCE = [
+    "simplest_garcia",
+    "compass_goswami",
+    "kneed_hsu",
+    "three_link_grizzle",
+    "five_link_hzd",
+]
 
 COMPASS_FULL = """\
 mass_hip = 10.0
@@ -32,6 +39,7 @@ com_from_foot = 0.5
 com_to_hip = 0.5
 inertia_leg = 0.0
 foot_radius = 0.0
+damping_hip = 0.0
 slope = 0.05
 g = 9.8"""
 
@@ -279,7 +287,7 @@ def test_scene_table_errors(tmp_path):
     _fails(
         tmp_path,
         r"\[scene\] `model` must be one of simplest, compass, kneed, "
-        r"double_pendulum, three_link, got 'biped'$",
+        r"double_pendulum, three_link, five_link, got 'biped'$",
         {"scene": 'model = "biped"'},
     )
     _fails(
@@ -293,7 +301,8 @@ def test_scene_table_errors(tmp_path):
 def test_parameters_table_errors(tmp_path):
     _fails(
         tmp_path,
-        r"\[parameters\] unknown key `mas_hip`; valid keys: mass_hip, mass_leg, .*, g, preset$",
+        r"\[parameters\] unknown key `mas_hip`; valid keys: mass_hip, mass_leg, .*, g, "
+        r"damping_hip, preset$",
         {"parameters": COMPASS_FULL + "\nmas_hip = 1.0"},
     )
     _fails(

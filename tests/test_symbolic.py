@@ -42,7 +42,10 @@ FAMILY = {
 
 # ----------------------------------------------------------------------------- helpers
 def random_params(family: str, rng, *, foot_radius=None, inertia=True, offsets=True):
-    """A random, physically sensible parameter vector in the canonical order of ``family``."""
+    """A random, physically sensible parameter vector in the canonical order of ``family``.
+
+    Joint damping (the last entries of the compass and kneed vectors) is zero: these tests
+    check the conservative part (D, C, g); tests/test_damping.py checks the forcing."""
     if family == "compass":
         a, b = rng.uniform(0.2, 1.0, 2)
         R = rng.uniform(0.0, 0.3) if foot_radius is None else foot_radius
@@ -56,6 +59,7 @@ def random_params(family: str, rng, *, foot_radius=None, inertia=True, offsets=T
                 R,
                 rng.uniform(-0.2, 0.2),  # slope
                 rng.uniform(1.0, 20.0),  # g
+                0.0,  # damping_hip
             ]
         )
     if family == "kneed":
@@ -77,6 +81,8 @@ def random_params(family: str, rng, *, foot_radius=None, inertia=True, offsets=T
                 R,
                 rng.uniform(-0.2, 0.2),  # slope
                 rng.uniform(1.0, 20.0),  # g
+                0.0,  # damping_hip
+                0.0,  # damping_knee
             ]
         )
     if family == "double_pendulum":
@@ -297,7 +303,7 @@ def test_compass_matches_goswami(with_inertia):
     rng = np.random.default_rng(1996)
     for _ in range(N_STATES):
         p = random_params("compass", rng, foot_radius=0.0, inertia=with_inertia)
-        m_h, m, a, b, inertia, R, slope, g = p
+        m_h, m, a, b, inertia, R, slope, g = p[:8]
         q, qd = random_state(num.model, rng)
         D, C, G = goswami_compass(q, qd, m_h, m, a, b, g)
         D = D + inertia * np.eye(2)
@@ -324,7 +330,7 @@ def hsu_chen_kneed(q, qd, pv):
 
     Returns D3, C3, G3 for q of length 3, or D2, C2, G2 for length 2 (locked knee).
     """
-    (m_h, m_t, m_s, a1, b1, a2, b2, I_t, I_s, off_t, off_s, R, slope, g) = pv
+    (m_h, m_t, m_s, a1, b1, a2, b2, I_t, I_s, off_t, off_s, R, slope, g) = pv[:14]
     l_s, l_t = a1 + b1, a2 + b2
     L = l_s + l_t
     h11 = m_s * a1**2 + m_t * (l_s + a2) ** 2 + (m_h + m_s + m_t) * L**2
@@ -376,14 +382,14 @@ def lumped_compass_params(pv):
     """The compass gait whose legs carry the kneed walker's thigh + shank as one rigid body:
     mass m_t + m_s at the combined centre of mass (from the foot), inertia about it by the
     parallel-axis theorem."""
-    (m_h, m_t, m_s, a1, b1, a2, b2, I_t, I_s, off_t, off_s, R, slope, g) = pv
+    (m_h, m_t, m_s, a1, b1, a2, b2, I_t, I_s, off_t, off_s, R, slope, g) = pv[:14]
     assert off_t == 0 and off_s == 0, "the compass leg has no fore-aft offset"
     l_s = a1 + b1
     L = l_s + a2 + b2
     m = m_t + m_s
     a = (m_s * a1 + m_t * (l_s + a2)) / m
     inertia = I_s + I_t + m_s * (a1 - a) ** 2 + m_t * (l_s + a2 - a) ** 2
-    return np.array([m_h, m, a, L - a, inertia, R, slope, g])
+    return np.array([m_h, m, a, L - a, inertia, R, slope, g, pv[14]])  # same hip damping
 
 
 @pytest.mark.parametrize("foot_radius", [0.0, None], ids=["point_feet", "round_feet"])
@@ -416,7 +422,7 @@ def test_compass_with_vanishing_leg_mass_is_the_simplest_walker():
     beta = 1e-9
     for _ in range(N_STATES):
         slope, g, l = rng.uniform(-0.1, 0.1), rng.uniform(1, 10), rng.uniform(0.5, 2)
-        pc = np.array([1.0, beta, 0.0, l, 0.0, 0.0, slope, g])
+        pc = np.array([1.0, beta, 0.0, l, 0.0, 0.0, slope, g, 0.0])
         q, qd = rng.uniform(-1, 1, 2), rng.normal(0, 1, 2)
         qdd = compass.passive_accel(q, qd, pc)
         got = [qdd[0], qdd[0] - qdd[1]]

@@ -414,7 +414,7 @@ CASES = [
         "params from_array",
         lambda prm, x, P, fp: CompassParams.from_array(np.zeros(3)),
         ValueError,
-        r"`p` must have shape \(8,\)",
+        r"`p` must have shape \(9,\)",
     ),
     (
         "kneed params nan",

@@ -44,7 +44,7 @@ from walker.fixedpoint import (
     _validate_z,
     find_fixed_point,
 )
-from walker.results import Bifurcation, Branch, FixedPoint, OrbitDiagram
+from walker.results import Bifurcation, Branch, FixedPoint, MapResult, OrbitDiagram
 from walker.status import Status
 
 __all__ = ["continue_branch", "switch_to_period_two", "orbit_diagram"]
@@ -87,11 +87,52 @@ class _TrialFailed(Exception):
     """A trial point of bifurcation location did not converge (internal)."""
 
 
+class _BoundedMap:
+    """A section map whose evaluation at a parameter outside its allowed range returns a
+    ``PARAMETER_OUT_OF_RANGE`` status instead of raising: a continuation step that leaves
+    the range is an outcome, not an error."""
+
+    def __init__(self, inner):
+        self._inner = inner
+
+    def __getattr__(self, name):
+        return getattr(self._inner, name)
+
+    def __call__(self, z, *, jacobian=False, n_strides=1, parameter=None):
+        target = self._inner
+        if parameter is not None and parameter != self._inner.parameter_value:
+            try:
+                target = self._inner.with_parameter(parameter)
+            except ValueError:
+                n = np.asarray(z).shape[0]
+                return MapResult(
+                    Status.PARAMETER_OUT_OF_RANGE,
+                    np.full(n, np.nan),
+                    None,
+                    np.nan,
+                    np.full(n, np.nan),
+                )
+        return target(z, jacobian=jacobian, n_strides=n_strides)
+
+    def with_parameter(self, value):
+        return _BoundedMap(self._inner.with_parameter(value))
+
+
 def _parameter_derivative(ctx: _Context, z, mu):
-    """Central finite difference of ``P^k`` in the parameter: ``(P(mu+h) - P(mu-h)) / 2h``."""
+    """Finite difference of ``P^k`` in the parameter: central, ``(P(mu+h) - P(mu-h)) / 2h``,
+    or one-sided where ``mu -/+ h`` lies outside the parameter's allowed range."""
     h = ctx.parameter_step * max(1.0, abs(mu))
     rp = _map_value(ctx.section_map, z, ctx.period, mu + h)
     rm = _map_value(ctx.section_map, z, ctx.period, mu - h)
+    out = Status.PARAMETER_OUT_OF_RANGE
+    if rp.status == out or rm.status == out:
+        r0 = _map_value(ctx.section_map, z, ctx.period, mu)
+        if not r0.success:
+            return None, r0.status
+        if rm.status == out and rp.success:
+            return (rp.z - r0.z) / h, Status.COMPLETED
+        if rp.status == out and rm.success:
+            return (r0.z - rm.z) / h, Status.COMPLETED
     if not rp.success:
         return None, rp.status
     if not rm.success:
@@ -413,7 +454,9 @@ def continue_branch(
     step = min(max(step, min_step), max_step)
     direction = 1.0 if to > mu0 else -1.0
     name = section_map.parameter_name
-    ctx = _Context(section_map, period, tol, mode, fd_step, parameter_step, max_corrector_iter)
+    ctx = _Context(
+        _BoundedMap(section_map), period, tol, mode, fd_step, parameter_step, max_corrector_iter
+    )
 
     first = find_fixed_point(
         section_map, z0, period=period, tol=tol, jacobian=mode, fd_step=fd_step
@@ -673,7 +716,9 @@ def switch_to_period_two(
     v = np.real(vec[:, i])
     v /= np.linalg.norm(v)
 
-    ctx = _Context(section_map, 2 * period, tol, mode, fd_step, parameter_step, max_iter)
+    ctx = _Context(
+        _BoundedMap(section_map), 2 * period, tol, mode, fd_step, parameter_step, max_iter
+    )
     u = np.append(z_star + amplitude * v, mu_star)
     converged = False
     for _ in range(max_iter + 1):

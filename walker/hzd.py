@@ -1,12 +1,13 @@
-"""Hybrid zero dynamics (HZD) of the three-link walker under virtual constraints.
+"""Hybrid zero dynamics (HZD) of the actuated walkers under virtual constraints.
 
 With the outputs ``y = q[1:] - b(s(theta))`` of :mod:`walker.control` held at zero, the
 walker moves on the zero-dynamics surface ``Z = {y = 0, yd = 0}``: ``q = q_Z(theta) =
 (theta, b(s(theta)))`` and ``qd = sigma(theta) theta_dot`` with ``sigma = dq_Z/dtheta``.  Its
 motion is the two-dimensional zero dynamics in ``(theta, theta_dot)``, given by the
-unactuated row of the Lagrangian dynamics: ``beta = (1, 1, 1)`` annihilates the input map
-``B`` (``beta B = 0``), so ``beta (D qdd + h) = 0`` with ``qdd = sigma theta_ddot +
-sigma' theta_dot^2`` (Westervelt, Grizzle, Koditschek 2003 [1]_).
+unactuated row of the Lagrangian dynamics: ``beta`` annihilates the input map ``B``
+(``beta B = 0``; ``(1, 1, 1)`` for the three-link walker, ``(1, 0, 1, 1, 1)`` for the
+five-link walker: a rigid rotation about the stance foot), so ``beta (D qdd + h) = 0`` with
+``qdd = sigma theta_ddot + sigma' theta_dot^2`` (Westervelt, Grizzle, Koditschek 2003 [1]_).
 
 ``Z`` is *hybrid invariant* when the heel-strike impact maps ``S ∩ Z`` into ``Z``:
 ``h(Delta_q(q-)) = 0`` and ``L_f h(Delta(q-, qd-)) = 0`` [1]_.  Then the restricted Poincaré
@@ -17,9 +18,11 @@ form, ``zeta- = zeta+ - V(theta-)``, and the impact scales the momentum by a con
 ``delta_zero``, so ``rho(zeta) = delta_zero^2 (zeta - V(theta-))`` and the multiplier of its
 fixed point is ``delta_zero^2`` whatever the coordinates [1]_ (Theorem 3 / Corollary 2).
 
-Every function takes a :class:`walker.params.ThreeLinkParams` whose controller block holds
-the design.  The phase variable and the impact surface: a step ends when the stance angle
-reaches ``theta_minus``; :func:`make_invariant` places the swing foot on the ground there.
+Every function takes a :class:`walker.params.ThreeLinkParams` or
+:class:`walker.params.FiveLinkParams` whose controller block holds the design (the phase
+variable is the model's first coordinate, the outputs its other coordinates).  The impact
+surface: a step ends when the phase reaches ``theta_minus``; :func:`make_invariant` places the
+swing foot on the ground there.
 
 References
 ----------
@@ -35,10 +38,10 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from walker._generated import three_link as K
 from walker.control import BEZIER_DEGREE, bezier
+from walker.models import five_link as FL
 from walker.models import three_link as TL
-from walker.params import ThreeLinkParams
+from walker.params import FiveLinkParams, ThreeLinkParams
 from walker.status import Status
 
 __all__ = [
@@ -54,52 +57,78 @@ __all__ = [
 ]
 
 BETA = np.array([1.0, 1.0, 1.0])
-"""Annihilator of the input map: ``BETA @ B = 0``."""
+"""Annihilator of the three-link input map: ``BETA @ B = 0``."""
+BETA_FIVE_LINK = np.array([1.0, 0.0, 1.0, 1.0, 1.0])
+"""Annihilator of the five-link input map (``walker.models.five_link.B_MATRIX``)."""
+
+
+class _Model:
+    """What the HZD routines need of a model: its compiled module and kernels, ``beta``."""
+
+    def __init__(self, module, beta):
+        self.module = module
+        self.K = module.K
+        self.beta = beta
+        self.n = module.N_Q
+        self.offset = module.CONTROL_OFFSET
+
+
+_MODELS = {ThreeLinkParams: _Model(TL, BETA), FiveLinkParams: _Model(FL, BETA_FIVE_LINK)}
+
+
+def _model(params) -> _Model:
+    if type(params) not in _MODELS:
+        raise TypeError(
+            f"`params` must be a ThreeLinkParams or FiveLinkParams, got {type(params).__name__}"
+        )
+    return _MODELS[type(params)]
 
 
 def _check(params) -> np.ndarray:
-    if not isinstance(params, ThreeLinkParams):
-        raise TypeError(f"`params` must be a ThreeLinkParams, got {type(params).__name__}")
+    _model(params)
     return params.as_array()
 
 
-def _coefficients(p: np.ndarray) -> np.ndarray:
-    c = TL.CONTROL_OFFSET + 6
+def _coefficients(p: np.ndarray, mdl: _Model) -> np.ndarray:
+    c = mdl.offset + 6
     m1 = BEZIER_DEGREE + 1
-    return p[c : c + 2 * m1].reshape(2, m1)
+    return p[c : c + (mdl.n - 1) * m1].reshape(mdl.n - 1, m1)
 
 
-def surface(params: ThreeLinkParams, theta: float):
+def surface(params, theta: float):
     """The zero-dynamics surface at phase ``theta``.
 
     Parameters
     ----------
-    params : ThreeLinkParams
+    params : ThreeLinkParams or FiveLinkParams
     theta : float
-        stance angle [rad].
+        phase (the model's first coordinate) [rad].
 
     Returns
     -------
-    q : ndarray, shape (3,)
+    q : ndarray, shape (n_q,)
         ``q_Z(theta)`` [rad].
-    sigma : ndarray, shape (3,)
+    sigma : ndarray, shape (n_q,)
         ``dq_Z/dtheta``.
-    dsigma : ndarray, shape (3,)
+    dsigma : ndarray, shape (n_q,)
         ``d^2 q_Z/dtheta^2``.
     """
     p = _check(params)
-    return _surface(p, float(theta))
+    return _surface(p, float(theta), _model(params))
 
 
-def _surface(p, theta):
-    tp, tm = p[TL.CONTROL_OFFSET + 4], p[TL.CONTROL_OFFSET + 5]
+def _surface(p, theta, mdl):
+    tp, tm = p[mdl.offset + 4], p[mdl.offset + 5]
     ds = 1.0 / (tm - tp)
     s = (theta - tp) * ds
-    a = _coefficients(p)
-    q = np.array([theta, 0.0, 0.0])
-    sigma = np.array([1.0, 0.0, 0.0])
-    dsigma = np.zeros(3)
-    for i in range(2):
+    a = _coefficients(p, mdl)
+    n = mdl.n
+    q = np.zeros(n)
+    q[0] = theta
+    sigma = np.zeros(n)
+    sigma[0] = 1.0
+    dsigma = np.zeros(n)
+    for i in range(n - 1):
         b, b1, b2 = bezier(np.ascontiguousarray(a[i]), s)
         q[i + 1] = b
         sigma[i + 1] = b1 * ds
@@ -107,36 +136,36 @@ def _surface(p, theta):
     return q, sigma, dsigma
 
 
-def _accel(p, theta, theta_dot):
-    q, sigma, dsigma = _surface(p, theta)
-    D = np.empty((3, 3))
-    h = np.empty(3)
-    K.mass_matrix(q, p, D)
-    K.bias(q, sigma * theta_dot, p, h)
-    bD = BETA @ D
-    return -(bD @ dsigma * theta_dot**2 + BETA @ h) / (bD @ sigma)
+def _accel(p, theta, theta_dot, mdl):
+    q, sigma, dsigma = _surface(p, theta, mdl)
+    D = np.empty((mdl.n, mdl.n))
+    h = np.empty(mdl.n)
+    mdl.K.mass_matrix(q, p, D)
+    mdl.K.bias(q, sigma * theta_dot, p, h)
+    bD = mdl.beta @ D
+    return -(bD @ dsigma * theta_dot**2 + mdl.beta @ h) / (bD @ sigma)
 
 
-def zero_dynamics_accel(params: ThreeLinkParams, theta: float, theta_dot: float) -> float:
+def zero_dynamics_accel(params, theta: float, theta_dot: float) -> float:
     """``theta_ddot`` of the zero dynamics at ``(theta, theta_dot)`` [rad/s^2]."""
-    return float(_accel(_check(params), float(theta), float(theta_dot)))
+    return float(_accel(_check(params), float(theta), float(theta_dot), _model(params)))
 
 
-def _state(q, qd):
-    return np.concatenate([q, qd, [0.0, 0.0]])
+def _state(q, qd, mdl):
+    return np.concatenate([q, qd, np.zeros(mdl.module.N_X - 2 * mdl.n)])
 
 
-def _impact(p, theta_minus, theta_dot_minus):
+def _impact(p, theta_minus, theta_dot_minus, mdl):
     """Heel strike from the surface point at ``theta_minus``: (x_plus, impulse, status)."""
-    q, sigma, _ = _surface(p, theta_minus)
-    x = _state(q, sigma * theta_dot_minus)
+    q, sigma, _ = _surface(p, theta_minus, mdl)
+    x = _state(q, sigma * theta_dot_minus, mdl)
     x_new = x.copy()
     impulse = np.zeros(2)
-    status = TL.heel_strike(x, p, x_new, impulse)
+    status = mdl.module.heel_strike(x, p, x_new, impulse)
     return x_new, impulse, int(status)
 
 
-def invariance_residual(params: ThreeLinkParams) -> tuple[np.ndarray, np.ndarray]:
+def invariance_residual(params) -> tuple[np.ndarray, np.ndarray]:
     """How far the impact throws ``S ∩ Z`` off ``Z``.
 
     The pre-impact state is the surface point at ``theta_minus`` with ``theta_dot = -1``
@@ -144,23 +173,26 @@ def invariance_residual(params: ThreeLinkParams) -> tuple[np.ndarray, np.ndarray
 
     Returns
     -------
-    h_plus : ndarray, shape (2,)
+    h_plus : ndarray, shape (n_q - 1,)
         ``y`` just after the impact [rad]: ``h(Delta_q(q-))``.
-    lfh_plus : ndarray, shape (2,)
+    lfh_plus : ndarray, shape (n_q - 1,)
         ``yd`` just after the impact per unit ``theta_dot-`` [rad/s per rad/s].
     """
     p = _check(params)
-    tm = p[TL.CONTROL_OFFSET + 5]
-    x, _, _ = _impact(p, tm, -1.0)
-    q, sigma, _ = _surface(p, x[0])
-    return x[1:3] - q[1:], x[4:6] - sigma[1:] * x[3]
+    mdl = _model(params)
+    n = mdl.n
+    tm = p[mdl.offset + 5]
+    x, _, _ = _impact(p, tm, -1.0, mdl)
+    q, sigma, _ = _surface(p, x[0], mdl)
+    return x[1:n] - q[1:], x[n + 1 : 2 * n] - sigma[1:] * x[n]
 
 
-def make_invariant(params: ThreeLinkParams) -> ThreeLinkParams:
+def make_invariant(params):
     """Adjust the design so that the zero-dynamics surface is hybrid invariant.
 
-    Keeps ``theta_minus``, the slope, and the coefficients ``bezier_*_2 .. bezier_*_4``
-    except ``bezier_swing_4``; sets (Westervelt et al. 2003 [1]_, Sect. V):
+    Three-link walker: keeps ``theta_minus``, the slope, and the coefficients
+    ``bezier_*_2 .. bezier_*_4`` except ``bezier_swing_4``; sets (Westervelt et al. 2003 [1]_,
+    Sect. V):
 
     1. ``theta_plus = -theta_minus - 2 slope`` and ``bezier_swing_4 = theta_plus``: at
        ``theta_minus`` the swing foot touches the ground, and the legs swap;
@@ -169,16 +201,27 @@ def make_invariant(params: ThreeLinkParams) -> ThreeLinkParams:
     3. ``bezier_*_1 = bezier_*_0 + (qd+_i / qd+_stance) / (M ds/dtheta)``: the post-impact
        velocity is tangent to ``Z`` (``b'(0) ds/dtheta = qd+_i / qd+_stance``).
 
+    Five-link walker: keeps ``theta_minus``, the slope, ``bezier_knee_2..4``,
+    ``bezier_torso_2..4``, ``bezier_femur_2..3`` and ``bezier_tibia_2..3``; sets
+
+    1. ``bezier_femur_4``, ``bezier_tibia_4``: at ``theta_minus`` the swing leg has the stance
+       knee's flexion ``bezier_knee_4`` and its foot-to-hip line is the mirror image of the
+       stance leg's about the slope normal, so the swing foot is on the slope, ahead;
+    2. ``theta_plus`` and ``bezier_*_0`` from the relabelled configuration ``Delta_q(q-)``;
+    3. ``bezier_*_1`` as in step 3 above.
+
     Parameters
     ----------
-    params : ThreeLinkParams
+    params : ThreeLinkParams or FiveLinkParams
 
     Returns
     -------
-    ThreeLinkParams
+    ThreeLinkParams or FiveLinkParams
         the adjusted design (validated).
     """
     p = _check(params)
+    if isinstance(params, FiveLinkParams):
+        return _make_invariant_five_link(params)
     tm = params.theta_minus
     tp = -tm - 2.0 * params.slope
     if not tp != tm:
@@ -191,7 +234,7 @@ def make_invariant(params: ThreeLinkParams) -> ThreeLinkParams:
     }
     p1 = params.replace(**changes)
     p = p1.as_array()
-    x, _, _ = _impact(p, tm, -1.0)
+    x, _, _ = _impact(p, tm, -1.0, _MODELS[ThreeLinkParams])
     ds = 1.0 / (tm - tp)
     for i, name in enumerate(("swing", "torso")):
         a0 = changes[f"bezier_{name}_0"]
@@ -199,18 +242,54 @@ def make_invariant(params: ThreeLinkParams) -> ThreeLinkParams:
     return params.replace(**changes)
 
 
-def impact_momentum_ratio(params: ThreeLinkParams) -> float:
+_FIVE_LINK_OUTPUTS = ("knee", "torso", "femur", "tibia")
+
+
+def _make_invariant_five_link(params: FiveLinkParams) -> FiveLinkParams:
+    mdl = _MODELS[FiveLinkParams]
+    tm, s = params.theta_minus, params.slope
+    lf, lt = params.length_femur, params.length_tibia
+    knee = params.bezier_knee_4
+    # stance foot -> hip at theta_minus, in the slope frame; delta: its angle minus the mean
+    psi_t, psi_f = tm - 0.5 * knee + s, tm + 0.5 * knee + s
+    hx = -lt * np.sin(psi_t) - lf * np.sin(psi_f)
+    hy = lt * np.cos(psi_t) + lf * np.cos(psi_f)
+    phi = float(np.arctan2(-hx, hy))
+    delta = phi - (tm + s)
+    mean_swing = -phi - delta - s
+    q_minus = np.array(
+        [tm, knee, params.bezier_torso_4, mean_swing + 0.5 * knee, mean_swing - 0.5 * knee]
+    )
+    q_plus = FL.RELABEL @ q_minus
+    tp = float(q_plus[0])
+    if not tp != tm:
+        raise ValueError(f"`theta_minus` must differ from -slope, got {tm!r}")
+    changes = {"theta_plus": tp, "bezier_femur_4": q_minus[3], "bezier_tibia_4": q_minus[4]}
+    for i, name in enumerate(_FIVE_LINK_OUTPUTS):
+        changes[f"bezier_{name}_0"] = float(q_plus[i + 1])
+    p = params.replace(**changes).as_array()
+    x, _, _ = _impact(p, tm, -1.0, mdl)
+    ds = 1.0 / (tm - tp)
+    for i, name in enumerate(_FIVE_LINK_OUTPUTS):
+        a0 = changes[f"bezier_{name}_0"]
+        changes[f"bezier_{name}_1"] = a0 + (x[6 + i] / x[5]) / (BEZIER_DEGREE * ds)
+    return params.replace(**changes)
+
+
+def impact_momentum_ratio(params) -> float:
     """``delta_zero``: angular momentum about the new stance foot just after the impact over
     that about the old one just before, on ``S ∩ Z`` (a constant of the design) [1]_."""
     p = _check(params)
-    tm = p[TL.CONTROL_OFFSET + 5]
-    q, sigma, _ = _surface(p, tm)
-    x, _, _ = _impact(p, tm, -1.0)
-    D = np.empty((3, 3))
-    K.mass_matrix(q, p, D)
-    before = BETA @ D @ (-sigma)
-    K.mass_matrix(np.ascontiguousarray(x[:3]), p, D)
-    after = BETA @ D @ x[3:6]
+    mdl = _model(params)
+    n = mdl.n
+    tm = p[mdl.offset + 5]
+    q, sigma, _ = _surface(p, tm, mdl)
+    x, _, _ = _impact(p, tm, -1.0, mdl)
+    D = np.empty((n, n))
+    mdl.K.mass_matrix(q, p, D)
+    before = mdl.beta @ D @ (-sigma)
+    mdl.K.mass_matrix(np.ascontiguousarray(x[:n]), p, D)
+    after = mdl.beta @ D @ x[n : 2 * n]
     return float(after / before)
 
 
@@ -241,7 +320,7 @@ class RestrictedMap:
 
 
 def restricted_map(
-    params: ThreeLinkParams, theta_dot_plus: float, *, rtol: float = 1e-12, atol: float = 1e-12
+    params, theta_dot_plus: float, *, rtol: float = 1e-12, atol: float = 1e-12
 ) -> RestrictedMap:
     """The restricted Poincaré map ``rho`` on ``S ∩ Z``, by integrating the zero dynamics.
 
@@ -252,7 +331,7 @@ def restricted_map(
 
     Parameters
     ----------
-    params : ThreeLinkParams
+    params : ThreeLinkParams or FiveLinkParams
     theta_dot_plus : float
         post-impact stance rate [rad/s], < 0 for forward walking.
     rtol, atol : float
@@ -263,12 +342,13 @@ def restricted_map(
     RestrictedMap
     """
     p = _check(params)
+    mdl = _model(params)
     if not np.isfinite(theta_dot_plus):
         raise ValueError(f"`theta_dot_plus` must be finite, got {theta_dot_plus!r}")
-    tp, tm = p[TL.CONTROL_OFFSET + 4], p[TL.CONTROL_OFFSET + 5]
+    tp, tm = p[mdl.offset + 4], p[mdl.offset + 5]
 
     def f(t, z):
-        return [z[1], _accel(p, z[0], z[1])]
+        return [z[1], _accel(p, z[0], z[1], mdl)]
 
     def end(t, z):
         return z[0] - tm
@@ -296,9 +376,9 @@ def restricted_map(
     if not sol.t_events[0].size:
         return RestrictedMap(Status.NO_EVENT, nan, nan, float(sol.t[-1]), np.full(2, nan))
     thd_minus = float(sol.y_events[0][0][1])
-    x, impulse, status = _impact(p, tm, thd_minus)
+    x, impulse, status = _impact(p, tm, thd_minus, mdl)
     st = Status.COMPLETED if status == 0 else Status(status)
-    return RestrictedMap(st, float(x[3]), thd_minus, float(sol.t_events[0][0]), impulse)
+    return RestrictedMap(st, float(x[mdl.n]), thd_minus, float(sol.t_events[0][0]), impulse)
 
 
 @dataclass
@@ -314,7 +394,7 @@ class HZDOrbit:
         ``rho'`` at the fixed point, by central differences.
     multiplier_closed_form : float
         ``delta_zero^2`` (module docstring).
-    section : ndarray, shape (5,)
+    section : ndarray, shape (n_z,)
         the orbit's point in the full model's section coordinates.
     step_time : float
         [s].
@@ -329,7 +409,7 @@ class HZDOrbit:
 
 
 def restricted_fixed_point(
-    params: ThreeLinkParams,
+    params,
     bracket: tuple[float, float] = (-4.0, -0.2),
     *,
     n_scan: int = 40,
@@ -342,7 +422,7 @@ def restricted_fixed_point(
 
     Parameters
     ----------
-    params : ThreeLinkParams
+    params : ThreeLinkParams or FiveLinkParams
     bracket : (float, float)
         range of post-impact stance rates [rad/s] to search.
     n_scan : int
@@ -371,17 +451,18 @@ def restricted_fixed_point(
     change = np.flatnonzero(
         np.isfinite(values[:-1]) & np.isfinite(values[1:]) & (values[:-1] * values[1:] < 0)
     )
+    mdl = _model(params)
+    n_z = len(mdl.module.SECTION_NAMES)
     if change.size == 0:
-        return HZDOrbit(False, nan, nan, nan, np.full(5, nan), nan)
+        return HZDOrbit(False, nan, nan, nan, np.full(n_z, nan), nan)
     i = change[-1]  # the slowest walking gait in the bracket
     w = brentq(F, grid[i], grid[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
     rp = restricted_map(params, w + fd_step).theta_dot_plus
     rm = restricted_map(params, w - fd_step).theta_dot_plus
     r = restricted_map(params, w)
     p = params.as_array()
-    q, sigma, _ = _surface(p, params.theta_plus)
-    qd = sigma * w
-    section = np.array([q[0], q[2], qd[0], qd[1], qd[2]])
+    q, sigma, _ = _surface(p, params.theta_plus, mdl)
+    section = mdl.module.project(_state(q, sigma * w, mdl), p)
     return HZDOrbit(
         True,
         float(w),

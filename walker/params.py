@@ -55,6 +55,7 @@ __all__ = [
     "KneedParams",
     "DoublePendulumParams",
     "ThreeLinkParams",
+    "FiveLinkParams",
     "params_class",
 ]
 
@@ -96,6 +97,14 @@ def _slope_field() -> Any:
         lo_open=True,
         hi_open=True,
         bounds_text="(-pi/2, pi/2)",
+    )
+
+
+def _damping_field(joint: str, rate: str) -> Any:
+    return _param(
+        "N m s/rad",
+        f"viscous damping of the {joint} joint, torque -b ({rate}) on the distal link",
+        0.0,
     )
 
 
@@ -320,6 +329,9 @@ class CompassParams(_Params):
         ramp angle [rad], in (-pi/2, pi/2).
     g : float
         gravitational acceleration [m/s^2], > 0.
+    damping_hip : float
+        viscous hip damping b [N m s/rad], >= 0: torque ``-b (qd_swing - qd_stance)`` on the
+        swing leg and its opposite on the stance leg (0: the passive, conservative walker).
 
     References
     ----------
@@ -340,6 +352,7 @@ class CompassParams(_Params):
     foot_radius: float = _param("m", "radius of the arc foot (0: point foot)", 0.0)
     slope: float = _slope_field()
     g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
+    damping_hip: float = _damping_field("hip", "qd_swing - qd_stance")
 
     @property
     def leg_length(self) -> float:
@@ -363,7 +376,8 @@ class CompassParams(_Params):
         """Goswami, Thuilot, Espiau 1996/1998 [1]_: m_H = 10, m = 5, a = b = 0.5, point masses.
 
         g = 9.8 as in Spong et al. 2007 [2]_, whose fixed point at 3 degrees is
-        [0.2187, -0.3234, -1.0918, -0.3772].
+        [0.2187, -0.3234, -1.0918, -0.3772].  The published model is undamped:
+        ``damping_hip = 0``.
 
         References
         ----------
@@ -379,12 +393,14 @@ class CompassParams(_Params):
             foot_radius=0.0,
             slope=slope,
             g=9.8,
+            damping_hip=0.0,
         )
 
     @classmethod
     def drake(cls) -> CompassParams:
         """Defaults of Drake's compass gait [1]_: m_H = 10, m = 5, l = 1, centre of mass 0.5
-        from the hip (point-mass legs), g = 9.81, slope 0.0525 rad.
+        from the hip (point-mass legs), g = 9.81, slope 0.0525 rad; undamped
+        (``damping_hip = 0``).
 
         References
         ----------
@@ -399,6 +415,7 @@ class CompassParams(_Params):
             foot_radius=0.0,
             slope=0.0525,
             g=9.81,
+            damping_hip=0.0,
         )
 
 
@@ -428,6 +445,13 @@ class KneedParams(_Params):
         [rad], in (-pi/2, pi/2).
     g : float
         [m/s^2], > 0.
+    damping_hip : float
+        viscous hip damping [N m s/rad], >= 0: torque ``-b (qd2 - qd1)`` on the swing thigh
+        and its opposite on the stance leg.
+    damping_knee : float
+        viscous swing-knee damping [N m s/rad], >= 0: torque ``-b (qd3 - qd2)`` on the swing
+        shank and its opposite on the swing thigh; acts only while the knee is unlocked (a
+        locked knee does not move, and the stance knee is always locked).
 
     References
     ----------
@@ -453,6 +477,8 @@ class KneedParams(_Params):
     foot_radius: float = _param("m", "radius of the arc foot (0: point foot)", 0.0)
     slope: float = _slope_field()
     g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
+    damping_hip: float = _damping_field("hip", "qd2 - qd1")
+    damping_knee: float = _damping_field("swing knee", "qd3 - qd2")
 
     @property
     def shank_length(self) -> float:
@@ -501,7 +527,8 @@ class KneedParams(_Params):
     @classmethod
     def hsu_chen(cls) -> KneedParams:
         """Hsu Chen 2007 [1]_ point-foot kneed walker (point masses; g = 9.8 as in the
-        thesis's MATLAB code; slope asin(7.25/144)).
+        thesis's MATLAB code; slope asin(7.25/144)).  The published model is undamped:
+        ``damping_hip = damping_knee = 0``.
 
         References
         ----------
@@ -523,6 +550,8 @@ class KneedParams(_Params):
             foot_radius=0.0,
             slope=math.asin(7.25 / 144.0),
             g=9.8,
+            damping_hip=0.0,
+            damping_knee=0.0,
         )
 
     @classmethod
@@ -532,7 +561,8 @@ class KneedParams(_Params):
         Thigh: mass 0.1, radius of gyration 0.135, length 0.46, centre of mass 0.20 below the
         hip. Shank: mass 0.062, radius of gyration 0.186, length 0.54, centre of mass 0.24
         below the knee, fore-aft offset 0.01. Foot radius 0.2, hip mass 0.676, slope 0.0456.
-        Inertias are m r^2 with r the radius of gyration.
+        Inertias are m r^2 with r the radius of gyration.  The published model is undamped:
+        ``damping_hip = damping_knee = 0``.
 
         References
         ----------
@@ -553,6 +583,8 @@ class KneedParams(_Params):
             foot_radius=0.2,
             slope=0.0456,
             g=1.0,
+            damping_hip=0.0,
+            damping_knee=0.0,
         )
 
 
@@ -793,6 +825,198 @@ _GRIZZLE_DEFAULTS: dict[str, float] = {
 }
 
 
+@dataclasses.dataclass(frozen=True)
+class FiveLinkParams(_Params):
+    """The five-link walker (torso, femurs, tibias; hip and knee actuators) and its controller.
+
+    The first thirteen fields are the physical parameters the generated kernels take (order
+    of :data:`walker.symbolic.five_link.FIVE_LINK_PARAMS`); ``friction`` is the ground's
+    Coulomb coefficient; the rest is the controller block read by :mod:`walker.control`
+    (layout in its docstring): mode, gains, torque limit, the phase range and the Bezier
+    coefficients (degree 4) of the four outputs, in the order of the model's coordinates
+    ``q[1:]``: stance-knee flexion ``q_femur_st - q_tibia_st``, torso, swing femur and swing
+    tibia (absolute angles).  The phase variable is ``q_leg = (q_tibia_st + q_femur_st)/2``.
+
+    Attributes
+    ----------
+    mass_torso, mass_femur, mass_tibia : float
+        segment masses [kg], > 0.
+    length_femur, length_tibia : float
+        hip to knee, knee to foot [m], > 0.
+    com_torso : float
+        hip to the torso's centre of mass [m], >= 0.
+    com_femur : float
+        hip to the femur's centre of mass [m], in [0, length_femur].
+    com_tibia : float
+        knee to the tibia's centre of mass [m], in [0, length_tibia].
+    inertia_torso, inertia_femur, inertia_tibia : float
+        about the segment's centre of mass [kg m^2], >= 0.
+    slope : float
+        [rad], in (-pi/2, pi/2); 0 is level ground.
+    g : float
+        [m/s^2], > 0.
+    friction : float
+        ground friction coefficient mu [-], > 0.
+    controller : float
+        0: off (passive); 1: joint-space PD to the Bezier references; 2: virtual constraints
+        by input-output linearization (computed torque) with PD on the outputs.
+    kp, kd : float
+        output gains [1/s^2], [1/s] (mode 2); joint gains [N m/rad], [N m s/rad] (mode 1).
+    torque_limit : float
+        actuator saturation |tau_i| <= torque_limit [N m], > 0.
+    theta_plus, theta_minus : float
+        phase ``q_leg`` at the start and the end of a step [rad].
+    bezier_knee_0 .. 4, bezier_torso_0 .. 4, bezier_femur_0 .. 4, bezier_tibia_0 .. 4 : float
+        Bezier coefficients [rad] of the desired stance-knee flexion, torso, swing-femur and
+        swing-tibia angles.
+
+    References
+    ----------
+    .. [1] E. R. Westervelt, J. W. Grizzle, D. E. Koditschek, "Hybrid zero dynamics of planar
+       biped walkers", IEEE TAC 48(1):42-56, 2003, Table I (RABBIT).
+    .. [2] C. Chevallereau et al., "RABBIT: a testbed for advanced control theory", IEEE
+       Control Systems Magazine 23(5):57-79, 2003.
+    """
+
+    MODEL: ClassVar[str] = "five_link"
+    PRESETS: ClassVar[tuple[str, ...]] = ("rabbit",)
+
+    mass_torso: float = _param("kg", "torso mass", 0.0, lo_open=True)
+    mass_femur: float = _param("kg", "mass of each femur", 0.0, lo_open=True)
+    mass_tibia: float = _param("kg", "mass of each tibia", 0.0, lo_open=True)
+    length_femur: float = _param("m", "hip to knee", 0.0, lo_open=True)
+    length_tibia: float = _param("m", "knee to foot", 0.0, lo_open=True)
+    com_torso: float = _param("m", "hip to the torso's centre of mass", 0.0)
+    com_femur: float = _param("m", "hip to the femur's centre of mass", 0.0)
+    com_tibia: float = _param("m", "knee to the tibia's centre of mass", 0.0)
+    inertia_torso: float = _param("kg m^2", "torso inertia about its centre of mass", 0.0)
+    inertia_femur: float = _param("kg m^2", "femur inertia about its centre of mass", 0.0)
+    inertia_tibia: float = _param("kg m^2", "tibia inertia about its centre of mass", 0.0)
+    slope: float = _slope_field()
+    g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
+    friction: float = _param("1", "ground friction coefficient mu", 0.0, lo_open=True)
+    controller: float = _param("1", "0 off, 1 joint PD, 2 virtual constraints", 0.0, 2.0)
+    kp: float = _param("1/s^2", "proportional gain", 0.0)
+    kd: float = _param("1/s", "derivative gain", 0.0)
+    torque_limit: float = _param("N m", "actuator torque limit", 0.0, lo_open=True)
+    theta_plus: float = _param("rad", "mean stance-leg angle at the start of a step")
+    theta_minus: float = _param("rad", "mean stance-leg angle at the end of a step")
+    bezier_knee_0: float = _bezier_field("stance-knee flexion", 0)
+    bezier_knee_1: float = _bezier_field("stance-knee flexion", 1)
+    bezier_knee_2: float = _bezier_field("stance-knee flexion", 2)
+    bezier_knee_3: float = _bezier_field("stance-knee flexion", 3)
+    bezier_knee_4: float = _bezier_field("stance-knee flexion", 4)
+    bezier_torso_0: float = _bezier_field("torso", 0)
+    bezier_torso_1: float = _bezier_field("torso", 1)
+    bezier_torso_2: float = _bezier_field("torso", 2)
+    bezier_torso_3: float = _bezier_field("torso", 3)
+    bezier_torso_4: float = _bezier_field("torso", 4)
+    bezier_femur_0: float = _bezier_field("swing-femur", 0)
+    bezier_femur_1: float = _bezier_field("swing-femur", 1)
+    bezier_femur_2: float = _bezier_field("swing-femur", 2)
+    bezier_femur_3: float = _bezier_field("swing-femur", 3)
+    bezier_femur_4: float = _bezier_field("swing-femur", 4)
+    bezier_tibia_0: float = _bezier_field("swing-tibia", 0)
+    bezier_tibia_1: float = _bezier_field("swing-tibia", 1)
+    bezier_tibia_2: float = _bezier_field("swing-tibia", 2)
+    bezier_tibia_3: float = _bezier_field("swing-tibia", 3)
+    bezier_tibia_4: float = _bezier_field("swing-tibia", 4)
+
+    @property
+    def leg_length(self) -> float:
+        """Straight-leg length ``length_femur + length_tibia`` [m]."""
+        return self.length_femur + self.length_tibia
+
+    def _check_relations(self) -> None:
+        if self.com_femur > self.length_femur:
+            raise _relation_error(
+                f"`com_femur` must be <= `length_femur` = {self.length_femur!r} [m] (centre of "
+                "mass inside its link)",
+                f"{self.com_femur!r}",
+            )
+        if self.com_tibia > self.length_tibia:
+            raise _relation_error(
+                f"`com_tibia` must be <= `length_tibia` = {self.length_tibia!r} [m] (centre of "
+                "mass inside its link)",
+                f"{self.com_tibia!r}",
+            )
+        if self.controller not in (0.0, 1.0, 2.0):
+            raise _relation_error("`controller` must be 0, 1 or 2", f"{self.controller!r}")
+        if self.controller != 0.0 and not self.theta_minus != self.theta_plus:
+            raise _relation_error(
+                "`theta_minus` must differ from `theta_plus` when the controller is on",
+                f"{self.theta_minus!r}",
+            )
+
+    @classmethod
+    def rabbit(cls, **changes: Any) -> FiveLinkParams:
+        """RABBIT's masses, lengths and inertias [1]_ with walker's virtual-constraint design.
+
+        The Bezier coefficients are walker's own (a level-ground gait, see
+        ``gaits/five_link_hzd.toml``), made HZD-invariant by
+        :func:`walker.hzd.make_invariant`; keyword ``changes`` are applied before it.
+
+        References
+        ----------
+        .. [1] Westervelt, Grizzle, Koditschek, IEEE TAC 48(1), 2003, Table I.
+        """
+        from walker.hzd import make_invariant  # lazy: hzd imports this module
+
+        return make_invariant(cls(**{**_RABBIT_DEFAULTS, **changes}))
+
+
+_RABBIT_DEFAULTS: dict[str, float] = {
+    # Westervelt, Grizzle, Koditschek 2003, Table I (RABBIT; also Chevallereau et al. 2003):
+    # M_T = 12, M_f = 6.8, M_t = 3.2 kg; L_f = L_t = 0.4 m; p_MT = 0.24 (from the hip),
+    # p_Mf = 0.11 (from the hip), p_Mt = 0.24 m (from the knee); I_T = 1.33, I_f = 0.47,
+    # I_t = 0.20 kg m^2 (taken about the centres of mass); g = 9.81
+    "mass_torso": 12.0,
+    "mass_femur": 6.8,
+    "mass_tibia": 3.2,
+    "length_femur": 0.4,
+    "length_tibia": 0.4,
+    "com_torso": 0.24,
+    "com_femur": 0.11,
+    "com_tibia": 0.24,
+    "inertia_torso": 1.33,
+    "inertia_femur": 0.47,
+    "inertia_tibia": 0.20,
+    "slope": 0.0,
+    "g": 9.81,
+    # walker's choices: ground friction, output gains, a torque limit (RABBIT's motors give
+    # about 150 N m at the joints, Chevallereau et al. 2003) and the Bezier design below
+    "friction": 0.8,
+    "controller": 2.0,
+    "kp": 400.0,
+    "kd": 40.0,
+    "torque_limit": 150.0,
+    # theta_plus and the first two coefficients of every output, and the last two of the
+    # swing femur and tibia, are set by make_invariant
+    "theta_plus": 0.2,
+    "theta_minus": -0.2,
+    "bezier_knee_0": 0.0,
+    "bezier_knee_1": 0.0,
+    "bezier_knee_2": 0.3,
+    "bezier_knee_3": 0.2,
+    "bezier_knee_4": 0.2,
+    "bezier_torso_0": 0.0,
+    "bezier_torso_1": 0.0,
+    "bezier_torso_2": -0.1,
+    "bezier_torso_3": -0.1,
+    "bezier_torso_4": -0.1,
+    "bezier_femur_0": 0.0,
+    "bezier_femur_1": 0.0,
+    "bezier_femur_2": 0.2,
+    "bezier_femur_3": 0.45,
+    "bezier_femur_4": 0.0,
+    "bezier_tibia_0": 0.0,
+    "bezier_tibia_1": 0.0,
+    "bezier_tibia_2": -0.6,
+    "bezier_tibia_3": 0.2,
+    "bezier_tibia_4": 0.0,
+}
+
+
 # ------------------------------------------------------------------------------------------
 PARAMS: dict[str, type[_Params]] = {
     "simplest": SimplestParams,
@@ -800,6 +1024,7 @@ PARAMS: dict[str, type[_Params]] = {
     "kneed": KneedParams,
     "double_pendulum": DoublePendulumParams,
     "three_link": ThreeLinkParams,
+    "five_link": FiveLinkParams,
 }
 """Model name -> parameter class."""
 
@@ -824,6 +1049,22 @@ STATE_NAMES: dict[str, tuple[str, ...]] = {
         "actuator_work",
         "saturated_time",
     ),
+    # mean stance-leg angle, stance-knee flexion, torso, swing femur, swing tibia
+    # (walker.symbolic.five_link); then the actuator work [J] and saturated time [s]
+    "five_link": (
+        "q_leg",
+        "q_knee",
+        "q_torso",
+        "q_femur_sw",
+        "q_tibia_sw",
+        "qd_leg",
+        "qd_knee",
+        "qd_torso",
+        "qd_femur_sw",
+        "qd_tibia_sw",
+        "actuator_work",
+        "saturated_time",
+    ),
 }
 """Model name -> names of the full state's components, in order."""
 
@@ -833,6 +1074,7 @@ HAS_EVENTS: dict[str, bool] = {
     "kneed": True,
     "double_pendulum": False,
     "three_link": True,
+    "five_link": True,
 }
 """Model name -> whether the model has guards and resets (strides)."""
 

@@ -40,6 +40,7 @@ class Status(IntEnum):
     MAX_STEPS = 8
     NOT_CONVERGED = 9
     LINEAR_SOLVE_FAILED = 10
+    PARAMETER_OUT_OF_RANGE = 11
 
     @property
     def message(self) -> str:
@@ -79,4 +80,8 @@ _MESSAGES = {
         "the Levenberg-Marquardt fallback."
     ),
     Status.LINEAR_SOLVE_FAILED: "A linear solve was singular (degenerate configuration).",
+    Status.PARAMETER_OUT_OF_RANGE: (
+        "The continuation stepped outside the parameter's allowed range (see its bounds in "
+        "walker.params). Continue toward the other side, or stop before the bound."
+    ),
 }

@@ -1,10 +1,10 @@
 # generated, do not edit: walker kernels for `compass`
-# input hash: sha256:1cb15ef1658dab8d3363d5a851124eedc7f3d2bbf419bde71701e5ad7b600f0f
+# input hash: sha256:0958143959351f6888e4cdac78a787298120bb718320bf190a08dae7ea4e3adf
 # sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
 # argument order:
 #   q = [q_stance, q_swing]
 #   qd = [q_stance_dot, q_swing_dot]
-#   p = [mass_hip, mass_leg, com_from_foot, com_to_hip, inertia_leg, foot_radius, slope, g]
+#   p = [mass_hip, mass_leg, com_from_foot, com_to_hip, inertia_leg, foot_radius, slope, g, damping_hip]
 #   q = [q_stance, q_swing, x_hip, y_hip]
 # kernels:
 #   accel(q, qd, p)
@@ -13,6 +13,7 @@
 #   coriolis(q, qd, p)
 #   gravity(q, p)
 #   bias(q, qd, p)
+#   forcing(q, qd, p)
 #   dmass(q, p)
 #   dbias_dq(q, qd, p)
 #   dbias_dqd(q, qd, p)
@@ -32,12 +33,12 @@ import math  # noqa: F401
 
 from numba import njit
 
-KERNEL_HASH = "1cb15ef1658dab8d3363d5a851124eedc7f3d2bbf419bde71701e5ad7b600f0f"
-ARGUMENT_ORDER = {'accel': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'accel_jac': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'mass_matrix': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'coriolis': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'gravity': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'bias': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dmass': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dbias_dq': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'kinetic': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'potential': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'points': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'hip_jac': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g')}}
+KERNEL_HASH = "0958143959351f6888e4cdac78a787298120bb718320bf190a08dae7ea4e3adf"
+ARGUMENT_ORDER = {'accel': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'accel_jac': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'mass_matrix': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'coriolis': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'gravity': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'bias': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'forcing': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'dmass': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'dbias_dq': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'kinetic': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'potential': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'points': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'hip_jac': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}}
 
 @njit(cache=True)
 def accel(q, qd, p, out):
-    """Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,)."""
+    """Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,)."""
     q_stance = q[0]
     q_swing = q[1]
     q_stance_dot = qd[0]
@@ -50,6 +51,7 @@ def accel(q, qd, p, out):
     foot_radius = p[5]
     slope = p[6]
     g = p[7]
+    damping_hip = p[8]
     x0 = math.sin(q_stance)
     x1 = x0*x0
     x2 = com_from_foot*com_from_foot
@@ -96,26 +98,28 @@ def accel(q, qd, p, out):
     x43 = mass_leg*x40
     x44 = x0*x8
     x45 = x4*x8
-    x46 = com_from_foot - foot_radius
-    x47 = g*mass_leg
-    x48 = g*(-x0*(com_to_hip + x46) + x27)
-    x49 = x38*x41
-    x50 = com_from_foot*x49
-    x51 = x0*x43
-    x52 = x24*x51
-    x53 = x37*x45
-    x54 = x16*x51
-    x55 = foot_radius*x49
-    x56 = x40*x44
-    x57 = q_stance_dot*q_stance_dot
-    x58 = x0*x13*x20
-    x59 = mass_hip*x4
-    x60 = x0*x42
+    x46 = damping_hip*q_stance_dot
+    x47 = damping_hip*q_swing_dot
+    x48 = com_from_foot - foot_radius
+    x49 = g*mass_leg
+    x50 = g*(-x0*(com_to_hip + x48) + x27)
+    x51 = x38*x41
+    x52 = com_from_foot*x51
+    x53 = x0*x43
+    x54 = x24*x53
+    x55 = x37*x45
+    x56 = x16*x53
+    x57 = foot_radius*x51
+    x58 = x40*x44
+    x59 = q_stance_dot*q_stance_dot
+    x60 = x0*x13*x20
+    x61 = mass_hip*x4
+    x62 = x0*x42
     d00 = inertia_leg + 2*x0*x10*x11 + x0*x11*x36 + x1*x10 + x1*x17 + x1*x19 - x1*x25 - x1*x26 + x1*x3 + x1*x34 + x1*x35 + x1*x7 + x1*x8 + x10*x12 - 2*x10*x13*x4 + x10*x14 + x10*x5 + x12*x35 + x14*x35 - x15*x21 - x15*x22 - x15*x29 + x15*x31 - x15*x33 + x17*x5 - x18*x33 + x19*x5 - x21*x23 - x22*x23 - x23*x29 + x23*x31 + x25*x30 - x25*x5 + x26*x30 - x26*x5 + x3*x5 - x30*x36 + x34*x5 + x35*x5 + x5*x7 + x5*x8
     d10 = -com_from_foot*x0*x39 + com_to_hip*foot_radius*mass_leg*x0*x37 + com_to_hip*foot_radius*mass_leg*x11*x37 + com_to_hip*foot_radius*mass_leg*x4*x40 - x16*x40*x41 - x37*x44 - x40*x45 - x42*x43
     d11 = inertia_leg + x37*x37*x8 + x40*x40*x8
-    h0 = mass_hip*x48 + mass_leg*x48 + q_swing_dot*q_swing_dot*(foot_radius*x13*x39 + x32*x43 + x50 + x52 + x53 - x54 - x55 - x56) + x47*(-x0*x46 + x27) + x57*(mass_hip*x0*x13*x9 + mass_hip*x11*x4*x9 - mass_hip*x58 - mass_hip*x60 + 2*mass_leg*x0*x13*x9 + 2*mass_leg*x11*x4*x9 - mass_leg*x60 - x18*x28*x4 - x18*x58 - x28*x59 - x32*x41 - x32*x59)
-    h1 = x38*x47 + x57*(-x50 - x52 - x53 + x54 + x55 + x56)
+    h0 = mass_hip*x50 + mass_leg*x50 + q_swing_dot*q_swing_dot*(foot_radius*x13*x39 + x32*x43 + x52 + x54 + x55 - x56 - x57 - x58) + x46 - x47 + x49*(-x0*x48 + x27) + x59*(mass_hip*x0*x13*x9 + mass_hip*x11*x4*x9 - mass_hip*x60 - mass_hip*x62 + 2*mass_leg*x0*x13*x9 + 2*mass_leg*x11*x4*x9 - mass_leg*x62 - x18*x28*x4 - x18*x60 - x28*x61 - x32*x41 - x32*x61)
+    h1 = x38*x49 - x46 + x47 + x59*(-x52 - x54 - x55 + x56 + x57 + x58)
     l00 = math.sqrt(d00)
     l10 = (d10)/l00
     l11 = math.sqrt(d11 - l10*l10)
@@ -142,6 +146,7 @@ def accel_jac(q, qd, p, out):
     foot_radius = p[5]
     slope = p[6]
     g = p[7]
+    damping_hip = p[8]
     x0 = math.sin(q_stance)
     x1 = x0*x0
     x2 = com_from_foot*com_from_foot
@@ -190,54 +195,55 @@ def accel_jac(q, qd, p, out):
     x45 = x4*x8
     x46 = -com_to_hip*foot_radius*mass_leg*x0*x42 - com_to_hip*foot_radius*mass_leg*x39*x4 + x0*x42*x43 + x39*x4*x43 + x39*x45 + x42*x44
     x47 = -com_to_hip*foot_radius*mass_leg*x11*x42 + x39*x41 + x46
-    x48 = com_from_foot - foot_radius
-    x49 = g*mass_leg
-    x50 = com_to_hip + x48
-    x51 = g*(-x0*x50 + x27)
-    x52 = q_swing_dot*q_swing_dot
-    x53 = mass_leg*x16*x4*x42
-    x54 = x0*x39
-    x55 = x40*x54
-    x56 = mass_leg*x32
-    x57 = x42*x45
-    x58 = x43*x54
-    x59 = x4*x40*x42
-    x60 = x39*x44
-    x61 = x39*x56 + x41*x42 + x53 + x55 + x57 - x58 - x59 - x60
-    x62 = q_stance_dot*q_stance_dot
-    x63 = x0*x13
-    x64 = mass_hip*x63
-    x65 = mass_hip*x4
-    x66 = x20*x63
-    x67 = x28*x4
-    x68 = mass_hip*x0*x13*x9 + mass_hip*x11*x4*x9 + 2*mass_leg*x0*x13*x9 + 2*mass_leg*x11*x4*x9 - x0*x41 - x18*x66 - x18*x67 - x20*x64 - x24*x64 - x28*x65 - x32*x65 - x4*x56
-    x69 = com_to_hip*x49
-    x70 = -x53 - x55 - x57 + x58 + x59 + x60
-    x71 = x32*x4
-    x72 = x4*x50
-    x73 = -x46
-    x74 = mass_hip*x0
-    x75 = mass_hip*x30
-    x76 = 2*q_stance_dot
+    x48 = damping_hip*q_stance_dot
+    x49 = damping_hip*q_swing_dot
+    x50 = com_from_foot - foot_radius
+    x51 = g*mass_leg
+    x52 = com_to_hip + x50
+    x53 = g*(-x0*x52 + x27)
+    x54 = q_swing_dot*q_swing_dot
+    x55 = mass_leg*x16*x4*x42
+    x56 = x0*x39
+    x57 = x40*x56
+    x58 = mass_leg*x32
+    x59 = x42*x45
+    x60 = x43*x56
+    x61 = x4*x40*x42
+    x62 = x39*x44
+    x63 = x39*x58 + x41*x42 + x55 + x57 + x59 - x60 - x61 - x62
+    x64 = q_stance_dot*q_stance_dot
+    x65 = x0*x13
+    x66 = mass_hip*x65
+    x67 = mass_hip*x4
+    x68 = x20*x65
+    x69 = x28*x4
+    x70 = mass_hip*x0*x13*x9 + mass_hip*x11*x4*x9 + 2*mass_leg*x0*x13*x9 + 2*mass_leg*x11*x4*x9 - x0*x41 - x18*x68 - x18*x69 - x20*x66 - x24*x66 - x28*x67 - x32*x67 - x4*x58
+    x71 = com_to_hip*x51
+    x72 = -x55 - x57 - x59 + x60 + x61 + x62
+    x73 = x32*x4
+    x74 = x4*x52
+    x75 = -x46
+    x76 = mass_hip*x0
+    x77 = mass_hip*x30
     d00 = inertia_leg + x0*x11*x38 + x1*x10 + x1*x17 + x1*x19 - x1*x25 - x1*x26 + x1*x3 + x1*x34 + x1*x35 + x1*x7 + x1*x8 + x10*x12 + x10*x14 + x10*x5 + x12*x35 + x14*x35 - x15*x21 - x15*x22 - x15*x29 + x15*x31 - x15*x33 + x17*x5 - x18*x33 + x19*x5 - x21*x23 - x22*x23 - x23*x29 + x23*x31 + x25*x30 - x25*x5 + x26*x30 - x26*x5 + x3*x5 - x30*x38 + x34*x5 + x35*x5 + 2*x36 - 2*x37 + x5*x7 + x5*x8
     d10 = -x47
     d11 = inertia_leg + x39*x39*x8 + x42*x42*x8
-    h0 = mass_hip*x51 + mass_leg*x51 + x49*(-x0*x48 + x27) + x52*x61 + x62*x68
-    h1 = x42*x69 + x62*x70
-    dD0_00 = 2*mass_hip*x0*x13*x9 + 2*mass_hip*x11*x4*x9 + 4*mass_leg*x0*x13*x9 + 4*mass_leg*x11*x4*x9 - x15*x66 - x15*x67 - x15*x71 - x18*x71 - x23*x66 - x23*x67 - x25*x63 - x26*x63
-    dD0_10 = x70
+    h0 = mass_hip*x53 + mass_leg*x53 + x48 - x49 + x51*(-x0*x50 + x27) + x54*x63 + x64*x70
+    h1 = x42*x71 - x48 + x49 + x64*x72
+    dD0_00 = 2*mass_hip*x0*x13*x9 + 2*mass_hip*x11*x4*x9 + 4*mass_leg*x0*x13*x9 + 4*mass_leg*x11*x4*x9 - x15*x68 - x15*x69 - x15*x73 - x18*x73 - x23*x68 - x23*x69 - x25*x65 - x26*x65
+    dD0_10 = x72
     dD0_11 = 0
     dD1_00 = 0
-    dD1_10 = x61
+    dD1_10 = x63
     dD1_11 = 0
-    hq0_0 = -g*mass_hip*x72 - x4*x48*x49 - x49*x72 + x52*x73 + x62*(-x0*x11*x35 + x0*x56 + x18*x29 - x18*x31 - x20*x75 - x24*x75 + x28*x74 + x30*x35 - x30*x40 + x32*x74 - x36 + x37)
-    hv0_0 = x68*x76
-    hq1_0 = x46*x62
-    hv1_0 = x70*x76
-    hq0_1 = x47*x52
-    hv0_1 = 2*q_swing_dot*x61
-    hq1_1 = x39*x69 + x62*x73
-    hv1_1 = 0
+    hq0_0 = -g*mass_hip*x74 - x4*x50*x51 - x51*x74 + x54*x75 + x64*(-x0*x11*x35 + x0*x58 + x18*x29 - x18*x31 - x20*x77 - x24*x77 + x28*x76 + x30*x35 - x30*x40 + x32*x76 - x36 + x37)
+    hv0_0 = damping_hip + 2*q_stance_dot*x70
+    hq1_0 = x46*x64
+    hv1_0 = -damping_hip + 2*q_stance_dot*x72
+    hq0_1 = x47*x54
+    hv0_1 = -damping_hip + 2*q_swing_dot*x63
+    hq1_1 = x39*x71 + x64*x75
+    hv1_1 = damping_hip
     l00 = math.sqrt(d00)
     l10 = (d10)/l00
     l11 = math.sqrt(d11 - l10*l10)
@@ -444,6 +450,17 @@ def bias(q, qd, p, out):
     x29 = foot_radius*foot_radius
     out[0] = mass_hip*x5 + mass_leg*x5 + q_swing_dot*q_swing_dot*(foot_radius*mass_leg*x16*x17 + x1*x12*x9 + x11 + x15 + x19 - x20 - x21 - x22) + x23*(mass_hip*x0*x29*x6 + mass_hip*x16*x2*x29 + 2*mass_leg*x0*x29*x6 + 2*mass_leg*x16*x2*x29 - x24*x25 - x24*x26 - x25*x27 - x25*x28 - x25*x9 - x26*x27 - x26*x28 - x26*x9) + x4*(x1 - x2*x3)
     out[1] = x17*x4 + x23*(-x11 - x15 - x19 + x20 + x21 + x22)
+
+
+@njit(cache=True)
+def forcing(q, qd, p, out):
+    """Generalized joint-damping forces Q(q, qd), out (n,); power Q.qd <= 0."""
+    q_stance_dot = qd[0]
+    q_swing_dot = qd[1]
+    damping_hip = p[8]
+    x0 = damping_hip*q_stance_dot - damping_hip*q_swing_dot
+    out[0] = -x0
+    out[1] = x0
 
 
 @njit(cache=True)

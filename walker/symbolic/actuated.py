@@ -158,7 +158,7 @@ def ground_reaction(m: LagrangianModel, qdd) -> sp.Matrix:
     centre-of-mass accelerations ``a_i = J_i qdd + (d J_i/dt) qd``.
     """
     q, qd = sp.Matrix(m.q), sp.Matrix(m.qd)
-    g = m.params[THREE_LINK_PARAMS.index("g")]
+    g = m.params[[str(s) for s in m.params].index("g")]  # any model with a parameter `g`
     F = sp.zeros(2, 1)
     for body in m.bodies:
         J = body.position.jacobian(q)

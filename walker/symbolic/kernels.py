@@ -13,28 +13,46 @@ __all__ = ["GENERATED_MODULES", "kernels_for", "module_extra"]
 
 
 def _dynamics_kernels(m: LagrangianModel, prefix: str) -> list[Kernel]:
+    """Kernels of a single-support model.
+
+    The accelerations include the model's own forcing ``Q`` (joint damping): ``accel`` and
+    ``accel_jac`` solve ``D qdd = -(h - Q)``.  ``bias``, ``dbias_dq`` and ``dbias_dqd`` keep
+    the conservative ``h = C qd + g``; a model with forcing also gets a ``forcing`` kernel.
+    """
     q, qd, p = ("q", m.q), ("qd", m.qd), ("p", m.params)
     h = m.bias
+    h_forced = m.forced_bias
     qv, qdv = sp.Matrix(m.q), sp.Matrix(m.qd)
+    if m.has_forcing:
+        accel_doc = (
+            "Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled "
+            "Cholesky, out (>= n,)."
+        )
+        forcing = [
+            Kernel(
+                f"{prefix}forcing",
+                (q, qd, p),
+                m.forcing,
+                "Generalized joint-damping forces Q(q, qd), out (n,); power Q.qd <= 0.",
+            )
+        ]
+    else:
+        accel_doc = "Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,)."
+        forcing = []
     return [
-        AccelKernel(
-            f"{prefix}accel",
-            (q, qd, p),
-            m.D,
-            h,
-            "Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,).",
-        ),
+        AccelKernel(f"{prefix}accel", (q, qd, p), m.D, h_forced, accel_doc),
         AccelJacobianKernel(
             f"{prefix}accel_jac",
             (q, qd, p),
             m.D,
-            h,
+            h_forced,
             "d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve.",
         ),
         Kernel(f"{prefix}mass_matrix", (q, p), m.D, "Mass matrix D(q), out (n, n)."),
         Kernel(f"{prefix}coriolis", (q, qd, p), m.C, "Coriolis matrix C(q, qd), out (n, n)."),
         Kernel(f"{prefix}gravity", (q, p), m.G, "Gravity vector g(q) = dP/dq, out (n,)."),
         Kernel(f"{prefix}bias", (q, qd, p), h, "h(q, qd) = C(q, qd) qd + g(q), out (n,)."),
+        *forcing,
         Kernel(
             f"{prefix}dmass",
             (q, p),
@@ -126,6 +144,10 @@ def kernels_for(name: str) -> list[Kernel]:
         from walker.symbolic import actuated
 
         return actuated.three_link_kernels()
+    if name == "five_link":
+        from walker.symbolic import five_link
+
+        return five_link.five_link_kernels()
     raise ValueError(f"unknown generated module `{name}`; valid: {sorted(GENERATED_MODULES)}")
 
 
@@ -144,6 +166,10 @@ def module_extra(name: str) -> str:
         from walker.symbolic import actuated
 
         return actuated.three_link_extra()
+    if name == "five_link":
+        from walker.symbolic import five_link
+
+        return five_link.five_link_extra()
     return ""
 
 
@@ -155,5 +181,9 @@ GENERATED_MODULES = {
     "three_link": (
         "Grizzle's three-link walker (legs and torso, hip actuators): pinned dynamics, ground "
         "reaction, floating-base heel-strike model."
+    ),
+    "five_link": (
+        "Five-link walker (torso, femurs, tibias; hip and knee actuators; RABBIT-like): pinned "
+        "dynamics, ground reaction, floating-base heel-strike model."
     ),
 }

@@ -14,6 +14,13 @@ positions and absolute angles are expressions in the generalized coordinates ``q
 * the input map ``B`` and contact Jacobians of named points,
 
 so that ``D(q) q_ddot + C(q, q_dot) q_dot + g(q) = B tau - F_v q_dot - F_s sgn(q_dot) + J^T F``.
+
+Forces that belong to the model itself (viscous joint damping of a passive walker) are kept
+as the model's ``forcing`` ``Q(q, q_dot)``: :func:`rayleigh_forcing` builds it from a
+Rayleigh dissipation function ``R = sum_j 1/2 b_j w_j^2`` of joint rates ``w_j`` (each
+linear in ``q_dot``), ``Q = -dR/dq_dot``, whose power is ``Q . q_dot = -sum_j b_j w_j^2``.
+``bias`` stays ``C q_dot + g``; ``forced_bias = bias - Q`` is what the accelerations solve,
+``D q_ddot = -forced_bias``.
 Everything stops at matrices: the mass matrix is never inverted symbolically and nothing is
 simplified (code generation applies common-subexpression elimination instead).
 """
@@ -74,6 +81,9 @@ class LagrangianModel:
         kinetic and potential energy.
     points : dict of str -> Matrix (2, 1)
         named points (feet, hip, knee) in the world frame.
+    forcing : Matrix (n, 1)
+        generalized forces that are part of the model (joint damping), on the right-hand
+        side: ``D q_ddot + C q_dot + g = Q``; zero for a conservative model.
     """
 
     name: str
@@ -88,6 +98,11 @@ class LagrangianModel:
     K: sp.Expr
     P: sp.Expr
     points: dict = field(default_factory=dict)
+    forcing: sp.Matrix | None = None
+
+    def __post_init__(self) -> None:
+        if self.forcing is None:
+            object.__setattr__(self, "forcing", sp.zeros(len(self.q), 1))
 
     @property
     def n(self) -> int:
@@ -95,8 +110,21 @@ class LagrangianModel:
 
     @property
     def bias(self) -> sp.Matrix:
-        """``h(q, q_dot) = C q_dot + g``: everything but the inertial term."""
+        """``h(q, q_dot) = C q_dot + g``: everything but the inertial term (no forcing)."""
         return self.C * sp.Matrix(self.qd) + self.G
+
+    @property
+    def forced_bias(self) -> sp.Matrix:
+        """``h - Q = C q_dot + g - Q``: the accelerations solve ``D q_ddot = -(h - Q)``.
+
+        Equals :attr:`bias` for a conservative model (``Q = 0``).
+        """
+        return self.bias - self.forcing
+
+    @property
+    def has_forcing(self) -> bool:
+        """Whether ``forcing`` is not identically zero (structurally)."""
+        return any(e != 0 for e in self.forcing)
 
     def point_jacobian(self, name: str) -> sp.Matrix:
         """Contact Jacobian ``dp/dq`` of a named point, shape (2, n)."""
@@ -136,6 +164,35 @@ class LagrangianModel:
         return sum(sp.diff(E, xi) * fi for xi, fi in zip(x, xdot, strict=True))
 
 
+def rayleigh_forcing(qd, dampers) -> sp.Matrix:
+    """Generalized forces ``Q = -dR/dq_dot`` of viscous dampers, ``R = sum_j 1/2 b_j w_j^2``.
+
+    Parameters
+    ----------
+    qd : sequence of sympy Symbol, length n
+        generalized rates.
+    dampers : sequence of (coefficient, rate)
+        each a damping coefficient ``b_j`` [N m s/rad] and the joint's relative angular rate
+        ``w_j`` [rad/s], an expression linear in ``qd`` (e.g. ``qd_swing - qd_stance`` for a
+        hip between two legs at absolute angles).
+
+    Returns
+    -------
+    Matrix (n, 1)
+        ``Q``; its power is ``Q . qd = -sum_j b_j w_j^2 <= 0`` for ``b_j >= 0``.
+
+    Notes
+    -----
+    A damper between links at absolute angles ``q_a`` (parent) and ``q_b`` (child) applies
+    ``-b w`` to the child and ``+b w`` to the parent, ``w = qd_b - qd_a``: equal and opposite
+    joint torques, so the total angular momentum about the joint is untouched
+    (Goldstein, *Classical Mechanics*, 3rd ed., section 1.5, the dissipation function).
+    """
+    qd = list(qd)
+    R = sum((sp.Rational(1, 2) * b * w**2 for b, w in dampers), sp.S.Zero)
+    return sp.Matrix([-sp.expand(sp.diff(R, v)) for v in qd])
+
+
 def christoffel_coriolis(D: sp.Matrix, q, qd) -> sp.Matrix:
     """Coriolis matrix from the Christoffel symbols of the first kind of ``D``.
 
@@ -164,6 +221,7 @@ def derive(
     *,
     points: dict | None = None,
     B: sp.Matrix | None = None,
+    forcing: sp.Matrix | None = None,
 ) -> LagrangianModel:
     """Derive the Lagrangian model of a planar system of bodies.
 
@@ -181,6 +239,9 @@ def derive(
         named points to keep (feet, hip, knee).
     B : Matrix (n, m), optional
         input map; zero columns when omitted.
+    forcing : Matrix (n, 1), optional
+        generalized forces of the model itself (e.g. :func:`rayleigh_forcing` of joint
+        dampers), functions of ``q``, ``qd`` and ``params``; zero when omitted.
 
     Returns
     -------
@@ -222,7 +283,10 @@ def derive(
         K=K,
         P=P,
         points=dict(points or {}),
+        forcing=None if forcing is None else sp.Matrix(forcing),
     )
+    if model.forcing.shape != (n, 1):
+        raise ValueError(f"`forcing` must have shape ({n}, 1), got {model.forcing.shape}")
     check_free_symbols(model)
     return model
 
@@ -230,7 +294,7 @@ def derive(
 def check_free_symbols(model: LagrangianModel) -> None:
     """Raise ``ValueError`` naming any symbol that is neither a coordinate nor a parameter."""
     allowed = set(model.q) | set(model.qd) | set(model.params)
-    exprs = [model.D, model.C, model.G, model.B, sp.Matrix([model.K, model.P])]
+    exprs = [model.D, model.C, model.G, model.B, model.forcing, sp.Matrix([model.K, model.P])]
     exprs += list(model.points.values())
     free = set().union(*(e.free_symbols for e in exprs))
     stray = sorted(str(s) for s in free - allowed)

@@ -11,6 +11,21 @@ Round feet: each foot is an arc of radius ``R`` whose centre sits on the leg, ``
 foot's tip.  The stance foot rolls without slipping: with ``psi = q1 + slope`` the leg's angle
 from the slope normal, the contact point is ``-R psi s`` and the arc centre ``-R psi s + R n``
 (the stance contact is at the origin when ``psi = 0``).  ``R = 0`` gives point feet.
+
+Joint damping: the passive walkers' joints may carry viscous dampers (the last entries of the
+parameter vector; zero in every published set).  A damper of coefficient ``b`` acts on its
+joint's relative rate ``w`` with equal and opposite torques ``-b w`` on the distal and
+``+b w`` on the proximal link, as the model's ``forcing`` (Rayleigh dissipation
+``R = 1/2 b w^2``, ``Q = -dR/dq_dot``):
+
+* compass gait, ``damping_hip``: ``w = qd_swing - qd_stance``;
+* kneed walker, ``damping_hip``: ``w = qd2 - qd1`` (swing thigh relative to the stance leg);
+  ``damping_knee``: ``w = qd3 - qd2`` (swing shank relative to the swing thigh), which is
+  identically zero once the knee is locked.  The stance knee is locked throughout, so it
+  dissipates nothing.
+
+The floating-base (``*_extended``) models serve only the impulsive heel strike, where a
+finite damping torque transmits no impulse; they carry no forcing.
 """
 
 from __future__ import annotations
@@ -19,7 +34,7 @@ from functools import cache
 
 import sympy as sp
 
-from walker.symbolic.mechanics import Body, LagrangianModel, derive
+from walker.symbolic.mechanics import Body, LagrangianModel, derive, rayleigh_forcing
 
 __all__ = [
     "simplest",
@@ -46,6 +61,7 @@ MODEL_PARAMS = {
         "foot_radius",
         "slope",
         "g",
+        "damping_hip",
     ),
     "kneed": (
         "mass_hip",
@@ -62,6 +78,8 @@ MODEL_PARAMS = {
         "foot_radius",
         "slope",
         "g",
+        "damping_hip",
+        "damping_knee",
     ),
     "double_pendulum": (
         "mass_1",
@@ -168,9 +186,7 @@ def simplest() -> dict:
 
 # ------------------------------------------------------------------------------ compass gait
 def _compass_bodies(q1, q2, hip, params, contact_center):
-    m_h, m, a, b, inertia, R, slope, g = params
-    L = a + b
-    del L, slope, g
+    m_h, m, a, b, inertia, R = params[:6]
     u1, u2 = _u(q1), _u(q2)
     stance_mass = contact_center + (a - R) * u1
     swing_mass = hip - b * u2
@@ -189,9 +205,11 @@ def compass() -> LagrangianModel:
     Coordinates ``(q_stance, q_swing)``, absolute from the vertical, counterclockwise
     positive (Goswami, Thuilot, Espiau, INRIA RR-2996, 1996).  Leg mass ``m`` at ``a`` from
     the foot (``b`` below the hip), rotational inertia ``I`` about it, hip mass ``m_H``.
+    Forcing: the hip damper, ``-damping_hip (qd_swing - qd_stance)`` on the swing leg and its
+    opposite on the stance leg.
     """
     params = param_symbols("compass")
-    m_h, m, a, b, inertia, R, slope, g = params
+    m_h, m, a, b, inertia, R, slope, g, damping_hip = params
     (q1, q2), (q1d, q2d) = _coords(("q_stance", "q_swing"))
     s, n = _slope_frame(slope)
     L = a + b
@@ -205,7 +223,10 @@ def compass() -> LagrangianModel:
         "swing_contact": swing_center - R * n,
     }
     bodies = _compass_bodies(q1, q2, hip, params, center)
-    return derive("compass", (q1, q2), (q1d, q2d), bodies, g, params, points=points)
+    forcing = rayleigh_forcing((q1d, q2d), [(damping_hip, q2d - q1d)])
+    return derive(
+        "compass", (q1, q2), (q1d, q2d), bodies, g, params, points=points, forcing=forcing
+    )
 
 
 @cache
@@ -217,7 +238,7 @@ def compass_extended() -> LagrangianModel:
     :func:`contact_velocity_jacobian`.
     """
     params = param_symbols("compass")
-    m_h, m, a, b, inertia, R, slope, g = params
+    m_h, m, a, b, inertia, R, slope, g = params[:8]
     (q1, q2, xh, yh), (q1d, q2d, xhd, yhd) = _coords(("q_stance", "q_swing", "x_hip", "y_hip"))
     s, n = _slope_frame(slope)
     L = a + b
@@ -258,8 +279,8 @@ def contact_velocity_jacobian(model: LagrangianModel, center: str, angle_index: 
 
 # ---------------------------------------------------------------------------- kneed walker
 def _kneed_bodies(q1, q2, q3, hip, params, stance_center):
-    (m_h, m_t, m_s, a1, b1, a2, b2, I_t, I_s, off_t, off_s, R, slope, g) = params
-    del slope, g, a2
+    (m_h, m_t, m_s, a1, b1, a2, b2, I_t, I_s, off_t, off_s, R) = params[:12]
+    del a2
     l_t = sp.Symbol("thigh_com_from_knee", real=True) + b2
     u1, u2, u3 = _u(q1), _u(q2), _u(q3)
     w1, w2, w3 = _w(q1), _w(q2), _w(q3)
@@ -274,7 +295,7 @@ def _kneed_bodies(q1, q2, q3, hip, params, stance_center):
 
 
 def _kneed_geometry(params):
-    (m_h, m_t, m_s, a1, b1, a2, b2, I_t, I_s, off_t, off_s, R, slope, g) = params
+    (m_h, m_t, m_s, a1, b1, a2, b2) = params[:7]
     l_s = a1 + b1
     l_t = a2 + b2
     return l_s, l_t, l_s + l_t
@@ -287,10 +308,12 @@ def kneed_unlocked() -> LagrangianModel:
     Five masses as in Hsu Chen (2007, MIT M.Eng. thesis) and McGeer (1990): hip ``m_H``; on
     each leg a thigh mass ``m_t`` at ``b2`` below the hip (``a2`` above the knee) and a shank
     mass ``m_s`` at ``b1`` below the knee (``a1`` above the foot), with optional inertias and
-    fore-aft offsets (McGeer).  The stance leg is rigid (its knee is locked).
+    fore-aft offsets (McGeer).  The stance leg is rigid (its knee is locked).  Forcing: the
+    hip damper on ``qd2 - qd1`` and the swing-knee damper on ``qd3 - qd2``.
     """
     params = param_symbols("kneed")
     R, slope, g = params[11], params[12], params[13]
+    damping_hip, damping_knee = params[14], params[15]
     (q1, q2, q3), (q1d, q2d, q3d) = _coords(("q1", "q2", "q3"))
     s, n = _slope_frame(slope)
     l_s, l_t, L = _kneed_geometry(params)
@@ -305,17 +328,39 @@ def kneed_unlocked() -> LagrangianModel:
         "swing_center": swing_center,
         "swing_contact": swing_center - R * n,
     }
-    return derive("kneed_unlocked", (q1, q2, q3), (q1d, q2d, q3d), bodies, g, params, points=points)
+    forcing = rayleigh_forcing(
+        (q1d, q2d, q3d), [(damping_hip, q2d - q1d), (damping_knee, q3d - q2d)]
+    )
+    return derive(
+        "kneed_unlocked",
+        (q1, q2, q3),
+        (q1d, q2d, q3d),
+        bodies,
+        g,
+        params,
+        points=points,
+        forcing=forcing,
+    )
 
 
 @cache
 def kneed_locked() -> LagrangianModel:
-    """Kneed walker with the swing knee locked: ``(q1 stance leg, q2 swing leg)``."""
+    """Kneed walker with the swing knee locked: ``(q1 stance leg, q2 swing leg)``.
+
+    Forcing: the hip damper on ``qd2 - qd1``; the knee's relative rate is zero.
+    """
     full = kneed_unlocked()
     q1, q2, q3 = full.q
+    q1d, q2d, q3d = full.qd
     params = full.params
     g = params[13]
+    damping_hip, damping_knee = params[14], params[15]
     (p1, p2), (p1d, p2d) = _coords(("q1", "q2"))
+    # The knee-locked rates: qd3 = qd2.  Substituting them into the dampers' rates gives the
+    # projection T^T Q of the unlocked forcing (T maps (p1d, p2d) to (p1d, p2d, p2d)).
+    rate_sub = {q1d: p1d, q2d: p2d, q3d: p2d}
+    dampers = [(damping_hip, q2d - q1d), (damping_knee, q3d - q2d)]
+    forcing = rayleigh_forcing((p1d, p2d), [(b, w.subs(rate_sub)) for b, w in dampers])
     sub = {q1: p1, q2: p2, q3: p2}
     bodies = [
         Body(
@@ -328,7 +373,9 @@ def kneed_locked() -> LagrangianModel:
         for b in full.bodies
     ]
     points = {k: v.subs(sub) for k, v in full.points.items()}
-    return derive("kneed_locked", (p1, p2), (p1d, p2d), bodies, g, params, points=points)
+    return derive(
+        "kneed_locked", (p1, p2), (p1d, p2d), bodies, g, params, points=points, forcing=forcing
+    )
 
 
 @cache

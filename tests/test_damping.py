@@ -1,0 +1,320 @@
+"""Viscous joint damping of the passive walkers (issue 8, item 4).
+
+The compass gait carries a hip damper (``damping_hip``, on ``qd_swing - qd_stance``), the
+kneed walker a hip damper (``qd2 - qd1``) and a swing-knee damper (``damping_knee``, on
+``qd3 - qd2``, inactive once the knee is locked).  Checked here:
+
+* the energy balance ``dE/dt = -sum_j b_j w_j^2`` (the dampers' power) at random states,
+  from the symbolic models and from the generated kernels, and ``dE/dt = 0`` without damping;
+* the impacts (heel strike, knee lock) do not depend on the damping;
+* Goswami's compass gait continued in ``damping_hip`` from 0: how its walking speed changes,
+  where the gait is lost and what the walker does beyond (an outcome, never an exception);
+* Hsu Chen's kneed walker: a small knee damping changes the gait smoothly and slows it.
+
+Measured (walker DOP853, rtol = 1e-10): the hip damper makes the Goswami compass gait walk
+*faster*, not slower -- speed 0.7288 m/s at b = 0 rising monotonically to 0.7909 m/s at
+b = 0.2530 N m s/rad, where the stable gait is lost (natural continuation stops, the complex
+Floquet pair heading for the real axis near +1: a fold); beyond it the walker falls forward.
+The knee damper does slow the kneed walker (0.8370 m/s at 0 to 0.8242 m/s at 0.01), whose
+gait is lost before 0.015 N m s/rad, where the bent knee trips.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+from numpy.testing import assert_allclose
+
+from walker import StrideMap
+from walker.continuation import continue_branch
+from walker.fixedpoint import find_fixed_point
+from walker.params import CompassParams, KneedParams
+from walker.scene import load_scene
+from walker.status import Status
+from walker.stride import simulate
+from walker.symbolic import models
+
+N_STATES = 50
+TOL = 1e-12
+
+# Joint rates of each single-support model, as (parameter index, rate from qd) pairs.
+DAMPERS = {
+    "compass": [(8, lambda qd: qd[1] - qd[0])],
+    "kneed_unlocked": [(14, lambda qd: qd[1] - qd[0]), (15, lambda qd: qd[2] - qd[1])],
+    "kneed_locked": [(14, lambda qd: qd[1] - qd[0])],
+}
+FACTORIES = {
+    "compass": models.compass,
+    "kneed_unlocked": models.kneed_unlocked,
+    "kneed_locked": models.kneed_locked,
+}
+
+
+def _random_params(name: str, rng, *, damped: bool) -> np.ndarray:
+    """A random physical parameter vector (round feet, inertias, offsets, slope)."""
+    if name == "compass":
+        base = CompassParams.goswami()
+        p = base.replace(
+            mass_hip=rng.uniform(0.5, 10.0),
+            mass_leg=rng.uniform(0.5, 5.0),
+            com_from_foot=rng.uniform(0.2, 1.0),
+            com_to_hip=rng.uniform(0.2, 1.0),
+            inertia_leg=rng.uniform(0.0, 0.5),
+            foot_radius=rng.uniform(0.0, 0.2),
+            slope=rng.uniform(-0.2, 0.2),
+            g=rng.uniform(1.0, 20.0),
+            damping_hip=rng.uniform(0.0, 5.0) if damped else 0.0,
+        )
+    else:
+        base = KneedParams.hsu_chen()
+        p = base.replace(
+            mass_hip=rng.uniform(0.1, 2.0),
+            mass_thigh=rng.uniform(0.1, 2.0),
+            mass_shank=rng.uniform(0.02, 1.0),
+            inertia_thigh=rng.uniform(0.001, 0.1),
+            inertia_shank=rng.uniform(0.001, 0.1),
+            offset_thigh=rng.uniform(-0.1, 0.1),
+            offset_shank=rng.uniform(-0.1, 0.1),
+            foot_radius=rng.uniform(0.0, 0.2),
+            slope=rng.uniform(-0.2, 0.2),
+            g=rng.uniform(1.0, 20.0),
+            damping_hip=rng.uniform(0.0, 5.0) if damped else 0.0,
+            damping_knee=rng.uniform(0.0, 5.0) if damped else 0.0,
+        )
+    return p.as_array()
+
+
+def _damper_power(name: str, qd, p) -> float:
+    """``-sum_j b_j w_j^2`` [W]: the rate at which the dampers remove energy."""
+    return -sum(p[i] * rate(qd) ** 2 for i, rate in DAMPERS[name])
+
+
+# ------------------------------------------------------------------- energy balance
+class _Symbolic:
+    """Fresh lambdified D, h - Q and the energy rate ``dE/dx . f`` of a model."""
+
+    def __init__(self, model):
+        q, qd, p = list(model.q), list(model.qd), list(model.params)
+        self.D = sp.lambdify([q, qd, p], model.D, "numpy")
+        self.h_forced = sp.lambdify([q, qd, p], model.forced_bias, "numpy")
+        energy = model.K + model.P
+        self.grad = sp.lambdify([q, qd, p], [sp.diff(energy, x) for x in q + qd], "numpy")
+        qdd = sp.symbols(f"a_0:{model.n}", real=True)
+        rate = model.energy_rate(sp.Matrix(qd + list(qdd)))
+        self.rate = sp.lambdify([q, qd, list(qdd), p], rate, "numpy")
+
+
+@pytest.mark.parametrize("damped", [True, False], ids=["damped", "undamped"])
+@pytest.mark.parametrize("name", list(FACTORIES))
+def test_symbolic_energy_rate_is_the_damper_power(name, damped):
+    """Along ``qdd = -D^-1 (C qd + g - Q)``, ``dE/dt = -sum b_j w_j^2`` (zero undamped),
+    to 1e-12 of the magnitude of the terms of ``dE/dx . f``."""
+    model = FACTORIES[name]()
+    num = _Symbolic(model)
+    family = "compass" if name == "compass" else "kneed"
+    rng = np.random.default_rng(8 + 2 * damped + len(name))
+    largest = 0.0
+    for _ in range(N_STATES):
+        p = _random_params(family, rng, damped=damped)
+        q = rng.uniform(-np.pi, np.pi, model.n)
+        qd = rng.normal(0.0, 2.0, model.n)
+        D = np.asarray(num.D(q, qd, p), dtype=float)
+        qdd = np.linalg.solve(D, -np.asarray(num.h_forced(q, qd, p), dtype=float).ravel())
+        rate = float(num.rate(q, qd, qdd, p))
+        grad = np.asarray(num.grad(q, qd, p), dtype=float)
+        scale = np.abs(grad) @ np.abs(np.concatenate([qd, qdd]))
+        expected = _damper_power(name, qd, p)
+        assert_allclose(rate, expected, rtol=0, atol=TOL * scale)
+        largest = max(largest, abs(expected))
+    if damped:
+        assert largest > 1.0  # the dampers did dissipate: the check above is not 0 = 0
+
+
+def _generated_rate(K, prefix, q, qd, p):
+    """``dE/dt = qd.(D qdd) + 1/2 qd.(D_dot qd) + qd.g`` from the generated kernels, with
+    ``qdd`` from the (damped) ``accel`` kernel; also ``Q.qd`` from the ``forcing`` kernel
+    and ``qdd`` recomputed from ``mass_matrix``, ``bias`` and ``forcing``."""
+    n = len(q)
+    qdd = np.empty(n)
+    getattr(K, f"{prefix}accel")(q, qd, p, qdd)
+    D = np.empty((n, n))
+    getattr(K, f"{prefix}mass_matrix")(q, p, D)
+    dD = np.empty((n, n, n))
+    getattr(K, f"{prefix}dmass")(q, p, dD)
+    g = np.empty(n)
+    getattr(K, f"{prefix}gravity")(q, p, g)
+    h = np.empty(n)
+    getattr(K, f"{prefix}bias")(q, qd, p, h)
+    Q = np.empty(n)
+    getattr(K, f"{prefix}forcing")(q, qd, p, Q)
+    Ddot = np.tensordot(qd, dD, axes=1)
+    terms = np.array([qd @ D @ qdd, 0.5 * qd @ Ddot @ qd, qd @ g])
+    return terms.sum(), np.abs(terms).sum(), Q @ qd, qdd, np.linalg.solve(D, Q - h)
+
+
+@pytest.mark.parametrize("name", list(FACTORIES))
+def test_generated_kernels_dissipate_the_damper_power(name):
+    """The compiled ``accel`` includes the damping exactly: ``dE/dt`` from the generated
+    mass matrix, its derivatives and gravity equals ``-sum b_j w_j^2``; the ``forcing``
+    kernel's power is the same; ``accel`` equals ``D^-1 (Q - h)`` from the other kernels."""
+    if name == "compass":
+        from walker._generated import compass as K
+
+        prefix, family = "", "compass"
+    else:
+        from walker._generated import kneed as K
+
+        prefix, family = name.split("_")[1] + "_", "kneed"
+    n = 2 if name != "kneed_unlocked" else 3
+    rng = np.random.default_rng(80 + n)
+    for k in range(N_STATES):
+        p = _random_params(family, rng, damped=k > 0)  # the first sample is undamped
+        q = rng.uniform(-np.pi, np.pi, n)
+        qd = rng.normal(0.0, 2.0, n)
+        rate, scale, power, qdd, qdd_ref = _generated_rate(K, prefix, q, qd, p)
+        expected = _damper_power(name, qd, p)
+        assert_allclose(rate, expected, rtol=0, atol=TOL * scale)
+        assert_allclose(power, expected, rtol=TOL, atol=TOL * scale)
+        assert_allclose(qdd, qdd_ref, rtol=1e-10, atol=1e-10 * np.abs(qdd_ref).max())
+        if k == 0:
+            assert power == 0.0 and abs(rate) <= TOL * scale
+
+
+def test_locked_forcing_is_the_projected_unlocked_forcing():
+    """With the knee locked (``qd3 = qd2``) the locked model's forcing is ``T^T Q``, ``T``
+    mapping ``(qd1, qd2)`` to ``(qd1, qd2, qd2)``: the knee damper drops out exactly."""
+    un, lo = models.kneed_unlocked(), models.kneed_locked()
+    q1d, q2d, q3d = un.qd
+    p1d, p2d = lo.qd
+    Q = un.forcing.subs({q1d: p1d, q2d: p2d, q3d: p2d})
+    T = sp.Matrix([[1, 0], [0, 1], [0, 1]])
+    assert sp.expand(T.T * Q - lo.forcing) == sp.zeros(2, 1)
+    knee = lo.params[models.MODEL_PARAMS["kneed"].index("damping_knee")]
+    assert knee not in lo.forcing.free_symbols
+
+
+# ----------------------------------------------------------------------------- impacts
+def test_impacts_do_not_depend_on_damping():
+    """Heel strike (compass, kneed) and knee lock are impulsive: the finite damping torques
+    transmit no impulse, so the post-impact state and impulses are identical."""
+    from walker.models import compass as MC
+    from walker.models import kneed as MK
+
+    xc = np.array([-0.3234, 0.2187, -1.0918, -0.3772])  # legs symmetric about the normal
+    xc[0] = -2 * CompassParams.goswami().slope - xc[1]
+    out = []
+    for b in (0.0, 3.0):
+        p = CompassParams.goswami().replace(damping_hip=b).as_array()
+        x_new, imp = np.empty(4), np.empty(2)
+        status = MC.heel_strike(xc, p, x_new, imp)
+        out.append((status, x_new, imp))
+    assert out[0][0] == out[1][0] == 0
+    assert_allclose(out[1][1], out[0][1], rtol=0, atol=0)
+    assert_allclose(out[1][2], out[0][2], rtol=0, atol=0)
+
+    xk = np.array([0.15, -0.25, -0.25, -1.0, 0.5, 1.2])
+    res = []
+    for bh, bk in ((0.0, 0.0), (2.0, 3.0)):
+        p = KneedParams.hsu_chen().replace(damping_hip=bh, damping_knee=bk).as_array()
+        x_lock, imp_lock = np.empty(6), np.empty(2)
+        s1 = MK.knee_lock(xk, p, x_lock, imp_lock)
+        x_hs, imp_hs = np.empty(6), np.empty(2)
+        xh = x_lock.copy()
+        xh[1] = xh[2] = -2 * KneedParams.hsu_chen().slope - xh[0]
+        s2 = MK.heel_strike(xh, p, x_hs, imp_hs)
+        res.append((s1, x_lock, imp_lock, s2, x_hs, imp_hs))
+    assert res[0][0] == res[1][0] == 0
+    for a, b in zip(res[0][1:3] + res[0][4:], res[1][1:3] + res[1][4:], strict=True):
+        assert_allclose(b, a, rtol=0, atol=0)
+    assert res[0][3] == res[1][3]
+
+
+# ----------------------------------------------------------------- the compass gait
+def _compass_speed(z, step_time, params):
+    """Walking speed [m/s]: step length ``2 L sin(half inter-leg angle)`` over step time;
+    just after heel strike the half inter-leg angle is ``q_stance + slope``."""
+    return 2.0 * params.leg_length * math.sin(z[0] + params.slope) / step_time
+
+
+def test_hip_damping_continuation_of_the_compass_gait():
+    """Goswami's 3 degree gait (gaits/compass_goswami.toml) followed in ``damping_hip``.
+
+    Natural continuation (the parameter is bounded below by 0 and ``continue_branch`` takes
+    a central difference in it, so the branch starts at 1e-6, next to the exact b = 0 fixed
+    point).  Measured: every point is stable; step length and step time both shrink, the
+    step time faster, so the walking speed *rises* monotonically (0.7288 -> 0.7909 m/s, +8.5%);
+    the continuation stops (NOT_CONVERGED) at b = 0.2530 N m s/rad with the complex Floquet
+    pair near the real axis at |m| = 0.84 -- the stable gait is lost in a fold.  Past it, the
+    walker started on the last gait falls forward: a status, not an exception."""
+    scene = load_scene("gaits/compass_goswami.toml")
+    base = scene.params
+    assert base.damping_hip == 0.0
+    P0 = StrideMap("compass", base, parameter_name="damping_hip")
+    fp0 = find_fixed_point(P0, P0.project(scene.state))
+    assert fp0.success
+    assert_allclose(fp0.state, scene.reference["state"], rtol=0, atol=1e-9)
+
+    P = P0.with_parameter(1e-6)
+    branch = continue_branch(P, fp0.section, to=0.4, method="natural", step=0.01, max_step=0.02)
+    assert branch.status == Status.NOT_CONVERGED, branch.message
+    b_lost = branch.parameter[-1]
+    assert 0.25 < b_lost < 0.26, b_lost
+    assert branch.stable.all()
+    assert np.abs(branch.multipliers[-1]).max() > 0.8  # approaching the fold at +1
+
+    bs = np.concatenate([[0.0], branch.parameter])
+    zs = np.vstack([fp0.section, branch.sections])
+    ts = np.concatenate([[fp0.step_time], branch.step_times])
+    speed = np.array([_compass_speed(z, t, base) for z, t in zip(zs, ts, strict=True)])
+    length = 2.0 * base.leg_length * np.sin(zs[:, 0] + base.slope)
+    assert np.all(np.diff(bs) > 0)
+    assert np.all(np.diff(length) < 0) and np.all(np.diff(ts) < 0)
+    assert np.all(np.diff(speed) > 0)
+    assert_allclose(speed[0], 0.728774, rtol=1e-5, atol=0)
+    assert speed[-1] / speed[0] - 1.0 > 0.08
+
+    x_last = P.lift(branch.sections[-1])
+    for b in (0.26, 1.0, 50.0):
+        sol = simulate("compass", base.replace(damping_hip=b), x_last, n_strides=30)
+        assert not sol.success
+        assert sol.status == Status.FELL_FORWARD, (b, sol.message)
+
+
+# ------------------------------------------------------------------ the kneed walker
+def test_small_knee_damping_changes_the_kneed_gait_smoothly():
+    """Hsu Chen's gait (gaits/kneed_hsu.toml) at ``damping_knee`` = 0 .. 0.01 N m s/rad,
+    each fixed point warm-started from the previous one: all stable; the shift of the fixed
+    point is linear in b for small b (from 1e-4 to 2e-4 it doubles, to 3 %; the curvature
+    is strong: from 1e-3 to 2e-3 it grows only 1.78 times); the knee damper slows
+    the walker monotonically (0.8370 -> 0.8242 m/s).  At 0.015 the knee no longer straightens
+    before the foot reaches the ground: the walker, started on the 0.01 gait, trips."""
+    scene = load_scene("gaits/kneed_hsu.toml")
+    base = scene.params
+    assert (base.damping_hip, base.damping_knee) == (0.0, 0.0)
+    z = StrideMap("kneed", base).project(scene.state)
+    values = (0.0, 1e-4, 2e-4, 0.001, 0.002, 0.005, 0.01)
+    sections, speeds = [], []
+    for b in values:
+        P = StrideMap("kneed", base.replace(damping_knee=b))
+        fp = find_fixed_point(P, z)
+        assert fp.success and fp.stable, (b, fp.message)
+        z = fp.section
+        sections.append(z)
+        speeds.append(2.0 * base.leg_length * math.sin(z[0] + base.slope) / fp.step_time)
+    sections = np.array(sections)
+    assert_allclose(
+        sections[0], StrideMap("kneed", base).project(scene.reference["state"]), rtol=0, atol=1e-9
+    )
+    d1 = np.linalg.norm(sections[1] - sections[0])
+    d2 = np.linalg.norm(sections[2] - sections[0])
+    assert d1 > 1e-5  # the damping does move the gait
+    assert_allclose(d2 / d1, 2.0, rtol=0.03, atol=0)
+    assert np.all(np.diff(speeds) < 0)
+    assert_allclose(speeds[0], 0.837009, rtol=1e-5, atol=0)
+
+    x_last = P.lift(sections[-1])
+    sol = simulate("kneed", base.replace(damping_knee=0.015), x_last, n_strides=30)
+    assert sol.status == Status.TRIPPED, sol.message

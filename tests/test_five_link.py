@@ -1,0 +1,339 @@
+"""The five-link walker (RABBIT-like) in closed loop: hybrid invariance, the restricted
+Poincaré map, the full-order gait, energy balance and Newton–Euler torques."""
+
+import math
+from functools import cache
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+from walker import hzd
+from walker._generated import five_link as K5
+from walker.fixedpoint import find_fixed_point
+from walker.models import five_link as FL
+from walker.params import FiveLinkParams
+from walker.scene import load_scene
+from walker.status import Status
+from walker.stride import StrideMap, simulate
+from walker.symbolic.newton_euler import PlanarChain, inverse_dynamics
+
+RNG = np.random.default_rng(20260311)
+# section coordinates: q_leg, q_knee, q_torso, q_femur_sw, then the five rates
+PERTURBATION = np.array([0.0, 0.02, 0.02, -0.02, 0.05, 0.1, -0.1, 0.1, 0.0])
+
+
+@cache
+def rabbit():
+    return FiveLinkParams.rabbit()
+
+
+@cache
+def hzd_orbit():
+    return hzd.restricted_fixed_point(rabbit(), bracket=(-4.0, -0.2), n_scan=16)
+
+
+@cache
+def full_orbit():
+    """Full-order fixed point, Newton started from a perturbed section point."""
+    S = StrideMap("five_link", rabbit())
+    return find_fixed_point(S, hzd_orbit().section + PERTURBATION, tol=1e-12)
+
+
+# ----------------------------------------------------------------------------- the model
+def test_rabbit_preset():
+    p = rabbit()
+    # Westervelt, Grizzle, Koditschek 2003, Table I (RABBIT): masses [kg], lengths and
+    # centre-of-mass positions [m], inertias [kg m^2]
+    assert (p.mass_torso, p.mass_femur, p.mass_tibia) == (12.0, 6.8, 3.2)
+    assert (p.length_femur, p.length_tibia) == (0.4, 0.4)
+    assert (p.com_torso, p.com_femur, p.com_tibia) == (0.24, 0.11, 0.24)
+    assert (p.inertia_torso, p.inertia_femur, p.inertia_tibia) == (1.33, 0.47, 0.20)
+    assert p.slope == 0.0 and p.controller == 2.0
+    with pytest.raises(ValueError, match=r"^`com_tibia` must be <= `length_tibia` = 0.4 \[m\]"):
+        p.replace(com_tibia=0.5)
+    with pytest.raises(ValueError, match="^`theta_minus` must differ from `theta_plus`"):
+        p.replace(theta_minus=p.theta_plus)
+
+
+def test_input_map_is_the_relative_joint_angles():
+    """B^T qd are the relative joint rates (hip st, hip sw, knee st, knee sw), and BETA B = 0."""
+    qd = RNG.uniform(-1, 1, 5)
+    tib_st, fem_st = qd[0] - qd[1] / 2, qd[0] + qd[1] / 2
+    rel = [fem_st - qd[2], qd[3] - qd[2], tib_st - fem_st, qd[4] - qd[3]]
+    assert_allclose(FL.B_MATRIX.T @ qd, rel, rtol=0, atol=1e-15)
+    assert_allclose(hzd.BETA_FIVE_LINK @ FL.B_MATRIX, 0.0, rtol=0, atol=0)
+
+
+def test_lift_puts_the_swing_foot_on_the_ground():
+    P = rabbit()
+    p = P.as_array()
+    z = hzd_orbit().section + 0.5 * PERTURBATION
+    x = FL.lift(z, p)
+    height, ahead = FL.swing_foot(x, p)
+    assert_allclose(height, 0.0, rtol=0, atol=1e-15)
+    assert ahead < -0.2  # the new swing foot is the trailing one
+    assert_allclose(FL.project(x, p), z, rtol=0, atol=0)
+    e = 1e-6
+    J = FL.lift_jacobian(z, p)
+    for j in range(9):
+        dz = np.zeros(9)
+        dz[j] = e
+        # central differences: truncation ~e^2, rounding ~1e-16/e
+        assert_allclose(J[:, j], (FL.lift(z + dz, p) - FL.lift(z - dz, p)) / (2 * e), atol=1e-8)
+
+
+def test_heel_strike_conserves_momentum_about_the_new_foot():
+    """Across the impact the angular momentum about the new stance foot is conserved (the
+    only impulse acts there); the old stance foot lifts off and the knees swap."""
+    P = rabbit()
+    p = P.as_array()
+    q, sigma, _ = hzd.surface(P, P.theta_minus)
+    x = np.r_[q, -1.3 * sigma, 0.0, 0.0]
+    x_new = x.copy()
+    impulse = np.zeros(2)
+    assert FL.heel_strike(x, p, x_new, impulse) == 0
+    assert impulse[1] > 0
+    foot = FL.points(x, p)[4]
+    momentum_before = _angular_momentum(x, P, foot)
+    momentum_after = _angular_momentum(x_new, P, FL.points(x_new, p)[0])
+    assert_allclose(momentum_after, momentum_before, rtol=1e-13)
+    assert_allclose(x_new[1], x[3] - x[4], rtol=0, atol=1e-15)  # new knee: old swing leg's
+
+
+def _angular_momentum(x, P, about):
+    """Angular momentum [kg m^2/s] about ``about``, from the segments' centres of mass (the
+    kernel's joint positions) and their velocities written out by hand."""
+    p = P.as_array()
+    q, qd = x[:5], x[5:10]
+    tst, fst = q[0] - q[1] / 2, q[0] + q[1] / 2
+    tstd, fstd = qd[0] - qd[1] / 2, qd[0] + qd[1] / 2
+    pts = FL.points(x, p)
+    hip, ks, ksw = pts[2], pts[1], pts[3]
+    lt, lf = P.length_tibia, P.length_femur
+    u = lambda a: np.array([-math.sin(a), math.cos(a)])  # noqa: E731
+    du = lambda a, w: w * np.array([-math.cos(a), -math.sin(a)])  # noqa: E731
+    v_ks = lt * du(tst, tstd)
+    v_hip = v_ks + lf * du(fst, fstd)
+    v_ksw = v_hip - lf * du(q[3], qd[3])
+    bodies = [
+        (P.mass_torso, hip + P.com_torso * u(q[2]), v_hip + P.com_torso * du(q[2], qd[2])),
+        (P.mass_femur, hip - P.com_femur * u(fst), v_hip - P.com_femur * du(fst, fstd)),
+        (P.mass_tibia, ks - P.com_tibia * u(tst), v_ks - P.com_tibia * du(tst, tstd)),
+        (P.mass_femur, hip - P.com_femur * u(q[3]), v_hip - P.com_femur * du(q[3], qd[3])),
+        (P.mass_tibia, ksw - P.com_tibia * u(q[4]), v_ksw - P.com_tibia * du(q[4], qd[4])),
+    ]
+    inertia = P.inertia_torso * qd[2] + P.inertia_femur * (fstd + qd[3])
+    inertia += P.inertia_tibia * (tstd + qd[4])
+    orbital = sum(m * ((c - about)[0] * v[1] - (c - about)[1] * v[0]) for m, c, v in bodies)
+    return orbital + inertia
+
+
+# ------------------------------------------------------------------------ hybrid zero dynamics
+def test_make_invariant_gives_hybrid_invariance():
+    """h(Delta(q-)) = 0 and L_f h(Delta(q-, qd-)) = 0 after the adjustment (1e-12), and not
+    before it, for random free coefficients, steps and slopes."""
+    raw = rabbit().replace(bezier_knee_1=0.3, bezier_torso_0=0.0, bezier_femur_1=0.0)
+    h0, lfh0 = hzd.invariance_residual(raw)
+    assert np.max(np.abs(np.r_[h0, lfh0])) > 1e-2
+    for k in range(3):
+        free = RNG.uniform(-0.1, 0.1, 6)
+        design = hzd.make_invariant(
+            raw.replace(
+                theta_minus=-0.18 - 0.03 * k,
+                slope=0.01 * k,
+                bezier_knee_3=0.2 + free[0],
+                bezier_knee_4=0.2 + free[1],
+                bezier_torso_2=free[2],
+                bezier_femur_2=0.2 + free[3],
+                bezier_tibia_2=-0.6 + free[4],
+                bezier_tibia_3=0.2 + free[5],
+            )
+        )
+        h, lfh = hzd.invariance_residual(design)
+        assert_allclose(h, 0.0, rtol=0, atol=1e-12)
+        assert_allclose(lfh, 0.0, rtol=0, atol=1e-12)
+        # the swing foot is on the slope at theta_minus
+        q, _, _ = hzd.surface(design, design.theta_minus)
+        x = np.r_[q, np.zeros(7)]
+        assert_allclose(FL.swing_foot(x, design.as_array())[0], 0.0, rtol=0, atol=1e-15)
+
+
+def test_zero_dynamics_equals_closed_loop_on_the_surface():
+    P = rabbit()
+    p = P.as_array()
+    for theta in np.linspace(P.theta_plus, P.theta_minus, 4):
+        thd = RNG.uniform(-1.5, -0.5)
+        q, sigma, dsigma = hzd.surface(P, theta)
+        x = np.r_[q, sigma * thd, 0.0, 0.0]
+        dx = np.empty(12)
+        FL.rhs(0, 0.0, x, p, dx)
+        thdd = hzd.zero_dynamics_accel(P, theta, thd)
+        assert_allclose(dx[5:10], sigma * thdd + dsigma * thd**2, rtol=1e-11, atol=1e-11)
+
+
+def test_restricted_map_multiplier_is_delta_zero_squared():
+    """Central differences (step 1e-5) of rho at rtol 1e-12 vs the closed form delta_zero^2
+    (Westervelt et al. 2003, Theorem 3)."""
+    o = hzd_orbit()
+    assert o.success
+    assert_allclose(o.multiplier, o.multiplier_closed_form, rtol=0, atol=1e-8)
+    assert 0.0 < o.multiplier < 1.0
+    r = hzd.restricted_map(rabbit(), o.theta_dot_plus)
+    assert r.status == Status.COMPLETED
+    assert_allclose(r.theta_dot_plus, o.theta_dot_plus, rtol=0, atol=1e-12)
+    assert r.impulse[1] > 0 and abs(r.impulse[0]) < rabbit().friction * r.impulse[1]
+
+
+# ------------------------------------------------------------------------- full-order gait
+def test_closed_loop_converges_to_period_one_gait():
+    """From a perturbed start (knee, torso, femur, rates) the walker converges to the HZD
+    orbit on level ground: contraction 0.815 per stride, 0.815^80 * 0.1 ~ 1e-8."""
+    P = rabbit()
+    S = StrideMap("five_link", P)
+    sol = simulate("five_link", P, S.lift(hzd_orbit().section + PERTURBATION), n_strides=80)
+    assert sol.status == Status.COMPLETED, sol.message
+    assert_allclose(S.project(sol.x), hzd_orbit().section, rtol=0, atol=1e-6)
+    assert sol.x[11] == 0.0  # never saturated
+    assert sol.x[10] > 0.0  # the actuators did positive work
+
+
+def test_full_order_fixed_point_agrees_with_hzd():
+    """The full-order orbit is the HZD orbit (to the integration tolerance) and its dominant
+    multiplier is delta_zero^2 (to 1e-7, the accuracy of the central-difference vector-field
+    Jacobian in the variational equations); the transverse multipliers are < 1e-3."""
+    fp = full_orbit()
+    o = hzd_orbit()
+    assert fp.success, fp.message
+    assert fp.stable and np.all(np.abs(fp.multipliers) < 1.0)
+    assert_allclose(fp.section, o.section, rtol=0, atol=1e-9)
+    assert_allclose(fp.multipliers[0].real, o.multiplier_closed_form, rtol=0, atol=1e-7)
+    assert fp.multipliers[0].imag == 0.0
+    assert np.all(np.abs(fp.multipliers[1:]) < 1e-3)
+    assert_allclose(fp.step_time, o.step_time, rtol=1e-9)
+
+
+def test_scene_reference_is_the_orbit():
+    scene = load_scene("gaits/five_link_hzd.toml")
+    fp = full_orbit()
+    assert scene.params == rabbit()
+    assert_allclose(scene.state[:10], fp.state[:10], rtol=0, atol=1e-10)
+    ref = scene.reference
+    mult = np.asarray(ref["multipliers"], dtype=complex)
+    assert_allclose(mult, fp.multipliers, rtol=0, atol=ref["tolerance"])
+
+
+def test_actuator_work_equals_impact_loss():
+    """Level ground, periodic orbit: the actuators' work over one stride replaces the kinetic
+    energy lost at heel strike (1e-9 relative)."""
+    P = rabbit()
+    p = P.as_array()
+    sol = simulate("five_link", P, full_orbit().state, n_strides=1, output="events")
+    assert sol.status == Status.COMPLETED
+    x_pre, x_post = sol.events.x_pre[-1], sol.events.x_post[-1]
+    loss = FL.energy(x_pre, p)[0] - FL.energy(x_post, p)[0]
+    assert loss > 1.0  # joules: the impact is not trivial
+    assert_allclose(sol.x[10], loss, rtol=1e-9)
+
+
+# ------------------------------------------------------------------------------ outcomes
+def test_saturation_is_reported():
+    """A limit below the gait's peak torque (~104 N m at the hips) clips the torque."""
+    P = rabbit().replace(torque_limit=80.0)
+    p = P.as_array()
+    sol = simulate("five_link", P, full_orbit().state, n_strides=1, output="full")
+    assert sol.x[11] > 0.0
+    u = np.array([FL.torques(x, p) for x in sol.record.x])
+    assert np.max(np.abs(u)) <= 80.0
+
+
+def test_slip_is_an_outcome():
+    """Friction 0.2 is below the stance phase's peak |F_t|/F_n ~ 0.36: a status, not a crash."""
+    P = rabbit().replace(friction=0.2)
+    sol = simulate("five_link", P, full_orbit().state, n_strides=2, output="events")
+    assert sol.status == Status.NONPHYSICAL_IMPACT
+    assert sol.events.guard[-1] in (0, 3, 4)
+
+
+# --------------------------------------------------------------------------- Newton–Euler
+def test_newton_euler_reproduces_applied_torques():
+    """Inverse dynamics of the tree split into serial chains (A: stance tibia, stance femur,
+    swing femur, swing tibia; B: stance tibia and femur of negligible mass, torso; C: those
+    two light links alone, subtracted) along a closed-loop stride gives the controller's
+    torques (1e-10 N m): swing knee u_4, swing hip u_2, torso joint -u_1 - u_2 (virtual
+    work of B), stance knee -u_3 (joint angle femur - tibia), stance foot 0."""
+    P = rabbit()
+    p = P.as_array()
+    times = np.linspace(0.0, full_orbit().step_time * 0.999, 7)
+    x0 = full_orbit().state + np.r_[0, 0, 0.02, 0, 0, 0.05, 0, 0, 0, 0, 0, 0]
+    sol = simulate("five_link", P, x0, n_strides=1, output="samples", sample_times=times)
+    lt, lf = P.length_tibia, P.length_femur
+    mt, mf, it, i_f = P.mass_tibia, P.mass_femur, P.inertia_tibia, P.inertia_femur
+    eps = 1e-3
+    chain_a = PlanarChain(
+        [lt, lf, lf, lt],
+        [[lt - P.com_tibia, 0], [lf - P.com_femur, 0], [P.com_femur, 0], [P.com_tibia, 0]],
+        [mt, mf, mf, mt],
+        [it, i_f, i_f, it],
+    )
+    chain_b = PlanarChain(
+        [lt, lf, P.com_torso],
+        [[lt / 2, 0], [lf / 2, 0], [P.com_torso, 0]],
+        [eps, eps, P.mass_torso],
+        [0.0, 0.0, P.inertia_torso],
+    )
+    chain_c = PlanarChain([lt, lf], [[lt / 2, 0], [lf / 2, 0]], [eps, eps], [0.0, 0.0])
+    gravity = (0.0, -P.g)
+    assert sol.samples.x.shape[0] == len(times)
+    for x in sol.samples.x:
+        dx = np.empty(12)
+        FL.rhs(0, 0.0, x, p, dx)
+        u = FL.torques(x, p)
+        # absolute angles (stance tibia, stance femur, torso, swing femur, swing tibia) and
+        # their rates and accelerations
+        T = np.array([[1, -0.5, 0, 0, 0], [1, 0.5, 0, 0, 0], [0, 0, 1, 0, 0]])
+        T = np.vstack([T, [[0, 0, 0, 1, 0], [0, 0, 0, 0, 1]]])
+        a, ad, add = T @ x[:5], T @ x[5:10], T @ dx[5:10]
+        # relative joint angles of the chains (link axes: foot -> knee -> hip -> knee ->
+        # foot; hip -> torso)
+        rel_a = np.array([[1, 0, 0, 0, 0], [-1, 1, 0, 0, 0], [0, -1, 0, 1, 0], [0, 0, 0, -1, 1]])
+        rel_b = np.array([[1, 0, 0, 0, 0], [-1, 1, 0, 0, 0], [0, -1, 1, 0, 0]])
+        off_a = np.array([math.pi / 2, 0.0, math.pi, 0.0])
+        off_b = np.array([math.pi / 2, 0.0, 0.0])
+        tau_a = inverse_dynamics(
+            chain_a, rel_a @ a + off_a, rel_a @ ad, rel_a @ add, gravity=gravity
+        )
+        tau_b = inverse_dynamics(
+            chain_b, rel_b @ a + off_b, rel_b @ ad, rel_b @ add, gravity=gravity
+        )
+        tau_c = inverse_dynamics(
+            chain_c, (rel_b @ a + off_b)[:2], (rel_b @ ad)[:2], (rel_b @ add)[:2], gravity=gravity
+        )
+        assert_allclose(tau_a[3], u[3], rtol=0, atol=1e-10)
+        assert_allclose(tau_a[2], u[1], rtol=0, atol=1e-10)
+        assert_allclose(tau_b[2], -u[0] - u[1], rtol=0, atol=1e-10)
+        assert_allclose(tau_a[1] + tau_b[1] - tau_c[1], -u[2], rtol=0, atol=1e-10)
+        assert_allclose(tau_a[0] + tau_b[0] - tau_c[0], 0.0, rtol=0, atol=1e-10)
+
+
+def test_generated_points_match_the_geometry():
+    """The kernels' points at a random configuration, from the segment angles by hand."""
+    P = rabbit()
+    p = P.as_array()
+    q = RNG.uniform(-0.5, 0.5, 5)
+    pts = np.empty((6, 2))
+    K5.points(q, p, pts)
+    u = lambda a: np.array([-math.sin(a), math.cos(a)])  # noqa: E731
+    tst, fst = q[0] - q[1] / 2, q[0] + q[1] / 2
+    knee = P.length_tibia * u(tst)
+    hip = knee + P.length_femur * u(fst)
+    swing_knee = hip - P.length_femur * u(q[3])
+    expected = [
+        [0, 0],
+        knee,
+        hip,
+        swing_knee,
+        swing_knee - P.length_tibia * u(q[4]),
+        hip + P.com_torso * u(q[2]),
+    ]
+    assert_allclose(pts, expected, rtol=0, atol=1e-15)
