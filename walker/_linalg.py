@@ -9,7 +9,7 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def solve_inplace(A, b):
     """Solve ``A x = b`` by Gaussian elimination with partial pivoting, overwriting both.
 

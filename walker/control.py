@@ -62,7 +62,7 @@ _BINOM3 = np.array([1.0, 3.0, 3.0, 1.0])
 _BINOM2 = np.array([1.0, 2.0, 1.0])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def bezier(a, s):
     """Bezier polynomial of degree 4 and its first two derivatives in ``s``.
 
@@ -92,7 +92,7 @@ def bezier(a, s):
     return b, db, d2b
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def outputs(q, qd, c, y, yd, H, cterm):
     """Virtual-constraint outputs and their derivatives.
 
@@ -123,7 +123,7 @@ def outputs(q, qd, c, y, yd, H, cterm):
         cterm[i] = -b2 * ds * ds * qd[0] * qd[0]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def controller_torque(q, qd, D, h, B, c, u):
     """Torque of the controller in block ``c``, saturated; returns True if it saturated.
 

@@ -207,7 +207,7 @@ _reset_fn = _fn_from_addresses(RESET_SIG)
 _jac_fn = _fn_from_addresses(JAC_SIG)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _no_jac(phase, t, x, p, J):  # pragma: no cover - compiled placeholder
     """Placeholder Jacobian for systems without one (never called)."""
     J[:, :] = np.nan
@@ -333,7 +333,7 @@ class HybridSystem:
 # =============================================================================================
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _fun(rhs, jac, want_jac, phase, t, z, p, n_x, dz, J):
     """Augmented vector field: dx = f(x) and, with ``want_jac``, dPhi = J(x) Phi.
 
@@ -350,7 +350,7 @@ def _fun(rhs, jac, want_jac, phase, t, z, p, n_x, dz, J):
                 dz[n_x + i * n_x + j] = s
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _all_finite(v):
     for i in range(v.shape[0]):
         if not math.isfinite(v[i]):
@@ -358,7 +358,7 @@ def _all_finite(v):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rk_stages(rhs, jac, want_jac, J, phase, t, y, h, p, n_x, A, C, B, n_stages, K, y_new, tmp):
     """Stages 1..n_stages-1 (stage 0 = K[0] given), then ``y_new``, then the FSAL stage
     ``K[n_stages] = f(t + h, y_new)``.  Returns the number of rhs evaluations."""
@@ -379,7 +379,7 @@ def _rk_stages(rhs, jac, want_jac, J, phase, t, y, h, p, n_x, A, C, B, n_stages,
     return n_stages
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _error_norm(method, K, h, scale):
     """Scaled RMS error estimate of the embedded pair (0 for fixed-step methods)."""
     n = scale.shape[0]
@@ -409,7 +409,7 @@ def _error_norm(method, K, h, scale):
     return 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rms_scaled(v, scale):
     acc = 0.0
     for i in range(v.shape[0]):
@@ -417,7 +417,7 @@ def _rms_scaled(v, scale):
     return math.sqrt(acc / v.shape[0])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _initial_step(
     rhs, jac, want_jac, J, phase, t, y, f0, p, n_x, order, rtol, atol, max_step, span, tmp, f1
 ):
@@ -446,7 +446,7 @@ def _initial_step(
     return min(100.0 * h0, h1, max_step, span)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _dense_prepare(kind, rhs, jac, want_jac, J, phase, t, y_old, y_new, h, p, n_x, K, Q, tmp):
     """Fill the dense-output coefficients ``Q`` of the step (t, y_old) -> (t + h, y_new).
 
@@ -489,7 +489,7 @@ def _dense_prepare(kind, rhs, jac, want_jac, J, phase, t, y_old, y_new, h, p, n_
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _dense_eval(kind, Q, y_old, theta, m, out):
     """Dense output at ``t_old + theta * h``, first ``m`` components into ``out``."""
     if kind == _DENSE_DOP853:
@@ -523,7 +523,7 @@ def _dense_eval(kind, Q, y_old, theta, m, out):
             )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _pre_side(direction, g):
     """+1 if ``g`` lies beyond GUARD_TOL on the pre-fire side of ``direction``, else 0."""
     if direction < 0:
@@ -533,7 +533,7 @@ def _pre_side(direction, g):
     return abs(g) > GUARD_TOL
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _crosses(direction, ga, gb):
     if direction <= 0 and ga > 0.0 and gb <= 0.0:
         return True
@@ -542,14 +542,14 @@ def _crosses(direction, ga, gb):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _guard_at(guards, kind, Q, y_old, t_old, h, phase, tau, p, n_x, xbuf, gbuf, i):
     _dense_eval(kind, Q, y_old, (tau - t_old) / h, n_x, xbuf)
     guards(phase, tau, xbuf, p, gbuf)
     return gbuf[i]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _locate(guards, kind, Q, y_old, t_old, h, phase, p, n_x, xbuf, gbuf, i, a, b, ga, gb):
     """Root of guard ``i`` in [a, b] on the dense output; returns the fired-side end."""
     sgn = 1.0 if ga > 0.0 else -1.0
@@ -594,12 +594,12 @@ def _locate(guards, kind, Q, y_old, t_old, h, phase, p, n_x, xbuf, gbuf, i, a, b
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _fd_step(v):
     return FD_REL_STEP * max(1.0, abs(v))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _event_derivatives(guards, reset, phase, k, t, x, p, n_x, n_guards, n_impulse):
     """Gradient of guard ``k`` and Jacobian of the reset at (t, x), with their t-partials.
 
@@ -665,7 +665,7 @@ def _event_derivatives(guards, reset, phase, k, t, x, p, n_x, n_guards, n_impuls
     return grad, dgdt, DR, dRdt
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _grow_rows(a, n):
     """Copy of ``a`` (1-D or 2-D) with room for at least ``n`` rows (capacity doubles)."""
     cap = a.shape[0]
@@ -674,7 +674,7 @@ def _grow_rows(a, n):
     return cap
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _grow1f(a, n):
     if n <= a.shape[0]:
         return a
@@ -683,7 +683,7 @@ def _grow1f(a, n):
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _grow1i(a, n):
     if n <= a.shape[0]:
         return a
@@ -692,7 +692,7 @@ def _grow1i(a, n):
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _grow2f(a, n):
     if n <= a.shape[0]:
         return a
@@ -701,13 +701,13 @@ def _grow2f(a, n):
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _init_arming(directions, phase, g, armed):
     for i in range(g.shape[0]):
         armed[i] = _pre_side(directions[phase, i], g[i])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _arm_approaching(guards, directions, phase, t, x, f, p, g, armed, xbuf, gbuf):
     """Arm a guard that starts within GUARD_TOL of zero, strictly on its pre-fire side, and
     is moving toward firing (its rate along ``f``, probed by one guard evaluation).
@@ -738,7 +738,7 @@ def _arm_approaching(guards, directions, phase, t, x, f, p, g, armed, xbuf, gbuf
 # =============================================================================================
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _guard_rates(guards, phase, t, x, f, p, g, rate, xbuf):
     """Signs of the guards' rates along ``f``: ``g(x + eps f) - g(x)`` (one guard call)."""
     eps = 1e-9
@@ -749,7 +749,7 @@ def _guard_rates(guards, phase, t, x, f, p, g, rate, xbuf):
         rate[i] = rate[i] - g[i]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _dip(guards, kind, Q, y_old, phase, t, p, n_x, xbuf, gbuf, i, sign):
     """Extremum of guard ``i`` over the step on the dense output (golden section).
 
@@ -792,7 +792,7 @@ def _dip(guards, kind, Q, y_old, phase, t, p, n_x, xbuf, gbuf, i, sign):
     return d, sign * fd
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _two_sum(hi, lo, x):
     """Add ``x`` to the compensated sum ``hi + lo`` (Knuth's two-sum)."""
     s = hi + x
@@ -801,13 +801,13 @@ def _two_sum(hi, lo, x):
     return s, lo + err
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _local(t_abs, t_off, t_off_c):
     """Absolute time -> local time of the current segment."""
     return (t_abs - t_off) - t_off_c
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _kernel(
     rhs_c,
     rhs_j,

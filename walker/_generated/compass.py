@@ -36,7 +36,7 @@ from numba import njit
 KERNEL_HASH = "0958143959351f6888e4cdac78a787298120bb718320bf190a08dae7ea4e3adf"
 ARGUMENT_ORDER = {'accel': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'accel_jac': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'mass_matrix': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'coriolis': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'gravity': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'bias': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'forcing': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'dmass': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'dbias_dq': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'kinetic': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'potential': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'points': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'hip_jac': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}}
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def accel(q, qd, p, out):
     """Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,)."""
     q_stance = q[0]
@@ -131,7 +131,7 @@ def accel(q, qd, p, out):
     out[1] = z1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def accel_jac(q, qd, p, out):
     """d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve."""
     q_stance = q[0]
@@ -277,7 +277,7 @@ def accel_jac(q, qd, p, out):
     out[1, 3] = jv1_1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def mass_matrix(q, p, out):
     """Mass matrix D(q), out (n, n)."""
     q_stance = q[0]
@@ -336,7 +336,7 @@ def mass_matrix(q, p, out):
     out[1, 1] = inertia_leg + x35*x35*x8 + x38*x38*x8
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def coriolis(q, qd, p, out):
     """Coriolis matrix C(q, qd), out (n, n)."""
     q_stance = q[0]
@@ -383,7 +383,7 @@ def coriolis(q, qd, p, out):
     out[1, 1] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def gravity(q, p, out):
     """Gravity vector g(q) = dP/dq, out (n,)."""
     q_stance = q[0]
@@ -404,7 +404,7 @@ def gravity(q, p, out):
     out[1] = com_to_hip*x3*math.sin(q_swing)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def bias(q, qd, p, out):
     """h(q, qd) = C(q, qd) qd + g(q), out (n,)."""
     q_stance = q[0]
@@ -452,7 +452,7 @@ def bias(q, qd, p, out):
     out[1] = x17*x4 + x23*(-x11 - x15 - x19 + x20 + x21 + x22)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def forcing(q, qd, p, out):
     """Generalized joint-damping forces Q(q, qd), out (n,); power Q.qd <= 0."""
     q_stance_dot = qd[0]
@@ -463,7 +463,7 @@ def forcing(q, qd, p, out):
     out[1] = x0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dmass(q, p, out):
     """dD/dq_k for every k, out (n, n, n): out[k] = dD/dq_k."""
     q_stance = q[0]
@@ -513,7 +513,7 @@ def dmass(q, p, out):
     out[1, 1, 1] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dbias_dq(q, qd, p, out):
     """dh/dq, out (n, n)."""
     q_stance = q[0]
@@ -564,7 +564,7 @@ def dbias_dq(q, qd, p, out):
     out[1, 1] = g*x30 + x15*x16
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dbias_dqd(q, qd, p, out):
     """dh/dqd, out (n, n)."""
     q_stance = q[0]
@@ -612,7 +612,7 @@ def dbias_dqd(q, qd, p, out):
     out[1, 1] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def kinetic(q, qd, p):
     """Kinetic energy [J]."""
     q_stance = q[0]
@@ -641,7 +641,7 @@ def kinetic(q, qd, p):
     return ((1.0/2.0))*mass_hip*(x0*x10*x10 + x0*x9*x9) + q_swing_dot*q_swing_dot*x1 + x0*x1 + x7*(x0*(x2 - x3*x4)*(x2 - x3*x4) + x0*(-x4*x6 - x5)*(-x4*x6 - x5)) + x7*((q_stance_dot*x10 + x11*math.cos(q_swing))*(q_stance_dot*x10 + x11*math.cos(q_swing)) + (q_stance_dot*x9 + x11*math.sin(q_swing))*(q_stance_dot*x9 + x11*math.sin(q_swing)))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def potential(q, p):
     """Potential energy [J] (y = 0 at the origin)."""
     q_stance = q[0]
@@ -661,7 +661,7 @@ def potential(q, p):
     return g*mass_hip*x4 + x3*(-com_to_hip*math.cos(q_swing) + x4) + x3*(x0*x1 + x2)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def points(q, p, out):
     """Named points in the world frame, out (n_points, 2); names in POINTS."""
     q_stance = q[0]
@@ -692,7 +692,7 @@ def points(q, p, out):
     out[3, 1] = x11 + x8
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def hip_jac(q, p, out):
     """Jacobian of the hip position, out (2, n)."""
     q_stance = q[0]
@@ -707,7 +707,7 @@ def hip_jac(q, p, out):
     out[1, 1] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ext_mass_matrix(q, p, out):
     """Floating-base mass matrix, out (n_f, n_f)."""
     q_stance = q[0]
@@ -745,7 +745,7 @@ def ext_mass_matrix(q, p, out):
     out[3, 3] = x10
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ext_swing_contact_jac(q, p, out):
     """Jacobian of the swing foot's material contact velocity, out (2, n_f)."""
     q_swing = q[1]
@@ -764,7 +764,7 @@ def ext_swing_contact_jac(q, p, out):
     out[1, 3] = 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ext_stance_contact_jac(q, p, out):
     """Jacobian of the stance foot's material contact velocity, out (2, n_f)."""
     q_stance = q[0]

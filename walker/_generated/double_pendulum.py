@@ -30,7 +30,7 @@ from numba import njit
 KERNEL_HASH = "728039fa0d577824d9ef1b7a65cb3634b46f1615107d23600400eed94188b857"
 ARGUMENT_ORDER = {'accel': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'accel_jac': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'mass_matrix': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'coriolis': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'gravity': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'bias': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dmass': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dq': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dqd': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'kinetic': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'potential': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'points': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}}
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def accel(q, qd, p, out):
     """Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,)."""
     q1 = q[0]
@@ -82,7 +82,7 @@ def accel(q, qd, p, out):
     out[1] = z1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def accel_jac(q, qd, p, out):
     """d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve."""
     q1 = q[0]
@@ -183,7 +183,7 @@ def accel_jac(q, qd, p, out):
     out[1, 3] = jv1_1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def mass_matrix(q, p, out):
     """Mass matrix D(q), out (n, n)."""
     q1 = q[0]
@@ -216,7 +216,7 @@ def mass_matrix(q, p, out):
     out[1, 1] = x13
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def coriolis(q, qd, p, out):
     """Coriolis matrix C(q, qd), out (n, n)."""
     q1 = q[0]
@@ -236,7 +236,7 @@ def coriolis(q, qd, p, out):
     out[1, 1] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def gravity(q, p, out):
     """Gravity vector g(q) = dP/dq, out (n,)."""
     q1 = q[0]
@@ -254,7 +254,7 @@ def gravity(q, p, out):
     out[1] = x1*x2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def bias(q, qd, p, out):
     """h(q, qd) = C(q, qd) qd + g(q), out (n,)."""
     q1 = q[0]
@@ -278,7 +278,7 @@ def bias(q, qd, p, out):
     out[1] = -q1_dot*q1_dot*x5 + x3*x4
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dmass(q, p, out):
     """dD/dq_k for every k, out (n, n, n): out[k] = dD/dq_k."""
     q1 = q[0]
@@ -301,7 +301,7 @@ def dmass(q, p, out):
     out[1, 1, 1] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dbias_dq(q, qd, p, out):
     """dh/dq, out (n, n)."""
     q1 = q[0]
@@ -329,7 +329,7 @@ def dbias_dq(q, qd, p, out):
     out[1, 1] = q1_dot*q1_dot*x6 - x4
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dbias_dqd(q, qd, p, out):
     """dh/dqd, out (n, n)."""
     q1 = q[0]
@@ -350,7 +350,7 @@ def dbias_dqd(q, qd, p, out):
     out[1, 1] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def kinetic(q, qd, p):
     """Kinetic energy [J]."""
     q1 = q[0]
@@ -374,7 +374,7 @@ def kinetic(q, qd, p):
     return ((1.0/2.0))*inertia_1*x0 + ((1.0/2.0))*inertia_2*(q1_dot + q2_dot)*(q1_dot + q2_dot) + ((1.0/2.0))*mass_1*(x1*x1*x2 + x2*x3*x3) + ((1.0/2.0))*mass_2*((q1_dot*(-length_1*x1 - x6) - q2_dot*x6)*(q1_dot*(-length_1*x1 - x6) - q2_dot*x6) + (q1_dot*(length_1*x3 + x5) + q2_dot*x5)*(q1_dot*(length_1*x3 + x5) + q2_dot*x5))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def potential(q, p):
     """Potential energy [J] (y = 0 at the origin)."""
     q1 = q[0]
@@ -389,7 +389,7 @@ def potential(q, p):
     return com_1*g*mass_1*x0 + g*mass_2*(com_2*math.sin(q1 + q2) + length_1*x0)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def points(q, p, out):
     """Named points in the world frame, out (n_points, 2); names in POINTS."""
     q1 = q[0]

@@ -37,7 +37,7 @@ from numba import njit
 KERNEL_HASH = "69d7a3b737ab2295c6bccd3d17fbf6552f97f79ab1a4c0ae4d721a67c2ca0ad0"
 ARGUMENT_ORDER = {'accel': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'qd': ('q_leg_dot', 'q_knee_dot', 'q_torso_dot', 'q_femur_sw_dot', 'q_tibia_sw_dot'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'accel_jac': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'qd': ('q_leg_dot', 'q_knee_dot', 'q_torso_dot', 'q_femur_sw_dot', 'q_tibia_sw_dot'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'mass_matrix': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'coriolis': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'qd': ('q_leg_dot', 'q_knee_dot', 'q_torso_dot', 'q_femur_sw_dot', 'q_tibia_sw_dot'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'gravity': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'bias': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'qd': ('q_leg_dot', 'q_knee_dot', 'q_torso_dot', 'q_femur_sw_dot', 'q_tibia_sw_dot'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'dmass': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'dbias_dq': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'qd': ('q_leg_dot', 'q_knee_dot', 'q_torso_dot', 'q_femur_sw_dot', 'q_tibia_sw_dot'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'dbias_dqd': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'qd': ('q_leg_dot', 'q_knee_dot', 'q_torso_dot', 'q_femur_sw_dot', 'q_tibia_sw_dot'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'kinetic': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'qd': ('q_leg_dot', 'q_knee_dot', 'q_torso_dot', 'q_femur_sw_dot', 'q_tibia_sw_dot'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'potential': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'points': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'hip_jac': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'ground_reaction': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw'), 'qd': ('q_leg_dot', 'q_knee_dot', 'q_torso_dot', 'q_femur_sw_dot', 'q_tibia_sw_dot'), 'qdd': ('q_leg_ddot', 'q_knee_ddot', 'q_torso_ddot', 'q_femur_sw_ddot', 'q_tibia_sw_ddot'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'ext_mass_matrix': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw', 'x_hip', 'y_hip'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'ext_swing_contact_jac': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw', 'x_hip', 'y_hip'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}, 'ext_stance_contact_jac': {'q': ('q_leg', 'q_knee', 'q_torso', 'q_femur_sw', 'q_tibia_sw', 'x_hip', 'y_hip'), 'p': ('mass_torso', 'mass_femur', 'mass_tibia', 'length_femur', 'length_tibia', 'com_torso', 'com_femur', 'com_tibia', 'inertia_torso', 'inertia_femur', 'inertia_tibia', 'slope', 'g')}}
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def accel(q, qd, p, out):
     """Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,)."""
     q_leg = q[0]
@@ -251,7 +251,7 @@ def accel(q, qd, p, out):
     out[4] = z4
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def accel_jac(q, qd, p, out):
     """d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve."""
     q_leg = q[0]
@@ -814,7 +814,7 @@ def accel_jac(q, qd, p, out):
     out[4, 9] = jv4_4
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def mass_matrix(q, p, out):
     """Mass matrix D(q), out (n, n)."""
     q_leg = q[0]
@@ -959,7 +959,7 @@ def mass_matrix(q, p, out):
     out[4, 4] = inertia_tibia + x26*x82*x82 + x26*x86*x86
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def coriolis(q, qd, p, out):
     """Coriolis matrix C(q, qd), out (n, n)."""
     q_leg = q[0]
@@ -1073,7 +1073,7 @@ def coriolis(q, qd, p, out):
     out[4, 4] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def gravity(q, p, out):
     """Gravity vector g(q) = dP/dq, out (n,)."""
     q_leg = q[0]
@@ -1112,7 +1112,7 @@ def gravity(q, p, out):
     out[4] = com_tibia*x7*math.sin(q_tibia_sw)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def bias(q, qd, p, out):
     """h(q, qd) = C(q, qd) qd + g(q), out (n,)."""
     q_leg = q[0]
@@ -1219,7 +1219,7 @@ def bias(q, qd, p, out):
     out[4] = q_knee_dot*(q_knee_dot*(((1.0/4.0))*com_tibia*length_femur*mass_tibia*x2*x21 - (1.0/4.0)*x20 - (1.0/4.0)*x26 - (1.0/4.0)*x27) + q_leg_dot*x71) + q_leg_dot*(q_knee_dot*x71 - q_leg_dot*x28) + x16*x9 - x40*x77
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dmass(q, p, out):
     """dD/dq_k for every k, out (n, n, n): out[k] = dD/dq_k."""
     q_leg = q[0]
@@ -1432,7 +1432,7 @@ def dmass(q, p, out):
     out[4, 4, 4] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dbias_dq(q, qd, p, out):
     """dh/dq, out (n, n)."""
     q_leg = q[0]
@@ -1574,7 +1574,7 @@ def dbias_dq(q, qd, p, out):
     out[4, 4] = q_knee_dot*(q_knee_dot*x81 + q_leg_dot*x67) + q_leg_dot*(q_knee_dot*x67 + q_leg_dot*x39) + x10*x33 + x40*x90
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dbias_dqd(q, qd, p, out):
     """dh/dqd, out (n, n)."""
     q_leg = q[0]
@@ -1693,7 +1693,7 @@ def dbias_dqd(q, qd, p, out):
     out[4, 4] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def kinetic(q, qd, p):
     """Kinetic energy [J]."""
     q_leg = q[0]
@@ -1752,7 +1752,7 @@ def kinetic(q, qd, p):
     return ((1.0/2.0))*inertia_torso*q_torso_dot*q_torso_dot + ((1.0/2.0))*mass_torso*((x21 - x29*math.sin(q_torso))*(x21 - x29*math.sin(q_torso)) + (x27 - x29*math.cos(q_torso))*(x27 - x29*math.cos(q_torso))) + q_femur_sw_dot*q_femur_sw_dot*x0 + q_tibia_sw_dot*q_tibia_sw_dot*x1 + x0*(q_leg_dot + x2)*(q_leg_dot + x2) + x1*(q_leg_dot - x2)*(q_leg_dot - x2) + x14*((q_knee_dot*(-(1.0/2.0)*x11 - x13) + q_leg_dot*(x11 - x12))*(q_knee_dot*(-(1.0/2.0)*x11 - x13) + q_leg_dot*(x11 - x12)) + (q_knee_dot*(((1.0/2.0))*x6 - x9) + q_leg_dot*(-x6 - x7))*(q_knee_dot*(((1.0/2.0))*x6 - x9) + q_leg_dot*(-x6 - x7))) + x14*((x15*x31 + x21 + x30*math.sin(q_tibia_sw))*(x15*x31 + x21 + x30*math.sin(q_tibia_sw)) + (x22*x31 + x27 + x30*math.cos(q_tibia_sw))*(x22*x31 + x27 + x30*math.cos(q_tibia_sw))) + x28*((q_knee_dot*(((1.0/2.0))*com_femur*x18 - x20) + q_leg_dot*(com_femur*x18 - x19 + x8))*(q_knee_dot*(((1.0/2.0))*com_femur*x18 - x20) + q_leg_dot*(com_femur*x18 - x19 + x8)) + (q_knee_dot*(((1.0/2.0))*com_femur*x23 + ((1.0/2.0))*x12 - x25) + q_leg_dot*(com_femur*x23 - x26))*(q_knee_dot*(((1.0/2.0))*com_femur*x23 + ((1.0/2.0))*x12 - x25) + q_leg_dot*(com_femur*x23 - x26))) + x28*((x15*x16 + x21)*(x15*x16 + x21) + (x16*x22 + x27)*(x16*x22 + x27))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def potential(q, p):
     """Potential energy [J] (y = 0 at the origin)."""
     q_leg = q[0]
@@ -1780,7 +1780,7 @@ def potential(q, p):
     return g*mass_torso*(com_torso*math.cos(q_torso) + x5) + x3*(-com_tibia*x1 - x2) + x3*(-com_tibia*math.cos(q_tibia_sw) + length_femur*x4 - length_femur*x6 - x2) + x7*(-com_femur*x4 + x5) + x7*(-com_femur*x6 + x5)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def points(q, p, out):
     """Named points in the world frame, out (n_points, 2); names in POINTS."""
     q_leg = q[0]
@@ -1818,7 +1818,7 @@ def points(q, p, out):
     out[5, 1] = com_torso*math.cos(q_torso) + x10
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def hip_jac(q, p, out):
     """Jacobian of the hip position, out (2, n)."""
     q_leg = q[0]
@@ -1844,7 +1844,7 @@ def hip_jac(q, p, out):
     out[1, 4] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ground_reaction(q, qd, qdd, p, out):
     """World-frame ground force on the stance foot (F_x, F_y) [N], out (2,)."""
     q_leg = q[0]
@@ -1939,7 +1939,7 @@ def ground_reaction(q, qd, qdd, p, out):
     out[1] = com_femur*mass_femur*q_femur_sw_ddot*x11 + ((1.0/2.0))*com_femur*mass_femur*q_knee_ddot*x27 + com_femur*mass_femur*q_knee_dot*q_leg_dot*x17 + com_femur*mass_femur*q_leg_ddot*x27 + com_femur*mass_femur*x1*x10 + com_femur*mass_femur*x17*x33 + ((1.0/4.0))*com_femur*mass_femur*x17*x40 + ((1.0/2.0))*com_tibia*mass_tibia*q_knee_ddot*x50 + com_tibia*mass_tibia*q_tibia_sw_ddot*x13 + com_tibia*mass_tibia*x14*x3 + com_tibia*mass_tibia*x31*x33 + ((1.0/4.0))*com_tibia*mass_tibia*x31*x40 + 2*g*mass_femur + 2*g*mass_tibia + g*mass_torso + length_femur*mass_tibia*q_femur_sw_ddot*x11 + length_femur*mass_tibia*x1*x10 + 2*length_tibia*mass_femur*q_knee_dot*q_leg_dot*x31 + 2*length_tibia*mass_femur*q_leg_ddot*x50 + 2*length_tibia*mass_tibia*q_knee_dot*q_leg_dot*x31 + 2*length_tibia*mass_tibia*q_leg_ddot*x50 + length_tibia*mass_torso*q_knee_dot*q_leg_dot*x31 + length_tibia*mass_torso*q_leg_ddot*x50 - q_leg_ddot*x4*x50 - q_torso_ddot*x9 - x17*x22*x43 - x19*x28 - x19*x29 - x19*x49*x50 - x20*x53 - x21*x27 - x23*x57 - x23*x58 - x23*x59 - x25*x57 - x25*x58 - x25*x59 - x25*x60 - x26*x42 - x33*x48 - x36*x53 - x41*x48 - x43*x61 - x43*x63 - x5*x57 - x5*x58 - x5*x59 - x5*x60 - x61*x62 - x62*x63 - x7*x8
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ext_mass_matrix(q, p, out):
     """Floating-base mass matrix, out (7, 7)."""
     q_leg = q[0]
@@ -2064,7 +2064,7 @@ def ext_mass_matrix(q, p, out):
     out[6, 6] = x55
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ext_swing_contact_jac(q, p, out):
     """Jacobian of the swing foot position, out (2, 7)."""
     q_femur_sw = q[3]
@@ -2087,7 +2087,7 @@ def ext_swing_contact_jac(q, p, out):
     out[1, 6] = 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ext_stance_contact_jac(q, p, out):
     """Jacobian of the stance foot position, out (2, 7)."""
     q_leg = q[0]

@@ -51,7 +51,7 @@ from numba import njit
 KERNEL_HASH = "ac83ef52a64b070e9828bc7eaecfd8ddd531f077baea3015a68d6a990cc4fa19"
 ARGUMENT_ORDER = {'unlocked_accel': {'q': ('q1', 'q2', 'q3'), 'qd': ('q1_dot', 'q2_dot', 'q3_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'unlocked_accel_jac': {'q': ('q1', 'q2', 'q3'), 'qd': ('q1_dot', 'q2_dot', 'q3_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'unlocked_mass_matrix': {'q': ('q1', 'q2', 'q3'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'unlocked_coriolis': {'q': ('q1', 'q2', 'q3'), 'qd': ('q1_dot', 'q2_dot', 'q3_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'unlocked_gravity': {'q': ('q1', 'q2', 'q3'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'unlocked_bias': {'q': ('q1', 'q2', 'q3'), 'qd': ('q1_dot', 'q2_dot', 'q3_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'unlocked_forcing': {'q': ('q1', 'q2', 'q3'), 'qd': ('q1_dot', 'q2_dot', 'q3_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'unlocked_dmass': {'q': ('q1', 'q2', 'q3'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'unlocked_dbias_dq': {'q': ('q1', 'q2', 'q3'), 'qd': ('q1_dot', 'q2_dot', 'q3_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'unlocked_dbias_dqd': {'q': ('q1', 'q2', 'q3'), 'qd': ('q1_dot', 'q2_dot', 'q3_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'unlocked_kinetic': {'q': ('q1', 'q2', 'q3'), 'qd': ('q1_dot', 'q2_dot', 'q3_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'unlocked_potential': {'q': ('q1', 'q2', 'q3'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'unlocked_points': {'q': ('q1', 'q2', 'q3'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_accel': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_accel_jac': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_mass_matrix': {'q': ('q1', 'q2'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_coriolis': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_gravity': {'q': ('q1', 'q2'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_bias': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_forcing': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_dmass': {'q': ('q1', 'q2'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_dbias_dq': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_dbias_dqd': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_kinetic': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_potential': {'q': ('q1', 'q2'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_points': {'q': ('q1', 'q2'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'locked_hip_jac': {'q': ('q1', 'q2'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'ext_mass_matrix': {'q': ('q1', 'q2', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'ext_swing_contact_jac': {'q': ('q1', 'q2', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}, 'ext_stance_contact_jac': {'q': ('q1', 'q2', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_thigh', 'mass_shank', 'shank_com_from_foot', 'shank_com_to_knee', 'thigh_com_from_knee', 'thigh_com_to_hip', 'inertia_thigh', 'inertia_shank', 'offset_thigh', 'offset_shank', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_knee')}}
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlocked_accel(q, qd, p, out):
     """Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,)."""
     q1 = q[0]
@@ -281,7 +281,7 @@ def unlocked_accel(q, qd, p, out):
     out[2] = z2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlocked_accel_jac(q, qd, p, out):
     """d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve."""
     q1 = q[0]
@@ -622,7 +622,7 @@ def unlocked_accel_jac(q, qd, p, out):
     out[2, 5] = jv2_2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlocked_mass_matrix(q, p, out):
     """Mass matrix D(q), out (n, n)."""
     q1 = q[0]
@@ -771,7 +771,7 @@ def unlocked_mass_matrix(q, p, out):
     out[2, 2] = inertia_shank + x117*x18 + x117*x19 + x118*x18 + x118*x19
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlocked_coriolis(q, qd, p, out):
     """Coriolis matrix C(q, qd), out (n, n)."""
     q1 = q[0]
@@ -879,7 +879,7 @@ def unlocked_coriolis(q, qd, p, out):
     out[2, 2] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlocked_gravity(q, p, out):
     """Gravity vector g(q) = dP/dq, out (n,)."""
     q1 = q[0]
@@ -911,7 +911,7 @@ def unlocked_gravity(q, p, out):
     out[2] = x6*(offset_shank*math.cos(q3) + shank_com_to_knee*math.sin(q3))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlocked_bias(q, qd, p, out):
     """h(q, qd) = C(q, qd) qd + g(q), out (n,)."""
     q1 = q[0]
@@ -1023,7 +1023,7 @@ def unlocked_bias(q, qd, p, out):
     out[2] = -x37*x38 + x57*x85 + x8*(x14 + x21)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlocked_forcing(q, qd, p, out):
     """Generalized joint-damping forces Q(q, qd), out (n,); power Q.qd <= 0."""
     q1_dot = qd[0]
@@ -1039,7 +1039,7 @@ def unlocked_forcing(q, qd, p, out):
     out[2] = -x1 + x2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlocked_dmass(q, p, out):
     """dD/dq_k for every k, out (n, n, n): out[k] = dD/dq_k."""
     q1 = q[0]
@@ -1173,7 +1173,7 @@ def unlocked_dmass(q, p, out):
     out[2, 2, 2] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlocked_dbias_dq(q, qd, p, out):
     """dh/dq, out (n, n)."""
     q1 = q[0]
@@ -1291,7 +1291,7 @@ def unlocked_dbias_dq(q, qd, p, out):
     out[2, 2] = x3*(shank_com_to_knee*x14 - x10) + x31*x32 + x51*x84
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlocked_dbias_dqd(q, qd, p, out):
     """dh/dqd, out (n, n)."""
     q1 = q[0]
@@ -1402,7 +1402,7 @@ def unlocked_dbias_dqd(q, qd, p, out):
     out[2, 2] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlocked_kinetic(q, qd, p):
     """Kinetic energy [J]."""
     q1 = q[0]
@@ -1449,7 +1449,7 @@ def unlocked_kinetic(q, qd, p):
     return ((1.0/2.0))*mass_hip*(x0*x11*x11 + x0*x7*x7) + q2_dot*q2_dot*x2 + q3_dot*q3_dot*x1 + x0*x1 + x0*x2 + x13*(x0*(-offset_shank*x4 - x12*x9 - x8)*(-offset_shank*x4 - x12*x9 - x8) + x0*(offset_shank*x9 - x12*x4 + x3)*(offset_shank*x9 - x12*x4 + x3)) + x13*((q3_dot*(offset_shank*x20 + shank_com_to_knee*x21) + x16*x19 + x17)*(q3_dot*(offset_shank*x20 + shank_com_to_knee*x21) + x16*x19 + x17) + (q3_dot*(-offset_shank*x21 + shank_com_to_knee*x20) + x15*x19 + x18)*(q3_dot*(-offset_shank*x21 + shank_com_to_knee*x20) + x15*x19 + x18)) + x14*(x0*(-offset_thigh*x4 + thigh_com_to_hip*x9 - x10)*(-offset_thigh*x4 + thigh_com_to_hip*x9 - x10) + x0*(offset_thigh*x9 + thigh_com_to_hip*x4 + x7)*(offset_thigh*x9 + thigh_com_to_hip*x4 + x7)) + x14*((q2_dot*(offset_thigh*x15 + thigh_com_to_hip*x16) + x17)*(q2_dot*(offset_thigh*x15 + thigh_com_to_hip*x16) + x17) + (q2_dot*(-offset_thigh*x16 + thigh_com_to_hip*x15) + x18)*(q2_dot*(-offset_thigh*x16 + thigh_com_to_hip*x15) + x18))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlocked_potential(q, p):
     """Potential energy [J] (y = 0 at the origin)."""
     q1 = q[0]
@@ -1478,7 +1478,7 @@ def unlocked_potential(q, p):
     return g*mass_hip*x3 + x5*(offset_shank*x4 + x0*(-foot_radius + shank_com_from_foot) + x2) + x5*(offset_shank*math.sin(q3) - shank_com_to_knee*math.cos(q3) - x1*x7 + x3) + x6*(offset_thigh*x4 - thigh_com_to_hip*x0 + x3) + x6*(offset_thigh*math.sin(q2) - thigh_com_to_hip*x7 + x3)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unlocked_points(q, p, out):
     """Named points in the world frame, out (n_points, 2); names in UNLOCKED_POINTS."""
     q1 = q[0]
@@ -1523,7 +1523,7 @@ def unlocked_points(q, p, out):
     out[4, 1] = x13 + x17 + x20
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_accel(q, qd, p, out):
     """Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,)."""
     q1 = q[0]
@@ -1722,7 +1722,7 @@ def locked_accel(q, qd, p, out):
     out[1] = z1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_accel_jac(q, qd, p, out):
     """d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve."""
     q1 = q[0]
@@ -1980,7 +1980,7 @@ def locked_accel_jac(q, qd, p, out):
     out[1, 3] = jv1_1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_mass_matrix(q, p, out):
     """Mass matrix D(q), out (n, n)."""
     q1 = q[0]
@@ -2108,7 +2108,7 @@ def locked_mass_matrix(q, p, out):
     out[1, 1] = x100*x102 + x100*x103 + x102*x18 + x102*x19 + x102*x20 + x102*x21 + x102*x22 + x102*x23 + x102*x98 + x102*x99 + x103*x18 + x103*x19 + x103*x20 + x103*x21 + x103*x22 + x103*x23 + x103*x98 + x103*x99 + x78
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_coriolis(q, qd, p, out):
     """Coriolis matrix C(q, qd), out (n, n)."""
     q1 = q[0]
@@ -2201,7 +2201,7 @@ def locked_coriolis(q, qd, p, out):
     out[1, 1] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_gravity(q, p, out):
     """Gravity vector g(q) = dP/dq, out (n,)."""
     q1 = q[0]
@@ -2232,7 +2232,7 @@ def locked_gravity(q, p, out):
     out[1] = x6*(offset_shank*x8 + shank_com_to_knee*x9 + x2*x9) + x7*(offset_thigh*x8 + thigh_com_to_hip*x9)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_bias(q, qd, p, out):
     """h(q, qd) = C(q, qd) qd + g(q), out (n,)."""
     q1 = q[0]
@@ -2337,7 +2337,7 @@ def locked_bias(q, qd, p, out):
     out[1] = x11*(x43 + x44) - x12*x81 + x8*(x3*x40 + x37 + x41)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_forcing(q, qd, p, out):
     """Generalized joint-damping forces Q(q, qd), out (n,); power Q.qd <= 0."""
     q1_dot = qd[0]
@@ -2348,7 +2348,7 @@ def locked_forcing(q, qd, p, out):
     out[1] = x0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_dmass(q, p, out):
     """dD/dq_k for every k, out (n, n, n): out[k] = dD/dq_k."""
     q1 = q[0]
@@ -2447,7 +2447,7 @@ def locked_dmass(q, p, out):
     out[1, 1, 1] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_dbias_dq(q, qd, p, out):
     """dh/dq, out (n, n)."""
     q1 = q[0]
@@ -2545,7 +2545,7 @@ def locked_dbias_dq(q, qd, p, out):
     out[1, 1] = x3*(x1*x37 - x32 + x39) + x4*(thigh_com_to_hip*x37 - x34) + x68*x8
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_dbias_dqd(q, qd, p, out):
     """dh/dqd, out (n, n)."""
     q1 = q[0]
@@ -2639,7 +2639,7 @@ def locked_dbias_dqd(q, qd, p, out):
     out[1, 1] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_kinetic(q, qd, p):
     """Kinetic energy [J]."""
     q1 = q[0]
@@ -2682,7 +2682,7 @@ def locked_kinetic(q, qd, p):
     return ((1.0/2.0))*mass_hip*(x0*x12*x12 + x0*x8*x8) + x0*x1 + x0*x3 + x1*x2 + x14*(x0*(offset_shank*x10 - x13*x5 + x4)*(offset_shank*x10 - x13*x5 + x4) + x0*(-offset_shank*x5 - x10*x13 - x9)*(-offset_shank*x5 - x10*x13 - x9)) + x14*((q2_dot*(offset_shank*x16 + shank_com_to_knee*x17 + x17*x6) + x18)*(q2_dot*(offset_shank*x16 + shank_com_to_knee*x17 + x17*x6) + x18) + (q2_dot*(-offset_shank*x17 + shank_com_to_knee*x16 + x16*x6) + x19)*(q2_dot*(-offset_shank*x17 + shank_com_to_knee*x16 + x16*x6) + x19)) + x15*(x0*(offset_thigh*x10 + thigh_com_to_hip*x5 + x8)*(offset_thigh*x10 + thigh_com_to_hip*x5 + x8) + x0*(-offset_thigh*x5 + thigh_com_to_hip*x10 - x11)*(-offset_thigh*x5 + thigh_com_to_hip*x10 - x11)) + x15*((q2_dot*(offset_thigh*x16 + thigh_com_to_hip*x17) + x18)*(q2_dot*(offset_thigh*x16 + thigh_com_to_hip*x17) + x18) + (q2_dot*(-offset_thigh*x17 + thigh_com_to_hip*x16) + x19)*(q2_dot*(-offset_thigh*x17 + thigh_com_to_hip*x16) + x19)) + x2*x3
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_potential(q, p):
     """Potential energy [J] (y = 0 at the origin)."""
     q1 = q[0]
@@ -2711,7 +2711,7 @@ def locked_potential(q, p):
     return g*mass_hip*x3 + x5*(offset_shank*x4 + x0*(-foot_radius + shank_com_from_foot) + x2) + x5*(offset_shank*x7 - shank_com_to_knee*x8 - x1*x8 + x3) + x6*(offset_thigh*x4 - thigh_com_to_hip*x0 + x3) + x6*(offset_thigh*x7 - thigh_com_to_hip*x8 + x3)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_points(q, p, out):
     """Named points in the world frame, out (n_points, 2); names in LOCKED_POINTS."""
     q1 = q[0]
@@ -2755,7 +2755,7 @@ def locked_points(q, p, out):
     out[4, 1] = x13 + x18 + x20
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def locked_hip_jac(q, p, out):
     """Jacobian of the hip position, out (2, n)."""
     q1 = q[0]
@@ -2772,7 +2772,7 @@ def locked_hip_jac(q, p, out):
     out[1, 1] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ext_mass_matrix(q, p, out):
     """Floating-base mass matrix, out (n_f, n_f)."""
     q1 = q[0]
@@ -2839,7 +2839,7 @@ def ext_mass_matrix(q, p, out):
     out[3, 3] = x33
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ext_swing_contact_jac(q, p, out):
     """Jacobian of the swing foot's material contact velocity, out (2, n_f)."""
     q2 = q[1]
@@ -2860,7 +2860,7 @@ def ext_swing_contact_jac(q, p, out):
     out[1, 3] = 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ext_stance_contact_jac(q, p, out):
     """Jacobian of the stance foot's material contact velocity, out (2, n_f)."""
     q1 = q[0]

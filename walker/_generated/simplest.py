@@ -20,7 +20,7 @@ from numba import njit
 KERNEL_HASH = "6ee81a4da4603dc8a6610c3e1f29ec80050d70766c34b88c188bb63c8dd6ee2e"
 ARGUMENT_ORDER = {'accel': {'q': ('theta', 'phi'), 'qd': ('theta_dot', 'phi_dot'), 'p': ('slope', 'g', 'leg_length')}, 'daccel_dx': {'q': ('theta', 'phi'), 'qd': ('theta_dot', 'phi_dot'), 'p': ('slope', 'g', 'leg_length')}}
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def accel(q, qd, p, out):
     """(theta_ddot, phi_ddot), out (2,)."""
     theta = q[0]
@@ -64,7 +64,7 @@ def accel(q, qd, p, out):
     out[1] = -x0*x13*x23 - x1*x17*x2*x20 + x10*x30 + x11*x29 + x16*x21 - x16*x22 - x17*x21*x5 + x18*x21 - x18*x22 - x23*x6*x8 + x24*x26 + x24*x28 + x26*x27 + x27*x28 + x29*x7 + x30*x4
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def daccel_dx(q, qd, p, out):
     """d accel / d x, out (2, 4)."""
     theta = q[0]

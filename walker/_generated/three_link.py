@@ -37,7 +37,7 @@ from numba import njit
 KERNEL_HASH = "465e18f0b2825de7b1a416701aa361092e6d3db4a27b327992c27d8b1ae9763a"
 ARGUMENT_ORDER = {'accel': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'accel_jac': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'mass_matrix': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'coriolis': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'gravity': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'bias': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dmass': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dbias_dq': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'kinetic': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'potential': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'points': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'hip_jac': {'q': ('q_stance', 'q_swing', 'q_torso'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ground_reaction': {'q': ('q_stance', 'q_swing', 'q_torso'), 'qd': ('q_stance_dot', 'q_swing_dot', 'q_torso_dot'), 'qdd': ('q_stance_ddot', 'q_swing_ddot', 'q_torso_ddot'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'q_torso', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'mass_torso', 'com_from_foot', 'com_to_hip', 'torso_length', 'inertia_leg', 'inertia_torso', 'slope', 'g')}}
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def accel(q, qd, p, out):
     """Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,)."""
     q_stance = q[0]
@@ -119,7 +119,7 @@ def accel(q, qd, p, out):
     out[2] = z2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def accel_jac(q, qd, p, out):
     """d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve."""
     q_stance = q[0]
@@ -304,7 +304,7 @@ def accel_jac(q, qd, p, out):
     out[2, 5] = jv2_2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def mass_matrix(q, p, out):
     """Mass matrix D(q), out (n, n)."""
     q_stance = q[0]
@@ -361,7 +361,7 @@ def mass_matrix(q, p, out):
     out[2, 2] = inertia_torso + x25*x25*x31 + x27*x27*x31
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def coriolis(q, qd, p, out):
     """Coriolis matrix C(q, qd), out (n, n)."""
     q_stance = q[0]
@@ -398,7 +398,7 @@ def coriolis(q, qd, p, out):
     out[2, 2] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def gravity(q, p, out):
     """Gravity vector g(q) = dP/dq, out (n,)."""
     q_stance = q[0]
@@ -420,7 +420,7 @@ def gravity(q, p, out):
     out[2] = -g*mass_torso*torso_length*math.sin(q_torso)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def bias(q, qd, p, out):
     """h(q, qd) = C(q, qd) qd + g(q), out (n,)."""
     q_stance = q[0]
@@ -457,7 +457,7 @@ def bias(q, qd, p, out):
     out[2] = -g*x8 - x10*x15
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dmass(q, p, out):
     """dD/dq_k for every k, out (n, n, n): out[k] = dD/dq_k."""
     q_stance = q[0]
@@ -510,7 +510,7 @@ def dmass(q, p, out):
     out[2, 2, 2] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dbias_dq(q, qd, p, out):
     """dh/dq, out (n, n)."""
     q_stance = q[0]
@@ -557,7 +557,7 @@ def dbias_dq(q, qd, p, out):
     out[2, 2] = -g*x9 + x10*x19
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dbias_dqd(q, qd, p, out):
     """dh/dqd, out (n, n)."""
     q_stance = q[0]
@@ -595,7 +595,7 @@ def dbias_dqd(q, qd, p, out):
     out[2, 2] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def kinetic(q, qd, p):
     """Kinetic energy [J]."""
     q_stance = q[0]
@@ -628,7 +628,7 @@ def kinetic(q, qd, p):
     return ((1.0/2.0))*inertia_torso*q_torso_dot*q_torso_dot + ((1.0/2.0))*mass_hip*(x2*x2*x4 + x4*x5*x5) + ((1.0/2.0))*mass_torso*((-x10 - x12*math.cos(q_torso))*(-x10 - x12*math.cos(q_torso)) + (-x12*math.sin(q_torso) - x8)*(-x12*math.sin(q_torso) - x8)) + q_swing_dot*q_swing_dot*x1 + x0*x1 + x11*(x0*(com_to_hip*x2 - x7)*(com_to_hip*x2 - x7) + x0*(com_to_hip*x5 - x9)*(com_to_hip*x5 - x9)) + x11*((-x10 + x6*math.cos(q_swing))*(-x10 + x6*math.cos(q_swing)) + (x6*math.sin(q_swing) - x8)*(x6*math.sin(q_swing) - x8))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def potential(q, p):
     """Potential energy [J] (y = 0 at the origin)."""
     q_stance = q[0]
@@ -649,7 +649,7 @@ def potential(q, p):
     return g*mass_hip*x2 + g*mass_torso*(torso_length*math.cos(q_torso) + x2) + x4*(-com_to_hip*x0 - x3) + x4*(-com_to_hip*math.cos(q_swing) - x3)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def points(q, p, out):
     """Named points in the world frame, out (n_points, 2); names in POINTS."""
     q_stance = q[0]
@@ -671,7 +671,7 @@ def points(q, p, out):
     out[3, 1] = torso_length*math.cos(q_torso) + x2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def hip_jac(q, p, out):
     """Jacobian of the hip position, out (2, n)."""
     q_stance = q[0]
@@ -686,7 +686,7 @@ def hip_jac(q, p, out):
     out[1, 2] = 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ground_reaction(q, qd, qdd, p, out):
     """World-frame ground force on the stance foot (F_x, F_y) [N], out (2,)."""
     q_stance = q[0]
@@ -729,7 +729,7 @@ def ground_reaction(q, qd, qdd, p, out):
     out[1] = com_to_hip*mass_leg*q_swing_ddot*x10 + com_to_hip*mass_leg*x11*x9 + g*mass_hip + 2*g*mass_leg + g*mass_torso - q_torso_ddot*x14*x6 - x0*x16 - x0*x19 - x15*x7 - x16*x17 - x16*x18 - x16*x4 - x16*x5 - x16*x8 - x17*x19 - x18*x19 - x19*x4 - x19*x5 - x19*x8
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ext_mass_matrix(q, p, out):
     """Floating-base mass matrix, out (5, 5)."""
     q_stance = q[0]
@@ -786,7 +786,7 @@ def ext_mass_matrix(q, p, out):
     out[4, 4] = x16
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ext_swing_contact_jac(q, p, out):
     """Jacobian of the swing foot position, out (2, 5)."""
     q_swing = q[1]
@@ -805,7 +805,7 @@ def ext_swing_contact_jac(q, p, out):
     out[1, 4] = 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ext_stance_contact_jac(q, p, out):
     """Jacobian of the stance foot position, out (2, 5)."""
     q_stance = q[0]

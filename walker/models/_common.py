@@ -12,7 +12,7 @@ from walker._linalg import solve_inplace
 FALL_ANGLE = 1.2217304763960306
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def impact(M, J, qd_minus, qd_plus, impulse):
     """Solve ``[M, -J^T; J, 0] [qd_plus; impulse] = [M qd_minus; 0]``.
 

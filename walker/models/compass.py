@@ -44,14 +44,14 @@ _FELL_BACKWARD = int(Status.FELL_BACKWARD)
 _SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
     dx[0] = x[2]
     dx[1] = x[3]
     K.accel(x[:2], x[2:], p, dx[2:])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
     J[:, :] = 0.0
     J[0, 2] = 1.0
@@ -59,7 +59,7 @@ def jac(phase, t, x, p, J):
     K.accel_jac(x[:2], x[2:], p, J[2:, :])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def swing_foot(x, p):
     """(height above the slope, distance ahead of the stance foot along the slope) [m]."""
     L = p[2] + p[3]
@@ -70,7 +70,7 @@ def swing_foot(x, p):
     return (L - R) * (math.cos(psi1) - math.cos(psi2)), (L - R) * (math.sin(psi2) - math.sin(psi1))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
     psi1 = x[0] + p[_I_SLOPE]
     g[0] = swing_foot(x, p)[0]
@@ -78,7 +78,7 @@ def guards(phase, t, x, p, g):
     g[2] = psi1 - FALL_ANGLE
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def heel_strike(x, p, x_new, impulse):
     """Floating-base heel-strike impact and leg swap.
 
@@ -129,7 +129,7 @@ def heel_strike(x, p, x_new, impulse):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
@@ -145,7 +145,7 @@ def reset(phase, k, t, x, p, x_new, impulse):
     return EVENT_TERMINAL, phase, _FELL_BACKWARD
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def energy(x, p):
     """(kinetic, potential) [J]; potential is zero with the stance contact at height 0."""
     return K.kinetic(x[:2], x[2:], p), K.potential(x[:2], p)

@@ -19,14 +19,14 @@ STATE_NAMES = ("q1", "q2", "qd1", "qd2")
 SECTION_NAMES = ()
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
     dx[0] = x[2]
     dx[1] = x[3]
     K.accel(x[:2], x[2:], p, dx[2:])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
     J[:, :] = 0.0
     J[0, 2] = 1.0
@@ -34,19 +34,19 @@ def jac(phase, t, x, p, J):
     K.accel_jac(x[:2], x[2:], p, J[2:, :])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
     g[0] = 1.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
     return EVENT_IGNORE, phase, 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def energy(x, p):
     """(kinetic, potential) [J]."""
     return K.kinetic(x[:2], x[2:], p), K.potential(x[:2], p)

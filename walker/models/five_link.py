@@ -123,7 +123,7 @@ _TRIPPED = int(Status.TRIPPED)
 _SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def closed_loop(x, p, qdd, u):
     """Closed-loop accelerations and torques at state ``x``; returns True when saturated.
 
@@ -152,7 +152,7 @@ def closed_loop(x, p, qdd, u):
     return sat
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
     qdd = np.empty(5)
     u = np.empty(4)
@@ -167,7 +167,7 @@ def rhs(phase, t, x, p, dx):
     dx[11] = 1.0 if sat else 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
     """df/dx by central differences (step ``JAC_STEP * max(1, |x_j|)``)."""
     n = x.shape[0]
@@ -185,7 +185,7 @@ def jac(phase, t, x, p, J):
             J[i, j] = (fp[i] - fm[i]) / (2.0 * hstep)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ground_reaction(x, p):
     """Ground force on the stance foot ``(F_t, F_n)`` along and normal to the slope [N]."""
     qdd = np.empty(5)
@@ -200,7 +200,7 @@ def ground_reaction(x, p):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _slope_frame(v, slope):
     """(along the slope, normal to it) components of a world vector."""
     return (
@@ -209,7 +209,7 @@ def _slope_frame(v, slope):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def swing_foot(x, p):
     """(height above the slope, distance ahead of the stance foot along the slope) [m]."""
     pts = np.empty((6, 2))
@@ -218,7 +218,7 @@ def swing_foot(x, p):
     return n, t
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
     pts = np.empty((6, 2))
     K.points(x[:5], p, pts)
@@ -236,7 +236,7 @@ def guards(phase, t, x, p, g):
     g[6] = hn
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def heel_strike(x, p, x_new, impulse):
     """Floating-base heel-strike impact and leg swap.
 
@@ -291,7 +291,7 @@ def heel_strike(x, p, x_new, impulse):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
@@ -309,13 +309,13 @@ def reset(phase, k, t, x, p, x_new, impulse):
     return EVENT_TERMINAL, phase, _NONPHYSICAL
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def energy(x, p):
     """(kinetic, potential) [J]; potential zero at the stance foot's height."""
     return K.kinetic(x[:5], x[5:10], p), K.potential(x[:5], p)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def torques(x, p):
     """Torques ``(hip stance, hip swing, knee stance, knee swing)`` [N m] at ``x``."""
     qdd = np.empty(5)

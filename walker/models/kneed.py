@@ -55,14 +55,14 @@ _TRIPPED = int(Status.TRIPPED)
 _SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _lengths(p):
     shank = p[3] + p[4]
     thigh = p[5] + p[6]
     return shank, thigh
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
     if phase == 0:
         dx[0] = x[3]
@@ -78,7 +78,7 @@ def rhs(phase, t, x, p, dx):
         dx[5] = dx[4]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
     J[:, :] = 0.0
     if phase == 0:
@@ -102,7 +102,7 @@ def jac(phase, t, x, p, J):
             J[5, j] = J[4, j]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def swing_foot(x, p):
     """(height above the slope, distance ahead of the stance foot along the slope) [m]
     of the swing foot's lowest point."""
@@ -118,7 +118,7 @@ def swing_foot(x, p):
     return height, ahead
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _swing_foot_rate(x, p):
     shank, thigh = _lengths(p)
     R = p[_I_R]
@@ -131,7 +131,7 @@ def _swing_foot_rate(x, p):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
     psi1 = x[0] + p[_I_SLOPE]
     g[0] = x[2] - x[1] if phase == 0 else 1.0
@@ -140,7 +140,7 @@ def guards(phase, t, x, p, g):
     g[3] = psi1 - FALL_ANGLE
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def knee_lock(x, p, x_new, impulse):
     """Plastic knee-lock impact; ``impulse[0]`` is the knee impulse [N m s]."""
     M = np.empty((3, 3))
@@ -161,7 +161,7 @@ def knee_lock(x, p, x_new, impulse):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def heel_strike(x, p, x_new, impulse):
     """Floating-base heel strike (knee locked) and leg swap; the new swing knee is straight
     and unlocked.  ``impulse`` = (along slope, normal) on the new stance foot [N s]."""
@@ -211,7 +211,7 @@ def heel_strike(x, p, x_new, impulse):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _knee_lock_event(phase, x, p, x_new, impulse):
     """Knee lock, followed in the same reset by heel strike when the swing foot is on the
     ground (within the integrator's guard tolerance), ahead and moving down."""
@@ -230,7 +230,7 @@ def _knee_lock_event(phase, x, p, x_new, impulse):
     return EVENT_CONTINUE, 1, 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
@@ -256,7 +256,7 @@ def reset(phase, k, t, x, p, x_new, impulse):
     return EVENT_TERMINAL, phase, _FELL_BACKWARD
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def energy(x, p):
     """(kinetic, potential) [J]; valid in both phases (locked: q3 = q2, qd3 = qd2)."""
     return K.unlocked_kinetic(x[:3], x[3:], p), K.unlocked_potential(x[:3], p)

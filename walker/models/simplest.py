@@ -38,7 +38,7 @@ _FELL_FORWARD = int(Status.FELL_FORWARD)
 _FELL_BACKWARD = int(Status.FELL_BACKWARD)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
     a = np.empty(2)
     K.accel(x[:2], x[2:], p, a)
@@ -48,7 +48,7 @@ def rhs(phase, t, x, p, dx):
     dx[3] = a[1]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
     J[:, :] = 0.0
     J[0, 2] = 1.0
@@ -60,14 +60,14 @@ def jac(phase, t, x, p, J):
         J[3, j] = da[1, j]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
     g[0] = x[1] - 2.0 * x[0]
     g[1] = x[0] + FALL_ANGLE
     g[2] = x[0] - FALL_ANGLE
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(4):
         x_new[i] = x[i]
@@ -86,7 +86,7 @@ def reset(phase, k, t, x, p, x_new, impulse):
     return EVENT_TERMINAL, phase, _FELL_BACKWARD
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def energy(x, p):
     """(kinetic, potential) per unit hip mass [J/kg] (the feet carry no energy in the
     limit); potential zero at the stance foot."""

@@ -85,7 +85,7 @@ _FELL_BACKWARD = int(Status.FELL_BACKWARD)
 _SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def closed_loop(x, p, qdd, u):
     """Closed-loop accelerations and torques at state ``x``; returns True when saturated.
 
@@ -110,7 +110,7 @@ def closed_loop(x, p, qdd, u):
     return sat
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
     qdd = np.empty(3)
     u = np.empty(2)
@@ -123,7 +123,7 @@ def rhs(phase, t, x, p, dx):
     dx[7] = 1.0 if sat else 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
     """df/dx by central differences (step ``JAC_STEP * max(1, |x_j|)``)."""
     n = x.shape[0]
@@ -141,7 +141,7 @@ def jac(phase, t, x, p, J):
             J[i, j] = (fp[i] - fm[i]) / (2.0 * hstep)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ground_reaction(x, p):
     """Ground force on the stance foot ``(F_t, F_n)`` along and normal to the slope [N]."""
     qdd = np.empty(3)
@@ -156,7 +156,7 @@ def ground_reaction(x, p):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def swing_foot(x, p):
     """(height above the slope, distance ahead of the stance foot along the slope) [m]."""
     r = p[I_LEG_A] + p[I_LEG_B]
@@ -165,7 +165,7 @@ def swing_foot(x, p):
     return r * (math.cos(psi1) - math.cos(psi2)), r * (math.sin(psi2) - math.sin(psi1))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
     psi1 = x[0] + p[I_SLOPE]
     g[0] = swing_foot(x, p)[0]
@@ -178,7 +178,7 @@ def guards(phase, t, x, p, g):
     g[5] = fn
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def heel_strike(x, p, x_new, impulse):
     """Floating-base heel-strike impact and leg swap.
 
@@ -232,7 +232,7 @@ def heel_strike(x, p, x_new, impulse):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
@@ -250,13 +250,13 @@ def reset(phase, k, t, x, p, x_new, impulse):
     return EVENT_TERMINAL, phase, _NONPHYSICAL
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def energy(x, p):
     """(kinetic, potential) [J]; potential zero at the stance foot's height."""
     return K.kinetic(x[:3], x[3:6], p), K.potential(x[:3], p)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def torques(x, p):
     """Hip torques ``(tau_stance, tau_swing)`` [N m] the controller applies at ``x``."""
     qdd = np.empty(3)

@@ -5,6 +5,9 @@ are whole arrays (``q``, ``qd``, ``p``) unpacked at the top, so the parameters s
 arguments and changing one never regenerates anything.  Matrix outputs are written into a
 caller-provided ``out`` array (no allocation on the hot path); scalars are returned.
 
+Kernels use numba's numpy error model: a singular or indefinite mass matrix gives NaN
+(reported by the integrator as a status), never an exception from compiled code.
+
 Each module is stamped "generated, do not edit" with the argument order, the sympy version
 and a SHA-256 hash of its symbolic input; ``scripts/generate_kernels.py`` rewrites them.
 Generation refuses a free symbol that is not an argument and names it (as PyDy's matrix
@@ -90,7 +93,7 @@ def render_accel_kernel(kernel: AccelKernel, printer: _Printer | None = None) ->
             f"kernel `{kernel.name}`: symbols {stray} are not in its arguments "
             f"{[name for name, _ in kernel.args]}"
         )
-    lines = ["@njit(cache=True)", f"def {kernel.name}(q, qd, p, out):"]
+    lines = ['@njit(cache=True, error_model="numpy")', f"def {kernel.name}(q, qd, p, out):"]
     lines.append(f'    """{kernel.doc or kernel.name}"""')
     for name, syms in kernel.args:
         for i, s in enumerate(syms):
@@ -203,7 +206,7 @@ def render_accel_jacobian_kernel(kernel: AccelJacobianKernel, printer=None) -> s
             f"kernel `{kernel.name}`: symbols {stray} are not in its arguments "
             f"{[name for name, _ in kernel.args]}"
         )
-    lines = ["@njit(cache=True)", f"def {kernel.name}(q, qd, p, out):"]
+    lines = ['@njit(cache=True, error_model="numpy")', f"def {kernel.name}(q, qd, p, out):"]
     lines.append(f'    """{kernel.doc or kernel.name}"""')
     for name, syms in kernel.args:
         for i, sym in enumerate(syms):
@@ -290,7 +293,7 @@ def render_kernel(kernel: Kernel, printer: _Printer | None = None) -> str:
         )
     arg_names = [name for name, _ in kernel.args]
     sig = ", ".join(arg_names + ([] if kind == "scalar" else ["out"]))
-    lines = ["@njit(cache=True)", f"def {kernel.name}({sig}):"]
+    lines = ['@njit(cache=True, error_model="numpy")', f"def {kernel.name}({sig}):"]
     doc = kernel.doc or kernel.name
     lines.append(f'    """{doc}"""')
     for name, syms in kernel.args:
