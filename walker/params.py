@@ -250,6 +250,15 @@ class _Params:
             )
         return dataclasses.replace(self, **changes)  # type: ignore[type-var]
 
+    def _replace_validated(self, **changes: float):
+        """A copy with ``changes`` applied WITHOUT validation, for values already validated
+        by :meth:`replace` (a sweep validates every grid point before any work, then its
+        workers rebuild the points cheaply).  Not for user input."""
+        new = object.__new__(type(self))
+        for name in self.names():
+            object.__setattr__(new, name, float(changes.get(name, getattr(self, name))))
+        return new
+
     @classmethod
     def preset(cls, name: str, **changes: Any):
         """The published parameter set ``name`` (one of ``PRESETS``), with ``changes`` applied."""

@@ -8,7 +8,7 @@ variational equations and saltation matrices when asked.  It implements the
 
 from __future__ import annotations
 
-import dataclasses
+import copy
 from dataclasses import dataclass
 
 import numpy as np
@@ -192,13 +192,22 @@ class StrideMap:
 
     def with_parameter(self, value: float) -> StrideMap:
         """A copy at another value of ``parameter_name`` (validated)."""
-        return dataclasses.replace(
-            self, model=self.model, params=self.params.replace(**{self.parameter_name: value})
-        )
+        return self.with_params(**{self.parameter_name: value})
 
     def with_params(self, **changes) -> StrideMap:
-        """A copy with other parameters."""
-        return dataclasses.replace(self, model=self.model, params=self.params.replace(**changes))
+        """A copy with other parameters (validated)."""
+        return self._with_params_object(self.params.replace(**changes))
+
+    def _with_params_object(self, params) -> StrideMap:
+        """A copy with ``params`` (already a validated instance of the same class): the solver
+        settings and the projection need no re-checking, so a sweep point costs one copy."""
+        if type(params) is not type(self.params):
+            raise TypeError(
+                f"`params` must be a {type(self.params).__name__}, got {type(params).__name__}"
+            )
+        new = copy.copy(self)
+        object.__setattr__(new, "params", params)
+        return new
 
     def lift(self, z) -> np.ndarray:
         return self.model.lift(z, self.params)

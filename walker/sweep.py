@@ -349,7 +349,9 @@ def sweep_chunk(
     }
     z_guess = z0
     for i in range(m):
-        point_map = base.with_params(**dict(zip(names, points[i].tolist(), strict=True)))
+        # Every grid point was validated by `sweep` before any work was submitted.
+        values = dict(zip(names, points[i].tolist(), strict=True))
+        point_map = base._with_params_object(base.params._replace_validated(**values))
         if kind == "outcome":
             r = point_map(z0, n_strides=n_strides)
             out["status"][i] = int(r.status)
