@@ -281,3 +281,26 @@ def test_animate_walker_errors(tmp_path):
         with pytest.raises(ValueError, match="ffmpeg is not available"):
             plotting.animate_walker(frames, [(0, 1)], path=tmp_path / "a.mp4")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_plot_torques_draws_each_actuator_and_the_limit():
+    t = np.linspace(0.0, 1.0, 50)
+    u = np.column_stack([np.sin(t), np.cos(t)])
+    fig = plotting.plot_torques(t, u, names=["hip", "knee"], limit=2.0, event_times=[0.5])
+    ax = fig.axes[0]
+    labels = [line.get_label() for line in ax.get_lines()]
+    assert "hip" in labels and "knee" in labels
+    assert ax.get_ylabel() == "torque [N m]"
+    assert len(ax.get_lines()) == 2 + 2 + 1  # actuators, +-limit, one impact
+    with pytest.raises(ValueError, match="one row per time"):
+        plotting.plot_torques(t, u[:10])
+
+
+def test_plot_zero_dynamics_breaks_the_line_at_impacts():
+    theta = np.concatenate([np.linspace(0.4, -0.4, 30), np.linspace(0.4, -0.4, 30)])
+    theta_dot = -1.0 - 0.1 * theta
+    fig = plotting.plot_zero_dynamics(theta, theta_dot, theta_plus=0.4, theta_minus=-0.4)
+    line = fig.axes[0].get_lines()[0]
+    x = np.asarray(line.get_xdata(), dtype=float)
+    assert np.isnan(x).sum() == 1  # one impact, one break
+    assert len(fig.axes[0].get_lines()) == 3

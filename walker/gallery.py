@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from walker import plotting
-from walker.results import Branch, Solution
+from walker.results import Branch, Solution, Trajectory
 
 __all__ = ["plot_file", "plot_solution", "walker_frames"]
 
@@ -65,14 +65,22 @@ def walker_frames(model, params, t, x, events=None) -> np.ndarray:
 
 
 def plot_solution(sol: Solution, model, params, out: Path, stem: str) -> list[Path]:
-    """Angles, energy, a phase portrait and (for walkers) a stick-figure GIF."""
+    """Angles, energy, a phase portrait, (for actuated walkers) torques and the zero
+    dynamics, and (for walkers) a stick-figure GIF."""
     traj = sol.record if sol.record is not None else sol.samples
-    paths = [
-        _save(
-            plotting.plot_angles(sol, state_names=model.state_names, phase_names=model.phase_names),
-            out / f"{stem}_angles.png",
-        )
-    ]
+    n_q = n_q_of(model)
+    # angles and rates only (actuated models carry accumulators after them)
+    shown = traj if traj is None else Trajectory(traj.t, traj.x[:, : 2 * n_q], traj.phase)
+    angles = plotting.plot_angles(
+        shown if shown is not None else sol,
+        state_names=model.state_names[: 2 * n_q],
+        phase_names=model.phase_names,
+    )
+    if shown is not None and sol.events is not None:
+        for ax in angles.axes:
+            for te in sol.events.t:
+                ax.axvline(te, color="0.5", linestyle=":", linewidth=0.8)
+    paths = [_save(angles, out / f"{stem}_angles.png")]
     if traj is None or len(traj) < 2:
         return paths
     kinetic, potential = model.energies(traj.x, params)
@@ -89,13 +97,31 @@ def plot_solution(sol: Solution, model, params, out: Path, stem: str) -> list[Pa
             out / f"{stem}_energy.png",
         )
     )
-    n_q = model.n_x // 2
     paths.append(
         _save(
             plotting.plot_phase_portrait(traj, 0, n_q, state_names=model.state_names),
             out / f"{stem}_phase_portrait.png",
         )
     )
+    if hasattr(model.module, "torques"):
+        pp = params.as_array()
+        u = np.array([model.module.torques(np.ascontiguousarray(row), pp) for row in traj.x])
+        limit = getattr(params, "torque_limit", None)
+        paths.append(
+            _save(
+                plotting.plot_torques(traj.t, u, limit=limit, event_times=events),
+                out / f"{stem}_torques.png",
+            )
+        )
+        tp, tm = getattr(params, "theta_plus", None), getattr(params, "theta_minus", None)
+        paths.append(
+            _save(
+                plotting.plot_zero_dynamics(
+                    traj.x[:, 0], traj.x[:, n_q_of(model)], theta_plus=tp, theta_minus=tm
+                ),
+                out / f"{stem}_zero_dynamics.png",
+            )
+        )
     if model.is_walker or model.name == "double_pendulum":
         t_frames = np.linspace(traj.t[0], traj.t[-1], min(120, len(traj)))
         idx = np.searchsorted(traj.t, t_frames).clip(0, len(traj) - 1)
@@ -108,6 +134,21 @@ def plot_solution(sol: Solution, model, params, out: Path, stem: str) -> list[Pa
         plotting.animate_walker(frames, model.segments, slope=slope, path=anim_path)
         paths.append(anim_path)
     return paths
+
+
+def n_q_of(model) -> int:
+    """Number of configuration coordinates: states are (q, qd[, extra accumulators])."""
+    names = model.state_names
+    return (
+        sum(
+            1
+            for n in names
+            if not n.startswith(("qd", "theta_dot", "phi_dot"))
+            and n not in ("actuator_work", "saturated_time")
+        )
+        if names
+        else 0
+    )
 
 
 def _total_mass(params) -> float:

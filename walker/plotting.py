@@ -43,7 +43,9 @@ __all__ = [
     "plot_multipliers",
     "plot_orbit_diagram",
     "plot_phase_portrait",
+    "plot_torques",
     "plot_work_precision",
+    "plot_zero_dynamics",
 ]
 
 # BasinMap outcome codes (walker.results.BASIN_CONVERGED / BASIN_UNDECIDED).
@@ -516,6 +518,99 @@ def plot_basin(
     axis_names = tuple(getattr(basin_map, "axis_names", ("x", "y")))
     ax.set_xlabel(axis_names[0])
     ax.set_ylabel(axis_names[1])
+    return fig
+
+
+def plot_torques(
+    t: np.ndarray,
+    torques: np.ndarray,
+    *,
+    names: Sequence[str] | None = None,
+    limit: float | None = None,
+    event_times: np.ndarray | None = None,
+    ax: Axes | None = None,
+) -> Figure:
+    """Actuator torques against time, with the torque limit and the impacts marked.
+
+    Parameters
+    ----------
+    t : ndarray, shape (n,)
+        time [s].
+    torques : ndarray, shape (n, m)
+        applied torques [N m], one column per actuator.
+    names : sequence of str, length m, optional
+    limit : float, optional
+        saturation limit [N m]; drawn as dashed lines at +-limit.
+    event_times : ndarray, optional
+        impact times [s]; vertical dotted lines.
+    ax : Axes, optional
+
+    Returns
+    -------
+    Figure
+        one line per actuator (plus the limit lines).
+    """
+    fig, ax = _new_axes(ax)
+    t = np.asarray(t, dtype=float)
+    torques = np.atleast_2d(np.asarray(torques, dtype=float))
+    if torques.shape[0] != t.shape[0]:
+        raise ValueError(
+            f"`torques` must have one row per time, got {torques.shape[0]} rows for "
+            f"{t.shape[0]} times"
+        )
+    names = list(names) if names is not None else [f"u{j}" for j in range(torques.shape[1])]
+    for j in range(torques.shape[1]):
+        ax.plot(t, torques[:, j], label=names[j])
+    if limit is not None:
+        for sign in (1.0, -1.0):
+            ax.axhline(sign * limit, color="0.4", linestyle="--", linewidth=0.8)
+    for te in np.asarray(event_times if event_times is not None else [], dtype=float):
+        ax.axvline(te, color="0.6", linestyle=":", linewidth=0.8)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("torque [N m]")
+    ax.legend(loc="best")
+    return fig
+
+
+def plot_zero_dynamics(
+    theta: np.ndarray,
+    theta_dot: np.ndarray,
+    *,
+    theta_plus: float | None = None,
+    theta_minus: float | None = None,
+    ax: Axes | None = None,
+) -> Figure:
+    """The zero dynamics' phase portrait: phase variable rate against the phase variable,
+    with the section ends ``theta_plus`` (just after impact) and ``theta_minus`` (impact).
+
+    Parameters
+    ----------
+    theta, theta_dot : ndarray, shape (n,)
+        phase variable [rad] and its rate [rad/s] along a (closed-loop) run.
+    theta_plus, theta_minus : float, optional
+        drawn as vertical dashed lines.
+    ax : Axes, optional
+
+    Returns
+    -------
+    Figure
+    """
+    fig, ax = _new_axes(ax)
+    theta = np.asarray(theta, dtype=float)
+    theta_dot = np.asarray(theta_dot, dtype=float)
+    # break the line at impacts (the phase variable jumps back), so the reset is not drawn
+    # as a trajectory
+    span = np.ptp(theta) if theta.size else 0.0
+    cuts = np.flatnonzero(np.abs(np.diff(theta)) > 0.25 * span) + 1 if span > 0 else []
+    theta = np.insert(theta, cuts, np.nan)
+    theta_dot = np.insert(theta_dot, cuts, np.nan)
+    ax.plot(theta, theta_dot, label="orbit")
+    for value, label in ((theta_plus, "theta+"), (theta_minus, "theta-")):
+        if value is not None:
+            ax.axvline(value, color="0.4", linestyle="--", linewidth=0.8, label=label)
+    ax.set_xlabel("phase variable theta [rad]")
+    ax.set_ylabel("theta_dot [rad/s]")
+    ax.legend(loc="best")
     return fig
 
 
