@@ -3,8 +3,9 @@
 One figure of each kind: joint angles with phases shaded, energy with impact losses, a phase
 portrait, a stick-figure GIF (kneed walker); a continuation branch with its period doubling
 and the root locus of its multipliers (simplest walker); an orbit diagram and a basin of
-attraction (compass gait).  Each result is also stored as HDF5 next to its figures, and the
-figures are drawn from those files (the same path ``walker plot`` takes).
+attraction (compass gait); actuator torques and the zero dynamics (three-link walker).
+Each result is also stored as HDF5 next to its figures, and the figures are drawn from those
+files (the same path ``walker plot`` takes).
 
 Usage: python scripts/gallery.py [--quick]
 """
@@ -89,12 +90,27 @@ def compass_basin(quick):
     return _store_and_plot(bm, scene, "compass_basin")
 
 
+def three_link_walk(quick):
+    scene = _scene("three_link_grizzle")
+    first = simulate("three_link", scene.params, scene.state, n_strides=3, output="events")
+    times = np.linspace(0.0, first.t, 200 if quick else 500)
+    sol = simulate(
+        "three_link",
+        scene.params,
+        scene.state,
+        n_strides=3,
+        output="samples",
+        sample_times=times,
+    )
+    return _store_and_plot(sol, scene, "three_link_walk")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--quick", action="store_true", help="coarser grids")
     args = parser.parse_args(argv)
     OUT.mkdir(parents=True, exist_ok=True)
-    for job in (kneed_walk, simplest_branch, compass_orbits, compass_basin):
+    for job in (kneed_walk, simplest_branch, compass_orbits, compass_basin, three_link_walk):
         t = time.perf_counter()
         paths = job(args.quick)
         print(
