@@ -11,6 +11,7 @@ from walker.params import (
     HAS_EVENTS,
     PARAMS,
     STATE_NAMES,
+    CompassCoulombParams,
     CompassParams,
     DoublePendulumParams,
     FiveLinkParams,
@@ -124,9 +125,10 @@ def test_registry_tables_agree():
         "double_pendulum",
         "three_link",
         "five_link",
+        "compass_coulomb",
     ]
-    assert [len(STATE_NAMES[m]) for m in PARAMS] == [4, 4, 6, 4, 8, 12]
-    assert [HAS_EVENTS[m] for m in PARAMS] == [True, True, True, False, True, True]
+    assert [len(STATE_NAMES[m]) for m in PARAMS] == [4, 4, 6, 4, 8, 12, 4]
+    assert [HAS_EVENTS[m] for m in PARAMS] == [True, True, True, False, True, True, True]
     assert STATE_NAMES["five_link"][10:] == ("actuator_work", "saturated_time")
     assert STATE_NAMES["three_link"][6:] == ("actuator_work", "saturated_time")
     for model, cls in PARAMS.items():
@@ -138,7 +140,7 @@ def test_params_class_unknown_model():
     with pytest.raises(
         ValueError,
         match=r"^unknown model 'biped'; valid models: simplest, compass, kneed, double_pendulum, "
-        r"three_link, five_link$",
+        r"three_link, five_link, compass_coulomb$",
     ):
         params_class("biped")
 
@@ -283,6 +285,16 @@ BOUND_CASES = [
     (CompassParams, "slope", math.pi / 2, r"`slope` must be in \(-pi/2, pi/2\) \[rad\]"),
     (CompassParams, "g", -9.8, r"`g` must be > 0 \[m/s\^2\], got -9.8"),
     (CompassParams, "damping_hip", -0.1, r"`damping_hip` must be >= 0 \[N m s/rad\], got -0.1"),
+    (CompassCoulombParams, "mass_hip", 0.0, r"`mass_hip` must be > 0 \[kg\]"),
+    (CompassCoulombParams, "mass_leg", 0.0, r"`mass_leg` must be > 0 \[kg\]"),
+    (CompassCoulombParams, "com_from_foot", -0.1, r"`com_from_foot` must be >= 0 \[m\]"),
+    (CompassCoulombParams, "com_to_hip", -0.1, r"`com_to_hip` must be >= 0 \[m\]"),
+    (CompassCoulombParams, "inertia_leg", -0.001, r"`inertia_leg` must be >= 0 \[kg m\^2\]"),
+    (CompassCoulombParams, "foot_radius", -0.1, r"`foot_radius` must be >= 0 \[m\]"),
+    (CompassCoulombParams, "slope", 1.6, r"`slope` must be in \(-pi/2, pi/2\) \[rad\]"),
+    (CompassCoulombParams, "g", 0.0, r"`g` must be > 0 \[m/s\^2\]"),
+    (CompassCoulombParams, "damping_hip", -0.1, r"`damping_hip` must be >= 0 \[N m s/rad\]"),
+    (CompassCoulombParams, "coulomb_hip", -0.1, r"`coulomb_hip` must be >= 0 \[N m\], got -0.1"),
     (KneedParams, "mass_hip", 0.0, r"`mass_hip` must be > 0 \[kg\]"),
     (KneedParams, "mass_thigh", -0.5, r"`mass_thigh` must be > 0 \[kg\], got -0.5"),
     (KneedParams, "mass_shank", 0.0, r"`mass_shank` must be > 0 \[kg\]"),

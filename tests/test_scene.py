@@ -287,7 +287,7 @@ def test_scene_table_errors(tmp_path):
     _fails(
         tmp_path,
         r"\[scene\] `model` must be one of simplest, compass, kneed, "
-        r"double_pendulum, three_link, five_link, got 'biped'$",
+        r"double_pendulum, three_link, five_link, compass_coulomb, got 'biped'$",
         {"scene": 'model = "biped"'},
     )
     _fails(

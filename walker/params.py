@@ -52,6 +52,7 @@ __all__ = [
     "HAS_EVENTS",
     "SimplestParams",
     "CompassParams",
+    "CompassCoulombParams",
     "KneedParams",
     "DoublePendulumParams",
     "ThreeLinkParams",
@@ -426,6 +427,65 @@ class CompassParams(_Params):
             g=9.81,
             damping_hip=0.0,
         )
+
+
+# ------------------------------------------------------------------------------------------
+@dataclasses.dataclass(frozen=True)
+class CompassCoulombParams(_Params):
+    """Compass-gait walker with Coulomb (dry) friction at the hip (model ``compass_coulomb``).
+
+    The fields of :class:`CompassParams`, in the same order (so ``p[:9]`` is a compass
+    parameter vector), then ``coulomb_hip``.
+
+    Attributes
+    ----------
+    mass_hip, mass_leg, com_from_foot, com_to_hip, inertia_leg, foot_radius, slope, g, \
+damping_hip : float
+        as in :class:`CompassParams`.
+    coulomb_hip : float
+        Coulomb friction torque magnitude F_s at the hip [N m], >= 0: while the hip slips, a
+        torque ``-F_s sgn(qd_swing - qd_stance)`` on the swing leg and its opposite on the
+        stance leg; while it sticks, whatever torque up to F_s keeps it locked (0: the
+        compass gait).
+
+    References
+    ----------
+    .. [1] Goswami, Thuilot, Espiau, INRIA RR-2996, 1996; IJRR 17(12), 1998.
+    """
+
+    MODEL: ClassVar[str] = "compass_coulomb"
+    PRESETS: ClassVar[tuple[str, ...]] = ("goswami",)
+
+    mass_hip: float = _param("kg", "point mass at the hip", 0.0, lo_open=True)
+    mass_leg: float = _param("kg", "mass of each leg", 0.0, lo_open=True)
+    com_from_foot: float = _param("m", "a: foot to the leg's centre of mass", 0.0)
+    com_to_hip: float = _param("m", "b: leg's centre of mass to the hip", 0.0)
+    inertia_leg: float = _param("kg m^2", "leg inertia about its centre of mass", 0.0)
+    foot_radius: float = _param("m", "radius of the arc foot (0: point foot)", 0.0)
+    slope: float = _slope_field()
+    g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
+    damping_hip: float = _damping_field("hip", "qd_swing - qd_stance")
+    coulomb_hip: float = _param(
+        "N m",
+        "Coulomb friction torque of the hip joint, -F_s sgn(qd_swing - qd_stance) on the swing leg",
+        0.0,
+    )
+
+    leg_length = CompassParams.leg_length
+    _check_relations = CompassParams._check_relations
+
+    @classmethod
+    def goswami(
+        cls, slope: float = math.radians(3.0), coulomb_hip: float = 0.0
+    ) -> CompassCoulombParams:
+        """:meth:`CompassParams.goswami` (Goswami et al. 1996 [1]_) with hip friction
+        ``coulomb_hip`` [N m] (default 0: the published, frictionless model).
+
+        References
+        ----------
+        .. [1] Goswami, Thuilot, Espiau, INRIA RR-2996, 1996; IJRR 17(12), 1998.
+        """
+        return cls(**CompassParams.goswami(slope).to_dict(), coulomb_hip=coulomb_hip)
 
 
 # ------------------------------------------------------------------------------------------
@@ -1034,6 +1094,7 @@ PARAMS: dict[str, type[_Params]] = {
     "double_pendulum": DoublePendulumParams,
     "three_link": ThreeLinkParams,
     "five_link": FiveLinkParams,
+    "compass_coulomb": CompassCoulombParams,
 }
 """Model name -> parameter class."""
 
@@ -1074,6 +1135,8 @@ STATE_NAMES: dict[str, tuple[str, ...]] = {
         "actuator_work",
         "saturated_time",
     ),
+    # as the compass gait; the hip's stick/slip state is the phase, not a state component
+    "compass_coulomb": ("q_stance", "q_swing", "qd_stance", "qd_swing"),
 }
 """Model name -> names of the full state's components, in order."""
 
@@ -1084,6 +1147,7 @@ HAS_EVENTS: dict[str, bool] = {
     "double_pendulum": False,
     "three_link": True,
     "five_link": True,
+    "compass_coulomb": True,
 }
 """Model name -> whether the model has guards and resets (strides)."""
 

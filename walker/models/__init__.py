@@ -25,7 +25,15 @@ import numpy as np
 
 __all__ = ["WalkerModel", "get_model", "MODEL_NAMES"]
 
-MODEL_NAMES = ("simplest", "compass", "kneed", "double_pendulum", "three_link", "five_link")
+MODEL_NAMES = (
+    "simplest",
+    "compass",
+    "kneed",
+    "double_pendulum",
+    "three_link",
+    "five_link",
+    "compass_coulomb",
+)
 
 
 @dataclass(frozen=True, eq=False)

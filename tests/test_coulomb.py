@@ -1,0 +1,185 @@
+"""The compass gait with Coulomb hip friction (walker.models.compass_coulomb): the
+frictionless limit, stick/slip events, energy balance, gaits with friction, failure."""
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+from walker import StrideMap, simulate
+from walker.fixedpoint import find_fixed_point
+from walker.integrate import GUARD_TOL
+from walker.models import compass_coulomb as M
+from walker.models import get_model
+from walker.params import CompassCoulombParams, CompassParams
+from walker.status import Status
+
+# Goswami fixed point at 3 degrees as published by Spong, Holm, Lee 2007 (see
+# CompassParams.goswami); the section point (q_stance, qd_stance, qd_swing).
+SPONG_X = np.array([0.2187, -0.3234, -1.0918, -0.3772])
+SPONG_Z = SPONG_X[[0, 2, 3]]
+TIGHT = dict(rtol=1e-12, atol=1e-12)
+# Constructed states (point feet, Goswami masses, 3 degree slope), F_s = 5 N m:
+# legs locked, swing foot clear of the slope and ahead; the hip torque needed to stick is
+# -3.41 N m and grows past -5 N m after 0.173 s.
+STICK_X = np.array([-0.1, -0.2, -1.0, -1.0])
+# the same configuration with the hip slipping forward (w = +0.1 rad/s).
+SLIP_X = np.array([-0.1, -0.2, -1.0, -0.9])
+
+
+def _params(coulomb_hip):
+    return CompassCoulombParams.goswami(coulomb_hip=coulomb_hip)
+
+
+def _total_energy(model, x, p):
+    kin, pot = model.energies(x, p)
+    return kin + pot
+
+
+def test_params_extend_compass_params():
+    assert CompassCoulombParams.names() == CompassParams.names() + ("coulomb_hip",)
+    p = _params(0.25)
+    assert_allclose(p.as_array()[:9], CompassParams.goswami().as_array(), rtol=0, atol=0)
+    assert p.coulomb_hip == 0.25
+    assert CompassCoulombParams.units()["coulomb_hip"] == "N m"
+    with pytest.raises(ValueError, match=r"^`coulomb_hip` must be >= 0 \[N m\], got -0.1"):
+        p.replace(coulomb_hip=-0.1)
+    with pytest.raises(ValueError, match=r"^`foot_radius` must be < leg length"):
+        p.replace(foot_radius=1.5)
+    assert get_model("compass_coulomb").phase_names == ("slip_positive", "slip_negative", "stick")
+
+
+def test_mismatch_delay_starts_armed():
+    assert M.MISMATCH_DELAY > GUARD_TOL
+
+
+def test_zero_friction_is_the_compass_gait():
+    compass = simulate("compass", CompassParams.goswami(), SPONG_X, **TIGHT)
+    coulomb = simulate("compass_coulomb", _params(0.0), SPONG_X, output="events", **TIGHT)
+    assert compass.status == coulomb.status == Status.COMPLETED
+    assert_allclose(coulomb.x, compass.x, rtol=0, atol=1e-10)
+    assert_allclose(coulomb.t, compass.t, rtol=0, atol=1e-10)
+    # w crosses zero mid-swing: with F_s = 0 the hip never sticks, it switches slip phase.
+    assert list(coulomb.events.guard) == [3, 0]
+    assert list(coulomb.events.phase_after) == [1, 0]
+
+
+@pytest.mark.parametrize("phase", [0, 1, 2])
+def test_jac_matches_finite_differences(phase):
+    p = _params(0.7).as_array()
+    x = np.array([0.13, -0.21, -0.9, -0.4]) if phase != 2 else STICK_X
+    J = np.empty((4, 4))
+    M.jac(phase, 0.0, x, p, J)
+    Jfd = np.empty((4, 4))
+    fp, fm = np.empty(4), np.empty(4)
+    for k in range(4):
+        e = np.zeros(4)
+        e[k] = 1e-6
+        M.rhs(phase, 0.0, x + e, p, fp)
+        M.rhs(phase, 0.0, x - e, p, fm)
+        Jfd[:, k] = (fp - fm) / 2e-6
+    assert_allclose(J, Jfd, rtol=0, atol=1e-7)
+
+
+def test_stick_holds_then_breaks():
+    params = _params(5.0)
+    p = params.as_array()
+    model = get_model("compass_coulomb")
+    lam0 = M.hip_torque_to_stick(STICK_X, p)
+    assert -5.0 < lam0 < 0.0
+    sol = simulate(
+        "compass_coulomb",
+        params,
+        STICK_X,
+        phase0=2,
+        output="events",
+        **TIGHT,
+    )
+    ev = sol.events
+    assert ev.guard[0] == M.GUARD_NAMES.index("stick_breaks")
+    # lambda <= -F_s: the friction cannot hold the swing leg back, the hip slips forward.
+    assert ev.phase_after[0] == M.SLIP_POSITIVE
+    assert_allclose(M.hip_torque_to_stick(ev.x_pre[0], p), -5.0, rtol=0, atol=1e-8)
+    assert ev.x_pre[0][3] == ev.x_pre[0][2]  # locked exactly while sticking
+    t_break = ev.t[0]
+    # energy is conserved while the hip sticks (the locking torque does no work)
+    times = np.linspace(0.0, t_break, 9)
+    samp = simulate(
+        "compass_coulomb",
+        params,
+        STICK_X,
+        phase0=2,
+        output="samples",
+        sample_times=times,
+        **TIGHT,
+    )
+    e = _total_energy(model, samp.samples.x, params)
+    assert_allclose(e, e[0], rtol=1e-11, atol=0)
+    # starting in phase 0 or 1 from the same state reaches stick through `phase_mismatch`
+    for phase0 in (0, 1):
+        other = simulate(
+            "compass_coulomb", params, STICK_X, phase0=phase0, output="events", **TIGHT
+        )
+        assert 2 in list(other.events.phase_after)
+        assert other.status == sol.status
+
+
+def test_slip_loses_exactly_coulomb_work_then_sticks():
+    params = _params(5.0)
+    model = get_model("compass_coulomb")
+    sol = simulate("compass_coulomb", params, SLIP_X, output="events", **TIGHT)
+    ev = sol.events
+    assert ev.guard[0] == M.GUARD_NAMES.index("slip_stops")
+    assert ev.phase_after[0] == M.STICK
+    assert ev.x_post[0][3] == ev.x_post[0][2]
+    assert abs(M.hip_torque_to_stick(ev.x_post[0], params.as_array())) < 5.0
+    # slip phase [0, t_stop]: with no viscous damping dE/dt = -F_s |w| and w keeps its sign,
+    # so the energy lost is F_s |delta(q_swing - q_stance)|.
+    t_stop = ev.t[0]
+    times = np.linspace(0.0, t_stop, 7)
+    samp = simulate(
+        "compass_coulomb", params, SLIP_X, output="samples", sample_times=times, **TIGHT
+    )
+    x = samp.samples.x
+    e = _total_energy(model, x, params)
+    phi = x[:, 1] - x[:, 0]
+    assert np.all(np.diff(e) < 0)
+    assert_allclose(e[0] - e, 5.0 * np.abs(phi - phi[0]), rtol=0, atol=1e-10)
+    # and the projection onto w = 0 at the event changes the energy by O(w^2) only
+    e_pre = _total_energy(model, ev.x_pre[:1], params)
+    e_post = _total_energy(model, ev.x_post[:1], params)
+    assert_allclose(e_post, e_pre, rtol=0, atol=1e-14)
+
+
+def test_small_friction_still_walks():
+    compass = find_fixed_point(StrideMap("compass", CompassParams.goswami()), SPONG_Z)
+    P = StrideMap("compass_coulomb", _params(0.01))
+    fp = find_fixed_point(P, SPONG_Z)
+    fd = find_fixed_point(P, SPONG_Z, jacobian="fd")
+    assert fp.success and fd.success and fp.stable
+    assert_allclose(fp.section, fd.section, rtol=0, atol=1e-10)
+    # measured (DOP853, rtol 1e-12): step time 0.734721 s -> 0.733907 s, section point
+    # moves by ~2e-3; the multipliers barely change (0.57995 -> 0.58148).
+    assert_allclose(fp.step_time, 0.7339066619, rtol=0, atol=1e-8)
+    assert fp.step_time < compass.step_time
+    assert 0 < np.max(np.abs(fp.section - compass.section)) < 5e-3
+    assert_allclose(np.abs(fp.multipliers), np.abs(compass.multipliers), rtol=0, atol=5e-3)
+    # the exact Jacobian (variational equations + saltation) agrees with central differences
+    r = P(fp.section, jacobian=True)
+    jfd = np.empty((3, 3))
+    for k in range(3):
+        e = np.zeros(3)
+        e[k] = 1e-6
+        jfd[:, k] = (P(fp.section + e).z - P(fp.section - e).z) / 2e-6
+    assert_allclose(r.jac, jfd, rtol=0, atol=1e-7)
+
+
+def test_large_friction_is_a_fall_not_an_exception():
+    params = _params(100.0)
+    sol = simulate("compass_coulomb", params, SPONG_X, n_strides=3, output="events")
+    assert sol.status == Status.FELL_FORWARD
+    assert sol.n_strides == 0
+    # the hip stopped slipping and stuck before the fall
+    assert list(sol.events.phase_after[:1]) == [M.STICK]
+    r = StrideMap("compass_coulomb", params)(SPONG_Z)
+    assert r.status == Status.FELL_FORWARD
+    assert np.all(np.isnan(r.z))
