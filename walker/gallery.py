@@ -56,8 +56,9 @@ def walker_frames(model, params, t, x, events=None) -> np.ndarray:
             pre, post = events.x_pre[i], events.x_post[i]
             if post[0] == pre[1] and post[0] != pre[0]:
                 pts = model.points(pre, p)
+                swing = getattr(model.module, "SWING_FOOT", -1)
                 strike_t.append(events.t[i])
-                steps.append(pts[-1] - pts[0])
+                steps.append(pts[swing] - pts[0])
     offsets = np.zeros((len(t), 2))
     for te, step in zip(strike_t, steps, strict=True):
         offsets[np.asarray(t) > te] += step
@@ -151,12 +152,18 @@ def n_q_of(model) -> int:
     )
 
 
+_LEG_SEGMENTS = ("leg", "thigh", "shank", "femur", "tibia")
+
+
 def _total_mass(params) -> float:
-    if hasattr(params, "mass_shank"):
-        return params.mass_hip + 2 * (params.mass_thigh + params.mass_shank)
-    if hasattr(params, "mass_leg"):
-        return params.mass_hip + 2 * params.mass_leg
-    return 1.0  # the simplest walker: energies are per unit hip mass
+    """Total mass [kg]: every ``mass_*`` field, leg segments twice (two legs); 1 for the
+    simplest walker, whose energies are per unit hip mass."""
+    total = 0.0
+    for name in params.names():
+        if name.startswith("mass_"):
+            twice = any(seg in name for seg in _LEG_SEGMENTS)
+            total += (2.0 if twice else 1.0) * getattr(params, name)
+    return total if total > 0 else 1.0
 
 
 def plot_file(path, out_dir=".") -> list[Path]:

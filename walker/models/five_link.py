@@ -377,4 +377,5 @@ def points(x, p):
 
 
 SEGMENTS = ((0, 1), (1, 2), (2, 3), (3, 4), (2, 5))
+SWING_FOOT = 4  # row of the swing foot in points()
 KERNEL_HASH = K.KERNEL_HASH

@@ -292,4 +292,5 @@ def points(x, p):
 
 
 SEGMENTS = ((0, 1), (1, 2), (1, 3))
+SWING_FOOT = 2  # row of the swing foot in points()
 KERNEL_HASH = K.KERNEL_HASH
