@@ -2,6 +2,8 @@
 linear systems.  (Accelerations and their Jacobian are generated kernels: ``accel`` and
 ``accel_jac`` in walker/_generated.)"""
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -48,3 +50,45 @@ def impact(M, J, qd_minus, qd_plus, impulse):
     for c in range(m):
         impulse[c] = b[n + c]
     return ok
+
+
+@njit(cache=True, error_model="numpy")
+def floating_base_state(q, qd, hip, hip_J, qf, qdf):
+    """Floating-base coordinates ``(q, hip)`` and rates ``(qd, hip_J qd)`` from the pinned
+    model's state, the hip position (2,) and its Jacobian (2, n)."""
+    n = q.shape[0]
+    for i in range(n):
+        qf[i] = q[i]
+        qdf[i] = qd[i]
+    for r in range(2):
+        qf[n + r] = hip[r]
+        s = 0.0
+        for j in range(n):
+            s += hip_J[r, j] * qd[j]
+        qdf[n + r] = s
+
+
+@njit(cache=True, error_model="numpy")
+def heel_strike_impact(M, J_swing, J_stance, qdf, slope, qdf_plus, impulse):
+    """Plastic heel strike on the floating-base model.
+
+    Solves ``[M, -J_sw^T; J_sw, 0] [qdf+; Lambda] = [M qdf-; 0]`` (the swing foot's material
+    contact velocity vanishes), writes the impulse on the new stance foot in the slope frame
+    ``(along the slope, normal to it)`` [N s] into ``impulse[:2]``, and returns
+    ``(ok, lift)``: ``ok`` False for a singular system, ``lift`` the trailing (old stance)
+    foot's contact velocity along the slope normal after the impact (> 0: it leaves the
+    ground).
+    """
+    lam = np.empty(2)
+    if not impact(M, J_swing, qdf, qdf_plus, lam):
+        return False, 0.0
+    s0, s1 = math.cos(slope), -math.sin(slope)
+    n0, n1 = math.sin(slope), math.cos(slope)
+    impulse[0] = lam[0] * s0 + lam[1] * s1
+    impulse[1] = lam[0] * n0 + lam[1] * n1
+    v0 = 0.0
+    v1 = 0.0
+    for j in range(qdf_plus.shape[0]):
+        v0 += J_stance[0, j] * qdf_plus[j]
+        v1 += J_stance[1, j] * qdf_plus[j]
+    return True, v0 * n0 + v1 * n1

@@ -40,7 +40,7 @@ from numba import njit
 from walker._generated import five_link as K
 from walker._linalg import solve_inplace
 from walker.control import controller_torque
-from walker.models._common import FALL_ANGLE, impact
+from walker.models._common import FALL_ANGLE, floating_base_state, heel_strike_impact
 from walker.status import EVENT_STRIDE, EVENT_TERMINAL, Status
 
 N_X = 12
@@ -243,7 +243,6 @@ def heel_strike(x, p, x_new, impulse):
     Returns a Status value: 0 (COMPLETED) for a physical impact.  ``impulse`` receives the
     impulse on the new stance foot, ``(along the slope, normal to it)`` [N s].
     """
-    slope = p[I_SLOPE]
     q = x[:5]
     pts = np.empty((6, 2))
     K.points(q, p, pts)
@@ -251,32 +250,17 @@ def heel_strike(x, p, x_new, impulse):
     K.hip_jac(q, p, hip_J)
     qf = np.empty(7)
     qdf = np.empty(7)
-    for i in range(5):
-        qf[i] = x[i]
-        qdf[i] = x[5 + i]
-    qf[5] = pts[2, 0]
-    qf[6] = pts[2, 1]
-    for r in range(2):
-        s = 0.0
-        for j in range(5):
-            s += hip_J[r, j] * x[5 + j]
-        qdf[5 + r] = s
+    floating_base_state(q, x[5:10], pts[2], hip_J, qf, qdf)
     M = np.empty((7, 7))
     K.ext_mass_matrix(qf, p, M)
     Jsw = np.empty((2, 7))
     K.ext_swing_contact_jac(qf, p, Jsw)
-    qdf_plus = np.empty(7)
-    lam = np.empty(2)
-    if not impact(M, Jsw, qdf, qdf_plus, lam):
-        return _SINGULAR
-    impulse[0], impulse[1] = _slope_frame(lam, slope)
     Jst = np.empty((2, 7))
     K.ext_stance_contact_jac(qf, p, Jst)
-    v = np.zeros(2)
-    for j in range(7):
-        v[0] += Jst[0, j] * qdf_plus[j]
-        v[1] += Jst[1, j] * qdf_plus[j]
-    lift = _slope_frame(v, slope)[1]
+    qdf_plus = np.empty(7)
+    ok, lift = heel_strike_impact(M, Jsw, Jst, qdf, p[I_SLOPE], qdf_plus, impulse)
+    if not ok:
+        return _SINGULAR
     for i in range(5):
         sq = 0.0
         sv = 0.0

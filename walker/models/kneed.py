@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 from walker._generated import kneed as K
-from walker.models._common import FALL_ANGLE, impact
+from walker.models._common import FALL_ANGLE, floating_base_state, heel_strike_impact, impact
 from walker.status import (
     EVENT_CONTINUE,
     EVENT_IGNORE,
@@ -165,41 +165,25 @@ def knee_lock(x, p, x_new, impulse):
 def heel_strike(x, p, x_new, impulse):
     """Floating-base heel strike (knee locked) and leg swap; the new swing knee is straight
     and unlocked.  ``impulse`` = (along slope, normal) on the new stance foot [N s]."""
-    slope = p[_I_SLOPE]
-    q = np.array([x[0], x[1]])
+    q = x[0:2]
+    qd = x[3:5]
     pts = np.empty((5, 2))
     K.locked_points(q, p, pts)
     hip_J = np.empty((2, 2))
     K.locked_hip_jac(q, p, hip_J)
-    qf = np.array([x[0], x[1], pts[1, 0], pts[1, 1]])
-    qdf = np.array(
-        [
-            x[3],
-            x[4],
-            hip_J[0, 0] * x[3] + hip_J[0, 1] * x[4],
-            hip_J[1, 0] * x[3] + hip_J[1, 1] * x[4],
-        ]
-    )
+    qf = np.empty(4)
+    qdf = np.empty(4)
+    floating_base_state(q, qd, pts[1], hip_J, qf, qdf)
     M = np.empty((4, 4))
     K.ext_mass_matrix(qf, p, M)
     Jsw = np.empty((2, 4))
     K.ext_swing_contact_jac(qf, p, Jsw)
-    qdf_plus = np.empty(4)
-    lam = np.empty(2)
-    if not impact(M, Jsw, qdf, qdf_plus, lam):
-        return _SINGULAR
-    s0, s1 = math.cos(slope), -math.sin(slope)
-    n0, n1 = math.sin(slope), math.cos(slope)
-    impulse[0] = lam[0] * s0 + lam[1] * s1
-    impulse[1] = lam[0] * n0 + lam[1] * n1
     Jst = np.empty((2, 4))
     K.ext_stance_contact_jac(qf, p, Jst)
-    v0 = 0.0
-    v1 = 0.0
-    for j in range(4):
-        v0 += Jst[0, j] * qdf_plus[j]
-        v1 += Jst[1, j] * qdf_plus[j]
-    lift = v0 * n0 + v1 * n1
+    qdf_plus = np.empty(4)
+    ok, lift = heel_strike_impact(M, Jsw, Jst, qdf, p[_I_SLOPE], qdf_plus, impulse)
+    if not ok:
+        return _SINGULAR
     x_new[0] = x[1]
     x_new[1] = x[0]
     x_new[2] = x[0]

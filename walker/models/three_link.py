@@ -38,7 +38,7 @@ from numba import njit
 from walker._generated import three_link as K
 from walker._linalg import solve_inplace
 from walker.control import controller_torque
-from walker.models._common import FALL_ANGLE, impact
+from walker.models._common import FALL_ANGLE, floating_base_state, heel_strike_impact
 from walker.status import EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
 
 N_X = 8
@@ -185,41 +185,24 @@ def heel_strike(x, p, x_new, impulse):
     Returns a Status value: 0 (COMPLETED) for a physical impact.  ``impulse`` receives the
     impulse on the new stance foot, ``(along the slope, normal to it)`` [N s].
     """
-    slope = p[I_SLOPE]
     q = x[:3]
     pts = np.empty((4, 2))
     K.points(q, p, pts)
     hip_J = np.empty((2, 3))
     K.hip_jac(q, p, hip_J)
-    qf = np.array([x[0], x[1], x[2], pts[1, 0], pts[1, 1]])
+    qf = np.empty(5)
     qdf = np.empty(5)
-    for i in range(3):
-        qdf[i] = x[3 + i]
-    for r in range(2):
-        s = 0.0
-        for j in range(3):
-            s += hip_J[r, j] * x[3 + j]
-        qdf[3 + r] = s
+    floating_base_state(q, x[3:6], pts[1], hip_J, qf, qdf)
     M = np.empty((5, 5))
     K.ext_mass_matrix(qf, p, M)
     Jsw = np.empty((2, 5))
     K.ext_swing_contact_jac(qf, p, Jsw)
-    qdf_plus = np.empty(5)
-    lam = np.empty(2)
-    if not impact(M, Jsw, qdf, qdf_plus, lam):
-        return _SINGULAR
-    s0, s1 = math.cos(slope), -math.sin(slope)
-    n0, n1 = math.sin(slope), math.cos(slope)
-    impulse[0] = lam[0] * s0 + lam[1] * s1
-    impulse[1] = lam[0] * n0 + lam[1] * n1
     Jst = np.empty((2, 5))
     K.ext_stance_contact_jac(qf, p, Jst)
-    v0 = 0.0
-    v1 = 0.0
-    for j in range(5):
-        v0 += Jst[0, j] * qdf_plus[j]
-        v1 += Jst[1, j] * qdf_plus[j]
-    lift = v0 * n0 + v1 * n1
+    qdf_plus = np.empty(5)
+    ok, lift = heel_strike_impact(M, Jsw, Jst, qdf, p[I_SLOPE], qdf_plus, impulse)
+    if not ok:
+        return _SINGULAR
     x_new[0] = x[1]
     x_new[1] = x[0]
     x_new[2] = x[2]
