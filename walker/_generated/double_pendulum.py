@@ -74,10 +74,10 @@ def accel(q, qd, p, out):
     l00 = math.sqrt(d00)
     l10 = (d10)/l00
     l11 = math.sqrt(d11 - l10*l10)
-    y0 = (-h0)/l00
-    y1 = (-h1 - l10*y0)/l11
-    z1 = (y1)/l11
-    z0 = (y0 - l10*z1)/l00
+    z0_y = (-h0)/l00
+    z1_y = (-h1 - l10*z0_y)/l11
+    z1 = (z1_y)/l11
+    z0 = (z0_y - l10*z1)/l00
     out[0] = z0
     out[1] = z1
 

@@ -270,12 +270,12 @@ def unlocked_accel(q, qd, p, out):
     l11 = math.sqrt(d11 - l10*l10)
     l21 = (d21 - l20*l10)/l11
     l22 = math.sqrt(d22 - l20*l20 - l21*l21)
-    y0 = (-h0)/l00
-    y1 = (-h1 - l10*y0)/l11
-    y2 = (-h2 - l20*y0 - l21*y1)/l22
-    z2 = (y2)/l22
-    z1 = (y1 - l21*z2)/l11
-    z0 = (y0 - l10*z1 - l20*z2)/l00
+    z0_y = (-h0)/l00
+    z1_y = (-h1 - l10*z0_y)/l11
+    z2_y = (-h2 - l20*z0_y - l21*z1_y)/l22
+    z2 = (z2_y)/l22
+    z1 = (z1_y - l21*z2)/l11
+    z0 = (z0_y - l10*z1 - l20*z2)/l00
     out[0] = z0
     out[1] = z1
     out[2] = z2
@@ -1714,10 +1714,10 @@ def locked_accel(q, qd, p, out):
     l00 = math.sqrt(d00)
     l10 = (d10)/l00
     l11 = math.sqrt(d11 - l10*l10)
-    y0 = (-h0)/l00
-    y1 = (-h1 - l10*y0)/l11
-    z1 = (y1)/l11
-    z0 = (y0 - l10*z1)/l00
+    z0_y = (-h0)/l00
+    z1_y = (-h1 - l10*z0_y)/l11
+    z1 = (z1_y)/l11
+    z0 = (z0_y - l10*z1)/l00
     out[0] = z0
     out[1] = z1
 

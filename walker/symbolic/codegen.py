@@ -110,20 +110,9 @@ def render_accel_kernel(kernel: AccelKernel, printer: _Printer | None = None) ->
     for i in range(n):
         lines.append(f"    h{i} = {printer.doprint(reduced[k])}")
         k += 1
-    # Cholesky D = L L^T, unrolled.
-    for j in range(n):
-        acc = " - ".join([f"d{j}{j}"] + [f"l{j}{m}*l{j}{m}" for m in range(j)])
-        lines.append(f"    l{j}{j} = math.sqrt({acc})")
-        for i in range(j + 1, n):
-            acc = " - ".join([f"d{i}{j}"] + [f"l{i}{m}*l{j}{m}" for m in range(j)])
-            lines.append(f"    l{i}{j} = ({acc})/l{j}{j}")
-    # L y = -h, then L^T qdd = y.
-    for i in range(n):
-        acc = " - ".join([f"-h{i}"] + [f"l{i}{m}*y{m}" for m in range(i)])
-        lines.append(f"    y{i} = ({acc})/l{i}{i}")
-    for i in reversed(range(n)):
-        acc = " - ".join([f"y{i}"] + [f"l{m}{i}*z{m}" for m in range(i + 1, n)])
-        lines.append(f"    z{i} = ({acc})/l{i}{i}")
+    # Cholesky D = L L^T, unrolled; then L L^T qdd = -h.
+    lines += _cholesky_lines(n)
+    lines += _solve_lines(n, [f"-h{i}" for i in range(n)], [f"z{i}" for i in range(n)])
     for i in range(n):
         lines.append(f"    out[{i}] = z{i}")
     return "\n".join(lines) + "\n"
