@@ -346,7 +346,13 @@ def cmd_plot(args) -> int:
     matplotlib.use("Agg")
     from walker.gallery import plot_file
 
-    paths = plot_file(args.file, args.out)
+    out = Path(args.out)
+    if not Path(args.file).exists():
+        raise FileNotFoundError(f"result file not found: {args.file}")
+    if not out.parent.exists():
+        raise UsageError(f"--out: directory {str(out.parent)!r} does not exist")
+    out.mkdir(exist_ok=True)  # the figures' own directory is created
+    paths = plot_file(args.file, out)
     for p in paths:
         print(f"wrote {p}")
     return EXIT_OK
@@ -429,7 +435,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("plot", help="draw the figures of a stored result")
     p.add_argument("file")
-    p.add_argument("--out", default=".", help="directory for the figures")
+    p.add_argument("--out", default=".", help="directory for the figures (created)")
     p.set_defaults(func=cmd_plot)
     return parser
 
