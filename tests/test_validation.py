@@ -447,7 +447,7 @@ def test_corrupted_hdf5_raises(tmp_path):
         storage.read(bad)
 
 
-# ------------------------------------- rejected before any work (were strict xfails)
+# ---------------------------------- rejected before any work (findings of the stress run)
 
 
 def test_stride_map_rejects_negative_rtol_at_construction(setup):
