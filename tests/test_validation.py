@@ -431,13 +431,14 @@ def test_bad_input_raises_naming_the_argument(setup, call, exc, match):
         call(*setup)
 
 
-def test_missing_files_raise():
+def test_missing_files_raise(setup, tmp_path):
+    fp = setup[3]
     with pytest.raises(FileNotFoundError, match="scene file not found"):
         load_scene("gaits/no_such_scene.toml")
     with pytest.raises(FileNotFoundError, match="does not exist"):
-        storage.write("/tmp/v/no_such_dir/a.h5", 3, provenance={})
+        storage.write(tmp_path / "no_such_dir" / "a.h5", fp, provenance={})
     with pytest.raises(storage.StorageError, match="no such file"):
-        storage.read("/tmp/v/no_such_file.h5")
+        storage.read(tmp_path / "no_such_file.h5")
 
 
 def test_corrupted_hdf5_raises(tmp_path):

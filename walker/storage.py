@@ -619,7 +619,6 @@ def write(
     TypeError, ValueError
         `result` or `provenance` cannot be stored (the message names the field).
     """
-    path = _check_target(path, overwrite)
     kind = _KIND_OF.get(type(result))
     if kind is None:
         raise TypeError(
@@ -627,6 +626,7 @@ def write(
             f"got {type(result).__name__}"
         )
     prov_json = _check_provenance(provenance)
+    path = _check_target(path, overwrite)
     tree = _encode(result, type(result), type(result).__name__)
     root_attrs = _provenance_attrs(prov_json, kind)
 
