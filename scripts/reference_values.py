@@ -16,7 +16,13 @@ from walker import StrideMap, load_scene
 from walker.fixedpoint import find_fixed_point
 
 ROOT = Path(__file__).resolve().parents[1]
-SCENES = ("simplest_garcia", "compass_goswami", "kneed_hsu", "kneed_mcgeer_roundfoot")
+SCENES = (
+    "simplest_garcia",
+    "compass_goswami",
+    "kneed_hsu",
+    "kneed_mcgeer_roundfoot",
+    "kneed_coulomb_hsu",
+)
 
 
 def reference(scene_name: str) -> str:

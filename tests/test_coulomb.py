@@ -38,7 +38,9 @@ def _total_energy(model, x, p):
 def test_params_extend_compass_params():
     assert CompassCoulombParams.names() == CompassParams.names() + ("coulomb_hip",)
     p = _params(0.25)
-    assert_allclose(p.as_array()[:9], CompassParams.goswami().as_array(), rtol=0, atol=0)
+    n = CompassParams.n_params()
+    assert_allclose(p.as_array()[:n], CompassParams.goswami().as_array(), rtol=0, atol=0)
+    assert p.as_array()[M._I_COULOMB] == 0.25  # the compiled phase functions read it there
     assert p.coulomb_hip == 0.25
     assert CompassCoulombParams.units()["coulomb_hip"] == "N m"
     with pytest.raises(ValueError, match=r"^`coulomb_hip` must be >= 0 \[N m\], got -0.1"):

@@ -2,21 +2,38 @@
 
 The compass gait carries a hip damper (``damping_hip``, on ``qd_swing - qd_stance``), the
 kneed walker a hip damper (``qd2 - qd1``) and a swing-knee damper (``damping_knee``, on
-``qd3 - qd2``, inactive once the knee is locked).  Checked here:
+``qd3 - qd2``, inactive once the knee is locked); both carry a stance-ankle damper
+(``damping_ankle``, on the stance leg's rate relative to the slope, ``qd_stance`` / ``qd1``,
+in every single-support phase).  Checked here:
 
 * the energy balance ``dE/dt = -sum_j b_j w_j^2`` (the dampers' power) at random states,
   from the symbolic models and from the generated kernels, and ``dE/dt = 0`` without damping;
 * the impacts (heel strike, knee lock) do not depend on the damping;
-* Goswami's compass gait continued in ``damping_hip`` from 0: how its walking speed changes,
-  where the gait is lost and what the walker does beyond (an outcome, never an exception);
-* Hsu Chen's kneed walker: a small knee damping changes the gait smoothly and slows it.
+* Goswami's compass gait continued in ``damping_hip`` and in ``damping_ankle`` from 0: how
+  its walking speed changes, where the stable gait is lost and what the walker does beyond
+  (an outcome, never an exception);
+* Hsu Chen's kneed walker: a small knee or ankle damping changes the gait smoothly and
+  slows it.
 
-Measured (walker DOP853, rtol = 1e-10): the hip damper makes the Goswami compass gait walk
-*faster*, not slower -- speed 0.7288 m/s at b = 0 rising monotonically to 0.7909 m/s at
-b = 0.2530 N m s/rad, where the stable gait is lost (natural continuation stops, the complex
-Floquet pair heading for the real axis near +1: a fold); beyond it the walker falls forward.
-The knee damper does slow the kneed walker (0.8370 m/s at 0 to 0.8242 m/s at 0.01), whose
-gait is lost before 0.015 N m s/rad, where the bent knee trips.
+Measured (walker DOP853; fixed points and branches at StrideMap's rtol = 1e-12, runs at
+simulate's 1e-10): the hip damper makes the Goswami compass gait walk *faster*, not slower
+-- speed 0.7288 m/s at b = 0 rising monotonically to 0.7909 m/s at b = 0.2530 N m s/rad,
+where the stable gait is lost (natural continuation stops, the complex Floquet pair heading
+for the real axis near +1: a fold); beyond it the walker falls forward.
+The stance-ankle damper is the one that slows the compass gait, as the issue expects:
+the speed falls monotonically, nearly linearly at first (-0.0264 m/s per N m s/rad at
+b = 0; 0.7027 m/s at 1, 0.4963 at 10, 0.3350 at 20, 0.2392 at 30 N m s/rad), step length
+shrinking and step time growing.  The gait stays stable up to a period doubling at
+b = 32.825 N m s/rad (speed 0.2203 m/s, 30 % of the undamped one); beyond it a stable
+period-two gait takes over (at b = 34, 0.031 away from the unstable period-one point),
+and the period-one branch goes on, unstable and ever slower (0.1829 m/s at 40, 0.0766 at
+100).  Started on the last stable gait (b = 32.25), the walker still walks 300 strides at
+b = 40, 50 and 60 and falls forward after 5 strides at 70; from b = 80 on (every value
+tried up to 1e4) it no longer gets over the stance foot and falls backward, within 10
+strides, from 115 on before its first heel strike.  The knee damper does slow the kneed
+walker (0.8370 m/s at 0 to 0.8242 m/s at 0.01), whose gait is lost before 0.015 N m s/rad,
+where the bent knee trips; the ankle damper slows it too (0.8370 -> 0.8325 m/s at 0.01,
+0.7926 at 0.1, 0.7497 at 0.2 N m s/rad, all stable).
 """
 
 from __future__ import annotations
@@ -40,11 +57,28 @@ from walker.symbolic import models
 N_STATES = 50
 TOL = 1e-12
 
-# Joint rates of each single-support model, as (parameter index, rate from qd) pairs.
+
+def _index(family: str, name: str) -> int:
+    """Position of parameter ``name`` in the ``p`` vector of ``family``."""
+    return models.MODEL_PARAMS[family].index(name)
+
+
+# Joint rates of each single-support model, as (parameter index, rate from qd) pairs; the
+# stance ankle's rate is the stance leg's, relative to the (fixed) slope.
 DAMPERS = {
-    "compass": [(8, lambda qd: qd[1] - qd[0])],
-    "kneed_unlocked": [(14, lambda qd: qd[1] - qd[0]), (15, lambda qd: qd[2] - qd[1])],
-    "kneed_locked": [(14, lambda qd: qd[1] - qd[0])],
+    "compass": [
+        (_index("compass", "damping_hip"), lambda qd: qd[1] - qd[0]),
+        (_index("compass", "damping_ankle"), lambda qd: qd[0]),
+    ],
+    "kneed_unlocked": [
+        (_index("kneed", "damping_hip"), lambda qd: qd[1] - qd[0]),
+        (_index("kneed", "damping_knee"), lambda qd: qd[2] - qd[1]),
+        (_index("kneed", "damping_ankle"), lambda qd: qd[0]),
+    ],
+    "kneed_locked": [
+        (_index("kneed", "damping_hip"), lambda qd: qd[1] - qd[0]),
+        (_index("kneed", "damping_ankle"), lambda qd: qd[0]),
+    ],
 }
 FACTORIES = {
     "compass": models.compass,
@@ -67,6 +101,7 @@ def _random_params(name: str, rng, *, damped: bool) -> np.ndarray:
             slope=rng.uniform(-0.2, 0.2),
             g=rng.uniform(1.0, 20.0),
             damping_hip=rng.uniform(0.0, 5.0) if damped else 0.0,
+            damping_ankle=rng.uniform(0.0, 5.0) if damped else 0.0,
         )
     else:
         base = KneedParams.hsu_chen()
@@ -83,6 +118,7 @@ def _random_params(name: str, rng, *, damped: bool) -> np.ndarray:
             g=rng.uniform(1.0, 20.0),
             damping_hip=rng.uniform(0.0, 5.0) if damped else 0.0,
             damping_knee=rng.uniform(0.0, 5.0) if damped else 0.0,
+            damping_ankle=rng.uniform(0.0, 5.0) if damped else 0.0,
         )
     return p.as_array()
 
@@ -185,15 +221,20 @@ def test_generated_kernels_dissipate_the_damper_power(name):
 
 def test_locked_forcing_is_the_projected_unlocked_forcing():
     """With the knee locked (``qd3 = qd2``) the locked model's forcing is ``T^T Q``, ``T``
-    mapping ``(qd1, qd2)`` to ``(qd1, qd2, qd2)``: the knee damper drops out exactly."""
+    mapping ``(qd1, qd2)`` to ``(qd1, qd2, qd2)``: the knee damper drops out exactly, the
+    hip and stance-ankle dampers stay."""
     un, lo = models.kneed_unlocked(), models.kneed_locked()
     q1d, q2d, q3d = un.qd
     p1d, p2d = lo.qd
     Q = un.forcing.subs({q1d: p1d, q2d: p2d, q3d: p2d})
     T = sp.Matrix([[1, 0], [0, 1], [0, 1]])
     assert sp.expand(T.T * Q - lo.forcing) == sp.zeros(2, 1)
-    knee = lo.params[models.MODEL_PARAMS["kneed"].index("damping_knee")]
+    knee, hip, ankle = (
+        lo.params[_index("kneed", name)]
+        for name in ("damping_knee", "damping_hip", "damping_ankle")
+    )
     assert knee not in lo.forcing.free_symbols
+    assert {hip, ankle} <= lo.forcing.free_symbols
 
 
 # ----------------------------------------------------------------------------- impacts
@@ -207,7 +248,7 @@ def test_impacts_do_not_depend_on_damping():
     xc[0] = -2 * CompassParams.goswami().slope - xc[1]
     out = []
     for b in (0.0, 3.0):
-        p = CompassParams.goswami().replace(damping_hip=b).as_array()
+        p = CompassParams.goswami().replace(damping_hip=b, damping_ankle=2 * b).as_array()
         x_new, imp = np.empty(4), np.empty(2)
         status = MC.heel_strike(xc, p, x_new, imp)
         out.append((status, x_new, imp))
@@ -217,8 +258,9 @@ def test_impacts_do_not_depend_on_damping():
 
     xk = np.array([0.15, -0.25, -0.25, -1.0, 0.5, 1.2])
     res = []
-    for bh, bk in ((0.0, 0.0), (2.0, 3.0)):
-        p = KneedParams.hsu_chen().replace(damping_hip=bh, damping_knee=bk).as_array()
+    for bh, bk, ba in ((0.0, 0.0, 0.0), (2.0, 3.0, 4.0)):
+        p = KneedParams.hsu_chen().replace(damping_hip=bh, damping_knee=bk, damping_ankle=ba)
+        p = p.as_array()
         x_lock, imp_lock = np.empty(6), np.empty(2)
         s1 = MK.knee_lock(xk, p, x_lock, imp_lock)
         x_hs, imp_hs = np.empty(6), np.empty(2)
@@ -233,9 +275,10 @@ def test_impacts_do_not_depend_on_damping():
 
 
 # ----------------------------------------------------------------- the compass gait
-def _compass_speed(z, step_time, params):
+def _walking_speed(z, step_time, params):
     """Walking speed [m/s]: step length ``2 L sin(half inter-leg angle)`` over step time;
-    just after heel strike the half inter-leg angle is ``q_stance + slope``."""
+    just after heel strike the half inter-leg angle is ``q_stance + slope`` (``z[0]``: the
+    compass gait's ``q_stance``, the kneed walker's ``q1``, both legs straight)."""
     return 2.0 * params.leg_length * math.sin(z[0] + params.slope) / step_time
 
 
@@ -268,7 +311,7 @@ def test_hip_damping_continuation_of_the_compass_gait():
     bs = np.concatenate([[0.0], branch.parameter])
     zs = np.vstack([fp0.section, branch.sections])
     ts = np.concatenate([[fp0.step_time], branch.step_times])
-    speed = np.array([_compass_speed(z, t, base) for z, t in zip(zs, ts, strict=True)])
+    speed = np.array([_walking_speed(z, t, base) for z, t in zip(zs, ts, strict=True)])
     length = 2.0 * base.leg_length * np.sin(zs[:, 0] + base.slope)
     assert np.all(np.diff(bs) > 0)
     assert np.all(np.diff(length) < 0) and np.all(np.diff(ts) < 0)
@@ -281,6 +324,70 @@ def test_hip_damping_continuation_of_the_compass_gait():
         sol = simulate("compass", base.replace(damping_hip=b), x_last, n_strides=30)
         assert not sol.success
         assert sol.status == Status.FELL_FORWARD, (b, sol.message)
+
+
+def test_ankle_damping_slows_the_compass_gait():
+    """Goswami's 3 degree gait (gaits/compass_goswami.toml) followed in ``damping_ankle``.
+
+    Natural continuation from 1e-6 (as for the hip damper) to 40 N m s/rad.  Measured: the
+    walking speed falls monotonically along the whole period-one branch (0.7288 m/s at 0,
+    0.2203 at the period doubling, 0.1829 at 40), step length shrinking and step time
+    growing; every point before the period doubling at b = 32.825 (multiplier -1; located
+    to 1e-10 N m s/rad for any continuation step from 0.25 to 4) is stable, every point
+    after it unstable, and the last stable point (b = 32.25) walks at 31 % of the undamped speed.
+    At b = 34 the stable gait has period two (0.031 from the unstable period-one point).
+    Large damping stops the walker: started on the last stable gait, at b = 150 and 1000
+    the hip no longer gets over the stance foot and the walker falls backward before its
+    first heel strike -- a status, not an exception.
+    """
+    scene = load_scene("gaits/compass_goswami.toml")
+    base = scene.params
+    assert base.damping_ankle == 0.0
+    P0 = StrideMap("compass", base, parameter_name="damping_ankle")
+    fp0 = find_fixed_point(P0, P0.project(scene.state))
+    assert fp0.success
+    assert_allclose(fp0.state, scene.reference["state"], rtol=0, atol=1e-9)
+
+    P = P0.with_parameter(1e-6)
+    branch = continue_branch(P, fp0.section, to=40.0, method="natural", step=0.5, max_step=1.0)
+    assert branch.status == Status.COMPLETED, branch.message
+    assert branch.parameter[-1] == 40.0
+    [flip] = branch.bifurcations
+    assert flip.kind == "period_doubling"
+    assert 32.8 < flip.parameter_value < 32.85, flip.parameter_value
+    assert np.array_equal(branch.stable, branch.parameter < flip.parameter_value)
+    assert branch.stable.sum() > 20  # the stable part is resolved, not one or two points
+
+    bs = np.concatenate([[0.0], branch.parameter])
+    zs = np.vstack([fp0.section, branch.sections])
+    ts = np.concatenate([[fp0.step_time], branch.step_times])
+    speed = np.array([_walking_speed(z, t, base) for z, t in zip(zs, ts, strict=True)])
+    length = 2.0 * base.leg_length * np.sin(zs[:, 0] + base.slope)
+    assert np.all(np.diff(bs) > 0)
+    assert np.all(np.diff(length) < 0) and np.all(np.diff(ts) > 0)
+    assert np.all(np.diff(speed) < 0)
+    assert_allclose(speed[0], 0.728774, rtol=1e-5, atol=0)
+    last_stable = np.flatnonzero(branch.stable)[-1]
+    assert speed[1 + last_stable] / speed[0] < 1.0 / 3.0
+
+    # past the period doubling: a stable period-two gait, away from the period-one point
+    # (iterated from a 1e-3 kick off the unstable period-one point, which grows by
+    # |m| = 1.025 per stride, until it settles)
+    P34 = StrideMap("compass", base.replace(damping_ankle=34.0))
+    one = find_fixed_point(P34, flip.section)
+    assert one.success and not one.stable, one.message
+    z = one.section + np.array([1e-3, 0.0, 0.0])
+    for _ in range(300):
+        z = P34(z).z
+    two = find_fixed_point(P34, z, period=2)
+    assert two.success and two.stable, two.message
+    assert np.abs(two.section - one.section).max() > 0.01
+
+    x_last = P.lift(branch.sections[last_stable])
+    for b in (150.0, 1000.0):
+        sol = simulate("compass", base.replace(damping_ankle=b), x_last, n_strides=30)
+        assert not sol.success
+        assert sol.status == Status.FELL_BACKWARD, (b, sol.message)
 
 
 # ------------------------------------------------------------------ the kneed walker
@@ -303,7 +410,7 @@ def test_small_knee_damping_changes_the_kneed_gait_smoothly():
         assert fp.success and fp.stable, (b, fp.message)
         z = fp.section
         sections.append(z)
-        speeds.append(2.0 * base.leg_length * math.sin(z[0] + base.slope) / fp.step_time)
+        speeds.append(_walking_speed(z, fp.step_time, base))
     sections = np.array(sections)
     assert_allclose(
         sections[0], StrideMap("kneed", base).project(scene.reference["state"]), rtol=0, atol=1e-9
@@ -318,3 +425,25 @@ def test_small_knee_damping_changes_the_kneed_gait_smoothly():
     x_last = P.lift(sections[-1])
     sol = simulate("kneed", base.replace(damping_knee=0.015), x_last, n_strides=30)
     assert sol.status == Status.TRIPPED, sol.message
+
+
+def test_small_ankle_damping_slows_the_kneed_walker():
+    """Hsu Chen's gait (gaits/kneed_hsu.toml) at ``damping_ankle`` = 0, 0.01, 0.1 N m s/rad,
+    each fixed point warm-started from the previous one: all stable, and the ankle damper
+    slows the walker (measured 0.8370 -> 0.8325 -> 0.7926 m/s, nearly linearly: the drop
+    at 0.1 is 9.85 times that at 0.01)."""
+    scene = load_scene("gaits/kneed_hsu.toml")
+    base = scene.params
+    assert base.damping_ankle == 0.0
+    z = StrideMap("kneed", base).project(scene.state)
+    speeds = []
+    for b in (0.0, 0.01, 0.1):
+        P = StrideMap("kneed", base.replace(damping_ankle=b))
+        fp = find_fixed_point(P, z)
+        assert fp.success and fp.stable, (b, fp.message)
+        z = fp.section
+        speeds.append(_walking_speed(z, fp.step_time, base))
+    assert_allclose(speeds[0], 0.837009, rtol=1e-5, atol=0)
+    drops = speeds[0] - np.array(speeds[1:])
+    assert drops[0] > 1e-3  # 0.01 N m s/rad already costs more than 1 mm/s
+    assert drops[1] > 5 * drops[0]  # and the speed keeps falling

@@ -39,7 +39,9 @@ def test_garcia_gaits_to_1e9_and_multipliers_within_2e3():
     )
 
 
-@pytest.mark.parametrize("name", ["simplest_garcia", "compass_goswami", "kneed_hsu"])
+@pytest.mark.parametrize(
+    "name", ["simplest_garcia", "compass_goswami", "kneed_hsu", "kneed_coulomb_hsu"]
+)
 def test_scene_reference_digits(name):
     """Our own high-accuracy digits, recorded in the scene file with the tolerance we can
     defend (scripts/reference_values.py), come back."""
@@ -65,7 +67,9 @@ def test_kneed_thesis_point_comes_back_with_euler_at_1e3():
     assert np.abs(fp_exact.state - scene.state).max() > 1e-2
 
 
-@pytest.mark.parametrize("name", ["simplest_garcia", "compass_goswami", "kneed_hsu"])
+@pytest.mark.parametrize(
+    "name", ["simplest_garcia", "compass_goswami", "kneed_hsu", "kneed_coulomb_hsu"]
+)
 def test_exact_jacobian_matches_finite_differences(name):
     scene, P, fp = _fixed_point(name, rtol=1e-13, atol=1e-13)
     exact = P(fp.section, jacobian=True).jac
@@ -84,7 +88,9 @@ def test_exact_jacobian_matches_finite_differences(name):
     assert_allclose(exact, fd, atol=1e-7, rtol=0)
 
 
-@pytest.mark.parametrize("name", ["simplest_garcia", "compass_goswami", "kneed_hsu"])
+@pytest.mark.parametrize(
+    "name", ["simplest_garcia", "compass_goswami", "kneed_hsu", "kneed_coulomb_hsu"]
+)
 def test_multipliers_stable_as_tolerance_tightens(name):
     """Measured spread against rtol = atol = 3e-14: at 1e-10 it is 1.7e-9 (simplest: its
     4-time-unit stride on an inverted pendulum amplifies local errors), 1.0e-10 (compass),

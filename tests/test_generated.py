@@ -77,6 +77,7 @@ PARAM_RANGES = {
     # viscous joint damping [N m s/rad]
     "damping_hip": (0.0, 5.0),
     "damping_knee": (0.0, 1.0),
+    "damping_ankle": (0.0, 5.0),
 }
 
 GENERATED_DIR = Path(importlib.import_module("walker._generated").__file__).parent

@@ -279,6 +279,7 @@ def test_compass_approaches_simplest_walker_as_leg_mass_vanishes():
             slope=gamma,
             g=1.0,
             damping_hip=0.0,
+            damping_ankle=0.0,
         )
         P = StrideMap("compass", params)
         # Garcia's theta, theta - phi: legs from the slope normal;
@@ -322,6 +323,7 @@ def test_kneed_with_massless_shank_and_locked_knee_is_the_compass_gait():
         slope=kp.slope,
         g=kp.g,
         damping_hip=0.0,
+        damping_ankle=0.0,
     )
     xc = np.array([0.19, -0.29, -1.1, -0.2])
     slope = kp.slope

@@ -229,6 +229,7 @@ def _random_kneed_params(rng, offsets: bool) -> np.ndarray:
             rng.uniform(1.0, 20.0),  # g
             0.0,  # damping_hip (D, C, g do not depend on it)
             0.0,  # damping_knee
+            0.0,  # damping_ankle
         ]
     )
 

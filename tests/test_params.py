@@ -15,6 +15,7 @@ from walker.params import (
     CompassParams,
     DoublePendulumParams,
     FiveLinkParams,
+    KneedCoulombParams,
     KneedParams,
     SimplestParams,
     ThreeLinkParams,
@@ -47,7 +48,10 @@ def test_field_order_is_the_kernel_order():
         "slope",
         "g",
         "damping_hip",
+        "damping_ankle",
     )
+    # the compass block is a prefix, so that ``p[:n]`` of compass_coulomb is a compass vector
+    assert CompassCoulombParams.names() == (*CompassParams.names(), "coulomb_hip")
     assert KneedParams.names() == (
         "mass_hip",
         "mass_thigh",
@@ -65,6 +69,7 @@ def test_field_order_is_the_kernel_order():
         "g",
         "damping_hip",
         "damping_knee",
+        "damping_ankle",
     )
     assert DoublePendulumParams.names() == (
         "mass_1",
@@ -113,7 +118,9 @@ def test_units_and_docs_follow_the_canonical_order():
     assert CompassParams.bounds()["mass_hip"] == (0.0, None)
     assert units["damping_hip"] == "N m s/rad"
     assert KneedParams.units()["damping_knee"] == "N m s/rad"
-    assert CompassParams.n_params() == 9
+    assert units["damping_ankle"] == KneedParams.units()["damping_ankle"] == "N m s/rad"
+    assert CompassParams.n_params() == 10
+    assert KneedParams.n_params() == 17
 
 
 def test_registry_tables_agree():
@@ -126,9 +133,10 @@ def test_registry_tables_agree():
         "three_link",
         "five_link",
         "compass_coulomb",
+        "kneed_coulomb",
     ]
-    assert [len(STATE_NAMES[m]) for m in PARAMS] == [4, 4, 6, 4, 8, 12, 4]
-    assert [HAS_EVENTS[m] for m in PARAMS] == [True, True, True, False, True, True, True]
+    assert [len(STATE_NAMES[m]) for m in PARAMS] == [4, 4, 6, 4, 8, 12, 4, 6]
+    assert [HAS_EVENTS[m] for m in PARAMS] == [True, True, True, False, True, True, True, True]
     assert STATE_NAMES["five_link"][10:] == ("actuator_work", "saturated_time")
     assert STATE_NAMES["three_link"][6:] == ("actuator_work", "saturated_time")
     for model, cls in PARAMS.items():
@@ -140,7 +148,7 @@ def test_params_class_unknown_model():
     with pytest.raises(
         ValueError,
         match=r"^unknown model 'biped'; valid models: simplest, compass, kneed, double_pendulum, "
-        r"three_link, five_link, compass_coulomb$",
+        r"three_link, five_link, compass_coulomb, kneed_coulomb$",
     ):
         params_class("biped")
 
@@ -285,6 +293,7 @@ BOUND_CASES = [
     (CompassParams, "slope", math.pi / 2, r"`slope` must be in \(-pi/2, pi/2\) \[rad\]"),
     (CompassParams, "g", -9.8, r"`g` must be > 0 \[m/s\^2\], got -9.8"),
     (CompassParams, "damping_hip", -0.1, r"`damping_hip` must be >= 0 \[N m s/rad\], got -0.1"),
+    (CompassParams, "damping_ankle", -0.1, r"`damping_ankle` must be >= 0 \[N m s/rad\], got -0.1"),
     (CompassCoulombParams, "mass_hip", 0.0, r"`mass_hip` must be > 0 \[kg\]"),
     (CompassCoulombParams, "mass_leg", 0.0, r"`mass_leg` must be > 0 \[kg\]"),
     (CompassCoulombParams, "com_from_foot", -0.1, r"`com_from_foot` must be >= 0 \[m\]"),
@@ -294,6 +303,7 @@ BOUND_CASES = [
     (CompassCoulombParams, "slope", 1.6, r"`slope` must be in \(-pi/2, pi/2\) \[rad\]"),
     (CompassCoulombParams, "g", 0.0, r"`g` must be > 0 \[m/s\^2\]"),
     (CompassCoulombParams, "damping_hip", -0.1, r"`damping_hip` must be >= 0 \[N m s/rad\]"),
+    (CompassCoulombParams, "damping_ankle", -0.1, r"`damping_ankle` must be >= 0 \[N m s/rad\]"),
     (CompassCoulombParams, "coulomb_hip", -0.1, r"`coulomb_hip` must be >= 0 \[N m\], got -0.1"),
     (KneedParams, "mass_hip", 0.0, r"`mass_hip` must be > 0 \[kg\]"),
     (KneedParams, "mass_thigh", -0.5, r"`mass_thigh` must be > 0 \[kg\], got -0.5"),
@@ -309,6 +319,7 @@ BOUND_CASES = [
     (KneedParams, "g", 0.0, r"`g` must be > 0 \[m/s\^2\]"),
     (KneedParams, "damping_hip", -1.0, r"`damping_hip` must be >= 0 \[N m s/rad\]"),
     (KneedParams, "damping_knee", -1.0, r"`damping_knee` must be >= 0 \[N m s/rad\]"),
+    (KneedParams, "damping_ankle", -1.0, r"`damping_ankle` must be >= 0 \[N m s/rad\]"),
     (DoublePendulumParams, "mass_1", 0.0, r"`mass_1` must be > 0 \[kg\]"),
     (DoublePendulumParams, "mass_2", -1.0, r"`mass_2` must be > 0 \[kg\]"),
     (DoublePendulumParams, "inertia_1", -1.0, r"`inertia_1` must be >= 0 \[kg m\^2\]"),
@@ -355,7 +366,16 @@ BOUND_CASES = [
 ]
 
 # Fields without bounds: angles and offsets, limited only by cross-field rules (or not at all).
+# KneedCoulombParams inherits the kneed fields with their bounds, then adds its own.
+BOUND_CASES += [(KneedCoulombParams, n, v, m) for c, n, v, m in BOUND_CASES if c is KneedParams]
+BOUND_CASES += [
+    (KneedCoulombParams, f"coulomb_{j}", -0.1, rf"`coulomb_{j}` must be >= 0 \[N m\], got -0.1")
+    for j in ("ankle", "hip", "knee")
+]
+
 UNBOUNDED = {
+    (KneedCoulombParams, "offset_thigh"),
+    (KneedCoulombParams, "offset_shank"),
     (KneedParams, "offset_thigh"),
     (KneedParams, "offset_shank"),
     (ThreeLinkParams, "theta_plus"),
@@ -437,6 +457,12 @@ CROSS_CASES = [
     ),
     (KneedParams, {"foot_radius": 0.5}, r"`foot_radius` must be < shank length 0.5 \[m\]"),
     (
+        CompassCoulombParams,
+        {"damping_ankle": 0.1},
+        r"`damping_ankle` must be 0 \[N m s/rad\] for model compass_coulomb \(its stick phase "
+        r"has no stance-ankle damper\), got 0.1$",
+    ),
+    (
         DoublePendulumParams,
         {"com_1": 1.5},
         r"`com_1` must be <= `length_1` = 1.0 \[m\] \(centre of mass inside its link\), got 1.5",
@@ -500,11 +526,11 @@ def test_from_array_validates():
     good = CompassParams.goswami().as_array()
     with pytest.raises(
         ValueError,
-        match=r"`p` must have shape \(9,\) for CompassParams .*"
-        r"got shape \(8,\)",
+        match=r"`p` must have shape \(10,\) for CompassParams .*"
+        r"got shape \(9,\)",
     ):
-        CompassParams.from_array(good[:8])  # a vector from before joint damping was added
-    with pytest.raises(ValueError, match=r"`p` must have shape \(9,\).*got shape \(1, 9\)"):
+        CompassParams.from_array(good[:9])  # a vector from before the ankle damper was added
+    with pytest.raises(ValueError, match=r"`p` must have shape \(10,\).*got shape \(1, 10\)"):
         CompassParams.from_array(good[None, :])
     with pytest.raises(TypeError, match=r"`p` must hold real numbers, got dtype complex128"):
         CompassParams.from_array(good.astype(complex))

@@ -40,6 +40,7 @@ com_to_hip = 0.5
 inertia_leg = 0.0
 foot_radius = 0.0
 damping_hip = 0.0
+damping_ankle = 0.0
 slope = 0.05
 g = 9.8"""
 
@@ -173,7 +174,7 @@ def test_full_parameters_table(tmp_path):
     scene = load_scene(_write(tmp_path))
     assert scene.params == CompassParams.goswami(slope=0.05)
     assert scene.compute == ComputeSettings()  # every default
-    assert scene.phase == 0 and scene.source == "" and scene.description == "test"
+    assert scene.phase is None and scene.source == "" and scene.description == "test"
 
 
 def test_preset_with_table_overrides(tmp_path):
@@ -287,7 +288,7 @@ def test_scene_table_errors(tmp_path):
     _fails(
         tmp_path,
         r"\[scene\] `model` must be one of simplest, compass, kneed, "
-        r"double_pendulum, three_link, five_link, compass_coulomb, got 'biped'$",
+        r"double_pendulum, three_link, five_link, compass_coulomb, kneed_coulomb, got 'biped'$",
         {"scene": 'model = "biped"'},
     )
     _fails(
@@ -302,7 +303,7 @@ def test_parameters_table_errors(tmp_path):
     _fails(
         tmp_path,
         r"\[parameters\] unknown key `mas_hip`; valid keys: mass_hip, mass_leg, .*, g, "
-        r"damping_hip, preset$",
+        r"damping_hip, damping_ankle, preset$",
         {"parameters": COMPASS_FULL + "\nmas_hip = 1.0"},
     )
     _fails(

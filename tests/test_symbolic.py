@@ -60,6 +60,7 @@ def random_params(family: str, rng, *, foot_radius=None, inertia=True, offsets=T
                 rng.uniform(-0.2, 0.2),  # slope
                 rng.uniform(1.0, 20.0),  # g
                 0.0,  # damping_hip
+                0.0,  # damping_ankle
             ]
         )
     if family == "kneed":
@@ -83,6 +84,7 @@ def random_params(family: str, rng, *, foot_radius=None, inertia=True, offsets=T
                 rng.uniform(1.0, 20.0),  # g
                 0.0,  # damping_hip
                 0.0,  # damping_knee
+                0.0,  # damping_ankle
             ]
         )
     if family == "double_pendulum":
@@ -389,7 +391,8 @@ def lumped_compass_params(pv):
     m = m_t + m_s
     a = (m_s * a1 + m_t * (l_s + a2)) / m
     inertia = I_s + I_t + m_s * (a1 - a) ** 2 + m_t * (l_s + a2 - a) ** 2
-    return np.array([m_h, m, a, L - a, inertia, R, slope, g, pv[14]])  # same hip damping
+    # the same hip and ankle damping (kneed p[14], p[16] -> compass p[8], p[9])
+    return np.array([m_h, m, a, L - a, inertia, R, slope, g, pv[14], pv[16]])
 
 
 @pytest.mark.parametrize("foot_radius", [0.0, None], ids=["point_feet", "round_feet"])
@@ -422,7 +425,7 @@ def test_compass_with_vanishing_leg_mass_is_the_simplest_walker():
     beta = 1e-9
     for _ in range(N_STATES):
         slope, g, l = rng.uniform(-0.1, 0.1), rng.uniform(1, 10), rng.uniform(0.5, 2)
-        pc = np.array([1.0, beta, 0.0, l, 0.0, 0.0, slope, g, 0.0])
+        pc = np.array([1.0, beta, 0.0, l, 0.0, 0.0, slope, g, 0.0, 0.0])
         q, qd = rng.uniform(-1, 1, 2), rng.normal(0, 1, 2)
         qdd = compass.passive_accel(q, qd, pc)
         got = [qdd[0], qdd[0] - qdd[1]]

@@ -414,7 +414,7 @@ CASES = [
         "params from_array",
         lambda prm, x, P, fp: CompassParams.from_array(np.zeros(3)),
         ValueError,
-        r"`p` must have shape \(9,\)",
+        r"`p` must have shape \(10,\)",
     ),
     (
         "kneed params nan",
@@ -518,10 +518,11 @@ def test_cli_missing_scene(capsys, cmd):
     _assert_usage_error(code, err, "no_such.toml")
 
 
-def test_cli_sweep_missing_scene(capsys):
+def test_cli_sweep_missing_scene(capsys, tmp_path):
+    out = str(tmp_path / "sweep.h5")
     code, err = _cli(
         capsys,
-        ["sweep", "gaits/no_such.toml", "--param", "slope=0.01:0.02:2", "--out", "/tmp/v/sweep.h5"],
+        ["sweep", "gaits/no_such.toml", "--param", "slope=0.01:0.02:2", "--out", out],
     )
     _assert_usage_error(code, err, "no_such.toml")
 

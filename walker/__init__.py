@@ -11,7 +11,11 @@ The pipeline, from a scene file to pictures::
                                      (numba kernels, committed, stamped with a hash)
     (run time)   ──► models/         per walker: compiled rhs, guards, resets (impacts as
                                      augmented linear systems), vector-field Jacobian,
-                                     section lift/project
+                                     section lift/project, start_phase
+                     friction.py     dry joint friction shared by the *_coulomb and actuated
+                                     models: stick/slip modes in the phase index, stuck
+                                     joints as augmented linear systems, mode events
+                     control.py      controllers called inside the actuated models' rhs
                  ──► integrate.py    compiled DOP853 / RK45 / RK4 / Euler, dense output,
                                      event location, the hybrid loop, variational
                                      equations with saltation matrices -> Solution

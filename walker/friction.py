@@ -75,6 +75,8 @@ __all__ = [
     "accelerations_jacobian",
     "choose_modes",
     "project_stuck",
+    "settle",
+    "switch",
     "guards",
     "directions",
     "mode_names",
@@ -336,6 +338,48 @@ def project_stuck(D, S, modes, qd, qd_out):
     for i in range(n):
         qd_out[i] = b[i]
     return ok
+
+
+@njit(cache=True, error_model="numpy")
+def settle(D, f, S, F, qd, free, modes, qd_out):
+    """Choose the modes of the ``free`` joints (:func:`choose_modes`) and project the
+    velocities onto the stuck joints (:func:`project_stuck`) into ``qd_out``.  Returns False
+    if a system is singular."""
+    choose_modes(D, f, S, F, qd, free, modes)
+    for j in range(S.shape[0]):
+        if modes[j] == STICK:
+            return project_stuck(D, S, modes, qd, qd_out)
+    for i in range(qd.shape[0]):
+        qd_out[i] = qd[i]
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def switch(D, f, S, F, qd, j, breaks, modes, qd_out):
+    """The reset of joint ``j``'s friction event: new ``modes`` (in place) and velocities.
+
+    ``breaks`` False (``slip_stops``): joint ``j``'s rate is made exactly zero by the plastic
+    lock (it is rounding-small at the event) and every joint's mode is chosen again at that
+    state.  ``breaks`` True (``stick_breaks``): joint ``j`` slips against its holding torque
+    (``lambda > 0`` slips negative) and the other joints' modes are chosen again (the stuck
+    ones' torques jump when a constraint goes).  Returns False if a system is singular.
+    """
+    m = S.shape[0]
+    free = np.ones(m, dtype=np.bool_)
+    if not breaks:
+        only = np.full(m, SLIP_POSITIVE, dtype=np.int64)
+        only[j] = STICK
+        locked = np.empty(qd.shape[0])
+        if not project_stuck(D, S, only, qd, locked):
+            return False
+        return settle(D, f, S, F, locked, free, modes, qd_out)
+    qdd = np.empty(D.shape[0])
+    lam = np.empty(m)
+    if not accelerations(D, f, S, F, modes, qdd, lam):
+        return False
+    modes[j] = SLIP_NEGATIVE if lam[j] > 0.0 else SLIP_POSITIVE
+    free[j] = False
+    return settle(D, f, S, F, qd, free, modes, qd_out)
 
 
 @njit(cache=True, error_model="numpy")

@@ -54,6 +54,7 @@ __all__ = [
     "CompassParams",
     "CompassCoulombParams",
     "KneedParams",
+    "KneedCoulombParams",
     "DoublePendulumParams",
     "ThreeLinkParams",
     "FiveLinkParams",
@@ -342,6 +343,12 @@ class CompassParams(_Params):
     damping_hip : float
         viscous hip damping b [N m s/rad], >= 0: torque ``-b (qd_swing - qd_stance)`` on the
         swing leg and its opposite on the stance leg (0: the passive, conservative walker).
+    damping_ankle : float
+        viscous stance-ankle damping b [N m s/rad], >= 0: torque ``-b qd_stance`` on the
+        stance leg, relative to the slope, in single support (not in the impacts).  A point
+        foot cannot transmit a torque: the damper models a passive ankle with a foot flat on
+        the slope, or rolling resistance (``D qdd + C qd + g = -F_v qd`` with ``F_v`` acting
+        on the stance coordinate).  0: the passive, conservative walker.
 
     References
     ----------
@@ -363,6 +370,12 @@ class CompassParams(_Params):
     slope: float = _slope_field()
     g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
     damping_hip: float = _damping_field("hip", "qd_swing - qd_stance")
+    damping_ankle: float = _param(
+        "N m s/rad",
+        "viscous damping of the stance ankle (slope to stance leg), torque -b qd_stance on "
+        "the stance leg",
+        0.0,
+    )
 
     @property
     def leg_length(self) -> float:
@@ -387,7 +400,7 @@ class CompassParams(_Params):
 
         g = 9.8 as in Spong et al. 2007 [2]_, whose fixed point at 3 degrees is
         [0.2187, -0.3234, -1.0918, -0.3772].  The published model is undamped:
-        ``damping_hip = 0``.
+        ``damping_hip = damping_ankle = 0``.
 
         References
         ----------
@@ -404,13 +417,14 @@ class CompassParams(_Params):
             slope=slope,
             g=9.8,
             damping_hip=0.0,
+            damping_ankle=0.0,
         )
 
     @classmethod
     def drake(cls) -> CompassParams:
         """Defaults of Drake's compass gait [1]_: m_H = 10, m = 5, l = 1, centre of mass 0.5
         from the hip (point-mass legs), g = 9.81, slope 0.0525 rad; undamped
-        (``damping_hip = 0``).
+        (``damping_hip = damping_ankle = 0``).
 
         References
         ----------
@@ -426,6 +440,7 @@ class CompassParams(_Params):
             slope=0.0525,
             g=9.81,
             damping_hip=0.0,
+            damping_ankle=0.0,
         )
 
 
@@ -434,7 +449,7 @@ class CompassParams(_Params):
 class CompassCoulombParams(_Params):
     """Compass-gait walker with Coulomb (dry) friction at the hip (model ``compass_coulomb``).
 
-    The fields of :class:`CompassParams`, in the same order (so ``p[:9]`` is a compass
+    The fields of :class:`CompassParams`, in the same order (so ``p[:10]`` is a compass
     parameter vector), then ``coulomb_hip``.
 
     Attributes
@@ -442,6 +457,10 @@ class CompassCoulombParams(_Params):
     mass_hip, mass_leg, com_from_foot, com_to_hip, inertia_leg, foot_radius, slope, g, \
 damping_hip : float
         as in :class:`CompassParams`.
+    damping_ankle : float
+        as in :class:`CompassParams`, but must be 0 [N m s/rad]: the closed-form ``stick``
+        phase of :mod:`walker.models.compass_coulomb` treats the viscous forcing as internal
+        to the hip (``1^T Q_v = 0``), which a stance-ankle damper breaks.
     coulomb_hip : float
         Coulomb friction torque magnitude F_s at the hip [N m], >= 0: while the hip slips, a
         torque ``-F_s sgn(qd_swing - qd_stance)`` on the swing leg and its opposite on the
@@ -465,6 +484,12 @@ damping_hip : float
     slope: float = _slope_field()
     g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
     damping_hip: float = _damping_field("hip", "qd_swing - qd_stance")
+    damping_ankle: float = _param(
+        "N m s/rad",
+        "viscous damping of the stance ankle (slope to stance leg), torque -b qd_stance on "
+        "the stance leg",
+        0.0,
+    )
     coulomb_hip: float = _param(
         "N m",
         "Coulomb friction torque of the hip joint, -F_s sgn(qd_swing - qd_stance) on the swing leg",
@@ -472,7 +497,15 @@ damping_hip : float
     )
 
     leg_length = CompassParams.leg_length
-    _check_relations = CompassParams._check_relations
+
+    def _check_relations(self) -> None:
+        CompassParams._check_relations(self)  # type: ignore[arg-type]
+        if self.damping_ankle != 0.0:
+            raise _relation_error(
+                "`damping_ankle` must be 0 [N m s/rad] for model compass_coulomb (its stick "
+                "phase has no stance-ankle damper)",
+                f"{self.damping_ankle!r}",
+            )
 
     @classmethod
     def goswami(
@@ -521,6 +554,12 @@ class KneedParams(_Params):
         viscous swing-knee damping [N m s/rad], >= 0: torque ``-b (qd3 - qd2)`` on the swing
         shank and its opposite on the swing thigh; acts only while the knee is unlocked (a
         locked knee does not move, and the stance knee is always locked).
+    damping_ankle : float
+        viscous stance-ankle damping [N m s/rad], >= 0: torque ``-b qd1`` on the stance leg,
+        relative to the slope, with the knee unlocked and locked (not in the impacts).  A
+        point foot cannot transmit a torque: the damper models a passive ankle with a foot
+        flat on the slope, or rolling resistance (``D qdd + C qd + g = -F_v qd`` with ``F_v``
+        acting on the stance coordinate).
 
     References
     ----------
@@ -548,6 +587,12 @@ class KneedParams(_Params):
     g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
     damping_hip: float = _damping_field("hip", "qd2 - qd1")
     damping_knee: float = _damping_field("swing knee", "qd3 - qd2")
+    damping_ankle: float = _param(
+        "N m s/rad",
+        "viscous damping of the stance ankle (slope to stance leg), torque -b qd1 on the "
+        "stance leg",
+        0.0,
+    )
 
     @property
     def shank_length(self) -> float:
@@ -597,7 +642,7 @@ class KneedParams(_Params):
     def hsu_chen(cls) -> KneedParams:
         """Hsu Chen 2007 [1]_ point-foot kneed walker (point masses; g = 9.8 as in the
         thesis's MATLAB code; slope asin(7.25/144)).  The published model is undamped:
-        ``damping_hip = damping_knee = 0``.
+        ``damping_hip = damping_knee = damping_ankle = 0``.
 
         References
         ----------
@@ -621,6 +666,7 @@ class KneedParams(_Params):
             g=9.8,
             damping_hip=0.0,
             damping_knee=0.0,
+            damping_ankle=0.0,
         )
 
     @classmethod
@@ -631,7 +677,7 @@ class KneedParams(_Params):
         hip. Shank: mass 0.062, radius of gyration 0.186, length 0.54, centre of mass 0.24
         below the knee, fore-aft offset 0.01. Foot radius 0.2, hip mass 0.676, slope 0.0456.
         Inertias are m r^2 with r the radius of gyration.  The published model is undamped:
-        ``damping_hip = damping_knee = 0``.
+        ``damping_hip = damping_knee = damping_ankle = 0``.
 
         References
         ----------
@@ -654,6 +700,71 @@ class KneedParams(_Params):
             g=1.0,
             damping_hip=0.0,
             damping_knee=0.0,
+            damping_ankle=0.0,
+        )
+
+
+def _coulomb_field(joint: str, rate: str) -> Any:
+    return _param(
+        "N m",
+        f"Coulomb (dry) friction torque of the {joint} joint: -F_s sgn({rate}) while it slips, "
+        "up to F_s while it sticks",
+        0.0,
+    )
+
+
+# ------------------------------------------------------------------------------------------
+@dataclasses.dataclass(frozen=True)
+class KneedCoulombParams(KneedParams):
+    """Kneed walker with Coulomb (dry) joint friction (model ``kneed_coulomb``).
+
+    The fields of :class:`KneedParams`, in the same order (so ``p[:17]`` is a kneed
+    parameter vector, viscous dampers included), then one dry-friction magnitude per joint.
+    Stick and slip are phases and events (:mod:`walker.models.kneed_coulomb`), not a smooth
+    approximation of ``sgn``.
+
+    Attributes
+    ----------
+    coulomb_ankle : float
+        F_s of the stance ankle (slope to stance leg, rate ``qd1``) [N m], >= 0.
+    coulomb_hip : float
+        F_s of the hip (rate ``qd2 - qd1``) [N m], >= 0.
+    coulomb_knee : float
+        F_s of the swing knee while unlocked (rate ``qd3 - qd2``) [N m], >= 0.
+
+    All zero is the frictionless kneed walker (the dampers of :class:`KneedParams` apply as
+    given).
+    """
+
+    MODEL: ClassVar[str] = "kneed_coulomb"
+    PRESETS: ClassVar[tuple[str, ...]] = ("hsu_chen", "mcgeer")
+
+    coulomb_ankle: float = _coulomb_field("stance ankle", "qd1")
+    coulomb_hip: float = _coulomb_field("hip", "qd2 - qd1")
+    coulomb_knee: float = _coulomb_field("swing knee", "qd3 - qd2")
+
+    @classmethod
+    def hsu_chen(
+        cls, coulomb_ankle: float = 0.0, coulomb_hip: float = 0.0, coulomb_knee: float = 0.0
+    ) -> KneedCoulombParams:
+        """:meth:`KneedParams.hsu_chen` with the given dry frictions [N m] (default 0)."""
+        return cls(
+            **KneedParams.hsu_chen().to_dict(),
+            coulomb_ankle=coulomb_ankle,
+            coulomb_hip=coulomb_hip,
+            coulomb_knee=coulomb_knee,
+        )
+
+    @classmethod
+    def mcgeer(
+        cls, coulomb_ankle: float = 0.0, coulomb_hip: float = 0.0, coulomb_knee: float = 0.0
+    ) -> KneedCoulombParams:
+        """:meth:`KneedParams.mcgeer` with the given dry frictions [N m] (default 0)."""
+        return cls(
+            **KneedParams.mcgeer().to_dict(),
+            coulomb_ankle=coulomb_ankle,
+            coulomb_hip=coulomb_hip,
+            coulomb_knee=coulomb_knee,
         )
 
 
@@ -1095,6 +1206,7 @@ PARAMS: dict[str, type[_Params]] = {
     "three_link": ThreeLinkParams,
     "five_link": FiveLinkParams,
     "compass_coulomb": CompassCoulombParams,
+    "kneed_coulomb": KneedCoulombParams,
 }
 """Model name -> parameter class."""
 
@@ -1137,6 +1249,7 @@ STATE_NAMES: dict[str, tuple[str, ...]] = {
     ),
     # as the compass gait; the hip's stick/slip state is the phase, not a state component
     "compass_coulomb": ("q_stance", "q_swing", "qd_stance", "qd_swing"),
+    "kneed_coulomb": ("q1", "q2", "q3", "qd1", "qd2", "qd3"),
 }
 """Model name -> names of the full state's components, in order."""
 
@@ -1148,6 +1261,7 @@ HAS_EVENTS: dict[str, bool] = {
     "three_link": True,
     "five_link": True,
     "compass_coulomb": True,
+    "kneed_coulomb": True,
 }
 """Model name -> whether the model has guards and resets (strides)."""
 

@@ -17,7 +17,7 @@ A scene file (``gaits/*.toml``) has these tables; unknown tables or keys are err
 
     [initial]                    # required
     state = [0.1877, -0.2884, -0.2884, -1.1014, -0.0399, -0.0399]   # full state (below)
-    phase = 0                    # optional int >= 0 (default 0)
+    phase = 0                    # optional int >= 0 (default: the model's phase for state)
 
     [compute]                    # optional; the defaults are shown
     task = "fixed_point"         # "fixed_point" or "simulate"
@@ -174,8 +174,9 @@ class Scene:
         instance of the model's parameter class.
     state : ndarray, shape (n_x,)
         initial full state (read-only), order :data:`STATE_NAMES` ``[model]``.
-    phase : int
-        initial phase index.
+    phase : int or None
+        initial phase index; None when the file gives none (a run then starts in the
+        model's phase for ``state``, :meth:`walker.models.WalkerModel.start_phase`).
     compute : ComputeSettings
     reference : dict or None
         ``[reference]`` with arrays for ``state``, ``section`` (float) and ``multipliers``
@@ -189,7 +190,7 @@ class Scene:
     source: str
     params: Any
     state: np.ndarray
-    phase: int
+    phase: int | None
     compute: ComputeSettings
     reference: dict | None
 
@@ -453,8 +454,8 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
         raise reader.error("initial", "missing required key `state`")
     state = reader.vector("initial", "state", initial_t["state"], n_x)
     state.setflags(write=False)
-    phase = initial_t.get("phase", 0)
-    if not isinstance(phase, int) or isinstance(phase, bool) or phase < 0:
+    phase = initial_t.get("phase")
+    if phase is not None and (not isinstance(phase, int) or isinstance(phase, bool) or phase < 0):
         raise reader.error("initial", f"`phase` must be an integer >= 0, got {phase!r}")
 
     return Scene(

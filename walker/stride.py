@@ -26,7 +26,8 @@ def _resolve(model, params):
         model = get_model(model)
     if not isinstance(model, WalkerModel):
         raise TypeError(f"`model` must be a model name or WalkerModel, got {type(model).__name__}")
-    if not isinstance(params, model.params_class):
+    # The exact class: a subclass (KneedCoulombParams is a KneedParams) has more parameters.
+    if type(params) is not model.params_class:
         raise TypeError(
             f"`params` must be a {model.params_class.__name__} for model `{model.name}`, "
             f"got {type(params).__name__}"
@@ -40,7 +41,7 @@ def simulate(
     x0,
     *,
     n_strides: int = 1,
-    phase0: int = 0,
+    phase0: int | None = None,
     t_max: float | None = None,
     method: str = "DOP853",
     rtol: float = 1e-10,
@@ -62,6 +63,10 @@ def simulate(
         initial state in the model's state order (``get_model(name).state_names``).
     n_strides : int
         heel strikes to complete; 0 integrates to ``t_max`` (models without events).
+    phase0 : int, optional
+        phase to start in; default the model's phase for ``x0``
+        (:meth:`walker.models.WalkerModel.start_phase`: 0, except for models with joint
+        friction, whose joint modes follow from the state).
     t_max : float, optional
         final time [s]; default ``20 n_strides`` stride-times' worth: ``20 * max(1,
         n_strides) * sqrt(leg_length / g)``.
@@ -85,6 +90,8 @@ def simulate(
     x0 = _as_vector(x0, "x0")
     if t_max is None:
         t_max = 20.0 * max(1, n_strides) * _time_scale(params)
+    if phase0 is None:
+        phase0 = _start_phase(model, x0, params)
     return hybrid_solve(
         model.system,
         x0,
@@ -109,6 +116,13 @@ def _as_vector(value, name: str) -> np.ndarray:
         return np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         raise TypeError(f"`{name}` must be an array of real numbers, got {value!r}") from None
+
+
+def _start_phase(model: WalkerModel, x0: np.ndarray, params) -> int:
+    """The model's phase for ``x0``; 0 when ``x0`` is malformed (hybrid_solve says why)."""
+    if x0.shape != (model.n_x,) or not np.all(np.isfinite(x0)):
+        return 0
+    return model.start_phase(x0, params)
 
 
 def _time_scale(params) -> float:
@@ -242,6 +256,7 @@ class StrideMap:
             self.model.system,
             x0,
             p,
+            phase0=self.model.start_phase(x0, p),
             t_max=self.t_max * n_strides,
             n_strides=n_strides,
             method=self.method,

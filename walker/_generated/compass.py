@@ -1,10 +1,10 @@
 # generated, do not edit: walker kernels for `compass`
-# input hash: sha256:0958143959351f6888e4cdac78a787298120bb718320bf190a08dae7ea4e3adf
+# input hash: sha256:ad6c018dc54b381378e570439f1bf50a0c64d859e711bdf1df7716a42de0392a
 # sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
 # argument order:
 #   q = [q_stance, q_swing]
 #   qd = [q_stance_dot, q_swing_dot]
-#   p = [mass_hip, mass_leg, com_from_foot, com_to_hip, inertia_leg, foot_radius, slope, g, damping_hip]
+#   p = [mass_hip, mass_leg, com_from_foot, com_to_hip, inertia_leg, foot_radius, slope, g, damping_hip, damping_ankle]
 #   q = [q_stance, q_swing, x_hip, y_hip]
 # kernels:
 #   accel(q, qd, p)
@@ -33,8 +33,8 @@ import math  # noqa: F401
 
 from numba import njit
 
-KERNEL_HASH = "0958143959351f6888e4cdac78a787298120bb718320bf190a08dae7ea4e3adf"
-ARGUMENT_ORDER = {'accel': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'accel_jac': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'mass_matrix': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'coriolis': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'gravity': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'bias': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'forcing': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'dmass': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'dbias_dq': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'kinetic': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'potential': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'points': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'hip_jac': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip')}}
+KERNEL_HASH = "ad6c018dc54b381378e570439f1bf50a0c64d859e711bdf1df7716a42de0392a"
+ARGUMENT_ORDER = {'accel': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'accel_jac': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'mass_matrix': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'coriolis': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'gravity': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'bias': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'forcing': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'dmass': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'dbias_dq': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'dbias_dqd': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'kinetic': {'q': ('q_stance', 'q_swing'), 'qd': ('q_stance_dot', 'q_swing_dot'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'potential': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'points': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'hip_jac': {'q': ('q_stance', 'q_swing'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'ext_mass_matrix': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'ext_swing_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}, 'ext_stance_contact_jac': {'q': ('q_stance', 'q_swing', 'x_hip', 'y_hip'), 'p': ('mass_hip', 'mass_leg', 'com_from_foot', 'com_to_hip', 'inertia_leg', 'foot_radius', 'slope', 'g', 'damping_hip', 'damping_ankle')}}
 
 @njit(cache=True, error_model="numpy")
 def accel(q, qd, p, out):
@@ -52,6 +52,7 @@ def accel(q, qd, p, out):
     slope = p[6]
     g = p[7]
     damping_hip = p[8]
+    damping_ankle = p[9]
     x0 = math.sin(q_stance)
     x1 = x0*x0
     x2 = com_from_foot*com_from_foot
@@ -118,7 +119,7 @@ def accel(q, qd, p, out):
     d00 = inertia_leg + 2*x0*x10*x11 + x0*x11*x36 + x1*x10 + x1*x17 + x1*x19 - x1*x25 - x1*x26 + x1*x3 + x1*x34 + x1*x35 + x1*x7 + x1*x8 + x10*x12 - 2*x10*x13*x4 + x10*x14 + x10*x5 + x12*x35 + x14*x35 - x15*x21 - x15*x22 - x15*x29 + x15*x31 - x15*x33 + x17*x5 - x18*x33 + x19*x5 - x21*x23 - x22*x23 - x23*x29 + x23*x31 + x25*x30 - x25*x5 + x26*x30 - x26*x5 + x3*x5 - x30*x36 + x34*x5 + x35*x5 + x5*x7 + x5*x8
     d10 = -com_from_foot*x0*x39 + com_to_hip*foot_radius*mass_leg*x0*x37 + com_to_hip*foot_radius*mass_leg*x11*x37 + com_to_hip*foot_radius*mass_leg*x4*x40 - x16*x40*x41 - x37*x44 - x40*x45 - x42*x43
     d11 = inertia_leg + x37*x37*x8 + x40*x40*x8
-    h0 = mass_hip*x50 + mass_leg*x50 + q_swing_dot*q_swing_dot*(foot_radius*x13*x39 + x32*x43 + x52 + x54 + x55 - x56 - x57 - x58) + x46 - x47 + x49*(-x0*x48 + x27) + x59*(mass_hip*x0*x13*x9 + mass_hip*x11*x4*x9 - mass_hip*x60 - mass_hip*x62 + 2*mass_leg*x0*x13*x9 + 2*mass_leg*x11*x4*x9 - mass_leg*x62 - x18*x28*x4 - x18*x60 - x28*x61 - x32*x41 - x32*x61)
+    h0 = damping_ankle*q_stance_dot + mass_hip*x50 + mass_leg*x50 + q_swing_dot*q_swing_dot*(foot_radius*x13*x39 + x32*x43 + x52 + x54 + x55 - x56 - x57 - x58) + x46 - x47 + x49*(-x0*x48 + x27) + x59*(mass_hip*x0*x13*x9 + mass_hip*x11*x4*x9 - mass_hip*x60 - mass_hip*x62 + 2*mass_leg*x0*x13*x9 + 2*mass_leg*x11*x4*x9 - mass_leg*x62 - x18*x28*x4 - x18*x60 - x28*x61 - x32*x41 - x32*x61)
     h1 = x38*x49 - x46 + x47 + x59*(-x52 - x54 - x55 + x56 + x57 + x58)
     l00 = math.sqrt(d00)
     l10 = (d10)/l00
@@ -147,6 +148,7 @@ def accel_jac(q, qd, p, out):
     slope = p[6]
     g = p[7]
     damping_hip = p[8]
+    damping_ankle = p[9]
     x0 = math.sin(q_stance)
     x1 = x0*x0
     x2 = com_from_foot*com_from_foot
@@ -228,7 +230,7 @@ def accel_jac(q, qd, p, out):
     d00 = inertia_leg + x0*x11*x38 + x1*x10 + x1*x17 + x1*x19 - x1*x25 - x1*x26 + x1*x3 + x1*x34 + x1*x35 + x1*x7 + x1*x8 + x10*x12 + x10*x14 + x10*x5 + x12*x35 + x14*x35 - x15*x21 - x15*x22 - x15*x29 + x15*x31 - x15*x33 + x17*x5 - x18*x33 + x19*x5 - x21*x23 - x22*x23 - x23*x29 + x23*x31 + x25*x30 - x25*x5 + x26*x30 - x26*x5 + x3*x5 - x30*x38 + x34*x5 + x35*x5 + 2*x36 - 2*x37 + x5*x7 + x5*x8
     d10 = -x47
     d11 = inertia_leg + x39*x39*x8 + x42*x42*x8
-    h0 = mass_hip*x53 + mass_leg*x53 + x48 - x49 + x51*(-x0*x50 + x27) + x54*x63 + x64*x70
+    h0 = damping_ankle*q_stance_dot + mass_hip*x53 + mass_leg*x53 + x48 - x49 + x51*(-x0*x50 + x27) + x54*x63 + x64*x70
     h1 = x42*x71 - x48 + x49 + x64*x72
     dD0_00 = 2*mass_hip*x0*x13*x9 + 2*mass_hip*x11*x4*x9 + 4*mass_leg*x0*x13*x9 + 4*mass_leg*x11*x4*x9 - x15*x68 - x15*x69 - x15*x73 - x18*x73 - x23*x68 - x23*x69 - x25*x65 - x26*x65
     dD0_10 = x72
@@ -237,7 +239,7 @@ def accel_jac(q, qd, p, out):
     dD1_10 = x63
     dD1_11 = 0
     hq0_0 = -g*mass_hip*x74 - x4*x50*x51 - x51*x74 + x54*x75 + x64*(-x0*x11*x35 + x0*x58 + x18*x29 - x18*x31 - x20*x77 - x24*x77 + x28*x76 + x30*x35 - x30*x40 + x32*x76 - x36 + x37)
-    hv0_0 = damping_hip + 2*q_stance_dot*x70
+    hv0_0 = damping_ankle + damping_hip + 2*q_stance_dot*x70
     hq1_0 = x46*x64
     hv1_0 = -damping_hip + 2*q_stance_dot*x72
     hq0_1 = x47*x54
@@ -458,8 +460,9 @@ def forcing(q, qd, p, out):
     q_stance_dot = qd[0]
     q_swing_dot = qd[1]
     damping_hip = p[8]
+    damping_ankle = p[9]
     x0 = damping_hip*q_stance_dot - damping_hip*q_swing_dot
-    out[0] = -x0
+    out[0] = -damping_ankle*q_stance_dot - x0
     out[1] = x0
 
 

@@ -11,6 +11,9 @@ A model module (``walker/models/<name>.py``) provides, per the contract of
 3. ``SECTION_NAMES`` and ``lift(z, p)`` / ``project(x, p)`` / ``lift_jacobian(z, p)``
    between the Poincare section just after heel strike and the full state (walkers only).
 4. ``energy(x, p) -> (kinetic, potential)``, ``points(x, p)`` and ``SEGMENTS`` for drawing.
+5. Optionally ``start_phase(x, p) -> int``: the phase a run from state ``x`` starts in, for
+   models whose phase depends on the state (joint friction modes: a joint at rest sticks or
+   slips depending on the forces).  Without it a run starts in phase 0.
 
 Importing a model compiles nothing; a compass-gait run never loads the kneed kernels.
 """
@@ -33,6 +36,7 @@ MODEL_NAMES = (
     "three_link",
     "five_link",
     "compass_coulomb",
+    "kneed_coulomb",
 )
 
 
@@ -139,6 +143,13 @@ class WalkerModel:
         pp = _p(p)
         out = np.array([self.module.energy(np.ascontiguousarray(row), pp) for row in x])
         return out[:, 0], out[:, 1]
+
+    def start_phase(self, x, p) -> int:
+        """The phase consistent with state ``x`` (0 for models with one choice)."""
+        fn = getattr(self.module, "start_phase", None)
+        if fn is None:
+            return 0
+        return int(fn(np.ascontiguousarray(x, dtype=np.float64), _p(p)))
 
     def points(self, x, p) -> np.ndarray:
         """Joint positions (n_points, 2) for drawing the walker at state ``x``."""

@@ -13,6 +13,14 @@ from walker._linalg import solve_inplace
 # no passive gait comes near it, and stopping there saves integrating the whole fall.
 FALL_ANGLE = 1.2217304763960306
 
+MIN_STEP = 1e-8
+"""A heel strike needs the swing foot ahead of the stance foot by more than ``MIN_STEP`` leg
+lengths.  With straight rigid legs the foot height ``L (cos psi_stance - cos psi_swing)`` also
+vanishes where the legs coincide (step length zero up to round-off): a swing leg passing
+through the stance leg, which is a scuff, not a step.  A walker rocking back over its stance
+foot crosses that zero with the height decreasing, and round-off decides the sign of the
+step length there; the threshold makes it a scuff at every tolerance."""
+
 
 @njit(cache=True, error_model="numpy")
 def impact(M, J, qd_minus, qd_plus, impulse):

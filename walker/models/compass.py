@@ -6,7 +6,8 @@ counterclockwise positive (../shared/REFERENCES.md).  One phase, ``swing``.  Gua
 priority order:
 
 0. ``heel_strike``: height of the swing foot's lowest point above the slope, firing when it
-   decreases through zero.  Accepted only with the swing foot ahead of the stance foot; the
+   decreases through zero.  Accepted only with the swing foot ahead of the stance foot (by
+   more than ``MIN_STEP`` leg lengths, :mod:`walker.models._common`); the
    mid-stance scuff of the rigid swing leg (foot behind) is therefore ignored by the guard's
    construction.  Reset: floating-base impact as an augmented linear system, then the legs
    swap.  A non-positive normal impulse, or a trailing foot that does not lift off, is
@@ -21,7 +22,12 @@ import numpy as np
 from numba import njit
 
 from walker._generated import compass as K
-from walker.models._common import FALL_ANGLE, floating_base_state, heel_strike_impact
+from walker.models._common import (
+    FALL_ANGLE,
+    MIN_STEP,
+    floating_base_state,
+    heel_strike_impact,
+)
 from walker.status import (
     EVENT_IGNORE,
     EVENT_STRIDE,
@@ -117,7 +123,7 @@ def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
     if k == 0:
-        if swing_foot(x, p)[1] <= 0.0:
+        if swing_foot(x, p)[1] <= MIN_STEP * (p[2] + p[3]):
             return EVENT_IGNORE, phase, 0
         status = heel_strike(x, p, x_new, impulse)
         if status != 0:

@@ -9,7 +9,7 @@ is whatever holds it, as long as ``|lambda| < F_s``.
 
 State ``x = (q_stance, q_swing, qd_stance, qd_swing)``, as in the compass gait (absolute leg
 angles from the vertical, counterclockwise positive).  Parameters: ``CompassCoulombParams``,
-the compass parameters followed by ``coulomb_hip`` (``p[9]``).
+the compass parameters followed by ``coulomb_hip`` (``p[10]``).
 
 Phases
 ------
@@ -92,7 +92,7 @@ import numpy as np
 from numba import njit
 
 from walker._generated import compass as K
-from walker.models._common import FALL_ANGLE
+from walker.models._common import FALL_ANGLE, MIN_STEP
 from walker.models.compass import (
     SECTION_NAMES,
     SEGMENTS,
@@ -105,6 +105,7 @@ from walker.models.compass import (
     project,
     swing_foot,
 )
+from walker.params import CompassCoulombParams
 from walker.status import (
     EVENT_CONTINUE,
     EVENT_IGNORE,
@@ -166,7 +167,9 @@ MISMATCH_DELAY = 2e-10
 """Time [s] after which ``phase_mismatch`` fires; > ``walker.integrate.GUARD_TOL`` (1e-10) so
 that the guard starts armed."""
 
-_I_SLOPE, _I_COULOMB = 6, 9
+# Indices into ``p``, from the parameter names so that they follow the layout.
+_I_SLOPE = CompassCoulombParams.names().index("slope")
+_I_COULOMB = CompassCoulombParams.names().index("coulomb_hip")
 _FELL_FORWARD = int(Status.FELL_FORWARD)
 _FELL_BACKWARD = int(Status.FELL_BACKWARD)
 KERNEL_HASH = K.KERNEL_HASH
@@ -338,7 +341,7 @@ def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
     if k == 0:
-        if swing_foot(x, p)[1] <= 0.0:
+        if swing_foot(x, p)[1] <= MIN_STEP * (p[2] + p[3]):
             return EVENT_IGNORE, phase, 0
         x_post = np.empty(4)
         status = heel_strike(x, p, x_post, impulse)

@@ -15,7 +15,8 @@ Guards, in priority order (a lower index wins when two fire at the same instant)
    applied in the same reset (knee lock first, then heel strike).
 1. ``swing_foot_contact``: swing-foot height above the slope decreasing through zero.  In
    phase 0 (knee bent) it is a trip (``TRIPPED``).  In phase 1 it is the heel strike when
-   the swing foot is ahead of the stance foot (a scuff behind it is ignored): floating-base
+   the swing foot is ahead of the stance foot by more than ``MIN_STEP`` leg lengths (a
+   scuff behind it, or the swing leg passing through the stance leg, is ignored): floating-base
    impact as an augmented linear system, legs swapped, new swing knee straight and unlocked.
 2. ``fall_forward`` / 3. ``fall_backward``: the stance leg passes ``FALL_ANGLE`` from the
    slope normal.
@@ -27,7 +28,13 @@ import numpy as np
 from numba import njit
 
 from walker._generated import kneed as K
-from walker.models._common import FALL_ANGLE, floating_base_state, heel_strike_impact, impact
+from walker.models._common import (
+    FALL_ANGLE,
+    MIN_STEP,
+    floating_base_state,
+    heel_strike_impact,
+    impact,
+)
 from walker.status import (
     EVENT_CONTINUE,
     EVENT_IGNORE,
@@ -60,6 +67,13 @@ def _lengths(p):
     shank = p[3] + p[4]
     thigh = p[5] + p[6]
     return shank, thigh
+
+
+@njit(cache=True, error_model="numpy")
+def _min_step(p):
+    """Least step length of a heel strike [m] (``MIN_STEP`` leg lengths)."""
+    shank, thigh = _lengths(p)
+    return MIN_STEP * (shank + thigh)
 
 
 @njit(cache=True, error_model="numpy")
@@ -205,7 +219,7 @@ def _knee_lock_event(phase, x, p, x_new, impulse):
     shank, thigh = _lengths(p)
     height, ahead = swing_foot(x_new, p)
     touching = height <= 1e-9 * (shank + thigh)
-    if touching and ahead > 0.0 and _swing_foot_rate(x_new, p) < 0:
+    if touching and ahead > MIN_STEP * (shank + thigh) and _swing_foot_rate(x_new, p) < 0:
         locked = x_new.copy()
         status = heel_strike(locked, p, x_new, impulse)
         if status != 0:
@@ -224,12 +238,12 @@ def reset(phase, k, t, x, p, x_new, impulse):
         return _knee_lock_event(phase, x, p, x_new, impulse)
     if k == 1:
         if phase == 0:
-            if abs(x[2] - x[1]) <= _KNEE_TOL and swing_foot(x, p)[1] > 0.0:
+            if abs(x[2] - x[1]) <= _KNEE_TOL and swing_foot(x, p)[1] > _min_step(p):
                 # The knee locks at this same instant (its guard a hair behind): knee lock
                 # first, then heel strike, as when the knee-lock guard fires first.
                 return _knee_lock_event(phase, x, p, x_new, impulse)
             return EVENT_TERMINAL, phase, _TRIPPED
-        if swing_foot(x, p)[1] <= 0.0:
+        if swing_foot(x, p)[1] <= _min_step(p):
             return EVENT_IGNORE, phase, 0
         status = heel_strike(x, p, x_new, impulse)
         if status != 0:

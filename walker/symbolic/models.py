@@ -22,10 +22,17 @@ joint's relative rate ``w`` with equal and opposite torques ``-b w`` on the dist
 * kneed walker, ``damping_hip``: ``w = qd2 - qd1`` (swing thigh relative to the stance leg);
   ``damping_knee``: ``w = qd3 - qd2`` (swing shank relative to the swing thigh), which is
   identically zero once the knee is locked.  The stance knee is locked throughout, so it
-  dissipates nothing.
+  dissipates nothing;
+* both, ``damping_ankle``: the stance "ankle" between the slope (proximal, not rotating) and
+  the stance leg, ``w = qd_stance - 0`` (compass ``qd_stance``, kneed ``qd1``): a torque
+  ``-b qd_stance`` on the stance leg, in every single-support phase.  A point foot cannot
+  transmit a torque; the damper stands for a passive ankle with a foot flat on the slope, or
+  for rolling resistance (the course's ``D qdd + C qd + g = -F_v qd`` with ``F_v`` on the
+  stance coordinate).
 
 The floating-base (``*_extended``) models serve only the impulsive heel strike, where a
-finite damping torque transmits no impulse; they carry no forcing.
+finite damping torque transmits no impulse; they carry no forcing (they read the parameter
+vector by position up to ``g`` only, so the damping entries after it do not enter).
 """
 
 from __future__ import annotations
@@ -62,6 +69,7 @@ MODEL_PARAMS = {
         "slope",
         "g",
         "damping_hip",
+        "damping_ankle",
     ),
     "kneed": (
         "mass_hip",
@@ -80,6 +88,7 @@ MODEL_PARAMS = {
         "g",
         "damping_hip",
         "damping_knee",
+        "damping_ankle",
     ),
     "double_pendulum": (
         "mass_1",
@@ -206,10 +215,11 @@ def compass() -> LagrangianModel:
     positive (Goswami, Thuilot, Espiau, INRIA RR-2996, 1996).  Leg mass ``m`` at ``a`` from
     the foot (``b`` below the hip), rotational inertia ``I`` about it, hip mass ``m_H``.
     Forcing: the hip damper, ``-damping_hip (qd_swing - qd_stance)`` on the swing leg and its
-    opposite on the stance leg.
+    opposite on the stance leg, and the stance-ankle damper, ``-damping_ankle qd_stance`` on
+    the stance leg (relative to the slope).
     """
     params = param_symbols("compass")
-    m_h, m, a, b, inertia, R, slope, g, damping_hip = params
+    m_h, m, a, b, inertia, R, slope, g, damping_hip, damping_ankle = params
     (q1, q2), (q1d, q2d) = _coords(("q_stance", "q_swing"))
     s, n = _slope_frame(slope)
     L = a + b
@@ -223,7 +233,7 @@ def compass() -> LagrangianModel:
         "swing_contact": swing_center - R * n,
     }
     bodies = _compass_bodies(q1, q2, hip, params, center)
-    forcing = rayleigh_forcing((q1d, q2d), [(damping_hip, q2d - q1d)])
+    forcing = rayleigh_forcing((q1d, q2d), [(damping_hip, q2d - q1d), (damping_ankle, q1d)])
     return derive(
         "compass", (q1, q2), (q1d, q2d), bodies, g, params, points=points, forcing=forcing
     )
@@ -309,11 +319,12 @@ def kneed_unlocked() -> LagrangianModel:
     each leg a thigh mass ``m_t`` at ``b2`` below the hip (``a2`` above the knee) and a shank
     mass ``m_s`` at ``b1`` below the knee (``a1`` above the foot), with optional inertias and
     fore-aft offsets (McGeer).  The stance leg is rigid (its knee is locked).  Forcing: the
-    hip damper on ``qd2 - qd1`` and the swing-knee damper on ``qd3 - qd2``.
+    hip damper on ``qd2 - qd1``, the swing-knee damper on ``qd3 - qd2`` and the stance-ankle
+    damper on ``qd1`` (the stance leg relative to the slope).
     """
     params = param_symbols("kneed")
     R, slope, g = params[11], params[12], params[13]
-    damping_hip, damping_knee = params[14], params[15]
+    damping_hip, damping_knee, damping_ankle = params[14], params[15], params[16]
     (q1, q2, q3), (q1d, q2d, q3d) = _coords(("q1", "q2", "q3"))
     s, n = _slope_frame(slope)
     l_s, l_t, L = _kneed_geometry(params)
@@ -329,7 +340,8 @@ def kneed_unlocked() -> LagrangianModel:
         "swing_contact": swing_center - R * n,
     }
     forcing = rayleigh_forcing(
-        (q1d, q2d, q3d), [(damping_hip, q2d - q1d), (damping_knee, q3d - q2d)]
+        (q1d, q2d, q3d),
+        [(damping_hip, q2d - q1d), (damping_knee, q3d - q2d), (damping_ankle, q1d)],
     )
     return derive(
         "kneed_unlocked",
@@ -347,19 +359,20 @@ def kneed_unlocked() -> LagrangianModel:
 def kneed_locked() -> LagrangianModel:
     """Kneed walker with the swing knee locked: ``(q1 stance leg, q2 swing leg)``.
 
-    Forcing: the hip damper on ``qd2 - qd1``; the knee's relative rate is zero.
+    Forcing: the hip damper on ``qd2 - qd1`` and the stance-ankle damper on ``qd1``; the
+    knee's relative rate is zero.
     """
     full = kneed_unlocked()
     q1, q2, q3 = full.q
     q1d, q2d, q3d = full.qd
     params = full.params
     g = params[13]
-    damping_hip, damping_knee = params[14], params[15]
+    damping_hip, damping_knee, damping_ankle = params[14], params[15], params[16]
     (p1, p2), (p1d, p2d) = _coords(("q1", "q2"))
     # The knee-locked rates: qd3 = qd2.  Substituting them into the dampers' rates gives the
     # projection T^T Q of the unlocked forcing (T maps (p1d, p2d) to (p1d, p2d, p2d)).
     rate_sub = {q1d: p1d, q2d: p2d, q3d: p2d}
-    dampers = [(damping_hip, q2d - q1d), (damping_knee, q3d - q2d)]
+    dampers = [(damping_hip, q2d - q1d), (damping_knee, q3d - q2d), (damping_ankle, q1d)]
     forcing = rayleigh_forcing((p1d, p2d), [(b, w.subs(rate_sub)) for b, w in dampers])
     sub = {q1: p1, q2: p2, q3: p2}
     bodies = [
