@@ -274,6 +274,8 @@ def _massless_torso(compass: CompassParams, **extra):
         theta_plus=0.2,
         theta_minus=-0.2,
         **{f"bezier_{o}_{k}": 0.0 for o in ("swing", "torso") for k in range(5)},
+        damping_hip=0.0,
+        coulomb_hip=0.0,
     ).replace(**extra)
 
 

@@ -51,7 +51,7 @@ def test_field_order_is_the_kernel_order():
         "damping_ankle",
     )
     # the compass block is a prefix, so that ``p[:n]`` of compass_coulomb is a compass vector
-    assert CompassCoulombParams.names() == (*CompassParams.names(), "coulomb_hip")
+    assert CompassCoulombParams.names() == (*CompassParams.names(), "coulomb_ankle", "coulomb_hip")
     assert KneedParams.names() == (
         "mass_hip",
         "mass_thigh",
@@ -94,6 +94,16 @@ def test_field_order_is_the_kernel_order():
         "theta_minus",
         *(f"bezier_swing_{k}" for k in range(5)),
         *(f"bezier_torso_{k}" for k in range(5)),
+        "damping_hip",
+        "coulomb_hip",
+    )
+    # joint friction is appended after the controller block (its offset stays valid)
+    assert FiveLinkParams.names()[-5:] == (
+        "bezier_tibia_4",
+        "damping_hip",
+        "damping_knee",
+        "coulomb_hip",
+        "coulomb_knee",
     )
 
 
@@ -305,6 +315,7 @@ BOUND_CASES = [
     (CompassCoulombParams, "damping_hip", -0.1, r"`damping_hip` must be >= 0 \[N m s/rad\]"),
     (CompassCoulombParams, "damping_ankle", -0.1, r"`damping_ankle` must be >= 0 \[N m s/rad\]"),
     (CompassCoulombParams, "coulomb_hip", -0.1, r"`coulomb_hip` must be >= 0 \[N m\], got -0.1"),
+    (CompassCoulombParams, "coulomb_ankle", -1.0, r"`coulomb_ankle` must be >= 0 \[N m\]"),
     (KneedParams, "mass_hip", 0.0, r"`mass_hip` must be > 0 \[kg\]"),
     (KneedParams, "mass_thigh", -0.5, r"`mass_thigh` must be > 0 \[kg\], got -0.5"),
     (KneedParams, "mass_shank", 0.0, r"`mass_shank` must be > 0 \[kg\]"),
@@ -363,6 +374,12 @@ BOUND_CASES = [
     (FiveLinkParams, "kp", -1.0, r"`kp` must be >= 0 \[1/s\^2\], got -1.0"),
     (FiveLinkParams, "kd", -1.0, r"`kd` must be >= 0 \[1/s\], got -1.0"),
     (FiveLinkParams, "torque_limit", 0.0, r"`torque_limit` must be > 0 \[N m\], got 0.0"),
+    (ThreeLinkParams, "damping_hip", -0.5, r"`damping_hip` must be >= 0 \[N m s/rad\], got -0.5"),
+    (ThreeLinkParams, "coulomb_hip", -1.0, r"`coulomb_hip` must be >= 0 \[N m\], got -1.0"),
+    (FiveLinkParams, "damping_hip", -0.5, r"`damping_hip` must be >= 0 \[N m s/rad\], got -0.5"),
+    (FiveLinkParams, "damping_knee", -0.1, r"`damping_knee` must be >= 0 \[N m s/rad\]"),
+    (FiveLinkParams, "coulomb_hip", -1.0, r"`coulomb_hip` must be >= 0 \[N m\], got -1.0"),
+    (FiveLinkParams, "coulomb_knee", -2.0, r"`coulomb_knee` must be >= 0 \[N m\], got -2.0"),
 ]
 
 # Fields without bounds: angles and offsets, limited only by cross-field rules (or not at all).
@@ -456,12 +473,6 @@ CROSS_CASES = [
         r"\|`offset_shank`\| must be <= shank length 0.5 \[m\] .*, got -0.51",
     ),
     (KneedParams, {"foot_radius": 0.5}, r"`foot_radius` must be < shank length 0.5 \[m\]"),
-    (
-        CompassCoulombParams,
-        {"damping_ankle": 0.1},
-        r"`damping_ankle` must be 0 \[N m s/rad\] for model compass_coulomb \(its stick phase "
-        r"has no stance-ankle damper\), got 0.1$",
-    ),
     (
         DoublePendulumParams,
         {"com_1": 1.5},

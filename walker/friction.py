@@ -385,12 +385,21 @@ def switch(D, f, S, F, qd, j, breaks, modes, qd_out):
 @njit(cache=True, error_model="numpy")
 def guards(S, F, modes, qd, lam, g):
     """The two guards per joint: ``g[2 j] = w_j`` while slipping (slip_stops),
-    ``g[2 j + 1] = |lambda_j| - F_j`` while stuck (stick_breaks); 1.0 where unused."""
+    ``g[2 j + 1] = |lambda_j| - F_j`` while stuck (stick_breaks); 1.0 where unused.
+
+    A slipping joint without dry friction (``F_j = 0``) has no slip_stops guard either: its
+    mode cannot change the dynamics (the slip torque is 0 either way) and it can never
+    stick, so a frictionless model runs with the same events, bit for bit, as the model
+    without this layer.  Its mode label may then disagree with the sign of its rate.
+    """
     n = qd.shape[0]
     for j in range(S.shape[0]):
         if modes[j] == STICK:
             g[2 * j] = 1.0
             g[2 * j + 1] = abs(lam[j]) - F[j]
+        elif not F[j] > 0.0:
+            g[2 * j] = 1.0
+            g[2 * j + 1] = 1.0
         else:
             w = 0.0
             for i in range(n):

@@ -24,6 +24,18 @@ variable is the model's first coordinate, the outputs its other coordinates).  T
 surface: a step ends when the phase reaches ``theta_minus``; :func:`make_invariant` places the
 swing foot on the ground there.
 
+Joint friction (``damping_*``, ``coulomb_*`` of the parameter classes): the tools that
+integrate or evaluate the zero dynamics (:func:`zero_dynamics_accel`, :func:`restricted_map`,
+:func:`restricted_fixed_point`) assume a frictionless model and raise ``ValueError`` naming
+the parameter when a joint friction is nonzero.  The friction torques act through ``B``
+(``S = B^T``), so ``beta`` annihilates them and the dynamics *on* ``Z`` would not change; but
+the controller does not compensate them, so the closed loop leaves ``Z`` (and a stuck joint
+cannot follow ``y = 0`` at all): the restricted map no longer describes the walker, whose
+gait is then found on the full-order stride map (:class:`walker.stride.StrideMap`).  The
+geometric and impact tools (:func:`surface`, :func:`invariance_residual`,
+:func:`make_invariant`, :func:`impact_momentum_ratio`) do not involve the friction (bounded
+joint torques do no impulsive work) and accept any value.
+
 References
 ----------
 .. [1] E. R. Westervelt, J. W. Grizzle, D. E. Koditschek, "Hybrid zero dynamics of planar
@@ -63,17 +75,24 @@ BETA_FIVE_LINK = np.array([1.0, 0.0, 1.0, 1.0, 1.0])
 
 
 class _Model:
-    """What the HZD routines need of a model: its compiled module and kernels, ``beta``."""
+    """What the HZD routines need of a model: its compiled module and kernels, ``beta``, the
+    names of its joint-friction parameters."""
 
-    def __init__(self, module, beta):
+    def __init__(self, module, beta, friction_names):
         self.module = module
         self.K = module.K
         self.beta = beta
         self.n = module.N_Q
         self.offset = module.CONTROL_OFFSET
+        self.friction_names = friction_names
 
 
-_MODELS = {ThreeLinkParams: _Model(TL, BETA), FiveLinkParams: _Model(FL, BETA_FIVE_LINK)}
+_MODELS = {
+    ThreeLinkParams: _Model(TL, BETA, ("damping_hip", "coulomb_hip")),
+    FiveLinkParams: _Model(
+        FL, BETA_FIVE_LINK, ("damping_hip", "damping_knee", "coulomb_hip", "coulomb_knee")
+    ),
+}
 
 
 def _model(params) -> _Model:
@@ -87,6 +106,21 @@ def _model(params) -> _Model:
 def _check(params) -> np.ndarray:
     _model(params)
     return params.as_array()
+
+
+def _check_frictionless(params) -> np.ndarray:
+    """``_check``, and every joint friction must be zero (module docstring)."""
+    p = _check(params)
+    units = type(params).units()
+    for name in _model(params).friction_names:
+        value = getattr(params, name)
+        if value != 0.0:
+            raise ValueError(
+                f"`{name}` must be 0 [{units[name]}] for the hybrid-zero-dynamics map (it "
+                "assumes a frictionless model; use walker.StrideMap for a walker with joint "
+                f"friction), got {value!r}"
+            )
+    return p
 
 
 def _coefficients(p: np.ndarray, mdl: _Model) -> np.ndarray:
@@ -147,8 +181,12 @@ def _accel(p, theta, theta_dot, mdl):
 
 
 def zero_dynamics_accel(params, theta: float, theta_dot: float) -> float:
-    """``theta_ddot`` of the zero dynamics at ``(theta, theta_dot)`` [rad/s^2]."""
-    return float(_accel(_check(params), float(theta), float(theta_dot), _model(params)))
+    """``theta_ddot`` of the zero dynamics at ``(theta, theta_dot)`` [rad/s^2].
+
+    Raises ``ValueError`` when a joint friction of ``params`` is nonzero (module docstring).
+    """
+    p = _check_frictionless(params)
+    return float(_accel(p, float(theta), float(theta_dot), _model(params)))
 
 
 def _state(q, qd, mdl):
@@ -209,6 +247,8 @@ def make_invariant(params):
        stance leg's about the slope normal, so the swing foot is on the slope, ahead;
     2. ``theta_plus`` and ``bezier_*_0`` from the relabelled configuration ``Delta_q(q-)``;
     3. ``bezier_*_1`` as in step 3 above.
+
+    Joint friction does not enter (it is kept as given).
 
     Parameters
     ----------
@@ -332,6 +372,8 @@ def restricted_map(
     Parameters
     ----------
     params : ThreeLinkParams or FiveLinkParams
+        a frictionless design: a nonzero joint friction (``damping_*``, ``coulomb_*``)
+        raises ``ValueError`` (module docstring).
     theta_dot_plus : float
         post-impact stance rate [rad/s], < 0 for forward walking.
     rtol, atol : float
@@ -341,7 +383,7 @@ def restricted_map(
     -------
     RestrictedMap
     """
-    p = _check(params)
+    p = _check_frictionless(params)
     mdl = _model(params)
     if not np.isfinite(theta_dot_plus):
         raise ValueError(f"`theta_dot_plus` must be finite, got {theta_dot_plus!r}")
@@ -423,6 +465,7 @@ def restricted_fixed_point(
     Parameters
     ----------
     params : ThreeLinkParams or FiveLinkParams
+        a frictionless design (as for :func:`restricted_map`).
     bracket : (float, float)
         range of post-impact stance rates [rad/s] to search.
     n_scan : int
@@ -435,6 +478,7 @@ def restricted_fixed_point(
     HZDOrbit
         ``success`` False when the bracket holds no sign change of walking steps.
     """
+    _check_frictionless(params)
     lo, hi = (float(b) for b in bracket)
     if not lo < hi:
         raise ValueError(f"`bracket` must be increasing, got {bracket!r}")

@@ -447,25 +447,29 @@ class CompassParams(_Params):
 # ------------------------------------------------------------------------------------------
 @dataclasses.dataclass(frozen=True)
 class CompassCoulombParams(_Params):
-    """Compass-gait walker with Coulomb (dry) friction at the hip (model ``compass_coulomb``).
+    """Compass-gait walker with Coulomb (dry) friction at the stance ankle and the hip (model
+    ``compass_coulomb``).
 
     The fields of :class:`CompassParams`, in the same order (so ``p[:10]`` is a compass
-    parameter vector), then ``coulomb_hip``.
+    parameter vector, viscous dampers included), then ``coulomb_ankle`` and ``coulomb_hip``.
+    Stick and slip are phases and events (:mod:`walker.models.compass_coulomb`), not a smooth
+    approximation of ``sgn``.
 
     Attributes
     ----------
     mass_hip, mass_leg, com_from_foot, com_to_hip, inertia_leg, foot_radius, slope, g, \
-damping_hip : float
+damping_hip, damping_ankle : float
         as in :class:`CompassParams`.
-    damping_ankle : float
-        as in :class:`CompassParams`, but must be 0 [N m s/rad]: the closed-form ``stick``
-        phase of :mod:`walker.models.compass_coulomb` treats the viscous forcing as internal
-        to the hip (``1^T Q_v = 0``), which a stance-ankle damper breaks.
+    coulomb_ankle : float
+        Coulomb friction torque magnitude F_s of the stance ankle (slope to stance leg) [N m],
+        >= 0: ``-F_s sgn(qd_stance)`` on the stance leg while it slips, whatever torque up to
+        F_s holds it while it sticks.
     coulomb_hip : float
-        Coulomb friction torque magnitude F_s at the hip [N m], >= 0: while the hip slips, a
-        torque ``-F_s sgn(qd_swing - qd_stance)`` on the swing leg and its opposite on the
-        stance leg; while it sticks, whatever torque up to F_s keeps it locked (0: the
-        compass gait).
+        F_s of the hip [N m], >= 0: while the hip slips, a torque ``-F_s sgn(qd_swing -
+        qd_stance)`` on the swing leg and its opposite on the stance leg; while it sticks,
+        whatever torque up to F_s keeps it locked.
+
+    Both zero is the compass gait.
 
     References
     ----------
@@ -490,6 +494,11 @@ damping_hip : float
         "the stance leg",
         0.0,
     )
+    coulomb_ankle: float = _param(
+        "N m",
+        "Coulomb friction torque of the stance ankle, -F_s sgn(qd_stance) on the stance leg",
+        0.0,
+    )
     coulomb_hip: float = _param(
         "N m",
         "Coulomb friction torque of the hip joint, -F_s sgn(qd_swing - qd_stance) on the swing leg",
@@ -500,25 +509,26 @@ damping_hip : float
 
     def _check_relations(self) -> None:
         CompassParams._check_relations(self)  # type: ignore[arg-type]
-        if self.damping_ankle != 0.0:
-            raise _relation_error(
-                "`damping_ankle` must be 0 [N m s/rad] for model compass_coulomb (its stick "
-                "phase has no stance-ankle damper)",
-                f"{self.damping_ankle!r}",
-            )
 
     @classmethod
     def goswami(
-        cls, slope: float = math.radians(3.0), coulomb_hip: float = 0.0
+        cls,
+        slope: float = math.radians(3.0),
+        coulomb_hip: float = 0.0,
+        coulomb_ankle: float = 0.0,
     ) -> CompassCoulombParams:
-        """:meth:`CompassParams.goswami` (Goswami et al. 1996 [1]_) with hip friction
-        ``coulomb_hip`` [N m] (default 0: the published, frictionless model).
+        """:meth:`CompassParams.goswami` (Goswami et al. 1996 [1]_) with dry friction at the
+        hip and the stance ankle [N m] (default 0: the published, frictionless model).
 
         References
         ----------
         .. [1] Goswami, Thuilot, Espiau, INRIA RR-2996, 1996; IJRR 17(12), 1998.
         """
-        return cls(**CompassParams.goswami(slope).to_dict(), coulomb_hip=coulomb_hip)
+        return cls(
+            **CompassParams.goswami(slope).to_dict(),
+            coulomb_ankle=coulomb_ankle,
+            coulomb_hip=coulomb_hip,
+        )
 
 
 # ------------------------------------------------------------------------------------------
@@ -849,9 +859,13 @@ class ThreeLinkParams(_Params):
 
     The first ten fields are the physical parameters the generated kernels take (order of
     :data:`walker.symbolic.actuated.THREE_LINK_PARAMS`); ``friction`` is the ground's Coulomb
-    coefficient; the rest is the controller block read by :mod:`walker.control` (layout in
-    its docstring): the mode, gains, torque limit, the phase range and the Bezier
-    coefficients (degree 4) of the desired swing-leg and torso angles.
+    coefficient; then the controller block read by :mod:`walker.control` (layout in its
+    docstring): the mode, gains, torque limit, the phase range and the Bezier coefficients
+    (degree 4) of the desired swing-leg and torso angles; last the joint friction of the two
+    hip joints (appended after the controller block, so ``CONTROL_OFFSET`` and every other
+    index are those of the frictionless layout).  The hip joint rates are ``w = B^T qd =
+    (qd_stance - qd_torso, qd_swing - qd_torso)``; a joint torque acts on the leg and its
+    opposite on the torso, like the actuator's.
 
     Attributes
     ----------
@@ -884,6 +898,14 @@ class ThreeLinkParams(_Params):
         stance angle, normalized to s = (q_stance - theta_plus)/(theta_minus - theta_plus)).
     bezier_swing_0 .. bezier_swing_4, bezier_torso_0 .. bezier_torso_4 : float
         Bezier coefficients [rad] of the desired absolute swing-leg and torso angles.
+    damping_hip : float
+        viscous friction F_v of each hip joint [N m s/rad], >= 0: torque ``-F_v w_j``
+        (0 in the preset: the published model is frictionless).
+    coulomb_hip : float
+        Coulomb (dry) friction F_s of each hip joint [N m], >= 0: torque ``-F_s sgn(w_j)``
+        while the joint slips, up to ``F_s`` holding it while it sticks (stick and slip are
+        phases of :mod:`walker.models.three_link`; 0 in the preset).  The controller does not
+        know about either friction: it is a disturbance its PD on the outputs rejects.
 
     References
     ----------
@@ -925,6 +947,16 @@ class ThreeLinkParams(_Params):
     bezier_torso_2: float = _bezier_field("torso", 2)
     bezier_torso_3: float = _bezier_field("torso", 3)
     bezier_torso_4: float = _bezier_field("torso", 4)
+    damping_hip: float = _param(
+        "N m s/rad",
+        "viscous friction of each hip joint, torque -F_v w on the leg (w = leg rate - torso rate)",
+        0.0,
+    )
+    coulomb_hip: float = _param(
+        "N m",
+        "Coulomb friction of each hip joint, torque -F_s sgn(w) on the leg while slipping",
+        0.0,
+    )
 
     @property
     def leg_length(self) -> float:
@@ -1002,6 +1034,9 @@ _GRIZZLE_DEFAULTS: dict[str, float] = {
     "bezier_torso_2": -math.pi / 6,
     "bezier_torso_3": -math.pi / 6,
     "bezier_torso_4": -math.pi / 6,
+    # the published model is frictionless
+    "damping_hip": 0.0,
+    "coulomb_hip": 0.0,
 }
 
 
@@ -1016,6 +1051,11 @@ class FiveLinkParams(_Params):
     coefficients (degree 4) of the four outputs, in the order of the model's coordinates
     ``q[1:]``: stance-knee flexion ``q_femur_st - q_tibia_st``, torso, swing femur and swing
     tibia (absolute angles).  The phase variable is ``q_leg = (q_tibia_st + q_femur_st)/2``.
+    Last the joint friction of the hips and knees (appended after the controller block, so
+    ``CONTROL_OFFSET`` and every other index are those of the frictionless layout).  The
+    joint rates are ``w = B^T qd``: hips ``q_femur - q_torso``, knees ``q_tibia - q_femur``
+    (rates; stance then swing); a joint torque acts on the distal link (femur, tibia) and
+    its opposite on the proximal one, like the actuator's.
 
     Attributes
     ----------
@@ -1049,6 +1089,15 @@ class FiveLinkParams(_Params):
     bezier_knee_0 .. 4, bezier_torso_0 .. 4, bezier_femur_0 .. 4, bezier_tibia_0 .. 4 : float
         Bezier coefficients [rad] of the desired stance-knee flexion, torso, swing-femur and
         swing-tibia angles.
+    damping_hip, damping_knee : float
+        viscous friction F_v of each hip, each knee joint [N m s/rad], >= 0: torque
+        ``-F_v w_j`` (0 in the preset: the published model is frictionless).
+    coulomb_hip, coulomb_knee : float
+        Coulomb (dry) friction F_s of each hip, each knee joint [N m], >= 0: torque
+        ``-F_s sgn(w_j)`` while the joint slips, up to ``F_s`` holding it while it sticks
+        (stick and slip are phases of :mod:`walker.models.five_link`; 0 in the preset).  The
+        controller does not know about either friction: it is a disturbance its PD on the
+        outputs rejects.
 
     References
     ----------
@@ -1101,6 +1150,26 @@ class FiveLinkParams(_Params):
     bezier_tibia_2: float = _bezier_field("swing-tibia", 2)
     bezier_tibia_3: float = _bezier_field("swing-tibia", 3)
     bezier_tibia_4: float = _bezier_field("swing-tibia", 4)
+    damping_hip: float = _param(
+        "N m s/rad",
+        "viscous friction of each hip joint, torque -F_v w on the femur (w = femur - torso rate)",
+        0.0,
+    )
+    damping_knee: float = _param(
+        "N m s/rad",
+        "viscous friction of each knee joint, torque -F_v w on the tibia (w = tibia - femur rate)",
+        0.0,
+    )
+    coulomb_hip: float = _param(
+        "N m",
+        "Coulomb friction of each hip joint, torque -F_s sgn(w) on the femur while slipping",
+        0.0,
+    )
+    coulomb_knee: float = _param(
+        "N m",
+        "Coulomb friction of each knee joint, torque -F_s sgn(w) on the tibia while slipping",
+        0.0,
+    )
 
     @property
     def leg_length(self) -> float:
@@ -1194,6 +1263,11 @@ _RABBIT_DEFAULTS: dict[str, float] = {
     "bezier_tibia_2": -0.6,
     "bezier_tibia_3": 0.2,
     "bezier_tibia_4": 0.0,
+    # the published model is frictionless
+    "damping_hip": 0.0,
+    "damping_knee": 0.0,
+    "coulomb_hip": 0.0,
+    "coulomb_knee": 0.0,
 }
 
 

@@ -1,31 +1,67 @@
 """The five-link walker (torso, femurs, tibias; hip and knee actuators; point feet) in closed
-loop: compiled phase functions for the hybrid integrator.
+loop, with viscous and dry (Coulomb) friction at the four actuated joints: compiled phase
+functions for the hybrid integrator.
 
 State ``x`` (12): ``(q_leg, q_knee, q_torso, q_femur_sw, q_tibia_sw, qd_leg, qd_knee,
 qd_torso, qd_femur_sw, qd_tibia_sw, actuator_work, saturated_time)``: the coordinates of
 :mod:`walker.symbolic.five_link` (mean stance-leg angle, stance-knee flexion, then absolute
 angles from the vertical, counterclockwise positive), their rates, and two accumulators that
 the dynamics integrate and the impact carries over unchanged: the actuators' work since
-``t0``, ``int tau . (B^T qd) dt`` [J], and the time during which some torque was clipped to
-the limit [s].  The torque is computed inside ``rhs`` by
+``t0``, ``int u . (B^T qd) dt`` [J], and the time during which some torque was clipped to
+the limit [s].  The torque ``u`` is computed inside ``rhs`` by
 :func:`walker.control.controller_torque` (phase variable ``q_leg``, outputs ``q[1:]``) from
 the controller block ``p[CONTROL_OFFSET:]`` of :class:`walker.params.FiveLinkParams`.
 
-One phase, ``stance`` (stance foot pinned).  Guards, in priority order:
+Dynamics (the course's ``D qdd + C qd + g = B u - F_v qd - F_s sgn(qd) + J^T F`` with the
+friction acting on the joint rates): the joints are the actuated ones, ``JOINTS =
+("hip_stance", "hip_swing", "knee_stance", "knee_swing")`` with rates ``w = S qd``, ``S =
+B^T`` (:data:`S_MATRIX`): hips ``femur - torso``, knees ``tibia - femur`` (rates).  The
+controller is unchanged and does not know about the friction (a disturbance that its PD on
+the outputs rejects): ``u`` is its torque as in the frictionless model, then ``f = B u - h -
+S^T F_v w`` (``h = C qd + g``; ``F_v`` is ``damping_hip`` at the hips, ``damping_knee`` at
+the knees) and ``qdd`` follows from :func:`walker.friction.accelerations` with the dry
+friction ``F_s`` (``coulomb_hip``, ``coulomb_knee``) in the modes of the current phase (a
+stuck joint is held by whatever torque up to ``F_s`` keeps ``w_j = 0``: an augmented linear
+system).
+
+Phases: ``stance`` x the joint modes, phase index = mode code
+(:func:`walker.friction.encode`: ``hip_stance + 3 hip_swing + 9 knee_stance + 27
+knee_swing``, mode 0 slip+, 1 slip-, 2 stick), 81 phases named by
+:func:`walker.friction.mode_names`.  :func:`start_phase` gives the phase consistent with a
+state (:func:`walker.friction.choose_modes`); :class:`walker.stride.StrideMap` and
+:func:`walker.stride.simulate` start there.
+
+Guards, in priority order:
 
 0. ``heel_strike``: height of the swing foot above the slope, firing when it decreases
    through zero.  Accepted when the swing foot is ahead of the stance foot (by more than
    ``MIN_STEP`` leg lengths); a touchdown behind it is a trip (``TRIPPED``).  Reset:
    floating-base impact as an augmented linear system, then the legs swap (femurs and tibias
-   trade places; the new stance knee is the old swing knee).  ``NONPHYSICAL_IMPACT`` when the
-   normal impulse is not positive, the impulse leaves the friction cone ``|P_t| <= mu P_n``,
-   or the trailing foot does not lift off.
+   trade places; the new stance knee is the old swing knee), then every joint's mode is
+   chosen for the post-impact state.  ``NONPHYSICAL_IMPACT`` when the normal impulse is not
+   positive, the impulse leaves the friction cone ``|P_t| <= mu P_n``, or the trailing foot
+   does not lift off.
 1. ``fall_forward`` / 2. ``fall_backward``: the line from the stance foot to the hip passes
    ``FALL_ANGLE`` from the slope normal.
 3. ``slip_forward`` (``mu F_n - F_t``), 4. ``slip_backward`` (``mu F_n + F_t``),
-   5. ``lift_off`` (``F_n``): the ground reaction on the stance foot leaves the friction cone
-   or pulls; each ends the run with ``NONPHYSICAL_IMPACT`` (the event log names the guard).
+   5. ``lift_off`` (``F_n``): the ground reaction on the stance foot (from the closed-loop
+   accelerations of the current phase) leaves the friction cone or pulls; each ends the run
+   with ``NONPHYSICAL_IMPACT`` (the event log names the guard).
 6. ``hip_down``: the hip reaches the slope (ends the run with ``FELL_BACKWARD``).
+7..14. ``<joint>_slip_stops``, ``<joint>_stick_breaks`` per joint in ``JOINTS`` order
+   (:func:`walker.friction.guards`, directions from :func:`walker.friction.directions`).
+   Resets (:func:`walker.friction.switch`) as in
+   :mod:`walker.models.kneed_coulomb`: at ``slip_stops`` the joint is locked
+   plastically (:func:`walker.friction.project_stuck`; its rate is rounding-small there) and
+   every joint's mode is chosen again; at ``stick_breaks`` the joint slips against its
+   holding torque and the others are chosen again.  A joint without dry friction
+   (``F_s = 0``) has its slip_stops guard held at 1 (never fires): it never sticks and its
+   slip sign does not change the dynamics, so the frictionless model integrates exactly as
+   before (same steps, same events).
+
+Energy: ``dE/dt = u . w - sum_j F_v,j w_j^2 - sum_slip F_s,j |w_j|`` (a stuck joint does no
+work), so between events ``E`` changes by the actuator work minus ``F_s,j |delta theta_j|``
+per slipping joint minus the viscous losses.
 
 Section (just after heel strike): ``(q_leg, q_knee, q_torso, q_femur_sw, qd_leg, qd_knee,
 qd_torso, qd_femur_sw, qd_tibia_sw)``; ``q_tibia_sw`` puts the swing foot on the slope, behind
@@ -37,17 +73,23 @@ import math
 import numpy as np
 from numba import njit
 
+from walker import friction as fr
 from walker._generated import five_link as K
-from walker._linalg import solve_inplace
 from walker.control import controller_torque
 from walker.models._common import FALL_ANGLE, floating_base_state, heel_strike_impact
-from walker.status import EVENT_STRIDE, EVENT_TERMINAL, Status
+from walker.status import EVENT_CONTINUE, EVENT_STRIDE, EVENT_TERMINAL, Status
 
 N_X = 12
 N_Q = 5
 N_U = 4
 N_IMPULSE = 2
-PHASE_NAMES = ("stance",)
+JOINTS = ("hip_stance", "hip_swing", "knee_stance", "knee_swing")
+N_JOINTS = 4
+N_CODES = 81
+"""Number of joint-mode codes, ``3**N_JOINTS`` (a test checks it)."""
+PHASE_NAMES = tuple(f"stance {fr.mode_names(c, JOINTS)}" for c in range(N_CODES))
+N_BASE_GUARDS = 7
+"""Guards of the frictionless model (indices 0..6); the friction guards follow."""
 GUARD_NAMES = (
     "heel_strike",
     "fall_forward",
@@ -56,8 +98,11 @@ GUARD_NAMES = (
     "slip_backward",
     "lift_off",
     "hip_down",
+) + tuple(f"{j}_{kind}" for j in JOINTS for kind in ("slip_stops", "stick_breaks"))
+DIRECTIONS = np.array(
+    [[-1, -1, 1, -1, -1, -1, -1] + fr.directions(c, N_JOINTS) for c in range(N_CODES)],
+    dtype=np.int64,
 )
-DIRECTIONS = np.array([[-1, -1, 1, -1, -1, -1, -1]], dtype=np.int64)
 STATE_NAMES = (
     "q_leg",
     "q_knee",
@@ -87,6 +132,9 @@ SECTION_NAMES = (
 I_LENGTH_FEMUR, I_LENGTH_TIBIA, I_SLOPE, I_FRICTION = 3, 4, 11, 13
 CONTROL_OFFSET = 14
 """Index in ``p`` of the controller block (:mod:`walker.control` layout)."""
+I_DAMPING_HIP, I_DAMPING_KNEE, I_COULOMB_HIP, I_COULOMB_KNEE = 40, 41, 42, 43
+"""Indices in ``p`` of the joint friction (after the controller block; a test checks them
+against :class:`walker.params.FiveLinkParams`)."""
 MIN_STEP = 1e-8
 """A heel strike needs the swing foot ahead of the stance foot by more than ``MIN_STEP`` leg
 lengths; a touchdown at or behind the stance foot is a trip."""
@@ -102,6 +150,16 @@ B_MATRIX = np.array(
 )
 """Input map ``B`` (:data:`walker.symbolic.five_link.B_MATRIX`): inputs ``(hip stance, hip
 swing, knee stance, knee swing)``."""
+S_MATRIX = np.array(
+    [
+        [1.0, 0.5, -1.0, 0.0, 0.0],
+        [0.0, 0.0, -1.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0, -1.0, 1.0],
+    ]
+)
+"""Joint rows ``S = B^T``: ``w = S qd`` are the joint rates (hip stance, hip swing, knee
+stance, knee swing)."""
 RELABEL = np.array(
     [
         [0.0, 0.0, 0.0, 0.5, 0.5],
@@ -124,21 +182,14 @@ _SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
 
 
 @njit(cache=True, error_model="numpy")
-def closed_loop(x, p, qdd, u):
-    """Closed-loop accelerations and torques at state ``x``; returns True when saturated.
+def _forces(x, p, D, f, u):
+    """Mass matrix, generalized force without dry friction and controller torque.
 
-    Parameters
-    ----------
-    x : ndarray, shape (>= 10,)
-    p : ndarray
-        the ``FiveLinkParams`` vector.
-    qdd : ndarray, shape (5,)   (output) [rad/s^2]
-    u : ndarray, shape (4,)   (output) torques (hip stance, hip swing, knee stance, knee
-        swing) [N m]
+    ``D`` (5, 5), ``f = B u - h - S^T F_v S qd`` (5,) and ``u`` (4,) are outputs; returns
+    True when the torque saturated.
     """
     q = x[:5]
     qd = x[5:10]
-    D = np.empty((5, 5))
     h = np.empty(5)
     K.mass_matrix(q, p, D)
     K.bias(q, qd, p, h)
@@ -147,8 +198,51 @@ def closed_loop(x, p, qdd, u):
         s = -h[i]
         for j in range(4):
             s += B_MATRIX[i, j] * u[j]
-        qdd[i] = s
-    solve_inplace(D, qdd)
+        f[i] = s
+    for j in range(N_JOINTS):
+        damping = p[I_DAMPING_HIP] if j < 2 else p[I_DAMPING_KNEE]
+        if damping != 0.0:
+            w = 0.0
+            for i in range(5):
+                w += S_MATRIX[j, i] * qd[i]
+            for i in range(5):
+                f[i] -= damping * S_MATRIX[j, i] * w
+    return sat
+
+
+@njit(cache=True, error_model="numpy")
+def _dry(p):
+    """Dry-friction magnitudes of the joints (``JOINTS`` order) [N m]."""
+    F = np.empty(N_JOINTS)
+    F[0] = F[1] = p[I_COULOMB_HIP]
+    F[2] = F[3] = p[I_COULOMB_KNEE]
+    return F
+
+
+@njit(cache=True, error_model="numpy")
+def closed_loop(phase, x, p, qdd, u, lam):
+    """Closed-loop accelerations, torques and dry-friction torques at state ``x`` in
+    ``phase``; returns True when the controller saturated.
+
+    Parameters
+    ----------
+    phase : int
+        phase index (the joint-mode code).
+    x : ndarray, shape (>= 10,)
+    p : ndarray
+        the ``FiveLinkParams`` vector.
+    qdd : ndarray, shape (5,)   (output) [rad/s^2]
+    u : ndarray, shape (4,)   (output) controller torques (hip stance, hip swing, knee
+        stance, knee swing) [N m]
+    lam : ndarray, shape (4,)   (output) dry-friction torque of each joint [N m]: ``-+F_s``
+        while slipping, the holding torque while stuck
+    """
+    D = np.empty((5, 5))
+    f = np.empty(5)
+    sat = _forces(x, p, D, f, u)
+    modes = np.empty(N_JOINTS, dtype=np.int64)
+    fr.decode(phase, modes)
+    fr.accelerations(D, f, S_MATRIX, _dry(p), modes, qdd, lam)
     return sat
 
 
@@ -156,20 +250,21 @@ def closed_loop(x, p, qdd, u):
 def rhs(phase, t, x, p, dx):
     qdd = np.empty(5)
     u = np.empty(4)
-    sat = closed_loop(x, p, qdd, u)
+    lam = np.empty(N_JOINTS)
+    sat = closed_loop(phase, x, p, qdd, u, lam)
     power = 0.0
     for i in range(5):
         dx[i] = x[5 + i]
         dx[5 + i] = qdd[i]
         for j in range(4):
             power += u[j] * B_MATRIX[i, j] * x[5 + i]
-    dx[10] = power  # tau . (B^T qd)
+    dx[10] = power  # u . (B^T qd)
     dx[11] = 1.0 if sat else 0.0
 
 
 @njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
-    """df/dx by central differences (step ``JAC_STEP * max(1, |x_j|)``)."""
+    """df/dx by central differences (step ``JAC_STEP * max(1, |x_j|)``) in ``phase``."""
     n = x.shape[0]
     xp = x.copy()
     fp = np.empty(n)
@@ -186,11 +281,8 @@ def jac(phase, t, x, p, J):
 
 
 @njit(cache=True, error_model="numpy")
-def ground_reaction(x, p):
-    """Ground force on the stance foot ``(F_t, F_n)`` along and normal to the slope [N]."""
-    qdd = np.empty(5)
-    u = np.empty(4)
-    closed_loop(x, p, qdd, u)
+def _slope_frame_force(x, p, qdd):
+    """Ground force on the stance foot ``(F_t, F_n)`` for the accelerations ``qdd`` [N]."""
     F = np.empty(2)
     K.ground_reaction(x[:5], x[5:10], qdd, p, F)
     slope = p[I_SLOPE]
@@ -198,6 +290,33 @@ def ground_reaction(x, p):
         F[0] * math.cos(slope) - F[1] * math.sin(slope),
         F[0] * math.sin(slope) + F[1] * math.cos(slope),
     )
+
+
+@njit(cache=True, error_model="numpy")
+def _ground_reaction(phase, x, p):
+    qdd = np.empty(5)
+    u = np.empty(4)
+    lam = np.empty(N_JOINTS)
+    closed_loop(phase, x, p, qdd, u, lam)
+    return _slope_frame_force(x, p, qdd)
+
+
+def ground_reaction(x, p, phase=None):
+    """Ground force on the stance foot ``(F_t, F_n)`` along and normal to the slope [N].
+
+    Parameters
+    ----------
+    x : ndarray, shape (12,)
+    p : ndarray
+        the ``FiveLinkParams`` vector.
+    phase : int, optional
+        joint-mode phase; default the phase consistent with ``x`` (:func:`start_phase`).
+    """
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    p = np.ascontiguousarray(p, dtype=np.float64)
+    if phase is None:
+        phase = start_phase(x, p)
+    return _ground_reaction(int(phase), x, p)
 
 
 @njit(cache=True, error_model="numpy")
@@ -228,12 +347,20 @@ def guards(phase, t, x, p, g):
     psi = math.atan2(-ht, hn)  # stance foot -> hip, from the slope normal
     g[1] = psi + FALL_ANGLE
     g[2] = psi - FALL_ANGLE
-    ft, fn = ground_reaction(x, p)
+    qdd = np.empty(5)
+    u = np.empty(4)
+    lam = np.empty(N_JOINTS)
+    closed_loop(phase, x, p, qdd, u, lam)
+    ft, fn = _slope_frame_force(x, p, qdd)
     mu = p[I_FRICTION]
     g[3] = mu * fn - ft
     g[4] = mu * fn + ft
     g[5] = fn
     g[6] = hn
+    modes = np.empty(N_JOINTS, dtype=np.int64)
+    fr.decode(phase, modes)
+    F = _dry(p)
+    fr.guards(S_MATRIX, F, modes, x[5:10], lam, g[N_BASE_GUARDS : N_BASE_GUARDS + 2 * N_JOINTS])
 
 
 @njit(cache=True, error_model="numpy")
@@ -276,6 +403,23 @@ def heel_strike(x, p, x_new, impulse):
 
 
 @njit(cache=True, error_model="numpy")
+def _settle(modes, free, x, p):
+    """Choose the modes of the ``free`` joints at state ``x`` (in place), project the
+    velocities of the stuck joints (in ``x``; :func:`walker.friction.settle`) and return the
+    phase; -1 if singular."""
+    D = np.empty((5, 5))
+    f = np.empty(5)
+    u = np.empty(4)
+    _forces(x, p, D, f, u)
+    qd_new = np.empty(5)
+    if not fr.settle(D, f, S_MATRIX, _dry(p), x[5:10].copy(), free, modes, qd_new):
+        return -1
+    for i in range(5):
+        x[5 + i] = qd_new[i]
+    return fr.encode(modes)
+
+
+@njit(cache=True, error_model="numpy")
 def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
@@ -285,12 +429,51 @@ def reset(phase, k, t, x, p, x_new, impulse):
         status = heel_strike(x, p, x_new, impulse)
         if status != 0:
             return EVENT_TERMINAL, phase, status
-        return EVENT_STRIDE, 0, 0
+        # every joint's mode afresh for the post-impact state
+        new_phase = _settle(
+            np.zeros(N_JOINTS, dtype=np.int64), np.ones(N_JOINTS, dtype=np.bool_), x_new, p
+        )
+        if new_phase < 0:
+            return EVENT_TERMINAL, phase, _SINGULAR
+        return EVENT_STRIDE, new_phase, 0
     if k == 1:
         return EVENT_TERMINAL, phase, _FELL_FORWARD
     if k == 2 or k == 6:
         return EVENT_TERMINAL, phase, _FELL_BACKWARD
-    return EVENT_TERMINAL, phase, _NONPHYSICAL
+    if k < N_BASE_GUARDS:
+        return EVENT_TERMINAL, phase, _NONPHYSICAL
+    # joint j's slip_stops (plastic lock, then every joint's mode chosen again) or
+    # stick_breaks (it slips against its holding torque, the others chosen again)
+    modes = np.empty(N_JOINTS, dtype=np.int64)
+    fr.decode(phase, modes)
+    D = np.empty((5, 5))
+    f = np.empty(5)
+    u = np.empty(4)
+    _forces(x, p, D, f, u)
+    qd_new = np.empty(5)
+    j = (k - N_BASE_GUARDS) // 2
+    breaks = (k - N_BASE_GUARDS) % 2 == 1
+    if not fr.switch(D, f, S_MATRIX, _dry(p), x[5:10].copy(), j, breaks, modes, qd_new):
+        return EVENT_TERMINAL, phase, _SINGULAR
+    for i in range(5):
+        x_new[5 + i] = qd_new[i]
+    return EVENT_CONTINUE, fr.encode(modes), 0
+
+
+@njit(cache=True, error_model="numpy")
+def start_phase(x, p):
+    """The phase consistent with state ``x``: the joints that move slip with the sign of
+    their rate, the joints at rest stick or slip as the forces decide
+    (:func:`walker.friction.choose_modes`)."""
+    D = np.empty((5, 5))
+    f = np.empty(5)
+    u = np.empty(4)
+    _forces(x, p, D, f, u)
+    modes = np.zeros(N_JOINTS, dtype=np.int64)
+    fr.choose_modes(
+        D, f, S_MATRIX, _dry(p), x[5:10].copy(), np.ones(N_JOINTS, dtype=np.bool_), modes
+    )
+    return fr.encode(modes)
 
 
 @njit(cache=True, error_model="numpy")
@@ -301,11 +484,54 @@ def energy(x, p):
 
 @njit(cache=True, error_model="numpy")
 def torques(x, p):
-    """Torques ``(hip stance, hip swing, knee stance, knee swing)`` [N m] at ``x``."""
+    """Torques ``(hip stance, hip swing, knee stance, knee swing)`` [N m] the controller
+    applies at ``x`` (the controller does not see the friction, so they do not depend on
+    the joint modes)."""
+    D = np.empty((5, 5))
+    f = np.empty(5)
+    u = np.empty(4)
+    _forces(x, p, D, f, u)
+    return u
+
+
+@njit(cache=True, error_model="numpy")
+def joint_torques(phase, x, p):
+    """Friction torque at each joint (``JOINTS`` order) in ``phase`` [N m]: the viscous
+    ``-F_v w_j`` plus the dry ``-+F_s`` while slipping or the holding torque while stuck.
+    The joint's total torque is ``torques(x, p) + joint_torques(phase, x, p)``."""
     qdd = np.empty(5)
     u = np.empty(4)
-    closed_loop(x, p, qdd, u)
-    return u
+    lam = np.empty(N_JOINTS)
+    closed_loop(phase, x, p, qdd, u, lam)
+    for j in range(N_JOINTS):
+        damping = p[I_DAMPING_HIP] if j < 2 else p[I_DAMPING_KNEE]
+        w = 0.0
+        for i in range(5):
+            w += S_MATRIX[j, i] * x[5 + i]
+        lam[j] -= damping * w
+    return lam
+
+
+def phase_of(**modes: str) -> int:
+    """Phase index from joint modes (``"slip+"``, ``"slip-"``, ``"stick"``; default
+    ``"slip+"``), e.g. ``phase_of(knee_stance="stick")``."""
+    unknown = set(modes) - set(JOINTS)
+    if unknown:
+        raise ValueError(f"joint modes must be given for {JOINTS}, got {sorted(unknown)}")
+    code = 0
+    for i, name in enumerate(JOINTS):
+        label = modes.get(name, "slip+")
+        if label not in fr.MODE_LABELS:
+            raise ValueError(f"mode of `{name}` must be one of {fr.MODE_LABELS}, got {label!r}")
+        code += fr.MODE_LABELS.index(label) * fr.N_MODES**i
+    return code
+
+
+def modes_of(phase: int) -> dict[str, str]:
+    """``{joint: mode}`` of a phase index: the inverse of :func:`phase_of`."""
+    if not 0 <= phase < len(PHASE_NAMES):
+        raise ValueError(f"`phase` must be in [0, {len(PHASE_NAMES)}), got {phase}")
+    return dict(part.split("=") for part in PHASE_NAMES[phase].split()[1:])
 
 
 def _tibia_on_ground(z, p):

@@ -1,30 +1,63 @@
-"""Grizzle's three-link walker (two legs, torso, two hip actuators) in closed loop: compiled
-phase functions for the hybrid integrator.
+"""Grizzle's three-link walker (two legs, torso, two hip actuators) in closed loop, with
+viscous and dry (Coulomb) friction at the two hip joints: compiled phase functions for the
+hybrid integrator.
 
 State ``x`` (8): ``(q_stance, q_swing, q_torso, qd_stance, qd_swing, qd_torso,
 actuator_work, saturated_time)``: absolute angles from the vertical, counterclockwise positive
 (:mod:`walker.symbolic.actuated`), then two accumulators that the dynamics integrate and the
 impact carries over unchanged: the work done by the actuators since ``t0``,
-``int tau . (B^T qd) dt`` [J], and the time during which some torque was clipped to the limit
-[s] (the saturation report; 0 when the limit was never reached).  The torque is computed
-inside ``rhs`` by :func:`walker.control.controller_torque` from the state and the controller
-block ``p[CONTROL_OFFSET:]`` of :class:`walker.params.ThreeLinkParams`.
+``int u . (B^T qd) dt`` [J], and the time during which some torque was clipped to the limit
+[s] (the saturation report; 0 when the limit was never reached).  The torque ``u`` is
+computed inside ``rhs`` by :func:`walker.control.controller_torque` from the state and the
+controller block ``p[CONTROL_OFFSET:]`` of :class:`walker.params.ThreeLinkParams`.
 
-One phase, ``stance`` (stance foot pinned).  Guards, in priority order:
+Dynamics (the course's ``D qdd + C qd + g = B u - F_v qd - F_s sgn(qd) + J^T F`` with the
+friction acting on the joint rates): the joints are the actuated ones, ``JOINTS =
+("hip_stance", "hip_swing")`` with rates ``w = S qd``, ``S = B^T`` (:data:`S_MATRIX`):
+``w = (qd_stance - qd_torso, qd_swing - qd_torso)``.  The controller is unchanged and does
+not know about the friction (a disturbance that its PD on the outputs rejects): ``u`` is its
+torque as in the frictionless model, then ``f = B u - h - F_v S^T w`` (``h = C qd + g``,
+``F_v = damping_hip`` at both joints) and ``qdd`` follows from
+:func:`walker.friction.accelerations` with the dry friction ``F_s = coulomb_hip`` of both
+joints in the modes of the current phase (a stuck joint is held by whatever torque up to
+``F_s`` keeps ``w_j = 0``: an augmented linear system).
+
+Phases: ``stance`` x the joint modes, phase index = mode code
+(:func:`walker.friction.encode`: ``hip_stance + 3 hip_swing``, mode 0 slip+, 1 slip-,
+2 stick), 9 phases named by :func:`walker.friction.mode_names`.  :func:`start_phase` gives
+the phase consistent with a state (:func:`walker.friction.choose_modes`);
+:class:`walker.stride.StrideMap` and :func:`walker.stride.simulate` start there.
+
+Guards, in priority order:
 
 0. ``heel_strike``: height of the swing foot above the slope, firing when it decreases
    through zero; accepted only with the swing foot ahead of the stance foot (by more than
    ``MIN_STEP`` leg lengths, which ignores the mid-stance scuff).  Reset:
    floating-base impact as an augmented linear system, then the legs swap (the torso keeps
-   its angle).  ``NONPHYSICAL_IMPACT`` when the normal impulse is not positive, the impulse
-   leaves the friction cone ``|P_t| <= mu P_n``, or the trailing foot does not lift off.
+   its angle), then every joint's mode is chosen for the post-impact state.
+   ``NONPHYSICAL_IMPACT`` when the normal impulse is not positive, the impulse leaves the
+   friction cone ``|P_t| <= mu P_n``, or the trailing foot does not lift off.
 1. ``fall_forward`` / 2. ``fall_backward``: the stance leg passes ``FALL_ANGLE`` from the
    slope normal.
 3. ``slip_forward`` (``mu F_n - F_t``), 4. ``slip_backward`` (``mu F_n + F_t``),
    5. ``lift_off`` (``F_n``): the ground reaction on the stance foot (computed from the
-   closed-loop accelerations) leaves the friction cone or pulls; each ends the run with
-   ``NONPHYSICAL_IMPACT`` (the event log names the guard).  ``F_t`` is along the slope
-   (forward), ``F_n`` along its normal.
+   closed-loop accelerations of the current phase) leaves the friction cone or pulls; each
+   ends the run with ``NONPHYSICAL_IMPACT`` (the event log names the guard).  ``F_t`` is
+   along the slope (forward), ``F_n`` along its normal.
+6. ``hip_stance_slip_stops``, 7. ``hip_stance_stick_breaks``, 8. ``hip_swing_slip_stops``,
+   9. ``hip_swing_stick_breaks`` (:func:`walker.friction.guards`, directions from
+   :func:`walker.friction.directions`).  Resets (:func:`walker.friction.switch`) as in
+   :mod:`walker.models.kneed_coulomb`: at ``slip_stops`` the joint is locked plastically
+   (:func:`walker.friction.project_stuck`; its rate is rounding-small there) and every
+   joint's mode is chosen again; at ``stick_breaks`` the joint slips against its holding
+   torque and the other one is chosen again.  With ``coulomb_hip = 0`` the slip_stops
+   guards are held at 1 (never fire): a joint without dry friction never sticks and its slip
+   sign does not change the dynamics, so the frictionless model integrates exactly as before
+   (same steps, same events).
+
+Energy: ``dE/dt = u . w - F_v |w|^2 - sum_slip F_s |w_j|`` (a stuck joint does no work), so
+between events ``E`` changes by the actuator work minus ``F_s |delta theta_j|`` per slipping
+joint minus the viscous losses.
 
 Section (just after heel strike): ``(q_stance, q_torso, qd_stance, qd_swing, qd_torso)``;
 ``q_swing = -2 slope - q_stance`` there; ``lift`` sets both accumulators to zero.
@@ -35,16 +68,22 @@ import math
 import numpy as np
 from numba import njit
 
+from walker import friction as fr
 from walker._generated import three_link as K
-from walker._linalg import solve_inplace
 from walker.control import controller_torque
 from walker.models._common import FALL_ANGLE, floating_base_state, heel_strike_impact
-from walker.status import EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
+from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
 
 N_X = 8
 N_Q = 3
 N_IMPULSE = 2
-PHASE_NAMES = ("stance",)
+JOINTS = ("hip_stance", "hip_swing")
+N_JOINTS = 2
+N_CODES = 9
+"""Number of joint-mode codes, ``3**N_JOINTS`` (a test checks it)."""
+PHASE_NAMES = tuple(f"stance {fr.mode_names(c, JOINTS)}" for c in range(N_CODES))
+N_BASE_GUARDS = 6
+"""Guards of the frictionless model (indices 0..5); the friction guards follow."""
 GUARD_NAMES = (
     "heel_strike",
     "fall_forward",
@@ -52,8 +91,11 @@ GUARD_NAMES = (
     "slip_forward",
     "slip_backward",
     "lift_off",
+) + tuple(f"{j}_{kind}" for j in JOINTS for kind in ("slip_stops", "stick_breaks"))
+DIRECTIONS = np.array(
+    [[-1, -1, 1, -1, -1, -1] + fr.directions(c, N_JOINTS) for c in range(N_CODES)],
+    dtype=np.int64,
 )
-DIRECTIONS = np.array([[-1, -1, 1, -1, -1, -1]], dtype=np.int64)
 STATE_NAMES = (
     "q_stance",
     "q_swing",
@@ -74,8 +116,13 @@ legs the foot height ``r (cos q_stance - cos q_swing)`` has two zeros: ``q_swing
 foot, step length zero up to round-off): the latter is the mid-stance scuff."""
 CONTROL_OFFSET = 11
 """Index in ``p`` of the controller block (:mod:`walker.control` layout)."""
+I_DAMPING_HIP, I_COULOMB_HIP = 27, 28
+"""Indices in ``p`` of ``damping_hip`` and ``coulomb_hip`` (after the controller block; a
+test checks them against :class:`walker.params.ThreeLinkParams`)."""
 
 B_MATRIX = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, -1.0]])
+S_MATRIX = np.array([[1.0, 0.0, -1.0], [0.0, 1.0, -1.0]])
+"""Joint rows ``S = B^T``: ``w = S qd`` are the hip rates (leg relative to the torso)."""
 JAC_STEP = 1e-6
 """Relative step of the central differences that give the vector field's Jacobian."""
 
@@ -86,27 +133,59 @@ _SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
 
 
 @njit(cache=True, error_model="numpy")
-def closed_loop(x, p, qdd, u):
-    """Closed-loop accelerations and torques at state ``x``; returns True when saturated.
+def _forces(x, p, D, f, u):
+    """Mass matrix, generalized force without dry friction and controller torque.
 
-    Parameters
-    ----------
-    x : ndarray, shape (>= 6,)
-    p : ndarray
-        the ``ThreeLinkParams`` vector.
-    qdd : ndarray, shape (3,)   (output) [rad/s^2]
-    u : ndarray, shape (2,)   (output) hip torques on the stance and swing legs [N m]
+    ``D`` (3, 3), ``f = B u - h - F_v S^T S qd`` (3,) and ``u`` (2,) are outputs; returns
+    True when the torque saturated.
     """
     q = x[:3]
     qd = x[3:6]
-    D = np.empty((3, 3))
     h = np.empty(3)
     K.mass_matrix(q, p, D)
     K.bias(q, qd, p, h)
     sat = controller_torque(q, qd, D, h, B_MATRIX, p[CONTROL_OFFSET:], u)
     for i in range(3):
-        qdd[i] = B_MATRIX[i, 0] * u[0] + B_MATRIX[i, 1] * u[1] - h[i]
-    solve_inplace(D, qdd)
+        f[i] = B_MATRIX[i, 0] * u[0] + B_MATRIX[i, 1] * u[1] - h[i]
+    damping = p[I_DAMPING_HIP]
+    if damping != 0.0:
+        for j in range(N_JOINTS):
+            w = S_MATRIX[j, 0] * qd[0] + S_MATRIX[j, 1] * qd[1] + S_MATRIX[j, 2] * qd[2]
+            for i in range(3):
+                f[i] -= damping * S_MATRIX[j, i] * w
+    return sat
+
+
+@njit(cache=True, error_model="numpy")
+def _dry(p):
+    """Dry-friction magnitudes of the joints [N m]."""
+    return np.full(N_JOINTS, p[I_COULOMB_HIP])
+
+
+@njit(cache=True, error_model="numpy")
+def closed_loop(phase, x, p, qdd, u, lam):
+    """Closed-loop accelerations, torques and dry-friction torques at state ``x`` in
+    ``phase``; returns True when the controller saturated.
+
+    Parameters
+    ----------
+    phase : int
+        phase index (the joint-mode code).
+    x : ndarray, shape (>= 6,)
+    p : ndarray
+        the ``ThreeLinkParams`` vector.
+    qdd : ndarray, shape (3,)   (output) [rad/s^2]
+    u : ndarray, shape (2,)   (output) controller torques at the hip joints, on the stance
+        and the swing leg [N m]
+    lam : ndarray, shape (2,)   (output) dry-friction torque of each joint [N m]: ``-+F_s``
+        while slipping, the holding torque while stuck
+    """
+    D = np.empty((3, 3))
+    f = np.empty(3)
+    sat = _forces(x, p, D, f, u)
+    modes = np.empty(N_JOINTS, dtype=np.int64)
+    fr.decode(phase, modes)
+    fr.accelerations(D, f, S_MATRIX, _dry(p), modes, qdd, lam)
     return sat
 
 
@@ -114,18 +193,19 @@ def closed_loop(x, p, qdd, u):
 def rhs(phase, t, x, p, dx):
     qdd = np.empty(3)
     u = np.empty(2)
-    sat = closed_loop(x, p, qdd, u)
+    lam = np.empty(N_JOINTS)
+    sat = closed_loop(phase, x, p, qdd, u, lam)
     for i in range(3):
         dx[i] = x[3 + i]
         dx[3 + i] = qdd[i]
-    # actuator power: tau . (B^T qd), B^T qd = relative hip rates
+    # actuator power: u . (B^T qd), B^T qd = relative hip rates
     dx[6] = u[0] * (x[3] - x[5]) + u[1] * (x[4] - x[5])
     dx[7] = 1.0 if sat else 0.0
 
 
 @njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
-    """df/dx by central differences (step ``JAC_STEP * max(1, |x_j|)``)."""
+    """df/dx by central differences (step ``JAC_STEP * max(1, |x_j|)``) in ``phase``."""
     n = x.shape[0]
     xp = x.copy()
     fp = np.empty(n)
@@ -142,11 +222,8 @@ def jac(phase, t, x, p, J):
 
 
 @njit(cache=True, error_model="numpy")
-def ground_reaction(x, p):
-    """Ground force on the stance foot ``(F_t, F_n)`` along and normal to the slope [N]."""
-    qdd = np.empty(3)
-    u = np.empty(2)
-    closed_loop(x, p, qdd, u)
+def _slope_frame_force(x, p, qdd):
+    """Ground force on the stance foot ``(F_t, F_n)`` for the accelerations ``qdd`` [N]."""
     F = np.empty(2)
     K.ground_reaction(x[:3], x[3:6], qdd, p, F)
     slope = p[I_SLOPE]
@@ -154,6 +231,33 @@ def ground_reaction(x, p):
         F[0] * math.cos(slope) - F[1] * math.sin(slope),
         F[0] * math.sin(slope) + F[1] * math.cos(slope),
     )
+
+
+@njit(cache=True, error_model="numpy")
+def _ground_reaction(phase, x, p):
+    qdd = np.empty(3)
+    u = np.empty(2)
+    lam = np.empty(N_JOINTS)
+    closed_loop(phase, x, p, qdd, u, lam)
+    return _slope_frame_force(x, p, qdd)
+
+
+def ground_reaction(x, p, phase=None):
+    """Ground force on the stance foot ``(F_t, F_n)`` along and normal to the slope [N].
+
+    Parameters
+    ----------
+    x : ndarray, shape (8,)
+    p : ndarray
+        the ``ThreeLinkParams`` vector.
+    phase : int, optional
+        joint-mode phase; default the phase consistent with ``x`` (:func:`start_phase`).
+    """
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    p = np.ascontiguousarray(p, dtype=np.float64)
+    if phase is None:
+        phase = start_phase(x, p)
+    return _ground_reaction(int(phase), x, p)
 
 
 @njit(cache=True, error_model="numpy")
@@ -171,11 +275,19 @@ def guards(phase, t, x, p, g):
     g[0] = swing_foot(x, p)[0]
     g[1] = psi1 + FALL_ANGLE
     g[2] = psi1 - FALL_ANGLE
-    ft, fn = ground_reaction(x, p)
+    qdd = np.empty(3)
+    u = np.empty(2)
+    lam = np.empty(N_JOINTS)
+    closed_loop(phase, x, p, qdd, u, lam)
+    ft, fn = _slope_frame_force(x, p, qdd)
     mu = p[I_FRICTION]
     g[3] = mu * fn - ft
     g[4] = mu * fn + ft
     g[5] = fn
+    modes = np.empty(N_JOINTS, dtype=np.int64)
+    fr.decode(phase, modes)
+    F = _dry(p)
+    fr.guards(S_MATRIX, F, modes, x[3:6], lam, g[N_BASE_GUARDS : N_BASE_GUARDS + 2 * N_JOINTS])
 
 
 @njit(cache=True, error_model="numpy")
@@ -216,6 +328,23 @@ def heel_strike(x, p, x_new, impulse):
 
 
 @njit(cache=True, error_model="numpy")
+def _settle(modes, free, x, p):
+    """Choose the modes of the ``free`` joints at state ``x`` (in place), project the
+    velocities of the stuck joints (in ``x``; :func:`walker.friction.settle`) and return the
+    phase; -1 if singular."""
+    D = np.empty((3, 3))
+    f = np.empty(3)
+    u = np.empty(2)
+    _forces(x, p, D, f, u)
+    qd_new = np.empty(3)
+    if not fr.settle(D, f, S_MATRIX, _dry(p), x[3:6].copy(), free, modes, qd_new):
+        return -1
+    for i in range(3):
+        x[3 + i] = qd_new[i]
+    return fr.encode(modes)
+
+
+@njit(cache=True, error_model="numpy")
 def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
@@ -225,12 +354,51 @@ def reset(phase, k, t, x, p, x_new, impulse):
         status = heel_strike(x, p, x_new, impulse)
         if status != 0:
             return EVENT_TERMINAL, phase, status
-        return EVENT_STRIDE, 0, 0
+        # every joint's mode afresh for the post-impact state
+        new_phase = _settle(
+            np.zeros(N_JOINTS, dtype=np.int64), np.ones(N_JOINTS, dtype=np.bool_), x_new, p
+        )
+        if new_phase < 0:
+            return EVENT_TERMINAL, phase, _SINGULAR
+        return EVENT_STRIDE, new_phase, 0
     if k == 1:
         return EVENT_TERMINAL, phase, _FELL_FORWARD
     if k == 2:
         return EVENT_TERMINAL, phase, _FELL_BACKWARD
-    return EVENT_TERMINAL, phase, _NONPHYSICAL
+    if k < N_BASE_GUARDS:
+        return EVENT_TERMINAL, phase, _NONPHYSICAL
+    # joint j's slip_stops (plastic lock, then every joint's mode chosen again) or
+    # stick_breaks (it slips against its holding torque, the others chosen again)
+    modes = np.empty(N_JOINTS, dtype=np.int64)
+    fr.decode(phase, modes)
+    D = np.empty((3, 3))
+    f = np.empty(3)
+    u = np.empty(2)
+    _forces(x, p, D, f, u)
+    qd_new = np.empty(3)
+    j = (k - N_BASE_GUARDS) // 2
+    breaks = (k - N_BASE_GUARDS) % 2 == 1
+    if not fr.switch(D, f, S_MATRIX, _dry(p), x[3:6].copy(), j, breaks, modes, qd_new):
+        return EVENT_TERMINAL, phase, _SINGULAR
+    for i in range(3):
+        x_new[3 + i] = qd_new[i]
+    return EVENT_CONTINUE, fr.encode(modes), 0
+
+
+@njit(cache=True, error_model="numpy")
+def start_phase(x, p):
+    """The phase consistent with state ``x``: the joints that move slip with the sign of
+    their rate, the joints at rest stick or slip as the forces decide
+    (:func:`walker.friction.choose_modes`)."""
+    D = np.empty((3, 3))
+    f = np.empty(3)
+    u = np.empty(2)
+    _forces(x, p, D, f, u)
+    modes = np.zeros(N_JOINTS, dtype=np.int64)
+    fr.choose_modes(
+        D, f, S_MATRIX, _dry(p), x[3:6].copy(), np.ones(N_JOINTS, dtype=np.bool_), modes
+    )
+    return fr.encode(modes)
 
 
 @njit(cache=True, error_model="numpy")
@@ -241,11 +409,51 @@ def energy(x, p):
 
 @njit(cache=True, error_model="numpy")
 def torques(x, p):
-    """Hip torques ``(tau_stance, tau_swing)`` [N m] the controller applies at ``x``."""
+    """Hip torques ``(tau_stance, tau_swing)`` [N m] the controller applies at ``x`` (the
+    controller does not see the friction, so they do not depend on the joint modes)."""
+    D = np.empty((3, 3))
+    f = np.empty(3)
+    u = np.empty(2)
+    _forces(x, p, D, f, u)
+    return u
+
+
+@njit(cache=True, error_model="numpy")
+def joint_torques(phase, x, p):
+    """Friction torque at each hip joint (``JOINTS`` order) in ``phase`` [N m]: the viscous
+    ``-F_v w_j`` plus the dry ``-+F_s`` while slipping or the holding torque while stuck.
+    The joint's total torque is ``torques(x, p) + joint_torques(phase, x, p)``."""
     qdd = np.empty(3)
     u = np.empty(2)
-    closed_loop(x, p, qdd, u)
-    return u
+    lam = np.empty(N_JOINTS)
+    closed_loop(phase, x, p, qdd, u, lam)
+    damping = p[I_DAMPING_HIP]
+    for j in range(N_JOINTS):
+        w = S_MATRIX[j, 0] * x[3] + S_MATRIX[j, 1] * x[4] + S_MATRIX[j, 2] * x[5]
+        lam[j] -= damping * w
+    return lam
+
+
+def phase_of(**modes: str) -> int:
+    """Phase index from joint modes (``"slip+"``, ``"slip-"``, ``"stick"``; default
+    ``"slip+"``), e.g. ``phase_of(hip_swing="stick")``."""
+    unknown = set(modes) - set(JOINTS)
+    if unknown:
+        raise ValueError(f"joint modes must be given for {JOINTS}, got {sorted(unknown)}")
+    code = 0
+    for i, name in enumerate(JOINTS):
+        label = modes.get(name, "slip+")
+        if label not in fr.MODE_LABELS:
+            raise ValueError(f"mode of `{name}` must be one of {fr.MODE_LABELS}, got {label!r}")
+        code += fr.MODE_LABELS.index(label) * fr.N_MODES**i
+    return code
+
+
+def modes_of(phase: int) -> dict[str, str]:
+    """``{joint: mode}`` of a phase index: the inverse of :func:`phase_of`."""
+    if not 0 <= phase < len(PHASE_NAMES):
+        raise ValueError(f"`phase` must be in [0, {len(PHASE_NAMES)}), got {phase}")
+    return dict(part.split("=") for part in PHASE_NAMES[phase].split()[1:])
 
 
 def lift(z, p):
