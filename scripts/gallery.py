@@ -7,7 +7,7 @@ attraction (compass gait); actuator torques and the zero dynamics (three-link wa
 Each result is also stored as HDF5 next to its figures, and the figures are drawn from those
 files (the same path ``walker plot`` takes).
 
-Usage: python scripts/gallery.py [--quick]
+Usage: python scripts/gallery.py [--quick] [JOB ...]   (JOB: a function name below)
 """
 
 from __future__ import annotations
@@ -105,12 +105,46 @@ def three_link_walk(quick):
     return _store_and_plot(sol, scene, "three_link_walk")
 
 
+def kneed_coulomb_walk(quick):
+    """Two strides of the kneed walker with dry knee and ankle friction: the knee sticks
+    where its rate reverses (the shaded stick interval in the angle plot)."""
+    scene = _scene("kneed_coulomb_hsu")
+    state = scene.reference["state"]
+    first = simulate("kneed_coulomb", scene.params, state, n_strides=2, output="events")
+    times = np.linspace(0.0, first.t, 200 if quick else 600)
+    sol = simulate(
+        "kneed_coulomb",
+        scene.params,
+        state,
+        n_strides=2,
+        output="samples",
+        sample_times=times,
+    )
+    return _store_and_plot(sol, scene, "kneed_coulomb_walk")
+
+
+JOBS = {
+    job.__name__: job
+    for job in (
+        kneed_walk,
+        simplest_branch,
+        compass_orbits,
+        compass_basin,
+        three_link_walk,
+        kneed_coulomb_walk,
+    )
+}
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--quick", action="store_true", help="coarser grids")
+    parser.add_argument(
+        "jobs", nargs="*", choices=[[], *JOBS], default=[], help="figures to redo (default all)"
+    )
     args = parser.parse_args(argv)
     OUT.mkdir(parents=True, exist_ok=True)
-    for job in (kneed_walk, simplest_branch, compass_orbits, compass_basin, three_link_walk):
+    for job in [JOBS[name] for name in args.jobs] or JOBS.values():
         t = time.perf_counter()
         paths = job(args.quick)
         print(

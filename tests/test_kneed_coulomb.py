@@ -76,7 +76,8 @@ def test_phase_names_round_trip():
 
 
 def test_zero_friction_is_the_kneed_walker():
-    """The extra guards split the integration at joint-rate zeros; nothing else changes."""
+    """Without dry friction the friction guards never fire: the same events, and the
+    accelerations agree to round-off (another elimination of the same matrices)."""
     p = KneedParams.hsu_chen()
     z = get_model("kneed").project(X_GAIT, p)
     a = StrideMap("kneed", p, **TIGHT)(z, jacobian=True)
@@ -267,3 +268,18 @@ def test_friction_modes_layer_is_shared():
     )
     code = fr.encode(np.array([fr.STICK, fr.SLIP_NEGATIVE, fr.SLIP_POSITIVE]))
     assert list(MODEL.system.directions[code, 4:]) == fr.directions(code, 3)
+
+
+def test_energy_plot_marks_impacts_not_mode_switches():
+    """The gallery's energy plot labels the energy jump at impacts; at a friction event
+    the state is continuous, so it is not marked."""
+    from walker.gallery import _impact_times
+
+    sol = simulate("kneed_coulomb", _params(coulomb_knee=0.012), X_GAIT, output="events", **TIGHT)
+    names = [MODEL.guard_names[g] for g in sol.events.guard]
+    expected = [t for t, n in zip(sol.events.t, names, strict=True) if n in IMPACTS]
+    assert {"knee_slip_stops", "knee_stick_breaks"} <= set(names)
+    assert_allclose(_impact_times(sol.events, 3), expected, rtol=0, atol=0)
+
+
+IMPACTS = ("knee_lock", "swing_foot_contact")

@@ -65,6 +65,18 @@ def walker_frames(model, params, t, x, events=None) -> np.ndarray:
     return np.array([model.points(row, p) for row in x]) + offsets[:, None, :]
 
 
+def _impact_times(events, n_q: int) -> np.ndarray | None:
+    """Times of the events that change the rates (impacts), leaving out mode switches such
+    as a joint that starts or stops sticking, where the state is continuous."""
+    if events is None:
+        return None
+    pre = np.asarray(events.x_pre)[:, n_q : 2 * n_q]
+    post = np.asarray(events.x_post)[:, n_q : 2 * n_q]
+    scale = np.maximum(1.0, np.max(np.abs(pre), axis=1)) if len(pre) else np.ones(0)
+    jumps = np.max(np.abs(post - pre), axis=1) if len(pre) else np.zeros(0)
+    return np.asarray(events.t)[jumps > 1e-9 * scale]
+
+
 def plot_solution(sol: Solution, model, params, out: Path, stem: str) -> list[Path]:
     """Angles, energy, a phase portrait, (for actuated walkers) torques and the zero
     dynamics, and (for walkers) a stick-figure GIF."""
@@ -91,7 +103,7 @@ def plot_solution(sol: Solution, model, params, out: Path, stem: str) -> list[Pa
         frames = walker_frames(model, params, traj.t, traj.x, sol.events)
         total_mass = _total_mass(params)
         potential = potential + total_mass * params.g * (frames[:, 0, 1] - frames[0, 0, 1])
-    events = sol.events.t if sol.events is not None else None
+    events = _impact_times(sol.events, n_q)
     paths.append(
         _save(
             plotting.plot_energy(traj.t, kinetic, potential, event_times=events),

@@ -30,9 +30,10 @@ stick.  After every impact the modes are chosen afresh for the post-impact state
 stuck bent cannot lock, and its foot striking the ground is a trip; a knee stuck straight
 strikes as a locked leg (the kneed walker's simultaneous knee-lock and heel-strike rule).
 
-With all three frictions zero the stride is the kneed walker's (the extra guards only split
-the integration at the joint-rate zeros).  Energy: between events ``E`` decreases by
-``sum_j F_j |delta theta_j|`` plus the viscous dampers' work.
+With all three frictions zero the stride is the kneed walker's, with the same events (a
+joint without dry friction has no friction guards; the accelerations come from the same
+matrices by another elimination, so they agree to round-off).  Energy: between events ``E``
+decreases by ``sum_j F_j |delta theta_j|`` plus the viscous dampers' work.
 
 Jacobian ``jac``: exact in every phase (:func:`walker.friction.accelerations_jacobian` with
 the generated ``dmass``, ``dbias_dq``, ``dbias_dqd`` and the linear viscous forcing).
