@@ -72,6 +72,7 @@ __all__ = [
     "encode",
     "decode",
     "accelerations",
+    "slip_force",
     "accelerations_jacobian",
     "choose_modes",
     "project_stuck",
@@ -186,6 +187,28 @@ def accelerations(D, f, S, F, modes, qdd, lam):
         else:
             lam[j] = _slip_torque(modes[j], F[j])
     return ok
+
+
+@njit(cache=True, error_model="numpy")
+def slip_force(S, F, modes, out):
+    """The generalized force of the slipping joints' dry friction, ``sum_j S_j^T tau_j``,
+    into ``out`` (n,); returns 0 if some joint is stuck (``out`` then unset), 1 if the force
+    is nonzero, -1 if it is zero (no dry friction acts).  Lets a model with no stuck joint
+    add ``D^-1 out`` to its fused frictionless accelerations instead of solving
+    :func:`accelerations`."""
+    for j in range(S.shape[0]):
+        if modes[j] == STICK:
+            return 0
+    any_force = False
+    for i in range(out.shape[0]):
+        out[i] = 0.0
+    for j in range(S.shape[0]):
+        tau = _slip_torque(modes[j], F[j])
+        if tau != 0.0:
+            any_force = True
+            for i in range(out.shape[0]):
+                out[i] += S[j, i] * tau
+    return 1 if any_force else -1
 
 
 @njit(cache=True, error_model="numpy")

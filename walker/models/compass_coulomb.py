@@ -53,6 +53,7 @@ from numba import njit
 
 from walker import friction as fr
 from walker._generated import compass as K
+from walker._linalg import solve_inplace
 from walker.models import compass as _compass
 from walker.models.compass import (
     SECTION_NAMES,
@@ -144,10 +145,22 @@ def _modes(phase):
 
 @njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
-    D, f, F, _ = _matrices(x, p)
+    modes = _modes(phase)
     qdd = np.empty(2)
-    lam = np.empty(N_JOINTS)
-    fr.accelerations(D, f, _S, F, _modes(phase), qdd, lam)
+    Q = np.empty(2)
+    kind = fr.slip_force(_S, p[I_COULOMB : I_COULOMB + N_JOINTS], modes, Q)
+    if kind == 0:  # a joint sticks: the augmented system
+        D, f, F, _ = _matrices(x, p)
+        lam = np.empty(N_JOINTS)
+        fr.accelerations(D, f, _S, F, modes, qdd, lam)
+    else:  # the fused kernel (viscous dampers included) plus D^-1 of the slip torques
+        K.accel(x[0:2], x[2:4], p, qdd)
+        if kind > 0:
+            D = np.empty((2, 2))
+            K.mass_matrix(x[0:2], p, D)
+            solve_inplace(D, Q)
+            qdd[0] += Q[0]
+            qdd[1] += Q[1]
     dx[0] = x[2]
     dx[1] = x[3]
     dx[2] = qdd[0]
@@ -192,13 +205,13 @@ def jac(phase, t, x, p, J):
 @njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
     _compass.guards(0, t, x, p, g)
-    D, f, F, qd = _matrices(x, p)
     modes = _modes(phase)
     lam = np.zeros(N_JOINTS)
-    if fr.STICK in modes:
+    if fr.STICK in modes:  # the holding torques; otherwise the guards need the rates only
+        D, f, F, _ = _matrices(x, p)
         qdd = np.empty(2)
         fr.accelerations(D, f, _S, F, modes, qdd, lam)
-    fr.guards(_S, F, modes, qd, lam, g[N_BASE_GUARDS:])
+    fr.guards(_S, p[I_COULOMB : I_COULOMB + N_JOINTS], modes, x[2:4], lam, g[N_BASE_GUARDS:])
 
 
 @njit(cache=True, error_model="numpy")

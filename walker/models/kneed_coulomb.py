@@ -44,6 +44,7 @@ from numba import njit
 
 from walker import friction as fr
 from walker._generated import kneed as K
+from walker._linalg import solve_inplace
 from walker.models import kneed as _kneed
 from walker.models.kneed import (
     SECTION_NAMES,
@@ -169,12 +170,42 @@ def _solve(base, modes, x, p, qdd, lam):
 
 
 @njit(cache=True, error_model="numpy")
+def _fast_accel(base, modes, x, p, qdd):
+    """Accelerations when no joint sticks: the fused generated kernel (viscous dampers
+    included) plus ``D^-1`` of the slip torques; False when some joint sticks."""
+    n = 3 if base == UNLOCKED else 2
+    m = 3 if base == UNLOCKED else 2
+    Q = np.empty(n)
+    S = _S_UNLOCKED if base == UNLOCKED else _S_LOCKED
+    kind = fr.slip_force(S, p[I_COULOMB : I_COULOMB + m], modes[:m], Q)
+    if kind == 0:
+        return False
+    if base == UNLOCKED:
+        K.unlocked_accel(x[0:3], x[3:6], p, qdd[:3])
+        if kind > 0:
+            D = np.empty((3, 3))
+            K.unlocked_mass_matrix(x[0:3], p, D)
+            solve_inplace(D, Q)
+    else:
+        K.locked_accel(x[0:2], x[3:5], p, qdd[:2])
+        if kind > 0:
+            D = np.empty((2, 2))
+            K.locked_mass_matrix(x[0:2], p, D)
+            solve_inplace(D, Q)
+    if kind > 0:
+        for i in range(n):
+            qdd[i] += Q[i]
+    return True
+
+
+@njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
     modes = np.empty(3, dtype=np.int64)
     base = _split(phase, modes)
     qdd = np.empty(3)
-    lam = np.empty(3)
-    _solve(base, modes, x, p, qdd, lam)
+    if not _fast_accel(base, modes, x, p, qdd):
+        lam = np.empty(3)
+        _solve(base, modes, x, p, qdd, lam)
     dx[0] = x[3]
     dx[1] = x[4]
     if base == UNLOCKED:
@@ -254,16 +285,16 @@ def guards(phase, t, x, p, g):
     modes = np.empty(3, dtype=np.int64)
     base = _split(phase, modes)
     _kneed.guards(base, t, x, p, g)
-    D, f, S, F, qd = _matrices(base, x, p)
-    m = S.shape[0]
-    lam = np.zeros(m)
+    m = 3 if base == UNLOCKED else 2
+    lam = np.zeros(3)
     stuck = False
     for j in range(m):
         stuck |= modes[j] == fr.STICK
-    if stuck:
-        qdd = np.empty(D.shape[0])
-        fr.accelerations(D, f, S, F, modes[:m], qdd, lam)
-    fr.guards(S, F, modes[:m], qd, lam, g[4 : 4 + 2 * m])
+    if stuck:  # the holding torques; otherwise the guards need the rates only
+        qdd = np.empty(3)
+        _solve(base, modes, x, p, qdd, lam)
+    S = _S_UNLOCKED if base == UNLOCKED else _S_LOCKED
+    fr.guards(S, p[I_COULOMB : I_COULOMB + m], modes[:m], x[3 : 3 + m], lam[:m], g[4 : 4 + 2 * m])
     if base == LOCKED:
         g[8] = 1.0
         g[9] = 1.0
