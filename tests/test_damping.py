@@ -7,13 +7,18 @@ kneed walker a hip damper (``qd2 - qd1``) and a swing-knee damper (``damping_kne
 in every single-support phase).  Checked here:
 
 * the energy balance ``dE/dt = -sum_j b_j w_j^2`` (the dampers' power) at random states,
-  from the symbolic models and from the generated kernels, and ``dE/dt = 0`` without damping;
+  from the symbolic models and from the generated kernels, and ``dE/dt = 0`` without damping
+  (also for the course's double pendulum, ``damping_1`` on ``qd1`` and ``damping_2`` on
+  ``qd2``, joint 2 being relative);
 * the impacts (heel strike, knee lock) do not depend on the damping;
 * Goswami's compass gait continued in ``damping_hip`` and in ``damping_ankle`` from 0: how
   its walking speed changes, where the stable gait is lost and what the walker does beyond
   (an outcome, never an exception);
 * Hsu Chen's kneed walker: a small knee or ankle damping changes the gait smoothly and
-  slows it.
+  slows it;
+* Garcia's simplest walker (massless legs: a stance-ankle damper only, dimensionless, in
+  units of ``M l^2 sqrt(g/l)``): ``dE/dt = -b l^2 sqrt(g/l) theta_dot^2`` per unit hip mass,
+  and its gait continued in ``damping_ankle`` from 0.
 
 Measured (walker DOP853; fixed points and branches at StrideMap's rtol = 1e-12, runs at
 simulate's 1e-10): the hip damper makes the Goswami compass gait walk *faster*, not slower
@@ -48,7 +53,7 @@ from numpy.testing import assert_allclose
 from walker import StrideMap
 from walker.continuation import continue_branch
 from walker.fixedpoint import find_fixed_point
-from walker.params import CompassParams, KneedParams
+from walker.params import CompassParams, DoublePendulumParams, KneedParams, SimplestParams
 from walker.scene import load_scene
 from walker.status import Status
 from walker.stride import simulate
@@ -79,16 +84,45 @@ DAMPERS = {
         (_index("kneed", "damping_hip"), lambda qd: qd[1] - qd[0]),
         (_index("kneed", "damping_ankle"), lambda qd: qd[0]),
     ],
+    # the course's double pendulum: q2 is relative to link 1, so joint 2's rate is qd2
+    "double_pendulum": [
+        (_index("double_pendulum", "damping_1"), lambda qd: qd[0]),
+        (_index("double_pendulum", "damping_2"), lambda qd: qd[1]),
+    ],
 }
 FACTORIES = {
     "compass": models.compass,
     "kneed_unlocked": models.kneed_unlocked,
     "kneed_locked": models.kneed_locked,
+    "double_pendulum": models.double_pendulum,
+}
+FAMILY = {
+    "compass": "compass",
+    "kneed_unlocked": "kneed",
+    "kneed_locked": "kneed",
+    "double_pendulum": "double_pendulum",
 }
 
 
 def _random_params(name: str, rng, *, damped: bool) -> np.ndarray:
     """A random physical parameter vector (round feet, inertias, offsets, slope)."""
+    if name == "double_pendulum":
+        l1, l2 = rng.uniform(0.3, 2.0, 2)
+        b1, b2 = rng.uniform(0.0, 5.0, 2) if damped else (0.0, 0.0)
+        p = DoublePendulumParams.course().replace(
+            mass_1=rng.uniform(0.2, 3.0),
+            mass_2=rng.uniform(0.2, 3.0),
+            inertia_1=rng.uniform(0.0, 1.0),
+            inertia_2=rng.uniform(0.0, 1.0),
+            length_1=l1,
+            length_2=l2,
+            com_1=rng.uniform(0.0, 1.0) * l1,
+            com_2=rng.uniform(0.0, 1.0) * l2,
+            g=rng.uniform(1.0, 20.0),
+            damping_1=b1,
+            damping_2=b2,
+        )
+        return p.as_array()
     if name == "compass":
         base = CompassParams.goswami()
         p = base.replace(
@@ -150,7 +184,7 @@ def test_symbolic_energy_rate_is_the_damper_power(name, damped):
     to 1e-12 of the magnitude of the terms of ``dE/dx . f``."""
     model = FACTORIES[name]()
     num = _Symbolic(model)
-    family = "compass" if name == "compass" else "kneed"
+    family = FAMILY[name]
     rng = np.random.default_rng(8 + 2 * damped + len(name))
     largest = 0.0
     for _ in range(N_STATES):
@@ -200,6 +234,10 @@ def test_generated_kernels_dissipate_the_damper_power(name):
         from walker._generated import compass as K
 
         prefix, family = "", "compass"
+    elif name == "double_pendulum":
+        from walker._generated import double_pendulum as K
+
+        prefix, family = "", "double_pendulum"
     else:
         from walker._generated import kneed as K
 
@@ -447,3 +485,122 @@ def test_small_ankle_damping_slows_the_kneed_walker():
     drops = speeds[0] - np.array(speeds[1:])
     assert drops[0] > 1e-3  # 0.01 N m s/rad already costs more than 1 mm/s
     assert drops[1] > 5 * drops[0]  # and the speed keeps falling
+
+
+# ----------------------------------------------------------------- the simplest walker
+def test_simplest_walker_energy_rate_is_the_ankle_damper_power():
+    """Garcia's walker with the stance-ankle damper, at random states and parameters:
+    ``walker.models.simplest.energy`` is ``(l^2 theta_dot^2 / 2, g l cos(theta - gamma))``
+    per unit hip mass, and along the compiled vector field (the generated ``accel``
+    kernel, through the model's ``rhs``) ``dE/dt = -b l^2 sqrt(g/l) theta_dot^2``, to 1e-12
+    of the magnitude of the terms; zero for b = 0.  With g = l = 1: ``-b theta_dot^2``."""
+    from walker.models import simplest as MS
+
+    rng = np.random.default_rng(1998)
+    largest = 0.0
+    for k in range(N_STATES):
+        slope, g, l = rng.uniform(-0.1, 0.1), rng.uniform(0.5, 10.0), rng.uniform(0.5, 2.0)
+        if k % 2 == 0:
+            g = l = 1.0
+        b = 0.0 if k < 5 else rng.uniform(0.0, 2.0)
+        p = SimplestParams(slope=slope, g=g, leg_length=l, damping_ankle=b).as_array()
+        x = np.concatenate([rng.uniform(-1.0, 1.0, 2), rng.normal(0.0, 1.0, 2)])
+        theta, theta_d = x[0], x[2]
+        kinetic, potential = MS.energy(x, p)
+        assert_allclose(kinetic, 0.5 * l * l * theta_d**2, rtol=1e-15, atol=0)
+        assert_allclose(potential, g * l * math.cos(theta - slope), rtol=1e-15, atol=1e-15)
+        dx = np.empty(4)
+        MS.rhs(0, 0.0, x, p, dx)
+        terms = np.array([l * l * theta_d * dx[2], -g * l * math.sin(theta - slope) * theta_d])
+        expected = -b * l * l * math.sqrt(g / l) * theta_d**2
+        assert_allclose(terms.sum(), expected, rtol=0, atol=TOL * np.abs(terms).sum())
+        largest = max(largest, abs(expected))
+    assert largest > 0.5  # the damper did dissipate: the check is not 0 = 0
+
+
+def _simplest_speed(z, step_time):
+    """Walking speed [l sqrt(g/l)]: step length ``2 l sin(theta*)`` over step time (the legs
+    at +-theta* from the slope normal at heel strike), with g = l = 1."""
+    return 2.0 * math.sin(z[0]) / step_time
+
+
+def test_ankle_damping_slows_the_simplest_walker_until_it_stops():
+    """Garcia's gait at gamma = 0.009 (gaits/simplest_garcia.toml) followed in
+    ``damping_ankle`` (dimensionless, units of M l^2 sqrt(g/l)) from 0.
+
+    Natural continuation from 1e-6 to 0.3.  Measured: the walking speed (step length
+    ``2 sin(theta*)`` over step time, g = l = 1) falls monotonically along the whole
+    period-one branch, step length shrinking and step time growing: 0.10249884 at b = 0
+    (Garcia's gait), 0.09785630 at 0.01, 0.07976322 at 0.05, 0.06016216 at 0.1.  Every point
+    before a period doubling at b = 0.2221955396 (multiplier -1; the same to 2e-12 for
+    continuation steps 0.005 to 0.05) is stable, every point after it unstable; at the last
+    stable point (b = 0.205) the walker moves at 34 % of Garcia's speed.  At b = 0.25 a stable
+    period-two gait (0.0038 from the unstable period-one point) takes over; further on
+    (0.27 .. 0.29) the period-two gait doubles again and the attractor becomes chaotic
+    (from the b = 0.22 gait, some values walk 1000 strides and others, 0.288 and 0.294,
+    fall forward).  Started on the last stable period-one gait of this branch
+    (b = 0.205), the walker still walks 30 strides at b = 0.23 and 0.25, falls forward
+    after 2 strides at 0.28 and after 1 at 0.3 (t = 10.956), and from b = 0.34 on (every
+    value tried up to 100) it no longer gets over its stance foot and falls backward
+    before its first heel strike -- the same outcome, stride count and time (to 2e-6) at
+    rtol 1e-8, 1e-10 and 1e-12: a status, not an exception.
+    """
+    scene = load_scene("gaits/simplest_garcia.toml")
+    base = scene.params
+    assert base.damping_ankle == 0.0
+    P0 = StrideMap("simplest", base, parameter_name="damping_ankle")
+    fp0 = find_fixed_point(P0, P0.project(scene.state))
+    assert fp0.success
+    assert_allclose(fp0.state, scene.reference["state"], rtol=0, atol=1e-9)
+
+    P = P0.with_parameter(1e-6)
+    branch = continue_branch(P, fp0.section, to=0.3, method="natural", step=0.01, max_step=0.02)
+    assert branch.status == Status.COMPLETED, branch.message
+    assert branch.parameter[-1] == 0.3
+    [flip] = branch.bifurcations
+    assert flip.kind == "period_doubling"
+    assert_allclose(flip.parameter_value, 0.2221955396, rtol=0, atol=1e-8)
+    assert np.array_equal(branch.stable, branch.parameter < flip.parameter_value)
+    assert branch.stable.sum() > 10  # the stable part is resolved, not one or two points
+
+    bs = np.concatenate([[0.0], branch.parameter])
+    zs = np.vstack([fp0.section, branch.sections])
+    ts = np.concatenate([[fp0.step_time], branch.step_times])
+    speed = np.array([_simplest_speed(z, t) for z, t in zip(zs, ts, strict=True)])
+    assert np.all(np.diff(bs) > 0)
+    assert np.all(np.diff(zs[:, 0]) < 0) and np.all(np.diff(ts) > 0)
+    assert np.all(np.diff(speed) < 0)
+    assert_allclose(speed[0], 0.10249884, rtol=1e-7, atol=0)
+    last_stable = np.flatnonzero(branch.stable)[-1]
+    assert speed[1 + last_stable] / speed[0] < 0.36
+
+    # fixed points at given damping, warm-started along the branch: the measured speeds
+    z = fp0.section
+    for b, expected in ((0.01, 0.09785630), (0.05, 0.07976322), (0.1, 0.06016216)):
+        fp = find_fixed_point(StrideMap("simplest", base.replace(damping_ankle=b)), z)
+        assert fp.success and fp.stable, (b, fp.message)
+        z = fp.section
+        assert_allclose(_simplest_speed(z, fp.step_time), expected, rtol=1e-6, atol=0)
+
+    # past the period doubling: a stable period-two gait, away from the period-one point
+    # (iterated from a 1e-3 kick off the unstable period-one point until it settles)
+    P25 = StrideMap("simplest", base.replace(damping_ankle=0.25))
+    one = find_fixed_point(P25, flip.section)
+    assert one.success and not one.stable, one.message
+    z = one.section + np.array([1e-3, 0.0])
+    for _ in range(300):
+        z = P25(z).z
+    two = find_fixed_point(P25, z, period=2)
+    assert two.success and two.stable, two.message
+    assert np.abs(two.section - one.section).max() > 2e-3
+
+    # large damping: the walker no longer walks (an outcome, not an exception)
+    x_last = P.lift(branch.sections[last_stable])
+    assert_allclose(branch.parameter[last_stable], 0.205, rtol=0, atol=1e-5)
+    sol = simulate("simplest", base.replace(damping_ankle=0.3), x_last, n_strides=30)
+    assert sol.status == Status.FELL_FORWARD and sol.n_strides == 1, sol.message
+    for b in (0.35, 1.0, 100.0):
+        sol = simulate("simplest", base.replace(damping_ankle=b), x_last, n_strides=30)
+        assert not sol.success
+        assert sol.status == Status.FELL_BACKWARD, (b, sol.message)
+        assert sol.n_strides == 0

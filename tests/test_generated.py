@@ -74,10 +74,16 @@ PARAM_RANGES = {
     # slope [rad], gravity [m/s^2]
     "slope": (-0.2, 0.2),
     "g": (1.0, 20.0),
-    # viscous joint damping [N m s/rad]
+    # viscous joint damping [N m s/rad] (the simplest walker's damping_ankle is
+    # dimensionless, in units of M l^2 sqrt(g/l))
     "damping_hip": (0.0, 5.0),
     "damping_knee": (0.0, 1.0),
     "damping_ankle": (0.0, 5.0),
+    "damping_1": (0.0, 5.0),
+    "damping_2": (0.0, 5.0),
+    # dry joint friction [N m] (in the parameter vector, read by the model, not the kernels)
+    "coulomb_1": (0.0, 5.0),
+    "coulomb_2": (0.0, 5.0),
 }
 
 GENERATED_DIR = Path(importlib.import_module("walker._generated").__file__).parent
@@ -202,6 +208,21 @@ def test_every_kernel_is_generated(name):
         }
 
 
+@pytest.mark.parametrize("name", sorted(GENERATED_MODULES))
+def test_kernel_parameter_order_is_the_params_class_order(name):
+    """Every kernel reads ``p`` in the order of the model's parameter dataclass (a prefix of
+    it: the actuated walkers append controller and friction fields the kernels do not read),
+    so ``params.as_array()`` is what the kernels expect."""
+    from walker.params import PARAMS
+
+    module = importlib.import_module(f"walker._generated.{name}")
+    names = PARAMS[name].names()
+    orders = {args["p"] for args in module.ARGUMENT_ORDER.values() if "p" in args}
+    assert orders
+    for order in orders:
+        assert names[: len(order)] == order
+
+
 def _header(name: str) -> dict:
     text = (GENERATED_DIR / f"{name}.py").read_text()
     lines = text.splitlines()
@@ -247,7 +268,8 @@ def test_generated_hash_matches_symbolic_input(name):
 # to link 1.  Link 1 at pi/2 - 0.1 from the downward vertical points at -0.1 from +x; link 2
 # at pi from the downward vertical points straight up, pi/2 from +x, so relative
 # q2 = pi/2 - (-0.1).
-COURSE_P = np.array([1.0, 1.0, 0.5, 0.5, 1.0, 1.0, 0.5, 0.5, 10.0])
+# Frictionless joints: damping_1 = damping_2 = coulomb_1 = coulomb_2 = 0.
+COURSE_P = np.array([1.0, 1.0, 0.5, 0.5, 1.0, 1.0, 0.5, 0.5, 10.0, 0.0, 0.0, 0.0, 0.0])
 COURSE_Q0 = np.array([np.pi / 2 - 0.1 - np.pi / 2, np.pi - (np.pi / 2 - 0.1)])
 
 

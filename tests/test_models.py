@@ -255,17 +255,26 @@ def test_garcia_gaits_are_fixed_points_to_1e9():
         assert_allclose(r.z, z, atol=1e-9, rtol=0)
 
 
-def test_compass_approaches_simplest_walker_as_leg_mass_vanishes():
-    """Compass gait with point masses (a = l, all leg mass at the foot, l = g = 1) and
-    beta = m/M -> 0: the fixed point approaches the simplest walker's, with a difference
-    proportional to beta."""
+@pytest.mark.parametrize("damping_ankle", [0.0, 0.05])
+def test_compass_approaches_simplest_walker_as_leg_mass_vanishes(damping_ankle):
+    """Compass gait with point masses (a = l, all leg mass at the foot, l = g = 1, hip mass
+    M = 1) and beta = m/M -> 0: the fixed point approaches the simplest walker's, with a
+    difference proportional to beta.  With a stance-ankle damper the compass gait's
+    ``damping_ankle`` [N m s/rad] equals the simplest walker's dimensionless one
+    (``M l^2 sqrt(g/l) = 1``); measured at b = 0.05: differences 1.32e-4 and 1.32e-5."""
     from walker import StrideMap
     from walker.fixedpoint import find_fixed_point
 
     gamma = 0.009
-    zs = find_fixed_point(
+    z_garcia = find_fixed_point(
         StrideMap("simplest", SimplestParams.garcia(gamma)), np.array([0.2003, -0.1998])
     ).section
+    simplest = SimplestParams.garcia(gamma).replace(damping_ankle=damping_ankle)
+    fs = find_fixed_point(StrideMap("simplest", simplest), z_garcia)
+    assert fs.success
+    zs = fs.section
+    if damping_ankle > 0:
+        assert np.abs(zs - z_garcia).max() > 0.04  # the damper moves the gait far
     diffs = []
     betas = (1e-3, 1e-4)
     for beta in betas:
@@ -279,7 +288,7 @@ def test_compass_approaches_simplest_walker_as_leg_mass_vanishes():
             slope=gamma,
             g=1.0,
             damping_hip=0.0,
-            damping_ankle=0.0,
+            damping_ankle=damping_ankle,
         )
         P = StrideMap("compass", params)
         # Garcia's theta, theta - phi: legs from the slope normal;

@@ -97,7 +97,13 @@ def _random_double_pendulum(rng) -> dict:
     }
 
 
+# The Newton-Euler chain has frictionless joints: the double pendulum's joint friction
+# parameters (damping_1, damping_2, coulomb_1, coulomb_2) are zero in these comparisons.
+FRICTIONLESS = {"damping_1": 0.0, "damping_2": 0.0, "coulomb_1": 0.0, "coulomb_2": 0.0}
+
+
 def _as_vector(p: dict, model: str) -> np.ndarray:
+    p = {**FRICTIONLESS, **p}
     return np.array([p[name] for name in models.MODEL_PARAMS[model]])
 
 

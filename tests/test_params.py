@@ -37,7 +37,7 @@ def _base(cls):
 
 # ---- canonical order and metadata --------------------------------------------------------
 def test_field_order_is_the_kernel_order():
-    assert SimplestParams.names() == ("slope", "g", "leg_length")
+    assert SimplestParams.names() == ("slope", "g", "leg_length", "damping_ankle")
     assert CompassParams.names() == (
         "mass_hip",
         "mass_leg",
@@ -81,6 +81,10 @@ def test_field_order_is_the_kernel_order():
         "com_1",
         "com_2",
         "g",
+        "damping_1",
+        "damping_2",
+        "coulomb_1",
+        "coulomb_2",
     )
     # the physical parameters first, in the order the generated kernels take them
     assert ThreeLinkParams.names()[: len(THREE_LINK_PARAMS)] == THREE_LINK_PARAMS
@@ -190,7 +194,9 @@ def test_preset_unknown_name_and_overrides():
 
 def test_garcia_preset():
     # Garcia et al. 1998: g = l = 1, stable gait studied at gamma = 0.009
-    assert SimplestParams.garcia() == SimplestParams(slope=0.009, g=1.0, leg_length=1.0)
+    assert SimplestParams.garcia() == SimplestParams(
+        slope=0.009, g=1.0, leg_length=1.0, damping_ankle=0.0
+    )
     assert SimplestParams.garcia(slope=0.01).slope == 0.01
 
 
@@ -261,7 +267,8 @@ def test_grizzle_preset():
 
 def test_course_preset():
     p = DoublePendulumParams.course()
-    assert_allclose(p.as_array(), [1, 1, 0.5, 0.5, 1, 1, 0.5, 0.5, 10], rtol=0, atol=0)
+    # the course's pendulum has frictionless joints
+    assert_allclose(p.as_array(), [1, 1, 0.5, 0.5, 1, 1, 0.5, 0.5, 10, 0, 0, 0, 0], rtol=0, atol=0)
 
 
 # ---- type and finiteness -----------------------------------------------------------------
@@ -293,6 +300,7 @@ BOUND_CASES = [
     (SimplestParams, "slope", -math.pi / 2, r"`slope` must be in \(-pi/2, pi/2\) \[rad\]"),
     (SimplestParams, "g", 0.0, r"`g` must be > 0 \[m/s\^2\], got 0.0"),
     (SimplestParams, "leg_length", -1.0, r"`leg_length` must be > 0 \[m\], got -1.0"),
+    (SimplestParams, "damping_ankle", -0.1, r"`damping_ankle` must be >= 0 \[1\], got -0.1"),
     (CompassParams, "mass_hip", -1.0, r"`mass_hip` must be > 0 \[kg\], got -1.0"),
     (CompassParams, "mass_hip", 0.0, r"`mass_hip` must be > 0 \[kg\], got 0.0"),
     (CompassParams, "mass_leg", 0.0, r"`mass_leg` must be > 0 \[kg\], got 0.0"),
@@ -340,6 +348,10 @@ BOUND_CASES = [
     (DoublePendulumParams, "com_1", -0.1, r"`com_1` must be >= 0 \[m\]"),
     (DoublePendulumParams, "com_2", -0.1, r"`com_2` must be >= 0 \[m\]"),
     (DoublePendulumParams, "g", -1.0, r"`g` must be >= 0 \[m/s\^2\], got -1.0"),
+    (DoublePendulumParams, "damping_1", -0.1, r"`damping_1` must be >= 0 \[N m s/rad\]"),
+    (DoublePendulumParams, "damping_2", -0.1, r"`damping_2` must be >= 0 \[N m s/rad\]"),
+    (DoublePendulumParams, "coulomb_1", -0.1, r"`coulomb_1` must be >= 0 \[N m\], got -0.1"),
+    (DoublePendulumParams, "coulomb_2", -1.0, r"`coulomb_2` must be >= 0 \[N m\], got -1.0"),
     (ThreeLinkParams, "mass_hip", 0.0, r"`mass_hip` must be > 0 \[kg\], got 0.0"),
     (ThreeLinkParams, "mass_leg", -5.0, r"`mass_leg` must be > 0 \[kg\], got -5.0"),
     (ThreeLinkParams, "mass_torso", -1.0, r"`mass_torso` must be >= 0 \[kg\], got -1.0"),

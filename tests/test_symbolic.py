@@ -44,8 +44,9 @@ FAMILY = {
 def random_params(family: str, rng, *, foot_radius=None, inertia=True, offsets=True):
     """A random, physically sensible parameter vector in the canonical order of ``family``.
 
-    Joint damping (the last entries of the compass and kneed vectors) is zero: these tests
-    check the conservative part (D, C, g); tests/test_damping.py checks the forcing."""
+    Joint friction (the last entries of the compass, kneed and double-pendulum vectors) is
+    zero: these tests check the conservative part (D, C, g); tests/test_damping.py and
+    tests/test_double_pendulum_friction.py check the forcing."""
     if family == "compass":
         a, b = rng.uniform(0.2, 1.0, 2)
         R = rng.uniform(0.0, 0.3) if foot_radius is None else foot_radius
@@ -100,6 +101,10 @@ def random_params(family: str, rng, *, foot_radius=None, inertia=True, offsets=T
                 rng.uniform(-0.5, 1.5) * l1,
                 rng.uniform(-0.5, 1.5) * l2,
                 rng.uniform(1.0, 20.0),
+                0.0,  # damping_1
+                0.0,  # damping_2
+                0.0,  # coulomb_1
+                0.0,  # coulomb_2
             ]
         )
     raise KeyError(family)
@@ -228,39 +233,60 @@ def test_energy_rate_detects_a_wrong_field():
     assert abs(rate) > 1e3 * TOL * scale
 
 
-def test_simplest_walker_matches_garcia():
+@pytest.mark.parametrize("damped", [False, True], ids=["garcia", "ankle_damper"])
+def test_simplest_walker_matches_garcia(damped):
     """Garcia, Chatterjee, Ruina, Coleman (1998), J. Biomech. Eng. 120:281, eqs. for
     m/M -> 0 with g = l = 1: theta_dd = sin(theta - gamma),
     phi_dd = sin(theta - gamma) + sin(phi) (theta_d^2 - cos(theta - gamma)).
     For general g, l (time unit sqrt(l/g)): theta_dd = (g/l) sin(theta - gamma),
-    phi_dd = (g/l) sin(theta - gamma) + sin(phi) (theta_d^2 - (g/l) cos(theta - gamma))."""
+    phi_dd = (g/l) sin(theta - gamma) + sin(phi) (theta_d^2 - (g/l) cos(theta - gamma)).
+
+    With the stance-ankle damper b (dimensionless, units M l^2 sqrt(g/l)), derived by hand
+    from the same limit: the stance row gains -b sqrt(g/l) theta_d, the swing row's forcing
+    is zero, and the swing row's theta_dd coefficient (1 - cos phi) carries the damper into
+    phi_dd: theta_dd += -b sqrt(g/l) theta_d, phi_dd += -b sqrt(g/l) (1 - cos phi) theta_d.
+    b = 0 is Garcia's model exactly."""
     s = models.simplest()
     accel = sp.lambdify([list(s["q"]), list(s["qd"]), list(s["params"])], s["qdd"], "numpy")
-    rng = np.random.default_rng(1998)
+    rng = np.random.default_rng(1998 + damped)
     for k in range(N_STATES):
         th, ph = rng.uniform(-1.5, 1.5, 2)
         thd, phd = rng.normal(0.0, 1.0, 2)
         gamma = rng.uniform(-0.1, 0.1)
         g, l = (1.0, 1.0) if k % 2 == 0 else tuple(rng.uniform(0.5, 10.0, 2))
+        b = rng.uniform(0.0, 2.0) if damped else 0.0
         w2 = g / l
+        damper = -b * np.sqrt(w2) * thd
         expected = [
-            w2 * np.sin(th - gamma),
-            w2 * np.sin(th - gamma) + np.sin(ph) * (thd**2 - w2 * np.cos(th - gamma)),
+            w2 * np.sin(th - gamma) + damper,
+            w2 * np.sin(th - gamma)
+            + (1.0 - np.cos(ph)) * damper
+            + np.sin(ph) * (thd**2 - w2 * np.cos(th - gamma)),
         ]
-        got = np.asarray(accel([th, ph], [thd, phd], [gamma, g, l]), dtype=float).ravel()
-        assert_allclose(got, expected, rtol=TOL, atol=TOL * (1 + thd**2 + w2))
+        got = np.asarray(accel([th, ph], [thd, phd], [gamma, g, l, b]), dtype=float).ravel()
+        assert_allclose(got, expected, rtol=TOL, atol=TOL * (1 + thd**2 + w2 + b * abs(thd)))
 
 
-def test_simplest_walker_finite_mass_conserves_energy():
-    """The finite-beta compass from which the simplest walker is the limit conserves energy."""
+@pytest.mark.parametrize("damped", [False, True], ids=["undamped", "ankle_damper"])
+def test_simplest_walker_finite_mass_energy_rate(damped):
+    """The finite-beta compass from which the simplest walker is the limit conserves energy,
+    and with the stance-ankle damper loses it at the rate ``-b l^2 sqrt(g/l) theta_d^2``
+    (per unit hip mass), at every beta."""
     s = models.simplest()
-    num = Numeric(s["model"])
-    rng = np.random.default_rng(4)
+    model = s["model"]
+    D = sp.lambdify([list(model.q), list(model.qd), list(model.params)], model.D, "numpy")
+    h = sp.lambdify([list(model.q), list(model.qd), list(model.params)], model.forced_bias, "numpy")
+    num = Numeric(model)
+    rng = np.random.default_rng(4 + damped)
     for _ in range(N_STATES):
-        p = np.array([rng.uniform(-0.1, 0.1), rng.uniform(1, 10), rng.uniform(0.5, 2), 0.01])
+        slope, g, l = rng.uniform(-0.1, 0.1), rng.uniform(1, 10), rng.uniform(0.5, 2)
+        b = rng.uniform(0.1, 2.0) if damped else 0.0
+        p = np.array([slope, g, l, b, rng.uniform(1e-3, 1.0)])
         q, qd = rng.uniform(-1, 1, 2), rng.normal(0, 1, 2)
-        rate, scale = num.energy_rate(q, qd, num.passive_accel(q, qd, p), p)
-        assert abs(rate) <= TOL * scale
+        qdd = np.linalg.solve(np.asarray(D(q, qd, p), float), -np.asarray(h(q, qd, p), float))
+        rate, scale = num.energy_rate(q, qd, qdd.ravel(), p)
+        expected = -b * l**2 * np.sqrt(g / l) * qd[0] ** 2
+        assert_allclose(rate, expected, rtol=0, atol=TOL * scale)
 
 
 # ------------------------------------------------------------------ published closed forms
@@ -413,26 +439,42 @@ def test_locked_kneed_walker_is_a_compass_gait(foot_radius):
         assert_allclose(Gk, compass.G(q, qd, pc), rtol=TOL, atol=TOL * np.abs(Gk).max())
 
 
-def test_compass_with_vanishing_leg_mass_is_the_simplest_walker():
+@pytest.mark.parametrize("damped", [False, True], ids=["undamped", "ankle_damper"])
+def test_compass_with_vanishing_leg_mass_is_the_simplest_walker(damped):
     """Compass with leg masses beta at the feet (com_from_foot = 0), hip mass 1, no inertia,
     point feet: as beta -> 0 its accelerations, in Garcia's coordinates theta = q_stance +
     slope, phi = q_stance - q_swing, approach the simplest walker's.  The error is O(beta):
-    with beta = 1e-9 the tolerance is 1e-7 relative."""
-    compass = Numeric(models.compass())
+    with beta = 1e-9 the tolerance is 1e-7 relative.
+
+    Damped: the compass gait's ``damping_ankle`` [N m s/rad] set to ``b M l^2 sqrt(g/l)``
+    (M = 1) is the simplest walker's dimensionless ``damping_ankle = b``, in both rows --
+    the swing equation's ``-b (1 - cos phi) theta_d`` included; the hip damper stays 0 (a
+    finite hip torque on the massless swing leg has no limit)."""
+    compass = models.compass()
+    args = [list(compass.q), list(compass.qd), list(compass.params)]
+    D = sp.lambdify(args, compass.D, "numpy")
+    h = sp.lambdify(args, compass.forced_bias, "numpy")
     s = models.simplest()
     accel = sp.lambdify([list(s["q"]), list(s["qd"]), list(s["params"])], s["qdd"], "numpy")
-    rng = np.random.default_rng(9)
+    rng = np.random.default_rng(9 + damped)
     beta = 1e-9
+    largest = 0.0
     for _ in range(N_STATES):
         slope, g, l = rng.uniform(-0.1, 0.1), rng.uniform(1, 10), rng.uniform(0.5, 2)
-        pc = np.array([1.0, beta, 0.0, l, 0.0, 0.0, slope, g, 0.0, 0.0])
+        b = rng.uniform(0.1, 2.0) if damped else 0.0
+        pc = np.array([1.0, beta, 0.0, l, 0.0, 0.0, slope, g, 0.0, b * l**2 * np.sqrt(g / l)])
         q, qd = rng.uniform(-1, 1, 2), rng.normal(0, 1, 2)
-        qdd = compass.passive_accel(q, qd, pc)
+        qdd = np.linalg.solve(np.asarray(D(q, qd, pc), float), -np.asarray(h(q, qd, pc), float))
+        qdd = qdd.ravel()
         got = [qdd[0], qdd[0] - qdd[1]]
         theta = [q[0] + slope, q[0] - q[1]]
         theta_d = [qd[0], qd[0] - qd[1]]
-        expected = np.asarray(accel(theta, theta_d, [slope, g, l]), dtype=float).ravel()
-        assert_allclose(got, expected, rtol=1e-7, atol=1e-7 * (g / l + qd[0] ** 2))
+        expected = np.asarray(accel(theta, theta_d, [slope, g, l, b]), dtype=float).ravel()
+        scale = g / l + qd[0] ** 2 + b * np.sqrt(g / l) * abs(qd[0])
+        assert_allclose(got, expected, rtol=1e-7, atol=1e-7 * scale)
+        largest = max(largest, b * np.sqrt(g / l) * abs(qd[0]))
+    if damped:
+        assert largest > 1.0  # the damper term is far above the tolerance
 
 
 @pytest.mark.parametrize("name", ["compass", "kneed_unlocked", "kneed_locked"])

@@ -289,6 +289,24 @@ class SimplestParams(_Params):
         gravitational acceleration [m/s^2], > 0.
     leg_length : float
         leg length l [m], > 0.
+    damping_ankle : float
+        viscous stance-ankle damping b [1], >= 0, dimensionless in units of
+        ``M l^2 sqrt(g/l)`` (M the hip mass): the torque ``-b M l^2 sqrt(g/l) theta_dot`` acts
+        on the stance leg relative to the slope, in the swing phase (not in the heel-strike
+        impact), so that with g = l = 1 the stance equation reads
+        ``theta'' = sin(theta - gamma) - b theta'``.  0: Garcia's passive walker.
+
+    Notes
+    -----
+    Joint friction.  The legs are massless (the ``m/M -> 0`` limit), so a joint torque that
+    acts on the swing leg has no finite meaning: a finite hip torque on a massless leg gives
+    it an unbounded acceleration, and only torques that vanish with ``m`` survive the limit.
+    There is therefore no hip damper and no hip friction in this model.  The stance ankle
+    acts on the stance leg, which carries the hip mass ``M``, so a viscous ankle damper is
+    admissible and provided (``damping_ankle``; derived as the limit of the compass gait's
+    ``damping_ankle``, :func:`walker.symbolic.models.simplest`).  Dry (Coulomb) ankle friction
+    is not provided: use the ``compass_coulomb`` model with a small leg mass
+    (``CompassCoulombParams``, ``mass_leg / mass_hip`` small, ``coulomb_ankle``) for that case.
 
     References
     ----------
@@ -302,16 +320,23 @@ class SimplestParams(_Params):
     slope: float = _slope_field()
     g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
     leg_length: float = _param("m", "leg length, hip to foot", 0.0, lo_open=True)
+    damping_ankle: float = _param(
+        "1",
+        "viscous stance-ankle damping in units of M l^2 sqrt(g/l): torque "
+        "-b M l^2 sqrt(g/l) theta_dot on the stance leg",
+        0.0,
+    )
 
     @classmethod
     def garcia(cls, slope: float = 0.009) -> SimplestParams:
         """Dimensionless set g = l = 1 of Garcia et al. 1998 [1]_; their stable gait is at 0.009.
+        The published model is undamped (``damping_ankle = 0``).
 
         References
         ----------
         .. [1] Garcia, Chatterjee, Ruina, Coleman, J. Biomech. Eng. 120:281, 1998.
         """
-        return cls(slope=slope, g=1.0, leg_length=1.0)
+        return cls(slope=slope, g=1.0, leg_length=1.0, damping_ankle=0.0)
 
 
 # ------------------------------------------------------------------------------------------
@@ -795,6 +820,17 @@ class DoublePendulumParams(_Params):
         proximal joint to the link's centre of mass [m], in [0, length_i].
     g : float
         gravitational acceleration [m/s^2], >= 0.
+    damping_1, damping_2 : float
+        viscous damping F_v of joint 1 (ground to link 1, rate ``w1 = qd1``) and joint 2
+        (link 1 to link 2, rate ``w2 = qd2``, ``q2`` being relative) [N m s/rad], >= 0: the
+        torque ``-b_j w_j`` on the distal link and its opposite on the proximal one.
+    coulomb_1, coulomb_2 : float
+        Coulomb (dry) friction torque F_s of joint 1 and joint 2 [N m], >= 0: ``-F_s sgn(w_j)``
+        while the joint slips, whatever torque up to F_s holds it while it sticks; stick and
+        slip are phases and events (:mod:`walker.models.double_pendulum`), not a smooth
+        approximation of ``sgn``.
+
+    All four zero (the course's preset) is the conservative double pendulum.
 
     References
     ----------
@@ -813,6 +849,10 @@ class DoublePendulumParams(_Params):
     com_1: float = _param("m", "origin to link 1's centre of mass", 0.0)
     com_2: float = _param("m", "elbow to link 2's centre of mass", 0.0)
     g: float = _param("m/s^2", "gravitational acceleration", 0.0)
+    damping_1: float = _damping_field("first (ground to link 1)", "qd1")
+    damping_2: float = _damping_field("second (link 1 to link 2)", "qd2")
+    coulomb_1: float = _coulomb_field("first (ground to link 1)", "qd1")
+    coulomb_2: float = _coulomb_field("second (link 1 to link 2)", "qd2")
 
     def _check_relations(self) -> None:
         for i in (1, 2):
@@ -826,7 +866,8 @@ class DoublePendulumParams(_Params):
 
     @classmethod
     def course(cls) -> DoublePendulumParams:
-        """The course's energy-check pendulum [1]_: m = 1, I = 0.5, l = 1, a = 0.5, g = 10.
+        """The course's energy-check pendulum [1]_: m = 1, I = 0.5, l = 1, a = 0.5, g = 10;
+        frictionless joints (``damping_* = coulomb_* = 0``).
 
         References
         ----------
@@ -842,6 +883,10 @@ class DoublePendulumParams(_Params):
             com_1=0.5,
             com_2=0.5,
             g=10.0,
+            damping_1=0.0,
+            damping_2=0.0,
+            coulomb_1=0.0,
+            coulomb_2=0.0,
         )
 
 

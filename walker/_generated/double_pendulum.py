@@ -1,10 +1,10 @@
 # generated, do not edit: walker kernels for `double_pendulum`
-# input hash: sha256:728039fa0d577824d9ef1b7a65cb3634b46f1615107d23600400eed94188b857
+# input hash: sha256:8bc88c67611405c10247b2a55fecc1cee0746fdd047d2b9edfb4a31f594b5604
 # sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
 # argument order:
 #   q = [q1, q2]
 #   qd = [q1_dot, q2_dot]
-#   p = [mass_1, mass_2, inertia_1, inertia_2, length_1, length_2, com_1, com_2, g]
+#   p = [mass_1, mass_2, inertia_1, inertia_2, length_1, length_2, com_1, com_2, g, damping_1, damping_2, coulomb_1, coulomb_2]
 # kernels:
 #   accel(q, qd, p)
 #   accel_jac(q, qd, p)
@@ -12,6 +12,7 @@
 #   coriolis(q, qd, p)
 #   gravity(q, p)
 #   bias(q, qd, p)
+#   forcing(q, qd, p)
 #   dmass(q, p)
 #   dbias_dq(q, qd, p)
 #   dbias_dqd(q, qd, p)
@@ -27,12 +28,12 @@ import math  # noqa: F401
 
 from numba import njit
 
-KERNEL_HASH = "728039fa0d577824d9ef1b7a65cb3634b46f1615107d23600400eed94188b857"
-ARGUMENT_ORDER = {'accel': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'accel_jac': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'mass_matrix': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'coriolis': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'gravity': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'bias': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dmass': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dq': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'dbias_dqd': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'kinetic': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'potential': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}, 'points': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g')}}
+KERNEL_HASH = "8bc88c67611405c10247b2a55fecc1cee0746fdd047d2b9edfb4a31f594b5604"
+ARGUMENT_ORDER = {'accel': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g', 'damping_1', 'damping_2', 'coulomb_1', 'coulomb_2')}, 'accel_jac': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g', 'damping_1', 'damping_2', 'coulomb_1', 'coulomb_2')}, 'mass_matrix': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g', 'damping_1', 'damping_2', 'coulomb_1', 'coulomb_2')}, 'coriolis': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g', 'damping_1', 'damping_2', 'coulomb_1', 'coulomb_2')}, 'gravity': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g', 'damping_1', 'damping_2', 'coulomb_1', 'coulomb_2')}, 'bias': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g', 'damping_1', 'damping_2', 'coulomb_1', 'coulomb_2')}, 'forcing': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g', 'damping_1', 'damping_2', 'coulomb_1', 'coulomb_2')}, 'dmass': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g', 'damping_1', 'damping_2', 'coulomb_1', 'coulomb_2')}, 'dbias_dq': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g', 'damping_1', 'damping_2', 'coulomb_1', 'coulomb_2')}, 'dbias_dqd': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g', 'damping_1', 'damping_2', 'coulomb_1', 'coulomb_2')}, 'kinetic': {'q': ('q1', 'q2'), 'qd': ('q1_dot', 'q2_dot'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g', 'damping_1', 'damping_2', 'coulomb_1', 'coulomb_2')}, 'potential': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g', 'damping_1', 'damping_2', 'coulomb_1', 'coulomb_2')}, 'points': {'q': ('q1', 'q2'), 'p': ('mass_1', 'mass_2', 'inertia_1', 'inertia_2', 'length_1', 'length_2', 'com_1', 'com_2', 'g', 'damping_1', 'damping_2', 'coulomb_1', 'coulomb_2')}}
 
 @njit(cache=True, error_model="numpy")
 def accel(q, qd, p, out):
-    """Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,)."""
+    """Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,)."""
     q1 = q[0]
     q2 = q[1]
     q1_dot = qd[0]
@@ -45,6 +46,8 @@ def accel(q, qd, p, out):
     com_1 = p[6]
     com_2 = p[7]
     g = p[8]
+    damping_1 = p[9]
+    damping_2 = p[10]
     x0 = math.cos(q1)
     x1 = x0*x0
     x2 = com_1*com_1*mass_1
@@ -69,8 +72,8 @@ def accel(q, qd, p, out):
     d00 = inertia_1 + x1*x2 + x1*x5 + 2*x11 + 2*x15 + x17 + x2*x4 + x4*x5
     d10 = x11 + x15 + x17
     d11 = x17
-    h0 = com_1*g*mass_1*x0 + q2_dot*x20 + q2_dot*(q2_dot*x19 + x20) + x18*(x6 + x9)
-    h1 = -q1_dot*q1_dot*x19 + x18*x9
+    h0 = com_1*g*mass_1*x0 + damping_1*q1_dot + q2_dot*x20 + q2_dot*(q2_dot*x19 + x20) + x18*(x6 + x9)
+    h1 = damping_2*q2_dot - q1_dot*q1_dot*x19 + x18*x9
     l00 = math.sqrt(d00)
     l10 = (d10)/l00
     l11 = math.sqrt(d11 - l10*l10)
@@ -97,6 +100,8 @@ def accel_jac(q, qd, p, out):
     com_1 = p[6]
     com_2 = p[7]
     g = p[8]
+    damping_1 = p[9]
+    damping_2 = p[10]
     x0 = math.cos(q1)
     x1 = x0*x0
     x2 = com_1*com_1*mass_1
@@ -134,8 +139,8 @@ def accel_jac(q, qd, p, out):
     d00 = inertia_1 + x1*x2 + x1*x5 + 2*x11 + 2*x16 + x18 + x2*x4 + x4*x5
     d10 = x18 + x19
     d11 = x18
-    h0 = q2_dot*x25 + q2_dot*(x25 + x26) + x0*x20 + x21*(x6 + x9)
-    h1 = x21*x9 + x27*x28
+    h0 = damping_1*q1_dot + q2_dot*x25 + q2_dot*(x25 + x26) + x0*x20 + x21*(x6 + x9)
+    h1 = damping_2*q2_dot + x21*x9 + x27*x28
     dD0_00 = 0
     dD0_10 = 0
     dD0_11 = 0
@@ -143,13 +148,13 @@ def accel_jac(q, qd, p, out):
     dD1_10 = x24
     dD1_11 = 0
     hq0_0 = g*mass_2*(-x12 - x14) - x20*x3
-    hv0_0 = x29
+    hv0_0 = damping_1 + x29
     hq1_0 = x31
     hv1_0 = 2*q1_dot*x28
     hq0_1 = q2_dot*x33 + q2_dot*(q2_dot*x32 + x33) + x31
     hv0_1 = 2*x25 + x29
     hq1_1 = x19*x27 - x30
-    hv1_1 = 0
+    hv1_1 = damping_2
     l00 = math.sqrt(d00)
     l10 = (d10)/l00
     l11 = math.sqrt(d11 - l10*l10)
@@ -276,6 +281,17 @@ def bias(q, qd, p, out):
     x6 = q1_dot*x5
     out[0] = com_1*g*mass_1*x0 + q2_dot*x6 + q2_dot*(q2_dot*x5 + x6) + x4*(x1 + x3)
     out[1] = -q1_dot*q1_dot*x5 + x3*x4
+
+
+@njit(cache=True, error_model="numpy")
+def forcing(q, qd, p, out):
+    """Generalized joint-damping forces Q(q, qd), out (n,); power Q.qd <= 0."""
+    q1_dot = qd[0]
+    q2_dot = qd[1]
+    damping_1 = p[9]
+    damping_2 = p[10]
+    out[0] = -damping_1*q1_dot
+    out[1] = -damping_2*q2_dot
 
 
 @njit(cache=True, error_model="numpy")

@@ -4,7 +4,20 @@ functions for the hybrid integrator.
 State ``x = (theta, phi, theta_dot, phi_dot)`` in Garcia's coordinates: ``theta`` is the
 stance leg's angle from the slope normal (positive just after heel strike), ``phi`` the swing
 leg's angle relative to the stance leg.  The equations are the ``m/M -> 0`` limit of the
-point-mass compass gait, derived in :func:`walker.symbolic.models.simplest`.
+point-mass compass gait, derived in :func:`walker.symbolic.models.simplest`.  Parameters:
+:class:`walker.params.SimplestParams` ``(slope, g, leg_length, damping_ankle)``.
+
+Stance-ankle damper ``b = damping_ankle`` (dimensionless, in units of ``M l^2 sqrt(g/l)``; 0
+in Garcia's model): with ``g = l = 1``
+
+    theta'' = sin(theta - gamma) - b theta',
+    phi''   = sin(theta - gamma) - b (1 - cos phi) theta'
+              + sin(phi) (theta'^2 - cos(theta - gamma)),
+
+the damper reaching the swing equation only through the hip's acceleration (the limit of
+the compass gait's ``damping_ankle``).  Energy per unit hip mass, :func:`energy`:
+``E = l^2 theta'^2 / 2 + g l cos(theta - gamma)``, ``dE/dt = -b l^2 sqrt(g/l) theta'^2``.
+The massless legs admit no hip damper or friction (see :class:`walker.params.SimplestParams`).
 
 Guards, in priority order:
 

@@ -28,7 +28,15 @@ joint's relative rate ``w`` with equal and opposite torques ``-b w`` on the dist
   ``-b qd_stance`` on the stance leg, in every single-support phase.  A point foot cannot
   transmit a torque; the damper stands for a passive ankle with a foot flat on the slope, or
   for rolling resistance (the course's ``D qdd + C qd + g = -F_v qd`` with ``F_v`` on the
-  stance coordinate).
+  stance coordinate);
+* the simplest walker, ``damping_ankle`` only (dimensionless, in units of
+  ``M l^2 sqrt(g/l)``): its legs are massless, so a finite torque on the swing leg (a hip
+  damper) has no limit; the stance-ankle damper acts on the stance leg carrying ``M`` and is
+  derived with the limit (:func:`simplest`);
+* the course's double pendulum, ``damping_1`` on ``w1 = qd1`` (ground to link 1) and
+  ``damping_2`` on ``w2 = qd2`` (link 1 to link 2, ``q2`` being relative).  Its dry
+  frictions ``coulomb_1``, ``coulomb_2`` are in the parameter vector but not in the smooth
+  model: stick and slip are phases (:mod:`walker.models.double_pendulum`).
 
 The floating-base (``*_extended``) models serve only the impulsive heel strike, where a
 finite damping torque transmits no impulse; they carry no forcing (they read the parameter
@@ -58,7 +66,7 @@ __all__ = [
 # Canonical parameter order of every model: the order of the fields of the matching
 # dataclass in walker.params and of the vector ``p`` the generated kernels take.
 MODEL_PARAMS = {
-    "simplest": ("slope", "g", "leg_length"),
+    "simplest": ("slope", "g", "leg_length", "damping_ankle"),
     "compass": (
         "mass_hip",
         "mass_leg",
@@ -100,6 +108,10 @@ MODEL_PARAMS = {
         "com_1",
         "com_2",
         "g",
+        "damping_1",
+        "damping_2",
+        "coulomb_1",
+        "coulomb_2",
     ),
 }
 
@@ -143,14 +155,31 @@ def simplest() -> dict:
     1998, J. Biomech. Eng. 120:281).  Both rows are exactly linear in ``beta`` after the
     scaling, so the limit is a substitution.
 
+    Stance-ankle damper: the finite model carries the compass gait's stance-ankle damper,
+    the Rayleigh forcing of ``R = 1/2 c theta_dot^2`` with ``c = b M l^2 sqrt(g/l)`` (``b`` the
+    dimensionless ``damping_ankle``, ``M = 1``): a torque ``-c theta_dot`` on the stance leg
+    relative to the slope, so ``Q = (-c theta_dot, 0)``.  In the stance row it survives the
+    limit, ``theta_ddot = (g/l) sin(theta - gamma) - b sqrt(g/l) theta_dot``.  The swing row
+    carries no forcing (``Q_phi = 0``: the damper does no work on ``phi``), so after the
+    division by ``m`` it is the undamped swing row; the damper enters ``phi_ddot`` only
+    through ``theta_ddot`` (the hip's acceleration drives the massless swing leg's foot):
+    ``phi_ddot = (1 - cos phi) theta_ddot + sin(theta - phi - gamma) (g/l)
+    + sin(phi) theta_dot^2``, i.e. with ``g = l = 1``
+    ``phi_ddot = sin(theta - gamma) - b (1 - cos phi) theta_dot
+    + sin(phi) (theta_dot^2 - cos(theta - gamma))``.  A forcing on the swing row that does
+    not vanish with ``m`` (a finite hip torque on the massless swing leg) has no limit; the
+    derivation refuses it.
+
     Returns
     -------
-    dict with keys ``q``, ``qd``, ``params``, ``qdd`` (Matrix (2, 1), the accelerations
-    ``(theta_ddot, phi_ddot)``), ``model`` (the finite-``beta`` LagrangianModel), ``beta``.
+    dict with keys ``q``, ``qd``, ``params`` (``slope, g, leg_length, damping_ankle``),
+    ``qdd`` (Matrix (2, 1), the accelerations ``(theta_ddot, phi_ddot)``), ``model`` (the
+    finite-``beta`` LagrangianModel, parameters ``slope, g, leg_length, damping_ankle,
+    beta``), ``beta``.
     """
     theta, phi = sp.symbols("theta phi", real=True)
     thetad, phid = sp.symbols("theta_dot phi_dot", real=True)
-    slope, g, l = param_symbols("simplest")
+    slope, g, l, damping_ankle = param_symbols("simplest")
     beta = sp.Symbol("beta", positive=True)
     # Work in the slope frame rotated into the world: stance foot at the origin.
     s, n = _slope_frame(slope)
@@ -160,20 +189,30 @@ def simplest() -> dict:
     swing_angle = theta - phi  # swing leg from the normal
     foot = hip - l * (-sp.sin(swing_angle) * s + sp.cos(swing_angle) * n)
     bodies = [Body("hip", sp.S.One, hip), Body("swing_foot", beta, foot)]
+    # The stance ankle's rate is theta_dot (the slope does not rotate); its coefficient in
+    # N m s/rad per unit hip mass is b l^2 sqrt(g/l) = b l sqrt(g l).
+    forcing = rayleigh_forcing((thetad, phid), [(damping_ankle * l * sp.sqrt(g * l), thetad)])
     model = derive(
         "simplest_finite",
         (theta, phi),
         (thetad, phid),
         bodies,
         g,
-        (slope, g, l, beta),
+        (slope, g, l, damping_ankle, beta),
         points={"hip": hip, "swing_foot": foot},
+        forcing=forcing,
     )
-    # D qdd + h = 0.  Stance row: take beta -> 0.  Swing row: divide by beta, then beta -> 0.
+    # D qdd + (h - Q) = 0.  Stance row: take beta -> 0.  Swing row: divide by beta, then
+    # beta -> 0; its forcing must vanish with beta for the limit to exist.
     D0 = model.D.subs(beta, 0)
-    h0 = model.bias.subs(beta, 0)
+    h0 = model.forced_bias.subs(beta, 0)
     Dsw = (model.D[1, :] / beta).applyfunc(sp.expand).subs(beta, 0)
-    hsw = sp.expand(model.bias[1] / beta).subs(beta, 0)
+    hsw = sp.expand(model.forced_bias[1] / beta).subs(beta, 0)
+    if hsw.has(sp.zoo, sp.oo, sp.nan):
+        raise ValueError(
+            "simplest walker: the swing row's forcing must vanish with beta = m/M (a finite "
+            "torque on the massless swing leg has no limit)"
+        )
     # Row 0 (beta = 0) involves theta_ddot only; row 1 then gives phi_ddot.
     thdd = sp.Symbol("theta_ddot")
     phdd = sp.Symbol("phi_ddot")
@@ -186,7 +225,7 @@ def simplest() -> dict:
     return {
         "q": (theta, phi),
         "qd": (thetad, phid),
-        "params": (slope, g, l),
+        "params": (slope, g, l, damping_ankle),
         "qdd": qdd,
         "model": model,
         "beta": beta,
@@ -431,7 +470,7 @@ def double_pendulum() -> LagrangianModel:
     """The course's double pendulum: link 1 hinged at the origin, ``q1`` from the +x axis,
     ``q2`` relative to link 1 (the planar elbow manipulator's coordinates, Spong et al.)."""
     params = param_symbols("double_pendulum")
-    m1, m2, I1, I2, l1, l2, c1, c2, g = params
+    m1, m2, I1, I2, l1, l2, c1, c2, g, damping_1, damping_2 = params[:11]
     (q1, q2), (q1d, q2d) = _coords(("q1", "q2"))
     e1 = sp.Matrix([sp.cos(q1), sp.sin(q1)])
     e12 = sp.Matrix([sp.cos(q1 + q2), sp.sin(q1 + q2)])
@@ -441,20 +480,36 @@ def double_pendulum() -> LagrangianModel:
         Body("link_2", m2, elbow + c2 * e12, q1 + q2, I2),
     ]
     points = {"elbow": elbow, "tip": elbow + l2 * e12}
-    return derive("double_pendulum", (q1, q2), (q1d, q2d), bodies, g, params, points=points)
+    # joint 1: link 1 relative to the ground, w1 = q1d; joint 2: link 2 relative to link 1,
+    # w2 = q2d (q2 is already relative).  The dry frictions (coulomb_1, coulomb_2) are not
+    # part of the smooth model: stick and slip are phases of walker.models.double_pendulum.
+    forcing = rayleigh_forcing((q1d, q2d), [(damping_1, q1d), (damping_2, q2d)])
+    return derive(
+        "double_pendulum",
+        (q1, q2),
+        (q1d, q2d),
+        bodies,
+        g,
+        params,
+        points=points,
+        forcing=forcing,
+    )
 
 
 @cache
 def planar_elbow() -> LagrangianModel:
-    """The planar elbow manipulator: the double pendulum with a torque at each joint."""
+    """The planar elbow manipulator: the double pendulum with a torque at each joint (and
+    the double pendulum's viscous joint dampers)."""
     dp = double_pendulum()
+    g = dp.params[MODEL_PARAMS["double_pendulum"].index("g")]
     return derive(
         "planar_elbow",
         dp.q,
         dp.qd,
         dp.bodies,
-        dp.params[-1],
+        g,
         dp.params,
         points=dp.points,
         B=sp.eye(2),
+        forcing=dp.forcing,
     )
