@@ -81,6 +81,8 @@ __all__ = [
     "guards",
     "directions",
     "mode_names",
+    "code_of",
+    "labels_of",
 ]
 
 SLIP_POSITIVE, SLIP_NEGATIVE, STICK = 0, 1, 2
@@ -450,3 +452,29 @@ def mode_names(code: int, joints: tuple[str, ...]) -> str:
         parts.append(f"{name}={MODE_LABELS[code % N_MODES]}")
         code //= N_MODES
     return " ".join(parts)
+
+
+def code_of(joints: tuple[str, ...], modes: dict[str, str]) -> int:
+    """Mode code from ``{joint: label}`` (labels ``"slip+"``, ``"slip-"``, ``"stick"``;
+    a joint not given is ``"slip+"``), validated (Python side, for a model's ``phase_of``)."""
+    unknown = set(modes) - set(joints)
+    if unknown:
+        raise ValueError(f"joint modes must be given for {joints}, got {sorted(unknown)}")
+    code = 0
+    for i, name in enumerate(joints):
+        label = modes.get(name, "slip+")
+        if label not in MODE_LABELS:
+            raise ValueError(f"mode of `{name}` must be one of {MODE_LABELS}, got {label!r}")
+        code += MODE_LABELS.index(label) * N_MODES**i
+    return code
+
+
+def labels_of(code: int, joints: tuple[str, ...]) -> dict[str, str]:
+    """``{joint: label}`` of a mode code: the inverse of :func:`code_of`."""
+    if not 0 <= code < N_MODES ** len(joints):
+        raise ValueError(f"`phase` must be in [0, {N_MODES ** len(joints)}), got {code}")
+    out = {}
+    for name in joints:
+        out[name] = MODE_LABELS[code % N_MODES]
+        code //= N_MODES
+    return out

@@ -1382,7 +1382,8 @@ HAS_EVENTS: dict[str, bool] = {
     "compass_coulomb": True,
     "kneed_coulomb": True,
 }
-"""Model name -> whether the model has guards and resets (strides)."""
+"""Model name -> whether the model walks: it has heel strikes, so runs count strides (the
+double pendulum has events too, its joint-friction mode switches, but no strides)."""
 
 
 def params_class(model_name: str) -> type[_Params]:

@@ -62,7 +62,8 @@ def simulate(
     x0 : array_like, shape (n_x,)
         initial state in the model's state order (``get_model(name).state_names``).
     n_strides : int
-        heel strikes to complete; 0 integrates to ``t_max`` (models without events).
+        heel strikes to complete; 0 integrates to ``t_max`` (models without strides, such as
+        the double pendulum).
     phase0 : int, optional
         phase to start in; default the model's phase for ``x0``
         (:meth:`walker.models.WalkerModel.start_phase`: 0, except for models with joint

@@ -271,20 +271,9 @@ def start_phase(x, p):
 def phase_of(**modes: str) -> int:
     """Phase index from joint modes (``"slip+"``, ``"slip-"``, ``"stick"``; default
     ``"slip+"``), e.g. ``phase_of(ankle="slip-", hip="stick")``."""
-    unknown = set(modes) - set(JOINTS)
-    if unknown:
-        raise ValueError(f"joint modes must be given for {JOINTS}, got {sorted(unknown)}")
-    code = 0
-    for i, name in enumerate(JOINTS):
-        label = modes.get(name, "slip+")
-        if label not in fr.MODE_LABELS:
-            raise ValueError(f"mode of `{name}` must be one of {fr.MODE_LABELS}, got {label!r}")
-        code += fr.MODE_LABELS.index(label) * fr.N_MODES**i
-    return code
+    return fr.code_of(JOINTS, modes)
 
 
 def modes_of(phase: int) -> dict[str, str]:
     """{joint: mode} of a phase index: the inverse of :func:`phase_of`."""
-    if not 0 <= phase < len(PHASE_NAMES):
-        raise ValueError(f"`phase` must be in [0, {len(PHASE_NAMES)}), got {phase}")
-    return dict(part.split("=") for part in PHASE_NAMES[phase].split()[1:])
+    return fr.labels_of(phase, JOINTS)

@@ -372,22 +372,15 @@ def phase_of(base: str, **modes: str) -> int:
     ``phase_of("unlocked", knee="stick")``."""
     if base not in ("unlocked", "locked"):
         raise ValueError(f"`base` must be 'unlocked' or 'locked', got {base!r}")
-    joints = JOINTS if base == "unlocked" else JOINTS[:2]
-    unknown = set(modes) - set(joints)
-    if unknown:
-        raise ValueError(f"joint modes must be given for {joints}, got {sorted(unknown)}")
-    code = 0
-    for i, name in enumerate(joints):
-        label = modes.get(name, "slip+")
-        if label not in fr.MODE_LABELS:
-            raise ValueError(f"mode of `{name}` must be one of {fr.MODE_LABELS}, got {label!r}")
-        code += fr.MODE_LABELS.index(label) * fr.N_MODES**i
-    return code if base == "unlocked" else N_UNLOCKED + code
+    if base == "unlocked":
+        return fr.code_of(JOINTS, modes)
+    return N_UNLOCKED + fr.code_of(JOINTS[:2], modes)
 
 
 def modes_of(phase: int) -> tuple[str, dict[str, str]]:
     """(base, {joint: mode}) of a phase index: the inverse of :func:`phase_of`."""
     if not 0 <= phase < len(PHASE_NAMES):
         raise ValueError(f"`phase` must be in [0, {len(PHASE_NAMES)}), got {phase}")
-    base, _, rest = PHASE_NAMES[phase].partition(" ")
-    return base, dict(part.split("=") for part in rest.split())
+    if phase < N_UNLOCKED:
+        return "unlocked", fr.labels_of(phase, JOINTS)
+    return "locked", fr.labels_of(phase - N_UNLOCKED, JOINTS[:2])
