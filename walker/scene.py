@@ -339,7 +339,7 @@ def _compute(reader: _Reader, model: str, table: Mapping[str, Any] | None) -> Co
         if table["task"] != "simulate" or table["strides"] != 0:
             raise reader.error(
                 "compute",
-                f'model {model} has no events: use task = "simulate" and strides = 0 '
+                f'model {model} has no strides: use task = "simulate" and strides = 0 '
                 f"(integrate to t_max), got task = {table['task']!r}, "
                 f"strides = {table['strides']!r}",
             )
