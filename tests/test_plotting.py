@@ -304,3 +304,30 @@ def test_plot_zero_dynamics_breaks_the_line_at_impacts():
     x = np.asarray(line.get_xdata(), dtype=float)
     assert np.isnan(x).sum() == 1  # one impact, one break
     assert len(fig.axes[0].get_lines()) == 3
+
+
+def test_files_from_before_joint_friction_still_plot(tmp_path):
+    """A file whose stored parameters lack a joint-friction field added later (here the
+    kneed walker's `damping_ankle`) reads it as 0, with a warning naming it; any other
+    missing parameter is still an error."""
+    from walker.cli import provenance
+    from walker.gallery import plot_file
+    from walker.scene import load_scene
+    from walker.storage import write
+    from walker.stride import simulate
+
+    scene = load_scene("gaits/kneed_hsu.toml")
+    sol = simulate("kneed", scene.params, scene.state, output="full")
+    prov = provenance(scene)
+    del prov["parameters"]["damping_ankle"]
+    old = write(tmp_path / "old.h5", sol, provenance=prov)
+    with pytest.warns(UserWarning, match=r"predate `damping_ankle`: read as 0"):
+        paths = plot_file(old, tmp_path)
+    assert paths
+    del prov["parameters"]["mass_hip"]
+    bad = write(tmp_path / "bad.h5", sol, provenance=prov)
+    with (
+        pytest.warns(UserWarning, match="damping_ankle"),
+        pytest.raises(ValueError, match="missing KneedParams key\\(s\\) `mass_hip`"),
+    ):
+        plot_file(bad, tmp_path)

@@ -7,6 +7,7 @@ the model named in the file's provenance.
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -22,11 +23,32 @@ def _save(fig, path: Path) -> Path:
     return path
 
 
+FRICTION_PREFIXES = ("damping_", "coulomb_")
+"""Joint-friction parameters; files written before a model had them lack them."""
+
+
 def _params_from_provenance(prov: dict):
+    """The model and parameters a file was computed with.
+
+    A file written before a joint-friction parameter (``damping_*``, ``coulomb_*``) was added
+    to its model lacks it; it was computed without that friction, so it reads as 0, with a
+    warning naming the parameters.  Any other missing parameter is an error.
+    """
     from walker.models import get_model
 
     model = get_model(prov["model"])
     values = {k: v["value"] for k, v in prov["parameters"].items()}
+    added = [
+        n for n in model.params_class.names() if n not in values and n.startswith(FRICTION_PREFIXES)
+    ]
+    if added:
+        warnings.warn(
+            f"the stored parameters predate {', '.join(f'`{n}`' for n in added)}: read as 0 "
+            "(the frictionless model the file was computed with)",
+            UserWarning,
+            stacklevel=3,
+        )
+        values.update(dict.fromkeys(added, 0.0))
     return model, model.params_class.from_dict(values)
 
 
