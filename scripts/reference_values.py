@@ -22,6 +22,7 @@ SCENES = (
     "kneed_hsu",
     "kneed_mcgeer_roundfoot",
     "kneed_coulomb_hsu",
+    "compass_coulomb_goswami",
 )
 
 

@@ -40,7 +40,14 @@ def test_garcia_gaits_to_1e9_and_multipliers_within_2e3():
 
 
 @pytest.mark.parametrize(
-    "name", ["simplest_garcia", "compass_goswami", "kneed_hsu", "kneed_coulomb_hsu"]
+    "name",
+    [
+        "simplest_garcia",
+        "compass_goswami",
+        "kneed_hsu",
+        "kneed_coulomb_hsu",
+        "compass_coulomb_goswami",
+    ],
 )
 def test_scene_reference_digits(name):
     """Our own high-accuracy digits, recorded in the scene file with the tolerance we can
@@ -68,7 +75,14 @@ def test_kneed_thesis_point_comes_back_with_euler_at_1e3():
 
 
 @pytest.mark.parametrize(
-    "name", ["simplest_garcia", "compass_goswami", "kneed_hsu", "kneed_coulomb_hsu"]
+    "name",
+    [
+        "simplest_garcia",
+        "compass_goswami",
+        "kneed_hsu",
+        "kneed_coulomb_hsu",
+        "compass_coulomb_goswami",
+    ],
 )
 def test_exact_jacobian_matches_finite_differences(name):
     scene, P, fp = _fixed_point(name, rtol=1e-13, atol=1e-13)
@@ -89,7 +103,14 @@ def test_exact_jacobian_matches_finite_differences(name):
 
 
 @pytest.mark.parametrize(
-    "name", ["simplest_garcia", "compass_goswami", "kneed_hsu", "kneed_coulomb_hsu"]
+    "name",
+    [
+        "simplest_garcia",
+        "compass_goswami",
+        "kneed_hsu",
+        "kneed_coulomb_hsu",
+        "compass_coulomb_goswami",
+    ],
 )
 def test_multipliers_stable_as_tolerance_tightens(name):
     """Measured spread against rtol = atol = 3e-14: at 1e-10 it is 1.7e-9 (simplest: its

@@ -22,6 +22,8 @@ SHIPPED = [
     "double_pendulum",
     "three_link_grizzle",
     "five_link_hzd",
+    "kneed_coulomb_hsu",
+    "compass_coulomb_goswami",
 ]
 # scenes carrying walker's own high-accuracy [reference] values
 WITH_REFERENCE = [
@@ -30,7 +32,13 @@ WITH_REFERENCE = [
     "kneed_hsu",
     "three_link_grizzle",
     "five_link_hzd",
+    "kneed_coulomb_hsu",
+    "compass_coulomb_goswami",
 ]
+
+
+def test_every_shipped_scene_is_listed():
+    assert sorted(SHIPPED) == sorted(p.stem for p in GAITS.glob("*.toml"))
 
 COMPASS_FULL = """\
 mass_hip = 10.0
