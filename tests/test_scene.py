@@ -40,6 +40,7 @@ WITH_REFERENCE = [
 def test_every_shipped_scene_is_listed():
     assert sorted(SHIPPED) == sorted(p.stem for p in GAITS.glob("*.toml"))
 
+
 COMPASS_FULL = """\
 mass_hip = 10.0
 mass_leg = 5.0
