@@ -313,6 +313,42 @@ def test_impacts_do_not_depend_on_damping():
 
 
 # ----------------------------------------------------------------- the compass gait
+def _ankle_damping_branch(scene_name, model, *, to, step, max_step):
+    """The scene's gait (checked against its recorded digits) continued in ``damping_ankle``
+    from 0 to ``to`` by natural continuation, through exactly one period doubling, with the
+    gait stable exactly before it.  Returns (params, StrideMap, fp0, branch, flip)."""
+    scene = load_scene(f"gaits/{scene_name}.toml")
+    base = scene.params
+    assert base.damping_ankle == 0.0
+    P0 = StrideMap(model, base, parameter_name="damping_ankle")
+    fp0 = find_fixed_point(P0, P0.project(scene.state))
+    assert fp0.success
+    assert_allclose(fp0.state, scene.reference["state"], rtol=0, atol=1e-9)
+    P = P0.with_parameter(1e-6)
+    branch = continue_branch(P, fp0.section, to=to, method="natural", step=step, max_step=max_step)
+    assert branch.status == Status.COMPLETED, branch.message
+    assert branch.parameter[-1] == to
+    [flip] = branch.bifurcations
+    assert flip.kind == "period_doubling"
+    assert np.array_equal(branch.stable, branch.parameter < flip.parameter_value)
+    return base, P, fp0, branch, flip
+
+
+def _period_two_past(model, params, near):
+    """Past a period doubling: the unstable period-one point near ``near`` and the stable
+    period-two gait reached by iterating from a 1e-3 kick off it until it settles."""
+    P = StrideMap(model, params)
+    one = find_fixed_point(P, near)
+    assert one.success and not one.stable, one.message
+    z = one.section.copy()
+    z[0] += 1e-3
+    for _ in range(300):
+        z = P(z).z
+    two = find_fixed_point(P, z, period=2)
+    assert two.success and two.stable, two.message
+    return one, two
+
+
 def _walking_speed(z, step_time, params):
     """Walking speed [m/s]: step length ``2 L sin(half inter-leg angle)`` over step time;
     just after heel strike the half inter-leg angle is ``q_stance + slope`` (``z[0]``: the
@@ -378,22 +414,10 @@ def test_ankle_damping_slows_the_compass_gait():
     the hip no longer gets over the stance foot and the walker falls backward before its
     first heel strike -- a status, not an exception.
     """
-    scene = load_scene("gaits/compass_goswami.toml")
-    base = scene.params
-    assert base.damping_ankle == 0.0
-    P0 = StrideMap("compass", base, parameter_name="damping_ankle")
-    fp0 = find_fixed_point(P0, P0.project(scene.state))
-    assert fp0.success
-    assert_allclose(fp0.state, scene.reference["state"], rtol=0, atol=1e-9)
-
-    P = P0.with_parameter(1e-6)
-    branch = continue_branch(P, fp0.section, to=40.0, method="natural", step=0.5, max_step=1.0)
-    assert branch.status == Status.COMPLETED, branch.message
-    assert branch.parameter[-1] == 40.0
-    [flip] = branch.bifurcations
-    assert flip.kind == "period_doubling"
+    base, P, fp0, branch, flip = _ankle_damping_branch(
+        "compass_goswami", "compass", to=40.0, step=0.5, max_step=1.0
+    )
     assert 32.8 < flip.parameter_value < 32.85, flip.parameter_value
-    assert np.array_equal(branch.stable, branch.parameter < flip.parameter_value)
     assert branch.stable.sum() > 20  # the stable part is resolved, not one or two points
 
     bs = np.concatenate([[0.0], branch.parameter])
@@ -411,14 +435,7 @@ def test_ankle_damping_slows_the_compass_gait():
     # past the period doubling: a stable period-two gait, away from the period-one point
     # (iterated from a 1e-3 kick off the unstable period-one point, which grows by
     # |m| = 1.025 per stride, until it settles)
-    P34 = StrideMap("compass", base.replace(damping_ankle=34.0))
-    one = find_fixed_point(P34, flip.section)
-    assert one.success and not one.stable, one.message
-    z = one.section + np.array([1e-3, 0.0, 0.0])
-    for _ in range(300):
-        z = P34(z).z
-    two = find_fixed_point(P34, z, period=2)
-    assert two.success and two.stable, two.message
+    one, two = _period_two_past("compass", base.replace(damping_ankle=34.0), flip.section)
     assert np.abs(two.section - one.section).max() > 0.01
 
     x_last = P.lift(branch.sections[last_stable])
@@ -545,22 +562,10 @@ def test_ankle_damping_slows_the_simplest_walker_until_it_stops():
     before its first heel strike -- the same outcome, stride count and time (to 2e-6) at
     rtol 1e-8, 1e-10 and 1e-12: a status, not an exception.
     """
-    scene = load_scene("gaits/simplest_garcia.toml")
-    base = scene.params
-    assert base.damping_ankle == 0.0
-    P0 = StrideMap("simplest", base, parameter_name="damping_ankle")
-    fp0 = find_fixed_point(P0, P0.project(scene.state))
-    assert fp0.success
-    assert_allclose(fp0.state, scene.reference["state"], rtol=0, atol=1e-9)
-
-    P = P0.with_parameter(1e-6)
-    branch = continue_branch(P, fp0.section, to=0.3, method="natural", step=0.01, max_step=0.02)
-    assert branch.status == Status.COMPLETED, branch.message
-    assert branch.parameter[-1] == 0.3
-    [flip] = branch.bifurcations
-    assert flip.kind == "period_doubling"
+    base, P, fp0, branch, flip = _ankle_damping_branch(
+        "simplest_garcia", "simplest", to=0.3, step=0.01, max_step=0.02
+    )
     assert_allclose(flip.parameter_value, 0.2221955396, rtol=0, atol=1e-8)
-    assert np.array_equal(branch.stable, branch.parameter < flip.parameter_value)
     assert branch.stable.sum() > 10  # the stable part is resolved, not one or two points
 
     bs = np.concatenate([[0.0], branch.parameter])
@@ -584,14 +589,7 @@ def test_ankle_damping_slows_the_simplest_walker_until_it_stops():
 
     # past the period doubling: a stable period-two gait, away from the period-one point
     # (iterated from a 1e-3 kick off the unstable period-one point until it settles)
-    P25 = StrideMap("simplest", base.replace(damping_ankle=0.25))
-    one = find_fixed_point(P25, flip.section)
-    assert one.success and not one.stable, one.message
-    z = one.section + np.array([1e-3, 0.0])
-    for _ in range(300):
-        z = P25(z).z
-    two = find_fixed_point(P25, z, period=2)
-    assert two.success and two.stable, two.message
+    one, two = _period_two_past("simplest", base.replace(damping_ankle=0.25), flip.section)
     assert np.abs(two.section - one.section).max() > 2e-3
 
     # large damping: the walker no longer walks (an outcome, not an exception)
