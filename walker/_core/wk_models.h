@@ -1,0 +1,39 @@
+/* Registries of what the extension module walker._hybrid compiles in:
+ *
+ * - models: walker's own hybrid systems (wk_functions, see wk_system.h) and their
+ *   Python-side helpers, one entry per model and structural variant ("kneed" is the general
+ *   kernel, "kneed/plain" the variant for point feet, no offsets, no segment inertias and no
+ *   dampers; see walker/_core/models.c);
+ * - kernels: every generated kernel (walker/_generated/*.c), by "<model>.<kernel>" name, for
+ *   the tests that check them against the symbolic model.
+ *
+ * The binding (walker/_core/_hybridmodule.c) exposes both as dicts of integer addresses.
+ */
+#ifndef WK_MODELS_H
+#define WK_MODELS_H
+
+#include "wk_system.h"
+
+/* Extra per-model functions (NULL where a model has none). */
+typedef void (*wk_state_fn)(const double *x, const double *p, double *out, void *ctx);
+
+typedef struct {
+    const char *name;
+    wk_functions fn;
+    wk_state_fn energy;      /* out[0] = kinetic, out[1] = potential [J] */
+    wk_state_fn points;      /* out: (n_points, 2) row-major, joint positions for drawing */
+    wk_state_fn start_phase; /* out[0] = phase as a double (NULL: phase 0) */
+} wk_model_entry;
+
+/* Generated kernel signatures: "qqdp_v" f(q, qd, p, out); "qp_v" f(q, p, out);
+ * "qqdp_s" double f(q, qd, p); "qp_s" double f(q, p). */
+typedef struct {
+    const char *name;  /* "<model>.<kernel>", variants "<model>/plain.<kernel>" */
+    const char *sig;
+    void *address;
+} wk_kernel_entry;
+
+const wk_model_entry *wk_model_table(int64_t *count);
+const wk_kernel_entry *wk_kernel_table(int64_t *count);
+
+#endif

@@ -1,0 +1,54 @@
+/* walker's compiled model contract: the C ABI between a hybrid system and the integrator.
+ *
+ * A hybrid system is four plain C functions plus a few sizes.  walker's own models are
+ * compiled into the extension module walker._hybrid when the package is installed; a user
+ * can supply the same four functions from anywhere that yields a C function pointer (a
+ * numba ``cfunc``, ctypes, cffi, another extension) and pass their addresses.
+ *
+ * Conventions: arrays are contiguous float64, matrices row-major.  ``ctx`` is an opaque
+ * pointer handed unchanged to every call (NULL unless the system was built with one); a
+ * model may use it for data of its own, e.g. a user-supplied controller.
+ *
+ * rhs(phase, t, x, p, dx, ctx)
+ *     fills dx[n_x] with dx/dt in ``phase``.
+ * guards(phase, t, x, p, g, ctx)
+ *     fills g[n_guards]; a guard not used in a phase returns the constant 1.0 there.
+ * reset(phase, k, t, x, p, x_new, impulse, out, ctx)
+ *     called where guard ``k`` fired, with x_new[n_x] pre-filled with a copy of x and
+ *     impulse[n_impulse] zeroed; writes out[0] = action (WK_EVENT_*), out[1] = next phase,
+ *     out[2] = status (a walker.status.Status value; 0 unless the action is terminal).
+ * jac(phase, t, x, p, J, ctx)   (may be NULL)
+ *     fills J[n_x * n_x] (row-major) with df/dx; needed for variational equations.
+ *
+ * ``t`` is the local time since the last applied event (see walker/integrate.py).
+ */
+#ifndef WK_SYSTEM_H
+#define WK_SYSTEM_H
+
+#include <stdint.h>
+
+typedef void (*wk_rhs_fn)(int64_t phase, double t, const double *x, const double *p,
+                          double *dx, void *ctx);
+typedef void (*wk_guards_fn)(int64_t phase, double t, const double *x, const double *p,
+                             double *g, void *ctx);
+typedef void (*wk_reset_fn)(int64_t phase, int64_t k, double t, const double *x,
+                            const double *p, double *x_new, double *impulse, int64_t *out,
+                            void *ctx);
+typedef void (*wk_jac_fn)(int64_t phase, double t, const double *x, const double *p,
+                          double *J, void *ctx);
+
+typedef struct {
+    wk_rhs_fn rhs;
+    wk_guards_fn guards;
+    wk_reset_fn reset;
+    wk_jac_fn jac; /* NULL: no Jacobian */
+    void *ctx;
+} wk_functions;
+
+/* Event actions returned by reset in out[0]; the values of walker.status. */
+#define WK_EVENT_IGNORE 0
+#define WK_EVENT_CONTINUE 1
+#define WK_EVENT_STRIDE 2
+#define WK_EVENT_TERMINAL 3
+
+#endif
