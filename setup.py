@@ -1,7 +1,7 @@
 """Build walker's compiled core (the extension module ``walker._hybrid``).
 
-Everything in ``walker/_core/*.c`` (the hybrid integrator, the model glue, the Python
-binding) and ``walker/_generated/*.c`` (kernels printed by ``scripts/generate_kernels.py``)
+Every C file in ``walker/_core`` (the hybrid integrator, the model glue, the Python
+binding) and ``walker/_generated`` (kernels printed by ``scripts/generate_kernels.py``)
 is compiled into one extension when the package is installed (``pip install .`` or
 ``pip install -e .``).  Nothing is compiled at run time.  The metadata lives in
 pyproject.toml.

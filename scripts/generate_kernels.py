@@ -1,4 +1,7 @@
-"""Regenerate walker/_generated/*.py from the symbolic models (run after changing them).
+"""Regenerate walker/_generated/ from the symbolic models (run after changing them): the numba
+modules ``<module>.py``; for the modules compiled into walker._hybrid also the C kernels
+``<module>.c``/``.h``, their structural variants ``<module>_<variant>.c``/``.h`` and the
+registry ``kernel_table.c``.
 
 Usage: python scripts/generate_kernels.py [MODULE ...]
 """
@@ -11,23 +14,105 @@ import tempfile
 import time
 from pathlib import Path
 
-from walker.symbolic.codegen import render_module
-from walker.symbolic.kernels import GENERATED_MODULES, kernels_for, module_extra
+from walker.symbolic.codegen import (
+    render_c_module,
+    render_kernel_table,
+    render_module,
+    share_trig,
+    symbolic_hash,
+    variant_hash,
+)
+from walker.symbolic.kernels import (
+    C_MODULES,
+    C_VARIANTS,
+    GENERATED_MODULES,
+    VARIANT_SIMPLIFICATION,
+    kernels_for,
+    module_extra,
+    variant_kernels,
+)
 
 OUT = Path(__file__).resolve().parents[1] / "walker" / "_generated"
 
 
-def generate(name: str) -> Path:
-    """Write one generated module atomically and return its path."""
-    source = render_module(
-        name, kernels_for(name), doc=GENERATED_MODULES[name], extra=module_extra(name)
-    )
-    target = OUT / f"{name}.py"
-    fd, tmp = tempfile.mkstemp(dir=OUT, prefix=f".{name}.", suffix=".tmp")
+def write(target: Path, text: str) -> Path:
+    """Write ``text`` to ``target`` atomically (a temporary file, then a rename)."""
+    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
     with os.fdopen(fd, "w") as f:
-        f.write(source)
+        f.write(text)
+    os.chmod(tmp, 0o644)
     os.replace(tmp, target)
     return target
+
+
+def variant_notes(name: str, variant: str) -> list[str]:
+    zeros = C_VARIANTS[name][variant]
+    return [
+        f"structural variant `{variant}` of `{name}`: these parameters are exactly 0 and",
+        "never read (the arguments are those of the general kernels):",
+        "  " + ", ".join(zeros) + ";",
+        f"entries simplified ({VARIANT_SIMPLIFICATION});",
+        "sin and cos of each angle (coordinates, slope) are computed once per call and",
+        "sines and cosines of their sums are expanded by the angle-sum identities.",
+    ]
+
+
+def c_modules(name: str, kernels, simplify: bool = True) -> list[tuple[str, str, list]]:
+    """``(C module name, registry prefix, kernels)`` of module ``name`` and its variants
+    (``simplify=False``: the variants' kernels unsimplified, enough for names and
+    signatures)."""
+    out = [(name, name, kernels)]
+    for variant in C_VARIANTS.get(name, {}):
+        ks = variant_kernels(name, variant, kernels, simplify=simplify)
+        out.append((f"{name}_{variant}", f"{name}/{variant}", ks))
+    return out
+
+
+def render_c(name: str, kernels) -> list[tuple[str, str, str]]:
+    """``(C module name, source, header)`` of module ``name`` (from its ``kernels``) and of
+    each of its structural variants."""
+    digest = symbolic_hash(kernels)
+    out = []
+    for cname, _, ks in c_modules(name, kernels):
+        if cname == name:
+            c, h = render_c_module(cname, ks, doc=GENERATED_MODULES[name], digest=digest)
+        else:
+            variant = cname[len(name) + 1 :]
+            c, h = render_c_module(
+                cname,
+                ks,
+                doc=GENERATED_MODULES[name],
+                digest=variant_hash(
+                    digest,
+                    variant,
+                    C_VARIANTS[name][variant],
+                    [k.name for k in ks],
+                    VARIANT_SIMPLIFICATION,
+                ),
+                rewrite=share_trig,
+                notes=variant_notes(name, variant),
+            )
+        out.append((cname, c, h))
+    return out
+
+
+def generate(name: str) -> list[Path]:
+    """Write one generated module (and its C forms) atomically; return the paths."""
+    kernels = kernels_for(name)
+    source = render_module(name, kernels, doc=GENERATED_MODULES[name], extra=module_extra(name))
+    paths = [write(OUT / f"{name}.py", source)]
+    if name in C_MODULES:
+        for cname, c, h in render_c(name, kernels):
+            # the header first: a source never sees an older header of its own
+            paths.append(write(OUT / f"{cname}.h", h))
+            paths.append(write(OUT / f"{cname}.c", c))
+    return paths
+
+
+def generate_table() -> Path:
+    """Write ``kernel_table.c``, the registry of every C kernel of every C module."""
+    modules = [m for name in C_MODULES for m in c_modules(name, kernels_for(name), False)]
+    return write(OUT / "kernel_table.c", render_kernel_table(modules))
 
 
 def clear_numba_cache() -> int:
@@ -51,11 +136,16 @@ def main(argv=None) -> None:
     init = OUT / "__init__.py"
     if not init.exists():
         init.write_text('"""Generated kernels: do not edit; see scripts/generate_kernels.py."""\n')
+    root = OUT.parents[1]
     for name in args.modules:
         t = time.perf_counter()
-        path = generate(name)
-        print(f"{path.relative_to(OUT.parents[1])}: {time.perf_counter() - t:.1f} s")
+        paths = generate(name)
+        print(
+            f"{', '.join(str(p.relative_to(root)) for p in paths)}: {time.perf_counter() - t:.1f} s"
+        )
+    print(f"{generate_table().relative_to(root)}")
     print(f"cleared {clear_numba_cache()} numba cache files (callers cache stale kernels)")
+    print("rebuild the extension: python setup.py build_ext --inplace (or pip install -e .)")
 
 
 if __name__ == "__main__":

@@ -21,7 +21,14 @@ from numpy.testing import assert_allclose
 from scipy.integrate import solve_ivp
 
 from walker.symbolic import codegen
-from walker.symbolic.kernels import GENERATED_MODULES, kernels_for
+from walker.symbolic.kernels import (
+    C_MODULES,
+    C_VARIANTS,
+    GENERATED_MODULES,
+    VARIANT_SIMPLIFICATION,
+    kernels_for,
+    variant_kernels,
+)
 
 N_SAMPLES = 100
 RTOL = 1e-12
@@ -258,6 +265,74 @@ def test_generated_hash_matches_symbolic_input(name):
             f"{sp.__version__}: hashes of srepr are not comparable across versions"
         )
     assert header["hash"] == codegen.symbolic_hash(kernels(name))
+
+
+def _c_stamp(cname: str) -> dict:
+    """Stamps of walker/_generated/<cname>.c and .h (which must be the same)."""
+    stamps = []
+    for suffix in (".c", ".h"):
+        text = (GENERATED_DIR / f"{cname}{suffix}").read_text()
+        hash_match = re.search(r"^ \* input hash: sha256:([0-9a-f]{64})$", text, re.M)
+        version_match = re.search(r"^ \* sympy (\S+);", text, re.M)
+        stamps.append(
+            {
+                "first": text.splitlines()[0],
+                "hash": hash_match.group(1) if hash_match else None,
+                "sympy": version_match.group(1) if version_match else None,
+            }
+        )
+    assert stamps[0] == stamps[1], f"{cname}.c and {cname}.h carry different stamps"
+    return stamps[0]
+
+
+def _c_expected_hashes(name: str, digest: str) -> dict:
+    """C module name -> the input hash it must carry, given the numba module's ``digest``:
+    the general C module is printed from the same kernels; a variant's hash is derived from
+    it (:func:`codegen.variant_hash`)."""
+    out = {name: digest}
+    for variant, zeros in C_VARIANTS.get(name, {}).items():
+        names = [k.name for k in variant_kernels(name, variant, kernels(name), simplify=False)]
+        out[f"{name}_{variant}"] = codegen.variant_hash(
+            digest, variant, zeros, names, VARIANT_SIMPLIFICATION
+        )
+    return out
+
+
+@pytest.mark.parametrize("name", C_MODULES)
+def test_c_files_are_stamped_with_the_input_hash(name):
+    """walker/_generated/<name>.c/.h (and the variants' files) are stamped like the numba
+    module, with the hash of the same symbolic input: the general C files carry the numba
+    module's hash, a variant the hash derived from it and from the variant's definition, so
+    a C file printed from other kernels than the numba module beside it is caught without
+    re-deriving anything (the numba stamp itself is checked above; the C kernels' values
+    in tests/test_generated_c.py)."""
+    py = _header(name)
+    for cname, digest in _c_expected_hashes(name, py["hash"]).items():
+        stamp = _c_stamp(cname)
+        assert "generated, do not edit" in stamp["first"], cname
+        assert stamp["sympy"] == py["sympy"], f"{cname} and {name}.py: different sympy"
+        assert stamp["hash"] == digest, f"{cname}: stale (regenerate)"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", C_MODULES)
+def test_c_files_are_what_the_generator_prints(name):
+    """The C files are exactly what ``scripts/generate_kernels.py`` prints now (only with the
+    sympy version that generated them: the text depends on it).  Slow: the variants'
+    simplification takes tens of seconds."""
+    import sys
+
+    stamp = _c_stamp(name)
+    if stamp["sympy"] != sp.__version__:
+        pytest.skip(f"{name}.c was generated with sympy {stamp['sympy']}, running {sp.__version__}")
+    sys.path.insert(0, str(GENERATED_DIR.parents[1] / "scripts"))
+    try:
+        generate_kernels = importlib.import_module("generate_kernels")
+    finally:
+        sys.path.pop(0)
+    for cname, c, h in generate_kernels.render_c(name, kernels(name)):
+        assert (GENERATED_DIR / f"{cname}.c").read_text() == c, f"{cname}.c"
+        assert (GENERATED_DIR / f"{cname}.h").read_text() == h, f"{cname}.h"
 
 
 # ------------------------------------------------------------ course double pendulum energy

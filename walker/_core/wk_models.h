@@ -4,7 +4,7 @@
  *   Python-side helpers, one entry per model and structural variant ("kneed" is the general
  *   kernel, "kneed/plain" the variant for point feet, no offsets, no segment inertias and no
  *   dampers; see walker/_core/models.c);
- * - kernels: every generated kernel (walker/_generated/*.c), by "<model>.<kernel>" name, for
+ * - kernels: every generated kernel (the .c files in walker/_generated), by "<model>.<kernel>" name, for
  *   the tests that check them against the symbolic model.
  *
  * The binding (walker/_core/_hybridmodule.c) exposes both as dicts of integer addresses.
@@ -26,7 +26,9 @@ typedef struct {
 } wk_model_entry;
 
 /* Generated kernel signatures: "qqdp_v" f(q, qd, p, out); "qp_v" f(q, p, out);
- * "qqdp_s" double f(q, qd, p); "qp_s" double f(q, p). */
+ * "qqdp_s" double f(q, qd, p); "qp_s" double f(q, p); "qqdqddp_v" f(q, qd, qdd, p, out)
+ * (the actuated walkers' ground_reaction).  All arguments const double *, out double *
+ * (row-major); see walker.symbolic.codegen.SIGNATURES. */
 typedef struct {
     const char *name;  /* "<model>.<kernel>", variants "<model>/plain.<kernel>" */
     const char *sig;

@@ -1,12 +1,140 @@
-/* generated, do not edit: registry of generated kernels (placeholder until
- * scripts/generate_kernels.py prints the C kernels). */
+/* generated, do not edit: registry of walker's generated C kernels
+ * (wk_kernel_table, declared in walker/_core/wk_models.h), one entry per kernel of
+ * walker/_generated/<module>.c;
+ * regenerate with `python scripts/generate_kernels.py`. */
 #include <stddef.h>
-#include "wk_models.h"
 
-static const wk_kernel_entry KERNELS[] = {{NULL, NULL, NULL}};
+#include "wk_models.h"
+#include "simplest.h"
+#include "compass.h"
+#include "compass_plain.h"
+#include "kneed.h"
+#include "kneed_plain.h"
+#include "double_pendulum.h"
+#include "three_link.h"
+#include "five_link.h"
+
+static const wk_kernel_entry KERNELS[] = {
+    {"simplest.accel", "qqdp_v", (void *)wk_simplest_accel},
+    {"simplest.daccel_dx", "qqdp_v", (void *)wk_simplest_daccel_dx},
+    {"compass.accel", "qqdp_v", (void *)wk_compass_accel},
+    {"compass.accel_jac", "qqdp_v", (void *)wk_compass_accel_jac},
+    {"compass.mass_matrix", "qp_v", (void *)wk_compass_mass_matrix},
+    {"compass.coriolis", "qqdp_v", (void *)wk_compass_coriolis},
+    {"compass.gravity", "qp_v", (void *)wk_compass_gravity},
+    {"compass.bias", "qqdp_v", (void *)wk_compass_bias},
+    {"compass.forcing", "qqdp_v", (void *)wk_compass_forcing},
+    {"compass.dmass", "qp_v", (void *)wk_compass_dmass},
+    {"compass.dbias_dq", "qqdp_v", (void *)wk_compass_dbias_dq},
+    {"compass.dbias_dqd", "qqdp_v", (void *)wk_compass_dbias_dqd},
+    {"compass.kinetic", "qqdp_s", (void *)wk_compass_kinetic},
+    {"compass.potential", "qp_s", (void *)wk_compass_potential},
+    {"compass.points", "qp_v", (void *)wk_compass_points},
+    {"compass.hip_jac", "qp_v", (void *)wk_compass_hip_jac},
+    {"compass.ext_mass_matrix", "qp_v", (void *)wk_compass_ext_mass_matrix},
+    {"compass.ext_swing_contact_jac", "qp_v", (void *)wk_compass_ext_swing_contact_jac},
+    {"compass.ext_stance_contact_jac", "qp_v", (void *)wk_compass_ext_stance_contact_jac},
+    {"compass/plain.accel", "qqdp_v", (void *)wk_compass_plain_accel},
+    {"compass/plain.accel_jac", "qqdp_v", (void *)wk_compass_plain_accel_jac},
+    {"compass/plain.mass_matrix", "qp_v", (void *)wk_compass_plain_mass_matrix},
+    {"compass/plain.points", "qp_v", (void *)wk_compass_plain_points},
+    {"compass/plain.hip_jac", "qp_v", (void *)wk_compass_plain_hip_jac},
+    {"compass/plain.ext_mass_matrix", "qp_v", (void *)wk_compass_plain_ext_mass_matrix},
+    {"compass/plain.ext_swing_contact_jac", "qp_v", (void *)wk_compass_plain_ext_swing_contact_jac},
+    {"compass/plain.ext_stance_contact_jac", "qp_v", (void *)wk_compass_plain_ext_stance_contact_jac},
+    {"kneed.unlocked_accel", "qqdp_v", (void *)wk_kneed_unlocked_accel},
+    {"kneed.unlocked_accel_jac", "qqdp_v", (void *)wk_kneed_unlocked_accel_jac},
+    {"kneed.unlocked_mass_matrix", "qp_v", (void *)wk_kneed_unlocked_mass_matrix},
+    {"kneed.unlocked_coriolis", "qqdp_v", (void *)wk_kneed_unlocked_coriolis},
+    {"kneed.unlocked_gravity", "qp_v", (void *)wk_kneed_unlocked_gravity},
+    {"kneed.unlocked_bias", "qqdp_v", (void *)wk_kneed_unlocked_bias},
+    {"kneed.unlocked_forcing", "qqdp_v", (void *)wk_kneed_unlocked_forcing},
+    {"kneed.unlocked_dmass", "qp_v", (void *)wk_kneed_unlocked_dmass},
+    {"kneed.unlocked_dbias_dq", "qqdp_v", (void *)wk_kneed_unlocked_dbias_dq},
+    {"kneed.unlocked_dbias_dqd", "qqdp_v", (void *)wk_kneed_unlocked_dbias_dqd},
+    {"kneed.unlocked_kinetic", "qqdp_s", (void *)wk_kneed_unlocked_kinetic},
+    {"kneed.unlocked_potential", "qp_s", (void *)wk_kneed_unlocked_potential},
+    {"kneed.unlocked_points", "qp_v", (void *)wk_kneed_unlocked_points},
+    {"kneed.locked_accel", "qqdp_v", (void *)wk_kneed_locked_accel},
+    {"kneed.locked_accel_jac", "qqdp_v", (void *)wk_kneed_locked_accel_jac},
+    {"kneed.locked_mass_matrix", "qp_v", (void *)wk_kneed_locked_mass_matrix},
+    {"kneed.locked_coriolis", "qqdp_v", (void *)wk_kneed_locked_coriolis},
+    {"kneed.locked_gravity", "qp_v", (void *)wk_kneed_locked_gravity},
+    {"kneed.locked_bias", "qqdp_v", (void *)wk_kneed_locked_bias},
+    {"kneed.locked_forcing", "qqdp_v", (void *)wk_kneed_locked_forcing},
+    {"kneed.locked_dmass", "qp_v", (void *)wk_kneed_locked_dmass},
+    {"kneed.locked_dbias_dq", "qqdp_v", (void *)wk_kneed_locked_dbias_dq},
+    {"kneed.locked_dbias_dqd", "qqdp_v", (void *)wk_kneed_locked_dbias_dqd},
+    {"kneed.locked_kinetic", "qqdp_s", (void *)wk_kneed_locked_kinetic},
+    {"kneed.locked_potential", "qp_s", (void *)wk_kneed_locked_potential},
+    {"kneed.locked_points", "qp_v", (void *)wk_kneed_locked_points},
+    {"kneed.locked_hip_jac", "qp_v", (void *)wk_kneed_locked_hip_jac},
+    {"kneed.ext_mass_matrix", "qp_v", (void *)wk_kneed_ext_mass_matrix},
+    {"kneed.ext_swing_contact_jac", "qp_v", (void *)wk_kneed_ext_swing_contact_jac},
+    {"kneed.ext_stance_contact_jac", "qp_v", (void *)wk_kneed_ext_stance_contact_jac},
+    {"kneed/plain.unlocked_accel", "qqdp_v", (void *)wk_kneed_plain_unlocked_accel},
+    {"kneed/plain.unlocked_accel_jac", "qqdp_v", (void *)wk_kneed_plain_unlocked_accel_jac},
+    {"kneed/plain.unlocked_mass_matrix", "qp_v", (void *)wk_kneed_plain_unlocked_mass_matrix},
+    {"kneed/plain.unlocked_points", "qp_v", (void *)wk_kneed_plain_unlocked_points},
+    {"kneed/plain.locked_accel", "qqdp_v", (void *)wk_kneed_plain_locked_accel},
+    {"kneed/plain.locked_accel_jac", "qqdp_v", (void *)wk_kneed_plain_locked_accel_jac},
+    {"kneed/plain.locked_mass_matrix", "qp_v", (void *)wk_kneed_plain_locked_mass_matrix},
+    {"kneed/plain.locked_points", "qp_v", (void *)wk_kneed_plain_locked_points},
+    {"kneed/plain.locked_hip_jac", "qp_v", (void *)wk_kneed_plain_locked_hip_jac},
+    {"kneed/plain.ext_mass_matrix", "qp_v", (void *)wk_kneed_plain_ext_mass_matrix},
+    {"kneed/plain.ext_swing_contact_jac", "qp_v", (void *)wk_kneed_plain_ext_swing_contact_jac},
+    {"kneed/plain.ext_stance_contact_jac", "qp_v", (void *)wk_kneed_plain_ext_stance_contact_jac},
+    {"double_pendulum.accel", "qqdp_v", (void *)wk_double_pendulum_accel},
+    {"double_pendulum.accel_jac", "qqdp_v", (void *)wk_double_pendulum_accel_jac},
+    {"double_pendulum.mass_matrix", "qp_v", (void *)wk_double_pendulum_mass_matrix},
+    {"double_pendulum.coriolis", "qqdp_v", (void *)wk_double_pendulum_coriolis},
+    {"double_pendulum.gravity", "qp_v", (void *)wk_double_pendulum_gravity},
+    {"double_pendulum.bias", "qqdp_v", (void *)wk_double_pendulum_bias},
+    {"double_pendulum.forcing", "qqdp_v", (void *)wk_double_pendulum_forcing},
+    {"double_pendulum.dmass", "qp_v", (void *)wk_double_pendulum_dmass},
+    {"double_pendulum.dbias_dq", "qqdp_v", (void *)wk_double_pendulum_dbias_dq},
+    {"double_pendulum.dbias_dqd", "qqdp_v", (void *)wk_double_pendulum_dbias_dqd},
+    {"double_pendulum.kinetic", "qqdp_s", (void *)wk_double_pendulum_kinetic},
+    {"double_pendulum.potential", "qp_s", (void *)wk_double_pendulum_potential},
+    {"double_pendulum.points", "qp_v", (void *)wk_double_pendulum_points},
+    {"three_link.accel", "qqdp_v", (void *)wk_three_link_accel},
+    {"three_link.accel_jac", "qqdp_v", (void *)wk_three_link_accel_jac},
+    {"three_link.mass_matrix", "qp_v", (void *)wk_three_link_mass_matrix},
+    {"three_link.coriolis", "qqdp_v", (void *)wk_three_link_coriolis},
+    {"three_link.gravity", "qp_v", (void *)wk_three_link_gravity},
+    {"three_link.bias", "qqdp_v", (void *)wk_three_link_bias},
+    {"three_link.dmass", "qp_v", (void *)wk_three_link_dmass},
+    {"three_link.dbias_dq", "qqdp_v", (void *)wk_three_link_dbias_dq},
+    {"three_link.dbias_dqd", "qqdp_v", (void *)wk_three_link_dbias_dqd},
+    {"three_link.kinetic", "qqdp_s", (void *)wk_three_link_kinetic},
+    {"three_link.potential", "qp_s", (void *)wk_three_link_potential},
+    {"three_link.points", "qp_v", (void *)wk_three_link_points},
+    {"three_link.hip_jac", "qp_v", (void *)wk_three_link_hip_jac},
+    {"three_link.ground_reaction", "qqdqddp_v", (void *)wk_three_link_ground_reaction},
+    {"three_link.ext_mass_matrix", "qp_v", (void *)wk_three_link_ext_mass_matrix},
+    {"three_link.ext_swing_contact_jac", "qp_v", (void *)wk_three_link_ext_swing_contact_jac},
+    {"three_link.ext_stance_contact_jac", "qp_v", (void *)wk_three_link_ext_stance_contact_jac},
+    {"five_link.accel", "qqdp_v", (void *)wk_five_link_accel},
+    {"five_link.accel_jac", "qqdp_v", (void *)wk_five_link_accel_jac},
+    {"five_link.mass_matrix", "qp_v", (void *)wk_five_link_mass_matrix},
+    {"five_link.coriolis", "qqdp_v", (void *)wk_five_link_coriolis},
+    {"five_link.gravity", "qp_v", (void *)wk_five_link_gravity},
+    {"five_link.bias", "qqdp_v", (void *)wk_five_link_bias},
+    {"five_link.dmass", "qp_v", (void *)wk_five_link_dmass},
+    {"five_link.dbias_dq", "qqdp_v", (void *)wk_five_link_dbias_dq},
+    {"five_link.dbias_dqd", "qqdp_v", (void *)wk_five_link_dbias_dqd},
+    {"five_link.kinetic", "qqdp_s", (void *)wk_five_link_kinetic},
+    {"five_link.potential", "qp_s", (void *)wk_five_link_potential},
+    {"five_link.points", "qp_v", (void *)wk_five_link_points},
+    {"five_link.hip_jac", "qp_v", (void *)wk_five_link_hip_jac},
+    {"five_link.ground_reaction", "qqdqddp_v", (void *)wk_five_link_ground_reaction},
+    {"five_link.ext_mass_matrix", "qp_v", (void *)wk_five_link_ext_mass_matrix},
+    {"five_link.ext_swing_contact_jac", "qp_v", (void *)wk_five_link_ext_swing_contact_jac},
+    {"five_link.ext_stance_contact_jac", "qp_v", (void *)wk_five_link_ext_stance_contact_jac},
+};
 
 const wk_kernel_entry *wk_kernel_table(int64_t *count)
 {
-    *count = 0;
+    *count = (int64_t)(sizeof(KERNELS) / sizeof(KERNELS[0]));
     return KERNELS;
 }

@@ -1,14 +1,29 @@
-"""Turn symbolic matrices into numba-compiled kernels (common subexpressions + printing).
+"""Turn symbolic matrices into compiled kernels (common subexpressions + printing): numba
+``@njit`` functions in ``walker/_generated/<model>.py`` and C99 functions in
+``walker/_generated/<model>.c`` / ``.h``.
 
-A generated module holds one ``@njit(cache=True)`` function per :class:`Kernel`.  Arguments
-are whole arrays (``q``, ``qd``, ``p``) unpacked at the top, so the parameters stay
-arguments and changing one never regenerates anything.  Matrix outputs are written into a
-caller-provided ``out`` array (no allocation on the hot path); scalars are returned.
+A generated Python module holds one ``@njit(cache=True)`` function per :class:`Kernel`.
+Arguments are whole arrays (``q``, ``qd``, ``p``) unpacked at the top, so the parameters
+stay arguments and changing one never regenerates anything.  Matrix outputs are written
+into a caller-provided ``out`` array (no allocation on the hot path); scalars are returned.
 
-Kernels use numba's numpy error model: a singular or indefinite mass matrix gives NaN
-(reported by the integrator as a status), never an exception from compiled code.
+The C form of a kernel ``k`` of model ``m`` is ``wk_<m>_<k>`` with the same arguments as
+``const double *`` arrays and ``double *out`` (matrices row-major, ``(k, i, j)`` tensors
+flattened the same way); scalar kernels return ``double``.  Both forms are printed from one
+lowering (:func:`lower`): the same common subexpressions in the same order, so a C kernel
+evaluates the same floating-point operations as its numba twin (squares as ``x*x``, never
+``pow``; integer constants as doubles).  The generator checks that the two printed forms of
+every expression differ only in spelling (:func:`_same_arithmetic`).
 
-Each module is stamped "generated, do not edit" with the argument order, the sympy version
+A structural variant (e.g. ``compass_plain``) is printed only in C, from kernels whose zero
+parameters were substituted before the common-subexpression pass; with ``share_trig`` the
+sines and cosines of the angles are computed once per call and every sine or cosine of a
+sum of them is expanded by the angle-sum identities (:func:`share_trig`).
+
+Kernels use IEEE semantics (numba's numpy error model): a singular or indefinite mass
+matrix gives NaN (reported by the integrator as a status), never an exception.
+
+Each file is stamped "generated, do not edit" with the argument order, the sympy version
 and a SHA-256 hash of its symbolic input; ``scripts/generate_kernels.py`` rewrites them.
 Generation refuses a free symbol that is not an argument and names it (as PyDy's matrix
 generator does).
@@ -17,12 +32,28 @@ generator does).
 from __future__ import annotations
 
 import hashlib
+import re
 from dataclasses import dataclass
 
 import sympy as sp
+from sympy.printing.c import C99CodePrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-__all__ = ["AccelJacobianKernel", "AccelKernel", "Kernel", "render_module", "symbolic_hash"]
+__all__ = [
+    "AccelJacobianKernel",
+    "AccelKernel",
+    "Kernel",
+    "c_signature",
+    "lower",
+    "render_c_module",
+    "render_kernel_table",
+    "render_module",
+    "share_trig",
+    "symbolic_hash",
+    "variant_hash",
+]
+
+REGENERATE = "python scripts/generate_kernels.py"
 
 
 @dataclass(frozen=True)
@@ -79,45 +110,6 @@ class AccelKernel:
         return [self.D, self.h]
 
 
-def render_accel_kernel(kernel: AccelKernel, printer: _Printer | None = None) -> str:
-    """Source text of a fused acceleration kernel (see :class:`AccelKernel`)."""
-    printer = printer or _Printer()
-    n = kernel.D.rows
-    entries = [kernel.D[i, j] for i in range(n) for j in range(i + 1)]
-    entries += [kernel.h[i] for i in range(n)]
-    allowed = {s for _, syms in kernel.args for s in syms}
-    free = set().union(*(sp.sympify(e).free_symbols for e in entries))
-    stray = sorted(str(s) for s in free - allowed)
-    if stray:
-        raise ValueError(
-            f"kernel `{kernel.name}`: symbols {stray} are not in its arguments "
-            f"{[name for name, _ in kernel.args]}"
-        )
-    lines = ['@njit(cache=True, error_model="numpy")', f"def {kernel.name}(q, qd, p, out):"]
-    lines.append(f'    """{kernel.doc or kernel.name}"""')
-    for name, syms in kernel.args:
-        for i, s in enumerate(syms):
-            if s in free:
-                lines.append(f"    {s} = {name}[{i}]")
-    repl, reduced = sp.cse(entries, symbols=sp.numbered_symbols("x"))
-    for sym, sub in repl:
-        lines.append(f"    {sym} = {printer.doprint(sub)}")
-    k = 0
-    for i in range(n):
-        for j in range(i + 1):
-            lines.append(f"    d{i}{j} = {printer.doprint(reduced[k])}")
-            k += 1
-    for i in range(n):
-        lines.append(f"    h{i} = {printer.doprint(reduced[k])}")
-        k += 1
-    # Cholesky D = L L^T, unrolled; then L L^T qdd = -h.
-    lines += _cholesky_lines(n)
-    lines += _solve_lines(n, [f"-h{i}" for i in range(n)], [f"z{i}" for i in range(n)])
-    for i in range(n):
-        lines.append(f"    out[{i}] = z{i}")
-    return "\n".join(lines) + "\n"
-
-
 @dataclass(frozen=True)
 class AccelJacobianKernel:
     """Jacobian of ``qdd = -D^{-1} h`` with respect to ``(q, qd)``, fused like
@@ -138,32 +130,135 @@ class AccelJacobianKernel:
         return [self.D, self.h]
 
 
-def _cholesky_lines(n):
-    lines = []
+# ----------------------------------------------------------------------------- lowering
+@dataclass(frozen=True)
+class Lowered:
+    """A kernel as straight-line code, independent of the target language.
+
+    Attributes
+    ----------
+    name, doc, args : as in :class:`Kernel`.
+    shape : tuple of int
+        output shape; ``()`` for a scalar kernel (which returns its value).
+    loads : list of (Symbol, str, int)
+        argument entries read, ``sym = arg[index]``, in argument order.
+    assigns : list of (Symbol or str, Expr)
+        temporaries: shared sines and cosines (variants only), the cse replacements, then
+        named entries (``d00``, ``h0``, ... of the fused kernels), in order.
+    steps : list of (str, str, bool)
+        ``(name, arithmetic on names, is a square root)``: the unrolled Cholesky solves.
+    outputs : list of (tuple of int, Expr or str)
+        ``out[index] = value`` (a str value is a name from ``steps``); a scalar kernel has
+        one output with index ``()``.
+    """
+
+    name: str
+    doc: str
+    args: tuple
+    shape: tuple
+    loads: list
+    assigns: list
+    steps: list
+    outputs: list
+
+
+def _check_and_cse(kernel, entries, rewrite):
+    """Stray-symbol check, optional rewrite, loads and one cse pass over ``entries``."""
+    entries = [sp.sympify(e) for e in entries]
+    allowed = {s for _, syms in kernel.args for s in syms}
+    free = set().union(*(e.free_symbols for e in entries))
+    stray = sorted(str(s) for s in free - allowed)
+    if stray:
+        raise ValueError(
+            f"kernel `{kernel.name}`: symbols {stray} are not in its arguments "
+            f"{[name for name, _ in kernel.args]}"
+        )
+    defs = []
+    if rewrite is not None:
+        defs, entries = rewrite(kernel, entries)
+        free = set().union(*(e.free_symbols for e in entries), *(e.free_symbols for _, e in defs))
+    loads = [(s, name, i) for name, syms in kernel.args for i, s in enumerate(syms) if s in free]
+    repl, reduced = sp.cse(entries, symbols=sp.numbered_symbols("x"))
+    return loads, list(defs) + list(repl), reduced
+
+
+def _shape(expr):
+    if isinstance(expr, (list, tuple)):
+        return (len(expr), expr[0].rows, expr[0].cols)
+    if isinstance(expr, sp.MatrixBase):
+        return (expr.rows,) if expr.cols == 1 else (expr.rows, expr.cols)
+    return ()
+
+
+def _entries(kernel: Kernel):
+    """Flatten the output into (index tuple, expression) pairs, row-major."""
+    expr = kernel.expr
+    if isinstance(expr, (list, tuple)):
+        return [
+            ((k, i, j), m[i, j])
+            for k, m in enumerate(expr)
+            for i in range(m.rows)
+            for j in range(m.cols)
+        ]
+    if isinstance(expr, sp.MatrixBase):
+        if expr.cols == 1:
+            return [((i,), expr[i, 0]) for i in range(expr.rows)]
+        return [((i, j), expr[i, j]) for i in range(expr.rows) for j in range(expr.cols)]
+    return [((), sp.sympify(expr))]
+
+
+def _cholesky_steps(n):
+    steps = []
     for j in range(n):
         acc = " - ".join([f"d{j}{j}"] + [f"l{j}{m}*l{j}{m}" for m in range(j)])
-        lines.append(f"    l{j}{j} = math.sqrt({acc})")
+        steps.append((f"l{j}{j}", acc, True))
         for i in range(j + 1, n):
             acc = " - ".join([f"d{i}{j}"] + [f"l{i}{m}*l{j}{m}" for m in range(j)])
-            lines.append(f"    l{i}{j} = ({acc})/l{j}{j}")
-    return lines
+            steps.append((f"l{i}{j}", f"({acc})/l{j}{j}", False))
+    return steps
 
 
-def _solve_lines(n, rhs, out):
-    """Lines solving ``L L^T x = rhs`` (rhs names per row) into names ``out`` per row."""
-    lines = []
+def _solve_steps(n, rhs, out):
+    """Steps solving ``L L^T x = rhs`` (rhs names per row) into names ``out`` per row."""
+    steps = []
     for i in range(n):
         acc = " - ".join([rhs[i]] + [f"l{i}{m}*{out[m]}_y" for m in range(i)])
-        lines.append(f"    {out[i]}_y = ({acc})/l{i}{i}")
+        steps.append((f"{out[i]}_y", f"({acc})/l{i}{i}", False))
     for i in reversed(range(n)):
         acc = " - ".join([f"{out[i]}_y"] + [f"l{m}{i}*{out[m]}" for m in range(i + 1, n)])
-        lines.append(f"    {out[i]} = ({acc})/l{i}{i}")
-    return lines
+        steps.append((out[i], f"({acc})/l{i}{i}", False))
+    return steps
 
 
-def render_accel_jacobian_kernel(kernel: AccelJacobianKernel, printer=None) -> str:
-    """Source text of a fused acceleration-Jacobian kernel."""
-    printer = printer or _Printer()
+def _lower_kernel(kernel: Kernel, rewrite=None) -> Lowered:
+    entries = _entries(kernel)
+    loads, assigns, reduced = _check_and_cse(kernel, [e for _, e in entries], rewrite)
+    outputs = [(index, e) for (index, _), e in zip(entries, reduced, strict=True)]
+    return Lowered(
+        kernel.name, kernel.doc, kernel.args, _shape(kernel.expr), loads, assigns, [], outputs
+    )
+
+
+def _lower_accel(kernel: AccelKernel, rewrite=None) -> Lowered:
+    n = kernel.D.rows
+    names, entries = [], []
+    for i in range(n):
+        for j in range(i + 1):
+            names.append(f"d{i}{j}")
+            entries.append(kernel.D[i, j])
+    for i in range(n):
+        names.append(f"h{i}")
+        entries.append(kernel.h[i])
+    loads, assigns, reduced = _check_and_cse(kernel, entries, rewrite)
+    assigns += list(zip(names, reduced, strict=True))
+    # Cholesky D = L L^T, unrolled; then L L^T qdd = -h.
+    steps = _cholesky_steps(n)
+    steps += _solve_steps(n, [f"-h{i}" for i in range(n)], [f"z{i}" for i in range(n)])
+    outputs = [((i,), f"z{i}") for i in range(n)]
+    return Lowered(kernel.name, kernel.doc, kernel.args, (n,), loads, assigns, steps, outputs)
+
+
+def _lower_accel_jacobian(kernel: AccelJacobianKernel, rewrite=None) -> Lowered:
     n = kernel.D.rows
     q = [s for name, syms in kernel.args if name == "q" for s in syms]
     qd = [s for name, syms in kernel.args if name == "qd" for s in syms]
@@ -187,27 +282,10 @@ def render_accel_jacobian_kernel(kernel: AccelJacobianKernel, printer=None) -> s
             entries.append(sp.diff(kernel.h[i], q[k]))
             names.append(f"hv{i}_{k}")
             entries.append(sp.diff(kernel.h[i], qd[k]))
-    allowed = {s for _, syms in kernel.args for s in syms}
-    free = set().union(*(sp.sympify(e).free_symbols for e in entries))
-    stray = sorted(str(s) for s in free - allowed)
-    if stray:
-        raise ValueError(
-            f"kernel `{kernel.name}`: symbols {stray} are not in its arguments "
-            f"{[name for name, _ in kernel.args]}"
-        )
-    lines = ['@njit(cache=True, error_model="numpy")', f"def {kernel.name}(q, qd, p, out):"]
-    lines.append(f'    """{kernel.doc or kernel.name}"""')
-    for name, syms in kernel.args:
-        for i, sym in enumerate(syms):
-            if sym in free:
-                lines.append(f"    {sym} = {name}[{i}]")
-    repl, reduced = sp.cse(entries, symbols=sp.numbered_symbols("x"))
-    for sym, sub in repl:
-        lines.append(f"    {sym} = {printer.doprint(sub)}")
-    for name, e in zip(names, reduced, strict=True):
-        lines.append(f"    {name} = {printer.doprint(e)}")
-    lines += _cholesky_lines(n)
-    lines += _solve_lines(n, [f"-h{i}" for i in range(n)], [f"a{i}" for i in range(n)])
+    loads, assigns, reduced = _check_and_cse(kernel, entries, rewrite)
+    assigns += list(zip(names, reduced, strict=True))
+    steps = _cholesky_steps(n)
+    steps += _solve_steps(n, [f"-h{i}" for i in range(n)], [f"a{i}" for i in range(n)])
 
     def dd(k, i, j):
         return f"dD{k}_{i}{j}" if j <= i else f"dD{k}_{j}{i}"
@@ -217,17 +295,68 @@ def render_accel_jacobian_kernel(kernel: AccelJacobianKernel, printer=None) -> s
         for i in range(n):
             terms = " + ".join(f"{dd(k, i, j)}*a{j}" for j in range(n))
             rhs.append(f"-(hq{i}_{k} + {terms})")
-        lines += _solve_lines(n, rhs, [f"jq{i}_{k}" for i in range(n)])
-        lines += _solve_lines(
+        steps += _solve_steps(n, rhs, [f"jq{i}_{k}" for i in range(n)])
+        steps += _solve_steps(
             n, [f"-hv{i}_{k}" for i in range(n)], [f"jv{i}_{k}" for i in range(n)]
         )
+    outputs = []
     for i in range(n):
         for k in range(n):
-            lines.append(f"    out[{i}, {k}] = jq{i}_{k}")
-            lines.append(f"    out[{i}, {n + k}] = jv{i}_{k}")
-    return "\n".join(lines) + "\n"
+            outputs.append(((i, k), f"jq{i}_{k}"))
+            outputs.append(((i, n + k), f"jv{i}_{k}"))
+    return Lowered(kernel.name, kernel.doc, kernel.args, (n, 2 * n), loads, assigns, steps, outputs)
 
 
+def lower(kernel, rewrite=None) -> Lowered:
+    """Straight-line form of a kernel (one cse pass), shared by the Python and C printers.
+
+    ``rewrite(kernel, entries) -> (definitions, entries)``, if given, transforms the output
+    entries just before the cse pass (after the fused kernels' differentiation); its
+    definitions ``(Symbol, Expr)`` are evaluated first (see :func:`share_trig`).
+    """
+    if isinstance(kernel, AccelKernel):
+        return _lower_accel(kernel, rewrite)
+    if isinstance(kernel, AccelJacobianKernel):
+        return _lower_accel_jacobian(kernel, rewrite)
+    return _lower_kernel(kernel, rewrite)
+
+
+def share_trig(kernel, entries):
+    """A :func:`lower` rewrite: sines and cosines once per angle, angle sums expanded.
+
+    Every ``sin``/``cos`` whose argument is an integer combination of symbols (the
+    generalized coordinates and the slope) is expanded by the angle-sum identities
+    (``sympy.expand_trig``) into products of ``sin_<s>``/``cos_<s>``, one new symbol per
+    angle ``s``, defined as ``sin(s)``/``cos(s)`` at the top of the kernel; other trigonometric
+    terms are left as they are.  Definitions come in argument order, only those used.
+    """
+    atoms = sorted(
+        set().union(*(e.atoms(sp.sin, sp.cos) for e in entries)), key=sp.default_sort_key
+    )
+
+    def integer_combination(arg):
+        return all(
+            isinstance(s, sp.Symbol) and c.is_Integer for s, c in arg.as_coefficients_dict().items()
+        )
+
+    atoms = [a for a in atoms if integer_combination(a.args[0])]
+    angles = set().union(*(a.args[0].free_symbols for a in atoms))
+    order = [s for _, syms in kernel.args for s in syms if s in angles]
+    sin_of = {s: sp.Symbol(f"sin_{s}", real=True) for s in order}
+    cos_of = {s: sp.Symbol(f"cos_{s}", real=True) for s in order}
+    base = {sp.sin(s): sin_of[s] for s in order} | {sp.cos(s): cos_of[s] for s in order}
+    expanded = {a: sp.expand_trig(a).xreplace(base) for a in atoms}
+    entries = [e.xreplace(expanded) for e in entries]
+    used = set().union(*(e.free_symbols for e in entries))
+    defs = []
+    for s in order:
+        for sym, fun in ((sin_of[s], sp.sin), (cos_of[s], sp.cos)):
+            if sym in used:
+                defs.append((sym, fun(s)))
+    return defs, entries
+
+
+# ------------------------------------------------------------------------------ printers
 class _Printer(PythonCodePrinter):
     """Python printer whose output numba compiles (math module, plain floats)."""
 
@@ -249,55 +378,96 @@ class _Printer(PythonCodePrinter):
         return super()._print_Pow(expr, rational=rational)
 
 
-def _entries(kernel: Kernel):
-    """Flatten the output into (index string, expression) pairs and the output kind."""
-    expr = kernel.expr
-    if isinstance(expr, (list, tuple)):
-        out = []
-        for k, m in enumerate(expr):
-            for i in range(m.rows):
-                for j in range(m.cols):
-                    out.append((f"[{k}, {i}, {j}]", m[i, j]))
-        return out, "tensor"
-    if isinstance(expr, sp.MatrixBase):
-        if expr.cols == 1:
-            return [(f"[{i}]", expr[i, 0]) for i in range(expr.rows)], "vector"
-        return [
-            (f"[{i}, {j}]", expr[i, j]) for i in range(expr.rows) for j in range(expr.cols)
-        ], "matrix"
-    return [("", sp.sympify(expr))], "scalar"
+class _CPrinter(C99CodePrinter):
+    """C99 printer spelling the same arithmetic as :class:`_Printer` (``x*x`` for squares,
+    rationals as quotients of doubles, integers as doubles); refuses anything it cannot
+    print exactly so."""
+
+    def __init__(self):
+        super().__init__({"strict": True})
+
+    def _print_Integer(self, expr):
+        return f"{int(expr.p)}.0"
+
+    _print_Zero = _print_One = _print_NegativeOne = _print_Integer
+
+    def _print_Rational(self, expr):
+        return f"({float(expr.p)!r}/{float(expr.q)!r})"
+
+    def _print_Mul(self, expr, **kwargs):
+        for f in expr.args:
+            if f.is_Pow and f.exp.is_Rational and f.exp.is_negative and f.exp != -1:
+                raise NotImplementedError(f"C printer: a denominator power in {expr}")
+        return super()._print_Mul(expr, **kwargs)
+
+    def _print_Pow(self, expr, rational=False):
+        base, e = expr.as_base_exp()
+        if e.is_Integer and 1 < int(e) <= 4:
+            b = self._print(base)
+            if not (base.is_Symbol or base.is_Function):
+                b = f"({b})"
+            return "*".join([b] * int(e))
+        if e == -1:
+            return f"1.0/({self._print(base)})"
+        if e == sp.S.Half:
+            return f"sqrt({self._print(base)})"
+        raise NotImplementedError(f"C printer: power {expr}")
+
+
+_TOKEN = re.compile(r"\d+\.\d+(?:e[+-]?\d+)?|\d+|[A-Za-z_]\w*|\S")
+
+
+def _same_arithmetic(py: str, c: str) -> bool:
+    """Whether a Python and a C expression spell the same operations on the same operands
+    in the same order (numbers compared by value, ``math.`` prefixes ignored)."""
+    a = _TOKEN.findall(py.replace("math.", ""))
+    b = _TOKEN.findall(c)
+    if len(a) != len(b):
+        return False
+    for x, y in zip(a, b, strict=True):
+        if x == y:
+            continue
+        if x[0].isdigit() and y[0].isdigit() and float(x) == float(y):
+            continue
+        return False
+    return True
+
+
+# ----------------------------------------------------------------------- Python (numba)
+def _render_python(low: Lowered, printer: _Printer | None = None) -> str:
+    printer = printer or _Printer()
+    arg_names = [name for name, _ in low.args]
+    sig = ", ".join(arg_names + ([] if low.shape == () else ["out"]))
+    lines = ['@njit(cache=True, error_model="numpy")', f"def {low.name}({sig}):"]
+    lines.append(f'    """{low.doc or low.name}"""')
+    for s, name, i in low.loads:
+        lines.append(f"    {s} = {name}[{i}]")
+    for sym, e in low.assigns:
+        lines.append(f"    {sym} = {printer.doprint(e)}")
+    for name, rhs, is_sqrt in low.steps:
+        lines.append(f"    {name} = math.sqrt({rhs})" if is_sqrt else f"    {name} = {rhs}")
+    if low.shape == ():
+        lines.append(f"    return {printer.doprint(low.outputs[0][1])}")
+    else:
+        for index, e in low.outputs:
+            value = e if isinstance(e, str) else printer.doprint(e)
+            lines.append(f"    out[{', '.join(map(str, index))}] = {value}")
+    return "\n".join(lines) + "\n"
+
+
+def render_accel_kernel(kernel: AccelKernel, printer: _Printer | None = None) -> str:
+    """Source text of a fused acceleration kernel (see :class:`AccelKernel`)."""
+    return _render_python(_lower_accel(kernel), printer)
+
+
+def render_accel_jacobian_kernel(kernel: AccelJacobianKernel, printer=None) -> str:
+    """Source text of a fused acceleration-Jacobian kernel."""
+    return _render_python(_lower_accel_jacobian(kernel), printer)
 
 
 def render_kernel(kernel: Kernel, printer: _Printer | None = None) -> str:
     """Source text of one kernel; raises ``ValueError`` naming any stray symbol."""
-    printer = printer or _Printer()
-    entries, kind = _entries(kernel)
-    allowed = {s for _, syms in kernel.args for s in syms}
-    free = set().union(*(sp.sympify(e).free_symbols for _, e in entries))
-    stray = sorted(str(s) for s in free - allowed)
-    if stray:
-        raise ValueError(
-            f"kernel `{kernel.name}`: symbols {stray} are not in its arguments "
-            f"{[name for name, _ in kernel.args]}"
-        )
-    arg_names = [name for name, _ in kernel.args]
-    sig = ", ".join(arg_names + ([] if kind == "scalar" else ["out"]))
-    lines = ['@njit(cache=True, error_model="numpy")', f"def {kernel.name}({sig}):"]
-    doc = kernel.doc or kernel.name
-    lines.append(f'    """{doc}"""')
-    for name, syms in kernel.args:
-        for i, s in enumerate(syms):
-            if s in free:
-                lines.append(f"    {s} = {name}[{i}]")
-    repl, reduced = sp.cse([e for _, e in entries], symbols=sp.numbered_symbols("x"))
-    for sym, sub in repl:
-        lines.append(f"    {sym} = {printer.doprint(sub)}")
-    if kind == "scalar":
-        lines.append(f"    return {printer.doprint(reduced[0])}")
-    else:
-        for (index, _), e in zip(entries, reduced, strict=True):
-            lines.append(f"    out{index} = {printer.doprint(e)}")
-    return "\n".join(lines) + "\n"
+    return _render_python(_lower_kernel(kernel), printer)
 
 
 def symbolic_hash(kernels) -> str:
@@ -314,6 +484,31 @@ def symbolic_hash(kernels) -> str:
         if isinstance(k, AccelJacobianKernel):
             h.update(b"accel-jacobian-cholesky")
     return h.hexdigest()
+
+
+def variant_hash(digest: str, variant: str, zeros, kernel_names, simplification: str = "") -> str:
+    """Input hash of a structural variant: the general kernels' ``symbolic_hash``, the
+    variant's name, its zero parameters, the kernels it keeps, how they are simplified and
+    the trigonometric rewrite (everything a variant's expressions are derived from)."""
+    h = hashlib.sha256()
+    h.update(digest.encode())
+    h.update(f"variant {variant}; zeros {','.join(zeros)}; ".encode())
+    h.update(f"kernels {','.join(kernel_names)}; ".encode())
+    h.update(f"simplification {simplification}; share-trig angle-sum".encode())
+    return h.hexdigest()
+
+
+def _argument_order(kernels):
+    seen = {}
+    for k in kernels:
+        seen[k.name] = {n: tuple(str(s) for s in syms) for n, syms in k.args}
+    distinct = []
+    for args in seen.values():
+        for n, v in args.items():
+            line = f"{n} = [{', '.join(v)}]"
+            if line not in distinct:
+                distinct.append(line)
+    return seen, distinct
 
 
 def render_module(name: str, kernels, *, doc: str = "", extra: str = "") -> str:
@@ -334,22 +529,13 @@ def render_module(name: str, kernels, *, doc: str = "", extra: str = "") -> str:
     arg_lines = []
     for k in kernels:
         arg_lines.append(f"#   {k.name}(" + ", ".join(n for n, _ in k.args) + ")")
-    seen = {}
-    for k in kernels:
-        seen[k.name] = {n: tuple(str(s) for s in syms) for n, syms in k.args}
-    distinct = []
-    for args in seen.values():
-        for n, v in args.items():
-            line = f"#   {n} = [{', '.join(v)}]"
-            if line not in distinct:
-                distinct.append(line)
-    order_lines = distinct
+    seen, distinct = _argument_order(kernels)
     header = [
         f"# generated, do not edit: walker kernels for `{name}`",
         f"# input hash: sha256:{digest}",
-        f"# sympy {sp.__version__}; regenerate with `python scripts/generate_kernels.py`",
+        f"# sympy {sp.__version__}; regenerate with `{REGENERATE}`",
         "# argument order:",
-        *order_lines,
+        *(f"#   {line}" for line in distinct),
         "# kernels:",
         *arg_lines,
         f'"""Generated numba kernels for the `{name}` model.\n\n{doc}\n"""',
@@ -362,13 +548,192 @@ def render_module(name: str, kernels, *, doc: str = "", extra: str = "") -> str:
         f"ARGUMENT_ORDER = {seen!r}",
         "",
     ]
-
-    def render(k):
-        if isinstance(k, AccelKernel):
-            return render_accel_kernel(k)
-        if isinstance(k, AccelJacobianKernel):
-            return render_accel_jacobian_kernel(k)
-        return render_kernel(k)
-
     body = "\n\n".join(render(k) for k in kernels)
     return "\n".join(header) + "\n" + body + ("\n" + extra if extra else "")
+
+
+def render(k) -> str:
+    """Python source of one kernel of any kind."""
+    return _render_python(lower(k))
+
+
+# ---------------------------------------------------------------------------------- C
+SIGNATURES = {
+    (("q", "qd", "p"), False): "qqdp_v",
+    (("q", "p"), False): "qp_v",
+    (("q", "qd", "p"), True): "qqdp_s",
+    (("q", "p"), True): "qp_s",
+    (("q", "qd", "qdd", "p"), False): "qqdqddp_v",
+}
+"""Registry signature of a kernel by (argument names, returns a scalar); see
+walker/_core/wk_models.h."""
+
+
+def _returns_scalar(kernel) -> bool:
+    return not isinstance(kernel, (AccelKernel, AccelJacobianKernel)) and _shape(kernel.expr) == ()
+
+
+def c_signature(kernel) -> str:
+    """Registry signature string of a kernel (a value of :data:`SIGNATURES`)."""
+    key = (tuple(n for n, _ in kernel.args), _returns_scalar(kernel))
+    if key not in SIGNATURES:
+        raise ValueError(f"kernel `{kernel.name}`: no registry signature for {key}")
+    return SIGNATURES[key]
+
+
+def _c_prototype(cname: str, kernel) -> str:
+    params = [f"const double *{n}" for n, _ in kernel.args]
+    if _returns_scalar(kernel):
+        return f"double wk_{cname}_{kernel.name}({', '.join(params)})"
+    return f"void wk_{cname}_{kernel.name}({', '.join(params + ['double *out'])})"
+
+
+def _comment(text: str) -> str:
+    return text.replace("*/", "* /")
+
+
+def _shape_text(shape) -> str:
+    if shape == ():
+        return "returns a double"
+    if len(shape) == 1:
+        return f"out[{shape[0]}]"
+    return "out[" + "][".join(map(str, shape)) + "] row-major"
+
+
+def _render_c(cname: str, kernel, low: Lowered, check: bool) -> str:
+    printer = _CPrinter()
+    pyprinter = _Printer() if check else None
+
+    def expr(e):
+        text = printer.doprint(e)
+        if check and not _same_arithmetic(pyprinter.doprint(e), text):
+            raise AssertionError(f"{cname}.{low.name}: C `{text}` is not the numba expression")
+        return text
+
+    lines = [f"/* {_comment(low.doc or low.name)} */", _c_prototype(cname, kernel), "{"]
+    read = {name for _, name, _ in low.loads}
+    lines += [f"    (void){name};" for name, _ in low.args if name not in read]
+    for s, name, i in low.loads:
+        lines.append(f"    const double {printer.doprint(s)} = {name}[{i}];")
+    for sym, e in low.assigns:
+        name = sym if isinstance(sym, str) else printer.doprint(sym)
+        lines.append(f"    const double {name} = {expr(e)};")
+    for name, rhs, is_sqrt in low.steps:
+        lines.append(f"    const double {name} = {f'sqrt({rhs})' if is_sqrt else rhs};")
+    if low.shape == ():
+        lines.append(f"    return {expr(low.outputs[0][1])};")
+    else:
+        strides = [1] * len(low.shape)
+        for d in reversed(range(len(low.shape) - 1)):
+            strides[d] = strides[d + 1] * low.shape[d + 1]
+        for index, e in low.outputs:
+            flat = sum(i * s for i, s in zip(index, strides, strict=True))
+            lines.append(f"    out[{flat}] = {e if isinstance(e, str) else expr(e)};")
+    lines.append("}")
+    return "\n".join(lines) + "\n"
+
+
+def render_c_module(
+    cname: str,
+    kernels,
+    *,
+    doc: str = "",
+    digest: str | None = None,
+    rewrite=None,
+    notes=(),
+) -> tuple[str, str]:
+    """C source and header of a generated module: ``(<cname>.c, <cname>.h)``.
+
+    Parameters
+    ----------
+    cname : str
+        C module name (``compass``, ``compass_plain``); functions are ``wk_<cname>_<kernel>``.
+    kernels : sequence of Kernel
+    doc : str
+        one-paragraph description for the header.
+    digest : str, optional
+        input hash to stamp; default :func:`symbolic_hash` of ``kernels`` (the hash of the
+        numba module of the same kernels).
+    rewrite : callable, optional
+        passed to :func:`lower` (e.g. :func:`share_trig`).  Without it every expression is
+        checked to be the numba module's, operation for operation.
+    notes : sequence of str
+        extra header lines (what a structural variant fixes).
+    """
+    kernels = list(kernels)
+    digest = digest or symbolic_hash(kernels)
+    _, distinct = _argument_order(kernels)
+    guard = f"WK_GENERATED_{cname.upper()}_H"
+    stamp = [
+        f"/* generated, do not edit: walker C kernels for `{cname}`",
+        f" * input hash: sha256:{digest}",
+        f" * sympy {sp.__version__}; regenerate with `{REGENERATE}`",
+        *(f" * {_comment(line)}" if line else " *" for line in notes),
+        " * argument order:",
+        *(f" *   {line}" for line in distinct),
+        " * kernels:",
+        *(
+            f" *   wk_{cname}_{k.name}("
+            + ", ".join([n for n, _ in k.args] + ([] if _returns_scalar(k) else ["out"]))
+            + ")"
+            for k in kernels
+        ),
+        " */",
+    ]
+    lowered = [lower(k, rewrite) for k in kernels]
+    header = [
+        *stamp,
+        f"#ifndef {guard}",
+        f"#define {guard}",
+        "",
+        f"/* {_comment(doc)} */" if doc else "",
+        f'#define WK_{cname.upper()}_KERNEL_HASH "{digest}"',
+        "",
+    ]
+    for k, low in zip(kernels, lowered, strict=True):
+        header.append(f"/* {_comment(k.doc or k.name)} [{_shape_text(low.shape)}] */")
+        header.append(_c_prototype(cname, k) + ";")
+    header += ["", "#endif", ""]
+    source = [*stamp, "#include <math.h>", "", f'#include "{cname}.h"', ""]
+    body = "\n".join(
+        _render_c(cname, k, low, check=rewrite is None)
+        for k, low in zip(kernels, lowered, strict=True)
+    )
+    return "\n".join(source) + "\n" + body, "\n".join(header)
+
+
+def render_kernel_table(modules) -> str:
+    """``kernel_table.c``: the registry ``wk_kernel_table`` (walker/_core/wk_models.h).
+
+    ``modules`` is a sequence of ``(cname, registry prefix, kernels)``, e.g.
+    ``("kneed_plain", "kneed/plain", [...])``; entries are ``"<prefix>.<kernel>"``.
+    """
+    modules = list(modules)
+    lines = [
+        "/* generated, do not edit: registry of walker's generated C kernels",
+        " * (wk_kernel_table, declared in walker/_core/wk_models.h), one entry per kernel of",
+        " * walker/_generated/<module>.c;",
+        f" * regenerate with `{REGENERATE}`. */",
+        "#include <stddef.h>",
+        "",
+        '#include "wk_models.h"',
+        *(f'#include "{cname}.h"' for cname, _, _ in modules),
+        "",
+        "static const wk_kernel_entry KERNELS[] = {",
+    ]
+    for cname, prefix, kernels in modules:
+        for k in kernels:
+            lines.append(
+                f'    {{"{prefix}.{k.name}", "{c_signature(k)}", (void *)wk_{cname}_{k.name}}},'
+            )
+    lines += [
+        "};",
+        "",
+        "const wk_kernel_entry *wk_kernel_table(int64_t *count)",
+        "{",
+        "    *count = (int64_t)(sizeof(KERNELS) / sizeof(KERNELS[0]));",
+        "    return KERNELS;",
+        "}",
+        "",
+    ]
+    return "\n".join(lines)

@@ -1,7 +1,13 @@
 """Which kernels each generated module holds: the one list shared by the generator script
-and the staleness test (which re-derives them and compares by numbers)."""
+and the staleness test (which re-derives them and compares by numbers).
+
+Every module is printed for numba (``walker/_generated/<name>.py``); those in
+:data:`C_MODULES` also in C (``<name>.c``/``.h``), and their structural variants
+(:data:`C_VARIANTS`, see :func:`variant_kernels`) only in C."""
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import sympy as sp
 
@@ -9,7 +15,17 @@ from walker.symbolic import models
 from walker.symbolic.codegen import AccelJacobianKernel, AccelKernel, Kernel
 from walker.symbolic.mechanics import LagrangianModel
 
-__all__ = ["GENERATED_MODULES", "kernels_for", "module_extra"]
+__all__ = [
+    "C_MODULES",
+    "C_VARIANTS",
+    "GENERATED_MODULES",
+    "VARIANT_KERNELS",
+    "VARIANT_SIMPLIFICATION",
+    "is_variant_kernel",
+    "kernels_for",
+    "module_extra",
+    "variant_kernels",
+]
 
 
 def _dynamics_kernels(m: LagrangianModel, prefix: str) -> list[Kernel]:
@@ -187,3 +203,106 @@ GENERATED_MODULES = {
         "dynamics, ground reaction, floating-base heel-strike model."
     ),
 }
+
+
+C_MODULES = ("simplest", "compass", "kneed", "double_pendulum", "three_link", "five_link")
+"""Modules also printed in C (``walker/_generated/<name>.c``/``.h``), compiled into
+``walker._hybrid``."""
+
+C_VARIANTS = {
+    "compass": {"plain": ("foot_radius", "inertia_leg", "damping_hip", "damping_ankle")},
+    "kneed": {
+        "plain": (
+            "inertia_thigh",
+            "inertia_shank",
+            "offset_thigh",
+            "offset_shank",
+            "foot_radius",
+            "damping_hip",
+            "damping_knee",
+            "damping_ankle",
+        )
+    },
+}
+"""Structural variants printed in C as ``<name>_<variant>`` (functions
+``wk_<name>_<variant>_<kernel>``, registry names ``"<name>/<variant>.<kernel>"``): the listed
+parameters are exactly 0 (the same sets as ``VARIANTS`` of walker.models.<name>)."""
+
+VARIANT_KERNELS = (
+    "accel",
+    "accel_jac",
+    "mass_matrix",
+    "points",
+    "hip_jac",
+    "swing_contact_jac",
+    "stance_contact_jac",
+)
+"""Kernels a structural variant keeps, by name without the ``unlocked_``/``locked_``/
+``ext_`` prefix: the dynamics and what the impact maps read."""
+
+
+def is_variant_kernel(name: str) -> bool:
+    """Whether a structural variant keeps kernel ``name`` (see :data:`VARIANT_KERNELS`)."""
+    for prefix in ("unlocked_", "locked_", "ext_"):
+        if name.startswith(prefix):
+            name = name[len(prefix) :]
+            break
+    return name in VARIANT_KERNELS
+
+
+VARIANT_SIMPLIFICATION = "trigsimp; polynomial in sin/cos and qd with factored coefficients"
+"""How :func:`variant_kernels` simplifies (part of a variant's input hash)."""
+
+
+def _compact(e, rates):
+    """``e`` with ``sin^2 + cos^2 = 1`` and the like applied (``sympy.trigsimp``), then
+    written as a polynomial in its sines, cosines and the rates ``rates``, whose
+    coefficients (functions of the parameters only) are factored."""
+    e = sp.trigsimp(sp.sympify(e))
+    gens = sorted(e.atoms(sp.sin, sp.cos), key=sp.default_sort_key)
+    gens += [s for s in rates if s in e.free_symbols]
+    if not gens:
+        return sp.factor(e)
+    try:
+        poly = sp.Poly(e, *gens)
+    except sp.PolynomialError:
+        return e
+    return sp.Add(
+        *(
+            sp.factor(c) * sp.Mul(*(g**k for g, k in zip(gens, m, strict=True)))
+            for m, c in poly.terms()
+        )
+    )
+
+
+def variant_kernels(name: str, variant: str, kernels=None, *, simplify: bool = True) -> list:
+    """The kernels of structural variant ``variant`` of module ``name``: those of
+    :data:`VARIANT_KERNELS` from ``kernels`` (default :func:`kernels_for`), with the
+    variant's parameters replaced by exact zeros (before any differentiation or cse, so
+    they contribute no arithmetic) and, with ``simplify``, every entry (of ``D`` and ``h``
+    for the fused kernels, before differentiation) simplified by :func:`_compact`.
+    Arguments are unchanged: the full parameter vector, whose zeroed entries are never
+    read."""
+    zeros = set(C_VARIANTS[name][variant])
+    kernels = kernels_for(name) if kernels is None else kernels
+    out = []
+    for k in kernels:
+        if not is_variant_kernel(k.name):
+            continue
+        args = dict(k.args)
+        sub = {s: sp.S.Zero for s in args["p"] if str(s) in zeros}
+        rates = args.get("qd", ())
+
+        def f(e, sub=sub, rates=rates):
+            e = sp.sympify(e).xreplace(sub)
+            return _compact(e, rates) if simplify else e
+
+        if isinstance(k, (AccelKernel, AccelJacobianKernel)):
+            out.append(replace(k, D=k.D.applyfunc(f), h=k.h.applyfunc(f)))
+        elif isinstance(k.expr, (list, tuple)):
+            out.append(replace(k, expr=[m.applyfunc(f) for m in k.expr]))
+        elif isinstance(k.expr, sp.MatrixBase):
+            out.append(replace(k, expr=k.expr.applyfunc(f)))
+        else:
+            out.append(replace(k, expr=f(k.expr)))
+    return out

@@ -1,0 +1,296 @@
+/* generated, do not edit: walker C kernels for `compass_plain`
+ * input hash: sha256:dec20111c70b5954b8b1e34c1d727a852cd22349ee5b5cc0d0a4f2d56258f446
+ * sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
+ * structural variant `plain` of `compass`: these parameters are exactly 0 and
+ * never read (the arguments are those of the general kernels):
+ *   foot_radius, inertia_leg, damping_hip, damping_ankle;
+ * entries simplified (trigsimp; polynomial in sin/cos and qd with factored coefficients);
+ * sin and cos of each angle (coordinates, slope) are computed once per call and
+ * sines and cosines of their sums are expanded by the angle-sum identities.
+ * argument order:
+ *   q = [q_stance, q_swing]
+ *   qd = [q_stance_dot, q_swing_dot]
+ *   p = [mass_hip, mass_leg, com_from_foot, com_to_hip, inertia_leg, foot_radius, slope, g, damping_hip, damping_ankle]
+ *   q = [q_stance, q_swing, x_hip, y_hip]
+ * kernels:
+ *   wk_compass_plain_accel(q, qd, p, out)
+ *   wk_compass_plain_accel_jac(q, qd, p, out)
+ *   wk_compass_plain_mass_matrix(q, p, out)
+ *   wk_compass_plain_points(q, p, out)
+ *   wk_compass_plain_hip_jac(q, p, out)
+ *   wk_compass_plain_ext_mass_matrix(q, p, out)
+ *   wk_compass_plain_ext_swing_contact_jac(q, p, out)
+ *   wk_compass_plain_ext_stance_contact_jac(q, p, out)
+ */
+#include <math.h>
+
+#include "compass_plain.h"
+
+/* Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,). */
+void wk_compass_plain_accel(const double *q, const double *qd, const double *p, double *out)
+{
+    const double q_stance = q[0];
+    const double q_swing = q[1];
+    const double q_stance_dot = qd[0];
+    const double q_swing_dot = qd[1];
+    const double mass_hip = p[0];
+    const double mass_leg = p[1];
+    const double com_from_foot = p[2];
+    const double com_to_hip = p[3];
+    const double g = p[7];
+    const double sin_q_stance = sin(q_stance);
+    const double cos_q_stance = cos(q_stance);
+    const double sin_q_swing = sin(q_swing);
+    const double cos_q_swing = cos(q_swing);
+    const double x0 = com_from_foot*com_from_foot;
+    const double x1 = com_to_hip*com_to_hip;
+    const double x2 = mass_leg*x1;
+    const double x3 = com_from_foot*mass_hip;
+    const double x4 = com_to_hip*mass_leg;
+    const double x5 = 2.0*mass_leg;
+    const double x6 = x4*(com_from_foot + com_to_hip);
+    const double x7 = x6*(-cos_q_stance*sin_q_swing + cos_q_swing*sin_q_stance);
+    const double d00 = 2.0*com_from_foot*x4 + 2.0*com_to_hip*x3 + mass_hip*x0 + mass_hip*x1 + x0*x5 + x2;
+    const double d10 = -x6*(cos_q_stance*cos_q_swing + sin_q_stance*sin_q_swing);
+    const double d11 = x2;
+    const double h0 = -g*sin_q_stance*(com_from_foot*x5 + com_to_hip*mass_hip + x3 + x4) - q_swing_dot*q_swing_dot*x7;
+    const double h1 = g*sin_q_swing*x4 + q_stance_dot*q_stance_dot*x7;
+    const double l00 = sqrt(d00);
+    const double l10 = (d10)/l00;
+    const double l11 = sqrt(d11 - l10*l10);
+    const double z0_y = (-h0)/l00;
+    const double z1_y = (-h1 - l10*z0_y)/l11;
+    const double z1 = (z1_y)/l11;
+    const double z0 = (z0_y - l10*z1)/l00;
+    out[0] = z0;
+    out[1] = z1;
+}
+
+/* d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve. */
+void wk_compass_plain_accel_jac(const double *q, const double *qd, const double *p, double *out)
+{
+    const double q_stance = q[0];
+    const double q_swing = q[1];
+    const double q_stance_dot = qd[0];
+    const double q_swing_dot = qd[1];
+    const double mass_hip = p[0];
+    const double mass_leg = p[1];
+    const double com_from_foot = p[2];
+    const double com_to_hip = p[3];
+    const double g = p[7];
+    const double sin_q_stance = sin(q_stance);
+    const double cos_q_stance = cos(q_stance);
+    const double sin_q_swing = sin(q_swing);
+    const double cos_q_swing = cos(q_swing);
+    const double x0 = com_from_foot*com_from_foot;
+    const double x1 = com_to_hip*com_to_hip;
+    const double x2 = mass_leg*x1;
+    const double x3 = com_from_foot*mass_hip;
+    const double x4 = com_to_hip*mass_leg;
+    const double x5 = 2.0*x4;
+    const double x6 = 2.0*mass_leg;
+    const double x7 = com_from_foot + com_to_hip;
+    const double x8 = x4*x7;
+    const double x9 = x8*(cos_q_stance*cos_q_swing + sin_q_stance*sin_q_swing);
+    const double x10 = g*(com_from_foot*x6 + com_to_hip*mass_hip + x3 + x4);
+    const double x11 = q_swing_dot*q_swing_dot;
+    const double x12 = -cos_q_stance*sin_q_swing + cos_q_swing*sin_q_stance;
+    const double x13 = x12*x8;
+    const double x14 = g*x4;
+    const double x15 = q_stance_dot*q_stance_dot;
+    const double x16 = x11*x9;
+    const double x17 = x15*x9;
+    const double x18 = x12*x5*x7;
+    const double d00 = com_from_foot*x5 + 2.0*com_to_hip*x3 + mass_hip*x0 + mass_hip*x1 + x0*x6 + x2;
+    const double d10 = -x9;
+    const double d11 = x2;
+    const double h0 = -sin_q_stance*x10 - x11*x13;
+    const double h1 = sin_q_swing*x14 + x13*x15;
+    const double dD0_00 = 0.0;
+    const double dD0_10 = x13;
+    const double dD0_11 = 0.0;
+    const double dD1_00 = 0.0;
+    const double dD1_10 = -x13;
+    const double dD1_11 = 0.0;
+    const double hq0_0 = -cos_q_stance*x10 - x16;
+    const double hv0_0 = 0.0;
+    const double hq1_0 = x17;
+    const double hv1_0 = q_stance_dot*x18;
+    const double hq0_1 = x16;
+    const double hv0_1 = -q_swing_dot*x18;
+    const double hq1_1 = cos_q_swing*x14 - x17;
+    const double hv1_1 = 0.0;
+    const double l00 = sqrt(d00);
+    const double l10 = (d10)/l00;
+    const double l11 = sqrt(d11 - l10*l10);
+    const double a0_y = (-h0)/l00;
+    const double a1_y = (-h1 - l10*a0_y)/l11;
+    const double a1 = (a1_y)/l11;
+    const double a0 = (a0_y - l10*a1)/l00;
+    const double jq0_0_y = (-(hq0_0 + dD0_00*a0 + dD0_10*a1))/l00;
+    const double jq1_0_y = (-(hq1_0 + dD0_10*a0 + dD0_11*a1) - l10*jq0_0_y)/l11;
+    const double jq1_0 = (jq1_0_y)/l11;
+    const double jq0_0 = (jq0_0_y - l10*jq1_0)/l00;
+    const double jv0_0_y = (-hv0_0)/l00;
+    const double jv1_0_y = (-hv1_0 - l10*jv0_0_y)/l11;
+    const double jv1_0 = (jv1_0_y)/l11;
+    const double jv0_0 = (jv0_0_y - l10*jv1_0)/l00;
+    const double jq0_1_y = (-(hq0_1 + dD1_00*a0 + dD1_10*a1))/l00;
+    const double jq1_1_y = (-(hq1_1 + dD1_10*a0 + dD1_11*a1) - l10*jq0_1_y)/l11;
+    const double jq1_1 = (jq1_1_y)/l11;
+    const double jq0_1 = (jq0_1_y - l10*jq1_1)/l00;
+    const double jv0_1_y = (-hv0_1)/l00;
+    const double jv1_1_y = (-hv1_1 - l10*jv0_1_y)/l11;
+    const double jv1_1 = (jv1_1_y)/l11;
+    const double jv0_1 = (jv0_1_y - l10*jv1_1)/l00;
+    out[0] = jq0_0;
+    out[2] = jv0_0;
+    out[1] = jq0_1;
+    out[3] = jv0_1;
+    out[4] = jq1_0;
+    out[6] = jv1_0;
+    out[5] = jq1_1;
+    out[7] = jv1_1;
+}
+
+/* Mass matrix D(q), out (n, n). */
+void wk_compass_plain_mass_matrix(const double *q, const double *p, double *out)
+{
+    const double q_stance = q[0];
+    const double q_swing = q[1];
+    const double mass_hip = p[0];
+    const double mass_leg = p[1];
+    const double com_from_foot = p[2];
+    const double com_to_hip = p[3];
+    const double sin_q_stance = sin(q_stance);
+    const double cos_q_stance = cos(q_stance);
+    const double sin_q_swing = sin(q_swing);
+    const double cos_q_swing = cos(q_swing);
+    const double x0 = com_from_foot*com_from_foot;
+    const double x1 = com_to_hip*com_to_hip;
+    const double x2 = mass_leg*x1;
+    const double x3 = com_from_foot*com_to_hip;
+    const double x4 = 2.0*mass_leg;
+    const double x5 = -com_to_hip*mass_leg*(com_from_foot + com_to_hip)*(cos_q_stance*cos_q_swing + sin_q_stance*sin_q_swing);
+    out[0] = mass_hip*x0 + mass_hip*x1 + 2.0*mass_hip*x3 + x0*x4 + x2 + x3*x4;
+    out[1] = x5;
+    out[2] = x5;
+    out[3] = x2;
+}
+
+/* Named points in the world frame, out (n_points, 2); names in POINTS. */
+void wk_compass_plain_points(const double *q, const double *p, double *out)
+{
+    const double q_stance = q[0];
+    const double q_swing = q[1];
+    const double com_from_foot = p[2];
+    const double com_to_hip = p[3];
+    const double sin_q_stance = sin(q_stance);
+    const double cos_q_stance = cos(q_stance);
+    const double sin_q_swing = sin(q_swing);
+    const double cos_q_swing = cos(q_swing);
+    const double x0 = com_from_foot + com_to_hip;
+    const double x1 = -x0;
+    const double x2 = sin_q_stance*x1;
+    const double x3 = cos_q_stance*x0;
+    const double x4 = sin_q_swing*x0 + x2;
+    const double x5 = cos_q_swing*x1 + x3;
+    out[0] = 0.0;
+    out[1] = 0.0;
+    out[2] = x2;
+    out[3] = x3;
+    out[4] = x4;
+    out[5] = x5;
+    out[6] = x4;
+    out[7] = x5;
+}
+
+/* Jacobian of the hip position, out (2, n). */
+void wk_compass_plain_hip_jac(const double *q, const double *p, double *out)
+{
+    const double q_stance = q[0];
+    const double com_from_foot = p[2];
+    const double com_to_hip = p[3];
+    const double sin_q_stance = sin(q_stance);
+    const double cos_q_stance = cos(q_stance);
+    const double x0 = -com_from_foot - com_to_hip;
+    out[0] = cos_q_stance*x0;
+    out[1] = 0.0;
+    out[2] = sin_q_stance*x0;
+    out[3] = 0.0;
+}
+
+/* Floating-base mass matrix, out (n_f, n_f). */
+void wk_compass_plain_ext_mass_matrix(const double *q, const double *p, double *out)
+{
+    const double q_stance = q[0];
+    const double q_swing = q[1];
+    const double mass_hip = p[0];
+    const double mass_leg = p[1];
+    const double com_to_hip = p[3];
+    const double sin_q_stance = sin(q_stance);
+    const double cos_q_stance = cos(q_stance);
+    const double sin_q_swing = sin(q_swing);
+    const double cos_q_swing = cos(q_swing);
+    const double x0 = com_to_hip*com_to_hip*mass_leg;
+    const double x1 = com_to_hip*mass_leg;
+    const double x2 = cos_q_stance*x1;
+    const double x3 = sin_q_stance*x1;
+    const double x4 = cos_q_swing*x1;
+    const double x5 = sin_q_swing*x1;
+    const double x6 = mass_hip + 2.0*mass_leg;
+    out[0] = x0;
+    out[1] = 0.0;
+    out[2] = x2;
+    out[3] = x3;
+    out[4] = 0.0;
+    out[5] = x0;
+    out[6] = x4;
+    out[7] = x5;
+    out[8] = x2;
+    out[9] = x4;
+    out[10] = x6;
+    out[11] = 0.0;
+    out[12] = x3;
+    out[13] = x5;
+    out[14] = 0.0;
+    out[15] = x6;
+}
+
+/* Jacobian of the swing foot's material contact velocity, out (2, n_f). */
+void wk_compass_plain_ext_swing_contact_jac(const double *q, const double *p, double *out)
+{
+    const double q_swing = q[1];
+    const double com_from_foot = p[2];
+    const double com_to_hip = p[3];
+    const double sin_q_swing = sin(q_swing);
+    const double cos_q_swing = cos(q_swing);
+    const double x0 = com_from_foot + com_to_hip;
+    out[0] = 0.0;
+    out[1] = cos_q_swing*x0;
+    out[2] = 1.0;
+    out[3] = 0.0;
+    out[4] = 0.0;
+    out[5] = sin_q_swing*x0;
+    out[6] = 0.0;
+    out[7] = 1.0;
+}
+
+/* Jacobian of the stance foot's material contact velocity, out (2, n_f). */
+void wk_compass_plain_ext_stance_contact_jac(const double *q, const double *p, double *out)
+{
+    const double q_stance = q[0];
+    const double com_from_foot = p[2];
+    const double com_to_hip = p[3];
+    const double sin_q_stance = sin(q_stance);
+    const double cos_q_stance = cos(q_stance);
+    const double x0 = com_from_foot + com_to_hip;
+    out[0] = cos_q_stance*x0;
+    out[1] = 0.0;
+    out[2] = 1.0;
+    out[3] = 0.0;
+    out[4] = sin_q_stance*x0;
+    out[5] = 0.0;
+    out[6] = 0.0;
+    out[7] = 1.0;
+}

@@ -1,0 +1,48 @@
+/* generated, do not edit: walker C kernels for `compass_plain`
+ * input hash: sha256:dec20111c70b5954b8b1e34c1d727a852cd22349ee5b5cc0d0a4f2d56258f446
+ * sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
+ * structural variant `plain` of `compass`: these parameters are exactly 0 and
+ * never read (the arguments are those of the general kernels):
+ *   foot_radius, inertia_leg, damping_hip, damping_ankle;
+ * entries simplified (trigsimp; polynomial in sin/cos and qd with factored coefficients);
+ * sin and cos of each angle (coordinates, slope) are computed once per call and
+ * sines and cosines of their sums are expanded by the angle-sum identities.
+ * argument order:
+ *   q = [q_stance, q_swing]
+ *   qd = [q_stance_dot, q_swing_dot]
+ *   p = [mass_hip, mass_leg, com_from_foot, com_to_hip, inertia_leg, foot_radius, slope, g, damping_hip, damping_ankle]
+ *   q = [q_stance, q_swing, x_hip, y_hip]
+ * kernels:
+ *   wk_compass_plain_accel(q, qd, p, out)
+ *   wk_compass_plain_accel_jac(q, qd, p, out)
+ *   wk_compass_plain_mass_matrix(q, p, out)
+ *   wk_compass_plain_points(q, p, out)
+ *   wk_compass_plain_hip_jac(q, p, out)
+ *   wk_compass_plain_ext_mass_matrix(q, p, out)
+ *   wk_compass_plain_ext_swing_contact_jac(q, p, out)
+ *   wk_compass_plain_ext_stance_contact_jac(q, p, out)
+ */
+#ifndef WK_GENERATED_COMPASS_PLAIN_H
+#define WK_GENERATED_COMPASS_PLAIN_H
+
+/* Compass gait: single-support dynamics and the floating-base heel-strike model. */
+#define WK_COMPASS_PLAIN_KERNEL_HASH "dec20111c70b5954b8b1e34c1d727a852cd22349ee5b5cc0d0a4f2d56258f446"
+
+/* Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,). [out[2]] */
+void wk_compass_plain_accel(const double *q, const double *qd, const double *p, double *out);
+/* d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve. [out[2][4] row-major] */
+void wk_compass_plain_accel_jac(const double *q, const double *qd, const double *p, double *out);
+/* Mass matrix D(q), out (n, n). [out[2][2] row-major] */
+void wk_compass_plain_mass_matrix(const double *q, const double *p, double *out);
+/* Named points in the world frame, out (n_points, 2); names in POINTS. [out[4][2] row-major] */
+void wk_compass_plain_points(const double *q, const double *p, double *out);
+/* Jacobian of the hip position, out (2, n). [out[2][2] row-major] */
+void wk_compass_plain_hip_jac(const double *q, const double *p, double *out);
+/* Floating-base mass matrix, out (n_f, n_f). [out[4][4] row-major] */
+void wk_compass_plain_ext_mass_matrix(const double *q, const double *p, double *out);
+/* Jacobian of the swing foot's material contact velocity, out (2, n_f). [out[2][4] row-major] */
+void wk_compass_plain_ext_swing_contact_jac(const double *q, const double *p, double *out);
+/* Jacobian of the stance foot's material contact velocity, out (2, n_f). [out[2][4] row-major] */
+void wk_compass_plain_ext_stance_contact_jac(const double *q, const double *p, double *out);
+
+#endif

@@ -1,0 +1,62 @@
+/* generated, do not edit: walker C kernels for `kneed_plain`
+ * input hash: sha256:3412d9aa674327a0d06a210b120c218000bf8f59075f04d698a42b7e1860b922
+ * sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
+ * structural variant `plain` of `kneed`: these parameters are exactly 0 and
+ * never read (the arguments are those of the general kernels):
+ *   inertia_thigh, inertia_shank, offset_thigh, offset_shank, foot_radius, damping_hip, damping_knee, damping_ankle;
+ * entries simplified (trigsimp; polynomial in sin/cos and qd with factored coefficients);
+ * sin and cos of each angle (coordinates, slope) are computed once per call and
+ * sines and cosines of their sums are expanded by the angle-sum identities.
+ * argument order:
+ *   q = [q1, q2, q3]
+ *   qd = [q1_dot, q2_dot, q3_dot]
+ *   p = [mass_hip, mass_thigh, mass_shank, shank_com_from_foot, shank_com_to_knee, thigh_com_from_knee, thigh_com_to_hip, inertia_thigh, inertia_shank, offset_thigh, offset_shank, foot_radius, slope, g, damping_hip, damping_knee, damping_ankle]
+ *   q = [q1, q2]
+ *   qd = [q1_dot, q2_dot]
+ *   q = [q1, q2, x_hip, y_hip]
+ * kernels:
+ *   wk_kneed_plain_unlocked_accel(q, qd, p, out)
+ *   wk_kneed_plain_unlocked_accel_jac(q, qd, p, out)
+ *   wk_kneed_plain_unlocked_mass_matrix(q, p, out)
+ *   wk_kneed_plain_unlocked_points(q, p, out)
+ *   wk_kneed_plain_locked_accel(q, qd, p, out)
+ *   wk_kneed_plain_locked_accel_jac(q, qd, p, out)
+ *   wk_kneed_plain_locked_mass_matrix(q, p, out)
+ *   wk_kneed_plain_locked_points(q, p, out)
+ *   wk_kneed_plain_locked_hip_jac(q, p, out)
+ *   wk_kneed_plain_ext_mass_matrix(q, p, out)
+ *   wk_kneed_plain_ext_swing_contact_jac(q, p, out)
+ *   wk_kneed_plain_ext_stance_contact_jac(q, p, out)
+ */
+#ifndef WK_GENERATED_KNEED_PLAIN_H
+#define WK_GENERATED_KNEED_PLAIN_H
+
+/* Kneed walker: knee-free (3-DOF) and knee-locked (2-DOF) swing, floating base. */
+#define WK_KNEED_PLAIN_KERNEL_HASH "3412d9aa674327a0d06a210b120c218000bf8f59075f04d698a42b7e1860b922"
+
+/* Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,). [out[3]] */
+void wk_kneed_plain_unlocked_accel(const double *q, const double *qd, const double *p, double *out);
+/* d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve. [out[3][6] row-major] */
+void wk_kneed_plain_unlocked_accel_jac(const double *q, const double *qd, const double *p, double *out);
+/* Mass matrix D(q), out (n, n). [out[3][3] row-major] */
+void wk_kneed_plain_unlocked_mass_matrix(const double *q, const double *p, double *out);
+/* Named points in the world frame, out (n_points, 2); names in UNLOCKED_POINTS. [out[5][2] row-major] */
+void wk_kneed_plain_unlocked_points(const double *q, const double *p, double *out);
+/* Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,). [out[2]] */
+void wk_kneed_plain_locked_accel(const double *q, const double *qd, const double *p, double *out);
+/* d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve. [out[2][4] row-major] */
+void wk_kneed_plain_locked_accel_jac(const double *q, const double *qd, const double *p, double *out);
+/* Mass matrix D(q), out (n, n). [out[2][2] row-major] */
+void wk_kneed_plain_locked_mass_matrix(const double *q, const double *p, double *out);
+/* Named points in the world frame, out (n_points, 2); names in LOCKED_POINTS. [out[5][2] row-major] */
+void wk_kneed_plain_locked_points(const double *q, const double *p, double *out);
+/* Jacobian of the hip position, out (2, n). [out[2][2] row-major] */
+void wk_kneed_plain_locked_hip_jac(const double *q, const double *p, double *out);
+/* Floating-base mass matrix, out (n_f, n_f). [out[4][4] row-major] */
+void wk_kneed_plain_ext_mass_matrix(const double *q, const double *p, double *out);
+/* Jacobian of the swing foot's material contact velocity, out (2, n_f). [out[2][4] row-major] */
+void wk_kneed_plain_ext_swing_contact_jac(const double *q, const double *p, double *out);
+/* Jacobian of the stance foot's material contact velocity, out (2, n_f). [out[2][4] row-major] */
+void wk_kneed_plain_ext_stance_contact_jac(const double *q, const double *p, double *out);
+
+#endif
