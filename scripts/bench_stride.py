@@ -1,8 +1,33 @@
-"""Work-precision benchmark of one kneed-walker stride: walker's compiled hybrid integrator
-against scipy.integrate.solve_ivp, timed side by side in one run.
+"""Work-precision benchmark of one walker stride, every contender timed side by side in one
+process (round-robin repetitions, min and median per contender).
 
-Writes results/bench/stride_work_precision.csv, results/bench/work_precision.png and
-results/bench/README.md (table of speed ratios at equal error, JIT times).
+Kneed walker (gaits/kneed_hsu.toml at its reference fixed point, ``[reference] state``):
+
+* walker ``simulate`` (DOP853) as a user calls it, and the ``StrideMap`` call the fixed-point
+  search makes (``P(z)``);
+* scipy ``solve_ivp`` DOP853 and RK45 on a hand-written numpy model (scripts/_bench.py:
+  derived from the Lagrangian with sympy at start-up, printed as scalar Python with the
+  3x3 / 2x2 solve in closed form), terminal events for knee lock and heel strike;
+* ``solve_ivp`` DOP853 on walker's compiled vector field (the model module's ``rhs`` and
+  ``guards``, called from Python);
+* heyoka's Taylor integrator on the same equations as heyoka expressions, terminal events for
+  knee lock and heel strike, parameters (a) runtime ``heyoka.par[i]``, (b) folded in as
+  numeric constants (skipped with a note when heyoka is missing).
+
+All contenders apply walker's impact maps (the model's ``reset``) at the events.
+
+Compass gait at Drake's default parameters (read from pydrake at run time): walker
+``simulate`` / ``StrideMap`` against Drake's ``CompassGait`` in its ``Simulator`` with the
+``runge_kutta5`` integrator at a target accuracy (skipped with a note when pydrake is
+missing).
+
+Error: max-norm over the state components of the post-stride state (just after the next
+heel strike) minus a reference stride (walker DOP853 at rtol 3e-14, atol 1e-15; checked
+against solve_ivp DOP853 at rtol = atol = 1e-13).  Each contender runs over a grid of
+tolerances; at each error target the cheapest tolerance whose error meets the target is
+timed again in a dedicated interleaved run.
+
+Writes results/bench/stride.csv, stride.md, work_precision.png and README.md.
 
 Usage: python scripts/bench_stride.py [--quick]
 """
@@ -10,303 +35,773 @@ Usage: python scripts/bench_stride.py [--quick]
 from __future__ import annotations
 
 import argparse
-import csv
-import os
-import subprocess
+import importlib.metadata
+import math
 import sys
-import tempfile
 import time
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from scipy.integrate import solve_ivp  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import _bench as B  # noqa: E402
 
 from walker import load_scene  # noqa: E402
-from walker.models import kneed as K  # noqa: E402
-from walker.stride import simulate  # noqa: E402
+from walker.fixedpoint import find_fixed_point  # noqa: E402
+from walker.models import get_model  # noqa: E402
+from walker.params import CompassParams  # noqa: E402
+from walker.stride import StrideMap, simulate  # noqa: E402
 
-OUT = Path(__file__).resolve().parents[1] / "results" / "bench"
-
-
-def stride_solve_ivp(x0, p, method, rtol, atol):
-    """One kneed stride with solve_ivp: unlocked phase to knee lock, locked phase to heel
-    strike, each with terminal events; the same compiled rhs and impact maps as walker, so
-    the comparison measures the integrators and their loops only."""
-    x = np.array(x0, dtype=float)
-    t0 = 0.0
-    nfev = 0
-    for phase in (0, 1):
-
-        def f(t, y, phase=phase):
-            dy = np.empty(6)
-            K.rhs(phase, t, y, p, dy)
-            return dy
-
-        g = np.empty(4)
-
-        def knee(t, y, g=g):
-            K.guards(0, t, y, p, g)
-            return g[0]
-
-        def heel(t, y, g=g):
-            K.guards(1, t, y, p, g)
-            return g[1] if K.swing_foot(y, p)[1] > 0 else 1.0
-
-        ev = knee if phase == 0 else heel
-        ev.terminal = True
-        ev.direction = 1 if phase == 0 else -1
-        sol = solve_ivp(f, (t0, t0 + 5.0), x, method=method, rtol=rtol, atol=atol, events=ev)
-        nfev += sol.nfev
-        if sol.status != 1:
-            return None, nfev
-        te = sol.t_events[0][0]
-        xe = sol.y_events[0][0]
-        x_new = np.empty(6)
-        imp = np.empty(2)
-        K.reset(phase, 0 if phase == 0 else 1, te, xe, p, x_new, imp)
-        x, t0 = x_new, te
-    return x, nfev
+TARGETS = (1e-6, 1e-8, 1e-10)
+REF_RTOL, REF_ATOL = 3e-14, 1e-15
+T_PAST = 1e-3  # [s] the compass fixed-time problem ends this long after the heel strike
 
 
-def python_kernels():
-    """A straightforward pure-Python model, as a solve_ivp user writes it: sympy's D and h
-    lambdified to numpy, solved with numpy.linalg.solve at every call."""
-    import sympy as sp
+# ------------------------------------------------------------------------------- Drake
+def drake_params():
+    """Drake's CompassGaitParams defaults, read from pydrake, and walker's CompassParams
+    for the same walker (Drake: leg length l, centre of mass ``center_of_mass_leg`` below
+    the hip; walker: ``com_from_foot`` = a = l - that, ``com_to_hip`` = b = that)."""
+    from pydrake.examples import CompassGaitParams
 
-    from walker.symbolic import models
-
-    out = {}
-    for phase, m in ((0, models.kneed_unlocked()), (1, models.kneed_locked())):
-        D = sp.lambdify((m.q, m.params), m.D, "numpy")
-        h = sp.lambdify((m.q, m.qd, m.params), m.bias, "numpy")
-        out[phase] = (D, h, len(m.q))
-    return out
-
-
-def stride_solve_ivp_python(x0, p, method, rtol, atol, kernels):
-    """The same stride with the pure-Python model (the users' baseline)."""
-    x = np.array(x0, dtype=float)
-    t0 = 0.0
-    pl = list(p)
-    for phase in (0, 1):
-        D, h, n = kernels[phase]
-
-        def f(t, y, D=D, h=h, n=n, phase=phase):
-            if phase == 0:
-                q, qd = y[:3], y[3:]
-            else:
-                q, qd = y[[0, 1]], y[[3, 4]]
-            qdd = np.linalg.solve(
-                np.asarray(D(q, pl), dtype=float), -np.asarray(h(q, qd, pl), dtype=float).ravel()
-            )
-            if phase == 0:
-                return np.concatenate([qd, qdd])
-            return np.array([qd[0], qd[1], qd[1], qdd[0], qdd[1], qdd[1]])
-
-        def knee(t, y):
-            return y[2] - y[1]
-
-        def heel(t, y):
-            height, ahead = K.swing_foot(y, p)
-            return height if ahead > 0 else 1.0
-
-        ev = knee if phase == 0 else heel
-        ev.terminal = True
-        ev.direction = 1 if phase == 0 else -1
-        sol = solve_ivp(f, (t0, t0 + 5.0), x, method=method, rtol=rtol, atol=atol, events=ev)
-        if sol.status != 1:
-            return None
-        te = sol.t_events[0][0]
-        xe = sol.y_events[0][0]
-        x_new = np.empty(6)
-        K.reset(phase, 0 if phase == 0 else 1, te, xe, p, x_new, np.empty(2))
-        x, t0 = x_new, te
-    return x
-
-
-def timed(fn, min_time=0.3, max_reps=2000):
-    fn()  # warm up (JIT, caches)
-    reps, t = 0, 0.0
-    start = time.perf_counter()
-    while t < min_time and reps < max_reps:
-        fn()
-        reps += 1
-        t = time.perf_counter() - start
-    return t / reps
-
-
-def jit_times():
-    """Cold-cache compile time and warm-cache start-up time, each in a fresh process."""
-    code = (
-        "import time; t=time.perf_counter();"
-        "from walker import load_scene; from walker.stride import simulate;"
-        "s=load_scene('gaits/kneed_hsu.toml');"
-        "simulate('kneed', s.params, s.state, rtol=1e-10, atol=1e-10);"
-        "print(time.perf_counter()-t)"
+    d = CompassGaitParams()
+    dp = {
+        "mass_hip": d.mass_hip(),
+        "mass_leg": d.mass_leg(),
+        "length_leg": d.length_leg(),
+        "center_of_mass_leg": d.center_of_mass_leg(),
+        "gravity": d.gravity(),
+        "slope": d.slope(),
+    }
+    wp = CompassParams(
+        mass_hip=dp["mass_hip"],
+        mass_leg=dp["mass_leg"],
+        com_from_foot=dp["length_leg"] - dp["center_of_mass_leg"],
+        com_to_hip=dp["center_of_mass_leg"],
+        inertia_leg=0.0,
+        foot_radius=0.0,
+        slope=dp["slope"],
+        g=dp["gravity"],
+        damping_hip=0.0,
+        damping_ankle=0.0,
     )
-    root = Path(__file__).resolve().parents[1]
-    out = {}
-    with tempfile.TemporaryDirectory() as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-        for label in ("cold", "warm"):
-            r = subprocess.run(
-                [sys.executable, "-c", code],
-                cwd=root,
-                env=env,
-                capture_output=True,
-                text=True,
-                check=True,
+    return dp, wp
+
+
+class DrakeCompass:
+    """One compass-gait stride in Drake's Simulator.
+
+    State conventions: Drake's ``(stance, swing, stancedot, swingdot)`` are angles from the
+    vertical measured clockwise (hip at ``x = l sin(stance)``, walking toward +x downhill);
+    walker's are counterclockwise, so ``x_drake = -x_walker`` component by component.
+
+    A stride: set the post-impact state at t = 0, ``AdvanceTo`` with a monitor that ends the
+    run at the step where Drake's foot-collision witness has fired (its isolation step ends
+    on the zero crossing), then ``AdvanceTo`` the same time, which applies Drake's own
+    collision update (impact + leg swap) and integrates nothing.
+    """
+
+    def __init__(self, max_step):
+        from pydrake.examples import CompassGait
+        from pydrake.systems.analysis import Simulator
+        from pydrake.systems.framework import EventStatus
+
+        self.cg = CompassGait()
+        self.sim = Simulator(self.cg)
+        self.ctx = self.sim.get_mutable_context()
+        self.max_step = max_step
+        slope2 = 2.0 * self.ctx.get_numeric_parameter(0).CopyToVector()[5]
+        nothing = EventStatus.DidNothing()
+        stop = EventStatus.ReachedTermination(self.cg, "foot collision")
+
+        def monitor(c):
+            # Pre-impact (toe not yet moved) and past the collision surface.
+            if c.get_discrete_state_vector().GetAtIndex(0) != 0.0:
+                return nothing
+            v = c.get_continuous_state_vector()
+            st, sw = v.GetAtIndex(0), v.GetAtIndex(1)
+            if max(slope2 - st - sw, sw - st) <= 0.0:
+                return stop
+            return nothing
+
+        self._monitor = monitor
+        self.tol = None
+
+    def set_accuracy(self, tol):
+        from pydrake.systems.analysis import ResetIntegratorFromFlags
+
+        integ = ResetIntegratorFromFlags(self.sim, "runge_kutta5", self.max_step)
+        integ.set_target_accuracy(tol)
+        self.ctx.SetAccuracy(tol)
+        self.integ = integ
+        self.tol = tol
+
+    def _start(self, x_walker):
+        ctx = self.ctx
+        ctx.SetTime(0.0)
+        ctx.SetContinuousState(-np.asarray(x_walker, dtype=float))
+        ctx.SetDiscreteState(np.zeros(1))
+        self.sim.Initialize()
+
+    def stride(self, x_walker, t_span=5.0):
+        """One stride: (post-impact state in walker's convention, impact time)."""
+        ctx, sim = self.ctx, self.sim
+        self._start(x_walker)
+        sim.set_monitor(self._monitor)
+        try:
+            sim.AdvanceTo(t_span)
+        finally:
+            sim.clear_monitor()
+        t = ctx.get_time()
+        if t >= t_span:
+            return None, math.nan
+        sim.AdvanceTo(t)  # the collision update
+        if ctx.get_discrete_state_vector().GetAtIndex(0) == 0.0:
+            return None, t
+        return -ctx.get_continuous_state_vector().CopyToVector(), t
+
+    def advance(self, x_walker, t_end):
+        """The state at ``t_end`` in walker's convention, through whatever impacts occur."""
+        self._start(x_walker)
+        self.sim.AdvanceTo(t_end)
+        return -self.ctx.get_continuous_state_vector().CopyToVector()
+
+
+# ------------------------------------------------------------------------- contenders
+class Contender:
+    """``prepare(tol)`` -> zero-argument callable returning the post-stride state (or None);
+    ``note`` for the table."""
+
+    def __init__(self, name, prepare, note="", walker=False, ref=None, base="walker simulate"):
+        self.name, self.prepare, self.note, self.walker = name, prepare, note, walker
+        # ref: the contender's own reference state (None: the problem's post-stride state);
+        # base: the walker contender solving the same problem, for the ratio column.
+        self.ref, self.base = ref, base
+
+
+def kneed_contenders(params, x0, have_heyoka, ck):
+    model = get_model("kneed")
+    p = params.as_array()
+    nk = B.NumpyKneed(params)
+    z0 = model.project(x0, p)
+    out = []
+
+    def walker_sim(tol):
+        return lambda: simulate("kneed", params, x0, rtol=tol, atol=tol).x
+
+    def walker_map(tol):
+        P = StrideMap("kneed", params, rtol=tol, atol=tol)
+        return lambda: P(z0).state
+
+    def walker_map_jac(tol):
+        P = StrideMap("kneed", params, rtol=tol, atol=tol)
+        return lambda: P(z0, jacobian=True).state
+
+    out.append(Contender("walker simulate", walker_sim, "DOP853, rtol = atol = tol", True))
+    out.append(Contender("walker StrideMap", walker_map, "P(z), DOP853, rtol = atol = tol", True))
+    out.append(
+        Contender(
+            "walker StrideMap, jacobian=True",
+            walker_map_jac,
+            "P(z, jacobian=True), the call find_fixed_point makes at each Newton step: the "
+            "stride plus its 3x3 Jacobian from the variational equations and saltation "
+            "matrices (more work than the other rows)",
+            True,
+        )
+    )
+
+    def ivp(obj, method):
+        def prep(tol):
+            if method == "RK45" and tol < 1e-11:
+                return None  # thousands of steps per stride: far off the front
+            return lambda: obj.stride(x0, method=method, rtol=tol, atol=tol)[0]
+
+        return prep
+
+    out.append(
+        Contender(
+            "solve_ivp DOP853, numpy model",
+            ivp(nk, "DOP853"),
+            "hand-written scalar model, rtol = atol = tol",
+        )
+    )
+    out.append(
+        Contender(
+            "solve_ivp RK45, numpy model",
+            ivp(nk, "RK45"),
+            "hand-written scalar model, rtol = atol = tol",
+        )
+    )
+    if ck is not None:
+        out.append(
+            Contender(
+                "solve_ivp DOP853, walker's compiled rhs",
+                ivp(ck, "DOP853"),
+                "walker.models.kneed rhs/guards from Python, rtol = atol = tol",
             )
-            out[label] = float(r.stdout.strip().splitlines()[-1])
+        )
+    if have_heyoka:
+        compile_log = {}
+
+        def hy_prep(runtime_pars):
+            def prep(tol):
+                h = B.HeyokaKneed(params, tol, runtime_pars)
+                compile_log.setdefault(runtime_pars, []).append(h.compile_seconds)
+                return lambda: h.stride(x0)[0]
+
+            return prep
+
+        out.append(Contender("heyoka, par", hy_prep(True), "Taylor, tol; parameters as heyoka.par"))
+        out.append(
+            Contender("heyoka, const", hy_prep(False), "Taylor, tol; parameters folded as numbers")
+        )
+        out[-1].compile_log = compile_log
     return out
+
+
+def compass_contenders(wparams, x0, drake, t_end, ref_end):
+    """Two problems: one stride (stop at the heel strike) and a fixed-time run from the same
+    state to ``t_end`` (just past the heel strike), the latter so that Drake needs no Python
+    callback to stop."""
+    model = get_model("compass")
+    z0 = model.project(x0, wparams.as_array())
+
+    def walker_sim(tol):
+        return lambda: simulate("compass", wparams, x0, rtol=tol, atol=tol).x
+
+    def walker_map(tol):
+        P = StrideMap("compass", wparams, rtol=tol, atol=tol)
+        return lambda: P(z0).state
+
+    def walker_to_t(tol):
+        return lambda: (
+            simulate("compass", wparams, x0, n_strides=0, t_max=t_end, rtol=tol, atol=tol).x
+        )
+
+    fixed = "walker simulate, to t_end"
+    out = [
+        Contender("walker simulate", walker_sim, "one stride, DOP853, rtol = atol = tol", True),
+        Contender(
+            "walker StrideMap", walker_map, "one stride, P(z), DOP853, rtol = atol = tol", True
+        ),
+        Contender(
+            fixed,
+            walker_to_t,
+            "fixed time t_end (n_strides = 0, t_max = t_end), DOP853, rtol = atol = tol",
+            True,
+            ref=ref_end,
+            base=fixed,
+        ),
+    ]
+    if drake is not None:
+
+        def drake_to_t(tol):
+            drake.set_accuracy(tol)
+            return lambda: drake.advance(x0, t_end)
+
+        def drake_stride(tol):
+            drake.set_accuracy(tol)
+            return lambda: drake.stride(x0)[0]
+
+        out.append(
+            Contender(
+                "Drake RK5, to t_end",
+                drake_to_t,
+                "fixed time t_end: Simulator.AdvanceTo(t_end), runge_kutta5, target accuracy = tol",
+                ref=ref_end,
+                base=fixed,
+            )
+        )
+        out.append(
+            Contender(
+                "Drake RK5, one stride",
+                drake_stride,
+                "one stride: AdvanceTo with a Python monitor stopping at the collision, "
+                "runge_kutta5, target accuracy = tol",
+            )
+        )
+    return out
+
+
+# ----------------------------------------------------------------------------- the run
+def sweep(contenders, tols, ref, reps, batch):
+    """Error and time of every contender at every tolerance; at each tolerance the
+    contenders are timed round-robin.  Returns a list of row dicts."""
+    rows = []
+    for tol in tols:
+        fns, errs = {}, {}
+        for c in contenders:
+            try:
+                fn = c.prepare(tol)
+                x = None if fn is None else fn()
+            except Exception as exc:  # e.g. an integrator refusing a tolerance
+                print(f"  {c.name} at tol {tol:.1e}: {type(exc).__name__}: {exc}", flush=True)
+                continue
+            if fn is None:
+                continue
+            if x is None:
+                print(f"  {c.name} at tol {tol:.1e}: stride failed", flush=True)
+                continue
+            r = ref if c.ref is None else c.ref
+            errs[c.name] = float(np.max(np.abs(np.asarray(x) - r)))
+            fns[c.name] = fn
+        times = B.round_robin(fns, reps, batch)
+        for name in fns:
+            t = times[name]
+            rows.append(
+                {
+                    "contender": name,
+                    "tolerance": tol,
+                    "error": errs[name],
+                    "t_min": float(t.min()),
+                    "t_median": float(np.median(t)),
+                    "reps": len(t),
+                }
+            )
+        line = "  ".join(f"{n}: {errs[n]:.1e}/{B.fmt_time(np.median(times[n]))}" for n in fns)
+        print(f"tol {tol:.1e}  {line}", flush=True)
+    return rows
+
+
+def at_targets(contenders, rows, ref, reps, batch):
+    """For each target, each contender at its cheapest tolerance meeting it (sweep medians),
+    all timed again round-robin.  Returns a list of row dicts."""
+    by = {c.name: c for c in contenders}
+    out = []
+    for target in TARGETS:
+        fns, chosen = {}, {}
+        for c in contenders:
+            ok = [r for r in rows if r["contender"] == c.name and r["error"] <= target]
+            if not ok:
+                chosen[c.name] = None
+                continue
+            best = min(ok, key=lambda r: r["t_median"])
+            fn = by[c.name].prepare(best["tolerance"])
+            x = fn()
+            r = ref if c.ref is None else c.ref
+            chosen[c.name] = (best["tolerance"], float(np.max(np.abs(np.asarray(x) - r))))
+            fns[c.name] = fn
+        times = B.round_robin(fns, reps, batch)
+        for c in contenders:
+            if chosen[c.name] is None:
+                out.append(
+                    {
+                        "target": target,
+                        "contender": c.name,
+                        "tolerance": math.nan,
+                        "error": math.nan,
+                        "t_min": math.nan,
+                        "t_median": math.nan,
+                        "reps": 0,
+                    }
+                )
+                continue
+            t = times[c.name]
+            out.append(
+                {
+                    "target": target,
+                    "contender": c.name,
+                    "tolerance": chosen[c.name][0],
+                    "error": chosen[c.name][1],
+                    "t_min": float(t.min()),
+                    "t_median": float(np.median(t)),
+                    "reps": len(t),
+                }
+            )
+        print(
+            f"target {target:.0e}: "
+            + "  ".join(
+                f"{r['contender']}: {B.fmt_time(r['t_median'])}"
+                for r in out
+                if r["target"] == target
+            ),
+            flush=True,
+        )
+    return out
+
+
+def table(contenders, target_rows, pairs):
+    """Markdown table and the headline sentences for one problem.
+
+    ``pairs``: (walker contender, [alternatives]) whose comparison makes a sentence; the
+    table's ratio column divides by each contender's ``base`` (the walker contender solving
+    the same problem)."""
+    by = {c.name: c for c in contenders}
+    lines = [
+        "| error target | contender | tolerance | error reached | min | median "
+        "| median / walker's median, same problem |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    sentences = []
+    for target in TARGETS:
+        rows = {r["contender"]: r for r in target_rows if r["target"] == target}
+        for name, r in rows.items():
+            if not np.isfinite(r["t_median"]):
+                lines.append(
+                    f"| {target:.0e} | {name} | — | not reached over the tolerances swept "
+                    "| — | — | — |"
+                )
+                continue
+            base = rows.get(by[name].base)
+            ratio = r["t_median"] / base["t_median"] if base is not None else math.nan
+            lines.append(
+                f"| {target:.0e} | {name} | {r['tolerance']:.1e} | "
+                f"{r['error']:.1e} | {B.fmt_time(r['t_min'])} | {B.fmt_time(r['t_median'])} "
+                f"| {ratio:.2f} |"
+            )
+        for wname, alts in pairs:
+            w = rows[wname]
+            others = [rows[a] for a in alts if a in rows and np.isfinite(rows[a]["t_median"])]
+            if not np.isfinite(w["t_median"]):
+                sentences.append(f"- error {target:.0e}: {wname} did not reach it.")
+                continue
+            if not others:
+                sentences.append(f"- error {target:.0e}: no alternative to {wname} reached it.")
+                continue
+            best = min(others, key=lambda r: r["t_median"])
+            f = best["t_median"] / w["t_median"]
+            rel = f"{f:.1f}x faster than" if f >= 1 else f"{1 / f:.1f}x slower than"
+            which = "the fastest alternative, " if len(alts) > 1 else ""
+            sentences.append(
+                f"- error {target:.0e}: {wname} {B.fmt_time(w['t_median'])} (median; min "
+                f"{B.fmt_time(w['t_min'])}), {rel} {which}{best['contender']} at tolerance "
+                f"{best['tolerance']:.0e} ({B.fmt_time(best['t_median'])}; min "
+                f"{B.fmt_time(best['t_min'])})."
+            )
+    return lines, sentences
+
+
+def plot(panels, path):
+    fig, axes = plt.subplots(len(panels), 1, figsize=(10, 4.6 * len(panels)), squeeze=False)
+    markers = "osD^v<>px*h"
+    for ax, (title, rows, contenders, xlabel, ylabel) in zip(axes[:, 0], panels, strict=True):
+        for i, c in enumerate(contenders):
+            rs = sorted(
+                (r for r in rows if r["contender"] == c.name and r["error"] > 0),
+                key=lambda r: r["tolerance"],
+            )
+            if not rs:
+                continue
+            ax.loglog(
+                [r["error"] for r in rs],
+                [r["t_median"] * 1e6 for r in rs],
+                marker=markers[i % len(markers)],
+                linestyle="-" if c.walker else "--",
+                label=c.name,
+            )
+        for t in TARGETS:
+            ax.axvline(t, color="0.7", lw=0.8, ls=":")
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        ax.set_title(title)
+        ax.grid(True, which="major", alpha=0.3)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    fig.tight_layout()
+    B.savefig_atomic(fig, path, dpi=110)
+    plt.close(fig)
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--quick", action="store_true", help="fewer tolerances")
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="fewer tolerances and repeats")
     args = parser.parse_args(argv)
-    OUT.mkdir(parents=True, exist_ok=True)
-    scene = load_scene(Path(__file__).resolve().parents[1] / "gaits" / "kneed_hsu.toml")
-    params = scene.params
-    p = params.as_array()
-    x0 = scene.state.copy()
-    ref = simulate("kneed", params, x0, rtol=3e-14, atol=1e-15).x
-    check, _ = stride_solve_ivp(x0, p, "DOP853", 1e-13, 1e-13)
-    print(
-        f"reference: walker DOP853 3e-14 vs solve_ivp DOP853 1e-13: {np.abs(check - ref).max():.2e}"
-    )
+    cmd = B.command_line("bench_stride.py", argv)
+    quick = args.quick
+    if quick:
+        tols = [1e-4, 1e-6, 1e-8, 1e-10, 1e-12]
+        reps_sweep, reps_target, batch = 3, 5, 0.005
+    else:
+        tols = [10.0 ** (-k / 2) for k in range(6, 28)]  # 1e-3 ... 3.2e-14, half decades
+        reps_sweep, reps_target, batch = 7, 31, 0.02
+    t_start = time.perf_counter()
+    notes = []
 
-    tols = [1e-4, 1e-6, 1e-8, 1e-10, 1e-12] if args.quick else [10.0**-k for k in range(3, 14)]
-    steps = (
-        [2e-3, 1e-3, 5e-4, 2e-4, 1e-4]
-        if args.quick
-        else [2e-3, 1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5]
-    )
-    rows = []
-    for method in ("DOP853", "RK45"):
-        for tol in tols:
-            sol = simulate("kneed", params, x0, rtol=tol, atol=tol, method=method)
-            err = np.abs(sol.x - ref).max()
-            t = timed(
-                lambda m=method, tol=tol: simulate(
-                    "kneed", params, x0, rtol=tol, atol=tol, method=m
-                )
-            )
-            rows.append(("walker " + method, tol, err, t, sol.n_rhs))
-            print(rows[-1])
-    for method in ("RK4", "Euler"):
-        for h in steps if method == "RK4" else [s / 10 for s in steps]:
-            sol = simulate("kneed", params, x0, method=method, first_step=h)
-            err = np.abs(sol.x - ref).max()
-            t = timed(
-                lambda m=method, h=h: simulate("kneed", params, x0, method=m, first_step=h),
-                min_time=0.2,
-                max_reps=50,
-            )
-            rows.append(("walker " + method, h, err, t, sol.n_rhs))
-            print(rows[-1])
-    for method in ("RK45", "DOP853", "LSODA", "Radau"):
-        for tol in tols:
-            if method in ("LSODA", "Radau") and tol < 1e-12:
-                continue
-            x, nfev = stride_solve_ivp(x0, p, method, tol, tol)
-            if x is None:
-                continue
-            err = np.abs(x - ref).max()
-            t = timed(
-                lambda m=method, tol=tol: stride_solve_ivp(x0, p, m, tol, tol),
-                min_time=0.3,
-                max_reps=20,
-            )
-            rows.append(("solve_ivp " + method, tol, err, t, nfev))
-            print(rows[-1])
+    try:
+        import heyoka
 
-    kernels = python_kernels()
-    for method in ("RK45", "DOP853"):
-        for tol in tols:
-            x = stride_solve_ivp_python(x0, p, method, tol, tol, kernels)
-            if x is None:
-                continue
-            err = np.abs(x - ref).max()
-            t = timed(
-                lambda m=method, tol=tol: stride_solve_ivp_python(x0, p, m, tol, tol, kernels),
-                min_time=0.3,
-                max_reps=10,
-            )
-            rows.append(("solve_ivp " + method + " (numpy model)", tol, err, t, 0))
-            print(rows[-1])
+        have_heyoka = True
+        heyoka_version = heyoka.__version__
+    except ImportError:
+        have_heyoka = False
+        heyoka_version = None
+        notes.append("heyoka is not installed (`pip install -e .[bench]`): its rows are skipped.")
+    try:
+        from pydrake.examples import CompassGait  # noqa: F401
 
-    with open(OUT / "stride_work_precision.csv", "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["method", "tolerance_or_step", "max_abs_error", "seconds_per_stride", "n_rhs"])
-        w.writerows(rows)
-
-    table = {}
-    for name, _, err, t, _ in rows:
-        table.setdefault(name, ([], []))
-        table[name][0].append(err)
-        table[name][1].append(t)
-    from walker.plotting import plot_work_precision
-
-    fig = plot_work_precision({k: (np.array(v[0]), np.array(v[1])) for k, v in table.items()})
-    fig.axes[0].set_title("one kneed-walker stride (Hsu Chen set)")
-    fig.savefig(OUT / "work_precision.png", dpi=110)
-
-    def time_at(name, target):
-        errs, times = map(np.array, table[name])
-        ok = np.isfinite(errs) & (errs > 0)
-        order = np.argsort(errs[ok])
-        le, lt = np.log10(errs[ok][order]), np.log10(times[ok][order])
-        if not (le[0] <= np.log10(target) <= le[-1]):
-            return np.nan
-        return 10 ** np.interp(np.log10(target), le, lt)
-
-    jit = jit_times()
-    lines = [
-        "# Kneed-walker stride benchmark",
-        "",
-        "Generated by `python scripts/bench_stride.py`; all timings from one run on one "
-        "machine (2 cores, shared), so read the ratios, not the absolute times. Error: "
-        "max-norm of the post-stride state against walker DOP853 at rtol 3e-14 (which "
-        "agrees with solve_ivp DOP853 at 1e-13 to 2e-13).",
-        "",
-        "Two solve_ivp baselines: *compiled model* calls walker's own compiled vector "
-        "field and impact maps (so only the integrator and its Python loop differ); "
-        "*numpy model* is the straightforward implementation (sympy's D and h lambdified "
-        "to numpy, numpy.linalg.solve per call).",
-        "",
-        "| error target | walker DOP853 [µs] | best solve_ivp, compiled model | [µs] | "
-        "ratio | best solve_ivp, numpy model | [µs] | ratio |",
-        "|---|---|---|---|---|---|---|---|",
-    ]
-
-    def best_of(names, target):
-        return min(((time_at(n, target), n) for n in names), key=lambda v: (np.isnan(v[0]), v[0]))
-
-    compiled = [n for n in table if n.startswith("solve_ivp") and "numpy" not in n]
-    numpy_model = [n for n in table if "numpy model" in n]
-    for target in (1e-6, 1e-8, 1e-10):
-        ours = time_at("walker DOP853", target)
-        b1 = best_of(compiled, target)
-        b2 = best_of(numpy_model, target)
-        lines.append(
-            f"| {target:.0e} | {ours * 1e6:.0f} | {b1[1]} | {b1[0] * 1e6:.0f} | "
-            f"{b1[0] / ours:.0f}x | {b2[1]} | {b2[0] * 1e6:.0f} | "
-            f"{b2[0] / ours:.0f}x |"
+        have_drake = True
+        drake_version = importlib.metadata.version("drake")
+    except ImportError:
+        have_drake = False
+        drake_version = None
+        notes.append(
+            "pydrake is not installed (`pip install -e .[bench]`): the Drake comparison is skipped."
         )
-    lines += [
+
+    # ------------------------------------------------------------------ kneed walker
+    scene = load_scene(B.GAITS / "kneed_hsu.toml")
+    params = scene.params
+    x0 = np.array(scene.reference["state"], dtype=float)
+    ref_sol = simulate("kneed", params, x0, rtol=REF_RTOL, atol=REF_ATOL)
+    ref = ref_sol.x.copy()
+    nk = B.NumpyKneed(params)
+    chk, t_chk, _ = nk.stride(x0, "DOP853", 1e-13, 1e-13)
+    ref_check = float(np.max(np.abs(chk - ref)))
+    try:
+        ck = B.CompiledKneed(params)
+        chk2, _, _ = ck.stride(x0, "DOP853", 1e-13, 1e-13)
+        ref_check2 = float(np.max(np.abs(chk2 - ref)))
+    except (AttributeError, TypeError) as exc:  # the model module's functions changed
+        ck, ref_check2 = None, math.nan
+        notes.append(
+            "walker.models.kneed offers no Python-callable `rhs`/`guards` as this script "
+            f"expects ({type(exc).__name__}: {exc}): the solve_ivp-on-walker's-rhs rows are "
+            "skipped."
+        )
+    print(
+        f"kneed reference (walker DOP853 rtol {REF_RTOL}) vs solve_ivp DOP853 1e-13: "
+        f"numpy model {ref_check:.1e}, compiled rhs {ref_check2:.1e}; step time "
+        f"{ref_sol.t:.15f} vs {t_chk:.15f}",
+        flush=True,
+    )
+    kc = kneed_contenders(params, x0, have_heyoka, ck)
+    k_rows = sweep(kc, tols, ref, reps_sweep, batch)
+    k_target = at_targets(kc, k_rows, ref, reps_target, batch)
+    heyoka_compile = None
+    for c in kc:
+        if hasattr(c, "compile_log"):
+            heyoka_compile = c.compile_log
+
+    # ------------------------------------------------------------------ compass vs Drake
+    c_rows, c_target, cc, drake_info = [], [], None, None
+    if have_drake:
+        dp, wp = drake_params()
+        same_as_preset = wp == CompassParams.drake()
+        cscene = load_scene(B.GAITS / "compass_goswami.toml")
+        P = StrideMap("compass", wp, rtol=1e-13, atol=1e-13)
+        fp = find_fixed_point(P, P.project(cscene.state), tol=1e-12)
+        xc = fp.state.copy()
+        cref_sol = simulate("compass", wp, xc, rtol=REF_RTOL, atol=REF_ATOL)
+        cref = cref_sol.x.copy()
+        t_end = cref_sol.t + T_PAST
+        cref_end = simulate(
+            "compass", wp, xc, n_strides=0, t_max=t_end, rtol=REF_RTOL, atol=REF_ATOL
+        ).x.copy()
+        drake = DrakeCompass(max_step=1.0)
+        drake.set_accuracy(1e-12)
+        xd, td = drake.stride(xc)
+        xd_end = drake.advance(xc, t_end)
+        drake_info = {
+            "params": dp,
+            "same_as_preset": same_as_preset,
+            "fixed_point": xc,
+            "step_time": cref_sol.t,
+            "t_end": t_end,
+            "drake_step_time": td,
+            "drake_state_diff": float(np.max(np.abs(xd - cref))),
+            "drake_end_diff": float(np.max(np.abs(xd_end - cref_end))),
+        }
+        print(
+            f"compass at Drake's defaults {dp}: walker step time {cref_sol.t:.15f}, Drake "
+            f"(accuracy 1e-12) {td:.15f}; post-stride states differ by "
+            f"{drake_info['drake_state_diff']:.1e}, states at t_end by "
+            f"{drake_info['drake_end_diff']:.1e}",
+            flush=True,
+        )
+        cc = compass_contenders(wp, xc, drake, t_end, cref_end)
+        c_rows = sweep(cc, tols, cref, reps_sweep, batch)
+        c_target = at_targets(cc, c_rows, cref, reps_target, batch)
+        drake.set_accuracy(1e-8)
+        # Cost of the Python monitor Drake needs to stop after one stride: time the
+        # monitor alone on the post-impact context, times the steps of a stride.
+        drake.stride(xc)
+        n_steps = drake.integ.get_num_steps_taken()
+        ctx = drake.ctx
+        ctx.SetDiscreteState(np.zeros(1))
+        t = time.perf_counter()
+        for _ in range(2000):
+            drake._monitor(ctx)
+        drake_info["monitor_us"] = (time.perf_counter() - t) / 2000 * 1e6
+        drake_info["steps_1e-8"] = n_steps
+
+    # ------------------------------------------------------------------ outputs
+    B.OUT.mkdir(parents=True, exist_ok=True)
+    header = [
+        "problem",
+        "kind",
+        "error_target",
+        "contender",
+        "tolerance",
+        "error",
+        "t_min_s",
+        "t_median_s",
+        "reps",
+    ]
+    csv_rows = []
+    for problem, rows, trows in (("kneed", k_rows, k_target), ("compass", c_rows, c_target)):
+        for r in rows:
+            csv_rows.append(
+                [
+                    problem,
+                    "sweep",
+                    "",
+                    r["contender"],
+                    f"{r['tolerance']:.3e}",
+                    f"{r['error']:.4e}",
+                    f"{r['t_min']:.4e}",
+                    f"{r['t_median']:.4e}",
+                    r["reps"],
+                ]
+            )
+        for r in trows:
+            csv_rows.append(
+                [
+                    problem,
+                    "target",
+                    f"{r['target']:.0e}",
+                    r["contender"],
+                    f"{r['tolerance']:.3e}",
+                    f"{r['error']:.4e}",
+                    f"{r['t_min']:.4e}",
+                    f"{r['t_median']:.4e}",
+                    r["reps"],
+                ]
+            )
+    B.write_csv_atomic(B.OUT / "stride.csv", header, csv_rows)
+
+    panels = [
+        (
+            "one kneed-walker stride (kneed_hsu.toml, reference fixed point)",
+            k_rows,
+            kc,
+            "error: max-norm of the post-stride state minus the reference stride's [rad, rad/s]",
+            "time per stride, median [µs]",
+        )
+    ]
+    if cc is not None:
+        panels.append(
+            (
+                "one compass-gait stride at Drake's default parameters",
+                c_rows,
+                cc,
+                "error: max-norm of the final state (post-stride, or at t_end) minus the "
+                "reference's [rad, rad/s]",
+                "time per run (one stride, or to t_end), median [µs]",
+            )
+        )
+    plot(panels, B.OUT / "work_precision.png")
+
+    k_pairs = [("walker simulate", [c.name for c in kc if not c.walker])]
+    k_lines, k_sent = table(kc, k_target, k_pairs)
+    summary = "Kneed walker, " + k_sent[1].lstrip("- ")
+    if cc is not None:
+        c_pairs = [
+            ("walker simulate, to t_end", ["Drake RK5, to t_end"]),
+            ("walker simulate", ["Drake RK5, one stride"]),
+        ]
+        c_lines, c_sent = table(cc, c_target, c_pairs)
+        summary += " Compass gait at Drake's defaults, " + c_sent[2].lstrip("- ")
+    md = [
+        "# One stride at equal error",
         "",
-        f"JIT compile on a cold cache: {jit['cold']:.1f} s; start-up with a warm "
-        f"cache (import + first stride): {jit['warm']:.2f} s.",
+        f"<!-- command: {cmd} -->",
+        f"<!-- summary: {summary} -->",
         "",
-        "![work-precision](work_precision.png)",
+        f"Made by `{cmd}` in {time.perf_counter() - t_start:.0f} s on {B.machine_line()}"
+        + (f", heyoka {heyoka_version}" if heyoka_version else "")
+        + (f", drake {drake_version}" if drake_version else "")
+        + ".",
+        "",
+        "**Error** = max-norm over the state components (angles [rad], rates [rad/s]) of the "
+        "state just after the next heel strike minus that of a reference stride: walker "
+        f"DOP853 at rtol {REF_RTOL:g}, atol {REF_ATOL:g}, which agrees with scipy "
+        f"`solve_ivp` DOP853 at rtol = atol = 1e-13 to {ref_check:.1e} (numpy model) and "
+        f"{ref_check2:.1e} (walker's compiled rhs). Each contender runs over tolerances "
+        + ", ".join(f"{t:.0e}" for t in tols[:: (1 if quick else 2)])
+        + ("" if quick else " (and the half decades between)")
+        + "; at each error target the cheapest tolerance whose error meets it (by the "
+        "sweep's medians) is timed again, all contenders interleaved round-robin "
+        f"({reps_target} rounds, batches of ~{batch * 1e3:.0f} ms per contender per round, "
+        "the starting contender rotated). Times are per stride; min and median over rounds.",
+        "",
+        "## Kneed walker (gaits/kneed_hsu.toml, `[reference] state`)",
+        "",
+        *k_sent,
+        "",
+        *k_lines,
+        "",
+        "Contenders (all apply walker's impact maps, `reset` of walker.models.kneed, at the "
+        "events; the scipy and heyoka ones detect only knee lock and heel strike, walker "
+        "also watches trip and fall guards):",
         "",
     ]
-    (OUT / "README.md").write_text("\n".join(lines))
-    print("\n".join(lines))
+    for c in kc:
+        md.append(f"- **{c.name}**: {c.note}.")
+    md += [
+        "",
+        "The numpy model is the kneed walker's Lagrangian derived with sympy once at start-up "
+        "and printed as scalar Python (scripts/_bench.py `kneed_source`): parameter-only "
+        "coefficients computed once, 6 trig calls per unlocked evaluation, the 3x3 (2x2 "
+        "locked) solve by cofactors, no numpy.linalg; it matches walker's compiled vector "
+        "field to round-off and costs about half a walker-rhs call from Python.",
+    ]
+    if heyoka_compile:
+        for k, label in ((True, "par"), (False, "const")):
+            v = heyoka_compile.get(k, [])
+            if v:
+                md.append(
+                    f"heyoka ({label}) builds (LLVM compile) its two integrators once per "
+                    f"tolerance{'' if k else ' and parameter set'}: median "
+                    f"{np.median(v):.2f} s, not included in the per-stride times."
+                )
+    md.append("")
+    if cc is not None:
+        di = drake_info
+        pd = ", ".join(f"{k} = {v:g}" for k, v in di["params"].items())
+        md += [
+            "## Compass gait: walker vs Drake",
+            "",
+            f"Drake's `CompassGaitParams` defaults read from pydrake: {pd}. Mapped onto "
+            "walker's `CompassParams`: mass_hip, mass_leg, g, slope as they are; "
+            "com_to_hip = center_of_mass_leg (Drake measures it from the hip), "
+            "com_from_foot = length_leg - center_of_mass_leg; point masses, point feet "
+            f"(equal to walker's `CompassParams.drake()` preset: {di['same_as_preset']}). "
+            "Drake's angles are clockwise from the vertical, walker's counterclockwise: "
+            "x_Drake = -x_walker componentwise. The stride starts at walker's fixed point "
+            "for these parameters (found from gaits/compass_goswami.toml's initial state). "
+            f"Same stride: walker's step time {di['step_time']:.12f} s, Drake's at accuracy "
+            f"1e-12 {di['drake_step_time']:.12f} s; post-stride states differ by "
+            f"{di['drake_state_diff']:.1e}, states at t_end by {di['drake_end_diff']:.1e}.",
+            "",
+            "Two problems from the same state: **one stride** (stop just after the heel "
+            "strike; error against walker's reference stride) and **to t_end** = step time + "
+            f"{T_PAST * 1e3:g} ms (a fixed-time run through the heel strike, error against "
+            "walker's reference state at t_end), the latter because Drake's `AdvanceTo` "
+            "needs no Python callback for it. The ratio column divides by walker's time on "
+            "the same problem.",
+            "",
+            *c_sent,
+            "",
+            *c_lines,
+            "",
+            "Drake runs `Simulator.AdvanceTo` with the `runge_kutta5` integrator "
+            "(`ResetIntegratorFromFlags`, maximum step 1 s, so only error control sets the "
+            "step) and `set_target_accuracy(tol)`; its own witness function and collision "
+            "update do the heel strike. Stopping after exactly one stride needs a Python "
+            f"monitor called after every step: about {di['monitor_us']:.1f} µs per call, "
+            f"{di['steps_1e-8']} steps per stride at accuracy 1e-8, included in the "
+            "one-stride times (the to-t_end rows have no monitor).",
+            "",
+        ]
+    if notes:
+        md += ["## Notes", "", *[f"- {n}" for n in notes], ""]
+    md += ["![work-precision](work_precision.png)", ""]
+    B.write_atomic(B.OUT / "stride.md", "\n".join(md))
+    B.update_readme()
+    print("\n".join(md))
 
 
 if __name__ == "__main__":
