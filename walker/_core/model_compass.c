@@ -1,0 +1,161 @@
+/* The compass gait with point or round feet: C port of the compiled phase functions in
+ * walker/models/compass.py (same operations in the same order).  State (q_stance, q_swing,
+ * qd_stance, qd_swing); guards heel_strike, fall_forward, fall_backward.
+ *
+ * The glue is written once over a table of kernels and instantiated twice: "compass" on the
+ * general kernels wk_compass_* and "compass/plain" on wk_compass_plain_* (point feet, no
+ * leg inertia, no dampers; walker/_generated/compass_plain.h) where a plain kernel exists,
+ * the general one elsewhere (energies). */
+#include <math.h>
+#include "wk_common.h"
+#include "compass.h"
+#include "compass_plain.h"
+
+#define I_R 5
+#define I_SLOPE 6
+
+typedef struct {
+    wk_qqdp_v accel;
+    wk_qqdp_v accel_jac;
+    wk_qqdp_s kinetic;
+    wk_qp_s potential;
+    wk_qp_v points;
+    wk_qp_v hip_jac;
+    wk_qp_v ext_mass_matrix;
+    wk_qp_v ext_swing_contact_jac;
+    wk_qp_v ext_stance_contact_jac;
+} compass_kernels;
+
+static void rhs(const compass_kernels *K, int64_t phase, const double *x, const double *p,
+                double *dx)
+{
+    (void)phase;
+    dx[0] = x[2];
+    dx[1] = x[3];
+    K->accel(x, x + 2, p, dx + 2);
+}
+
+static void jac(const compass_kernels *K, int64_t phase, const double *x, const double *p,
+                double *J)
+{
+    (void)phase;
+    for (int i = 0; i < 16; i++) J[i] = 0.0;
+    J[0 * 4 + 2] = 1.0;
+    J[1 * 4 + 3] = 1.0;
+    K->accel_jac(x, x + 2, p, J + 2 * 4); /* rows 2, 3 */
+}
+
+/* (height above the slope, distance ahead of the stance foot along the slope) [m]. */
+static void swing_foot(const double *x, const double *p, double *height, double *ahead)
+{
+    double L = p[2] + p[3];
+    double R = p[I_R];
+    double slope = p[I_SLOPE];
+    double psi1 = x[0] + slope;
+    double psi2 = x[1] + slope;
+    *height = (L - R) * (cos(psi1) - cos(psi2));
+    *ahead = (L - R) * (sin(psi2) - sin(psi1));
+}
+
+static void guards(const compass_kernels *K, int64_t phase, const double *x,
+                   const double *p, double *g)
+{
+    (void)K;
+    (void)phase;
+    double psi1 = x[0] + p[I_SLOPE];
+    double height, ahead;
+    swing_foot(x, p, &height, &ahead);
+    g[0] = height;
+    g[1] = psi1 + WK_FALL_ANGLE;
+    g[2] = psi1 - WK_FALL_ANGLE;
+}
+
+/* Floating-base heel-strike impact and leg swap; returns a status (0 for a physical
+ * impact), impulse = (along the slope, normal) on the new stance foot [N s]. */
+static int64_t heel_strike(const compass_kernels *K, const double *x, const double *p,
+                           double *x_new, double *impulse)
+{
+    const double *q = x;
+    double pts[4 * 2], hip_J[2 * 2], qf[4], qdf[4];
+    double M[4 * 4], Jsw[2 * 4], Jst[2 * 4], qdf_plus[4], lift;
+    K->points(q, p, pts);
+    K->hip_jac(q, p, hip_J);
+    wk_floating_base_state(q, x + 2, pts + 2, hip_J, qf, qdf, 2);
+    K->ext_mass_matrix(qf, p, M);
+    K->ext_swing_contact_jac(qf, p, Jsw);
+    K->ext_stance_contact_jac(qf, p, Jst);
+    if (!wk_heel_strike_impact(M, Jsw, Jst, qdf, p[I_SLOPE], qdf_plus, impulse, &lift, 4))
+        return WK_LINEAR_SOLVE_FAILED;
+    x_new[0] = x[1];
+    x_new[1] = x[0];
+    x_new[2] = qdf_plus[1];
+    x_new[3] = qdf_plus[0];
+    if (!(impulse[1] > 0.0) || !(lift > 0.0)) return WK_NONPHYSICAL_IMPACT;
+    return 0;
+}
+
+static void reset(const compass_kernels *K, int64_t phase, int64_t k, const double *x,
+                  const double *p, double *x_new, double *impulse, int64_t *out)
+{
+    for (int i = 0; i < 4; i++) x_new[i] = x[i];
+    if (k == 0) {
+        double height, ahead;
+        swing_foot(x, p, &height, &ahead);
+        if (ahead <= WK_MIN_STEP * (p[2] + p[3])) {
+            wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
+            return;
+        }
+        int64_t status = heel_strike(K, x, p, x_new, impulse);
+        if (status != 0) {
+            wk_reset_out(out, WK_EVENT_TERMINAL, phase, status);
+            return;
+        }
+        wk_reset_out(out, WK_EVENT_STRIDE, 0, 0);
+        return;
+    }
+    if (k == 1) {
+        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_FORWARD);
+        return;
+    }
+    wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_BACKWARD);
+}
+
+/* (kinetic, potential) [J]; potential zero with the stance contact at height 0. */
+static void energy(const compass_kernels *K, const double *x, const double *p, double *out)
+{
+    out[0] = K->kinetic(x, x + 2, p);
+    out[1] = K->potential(x, p);
+}
+
+/* Rows stance contact, hip, swing contact [m], out (3, 2): rows 0, 1, 3 of the kernel's
+ * points. */
+static void points(const compass_kernels *K, const double *x, const double *p, double *out)
+{
+    double pts[4 * 2];
+    K->points(x, p, pts);
+    out[0] = pts[0];
+    out[1] = pts[1];
+    out[2] = pts[2];
+    out[3] = pts[3];
+    out[4] = pts[6];
+    out[5] = pts[7];
+}
+
+static const compass_kernels GENERAL = {
+    wk_compass_accel,           wk_compass_accel_jac,
+    wk_compass_kinetic,         wk_compass_potential,
+    wk_compass_points,          wk_compass_hip_jac,
+    wk_compass_ext_mass_matrix, wk_compass_ext_swing_contact_jac,
+    wk_compass_ext_stance_contact_jac,
+};
+
+static const compass_kernels PLAIN = {
+    wk_compass_plain_accel,           wk_compass_plain_accel_jac,
+    wk_compass_kinetic,               wk_compass_potential,
+    wk_compass_plain_points,          wk_compass_plain_hip_jac,
+    wk_compass_plain_ext_mass_matrix, wk_compass_plain_ext_swing_contact_jac,
+    wk_compass_plain_ext_stance_contact_jac,
+};
+
+WK_MODEL_VARIANT(compass, GENERAL)
+WK_MODEL_VARIANT(compass_plain, PLAIN)

@@ -1,0 +1,289 @@
+/* The kneed walker with point or round feet: C port of the compiled phase functions in
+ * walker/models/kneed.py (same operations in the same order).  State (q1, q2, q3, qd1, qd2,
+ * qd3); phases unlocked (0) and locked (1, q3 = q2 and qd3 = qd2 kept exactly); guards
+ * knee_lock, swing_foot_contact, fall_forward, fall_backward.
+ *
+ * The glue is written once over a table of kernels and instantiated twice: "kneed" on the
+ * general kernels wk_kneed_* and "kneed/plain" on wk_kneed_plain_* (point feet, no offsets,
+ * no segment inertias, no dampers; walker/_generated/kneed_plain.h) where a plain kernel
+ * exists, the general one elsewhere (energies). */
+#include <math.h>
+#include "wk_common.h"
+#include "kneed.h"
+#include "kneed_plain.h"
+
+#define I_R 11
+#define I_SLOPE 12
+/* |q3 - q2| [rad] below which a foot contact with the knee unlocked counts as simultaneous
+ * with knee lock rather than as a trip. */
+#define KNEE_TOL 1e-6
+
+typedef struct {
+    wk_qqdp_v unlocked_accel;
+    wk_qqdp_v unlocked_accel_jac;
+    wk_qp_v unlocked_mass_matrix;
+    wk_qqdp_s unlocked_kinetic;
+    wk_qp_s unlocked_potential;
+    wk_qp_v unlocked_points;
+    wk_qqdp_v locked_accel;
+    wk_qqdp_v locked_accel_jac;
+    wk_qp_v locked_points;
+    wk_qp_v locked_hip_jac;
+    wk_qp_v ext_mass_matrix;
+    wk_qp_v ext_swing_contact_jac;
+    wk_qp_v ext_stance_contact_jac;
+} kneed_kernels;
+
+static void lengths(const double *p, double *shank, double *thigh)
+{
+    *shank = p[3] + p[4];
+    *thigh = p[5] + p[6];
+}
+
+/* Least step length of a heel strike [m] (WK_MIN_STEP leg lengths). */
+static double min_step(const double *p)
+{
+    double shank, thigh;
+    lengths(p, &shank, &thigh);
+    return WK_MIN_STEP * (shank + thigh);
+}
+
+static void rhs(const kneed_kernels *K, int64_t phase, const double *x, const double *p,
+                double *dx)
+{
+    if (phase == 0) {
+        dx[0] = x[3];
+        dx[1] = x[4];
+        dx[2] = x[5];
+        K->unlocked_accel(x, x + 3, p, dx + 3);
+    } else {
+        /* Locked: (q1, q2) and (qd1, qd2) are contiguous slices of the state. */
+        dx[0] = x[3];
+        dx[1] = x[4];
+        dx[2] = x[4];
+        K->locked_accel(x, x + 3, p, dx + 3);
+        dx[5] = dx[4];
+    }
+}
+
+static void jac(const kneed_kernels *K, int64_t phase, const double *x, const double *p,
+                double *J)
+{
+    for (int i = 0; i < 36; i++) J[i] = 0.0;
+    if (phase == 0) {
+        J[0 * 6 + 3] = 1.0;
+        J[1 * 6 + 4] = 1.0;
+        J[2 * 6 + 5] = 1.0;
+        K->unlocked_accel_jac(x, x + 3, p, J + 3 * 6); /* rows 3..5 */
+    } else {
+        /* Locked: rows of q3 and qd3 copy those of q2 and qd2; columns of q3, qd3 are 0. */
+        double a[2 * 4];
+        K->locked_accel_jac(x, x + 3, p, a);
+        J[0 * 6 + 3] = 1.0;
+        J[1 * 6 + 4] = 1.0;
+        J[2 * 6 + 4] = 1.0;
+        for (int i = 0; i < 2; i++) {
+            J[(3 + i) * 6 + 0] = a[i * 4 + 0];
+            J[(3 + i) * 6 + 1] = a[i * 4 + 1];
+            J[(3 + i) * 6 + 3] = a[i * 4 + 2];
+            J[(3 + i) * 6 + 4] = a[i * 4 + 3];
+        }
+        for (int j = 0; j < 6; j++) J[5 * 6 + j] = J[4 * 6 + j];
+    }
+}
+
+/* (height above the slope, distance ahead of the stance foot along the slope) [m] of the
+ * swing foot's lowest point. */
+static void swing_foot(const double *x, const double *p, double *height, double *ahead)
+{
+    double shank, thigh;
+    lengths(p, &shank, &thigh);
+    double R = p[I_R];
+    double slope = p[I_SLOPE];
+    double L = shank + thigh;
+    double psi1 = x[0] + slope;
+    double psi2 = x[1] + slope;
+    double psi3 = x[2] + slope;
+    *height = (L - R) * cos(psi1) - thigh * cos(psi2) - (shank - R) * cos(psi3);
+    *ahead = -(L - R) * sin(psi1) + thigh * sin(psi2) + (shank - R) * sin(psi3);
+}
+
+static double swing_foot_rate(const double *x, const double *p)
+{
+    double shank, thigh;
+    lengths(p, &shank, &thigh);
+    double R = p[I_R];
+    double slope = p[I_SLOPE];
+    double L = shank + thigh;
+    return -(L - R) * sin(x[0] + slope) * x[3] + thigh * sin(x[1] + slope) * x[4] +
+           (shank - R) * sin(x[2] + slope) * x[5];
+}
+
+static void guards(const kneed_kernels *K, int64_t phase, const double *x, const double *p,
+                   double *g)
+{
+    (void)K;
+    double psi1 = x[0] + p[I_SLOPE];
+    double height, ahead;
+    g[0] = phase == 0 ? x[2] - x[1] : 1.0;
+    swing_foot(x, p, &height, &ahead);
+    g[1] = height;
+    g[2] = psi1 + WK_FALL_ANGLE;
+    g[3] = psi1 - WK_FALL_ANGLE;
+}
+
+/* Plastic knee-lock impact; impulse[0] is the knee impulse [N m s].  Returns a status. */
+static int64_t knee_lock(const kneed_kernels *K, const double *x, const double *p,
+                         double *x_new, double *impulse)
+{
+    double M[3 * 3];
+    K->unlocked_mass_matrix(x, p, M);
+    const double J[3] = {0.0, -1.0, 1.0};
+    double qd_plus[3], lam[1];
+    if (!wk_impact(M, J, x + 3, qd_plus, lam, 3, 1)) return WK_LINEAR_SOLVE_FAILED;
+    x_new[0] = x[0];
+    x_new[1] = x[1];
+    x_new[2] = x[1];
+    x_new[3] = qd_plus[0];
+    x_new[4] = qd_plus[1];
+    x_new[5] = qd_plus[1];
+    impulse[0] = lam[0];
+    impulse[1] = 0.0;
+    return 0;
+}
+
+/* Floating-base heel strike (knee locked) and leg swap; the new swing knee is straight and
+ * unlocked.  impulse = (along slope, normal) on the new stance foot [N s]. */
+static int64_t heel_strike(const kneed_kernels *K, const double *x, const double *p,
+                           double *x_new, double *impulse)
+{
+    const double *q = x;
+    const double *qd = x + 3;
+    double pts[5 * 2], hip_J[2 * 2], qf[4], qdf[4];
+    double M[4 * 4], Jsw[2 * 4], Jst[2 * 4], qdf_plus[4], lift;
+    K->locked_points(q, p, pts);
+    K->locked_hip_jac(q, p, hip_J);
+    wk_floating_base_state(q, qd, pts + 2, hip_J, qf, qdf, 2);
+    K->ext_mass_matrix(qf, p, M);
+    K->ext_swing_contact_jac(qf, p, Jsw);
+    K->ext_stance_contact_jac(qf, p, Jst);
+    if (!wk_heel_strike_impact(M, Jsw, Jst, qdf, p[I_SLOPE], qdf_plus, impulse, &lift, 4))
+        return WK_LINEAR_SOLVE_FAILED;
+    x_new[0] = x[1];
+    x_new[1] = x[0];
+    x_new[2] = x[0];
+    x_new[3] = qdf_plus[1];
+    x_new[4] = qdf_plus[0];
+    x_new[5] = qdf_plus[0];
+    if (!(impulse[1] > 0.0) || !(lift > 0.0)) return WK_NONPHYSICAL_IMPACT;
+    return 0;
+}
+
+/* Knee lock, followed in the same reset by heel strike when the swing foot is on the ground
+ * (within the integrator's guard tolerance), ahead and moving down. */
+static void knee_lock_event(const kneed_kernels *K, int64_t phase, const double *x,
+                            const double *p, double *x_new, double *impulse, int64_t *out)
+{
+    int64_t status = knee_lock(K, x, p, x_new, impulse);
+    if (status != 0) {
+        wk_reset_out(out, WK_EVENT_TERMINAL, phase, status);
+        return;
+    }
+    double shank, thigh, height, ahead;
+    lengths(p, &shank, &thigh);
+    swing_foot(x_new, p, &height, &ahead);
+    int touching = height <= 1e-9 * (shank + thigh);
+    if (touching && ahead > WK_MIN_STEP * (shank + thigh) && swing_foot_rate(x_new, p) < 0) {
+        double locked[6];
+        for (int i = 0; i < 6; i++) locked[i] = x_new[i];
+        status = heel_strike(K, locked, p, x_new, impulse);
+        if (status != 0) {
+            wk_reset_out(out, WK_EVENT_TERMINAL, 1, status);
+            return;
+        }
+        wk_reset_out(out, WK_EVENT_STRIDE, 0, 0);
+        return;
+    }
+    wk_reset_out(out, WK_EVENT_CONTINUE, 1, 0);
+}
+
+static void reset(const kneed_kernels *K, int64_t phase, int64_t k, const double *x,
+                  const double *p, double *x_new, double *impulse, int64_t *out)
+{
+    for (int i = 0; i < 6; i++) x_new[i] = x[i];
+    impulse[0] = 0.0;
+    impulse[1] = 0.0;
+    if (k == 0) {
+        knee_lock_event(K, phase, x, p, x_new, impulse, out);
+        return;
+    }
+    if (k == 1) {
+        double height, ahead;
+        swing_foot(x, p, &height, &ahead);
+        if (phase == 0) {
+            if (fabs(x[2] - x[1]) <= KNEE_TOL && ahead > min_step(p)) {
+                /* The knee locks at this same instant (its guard a hair behind): knee lock
+                 * first, then heel strike, as when the knee-lock guard fires first. */
+                knee_lock_event(K, phase, x, p, x_new, impulse, out);
+                return;
+            }
+            wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_TRIPPED);
+            return;
+        }
+        if (ahead <= min_step(p)) {
+            wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
+            return;
+        }
+        int64_t status = heel_strike(K, x, p, x_new, impulse);
+        if (status != 0) {
+            wk_reset_out(out, WK_EVENT_TERMINAL, phase, status);
+            return;
+        }
+        wk_reset_out(out, WK_EVENT_STRIDE, 0, 0);
+        return;
+    }
+    if (k == 2) {
+        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_FORWARD);
+        return;
+    }
+    wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_BACKWARD);
+}
+
+/* (kinetic, potential) [J]; valid in both phases (locked: q3 = q2, qd3 = qd2). */
+static void energy(const kneed_kernels *K, const double *x, const double *p, double *out)
+{
+    out[0] = K->unlocked_kinetic(x, x + 3, p);
+    out[1] = K->unlocked_potential(x, p);
+}
+
+/* Stance contact, hip, knee, swing contact [m], out (4, 2): rows 0, 1, 2, 4 of the
+ * kernel's points. */
+static void points(const kneed_kernels *K, const double *x, const double *p, double *out)
+{
+    double pts[5 * 2];
+    K->unlocked_points(x, p, pts);
+    for (int i = 0; i < 6; i++) out[i] = pts[i];
+    out[6] = pts[8];
+    out[7] = pts[9];
+}
+
+static const kneed_kernels GENERAL = {
+    wk_kneed_unlocked_accel,     wk_kneed_unlocked_accel_jac, wk_kneed_unlocked_mass_matrix,
+    wk_kneed_unlocked_kinetic,   wk_kneed_unlocked_potential, wk_kneed_unlocked_points,
+    wk_kneed_locked_accel,       wk_kneed_locked_accel_jac,   wk_kneed_locked_points,
+    wk_kneed_locked_hip_jac,     wk_kneed_ext_mass_matrix,    wk_kneed_ext_swing_contact_jac,
+    wk_kneed_ext_stance_contact_jac,
+};
+
+static const kneed_kernels PLAIN = {
+    wk_kneed_plain_unlocked_accel,     wk_kneed_plain_unlocked_accel_jac,
+    wk_kneed_plain_unlocked_mass_matrix, wk_kneed_unlocked_kinetic,
+    wk_kneed_unlocked_potential,       wk_kneed_plain_unlocked_points,
+    wk_kneed_plain_locked_accel,       wk_kneed_plain_locked_accel_jac,
+    wk_kneed_plain_locked_points,      wk_kneed_plain_locked_hip_jac,
+    wk_kneed_plain_ext_mass_matrix,    wk_kneed_plain_ext_swing_contact_jac,
+    wk_kneed_plain_ext_stance_contact_jac,
+};
+
+WK_MODEL_VARIANT(kneed, GENERAL)
+WK_MODEL_VARIANT(kneed_plain, PLAIN)

@@ -1,0 +1,107 @@
+/* Garcia's simplest walking model: C port of the compiled phase functions in
+ * walker/models/simplest.py (same operations in the same order), on the generated kernels
+ * wk_simplest_* (walker/_generated/simplest.h).  State (theta, phi, theta_dot, phi_dot);
+ * guards heel_strike, fall_forward, fall_backward. */
+#include <math.h>
+#include "wk_common.h"
+#include "simplest.h"
+
+void wk_model_simplest_rhs(int64_t phase, double t, const double *x, const double *p,
+                           double *dx, void *ctx)
+{
+    (void)phase;
+    (void)t;
+    (void)ctx;
+    double a[2];
+    wk_simplest_accel(x, x + 2, p, a);
+    dx[0] = x[2];
+    dx[1] = x[3];
+    dx[2] = a[0];
+    dx[3] = a[1];
+}
+
+void wk_model_simplest_jac(int64_t phase, double t, const double *x, const double *p,
+                           double *J, void *ctx)
+{
+    (void)phase;
+    (void)t;
+    (void)ctx;
+    for (int i = 0; i < 16; i++) J[i] = 0.0;
+    J[0 * 4 + 2] = 1.0;
+    J[1 * 4 + 3] = 1.0;
+    double da[8];
+    wk_simplest_daccel_dx(x, x + 2, p, da);
+    for (int j = 0; j < 4; j++) {
+        J[2 * 4 + j] = da[0 * 4 + j];
+        J[3 * 4 + j] = da[1 * 4 + j];
+    }
+}
+
+void wk_model_simplest_guards(int64_t phase, double t, const double *x, const double *p,
+                              double *g, void *ctx)
+{
+    (void)phase;
+    (void)t;
+    (void)p;
+    (void)ctx;
+    g[0] = x[1] - 2.0 * x[0];
+    g[1] = x[0] + WK_FALL_ANGLE;
+    g[2] = x[0] - WK_FALL_ANGLE;
+}
+
+void wk_model_simplest_reset(int64_t phase, int64_t k, double t, const double *x,
+                             const double *p, double *x_new, double *impulse, int64_t *out,
+                             void *ctx)
+{
+    (void)t;
+    (void)p;
+    (void)ctx;
+    for (int i = 0; i < 4; i++) x_new[i] = x[i];
+    impulse[0] = 0.0;
+    if (k == 0) {
+        if (x[0] >= 0.0) {
+            wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
+            return;
+        }
+        double c = cos(2.0 * x[0]);
+        x_new[0] = -x[0];
+        x_new[1] = -2.0 * x[0];
+        x_new[2] = c * x[2];
+        x_new[3] = c * (1.0 - c) * x[2];
+        wk_reset_out(out, WK_EVENT_STRIDE, 0, 0);
+        return;
+    }
+    if (k == 1) {
+        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_FORWARD);
+        return;
+    }
+    wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_BACKWARD);
+}
+
+/* (kinetic, potential) per unit hip mass [J/kg]; potential zero at the stance foot. */
+void wk_model_simplest_energy(const double *x, const double *p, double *out, void *ctx)
+{
+    (void)ctx;
+    double slope = p[0], g = p[1], l = p[2];
+    out[0] = 0.5 * l * l * x[2] * x[2];
+    out[1] = g * l * cos(x[0] - slope);
+}
+
+/* Stance foot, hip, swing foot in the world frame [m], out (3, 2). */
+void wk_model_simplest_points(const double *x, const double *p, double *out, void *ctx)
+{
+    (void)ctx;
+    double slope = p[0], l = p[2];
+    double s[2] = {cos(slope), -sin(slope)};
+    double n[2] = {sin(slope), cos(slope)};
+    double st = -sin(x[0]), ct = cos(x[0]);
+    double a = x[0] - x[1];
+    double sa = -sin(a), ca = cos(a);
+    out[0] = 0.0;
+    out[1] = 0.0;
+    for (int i = 0; i < 2; i++) {
+        double hip = l * (st * s[i] + ct * n[i]);
+        out[2 + i] = hip;
+        out[4 + i] = hip - l * (sa * s[i] + ca * n[i]);
+    }
+}

@@ -1,0 +1,116 @@
+/* Shared pieces of walker's hand-written C models; see wk_common.h. */
+#include <math.h>
+#include "wk_common.h"
+
+int wk_solve_inplace(double *A, double *b, int n)
+{
+    double scale = 0.0;
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            double v = fabs(A[i * n + j]);
+            if (v > scale) scale = v;
+        }
+    }
+    double tiny = scale > 0 ? scale * 1e-300 : 1e-300;
+    for (int k = 0; k < n; k++) {
+        int p = k;
+        double big = fabs(A[k * n + k]);
+        for (int i = k + 1; i < n; i++) {
+            double v = fabs(A[i * n + k]);
+            if (v > big) {
+                big = v;
+                p = i;
+            }
+        }
+        if (!(big > tiny)) return 0;
+        if (p != k) {
+            for (int j = 0; j < n; j++) {
+                double tmp = A[k * n + j];
+                A[k * n + j] = A[p * n + j];
+                A[p * n + j] = tmp;
+            }
+            double tmp = b[k];
+            b[k] = b[p];
+            b[p] = tmp;
+        }
+        double piv = A[k * n + k];
+        for (int i = k + 1; i < n; i++) {
+            double f = A[i * n + k] / piv;
+            if (f != 0.0) {
+                for (int j = k + 1; j < n; j++) A[i * n + j] -= f * A[k * n + j];
+                b[i] -= f * b[k];
+            }
+        }
+    }
+    for (int k = n - 1; k >= 0; k--) {
+        double s = b[k];
+        for (int j = k + 1; j < n; j++) s -= A[k * n + j] * b[j];
+        b[k] = s / A[k * n + k];
+    }
+    for (int i = 0; i < n; i++) {
+        if (!isfinite(b[i])) return 0;
+    }
+    return 1;
+}
+
+int wk_impact(const double *M, const double *J, const double *qd_minus, double *qd_plus,
+              double *impulse, int n, int m)
+{
+    double A[WK_IMPACT_MAX * WK_IMPACT_MAX];
+    double b[WK_IMPACT_MAX];
+    const int N = n + m;
+    if (N > WK_IMPACT_MAX) return 0;
+    for (int i = 0; i < N * N; i++) A[i] = 0.0;
+    for (int i = 0; i < N; i++) b[i] = 0.0;
+    for (int i = 0; i < n; i++) {
+        double s = 0.0;
+        for (int j = 0; j < n; j++) {
+            A[i * N + j] = M[i * n + j];
+            s += M[i * n + j] * qd_minus[j];
+        }
+        b[i] = s;
+        for (int c = 0; c < m; c++) {
+            A[i * N + n + c] = -J[c * n + i];
+            A[(n + c) * N + i] = J[c * n + i];
+        }
+    }
+    int ok = wk_solve_inplace(A, b, N);
+    for (int i = 0; i < n; i++) qd_plus[i] = b[i];
+    for (int c = 0; c < m; c++) impulse[c] = b[n + c];
+    return ok;
+}
+
+void wk_floating_base_state(const double *q, const double *qd, const double *hip,
+                            const double *hip_J, double *qf, double *qdf, int n)
+{
+    for (int i = 0; i < n; i++) {
+        qf[i] = q[i];
+        qdf[i] = qd[i];
+    }
+    for (int r = 0; r < 2; r++) {
+        qf[n + r] = hip[r];
+        double s = 0.0;
+        for (int j = 0; j < n; j++) s += hip_J[r * n + j] * qd[j];
+        qdf[n + r] = s;
+    }
+}
+
+int wk_heel_strike_impact(const double *M, const double *J_swing, const double *J_stance,
+                          const double *qdf, double slope, double *qdf_plus, double *impulse,
+                          double *lift, int n_f)
+{
+    double lam[2];
+    if (!wk_impact(M, J_swing, qdf, qdf_plus, lam, n_f, 2)) return 0;
+    double s0 = cos(slope), s1 = -sin(slope);
+    double n0 = sin(slope), n1 = cos(slope);
+    impulse[0] = lam[0] * s0 + lam[1] * s1;
+    impulse[1] = lam[0] * n0 + lam[1] * n1;
+    double v0 = 0.0;
+    double v1 = 0.0;
+    for (int j = 0; j < n_f; j++) {
+        v0 += J_stance[0 * n_f + j] * qdf_plus[j];
+        v1 += J_stance[1 * n_f + j] * qdf_plus[j];
+    }
+    *lift = v0 * n0 + v1 * n1;
+    return 1;
+}

@@ -1,0 +1,141 @@
+/* Pieces shared by walker's hand-written C models (model_simplest.c, model_compass.c,
+ * model_kneed.c): the fall threshold, the least step, the status codes, and impacts as
+ * augmented linear systems.  C ports of walker/models/_common.py and walker/_linalg.py,
+ * with the same order of operations so that results agree with the numba functions.
+ */
+#ifndef WK_COMMON_H
+#define WK_COMMON_H
+
+#include <stdint.h>
+#include "wk_system.h"
+
+/* walker.models._common.FALL_ANGLE and MIN_STEP. */
+#define WK_FALL_ANGLE 1.2217304763960306
+#define WK_MIN_STEP 1e-8
+
+/* walker.status.Status values. */
+#define WK_COMPLETED 0
+#define WK_FELL_BACKWARD 1
+#define WK_FELL_FORWARD 2
+#define WK_TRIPPED 3
+#define WK_NONPHYSICAL_IMPACT 4
+#define WK_NO_EVENT 5
+#define WK_STEP_UNDERFLOW 6
+#define WK_NONFINITE 7
+#define WK_MAX_STEPS 8
+#define WK_NOT_CONVERGED 9
+#define WK_LINEAR_SOLVE_FAILED 10
+#define WK_PARAMETER_OUT_OF_RANGE 11
+
+/* Largest augmented system wk_impact solves (coordinates + constraints). */
+#define WK_IMPACT_MAX 16
+
+/* Kernel signatures of walker/_generated/<model>.h. */
+typedef void (*wk_qqdp_v)(const double *q, const double *qd, const double *p, double *out);
+typedef void (*wk_qp_v)(const double *q, const double *p, double *out);
+typedef double (*wk_qqdp_s)(const double *q, const double *qd, const double *p);
+typedef double (*wk_qp_s)(const double *q, const double *p);
+
+/* Writes a reset's (action, next phase, status) into out[0..2]. */
+static inline void wk_reset_out(int64_t *out, int64_t action, int64_t next_phase,
+                                int64_t status)
+{
+    out[0] = action;
+    out[1] = next_phase;
+    out[2] = status;
+}
+
+/* walker._linalg.solve_inplace for one right-hand side: solves A x = b (A n x n,
+ * row-major, destroyed; b overwritten with x) by Gaussian elimination with partial
+ * pivoting.  Returns 0 when a pivot is zero or not finite, or the solution is not finite. */
+int wk_solve_inplace(double *A, double *b, int n);
+
+/* walker.models._common.impact: solves [M, -J^T; J, 0] [qd_plus; impulse] = [M qd_minus; 0]
+ * for M (n x n) and J (m x n), row-major; n + m <= WK_IMPACT_MAX.  Returns 0 for a
+ * singular system (qd_plus and impulse then hold garbage, as in the numba function). */
+int wk_impact(const double *M, const double *J, const double *qd_minus, double *qd_plus,
+              double *impulse, int n, int m);
+
+/* walker.models._common.floating_base_state: qf = (q, hip), qdf = (qd, hip_J qd), with
+ * hip_J (2 x n) row-major. */
+void wk_floating_base_state(const double *q, const double *qd, const double *hip,
+                            const double *hip_J, double *qf, double *qdf, int n);
+
+/* walker.models._common.heel_strike_impact on the floating-base model of n_f coordinates
+ * (M n_f x n_f, J_swing and J_stance 2 x n_f, row-major).  Writes the impulse on the new
+ * stance foot in the slope frame into impulse[0..1] and the trailing foot's normal contact
+ * velocity after the impact into *lift; returns 0 (impulse and *lift untouched) for a
+ * singular system. */
+int wk_heel_strike_impact(const double *M, const double *J_swing, const double *J_stance,
+                          const double *qdf, double slope, double *qdf_plus, double *impulse,
+                          double *lift, int n_f);
+
+/* The models' functions, registered in models.c: wk_model_<name>_{rhs, guards, reset, jac}
+ * (wk_system.h) and wk_model_<name>_{energy, points} (wk_models.h). */
+#define WK_DECLARE_MODEL(name)                                                              \
+    void wk_model_##name##_rhs(int64_t phase, double t, const double *x, const double *p,   \
+                               double *dx, void *ctx);                                      \
+    void wk_model_##name##_guards(int64_t phase, double t, const double *x, const double *p,\
+                                  double *g, void *ctx);                                    \
+    void wk_model_##name##_reset(int64_t phase, int64_t k, double t, const double *x,       \
+                                 const double *p, double *x_new, double *impulse,           \
+                                 int64_t *out, void *ctx);                                  \
+    void wk_model_##name##_jac(int64_t phase, double t, const double *x, const double *p,   \
+                               double *J, void *ctx);                                       \
+    void wk_model_##name##_energy(const double *x, const double *p, double *out, void *ctx);\
+    void wk_model_##name##_points(const double *x, const double *p, double *out, void *ctx);
+
+/* Defines the exported functions of model variant ``name`` in a model file whose glue is
+ * written once over a table of kernels: static functions
+ *     rhs(K, phase, x, p, dx), guards(K, phase, x, p, g),
+ *     reset(K, phase, k, x, p, x_new, impulse, out), jac(K, phase, x, p, J),
+ *     energy(K, x, p, out), points(K, x, p, out)
+ * with K the address of the variant's kernel table KT. */
+#define WK_MODEL_VARIANT(name, KT)                                                          \
+    void wk_model_##name##_rhs(int64_t phase, double t, const double *x, const double *p,   \
+                               double *dx, void *ctx)                                       \
+    {                                                                                       \
+        (void)t;                                                                            \
+        (void)ctx;                                                                          \
+        rhs(&KT, phase, x, p, dx);                                                          \
+    }                                                                                       \
+    void wk_model_##name##_guards(int64_t phase, double t, const double *x, const double *p,\
+                                  double *g, void *ctx)                                     \
+    {                                                                                       \
+        (void)t;                                                                            \
+        (void)ctx;                                                                          \
+        guards(&KT, phase, x, p, g);                                                        \
+    }                                                                                       \
+    void wk_model_##name##_reset(int64_t phase, int64_t k, double t, const double *x,       \
+                                 const double *p, double *x_new, double *impulse,           \
+                                 int64_t *out, void *ctx)                                   \
+    {                                                                                       \
+        (void)t;                                                                            \
+        (void)ctx;                                                                          \
+        reset(&KT, phase, k, x, p, x_new, impulse, out);                                    \
+    }                                                                                       \
+    void wk_model_##name##_jac(int64_t phase, double t, const double *x, const double *p,   \
+                               double *J, void *ctx)                                        \
+    {                                                                                       \
+        (void)t;                                                                            \
+        (void)ctx;                                                                          \
+        jac(&KT, phase, x, p, J);                                                           \
+    }                                                                                       \
+    void wk_model_##name##_energy(const double *x, const double *p, double *out, void *ctx)\
+    {                                                                                       \
+        (void)ctx;                                                                          \
+        energy(&KT, x, p, out);                                                             \
+    }                                                                                       \
+    void wk_model_##name##_points(const double *x, const double *p, double *out, void *ctx)\
+    {                                                                                       \
+        (void)ctx;                                                                          \
+        points(&KT, x, p, out);                                                             \
+    }
+
+WK_DECLARE_MODEL(simplest)
+WK_DECLARE_MODEL(compass)
+WK_DECLARE_MODEL(compass_plain)
+WK_DECLARE_MODEL(kneed)
+WK_DECLARE_MODEL(kneed_plain)
+
+#endif
