@@ -1,0 +1,486 @@
+"""walker's hand-written C models (walker/_core/model_*.c, compiled into walker._hybrid)
+against the numba model functions they port (walker/models/simplest.py, compass.py,
+kneed.py).
+
+Every C function is called through ctypes at the address ``walker._hybrid.models()``
+reports, at many random states and parameter vectors, and at states built to reach every
+branch of each reset map (the tests assert that each branch was reached).
+
+Tolerance: the general entries ("simplest", "compass", "kneed") must agree with numba to the
+bit (NaN where numba gives NaN): the C glue performs the numba functions' operations in the
+same order, both call the same libm, and neither contracts multiply-adds (setup.py compiles
+with ``-ffp-contract=off``; numba does not contract without fastmath).  The "/plain" entries
+run kernels printed from expressions simplified with the zero parameters substituted, so
+their arithmetic differs from the general kernels' by round-off only: they are compared to
+the numba model at parameter vectors with those entries zero, to ``PLAIN_RTOL`` relative to
+the size of the quantity (largest difference seen 7e-14, in the kneed rhs and Jacobian);
+reset outcomes must agree exactly.
+
+Whole strides of the shipped gaits through walker.integrate with the C functions given as
+addresses agree with the numba model's stride bit for bit (general entries) or to
+round-off (plain entries); see the last tests.
+"""
+
+import ctypes
+import dataclasses
+
+import numpy as np
+import pytest
+
+from walker import _hybrid, load_scene
+from walker.models import compass, get_model, kneed, simplest
+from walker.status import (
+    EVENT_CONTINUE,
+    EVENT_IGNORE,
+    EVENT_STRIDE,
+    EVENT_TERMINAL,
+    Status,
+)
+
+PLAIN_RTOL = 1e-12
+
+_vp = ctypes.c_void_p
+_i64 = ctypes.c_int64
+_f64 = ctypes.c_double
+_RHS = ctypes.CFUNCTYPE(None, _i64, _f64, _vp, _vp, _vp, _vp)
+_RESET = ctypes.CFUNCTYPE(None, _i64, _i64, _f64, _vp, _vp, _vp, _vp, _vp, _vp)
+_STATE = ctypes.CFUNCTYPE(None, _vp, _vp, _vp, _vp)
+
+
+def _registry():
+    return _hybrid.models()
+
+
+def _ptr(a):
+    return a.ctypes.data
+
+
+class CModel:
+    """The functions of one registry entry, called through ctypes on numpy arrays."""
+
+    def __init__(self, entry, n_x, n_guards, n_impulse, n_points):
+        self.entry = entry
+        self.n_x = n_x
+        self.n_guards = n_guards
+        self.n_impulse = n_impulse
+        self.n_points = n_points
+        self._rhs = _RHS(entry["rhs"])
+        self._guards = _RHS(entry["guards"])
+        self._jac = _RHS(entry["jac"])
+        self._reset = _RESET(entry["reset"])
+        self._energy = _STATE(entry["energy"])
+        self._points = _STATE(entry["points"])
+
+    def rhs(self, phase, t, x, p):
+        dx = np.full(self.n_x, np.nan)
+        self._rhs(phase, t, _ptr(x), _ptr(p), _ptr(dx), None)
+        return dx
+
+    def guards(self, phase, t, x, p):
+        g = np.full(self.n_guards, np.nan)
+        self._guards(phase, t, _ptr(x), _ptr(p), _ptr(g), None)
+        return g
+
+    def jac(self, phase, t, x, p):
+        J = np.full((self.n_x, self.n_x), np.nan)
+        self._jac(phase, t, _ptr(x), _ptr(p), _ptr(J), None)
+        return J
+
+    def reset(self, phase, k, t, x, p):
+        x_new = x.copy()
+        impulse = np.zeros(self.n_impulse)
+        out = np.full(3, -1, dtype=np.int64)
+        self._reset(phase, k, t, _ptr(x), _ptr(p), _ptr(x_new), _ptr(impulse), _ptr(out), None)
+        return tuple(int(v) for v in out), x_new, impulse
+
+    def energy(self, x, p):
+        out = np.full(2, np.nan)
+        self._energy(_ptr(x), _ptr(p), _ptr(out), None)
+        return out
+
+    def points(self, x, p):
+        out = np.full((self.n_points, 2), np.nan)
+        self._points(_ptr(x), _ptr(p), _ptr(out), None)
+        return out
+
+
+def _numba_reset(module, phase, k, t, x, p):
+    x_new = x.copy()
+    impulse = np.zeros(module.N_IMPULSE)
+    action, next_phase, status = module.reset(phase, k, t, x, p, x_new, impulse)
+    return (int(action), int(next_phase), int(status)), x_new, impulse
+
+
+def _assert_bits(c, ref, what):
+    """Same float64 bit patterns (any NaN matches any NaN)."""
+    c = np.asarray(c, dtype=np.float64)
+    ref = np.asarray(ref, dtype=np.float64)
+    assert c.shape == ref.shape, what
+    nan_c, nan_r = np.isnan(c), np.isnan(ref)
+    same = (c.view(np.uint64) == ref.view(np.uint64)) | (nan_c & nan_r)
+    assert same.all(), f"{what}: C {c[~same]} vs numba {ref[~same]}"
+
+
+def _assert_close(c, ref, what, rtol=PLAIN_RTOL):
+    c = np.asarray(c, dtype=np.float64)
+    ref = np.asarray(ref, dtype=np.float64)
+    assert c.shape == ref.shape, what
+    assert (np.isnan(c) == np.isnan(ref)).all(), what
+    ok = ~np.isnan(ref)
+    scale = max(1.0, float(np.abs(ref[ok]).max())) if ok.any() else 1.0
+    err = float(np.abs(c[ok] - ref[ok]).max()) if ok.any() else 0.0
+    assert err <= rtol * scale, f"{what}: max difference {err:.3g} at scale {scale:.3g}"
+
+
+# --------------------------------------------------------------------------------------
+# Random parameter vectors and states
+# --------------------------------------------------------------------------------------
+
+
+def _simplest_params(rng, plain):
+    damping = 0.0 if rng.random() < 0.3 else rng.uniform(0.0, 0.5)
+    return np.array(
+        [rng.uniform(-0.2, 0.2), rng.uniform(0.5, 12.0), rng.uniform(0.5, 2.0), damping]
+    )
+
+
+def _plain_zero(name):
+    """Indices in ``p`` of the parameters the "/plain" kernels fix at exactly zero."""
+    model = get_model(name)
+    names = model.params_class.names()
+    return tuple(names.index(n) for n in model.module.VARIANTS["plain"])
+
+
+_COMPASS_PLAIN_ZERO = _plain_zero("compass")  # inertia_leg, foot_radius, dampers
+_KNEED_PLAIN_ZERO = _plain_zero("kneed")  # inertias, offsets, foot_radius, dampers
+
+
+def _compass_params(rng, plain):
+    a, b = rng.uniform(0.1, 1.0, 2)
+    p = np.array(
+        [
+            rng.uniform(0.5, 20.0),  # mass_hip
+            rng.uniform(0.5, 10.0),  # mass_leg
+            a,
+            b,
+            rng.uniform(0.0, 1.0),  # inertia_leg
+            rng.uniform(0.0, 0.9) * (a + b),  # foot_radius
+            rng.uniform(-0.2, 0.2),  # slope
+            rng.uniform(1.0, 12.0),  # g
+            rng.uniform(0.0, 2.0),  # damping_hip
+            rng.uniform(0.0, 2.0),  # damping_ankle
+        ]
+    )
+    zero = _COMPASS_PLAIN_ZERO if plain else [i for i in _COMPASS_PLAIN_ZERO if rng.random() < 0.3]
+    p[list(zero)] = 0.0
+    return p
+
+
+def _kneed_params(rng, plain):
+    a1, b1, a2, b2 = rng.uniform(0.05, 0.6, 4)
+    p = np.array(
+        [
+            rng.uniform(0.05, 2.0),  # mass_hip
+            rng.uniform(0.05, 2.0),  # mass_thigh
+            rng.uniform(0.05, 2.0),  # mass_shank
+            a1,
+            b1,
+            a2,
+            b2,
+            rng.uniform(0.0, 0.05),  # inertia_thigh
+            rng.uniform(0.0, 0.05),  # inertia_shank
+            rng.uniform(-0.05, 0.05),  # offset_thigh
+            rng.uniform(-0.05, 0.05),  # offset_shank
+            rng.uniform(0.0, 0.9) * (a1 + b1),  # foot_radius
+            rng.uniform(-0.2, 0.2),  # slope
+            rng.uniform(1.0, 12.0),  # g
+            rng.uniform(0.0, 1.0),  # damping_hip
+            rng.uniform(0.0, 1.0),  # damping_knee
+            rng.uniform(0.0, 1.0),  # damping_ankle
+        ]
+    )
+    zero = _KNEED_PLAIN_ZERO if plain else [i for i in _KNEED_PLAIN_ZERO if rng.random() < 0.3]
+    p[list(zero)] = 0.0
+    return p
+
+
+@dataclasses.dataclass(frozen=True)
+class Case:
+    name: str  # registry entry
+    module: object
+    params: object  # (rng, plain) -> p
+    n_points: int
+
+    @property
+    def plain(self):
+        return self.name.endswith("/plain")
+
+    @property
+    def n_phases(self):
+        return len(self.module.PHASE_NAMES)
+
+    def c_model(self):
+        registry = _registry()
+        assert self.name in registry, sorted(registry)
+        m = self.module
+        return CModel(registry[self.name], m.N_X, len(m.GUARD_NAMES), m.N_IMPULSE, self.n_points)
+
+
+CASES = [
+    Case("simplest", simplest, _simplest_params, 3),
+    Case("compass", compass, _compass_params, 3),
+    Case("compass/plain", compass, _compass_params, 3),
+    Case("kneed", kneed, _kneed_params, 4),
+    Case("kneed/plain", kneed, _kneed_params, 4),
+]
+IDS = [c.name for c in CASES]
+
+
+def _compare(case):
+    return _assert_close if case.plain else _assert_bits
+
+
+# --------------------------------------------------------------------------------------
+# Registry
+# --------------------------------------------------------------------------------------
+
+
+def test_registry_lists_the_models():
+    registry = _registry()
+    for case in CASES:
+        entry = registry[case.name]
+        for key in ("rhs", "guards", "reset", "jac", "energy", "points"):
+            assert isinstance(entry[key], int) and entry[key] != 0, (case.name, key)
+        assert not entry["start_phase"], case.name  # these models start in phase 0
+        assert not entry["ctx"], case.name
+
+
+# --------------------------------------------------------------------------------------
+# Vector field, guards, Jacobian, energy, points
+# --------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("case", CASES, ids=IDS)
+def test_continuous_functions_agree(case):
+    c = case.c_model()
+    m = case.module
+    same = _compare(case)
+    rng = np.random.default_rng(20240611)
+    n_x = m.N_X
+    for trial in range(400):
+        p = case.params(rng, case.plain)
+        x = rng.uniform(-1.4, 1.4, n_x)
+        x[n_x // 2 :] *= 3.0
+        if trial % 5 == 0 and case.module is kneed:
+            x[2], x[5] = x[1], x[4]  # locked-knee state
+        t = rng.uniform(0.0, 2.0)
+        for phase in range(case.n_phases):
+            what = f"{case.name} trial {trial} phase {phase}"
+            dx = np.full(n_x, np.nan)
+            m.rhs(phase, t, x, p, dx)
+            same(c.rhs(phase, t, x, p), dx, f"rhs {what}")
+            g = np.full(len(m.GUARD_NAMES), np.nan)
+            m.guards(phase, t, x, p, g)
+            _assert_bits(c.guards(phase, t, x, p), g, f"guards {what}")
+            J = np.full((n_x, n_x), np.nan)
+            m.jac(phase, t, x, p, J)
+            same(c.jac(phase, t, x, p), J, f"jac {what}")
+        same(c.energy(x, p), np.array(m.energy(x, p)), f"energy {case.name} {trial}")
+        same(c.points(x, p), m.points(x, p), f"points {case.name} {trial}")
+
+
+# --------------------------------------------------------------------------------------
+# Reset maps: every branch
+# --------------------------------------------------------------------------------------
+
+
+def _reset_states(case, rng, n):
+    """(phase, k, x, p) tuples reaching every branch of the case's reset map."""
+    m = case.module
+    out = []
+    for i in range(n):
+        p = case.params(rng, case.plain)
+        slope = p[0] if m is simplest else p[6] if m is compass else p[12]
+        x = rng.uniform(-1.2, 1.2, m.N_X)
+        x[m.N_X // 2 :] *= 3.0
+        if m is simplest:
+            x[1] = 2.0 * x[0] + rng.choice([0.0, rng.normal(0.0, 1e-3)])
+            for k in range(3):
+                out.append((0, k, x.copy(), p))
+        elif m is compass:
+            # Swing foot on the slope: q_swing = -2 slope - q_stance (ahead for q_stance
+            # + slope < 0, a scuff behind otherwise).
+            x[0] = rng.uniform(-0.6, 0.6)
+            x[1] = -2.0 * slope - x[0]
+            if i % 7 == 0:
+                x[1] = x[0]  # legs together: step length zero, ignored
+            if i % 11 == 0:
+                x[2 + rng.integers(2)] = np.nan  # non-finite impact system: singular
+            if i % 13 == 0:
+                p = p.copy()
+                p[[0, 1, 4]] = 0.0  # massless: the impact system is singular
+            for k in range(3):
+                out.append((0, k, x.copy(), p))
+        else:
+            # Swing foot on the slope with the knee straight (psi2 = psi3 = -psi1), or about
+            # to lock, or bent.
+            x[0] = rng.uniform(-0.6, 0.6)
+            x[1] = -2.0 * slope - x[0]
+            kind = i % 4
+            if kind == 0:
+                x[2] = x[1]
+                x[5] = x[4]
+            elif kind == 1:
+                x[2] = x[1] + rng.uniform(-1e-6, 1e-6)
+            elif kind == 2:
+                x[2] = x[1] + rng.uniform(-0.5, 0.5)
+            if i % 11 == 0:
+                x[3 + rng.integers(3)] = np.nan
+            if i % 13 == 0:
+                p = p.copy()
+                p[[0, 1, 2, 7, 8]] = 0.0  # massless: singular impact systems
+            for phase in range(2):
+                for k in range(4):
+                    out.append((phase, k, x.copy(), p))
+    return out
+
+
+# Outcomes (k, phase, action, next phase, status) each reset must reach at least once.
+_NONPHYS = int(Status.NONPHYSICAL_IMPACT)
+_SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
+_FF, _FB = int(Status.FELL_FORWARD), int(Status.FELL_BACKWARD)
+REQUIRED = {
+    simplest: {
+        (0, 0, EVENT_IGNORE, 0, 0),  # theta >= 0: the mid-stance scuff
+        (0, 0, EVENT_STRIDE, 0, 0),
+        (1, 0, EVENT_TERMINAL, 0, _FF),
+        (2, 0, EVENT_TERMINAL, 0, _FB),
+    },
+    compass: {
+        (0, 0, EVENT_IGNORE, 0, 0),  # scuff: swing foot behind
+        (0, 0, EVENT_STRIDE, 0, 0),
+        (0, 0, EVENT_TERMINAL, 0, _NONPHYS),
+        (0, 0, EVENT_TERMINAL, 0, _SINGULAR),
+        (1, 0, EVENT_TERMINAL, 0, _FF),
+        (2, 0, EVENT_TERMINAL, 0, _FB),
+    },
+    kneed: {
+        (0, 0, EVENT_CONTINUE, 1, 0),  # knee lock
+        (0, 0, EVENT_STRIDE, 0, 0),  # knee lock + heel strike in one reset
+        (0, 0, EVENT_TERMINAL, 1, _NONPHYS),  # knee lock, then a nonphysical heel strike
+        (0, 0, EVENT_TERMINAL, 0, _SINGULAR),  # singular knee lock
+        (1, 0, EVENT_TERMINAL, 0, int(Status.TRIPPED)),
+        (1, 0, EVENT_STRIDE, 0, 0),  # contact a hair before knee lock: lock + strike
+        (1, 0, EVENT_CONTINUE, 1, 0),  # the same without the strike (foot moving up)
+        (1, 1, EVENT_IGNORE, 1, 0),  # scuff
+        (1, 1, EVENT_STRIDE, 0, 0),  # heel strike
+        (1, 1, EVENT_TERMINAL, 1, _NONPHYS),
+        (1, 1, EVENT_TERMINAL, 1, _SINGULAR),
+        (2, 0, EVENT_TERMINAL, 0, _FF),
+        (3, 1, EVENT_TERMINAL, 1, _FB),
+    },
+}
+
+
+@pytest.mark.parametrize("case", CASES, ids=IDS)
+def test_reset_agrees_on_every_branch(case):
+    c = case.c_model()
+    m = case.module
+    same = _compare(case)
+    rng = np.random.default_rng(7)
+    seen = set()
+    for phase, k, x, p in _reset_states(case, rng, 600):
+        what = f"{case.name} reset phase {phase} k {k} x {x.tolist()}"
+        ref_out, ref_x, ref_imp = _numba_reset(m, phase, k, 0.3, x, p)
+        out, x_new, impulse = c.reset(phase, k, 0.3, x, p)
+        assert out == ref_out, what
+        same(x_new, ref_x, what)
+        same(impulse, ref_imp, what)
+        seen.add((k, phase, *ref_out))
+    missing = REQUIRED[m] - seen
+    assert not missing, f"{case.name}: branches not reached {sorted(missing)}"
+
+
+# --------------------------------------------------------------------------------------
+# Whole strides through the integrator
+# --------------------------------------------------------------------------------------
+
+SCENES = {
+    "simplest": "gaits/simplest_garcia.toml",
+    "compass": "gaits/compass_goswami.toml",
+    "kneed": "gaits/kneed_hsu.toml",
+}
+
+
+def _c_system(name, entry_name):
+    """The model's HybridSystem with the C functions of registry entry ``entry_name``."""
+    entry = _registry()[entry_name]
+    return dataclasses.replace(
+        get_model(name).system,
+        rhs=entry["rhs"],
+        guards=entry["guards"],
+        reset=entry["reset"],
+        jac=entry["jac"],
+    )
+
+
+def _stride(system, scene):
+    from walker.integrate import hybrid_solve
+
+    c = scene.compute
+    sol = hybrid_solve(
+        system,
+        scene.state,
+        scene.params.as_array(),
+        phase0=0,
+        t_max=c.t_max,
+        n_strides=1,
+        method=c.method,
+        rtol=c.rtol,
+        atol=c.atol,
+        output="events",
+        jacobian=True,
+    )
+    assert sol.status == Status.COMPLETED, sol.status
+    return sol
+
+
+@pytest.mark.parametrize("name", list(SCENES))
+def test_stride_with_c_model_matches_numba(name):
+    """One stride of the scene's gait, bit for bit: final state and time, every event
+    (time, guard, post-event state, impulse), the stride's Jacobian and dt/dx0."""
+    scene = load_scene(SCENES[name])
+    ref = _stride(get_model(name).system, scene)
+    sol = _stride(_c_system(name, name), scene)
+    assert len(sol.events) == len(ref.events) >= 1
+    np.testing.assert_array_equal(sol.events.guard, ref.events.guard)
+    np.testing.assert_array_equal(sol.events.phase_after, ref.events.phase_after)
+    _assert_bits(sol.x, ref.x, f"{name} final state")
+    _assert_bits(sol.t, ref.t, f"{name} final time")
+    _assert_bits(sol.events.t, ref.events.t, f"{name} event times")
+    _assert_bits(sol.events.x_post, ref.events.x_post, f"{name} post-event states")
+    _assert_bits(sol.events.impulse, ref.events.impulse, f"{name} impulses")
+    _assert_bits(sol.jac, ref.jac, f"{name} stride Jacobian")
+    _assert_bits(sol.dt_dx0, ref.dt_dx0, f"{name} dt/dx0")
+
+
+@pytest.mark.parametrize("name", ["compass", "kneed"])
+def test_stride_with_plain_c_model_matches_numba(name):
+    """The "/plain" entry on the same scenes (their plain parameters are zero): states and
+    event times to 1e-13 (they differ by a few ulps); the Jacobian to 1e-9 of its largest
+    entry, because the saltation matrices come from finite differences of the reset and
+    guards (relative step 1e-3), which magnify the kernels' round-off differences (1e-11
+    seen)."""
+    scene = load_scene(SCENES[name])
+    p = scene.params.as_array()
+    assert not p[list(_plain_zero(name))].any()
+    ref = _stride(get_model(name).system, scene)
+    sol = _stride(_c_system(name, name + "/plain"), scene)
+    assert len(sol.events) == len(ref.events) >= 1
+    np.testing.assert_array_equal(sol.events.guard, ref.events.guard)
+    np.testing.assert_allclose(sol.x, ref.x, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(sol.t, ref.t, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(sol.events.t, ref.events.t, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(sol.events.x_post, ref.events.x_post, rtol=0, atol=1e-13)
+    scale = np.abs(ref.jac).max()
+    np.testing.assert_allclose(sol.jac, ref.jac, rtol=0, atol=1e-9 * scale)

@@ -1,0 +1,539 @@
+/* walker._hybrid: the CPython binding of walker's compiled core.
+ *
+ * solve(...)          one run of the hybrid integrator (hybrid.c), without the GIL;
+ * models()            walker's compiled models (wk_model_table) as integer addresses;
+ * kernels()           the generated kernels (wk_kernel_table) as (signature, address);
+ * call_state_fn(...)  calls a model's energy / points / start_phase function.
+ *
+ * Plain C API, no numpy: arrays come in through the buffer protocol (C-contiguous float64
+ * or int64) and go out as bytearrays that walker/integrate.py views with numpy.frombuffer.
+ * Model functions are passed as integer addresses of C functions with the signatures of
+ * wk_system.h.
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "hybrid.h"
+#include "wk_models.h"
+#include "wk_system.h"
+
+/* ------------------------------------------------------------------------------------------
+ * Argument conversion: every error names the argument.
+ * ------------------------------------------------------------------------------------------ */
+
+/* An int (not a bool) that fits in int64. */
+static int arg_int(PyObject *o, const char *name, int64_t *out)
+{
+    if (PyBool_Check(o) || !PyIndex_Check(o)) {
+        PyErr_Format(PyExc_TypeError, "`%s` must be an int, got %.200s", name,
+                     Py_TYPE(o)->tp_name);
+        return -1;
+    }
+    PyObject *index = PyNumber_Index(o);
+    if (index == NULL) return -1;
+    long long v = PyLong_AsLongLong(index);
+    Py_DECREF(index);
+    if (v == -1 && PyErr_Occurred()) {
+        PyErr_Format(PyExc_OverflowError, "`%s` does not fit in a 64-bit integer", name);
+        return -1;
+    }
+    *out = (int64_t)v;
+    return 0;
+}
+
+/* A real number (int or float, not a bool). */
+static int arg_double(PyObject *o, const char *name, double *out)
+{
+    if (PyFloat_CheckExact(o)) {
+        *out = PyFloat_AS_DOUBLE(o);
+        return 0;
+    }
+    if (PyBool_Check(o) || !(PyFloat_Check(o) || PyIndex_Check(o) ||
+                             (Py_TYPE(o)->tp_as_number && Py_TYPE(o)->tp_as_number->nb_float))) {
+        PyErr_Format(PyExc_TypeError, "`%s` must be a real number, got %.200s", name,
+                     Py_TYPE(o)->tp_name);
+        return -1;
+    }
+    double v = PyFloat_AsDouble(o);
+    if (v == -1.0 && PyErr_Occurred()) {
+        PyErr_Clear();
+        PyErr_Format(PyExc_TypeError, "`%s` must be a real number, got %.200s", name,
+                     Py_TYPE(o)->tp_name);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+/* A bool (or an int used as one). */
+static int arg_bool(PyObject *o, const char *name, int *out)
+{
+    if (!PyLong_Check(o)) {
+        PyErr_Format(PyExc_TypeError, "`%s` must be a bool, got %.200s", name,
+                     Py_TYPE(o)->tp_name);
+        return -1;
+    }
+    int v = PyObject_IsTrue(o);
+    if (v < 0) return -1;
+    *out = v;
+    return 0;
+}
+
+/* The address of a C function: a non-negative int (0 = NULL, allowed when ``nullable``). */
+static int arg_address(PyObject *o, const char *name, int nullable, uintptr_t *out)
+{
+    if (PyBool_Check(o) || !PyLong_Check(o)) {
+        PyErr_Format(PyExc_TypeError, "`%s` must be an int address, got %.200s", name,
+                     Py_TYPE(o)->tp_name);
+        return -1;
+    }
+    unsigned long long v = PyLong_AsUnsignedLongLong(o);
+    if (v == (unsigned long long)-1 && PyErr_Occurred()) {
+        PyErr_Clear();
+        PyErr_Format(PyExc_ValueError, "`%s` must be a non-negative address below 2**64",
+                     name);
+        return -1;
+    }
+    if (v == 0 && !nullable) {
+        PyErr_Format(PyExc_ValueError, "`%s` must be a non-zero function address", name);
+        return -1;
+    }
+    if ((unsigned long long)(uintptr_t)v != v) {
+        PyErr_Format(PyExc_ValueError, "`%s` does not fit in a pointer", name);
+        return -1;
+    }
+    *out = (uintptr_t)v;
+    return 0;
+}
+
+static int little_endian(void)
+{
+    const uint16_t one = 1;
+    unsigned char first;
+    memcpy(&first, &one, 1);
+    return first == 1;
+}
+
+/* Does a struct-module format describe one native 8-byte float ('d') or int ('q')? */
+static int format_is(const char *format, char kind)
+{
+    if (format == NULL) return 0;
+    if (*format == '@' || *format == '=' || (*format == '<' && little_endian())) format++;
+    if (format[1] != '\0') return 0;
+    if (kind == 'd') return format[0] == 'd';
+    return format[0] == 'q' || (format[0] == 'l' && sizeof(long) == 8);
+}
+
+/* A C-contiguous buffer of float64 (kind 'd') or int64 (kind 'q') with ``ndim``
+ * dimensions.  On success the caller releases ``view``. */
+static int arg_buffer(PyObject *o, const char *name, char kind, int ndim, Py_buffer *view)
+{
+    const char *what = kind == 'd' ? "float64" : "int64";
+    if (PyObject_GetBuffer(o, view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0) {
+        PyErr_Clear();
+        PyErr_Format(PyExc_TypeError, "`%s` must be a C-contiguous %s array, got %.200s",
+                     name, what, Py_TYPE(o)->tp_name);
+        return -1;
+    }
+    if (view->itemsize != 8 || !format_is(view->format, kind)) {
+        PyErr_Format(PyExc_TypeError, "`%s` must be a C-contiguous %s array, got format '%s'",
+                     name, what, view->format ? view->format : "B");
+        PyBuffer_Release(view);
+        return -1;
+    }
+    if (view->ndim != ndim) {
+        PyErr_Format(PyExc_ValueError, "`%s` must be %d-D, got %d-D", name, ndim, view->ndim);
+        PyBuffer_Release(view);
+        return -1;
+    }
+    return 0;
+}
+
+static int all_finite(const double *v, Py_ssize_t n)
+{
+    for (Py_ssize_t i = 0; i < n; i++)
+        if (!isfinite(v[i])) return 0;
+    return 1;
+}
+
+/* ------------------------------------------------------------------------------------------
+ * solve
+ * ------------------------------------------------------------------------------------------ */
+
+/* Largest sizes accepted (far above any walker; they keep the work-array sizes in range). */
+#define MAX_N_X 4096
+#define MAX_COUNT ((int64_t)1 << 24)
+
+static PyObject *bytes_of(const void *data, int64_t count, size_t item)
+{
+    if (count <= 0) return PyByteArray_FromStringAndSize(NULL, 0);
+    return PyByteArray_FromStringAndSize((const char *)data, (Py_ssize_t)((size_t)count * item));
+}
+
+#define SOLVE_NARGS 26
+
+PyDoc_STRVAR(solve_doc,
+             "solve(rhs, guards, reset, jac, ctx, directions, n_x, n_guards, n_impulse, x0, p,\n"
+             "      phase0, t0, t_max, n_strides, method, adaptive, rtol, atol, first_step,\n"
+             "      max_step, max_steps, output, sample_times, want_jac, n_interior)\n"
+             "--\n\n"
+             "One run of the hybrid integrator (see walker/integrate.py, which validates the\n"
+             "input and is the way to call this).  rhs, guards, reset, jac, ctx: int addresses\n"
+             "(wk_system.h; jac = 0: none, ctx = 0: NULL).  directions: int64 (n_phases,\n"
+             "n_guards); x0, p, sample_times: float64 1-D; method and output: the codes of\n"
+             "walker.status.  The GIL is released while integrating.\n\n"
+             "Returns (status, t, x, phase, counters, err_sum, ev_t, ev_guard, ev_phase_before,\n"
+             "ev_phase_after, ev_x_pre, ev_x_post, ev_impulse, s_x, s_phase, r_t, r_x, r_phase,\n"
+             "jac, dt_dx0, has_dt): counters a tuple of 8 ints (steps, rejected, rhs calls,\n"
+             "events, strides, logged events, samples, record rows), arrays as bytearrays of\n"
+             "native float64 / int64, row-major.");
+
+static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (nargs != SOLVE_NARGS) {
+        PyErr_Format(PyExc_TypeError, "solve() takes %d arguments, got %zd", SOLVE_NARGS,
+                     nargs);
+        return NULL;
+    }
+    uintptr_t a_rhs, a_guards, a_reset, a_jac, a_ctx;
+    wk_problem pb;
+    memset(&pb, 0, sizeof pb);
+    Py_buffer v_dir, v_x0, v_p, v_st;
+    int have_dir = 0, have_x0 = 0, have_p = 0, have_st = 0;
+    PyObject *result = NULL;
+    int64_t method, output;
+
+    if (arg_address(args[0], "rhs", 0, &a_rhs) || arg_address(args[1], "guards", 1, &a_guards) ||
+        arg_address(args[2], "reset", 1, &a_reset) || arg_address(args[3], "jac", 1, &a_jac) ||
+        arg_address(args[4], "ctx", 1, &a_ctx))
+        return NULL;
+    if (arg_int(args[6], "n_x", &pb.n_x) || arg_int(args[7], "n_guards", &pb.n_guards) ||
+        arg_int(args[8], "n_impulse", &pb.n_impulse) || arg_int(args[11], "phase0", &pb.phase0) ||
+        arg_double(args[12], "t0", &pb.t0) || arg_double(args[13], "t_max", &pb.t_max) ||
+        arg_int(args[14], "n_strides", &pb.n_strides) || arg_int(args[15], "method", &method) ||
+        arg_bool(args[16], "adaptive", &pb.adaptive) || arg_double(args[17], "rtol", &pb.rtol) ||
+        arg_double(args[18], "atol", &pb.atol) ||
+        arg_double(args[19], "first_step", &pb.first_step) ||
+        arg_double(args[20], "max_step", &pb.max_step) ||
+        arg_int(args[21], "max_steps", &pb.max_steps) || arg_int(args[22], "output", &output) ||
+        arg_bool(args[24], "want_jac", &pb.want_jac) ||
+        arg_int(args[25], "n_interior", &pb.n_interior))
+        return NULL;
+
+#define FAIL(exc, ...)                          \
+    do {                                        \
+        PyErr_Format(exc, __VA_ARGS__);         \
+        goto out;                               \
+    } while (0)
+
+    if (pb.n_x < 1 || pb.n_x > MAX_N_X)
+        FAIL(PyExc_ValueError, "`n_x` must be in [1, %d], got %lld", MAX_N_X, (long long)pb.n_x);
+    if (pb.n_guards < 0 || pb.n_guards > MAX_COUNT)
+        FAIL(PyExc_ValueError, "`n_guards` must be in [0, 2**24], got %lld",
+             (long long)pb.n_guards);
+    if (pb.n_impulse < 1 || pb.n_impulse > MAX_COUNT)
+        FAIL(PyExc_ValueError, "`n_impulse` must be in [1, 2**24], got %lld",
+             (long long)pb.n_impulse);
+    if (pb.n_guards > 0 && (a_guards == 0 || a_reset == 0))
+        FAIL(PyExc_ValueError, "`%s` must be a non-zero function address when n_guards > 0",
+             a_guards == 0 ? "guards" : "reset");
+    if (method < WK_METHOD_EULER || method > WK_METHOD_DOP853)
+        FAIL(PyExc_ValueError, "`method` must be a code in [0, 3], got %lld", (long long)method);
+    pb.method = (int)method;
+    if (output < WK_OUTPUT_MAP || output > WK_OUTPUT_FULL)
+        FAIL(PyExc_ValueError, "`output` must be a code in [0, 3], got %lld", (long long)output);
+    pb.output = (int)output;
+    if (pb.adaptive && pb.method != WK_METHOD_DOP853 && pb.method != WK_METHOD_DP5)
+        FAIL(PyExc_ValueError, "`adaptive` needs method DOP853 or RK45");
+    if (!(isfinite(pb.t0) && isfinite(pb.t_max) && pb.t_max > pb.t0))
+        FAIL(PyExc_ValueError, "`t0` and `t_max` must be finite with t_max > t0");
+    if (!(pb.rtol > 0.0 && isfinite(pb.rtol)))
+        FAIL(PyExc_ValueError, "`rtol` must be positive and finite");
+    if (!(pb.atol > 0.0 && isfinite(pb.atol)))
+        FAIL(PyExc_ValueError, "`atol` must be positive and finite");
+    if (!(pb.first_step >= 0.0 && isfinite(pb.first_step)) ||
+        (!pb.adaptive && !(pb.first_step > 0.0)))
+        FAIL(PyExc_ValueError, "`first_step` must be finite and positive (0: automatic, "
+                               "adaptive methods only)");
+    if (!(pb.max_step > 0.0))
+        FAIL(PyExc_ValueError, "`max_step` must be positive");
+    if (pb.n_strides < 0) FAIL(PyExc_ValueError, "`n_strides` must be >= 0");
+    if (pb.max_steps < 1) FAIL(PyExc_ValueError, "`max_steps` must be >= 1");
+    if (pb.n_interior < 0 || pb.n_interior > MAX_COUNT)
+        FAIL(PyExc_ValueError, "`n_interior` must be in [0, 2**24]");
+    if (pb.want_jac && a_jac == 0)
+        FAIL(PyExc_ValueError, "`want_jac` needs a Jacobian (`jac` is 0)");
+
+    if (arg_buffer(args[5], "directions", 'q', 2, &v_dir)) goto out;
+    have_dir = 1;
+    if (v_dir.shape[1] != pb.n_guards)
+        FAIL(PyExc_ValueError, "`directions` must have n_guards = %lld columns, got %zd",
+             (long long)pb.n_guards, v_dir.shape[1]);
+    pb.n_phases = v_dir.shape[0];
+    if (pb.n_phases < 1) FAIL(PyExc_ValueError, "`directions` must have at least one row");
+    pb.directions = (const int64_t *)v_dir.buf;
+    for (int64_t i = 0; i < pb.n_phases * pb.n_guards; i++)
+        if (pb.directions[i] < -1 || pb.directions[i] > 1)
+            FAIL(PyExc_ValueError, "`directions` values must be -1, 0 or +1");
+    if (pb.phase0 < 0 || pb.phase0 >= pb.n_phases)
+        FAIL(PyExc_ValueError, "`phase0` must be in [0, n_phases = %lld), got %lld",
+             (long long)pb.n_phases, (long long)pb.phase0);
+
+    if (arg_buffer(args[9], "x0", 'd', 1, &v_x0)) goto out;
+    have_x0 = 1;
+    if (v_x0.shape[0] != pb.n_x)
+        FAIL(PyExc_ValueError, "`x0` must have length n_x = %lld, got %zd", (long long)pb.n_x,
+             v_x0.shape[0]);
+    pb.x0 = (const double *)v_x0.buf;
+    if (!all_finite(pb.x0, v_x0.shape[0]))
+        FAIL(PyExc_ValueError, "All components of the initial state `x0` must be finite.");
+
+    if (arg_buffer(args[10], "p", 'd', 1, &v_p)) goto out;
+    have_p = 1;
+    pb.p = (const double *)v_p.buf;
+    if (!all_finite(pb.p, v_p.shape[0]))
+        FAIL(PyExc_ValueError, "All parameters `p` must be finite.");
+
+    if (arg_buffer(args[23], "sample_times", 'd', 1, &v_st)) goto out;
+    have_st = 1;
+    pb.sample_times = (const double *)v_st.buf;
+    pb.n_samples = v_st.shape[0];
+    if (pb.output == WK_OUTPUT_SAMPLES && pb.n_samples > 0) {
+        if (!all_finite(pb.sample_times, v_st.shape[0]))
+            FAIL(PyExc_ValueError, "`sample_times` must be finite");
+        for (int64_t i = 1; i < pb.n_samples; i++)
+            if (pb.sample_times[i] < pb.sample_times[i - 1])
+                FAIL(PyExc_ValueError, "`sample_times` must be sorted (non-decreasing)");
+    }
+#undef FAIL
+
+    wk_functions fn;
+    fn.rhs = (wk_rhs_fn)a_rhs;
+    fn.guards = (wk_guards_fn)a_guards;
+    fn.reset = (wk_reset_fn)a_reset;
+    fn.jac = (wk_jac_fn)a_jac;
+    fn.ctx = (void *)a_ctx;
+
+    wk_result res;
+    int rc;
+    Py_BEGIN_ALLOW_THREADS
+    rc = wk_hybrid_solve(&fn, &pb, &res);
+    Py_END_ALLOW_THREADS
+
+    if (rc == WK_ERR_NOMEM) {
+        PyErr_NoMemory();
+    } else if (rc == WK_ERR_BAD_PHASE) {
+        PyErr_Format(PyExc_ValueError,
+                     "`reset` returned next phase %lld, outside [0, n_phases = %lld)",
+                     (long long)res.phase, (long long)pb.n_phases);
+    } else {
+        const int64_t *c = res.counters;
+        const int64_t n_x = pb.n_x, n_imp = pb.n_impulse;
+        const int64_t n_log = c[WK_N_LOG], n_samp = c[WK_N_SAMPLES], n_rec = c[WK_N_RECORD];
+        const size_t d = sizeof(double), q = sizeof(int64_t);
+        PyObject *counters = Py_BuildValue("(LLLLLLLL)", (long long)c[0], (long long)c[1],
+                                           (long long)c[2], (long long)c[3], (long long)c[4],
+                                           (long long)c[5], (long long)c[6], (long long)c[7]);
+        if (counters != NULL) {
+            result = Py_BuildValue(
+                "(LdNLNdNNNNNNNNNNNNNNO)", (long long)res.status, res.t,
+                bytes_of(res.x, n_x, d), (long long)res.phase, counters, res.err_sum,
+                bytes_of(res.ev_t, n_log, d), bytes_of(res.ev_guard, n_log, q),
+                bytes_of(res.ev_phase_before, n_log, q), bytes_of(res.ev_phase_after, n_log, q),
+                bytes_of(res.ev_x_pre, n_log * n_x, d), bytes_of(res.ev_x_post, n_log * n_x, d),
+                bytes_of(res.ev_impulse, n_log * n_imp, d), bytes_of(res.s_x, n_samp * n_x, d),
+                bytes_of(res.s_phase, n_samp, q), bytes_of(res.r_t, n_rec, d),
+                bytes_of(res.r_x, n_rec * n_x, d), bytes_of(res.r_phase, n_rec, q),
+                bytes_of(res.jac, n_x * n_x, d), bytes_of(res.dt_dx0, n_x, d),
+                res.has_dt ? Py_True : Py_False);
+        }
+    }
+    wk_result_free(&res);
+
+out:
+    if (have_dir) PyBuffer_Release(&v_dir);
+    if (have_x0) PyBuffer_Release(&v_x0);
+    if (have_p) PyBuffer_Release(&v_p);
+    if (have_st) PyBuffer_Release(&v_st);
+    return result;
+}
+
+/* ------------------------------------------------------------------------------------------
+ * Registries
+ * ------------------------------------------------------------------------------------------ */
+
+/* A function pointer as a Python int (0 for NULL).  Converting a function pointer to an
+ * integer is implementation-defined in ISO C and exact on every platform Python runs on. */
+#define ADDRESS(f) PyLong_FromUnsignedLongLong((unsigned long long)(uintptr_t)(f))
+
+static int set_item(PyObject *dict, const char *key, PyObject *value)
+{
+    if (value == NULL) return -1;
+    int rc = PyDict_SetItemString(dict, key, value);
+    Py_DECREF(value);
+    return rc;
+}
+
+PyDoc_STRVAR(models_doc,
+             "models()\n--\n\n"
+             "walker's compiled models: dict name -> dict of int addresses {'rhs', 'guards',\n"
+             "'reset', 'jac', 'ctx', 'energy', 'points', 'start_phase'} (0 for NULL).");
+
+static PyObject *py_models(PyObject *self, PyObject *unused)
+{
+    (void)self;
+    (void)unused;
+    int64_t count = 0;
+    const wk_model_entry *table = wk_model_table(&count);
+    PyObject *out = PyDict_New();
+    if (out == NULL) return NULL;
+    for (int64_t i = 0; i < count; i++) {
+        const wk_model_entry *e = &table[i];
+        PyObject *entry = PyDict_New();
+        if (entry == NULL) goto fail;
+        if (set_item(entry, "rhs", ADDRESS(e->fn.rhs)) ||
+            set_item(entry, "guards", ADDRESS(e->fn.guards)) ||
+            set_item(entry, "reset", ADDRESS(e->fn.reset)) ||
+            set_item(entry, "jac", ADDRESS(e->fn.jac)) ||
+            set_item(entry, "ctx", ADDRESS(e->fn.ctx)) ||
+            set_item(entry, "energy", ADDRESS(e->energy)) ||
+            set_item(entry, "points", ADDRESS(e->points)) ||
+            set_item(entry, "start_phase", ADDRESS(e->start_phase)) ||
+            PyDict_SetItemString(out, e->name, entry)) {
+            Py_DECREF(entry);
+            goto fail;
+        }
+        Py_DECREF(entry);
+    }
+    return out;
+fail:
+    Py_DECREF(out);
+    return NULL;
+}
+
+PyDoc_STRVAR(kernels_doc,
+             "kernels()\n--\n\n"
+             "walker's generated C kernels: dict '<model>.<kernel>' -> (signature, address),\n"
+             "signatures as in wk_models.h ('qqdp_v', 'qp_v', 'qqdp_s', 'qp_s').");
+
+static PyObject *py_kernels(PyObject *self, PyObject *unused)
+{
+    (void)self;
+    (void)unused;
+    int64_t count = 0;
+    const wk_kernel_entry *table = wk_kernel_table(&count);
+    PyObject *out = PyDict_New();
+    if (out == NULL) return NULL;
+    for (int64_t i = 0; i < count; i++) {
+        PyObject *item = Py_BuildValue("(sN)", table[i].sig, ADDRESS(table[i].address));
+        if (item == NULL || PyDict_SetItemString(out, table[i].name, item)) {
+            Py_XDECREF(item);
+            Py_DECREF(out);
+            return NULL;
+        }
+        Py_DECREF(item);
+    }
+    return out;
+}
+
+/* ------------------------------------------------------------------------------------------
+ * call_state_fn
+ * ------------------------------------------------------------------------------------------ */
+
+PyDoc_STRVAR(call_state_fn_doc,
+             "call_state_fn(address, x, p, n_out, ctx=0)\n--\n\n"
+             "Calls the wk_state_fn at ``address`` (a model's energy, points or start_phase,\n"
+             "see wk_models.h) on the float64 arrays x and p; returns its n_out outputs as a\n"
+             "list of floats.");
+
+static PyObject *py_call_state_fn(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (nargs < 4 || nargs > 5) {
+        PyErr_Format(PyExc_TypeError, "call_state_fn() takes 4 or 5 arguments, got %zd", nargs);
+        return NULL;
+    }
+    uintptr_t address, ctx = 0;
+    int64_t n_out;
+    if (arg_address(args[0], "address", 0, &address) || arg_int(args[3], "n_out", &n_out) ||
+        (nargs == 5 && arg_address(args[4], "ctx", 1, &ctx)))
+        return NULL;
+    if (n_out < 0 || n_out > MAX_COUNT) {
+        PyErr_Format(PyExc_ValueError, "`n_out` must be in [0, 2**24], got %lld",
+                     (long long)n_out);
+        return NULL;
+    }
+    Py_buffer vx, vp;
+    if (arg_buffer(args[1], "x", 'd', 1, &vx)) return NULL;
+    if (arg_buffer(args[2], "p", 'd', 1, &vp)) {
+        PyBuffer_Release(&vx);
+        return NULL;
+    }
+    PyObject *list = NULL;
+    double *out = PyMem_Calloc((size_t)n_out + 1, sizeof(double));
+    if (out == NULL) {
+        PyErr_NoMemory();
+    } else {
+        wk_state_fn f = (wk_state_fn)address;
+        f((const double *)vx.buf, (const double *)vp.buf, out, (void *)ctx);
+        list = PyList_New((Py_ssize_t)n_out);
+        for (int64_t i = 0; list != NULL && i < n_out; i++) {
+            PyObject *v = PyFloat_FromDouble(out[i]);
+            if (v == NULL) {
+                Py_CLEAR(list);
+                break;
+            }
+            PyList_SET_ITEM(list, (Py_ssize_t)i, v);
+        }
+        PyMem_Free(out);
+    }
+    PyBuffer_Release(&vx);
+    PyBuffer_Release(&vp);
+    return list;
+}
+
+/* ------------------------------------------------------------------------------------------
+ * Module
+ * ------------------------------------------------------------------------------------------ */
+
+static PyMethodDef methods[] = {
+    {"solve", (PyCFunction)(void (*)(void))py_solve, METH_FASTCALL, solve_doc},
+    {"models", py_models, METH_NOARGS, models_doc},
+    {"kernels", py_kernels, METH_NOARGS, kernels_doc},
+    {"call_state_fn", (PyCFunction)(void (*)(void))py_call_state_fn, METH_FASTCALL,
+     call_state_fn_doc},
+    {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef module = {
+    PyModuleDef_HEAD_INIT,
+    "walker._hybrid",
+    "walker's compiled core: the hybrid integrator and the compiled models (see\n"
+    "walker/_core/wk_system.h for the model ABI and walker/integrate.py for the Python API).",
+    -1,
+    methods,
+    NULL,
+    NULL,
+    NULL,
+    NULL,
+};
+
+PyMODINIT_FUNC PyInit__hybrid(void)
+{
+    PyObject *m = PyModule_Create(&module);
+    if (m == NULL) return NULL;
+    /* The arming tolerance compiled into the kernel (walker.integrate.GUARD_TOL). */
+    PyObject *tol = PyFloat_FromDouble(WK_GUARD_TOL);
+    if (tol == NULL || PyModule_AddObjectRef(m, "GUARD_TOL", tol) < 0) {
+        Py_XDECREF(tol);
+        Py_DECREF(m);
+        return NULL;
+    }
+    Py_DECREF(tol);
+    return m;
+}
