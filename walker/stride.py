@@ -94,7 +94,7 @@ def simulate(
     if phase0 is None:
         phase0 = _start_phase(model, x0, params)
     return hybrid_solve(
-        model.system,
+        model.system_for(params),
         x0,
         params.as_array(),
         phase0=phase0,
@@ -254,7 +254,7 @@ class StrideMap:
         p = self.params.as_array()
         x0 = self.model.lift(z, p)
         sol = hybrid_solve(
-            self.model.system,
+            self.model.system_for(self.params),
             x0,
             p,
             phase0=self.model.start_phase(x0, p),

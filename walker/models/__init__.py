@@ -59,26 +59,67 @@ class WalkerModel:
         return importlib.import_module(f"walker.models.{self.name}")
 
     @cached_property
-    def system(self):
-        """The :class:`walker.integrate.HybridSystem` the integrator runs."""
-        from walker.integrate import HybridSystem
+    def _compiled(self) -> dict:
+        """This model's entries in the extension's registry, by variant ("" is general)."""
+        from walker import _hybrid
 
-        m = self.module
-        return HybridSystem(
-            name=self.name,
-            n_x=m.N_X,
-            n_phases=len(m.PHASE_NAMES),
-            n_guards=len(m.GUARD_NAMES),
-            n_impulse=m.N_IMPULSE,
-            rhs=m.rhs,
-            guards=m.guards,
-            reset=m.reset,
-            jac=m.jac,
-            directions=m.DIRECTIONS,
-            phase_names=m.PHASE_NAMES,
-            guard_names=m.GUARD_NAMES,
-            n_params=len(self.params_class.names()),
-        )
+        out = {}
+        for key, addresses in _hybrid.models().items():
+            name, _, variant = key.partition("/")
+            if name == self.name:
+                out[variant] = addresses
+        return out
+
+    @property
+    def variants(self) -> dict[str, tuple[str, ...]]:
+        """Structural variants compiled for this model: name -> the parameters that must be
+        exactly zero for it (see :meth:`variant_for`)."""
+        declared = getattr(self.module, "VARIANTS", {})
+        return {k: v for k, v in declared.items() if k in self._compiled}
+
+    def variant_for(self, p) -> str:
+        """The cheapest compiled variant valid at parameters ``p``: one whose zero
+        parameters are all exactly zero in ``p`` ("" for the general kernels)."""
+        values = dict(zip(self.params_class.names(), _p(p), strict=True))
+        for variant, zeros in self.variants.items():
+            if all(values[name] == 0.0 for name in zeros):
+                return variant
+        return ""
+
+    def system_for(self, p):
+        """The :class:`walker.integrate.HybridSystem` specialised to parameters ``p``: the
+        variant is chosen once, here, when a stride map or a run is set up."""
+        return self._system(self.variant_for(p))
+
+    @property
+    def system(self):
+        """The general :class:`walker.integrate.HybridSystem` (every parameter honoured)."""
+        return self._system("")
+
+    def _system(self, variant: str):
+        cache = self.__dict__.setdefault("_systems", {})
+        if variant not in cache:
+            from walker.integrate import HybridSystem
+
+            m = self.module
+            compiled = self._compiled.get(variant)
+            if compiled is not None:
+                fns = {k: compiled[k] for k in ("rhs", "guards", "reset", "jac")}
+            else:  # a model still written with numba: bridged to the C integrator
+                fns = {"rhs": m.rhs, "guards": m.guards, "reset": m.reset, "jac": m.jac}
+            cache[variant] = HybridSystem(
+                name=self.name if not variant else f"{self.name}/{variant}",
+                n_x=m.N_X,
+                n_phases=len(m.PHASE_NAMES),
+                n_guards=len(m.GUARD_NAMES),
+                n_impulse=m.N_IMPULSE,
+                directions=m.DIRECTIONS,
+                phase_names=m.PHASE_NAMES,
+                guard_names=m.GUARD_NAMES,
+                n_params=len(self.params_class.names()),
+                **fns,
+            )
+        return cache[variant]
 
     @property
     def params_class(self):
