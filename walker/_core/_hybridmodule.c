@@ -389,11 +389,11 @@ static PyObject *py_models(PyObject *self, PyObject *unused)
     (void)self;
     (void)unused;
     int64_t count = 0;
-    const wk_model_entry *table = wk_model_table(&count);
+    const wk_model_entry *const *table = wk_model_table(&count);
     PyObject *out = PyDict_New();
     if (out == NULL) return NULL;
     for (int64_t i = 0; i < count; i++) {
-        const wk_model_entry *e = &table[i];
+        const wk_model_entry *e = table[i];
         PyObject *entry = PyDict_New();
         if (entry == NULL) goto fail;
         if (set_item(entry, "rhs", ADDRESS(e->fn.rhs)) ||

@@ -1,9 +1,11 @@
 /* Registry of walker's compiled models (see wk_models.h): the hand-written C ports of the
- * numba models in walker/models (walker/_core/model_*.c).  "<model>/plain" entries run the
+ * models in walker/models (walker/_core/model_*.c).  "<model>/plain" entries run the
  * kernels printed for point feet, no offsets, no segment inertias and no dampers
  * (those parameters exactly zero); the parameter vector is the model's full one. */
 #include <stddef.h>
+#include "wk_actuated.h"
 #include "wk_common.h"
+#include "wk_friction_models.h"
 #include "wk_models.h"
 
 #define WK_ENTRY(label, name)                                                               \
@@ -14,15 +16,26 @@
             wk_model_##name##_energy, wk_model_##name##_points, NULL                        \
     }
 
-static const wk_model_entry MODELS[] = {
-    WK_ENTRY("simplest", simplest),
-    WK_ENTRY("compass", compass),
-    WK_ENTRY("compass/plain", compass_plain),
-    WK_ENTRY("kneed", kneed),
-    WK_ENTRY("kneed/plain", kneed_plain),
+static const wk_model_entry SIMPLEST = WK_ENTRY("simplest", simplest);
+static const wk_model_entry COMPASS = WK_ENTRY("compass", compass);
+static const wk_model_entry COMPASS_PLAIN = WK_ENTRY("compass/plain", compass_plain);
+static const wk_model_entry KNEED = WK_ENTRY("kneed", kneed);
+static const wk_model_entry KNEED_PLAIN = WK_ENTRY("kneed/plain", kneed_plain);
+
+static const wk_model_entry *const MODELS[] = {
+    &SIMPLEST,
+    &COMPASS,
+    &COMPASS_PLAIN,
+    &KNEED,
+    &KNEED_PLAIN,
+    &wk_entry_compass_coulomb,
+    &wk_entry_double_pendulum,
+    &wk_entry_kneed_coulomb,
+    &wk_entry_three_link,
+    &wk_entry_five_link,
 };
 
-const wk_model_entry *wk_model_table(int64_t *count)
+const wk_model_entry *const *wk_model_table(int64_t *count)
 {
     *count = (int64_t)(sizeof MODELS / sizeof MODELS[0]);
     return MODELS;

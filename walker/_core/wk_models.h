@@ -35,7 +35,9 @@ typedef struct {
     void *address;
 } wk_kernel_entry;
 
-const wk_model_entry *wk_model_table(int64_t *count);
+/* The registry: an array of pointers to entries, so that each model file can export its own
+ * entry (``const wk_model_entry wk_entry_<model>``). */
+const wk_model_entry *const *wk_model_table(int64_t *count);
 const wk_kernel_entry *wk_kernel_table(int64_t *count);
 
 #endif

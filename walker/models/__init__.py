@@ -174,19 +174,45 @@ class WalkerModel:
         """Full state -> section coordinates."""
         return self.module.project(np.asarray(x, dtype=float), _p(p))
 
+    def _state_fn(self, name: str):
+        """The compiled helper ``name`` (energy, points, start_phase) of the general entry,
+        or None when the model has no C entry or no such helper."""
+        address = self._compiled.get("", {}).get(name, 0)
+        return address or None
+
+    def _state_args(self, x, p) -> tuple[np.ndarray, np.ndarray]:
+        x = np.ascontiguousarray(x, dtype=np.float64)
+        pp = _p(p)
+        if x.shape != (self.n_x,):
+            raise ValueError(f"`x` must have shape ({self.n_x},), got {x.shape}")
+        n_p = len(self.params_class.names())
+        if pp.shape != (n_p,):
+            raise ValueError(f"`p` must have shape ({n_p},), got {pp.shape}")
+        return x, pp
+
     def energy(self, x, p) -> tuple[float, float]:
         """(kinetic, potential) energy of one state [J]."""
-        return self.module.energy(np.ascontiguousarray(x, dtype=np.float64), _p(p))
+        address = self._state_fn("energy")
+        if address is None:
+            return self.module.energy(np.ascontiguousarray(x, dtype=np.float64), _p(p))
+        from walker import _hybrid
+
+        kinetic, potential = _hybrid.call_state_fn(address, *self._state_args(x, p), 2)
+        return kinetic, potential
 
     def energies(self, x, p) -> tuple[np.ndarray, np.ndarray]:
         """Kinetic and potential energy of each row of ``x`` (n, n_x)."""
         x = np.atleast_2d(np.asarray(x, dtype=np.float64))
-        pp = _p(p)
-        out = np.array([self.module.energy(np.ascontiguousarray(row), pp) for row in x])
+        out = np.array([self.energy(row, p) for row in x]).reshape(-1, 2)
         return out[:, 0], out[:, 1]
 
     def start_phase(self, x, p) -> int:
         """The phase consistent with state ``x`` (0 for models with one choice)."""
+        address = self._state_fn("start_phase")
+        if address is not None:
+            from walker import _hybrid
+
+            return int(_hybrid.call_state_fn(address, *self._state_args(x, p), 1)[0])
         fn = getattr(self.module, "start_phase", None)
         if fn is None:
             return 0
@@ -194,7 +220,14 @@ class WalkerModel:
 
     def points(self, x, p) -> np.ndarray:
         """Joint positions (n_points, 2) for drawing the walker at state ``x``."""
-        return self.module.points(np.asarray(x, dtype=float), _p(p))
+        address = self._state_fn("points")
+        if address is None:
+            return self.module.points(np.asarray(x, dtype=float), _p(p))
+        from walker import _hybrid
+
+        n_points = 1 + max(max(segment) for segment in self.segments)
+        flat = _hybrid.call_state_fn(address, *self._state_args(x, p), 2 * n_points)
+        return np.array(flat).reshape(n_points, 2)
 
 
 def _p(p) -> np.ndarray:

@@ -1,0 +1,345 @@
+/* Dry joint friction: C port of walker/friction.py; see wk_friction.h. */
+#include <math.h>
+#include <string.h>
+#include "wk_common.h"
+#include "wk_friction.h"
+
+static int sizes_ok(int n, int m)
+{
+    return n >= 0 && m >= 0 && n <= WK_FRICTION_MAX_N && m <= WK_FRICTION_MAX_JOINTS;
+}
+
+/* walker._linalg.solve_inplace for nc right-hand sides: A (n x n) destroyed, B (n x nc)
+ * row-major overwritten with the solution; the same operations per column as
+ * wk_solve_inplace. */
+static int solve_columns(double *A, double *B, int n, int nc)
+{
+    double scale = 0.0;
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) {
+            double v = fabs(A[i * n + j]);
+            if (v > scale) scale = v;
+        }
+    }
+    double tiny = scale > 0 ? scale * 1e-300 : 1e-300;
+    for (int k = 0; k < n; k++) {
+        int p = k;
+        double big = fabs(A[k * n + k]);
+        for (int i = k + 1; i < n; i++) {
+            double v = fabs(A[i * n + k]);
+            if (v > big) {
+                big = v;
+                p = i;
+            }
+        }
+        if (!(big > tiny)) return 0;
+        if (p != k) {
+            for (int j = 0; j < n; j++) {
+                double tmp = A[k * n + j];
+                A[k * n + j] = A[p * n + j];
+                A[p * n + j] = tmp;
+            }
+            for (int j = 0; j < nc; j++) {
+                double tmp = B[k * nc + j];
+                B[k * nc + j] = B[p * nc + j];
+                B[p * nc + j] = tmp;
+            }
+        }
+        double piv = A[k * n + k];
+        for (int i = k + 1; i < n; i++) {
+            double f = A[i * n + k] / piv;
+            if (f != 0.0) {
+                for (int j = k + 1; j < n; j++) A[i * n + j] -= f * A[k * n + j];
+                for (int j = 0; j < nc; j++) B[i * nc + j] -= f * B[k * nc + j];
+            }
+        }
+    }
+    for (int k = n - 1; k >= 0; k--) {
+        for (int c = 0; c < nc; c++) {
+            double s = B[k * nc + c];
+            for (int j = k + 1; j < n; j++) s -= A[k * n + j] * B[j * nc + c];
+            B[k * nc + c] = s / A[k * n + k];
+        }
+    }
+    for (int i = 0; i < n * nc; i++) {
+        if (!isfinite(B[i])) return 0;
+    }
+    return 1;
+}
+
+int64_t wk_friction_encode(const int64_t *modes, int m)
+{
+    int64_t code = 0;
+    int64_t scale = 1;
+    for (int j = 0; j < m; j++) {
+        code += modes[j] * scale;
+        scale *= WK_N_MODES;
+    }
+    return code;
+}
+
+void wk_friction_decode(int64_t code, int64_t *modes, int m)
+{
+    for (int j = 0; j < m; j++) {
+        int64_t r = code % WK_N_MODES;
+        if (r < 0) r += WK_N_MODES;
+        modes[j] = r;
+        code = (code - r) / WK_N_MODES;
+    }
+}
+
+double wk_friction_slip_torque(int64_t mode, double F)
+{
+    if (mode == WK_SLIP_POSITIVE) return -F;
+    if (mode == WK_SLIP_NEGATIVE) return F;
+    return 0.0;
+}
+
+int wk_friction_system(const double *D, const double *S, const int64_t *modes, int n, int m,
+                       double *A)
+{
+    if (!sizes_ok(n, m)) return 0;
+    int k = 0;
+    for (int j = 0; j < m; j++) {
+        if (modes[j] == WK_STICK) k += 1;
+    }
+    const int N = n + k;
+    for (int i = 0; i < N * N; i++) A[i] = 0.0;
+    for (int i = 0; i < n; i++) {
+        for (int c = 0; c < n; c++) A[i * N + c] = D[i * n + c];
+    }
+    int r = n;
+    for (int j = 0; j < m; j++) {
+        if (modes[j] == WK_STICK) {
+            for (int i = 0; i < n; i++) {
+                A[i * N + r] = -S[j * n + i];
+                A[r * N + i] = S[j * n + i];
+            }
+            r += 1;
+        }
+    }
+    return N;
+}
+
+int wk_friction_accelerations(const double *D, const double *f, const double *S,
+                              const double *F, const int64_t *modes, int n, int m,
+                              double *qdd, double *lam)
+{
+    double A[WK_FRICTION_MAX_SYSTEM * WK_FRICTION_MAX_SYSTEM];
+    double b[WK_FRICTION_MAX_SYSTEM];
+    if (!sizes_ok(n, m)) return 0;
+    const int N = wk_friction_system(D, S, modes, n, m, A);
+    for (int i = 0; i < N; i++) b[i] = 0.0;
+    for (int i = 0; i < n; i++) b[i] = f[i];
+    for (int j = 0; j < m; j++) {
+        double tau = wk_friction_slip_torque(modes[j], F[j]);
+        if (tau != 0.0) {
+            for (int i = 0; i < n; i++) b[i] += S[j * n + i] * tau;
+        }
+    }
+    int ok = wk_solve_inplace(A, b, N);
+    for (int i = 0; i < n; i++) qdd[i] = b[i];
+    int r = n;
+    for (int j = 0; j < m; j++) {
+        if (modes[j] == WK_STICK) {
+            lam[j] = b[r];
+            r += 1;
+        } else {
+            lam[j] = wk_friction_slip_torque(modes[j], F[j]);
+        }
+    }
+    return ok;
+}
+
+int wk_friction_slip_force(const double *S, const double *F, const int64_t *modes, int n,
+                           int m, double *out)
+{
+    for (int j = 0; j < m; j++) {
+        if (modes[j] == WK_STICK) return 0;
+    }
+    int any_force = 0;
+    for (int i = 0; i < n; i++) out[i] = 0.0;
+    for (int j = 0; j < m; j++) {
+        double tau = wk_friction_slip_torque(modes[j], F[j]);
+        if (tau != 0.0) {
+            any_force = 1;
+            for (int i = 0; i < n; i++) out[i] += S[j * n + i] * tau;
+        }
+    }
+    return any_force ? 1 : -1;
+}
+
+int wk_friction_accelerations_jacobian(const double *D, const double *dD, const double *df_dq,
+                                       const double *df_dqd, const double *S,
+                                       const int64_t *modes, const double *qdd, int n, int m,
+                                       double *out)
+{
+    double A[WK_FRICTION_MAX_SYSTEM * WK_FRICTION_MAX_SYSTEM];
+    double R[WK_FRICTION_MAX_SYSTEM * 2 * WK_FRICTION_MAX_N];
+    if (!sizes_ok(n, m)) return 0;
+    const int N = wk_friction_system(D, S, modes, n, m, A);
+    const int nc = 2 * n;
+    for (int i = 0; i < N * nc; i++) R[i] = 0.0;
+    for (int k = 0; k < n; k++) {
+        for (int i = 0; i < n; i++) {
+            double s = df_dq[i * n + k];
+            for (int c = 0; c < n; c++) s -= dD[(k * n + i) * n + c] * qdd[c];
+            R[i * nc + k] = s;
+            R[i * nc + n + k] = df_dqd[i * n + k];
+        }
+    }
+    int ok = solve_columns(A, R, N, nc);
+    for (int i = 0; i < n; i++) {
+        for (int c = 0; c < nc; c++) out[i * nc + c] = R[i * nc + c];
+    }
+    return ok;
+}
+
+int wk_friction_consistent(const double *D, const double *f, const double *S, const double *F,
+                           const int64_t *modes, const bool *rest, bool strict, int n, int m,
+                           double *qdd, double *lam)
+{
+    if (!wk_friction_accelerations(D, f, S, F, modes, n, m, qdd, lam)) return 0;
+    for (int j = 0; j < m; j++) {
+        if (modes[j] == WK_STICK) {
+            if (strict) {
+                if (!(fabs(lam[j]) < F[j])) return 0;
+            } else if (!(fabs(lam[j]) <= F[j])) {
+                return 0;
+            }
+        } else if (rest[j]) {
+            double wd = 0.0;
+            for (int i = 0; i < n; i++) wd += S[j * n + i] * qdd[i];
+            if (modes[j] == WK_SLIP_NEGATIVE) wd = -wd;
+            if (strict) {
+                if (!(wd > 0.0)) return 0;
+            } else if (!(wd >= 0.0)) {
+                return 0;
+            }
+        }
+    }
+    return 1;
+}
+
+int wk_friction_choose_modes(const double *D, const double *f, const double *S,
+                             const double *F, const double *qd, const bool *free_joints,
+                             int n, int m, int64_t *modes)
+{
+    bool rest[WK_FRICTION_MAX_JOINTS];
+    int idx[WK_FRICTION_MAX_JOINTS];
+    double qdd[WK_FRICTION_MAX_N];
+    double lam[WK_FRICTION_MAX_JOINTS];
+    if (!sizes_ok(n, m)) return 0;
+    int r = 0;
+    for (int j = 0; j < m; j++) {
+        rest[j] = false;
+        if (!free_joints[j]) continue;
+        double w = 0.0;
+        for (int i = 0; i < n; i++) w += S[j * n + i] * qd[i];
+        if (w > WK_FRICTION_W_TOL) {
+            modes[j] = WK_SLIP_POSITIVE;
+        } else if (w < -WK_FRICTION_W_TOL) {
+            modes[j] = WK_SLIP_NEGATIVE;
+        } else {
+            rest[j] = true;
+            idx[r] = j;
+            r += 1;
+        }
+    }
+    if (r == 0) return 1;
+    int total = 1;
+    for (int a = 0; a < r; a++) total *= WK_N_MODES;
+    for (int pass = 0; pass < 2; pass++) {
+        bool strict = pass == 0;
+        /* Stick first (digit 2 -> 0 order), so a tie prefers the joint at rest to stay. */
+        for (int c = 0; c < total; c++) {
+            int code = c;
+            bool skip = false;
+            for (int a = 0; a < r; a++) {
+                int mode = WK_N_MODES - 1 - code % WK_N_MODES;
+                code /= WK_N_MODES;
+                int j = idx[a];
+                if (mode == WK_STICK && !(F[j] > 0.0)) skip = true;
+                modes[j] = mode;
+            }
+            if (skip) continue;
+            if (wk_friction_consistent(D, f, S, F, modes, rest, strict, n, m, qdd, lam))
+                return 1;
+        }
+    }
+    for (int a = 0; a < r; a++) modes[idx[a]] = WK_SLIP_POSITIVE;
+    return 0;
+}
+
+int wk_friction_project_stuck(const double *D, const double *S, const int64_t *modes,
+                              const double *qd, int n, int m, double *qd_out)
+{
+    double A[WK_FRICTION_MAX_SYSTEM * WK_FRICTION_MAX_SYSTEM];
+    double b[WK_FRICTION_MAX_SYSTEM];
+    if (!sizes_ok(n, m)) return 0;
+    const int N = wk_friction_system(D, S, modes, n, m, A);
+    for (int i = 0; i < N; i++) b[i] = 0.0;
+    for (int i = 0; i < n; i++) {
+        double s = 0.0;
+        for (int c = 0; c < n; c++) s += D[i * n + c] * qd[c];
+        b[i] = s;
+    }
+    int ok = wk_solve_inplace(A, b, N);
+    for (int i = 0; i < n; i++) qd_out[i] = b[i];
+    return ok;
+}
+
+int wk_friction_settle(const double *D, const double *f, const double *S, const double *F,
+                       const double *qd, const bool *free_joints, int n, int m,
+                       int64_t *modes, double *qd_out)
+{
+    if (!sizes_ok(n, m)) return 0;
+    wk_friction_choose_modes(D, f, S, F, qd, free_joints, n, m, modes);
+    for (int j = 0; j < m; j++) {
+        if (modes[j] == WK_STICK) return wk_friction_project_stuck(D, S, modes, qd, n, m, qd_out);
+    }
+    for (int i = 0; i < n; i++) qd_out[i] = qd[i];
+    return 1;
+}
+
+int wk_friction_switch(const double *D, const double *f, const double *S, const double *F,
+                       const double *qd, int64_t j, bool breaks, int n, int m,
+                       int64_t *modes, double *qd_out)
+{
+    bool free_joints[WK_FRICTION_MAX_JOINTS];
+    if (!sizes_ok(n, m) || j < 0 || j >= m) return 0;
+    for (int i = 0; i < m; i++) free_joints[i] = true;
+    if (!breaks) {
+        int64_t only[WK_FRICTION_MAX_JOINTS];
+        double locked[WK_FRICTION_MAX_N];
+        for (int i = 0; i < m; i++) only[i] = WK_SLIP_POSITIVE;
+        only[j] = WK_STICK;
+        if (!wk_friction_project_stuck(D, S, only, qd, n, m, locked)) return 0;
+        return wk_friction_settle(D, f, S, F, locked, free_joints, n, m, modes, qd_out);
+    }
+    double qdd[WK_FRICTION_MAX_N];
+    double lam[WK_FRICTION_MAX_JOINTS];
+    if (!wk_friction_accelerations(D, f, S, F, modes, n, m, qdd, lam)) return 0;
+    modes[j] = lam[j] > 0.0 ? WK_SLIP_NEGATIVE : WK_SLIP_POSITIVE;
+    free_joints[j] = false;
+    return wk_friction_settle(D, f, S, F, qd, free_joints, n, m, modes, qd_out);
+}
+
+void wk_friction_guards(const double *S, const double *F, const int64_t *modes,
+                        const double *qd, const double *lam, int n, int m, double *g)
+{
+    for (int j = 0; j < m; j++) {
+        if (modes[j] == WK_STICK) {
+            g[2 * j] = 1.0;
+            g[2 * j + 1] = fabs(lam[j]) - F[j];
+        } else if (!(F[j] > 0.0)) {
+            g[2 * j] = 1.0;
+            g[2 * j + 1] = 1.0;
+        } else {
+            double w = 0.0;
+            for (int i = 0; i < n; i++) w += S[j * n + i] * qd[i];
+            g[2 * j] = w;
+            g[2 * j + 1] = 1.0;
+        }
+    }
+}

@@ -1,0 +1,107 @@
+/* Dry (Coulomb) joint friction with stick and slip as phases and events: C port of the
+ * compiled functions of walker/friction.py, with the same operations in the same order so
+ * that results agree with the numba functions to the bit.  See walker/friction.py for the
+ * mechanics (joint rates w = S qd, the augmented system [D, -S_k^T; S_k, 0] of the stuck
+ * joints k, the mode code sum_j mode_j 3**j, the guards 2 j slip_stops and 2 j + 1
+ * stick_breaks).
+ *
+ * Conventions: n coordinates (n <= WK_FRICTION_MAX_N), m joints (m <= WK_FRICTION_MAX_JOINTS);
+ * matrices row-major: D (n x n), S (m x n), dD (n x n x n, dD[(k n + i) n + c] = dD_ic/dq_k),
+ * df_dq and df_dqd (n x n, [i n + k] = df_i/dq_k); modes int64 (m,); the flags free (m,)
+ * as bool.  Functions returning int return 1 for success and 0 for a singular system (as
+ * the numba functions' bool), and also 0 when n or m exceed the maxima (nothing is written
+ * then).  No allocation: work arrays are fixed-size locals.
+ */
+#ifndef WK_FRICTION_H
+#define WK_FRICTION_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+/* Joint modes (walker.friction.SLIP_POSITIVE, SLIP_NEGATIVE, STICK) and their number. */
+#define WK_SLIP_POSITIVE 0
+#define WK_SLIP_NEGATIVE 1
+#define WK_STICK 2
+#define WK_N_MODES 3
+
+/* walker.friction.W_TOL: |w| [rad/s] at or below which a joint rate counts as zero when
+ * modes are chosen. */
+#define WK_FRICTION_W_TOL 1e-12
+
+/* Largest sizes handled (every walker model fits). */
+#define WK_FRICTION_MAX_N 6
+#define WK_FRICTION_MAX_JOINTS 4
+#define WK_FRICTION_MAX_SYSTEM (WK_FRICTION_MAX_N + WK_FRICTION_MAX_JOINTS)
+
+/* encode: the mode code sum_j modes[j] 3**j. */
+int64_t wk_friction_encode(const int64_t *modes, int m);
+
+/* decode: fills modes[0..m-1] from a mode code (Python's floor division and modulo). */
+void wk_friction_decode(int64_t code, int64_t *modes, int m);
+
+/* _slip_torque: -F slipping positive, +F slipping negative, 0 stuck. */
+double wk_friction_slip_torque(int64_t mode, double F);
+
+/* _system: the augmented matrix [D, -S_k^T; S_k, 0] of the stuck joints k into A, row-major
+ * of size N x N with N = n + (number stuck) <= n + m, which is returned (0 if n or m exceed
+ * the maxima).  A must hold (n + m)^2 doubles. */
+int wk_friction_system(const double *D, const double *S, const int64_t *modes, int n, int m,
+                       double *A);
+
+/* accelerations: qdd (n,) and lam (m,) (holding torque of each stuck joint, the friction
+ * torque -+F of a slipping one) in the given modes.  Returns 0 for a singular system (qdd
+ * and the stuck lam then hold what the numba function leaves: the partly solved system). */
+int wk_friction_accelerations(const double *D, const double *f, const double *S,
+                              const double *F, const int64_t *modes, int n, int m,
+                              double *qdd, double *lam);
+
+/* slip_force: sum_j S_j^T tau_j of the slipping joints into out (n,); returns 0 if some
+ * joint is stuck (out unset), 1 if the force is nonzero, -1 if it is zero. */
+int wk_friction_slip_force(const double *S, const double *F, const int64_t *modes, int n,
+                           int m, double *out);
+
+/* accelerations_jacobian: d qdd / d(q, qd) into out (n x 2n), qdd from
+ * wk_friction_accelerations at this state. */
+int wk_friction_accelerations_jacobian(const double *D, const double *dD, const double *df_dq,
+                                       const double *df_dqd, const double *S,
+                                       const int64_t *modes, const double *qdd, int n, int m,
+                                       double *out);
+
+/* _consistent: the modes are consistent at rest flags ``rest`` (strict or non-strict
+ * inequalities); qdd (n,) and lam (m,) are work arrays (outputs of accelerations). */
+int wk_friction_consistent(const double *D, const double *f, const double *S, const double *F,
+                           const int64_t *modes, const bool *rest, bool strict, int n, int m,
+                           double *qdd, double *lam);
+
+/* choose_modes: chooses the modes of the joints marked free_joints (others kept) in place;
+ * returns 0 when no combination is consistent or a system is singular (modes then slip by
+ * sign, slip+ at rest). */
+int wk_friction_choose_modes(const double *D, const double *f, const double *S,
+                             const double *F, const double *qd, const bool *free_joints,
+                             int n, int m, int64_t *modes);
+
+/* project_stuck: qd projected onto S_k qd = 0 for the stuck joints k (plastic lock) into
+ * qd_out (n,).  qd_out must not alias qd. */
+int wk_friction_project_stuck(const double *D, const double *S, const int64_t *modes,
+                              const double *qd, int n, int m, double *qd_out);
+
+/* settle: choose_modes of the free joints, then project_stuck into qd_out (a copy of qd when
+ * no joint sticks).  Returns 0 if the projection is singular (choose_modes' result is not
+ * returned, as in the numba function).  qd_out must not alias qd. */
+int wk_friction_settle(const double *D, const double *f, const double *S, const double *F,
+                       const double *qd, const bool *free_joints, int n, int m,
+                       int64_t *modes, double *qd_out);
+
+/* switch: the reset of joint j's friction event (breaks false: slip_stops; true:
+ * stick_breaks): new modes in place, new velocities into qd_out.  Returns 0 if a system is
+ * singular (or j is not a joint).  qd_out must not alias qd. */
+int wk_friction_switch(const double *D, const double *f, const double *S, const double *F,
+                       const double *qd, int64_t j, bool breaks, int n, int m,
+                       int64_t *modes, double *qd_out);
+
+/* guards: g[2 j] = w_j while slipping with F_j > 0, g[2 j + 1] = |lam_j| - F_j while
+ * stuck, 1.0 where unused; g has 2 m entries. */
+void wk_friction_guards(const double *S, const double *F, const int64_t *modes,
+                        const double *qd, const double *lam, int n, int m, double *g);
+
+#endif
