@@ -52,9 +52,10 @@ from scipy.optimize import brentq
 
 from walker.control import BEZIER_DEGREE, bezier
 from walker.models import five_link as FL
+from walker.models import get_model
 from walker.models import three_link as TL
 from walker.params import FiveLinkParams, ThreeLinkParams
-from walker.status import Status
+from walker.status import EVENT_IGNORE, Status
 
 __all__ = [
     "RestrictedMap",
@@ -78,7 +79,8 @@ class _Model:
     """What the HZD routines need of a model: its compiled module and kernels, ``beta``, the
     names of its joint-friction parameters."""
 
-    def __init__(self, module, beta, friction_names):
+    def __init__(self, name, module, beta, friction_names):
+        self.name = name
         self.module = module
         self.K = module.K
         self.beta = beta
@@ -88,9 +90,9 @@ class _Model:
 
 
 _MODELS = {
-    ThreeLinkParams: _Model(TL, BETA, ("damping_hip", "coulomb_hip")),
+    ThreeLinkParams: _Model("three_link", TL, BETA, ("damping_hip", "coulomb_hip")),
     FiveLinkParams: _Model(
-        FL, BETA_FIVE_LINK, ("damping_hip", "damping_knee", "coulomb_hip", "coulomb_knee")
+        "five_link", FL, BETA_FIVE_LINK, ("damping_hip", "damping_knee", "coulomb_hip", "coulomb_knee")
     ),
 }
 
@@ -197,10 +199,12 @@ def _impact(p, theta_minus, theta_dot_minus, mdl):
     """Heel strike from the surface point at ``theta_minus``: (x_plus, impulse, status)."""
     q, sigma, _ = _surface(p, theta_minus, mdl)
     x = _state(q, sigma * theta_dot_minus, mdl)
-    x_new = x.copy()
-    impulse = np.zeros(2)
-    status = mdl.module.heel_strike(x, p, x_new, impulse)
-    return x_new, impulse, int(status)
+    # The compiled reset of the swing-foot guard (0) is the heel strike; without friction
+    # (the HZD tools refuse it) the joint modes it then chooses change no rate.
+    action, _, status, x_new, impulse = get_model(mdl.name).apply_reset(0, 0, x, p)
+    if action == EVENT_IGNORE:  # the swing foot is not ahead of the stance foot
+        status = int(Status.NONPHYSICAL_IMPACT)
+    return x_new, impulse[:2], int(status)
 
 
 def invariance_residual(params) -> tuple[np.ndarray, np.ndarray]:

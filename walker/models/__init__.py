@@ -218,6 +218,43 @@ class WalkerModel:
             return 0
         return int(fn(np.ascontiguousarray(x, dtype=np.float64), _p(p)))
 
+    def apply_reset(self, phase: int, k: int, x, p, t: float = 0.0):
+        """Run the compiled reset map the integrator runs, for guard ``k`` firing at state
+        ``x`` in ``phase`` (analysis tools; the integrator calls it itself).
+
+        Returns ``(action, next_phase, status, x_new, impulse)``: ``action`` one of the
+        ``walker.status.EVENT_*`` values, ``status`` a :class:`walker.status.Status` value.
+        """
+        import ctypes
+
+        from walker.integrate import _compiled
+
+        x, pp = self._state_args(x, p)
+        system = self.system
+        if not (0 <= phase < system.n_phases and 0 <= k < system.n_guards):
+            raise ValueError(
+                f"`phase` must be in [0, {system.n_phases}) and `k` in [0, {system.n_guards}), "
+                f"got {phase}, {k}"
+            )
+        dbl = ctypes.POINTER(ctypes.c_double)
+        i64 = ctypes.POINTER(ctypes.c_int64)
+        fn = _RESET_TYPE(_compiled(system)[2])
+        x_new = x.copy()
+        impulse = np.zeros(system.n_impulse)
+        out = np.zeros(3, dtype=np.int64)
+        fn(
+            phase,
+            k,
+            float(t),
+            x.ctypes.data_as(dbl),
+            pp.ctypes.data_as(dbl),
+            x_new.ctypes.data_as(dbl),
+            impulse.ctypes.data_as(dbl),
+            out.ctypes.data_as(i64),
+            None,
+        )
+        return int(out[0]), int(out[1]), int(out[2]), x_new, impulse
+
     def points(self, x, p) -> np.ndarray:
         """Joint positions (n_points, 2) for drawing the walker at state ``x``."""
         address = self._state_fn("points")
@@ -235,6 +272,27 @@ def _p(p) -> np.ndarray:
         return p.as_array()
     return np.ascontiguousarray(p, dtype=np.float64)
 
+
+def _reset_type():
+    import ctypes
+
+    dbl = ctypes.POINTER(ctypes.c_double)
+    return ctypes.CFUNCTYPE(
+        None,
+        ctypes.c_int64,
+        ctypes.c_int64,
+        ctypes.c_double,
+        dbl,
+        dbl,
+        dbl,
+        dbl,
+        ctypes.POINTER(ctypes.c_int64),
+        ctypes.c_void_p,
+    )
+
+
+_RESET_TYPE = _reset_type()
+"""ctypes prototype of a reset map (walker/_core/wk_system.h)."""
 
 _CACHE: dict[str, WalkerModel] = {}
 
