@@ -474,6 +474,79 @@ def check_solver_settings(method, rtol, atol, first_step, *, fixed_step=False):
     return code, rtol, atol, first_step, adaptive
 
 
+class PreparedRun:
+    """A :class:`HybridSystem` with its solver settings checked once, for callers that run
+    it many times (a stride map, a basin, a sweep): :meth:`map` goes straight to the
+    compiled kernel with no per-call validation.
+
+    The caller guarantees what :func:`hybrid_solve` would check: ``x0`` and ``p`` C-contiguous
+    float64 arrays of lengths ``n_x`` and ``n_params``, finite; ``0 <= phase0 < n_phases``;
+    ``t_max > 0``; ``n_strides >= 0``.  Not picklable (it holds process-local addresses):
+    build one per process.
+    """
+
+    __slots__ = ("system", "_head", "_settings", "_n_interior")
+
+    def __init__(
+        self,
+        system: HybridSystem,
+        *,
+        method: str = "DOP853",
+        rtol: float = 1e-10,
+        atol: float = 1e-12,
+        first_step: float | None = None,
+        max_step: float = np.inf,
+        max_steps: int = 1_000_000,
+        n_interior: int = 4,
+    ):
+        if not isinstance(system, HybridSystem):
+            raise TypeError(f"`system` must be a HybridSystem, got {type(system).__name__}")
+        code, rtol, atol, first_step, adaptive = check_solver_settings(
+            method, rtol, atol, first_step
+        )
+        max_step = _check_positive_float("max_step", max_step, allow_inf=True)
+        max_steps = _check_int("max_steps", max_steps, 1)
+        self.system = system
+        rhs, guards, reset, jac, ctx, _ = _compiled(system)
+        self._head = (
+            rhs,
+            guards,
+            reset,
+            jac,
+            ctx,
+            system.directions,
+            system.n_x,
+            system.n_guards,
+            system.n_impulse,
+        )
+        self._settings = (code, adaptive, rtol, atol, first_step, max_step, max_steps)
+        self._n_interior = _check_int("n_interior", n_interior, 0)
+
+    def __reduce__(self):
+        raise TypeError("a PreparedRun holds process-local addresses: build one per process")
+
+    def map(self, x0, p, phase0: int, t_max: float, n_strides: int, jacobian: bool):
+        """One run from ``(t0 = 0, x0)``: ``(status, t, x, jac)``, ``status`` an int
+        (:class:`walker.status.Status` value), ``jac`` None unless ``jacobian``."""
+        if jacobian and self.system.jac is None:
+            raise ValueError("`jacobian=True` needs a system with `jac` (system.jac is None)")
+        r = _hybrid.solve(
+            *self._head,
+            x0,
+            p,
+            phase0,
+            0.0,
+            t_max,
+            n_strides,
+            *self._settings,
+            OUTPUT_MAP,
+            _EMPTY,
+            jacobian,
+            self._n_interior,
+        )
+        return r[0], r[1], _floats(r[2]), (_floats(r[18], self._head[6]) if jacobian else None)
+
+
 def hybrid_solve(
     system: HybridSystem,
     x0,

@@ -9,11 +9,12 @@ variational equations and saltation matrices when asked.  It implements the
 from __future__ import annotations
 
 import copy
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from walker.integrate import check_solver_settings, hybrid_solve
+from walker.integrate import PreparedRun, check_solver_settings, hybrid_solve
 from walker.models import WalkerModel, get_model
 from walker.results import MapResult, Solution
 from walker.status import Status
@@ -192,6 +193,33 @@ class StrideMap:
         proj = np.array([model.project(e, p) for e in np.eye(model.n_x)]).T
         object.__setattr__(self, "_proj", proj)
 
+    # --- the compiled run, prepared once per parameter set and process ---------------------
+    def _prepared(self) -> tuple[PreparedRun, np.ndarray]:
+        """The system of the variant valid at ``params`` with the settings checked, and the
+        parameter vector: built on first use (and again after pickling or a parameter
+        change), so a call validates nothing but ``z``."""
+        cached = self.__dict__.get("_run")
+        if cached is None:
+            p = np.ascontiguousarray(self.params.as_array(), dtype=np.float64)
+            run = PreparedRun(
+                self.model.system_for(p),
+                method=self.method,
+                rtol=self.rtol,
+                atol=self.atol,
+                first_step=self.first_step,
+            )
+            cached = (run, p)
+            object.__setattr__(self, "_run", cached)
+        return cached
+
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state.pop("_run", None)  # process-local addresses: rebuilt where it lands
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+
     # --- SectionMap protocol ------------------------------------------------------------
     @property
     def n_z(self) -> int:
@@ -222,6 +250,7 @@ class StrideMap:
             )
         new = copy.copy(self)
         object.__setattr__(new, "params", params)
+        new.__dict__.pop("_run", None)
         return new
 
     def lift(self, z) -> np.ndarray:
@@ -243,36 +272,29 @@ class StrideMap:
         if parameter is not None and parameter != self.parameter_value:
             return self.with_parameter(parameter)(z, jacobian=jacobian, n_strides=n_strides)
         z = _as_vector(z, "z")
-        if z.shape != (self.n_z,):
-            raise ValueError(f"`z` must have shape ({self.n_z},), got {z.shape}")
-        if not np.all(np.isfinite(z)):
+        model = self.model
+        if z.shape != (model.n_z,):
+            raise ValueError(f"`z` must have shape ({model.n_z},), got {z.shape}")
+        if not all(map(math.isfinite, z.tolist())):
             raise ValueError("All components of the section point `z` must be finite.")
-        if isinstance(n_strides, bool) or not isinstance(n_strides, int | np.integer):
+        if n_strides.__class__ is not int and (
+            isinstance(n_strides, bool) or not isinstance(n_strides, int | np.integer)
+        ):
             raise TypeError(f"`n_strides` must be an int, got {type(n_strides).__name__}")
         if n_strides < 1:
             raise ValueError(f"`n_strides` must be >= 1, got {n_strides}")
-        p = self.params.as_array()
-        x0 = self.model.lift(z, p)
-        sol = hybrid_solve(
-            self.model.system_for(self.params),
-            x0,
-            p,
-            phase0=self.model.start_phase(x0, p),
-            t_max=self.t_max * n_strides,
-            n_strides=n_strides,
-            method=self.method,
-            rtol=self.rtol,
-            atol=self.atol,
-            first_step=self.first_step,
-            jacobian=jacobian,
+        run, p = self._prepared()
+        x0 = np.ascontiguousarray(model.lift(z, p), dtype=np.float64)
+        status, t, x, jac = run.map(
+            x0, p, model.start_phase(x0, p), self.t_max * n_strides, n_strides, jacobian
         )
-        if sol.status != Status.COMPLETED:
+        if status != 0:
             nan = np.full(self.n_z, np.nan)
-            return MapResult(sol.status, nan, None, float(sol.t), sol.x)
+            return MapResult(Status(status), nan, None, float(t), x)
         jz = None
         if jacobian:
-            jz = self._proj @ sol.jac @ self.model.lift_jacobian(z, p)
-        return MapResult(Status.COMPLETED, self.model.project(sol.x, p), jz, float(sol.t), sol.x)
+            jz = self._proj @ jac @ model.lift_jacobian(z, p)
+        return MapResult(Status.COMPLETED, model.project(x, p), jz, float(t), x)
 
     def trajectory(self, z, *, n_strides: int = 1, sample_rate: float | None = None) -> Solution:
         """Simulate from section point ``z`` keeping events and samples (or every step)."""

@@ -139,7 +139,7 @@ class WalkerModel:
     def section_names(self) -> tuple[str, ...]:
         return self.module.SECTION_NAMES
 
-    @property
+    @cached_property
     def n_z(self) -> int:
         return len(self.module.SECTION_NAMES)
 
