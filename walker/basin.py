@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import math
-import multiprocessing
 import os
 import sys
 
@@ -90,17 +89,12 @@ def basin_chunk(
     return outcome, strides
 
 
-def _default_pool(n_workers: int) -> cf.ProcessPoolExecutor:
-    """A process pool whose workers start from a fresh server process ("forkserver").
-
-    Forking the caller directly can deadlock when it holds threads (BLAS, numba, a GUI); the
-    fork server costs about a second of imports per pool.  Falls back to the platform default
-    where "forkserver" does not exist (Windows).
-    """
-    if "forkserver" in multiprocessing.get_all_start_methods():
-        ctx = multiprocessing.get_context("forkserver")
-        return cf.ProcessPoolExecutor(max_workers=n_workers, mp_context=ctx)
-    return cf.ProcessPoolExecutor(max_workers=n_workers)
+def _default_pool(n_workers: int) -> cf.ThreadPoolExecutor:
+    """Threads in this process: a stride runs in walker's compiled kernel with the GIL
+    released, so ``n_workers`` threads run ``n_workers`` strides at once, with no process
+    start-up and nothing to pickle.  (A section map written in Python holds the GIL and gains
+    nothing from threads: pass a ``ProcessPoolExecutor`` for it.)"""
+    return cf.ThreadPoolExecutor(max_workers=n_workers, thread_name_prefix="walker-basin")
 
 
 def _use_progress(progress: bool) -> bool:
@@ -122,6 +116,7 @@ def basin_map(
     n_strides: int = 20,
     tol: float = 1e-6,
     executor: cf.Executor | str | None = None,
+    jobs: int | None = None,
     chunk_size: int | None = None,
     progress: bool = True,
 ) -> BasinMap:
@@ -146,11 +141,13 @@ def basin_map(
     tol : float
         converged when ``max|z - fixed_point.section| <= tol`` (section units).
     executor : Executor, "serial" or None
-        where the chunks run.  ``None``: a :class:`~concurrent.futures.ProcessPoolExecutor`
-        with ``os.cpu_count()`` workers started by a fork server (about a second of start-up),
-        created and shut down here (inline when there is one CPU); ``"serial"``: inline; any
-        ``concurrent.futures.Executor`` (e.g. a ``dask.distributed.Client``'s
-        ``get_executor()``; a ``Client`` itself is accepted and its ``get_executor()`` used).
+        where the chunks run.  ``None``: ``jobs`` threads of this process (the compiled
+        strides release the GIL), created and shut down here, inline when ``jobs`` is 1;
+        ``"serial"``: inline; any ``concurrent.futures.Executor`` (a process pool, or a
+        ``dask.distributed.Client``'s ``get_executor()``; a ``Client`` itself is accepted and
+        its ``get_executor()`` used).
+    jobs : int, optional
+        number of workers when ``executor`` is None; default ``os.cpu_count()``.
     chunk_size : int, optional
         grid rows per task; default about four tasks per worker.
     progress : bool
@@ -166,7 +163,7 @@ def basin_map(
     ------
     ValueError
         for a failed ``fixed_point``, invalid ``axes``, ``ranges``, ``n``, ``n_strides``,
-        ``tol``, ``chunk_size`` or ``executor``.
+        ``tol``, ``jobs``, ``chunk_size`` or ``executor``.
 
     Examples
     --------
@@ -221,6 +218,12 @@ def basin_map(
     tol = float(tol)
     if not (np.isfinite(tol) and tol > 0):
         raise ValueError(f"`tol` must be positive and finite, got {tol}")
+    if jobs is not None and (
+        isinstance(jobs, bool) or not isinstance(jobs, int | np.integer) or jobs < 1
+    ):
+        raise ValueError(f"`jobs` must be an integer >= 1, got {jobs!r}")
+    if jobs is not None and executor is not None:
+        raise ValueError("`jobs` applies to the default executor only: give one or the other")
     if chunk_size is not None and (int(chunk_size) != chunk_size or chunk_size < 1):
         raise ValueError(f"`chunk_size` must be an integer >= 1, got {chunk_size!r}")
     if isinstance(executor, str) and executor != "serial":
@@ -237,7 +240,7 @@ def basin_map(
     x = np.linspace(x_lo, x_hi, nx)
     y = np.linspace(y_lo, y_hi, ny)
     base = target.copy()
-    n_cpu = os.cpu_count() or 1
+    n_cpu = int(jobs) if jobs is not None else (os.cpu_count() or 1)
     serial = executor == "serial" or (executor is None and n_cpu == 1)
     n_workers = 1 if serial else getattr(executor, "_max_workers", None) or n_cpu
     if chunk_size is None:

@@ -299,7 +299,6 @@ def cmd_basin(args) -> int:
         )
         for a in axes
     )
-    executor = "serial" if args.jobs == 1 else None
     bm = basin_map(
         P,
         fp,
@@ -307,7 +306,7 @@ def cmd_basin(args) -> int:
         ranges=ranges,
         n=(args.n, args.n),
         n_strides=args.strides,
-        executor=executor,
+        jobs=args.jobs,
         progress=not args.quiet,
     )
     write(out, bm, provenance=provenance(scene), overwrite=args.overwrite)
@@ -416,7 +415,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="half-width of each axis relative to the fixed point's value",
     )
     p.add_argument("--strides", type=int, default=20)
-    p.add_argument("--jobs", type=int, default=None)
+    p.add_argument(
+        "--jobs",
+        type=int,
+        default=None,
+        help="worker threads (the compiled strides run in parallel); default: CPU count",
+    )
     p.add_argument("--quiet", action="store_true")
     p.add_argument("--overwrite", action="store_true")
     p.set_defaults(func=cmd_basin)
@@ -426,7 +430,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--param", action="append", required=True, metavar="NAME=START:STOP:COUNT")
     p.add_argument("--kind", choices=("outcome", "fixed_point"), default="fixed_point")
     p.add_argument("--strides", type=int, default=1)
-    p.add_argument("--jobs", type=int, default=None)
+    p.add_argument(
+        "--jobs",
+        type=int,
+        default=None,
+        help="worker threads (the compiled strides run in parallel); default: CPU count",
+    )
     p.add_argument("--scheduler", default=None, help="dask.distributed scheduler address")
     p.add_argument("--chunk-size", type=int, default=None)
     p.add_argument("--out", required=True)

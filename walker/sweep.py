@@ -517,11 +517,11 @@ def sweep(
         outcome, 16 for fixed_point, and at least 16 chunks when there are 16 points).
         A resumed sweep must use the chunk size it started with.
     executor : concurrent.futures.Executor, dask.distributed.Client, "serial" or None
-        ``None``: a ``ProcessPoolExecutor(max_workers=jobs or os.cpu_count())`` created and
-        shut down here; ``"serial"``: run inline; an ``Executor`` is used as is (and left
+        ``None``: ``jobs or os.cpu_count()`` threads of this process (the compiled strides
+        release the GIL) created and shut down here; ``"serial"``: run inline; an ``Executor`` is used as is (and left
         running); a ``dask.distributed.Client`` through its ``get_executor()``.
     jobs : int, optional
-        workers of the default pool (>= 1); ignored with a warning when ``executor`` is given.
+        threads of the default pool (>= 1); ignored with a warning when ``executor`` is given.
     out : str or os.PathLike, optional
         HDF5 checkpoint (:class:`walker.storage.SweepStore`).  Each chunk is written as it
         finishes; if the file exists and holds this same sweep (grid, columns, chunk size,
@@ -633,9 +633,12 @@ def sweep(
 
     own_pool = None
     if pending and executor is None:
+        # Threads of this process: the compiled strides release the GIL, so the workers run
+        # in parallel with no process start-up and the map needs no pickling.
         n_workers = min(jobs or os.cpu_count() or 1, len(pending))
-        own_pool = cf.ProcessPoolExecutor(max_workers=n_workers)
+        own_pool = cf.ThreadPoolExecutor(max_workers=n_workers, thread_name_prefix="walker-sweep")
         executor = own_pool
+        task_map = stride_map
     n_done = n_points - sum(rows(i).stop - rows(i).start for i in pending)
     bar = tqdm(
         total=n_points,
