@@ -7,12 +7,23 @@ is compiled into one extension when the package is installed (``pip install .`` 
 pyproject.toml.
 """
 
+import importlib.util
 from glob import glob
+from pathlib import Path
 
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
 SOURCES = sorted(glob("walker/_core/*.c")) + sorted(glob("walker/_generated/*.c"))
+
+
+def _source_hash() -> str:
+    """walker/_build.py's fingerprint of the C sources, compiled into the extension."""
+    spec = importlib.util.spec_from_file_location("walker_build", Path("walker/_build.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.source_hash(Path("."))
+
 
 # IEEE arithmetic exactly as written: no fused multiply-add contraction, no fast-math, so
 # results do not depend on the compiler's choices (the reference digits are held to 1e-13).
@@ -34,6 +45,7 @@ setup(
             "walker._hybrid",
             sources=SOURCES,
             include_dirs=["walker/_core", "walker/_generated"],
+            define_macros=[("WK_SOURCE_HASH", f'"{_source_hash()}"')],
             depends=sorted(glob("walker/_core/*.h")) + sorted(glob("walker/_generated/*.h")),
         )
     ],

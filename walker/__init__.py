@@ -4,29 +4,37 @@ The pipeline, from a scene file to pictures::
 
     gaits/*.toml ──► scene.py        load_scene: model name, parameters, state, settings
                  ──► params.py       frozen dataclasses with units and bounds; as_array()
-    (build time) ──► symbolic/       sympy: bodies -> D, C (Christoffel), g, B, contact
+    (by hand)    ──► symbolic/       sympy: bodies -> D, C (Christoffel), g, B, contact
                                      Jacobians, energies; Newton-Euler as the check
                  ──► symbolic/codegen.py + scripts/generate_kernels.py
-                                     cse + printing -> walker/_generated/<model>.py
-                                     (numba kernels, committed, stamped with a hash)
-    (run time)   ──► models/         per walker: compiled rhs, guards, resets (impacts as
-                                     augmented linear systems), vector-field Jacobian,
-                                     section lift/project, start_phase
-                     friction.py     dry joint friction shared by the *_coulomb and actuated
-                                     models: stick/slip modes in the phase index, stuck
-                                     joints as augmented linear systems, mode events
-                     control.py      controllers called inside the actuated models' rhs
-                 ──► integrate.py    compiled DOP853 / RK45 / RK4 / Euler, dense output,
-                                     event location, the hybrid loop, variational
-                                     equations with saltation matrices -> Solution
+                                     cse + printing -> walker/_generated/<model>.c (C kernels,
+                                     general and "plain" variants with zero parameters
+                                     removed) and <model>.py (the same kernels for numba),
+                                     committed, stamped with a hash
+    (install)    ──► setup.py        compiles walker/_core/*.c + walker/_generated/*.c into the
+                                     extension walker._hybrid:
+                     _core/hybrid.c  DOP853 / RK45 / RK4 / Euler, dense output, event location,
+                                     the hybrid loop, variational equations with saltation
+                     _core/model_*.c each walker's rhs, guards, resets (impacts as augmented
+                                     linear systems), Jacobian, energy, points, start phase;
+                                     wk_friction.c (dry joint friction: stick/slip modes),
+                                     wk_control.c (virtual-constraint controller)
+    (run time)   ──► models/         per walker: names, phases, guards, section lift/project;
+                                     WalkerModel.system_for(p) picks the compiled variant once
+                 ──► integrate.py    HybridSystem (the C contract, also for user-supplied C
+                                     functions), hybrid_solve, PreparedRun -> Solution
                  ──► stride.py       simulate(); StrideMap: section -> section (+ Jacobian)
                  ──► fixedpoint.py   Newton / Levenberg-Marquardt fixed points, Floquet
                      continuation.py natural and pseudo-arclength, folds, period doublings
-                     basin.py        basins of attraction on an Executor
-                     sweep.py        resumable parameter sweeps on any Executor
+                     basin.py        basins of attraction (threads: strides release the GIL)
+                     sweep.py        resumable parameter sweeps on threads or any Executor
                  ──► storage.py      HDF5 with provenance, atomic writes
                  ──► plotting.py     figures and animations
     cli.py sits on top (``walker find|run|continue|basin|sweep|plot``) and only orchestrates.
+
+The numba versions of the models (walker/models/<name>.py, walker/friction.py,
+walker/control.py) are the reference the C ports are tested against bit for bit, and what the
+HZD analysis tools (hzd.py) and the actuated walkers' torque plots still call.
 
 Only ``symbolic`` imports sympy; a simulation derives nothing.
 """

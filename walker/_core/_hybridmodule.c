@@ -18,6 +18,10 @@
 #include <string.h>
 
 #include "hybrid.h"
+
+#ifndef WK_SOURCE_HASH
+#define WK_SOURCE_HASH "unknown"
+#endif
 #include "wk_models.h"
 #include "wk_system.h"
 
@@ -535,5 +539,10 @@ PyMODINIT_FUNC PyInit__hybrid(void)
         return NULL;
     }
     Py_DECREF(tol);
+    /* Fingerprint of the sources this was built from (setup.py, walker/_build.py). */
+    if (PyModule_AddStringConstant(m, "SOURCE_HASH", WK_SOURCE_HASH) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
     return m;
 }
