@@ -92,12 +92,13 @@ def simulate(
     x0 = _as_vector(x0, "x0")
     if t_max is None:
         t_max = 20.0 * max(1, n_strides) * _time_scale(params)
+    p = params.as_array()
     if phase0 is None:
-        phase0 = _start_phase(model, x0, params)
+        phase0 = _start_phase(model, x0, p)
     return hybrid_solve(
-        model.system_for(params),
+        model.system_for(p),
         x0,
-        params.as_array(),
+        p,
         phase0=phase0,
         t_max=t_max,
         n_strides=n_strides,

@@ -77,12 +77,20 @@ class WalkerModel:
         declared = getattr(self.module, "VARIANTS", {})
         return {k: v for k, v in declared.items() if k in self._compiled}
 
+    @cached_property
+    def _variant_indices(self) -> tuple[tuple[str, tuple[int, ...]], ...]:
+        names = self.params_class.names()
+        return tuple(
+            (variant, tuple(names.index(n) for n in zeros))
+            for variant, zeros in self.variants.items()
+        )
+
     def variant_for(self, p) -> str:
         """The cheapest compiled variant valid at parameters ``p``: one whose zero
         parameters are all exactly zero in ``p`` ("" for the general kernels)."""
-        values = dict(zip(self.params_class.names(), _p(p), strict=True))
-        for variant, zeros in self.variants.items():
-            if all(values[name] == 0.0 for name in zeros):
+        values = _p(p).tolist()
+        for variant, indices in self._variant_indices:
+            if all(values[i] == 0.0 for i in indices):
                 return variant
         return ""
 
