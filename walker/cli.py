@@ -22,6 +22,22 @@ class UsageError(ValueError):
     """Bad command-line input (exit status 2)."""
 
 
+def _strict(value):
+    """``value`` with every non-finite float replaced by None (JSON null)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _strict(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_strict(v) for v in value]
+    return value
+
+
+def _json(record: dict) -> str:
+    """Strict JSON (RFC 8259): a missing number (NaN, infinity) is written as null."""
+    return json.dumps(_strict(record), allow_nan=False)
+
+
 def _parse_set(items) -> dict:
     out = {}
     for item in items or ():
@@ -133,7 +149,7 @@ def cmd_find(args) -> int:
             overwrite=args.overwrite,
         )
     if args.json:
-        print(json.dumps(record))
+        print(_json(record))
     else:
         _print_fixed_point(scene, P, fp)
     return EXIT_OK if fp.success else EXIT_OUTCOME
@@ -249,7 +265,7 @@ def cmd_continue(args) -> int:
     ]
     if args.json:
         print(
-            json.dumps(
+            _json(
                 {
                     "status": branch.status.name,
                     "message": branch.message,
@@ -361,6 +377,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="walker", description="Simulate passive and actuated biped walkers."
     )
+    from walker import __version__
+
+    parser.add_argument("--version", action="version", version=f"walker {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
 
     def scene_cmd(name, help_):
