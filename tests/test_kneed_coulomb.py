@@ -261,7 +261,15 @@ def _reset_action(system, phase, k, x, p):
     dbl = ctypes.POINTER(ctypes.c_double)
     i64 = ctypes.POINTER(ctypes.c_int64)
     fn = ctypes.CFUNCTYPE(
-        None, ctypes.c_int64, ctypes.c_int64, ctypes.c_double, dbl, dbl, dbl, dbl, i64,
+        None,
+        ctypes.c_int64,
+        ctypes.c_int64,
+        ctypes.c_double,
+        dbl,
+        dbl,
+        dbl,
+        dbl,
+        i64,
         ctypes.c_void_p,
     )(_compiled(system)[2])
     x = np.ascontiguousarray(x, dtype=float)
@@ -269,8 +277,17 @@ def _reset_action(system, phase, k, x, p):
     x_new = x.copy()
     impulse = np.zeros(system.n_impulse)
     out = np.zeros(3, dtype=np.int64)
-    fn(phase, k, 0.0, x.ctypes.data_as(dbl), p.ctypes.data_as(dbl), x_new.ctypes.data_as(dbl),
-       impulse.ctypes.data_as(dbl), out.ctypes.data_as(i64), None)
+    fn(
+        phase,
+        k,
+        0.0,
+        x.ctypes.data_as(dbl),
+        p.ctypes.data_as(dbl),
+        x_new.ctypes.data_as(dbl),
+        impulse.ctypes.data_as(dbl),
+        out.ctypes.data_as(i64),
+        None,
+    )
     return int(out[0])
 
 

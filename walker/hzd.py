@@ -92,7 +92,10 @@ class _Model:
 _MODELS = {
     ThreeLinkParams: _Model("three_link", TL, BETA, ("damping_hip", "coulomb_hip")),
     FiveLinkParams: _Model(
-        "five_link", FL, BETA_FIVE_LINK, ("damping_hip", "damping_knee", "coulomb_hip", "coulomb_knee")
+        "five_link",
+        FL,
+        BETA_FIVE_LINK,
+        ("damping_hip", "damping_knee", "coulomb_hip", "coulomb_knee"),
     ),
 }
 

@@ -518,8 +518,9 @@ def sweep(
         A resumed sweep must use the chunk size it started with.
     executor : concurrent.futures.Executor, dask.distributed.Client, "serial" or None
         ``None``: ``jobs or os.cpu_count()`` threads of this process (the compiled strides
-        release the GIL) created and shut down here; ``"serial"``: run inline; an ``Executor`` is used as is (and left
-        running); a ``dask.distributed.Client`` through its ``get_executor()``.
+        release the GIL) created and shut down here; ``"serial"``: run inline; an
+        ``Executor`` is used as is (and left running); a ``dask.distributed.Client`` through
+        its ``get_executor()``.
     jobs : int, optional
         threads of the default pool (>= 1); ignored with a warning when ``executor`` is given.
     out : str or os.PathLike, optional

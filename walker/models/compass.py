@@ -42,7 +42,14 @@ GUARD_NAMES = ("heel_strike", "fall_forward", "fall_backward")
 DIRECTIONS = np.array([[-1, -1, 1]], dtype=np.int64)
 STATE_NAMES = ("q_stance", "q_swing", "qd_stance", "qd_swing")
 SECTION_NAMES = ("q_stance", "qd_stance", "qd_swing")
-VARIANTS = {"plain": ("foot_radius", "inertia_leg", "damping_hip", "damping_ankle",)}
+VARIANTS = {
+    "plain": (
+        "foot_radius",
+        "inertia_leg",
+        "damping_hip",
+        "damping_ankle",
+    )
+}
 """Compiled structural variants (walker/_core/models.c): a variant runs kernels generated
 with these parameters fixed at exactly zero, so scenes that leave them at zero pay no
 arithmetic for them.  :meth:`walker.models.WalkerModel.variant_for` picks it."""

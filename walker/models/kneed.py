@@ -50,7 +50,18 @@ GUARD_NAMES = ("knee_lock", "swing_foot_contact", "fall_forward", "fall_backward
 DIRECTIONS = np.array([[1, -1, -1, 1], [0, -1, -1, 1]], dtype=np.int64)
 STATE_NAMES = ("q1", "q2", "q3", "qd1", "qd2", "qd3")
 SECTION_NAMES = ("q1", "qd1", "qd2")
-VARIANTS = {"plain": ("inertia_thigh", "inertia_shank", "offset_thigh", "offset_shank", "foot_radius", "damping_hip", "damping_knee", "damping_ankle",)}
+VARIANTS = {
+    "plain": (
+        "inertia_thigh",
+        "inertia_shank",
+        "offset_thigh",
+        "offset_shank",
+        "foot_radius",
+        "damping_hip",
+        "damping_knee",
+        "damping_ankle",
+    )
+}
 """Compiled structural variants (walker/_core/models.c): a variant runs kernels generated
 with these parameters fixed at exactly zero, so scenes that leave them at zero pay no
 arithmetic for them.  :meth:`walker.models.WalkerModel.variant_for` picks it."""
