@@ -75,6 +75,8 @@ typedef struct {
 
 /* Augmented vector field: dz[:n_x] = f(x) and, with want_jac, dPhi = J(x) Phi, Phi stored
  * row-major in z[n_x:]. */
+#define SPARSE_JAC_MAX 32
+
 static void fun(const model_t *m, int64_t phase, double t, const double *z, double *dz)
 {
     const int64_t n = m->n_x;
@@ -82,6 +84,25 @@ static void fun(const model_t *m, int64_t phase, double t, const double *z, doub
     if (m->want_jac) {
         double *J = m->J;
         m->fn.jac(phase, t, z, m->p, J, m->fn.ctx);
+        if (n <= SPARSE_JAC_MAX) {
+            /* dPhi = J Phi over the nonzero entries of each row of J only (walker Jacobians
+             * are half zeros: the rows of the angles are rows of the identity).  The sums run
+             * in the same order as the dense product, and adding an exact zero changes no
+             * sum of finite terms, so the result is bit-identical to the dense loop below
+             * whenever Phi is finite. */
+            int64_t cols[SPARSE_JAC_MAX];
+            for (int64_t i = 0; i < n; i++) {
+                int64_t c = 0;
+                for (int64_t k = 0; k < n; k++)
+                    if (J[i * n + k] != 0.0) cols[c++] = k;
+                for (int64_t j = 0; j < n; j++) {
+                    double s = 0.0;
+                    for (int64_t a = 0; a < c; a++) s += J[i * n + cols[a]] * z[n + cols[a] * n + j];
+                    dz[n + i * n + j] = s;
+                }
+            }
+            return;
+        }
         for (int64_t i = 0; i < n; i++) {
             for (int64_t j = 0; j < n; j++) {
                 double s = 0.0;
