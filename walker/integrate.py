@@ -527,9 +527,15 @@ class PreparedRun:
 
     def map(self, x0, p, phase0: int, t_max: float, n_strides: int, jacobian: bool):
         """One run from ``(t0 = 0, x0)``: ``(status, t, x, jac)``, ``status`` an int
-        (:class:`walker.status.Status` value), ``jac`` None unless ``jacobian``."""
+        (:class:`walker.status.Status` value), ``jac`` None unless ``jacobian``.  A negative
+        ``phase0`` (a model's start phase that could not be chosen) gives
+        ``LINEAR_SOLVE_FAILED`` without a run."""
         if jacobian and self.system.jac is None:
             raise ValueError("`jacobian=True` needs a system with `jac` (system.jac is None)")
+        if phase0 < 0:
+            # a model's start_phase reports -1 when the joint modes cannot be chosen (a
+            # singular system): no run, the outcome says why
+            return int(Status.LINEAR_SOLVE_FAILED), 0.0, x0.copy(), None
         r = _hybrid.solve(
             *self._head,
             x0,
