@@ -33,7 +33,9 @@ import numpy as np
 from scipy.optimize import brentq
 
 from walker.fixedpoint import (
+    CORRECTOR_EVALS_PER_ITER,
     SectionMap,
+    WalkingRegion,
     _eig_sorted,
     _map_jacobian,
     _map_value,
@@ -187,8 +189,20 @@ def _evaluate_point(ctx: _Context, z, mu, *, with_pmu: bool):
     return point, Status.COMPLETED
 
 
+# A corrector that ends with one of these did not converge at this step: the step halves.
+_SEARCH_ENDS = (
+    Status.NO_GAIT_NEAR_GUESS,
+    Status.DIVERGED,
+    Status.BUDGET_EXHAUSTED,
+    Status.OUTSIDE_WALKING_REGION,
+)
+
+
 def _correct_natural(ctx: _Context, z_guess, mu, *, with_pmu=False):
-    """Newton in ``z`` at fixed ``mu``. Returns ``(point or None, status, n_iter)``."""
+    """Newton in ``z`` at fixed ``mu``. Returns ``(point or None, status, n_iter)``.
+
+    Budget: ``CORRECTOR_EVALS_PER_ITER * max_corrector_iter`` map evaluations, in the
+    walking region of a walker's map (:func:`~walker.fixedpoint.find_fixed_point`)."""
     status, _, z, _, n_iter, _ = _solve_fixed_point(
         ctx.section_map,
         np.asarray(z_guess, dtype=float),
@@ -199,7 +213,10 @@ def _correct_natural(ctx: _Context, z_guess, mu, *, with_pmu=False):
         mode=ctx.mode,
         fd_step=ctx.fd_step,
         fallback=False,
+        max_evals=CORRECTOR_EVALS_PER_ITER * ctx.max_corrector_iter,
     )
+    if status in _SEARCH_ENDS:
+        status = Status.NOT_CONVERGED
     if status != Status.COMPLETED:
         return None, status, n_iter
     point, st = _evaluate_point(ctx, z, mu, with_pmu=with_pmu)
@@ -210,11 +227,19 @@ def _correct_arclength(ctx: _Context, u_start, t, u_ref, s):
     """Bordered Newton for ``G(u) = 0`` and ``t . (u - u_ref) = s``.
 
     Returns ``(point or None, status, n_iter)``; the point carries ``pmu`` (not the tangent).
+    At most ``max_corrector_iter + 1`` iterations of three map evaluations each; an iterate
+    outside the walking region of a walker's map is not evaluated (``NOT_CONVERGED``: the
+    step halves).
     """
     u = np.array(u_start, dtype=float)
     n = u.shape[0] - 1
+    region = WalkingRegion.of(ctx.section_map, float(u[n]))
+    if region is not None:
+        region.with_guess(u[:n])
     for it in range(ctx.max_corrector_iter + 1):
         z, mu = u[:n], float(u[n])
+        if region is not None and region.outside(z) is not None:
+            return None, Status.NOT_CONVERGED, it
         res, jac, st = _map_jacobian(ctx.section_map, z, ctx.period, mu, ctx.mode, ctx.fd_step)
         if jac is None:
             return None, st, it

@@ -41,6 +41,11 @@ class Status(IntEnum):
     NOT_CONVERGED = 9
     LINEAR_SOLVE_FAILED = 10
     PARAMETER_OUT_OF_RANGE = 11
+    # Appended: values are stored in files, never renumber.
+    NO_GAIT_NEAR_GUESS = 12
+    DIVERGED = 13
+    BUDGET_EXHAUSTED = 14
+    OUTSIDE_WALKING_REGION = 15
 
     @property
     def message(self) -> str:
@@ -74,7 +79,14 @@ _MESSAGES = {
         "model for a singularity."
     ),
     Status.NONFINITE: "The state became NaN or infinite. Check the parameters and initial state.",
-    Status.MAX_STEPS: "Reached `max_steps` before finishing. Increase `max_steps`.",
+    Status.MAX_STEPS: (
+        "Reached the step budget before finishing: the state is far from any gait (rates so "
+        "high that the steps shrink) or the tolerance is very tight. On the command line, "
+        "start nearer a gait (the scene's `[initial] state`, `--set`) or loosen `rtol` in the "
+        "scene's [compute] table; from Python, raise `max_steps` (simulate, hybrid_solve) or "
+        "`t_max` (a StrideMap allows a number of steps proportional to `t_max`, see "
+        "walker.fixedpoint.stride_max_steps)."
+    ),
     Status.NOT_CONVERGED: (
         "Newton iteration did not converge. Try a better initial guess, more iterations, or "
         "the Levenberg-Marquardt fallback."
@@ -83,5 +95,30 @@ _MESSAGES = {
     Status.PARAMETER_OUT_OF_RANGE: (
         "The continuation stepped outside the parameter's allowed range (see its bounds in "
         "walker.params). Continue toward the other side, or stop before the bound."
+    ),
+    Status.NO_GAIT_NEAR_GUESS: (
+        "No gait near the initial guess: the residual |P(z) - z| stalls at a positive value "
+        "(as past a fold of the gait branch, where the gait ceases to exist). On the command "
+        "line, try `--set slope=...` (or the parameter swept) closer to a value where a gait "
+        "is known, or a better `[initial] state` in the scene file; from Python, another `z0` "
+        "or continue_branch from a known gait."
+    ),
+    Status.DIVERGED: (
+        "The gait search diverged: its steps lead out of the region where the walker can walk "
+        "(stance leg past the fall angle, rates far beyond a gait's, or strides that fall). On "
+        "the command line, try `--set slope=...` closer to a value where a gait is known, or a "
+        "better `[initial] state` in the scene file; from Python, another `z0`."
+    ),
+    Status.BUDGET_EXHAUSTED: (
+        "The gait search used its budget of stride-map evaluations without converging. On the "
+        "command line, try `--set slope=...` closer to a value where a gait is known, or a "
+        "better `[initial] state` in the scene file; from Python, raise `max_evals` of "
+        "find_fixed_point or pass a better `z0`."
+    ),
+    Status.OUTSIDE_WALKING_REGION: (
+        "The state lies outside the region where the walker can walk (an angle wound beyond "
+        "pi from the slope normal, the stance leg past the fall angle, or kinetic energy far "
+        "above what the scene supplies), so it was not integrated. Start from a state near a "
+        "gait: on the command line the scene's `[initial] state`, from Python `z0` or `x0`."
     ),
 }

@@ -195,23 +195,56 @@ class StrideMap:
         object.__setattr__(self, "_proj", proj)
 
     # --- the compiled run, prepared once per parameter set and process ---------------------
-    def _prepared(self) -> tuple[PreparedRun, np.ndarray]:
-        """The system of the variant valid at ``params`` with the settings checked, and the
-        parameter vector: built on first use (and again after pickling or a parameter
-        change), so a call validates nothing but ``z``."""
+    def _prepared(self, n_strides: int = 1):
+        """The compiled run for ``n_strides`` strides, the parameter vector and the guard on
+        the start state: built on first use (and again after pickling or a parameter
+        change), so a call validates nothing but ``z``.
+
+        The run's step budget is ``n_strides`` times
+        :func:`walker.fixedpoint.stride_max_steps` (tied to ``t_max`` in units of the
+        model's time scale: about 100 typical strides with the scenes' ``t_max``).  The
+        guard ``((offset, fall_angle), n_q, wound_limit, energy_fn, energy_address,
+        kinetic_limit)`` stops a start state whose stance leg lies past the fall angle, an
+        angle wound beyond pi from the slope normal or a kinetic energy far above the
+        scene's (:class:`walker.fixedpoint.WalkingRegion`)."""
         cached = self.__dict__.get("_run")
         if cached is None:
+            from walker import _hybrid
+            from walker.fixedpoint import WalkingRegion, stride_max_steps
+
             p = np.ascontiguousarray(self.params.as_array(), dtype=np.float64)
+            per_stride = stride_max_steps(self.params, self.t_max, self.method, self.first_step)
+            region = WalkingRegion(self.model, self.params)
+            address = region.energy_address if math.isfinite(region.kinetic_limit) else None
+            stance = (
+                (region.stance * region.slope, region.fall_angle)
+                if region.stance is not None
+                else (0.0, math.inf)
+            )
+            guard = (
+                stance,
+                region.n_q,
+                region.wound_limit,
+                _hybrid.call_state_fn,
+                address,
+                region.kinetic_limit,
+            )
+            cached = ({}, p, guard, per_stride, self.model.system_for(p))
+            object.__setattr__(self, "_run", cached)
+        runs = cached[0]
+        run = runs.get(n_strides)
+        if run is None:
             run = PreparedRun(
-                self.model.system_for(p),
+                cached[4],
                 method=self.method,
                 rtol=self.rtol,
                 atol=self.atol,
                 first_step=self.first_step,
+                max_steps=cached[3] * n_strides,
             )
-            cached = (run, p)
-            object.__setattr__(self, "_run", cached)
-        return cached
+            if len(runs) < 16:
+                runs[n_strides] = run
+        return run, cached[1], cached[2]
 
     def __getstate__(self):
         state = dict(self.__dict__)
@@ -265,6 +298,15 @@ class StrideMap:
     ) -> MapResult:
         """Apply the map ``n_strides`` times.
 
+        A stride's work is bounded: at most
+        :func:`walker.fixedpoint.stride_max_steps` integration steps per stride (else
+        ``MAX_STEPS``), and a start state outside the walking region is not integrated
+        (``step_time`` 0): a stance leg at the fall angle or past it from the slope normal
+        ends ``FELL_FORWARD`` / ``FELL_BACKWARD`` (as the fall guards would on reaching
+        it), an angle wound beyond pi from the slope normal or a kinetic energy above
+        ``KINETIC_LIMIT`` times the walker's standing potential energy
+        ``OUTSIDE_WALKING_REGION`` (:class:`walker.fixedpoint.WalkingRegion`).
+
         Returns
         -------
         MapResult
@@ -284,8 +326,23 @@ class StrideMap:
             raise TypeError(f"`n_strides` must be an int, got {type(n_strides).__name__}")
         if n_strides < 1:
             raise ValueError(f"`n_strides` must be >= 1, got {n_strides}")
-        run, p = self._prepared()
+        run, p, guard = self._prepared(n_strides)
+        (offset, fall_angle), n_q, wound, energy_fn, energy_address, kinetic_limit = guard
         x0 = np.ascontiguousarray(model.lift(z, p), dtype=np.float64)
+        # A walker that starts past its fall guards is not integrated: a fall guard fires on
+        # crossing its threshold, never for a stance leg already past it or an angle wound
+        # round, and the steps of a state with rates far beyond any gait's shrink with them.
+        psi = float(z[0]) + offset
+        if not abs(psi) < fall_angle:
+            nan = np.full(self.n_z, np.nan)
+            fell = Status.FELL_FORWARD if psi < 0 else Status.FELL_BACKWARD
+            return MapResult(fell, nan, None, 0.0, x0)
+        if max(map(abs, x0[:n_q].tolist())) > wound or (
+            energy_address is not None
+            and not energy_fn(energy_address, x0, p, 2)[0] <= kinetic_limit
+        ):
+            nan = np.full(self.n_z, np.nan)
+            return MapResult(Status.OUTSIDE_WALKING_REGION, nan, None, 0.0, x0)
         status, t, x, jac = run.map(
             x0, p, model.start_phase(x0, p), self.t_max * n_strides, n_strides, jacobian
         )

@@ -339,7 +339,17 @@ def sweep_chunk(
     -------
     dict
         column name -> ndarray of shape ``(m, *shape)`` (see :func:`sweep`).
+
+    Notes
+    -----
+    Each fixed-point search has a budget of
+    :data:`walker.fixedpoint.POINT_MAX_EVALS` stride-map evaluations (the warm start, and
+    the retry from ``z0`` again), so a point without a gait costs a few tens of strides at
+    most and a point whose guess does not walk one or two; a gait converges from a warm
+    start in 4-6.
     """
+    from walker.fixedpoint import POINT_MAX_EVALS
+
     base = _materialize(section_map)
     n_z = int(base.n_z)
     m = points.shape[0]
@@ -358,9 +368,13 @@ def sweep_chunk(
             out["section"][i] = r.z
             out["step_time"][i] = r.step_time
             continue
-        fp = find_fixed_point(point_map, z_guess, period=n_strides, tol=tol)
+        fp = find_fixed_point(
+            point_map, z_guess, period=n_strides, tol=tol, max_evals=POINT_MAX_EVALS
+        )
         if not fp.success and z_guess is not z0:
-            fp = find_fixed_point(point_map, z0, period=n_strides, tol=tol)
+            fp = find_fixed_point(
+                point_map, z0, period=n_strides, tol=tol, max_evals=POINT_MAX_EVALS
+            )
         out["status"][i] = int(fp.status)
         out["residual"][i] = fp.residual
         out["n_iter"][i] = fp.n_iter
