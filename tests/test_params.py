@@ -17,6 +17,7 @@ from walker.params import (
     FiveLinkParams,
     KneedCoulombParams,
     KneedParams,
+    RimlessWheelParams,
     SimplestParams,
     ThreeLinkParams,
     params_class,
@@ -148,9 +149,20 @@ def test_registry_tables_agree():
         "five_link",
         "compass_coulomb",
         "kneed_coulomb",
+        "rimless_wheel",
     ]
-    assert [len(STATE_NAMES[m]) for m in PARAMS] == [4, 4, 6, 4, 8, 12, 4, 6]
-    assert [HAS_EVENTS[m] for m in PARAMS] == [True, True, True, False, True, True, True, True]
+    assert [len(STATE_NAMES[m]) for m in PARAMS] == [4, 4, 6, 4, 8, 12, 4, 6, 2]
+    assert [HAS_EVENTS[m] for m in PARAMS] == [
+        True,
+        True,
+        True,
+        False,
+        True,
+        True,
+        True,
+        True,
+        True,
+    ]
     assert STATE_NAMES["five_link"][10:] == ("actuator_work", "saturated_time")
     assert STATE_NAMES["three_link"][6:] == ("actuator_work", "saturated_time")
     for model, cls in PARAMS.items():
@@ -162,7 +174,7 @@ def test_params_class_unknown_model():
     with pytest.raises(
         ValueError,
         match=r"^unknown model 'biped'; valid models: simplest, compass, kneed, double_pendulum, "
-        r"three_link, five_link, compass_coulomb, kneed_coulomb$",
+        r"three_link, five_link, compass_coulomb, kneed_coulomb, rimless_wheel$",
     ):
         params_class("biped")
 
@@ -296,6 +308,10 @@ def test_numpy_and_int_values_are_stored_as_float():
 
 # ---- bounds: one case per bound ----------------------------------------------------------
 BOUND_CASES = [
+    (RimlessWheelParams, "spokes", 2.0, r"`spokes` must be >= 3 \[1\], got 2.0"),
+    (RimlessWheelParams, "leg_length", 0.0, r"`leg_length` must be > 0 \[m\], got 0.0"),
+    (RimlessWheelParams, "g", -9.81, r"`g` must be > 0 \[m/s\^2\], got -9.81"),
+    (RimlessWheelParams, "slope", 1.6, r"`slope` must be in \(-pi/2, pi/2\) \[rad\], got 1.6"),
     (SimplestParams, "slope", 1.6, r"`slope` must be in \(-pi/2, pi/2\) \[rad\], got 1.6"),
     (SimplestParams, "slope", -math.pi / 2, r"`slope` must be in \(-pi/2, pi/2\) \[rad\]"),
     (SimplestParams, "g", 0.0, r"`g` must be > 0 \[m/s\^2\], got 0.0"),

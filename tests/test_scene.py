@@ -24,6 +24,7 @@ SHIPPED = [
     "five_link_hzd",
     "kneed_coulomb_hsu",
     "compass_coulomb_goswami",
+    "rimless_wheel",
 ]
 # scenes carrying walker's own high-accuracy [reference] values
 WITH_REFERENCE = [
@@ -34,6 +35,7 @@ WITH_REFERENCE = [
     "five_link_hzd",
     "kneed_coulomb_hsu",
     "compass_coulomb_goswami",
+    "rimless_wheel",
 ]
 
 
@@ -298,7 +300,8 @@ def test_scene_table_errors(tmp_path):
     _fails(
         tmp_path,
         r"\[scene\] `model` must be one of simplest, compass, kneed, "
-        r"double_pendulum, three_link, five_link, compass_coulomb, kneed_coulomb, got 'biped'$",
+        r"double_pendulum, three_link, five_link, compass_coulomb, kneed_coulomb, "
+        r"rimless_wheel, got 'biped'$",
         {"scene": 'model = "biped"'},
     )
     _fails(

@@ -58,6 +58,7 @@ __all__ = [
     "DoublePendulumParams",
     "ThreeLinkParams",
     "FiveLinkParams",
+    "RimlessWheelParams",
     "params_class",
 ]
 
@@ -1317,6 +1318,65 @@ _RABBIT_DEFAULTS: dict[str, float] = {
 
 
 # ------------------------------------------------------------------------------------------
+@dataclasses.dataclass(frozen=True)
+class RimlessWheelParams(_Params):
+    """The rimless wheel: a point mass at the hub on ``spokes`` massless spokes (the classical
+    planar model of McGeer [1]_ and Coleman, Chatterjee, Ruina [2]_).
+
+    Attributes
+    ----------
+    spokes : float
+        number of spokes n [1], an integer >= 3 stored as a float; the angle between
+        neighbouring spokes is ``2 alpha``, ``alpha = pi / n`` the half-angle.
+    leg_length : float
+        spoke length l, hub to foot [m], > 0.
+    g : float
+        gravitational acceleration [m/s^2], > 0.
+    slope : float
+        ramp angle gamma [rad], in (-pi/2, pi/2), positive downhill in the rolling direction.
+
+    Notes
+    -----
+    All the mass sits at the hub, so the wheel has no mass parameter: energies and impulses
+    are per unit hub mass (:mod:`walker.models.rimless_wheel`).  With 3 or 4 spokes
+    (``cos 2 alpha <= 0``) every impact stops the wheel; it rolls only with 5 spokes or
+    more.
+
+    References
+    ----------
+    .. [1] T. McGeer, "Passive dynamic walking", Int. J. Robotics Research 9(2):62-82, 1990.
+    .. [2] M. J. Coleman, A. Chatterjee, A. Ruina, "Motions of a rimless spoked wheel: a
+       simple three-dimensional system with impacts", Dynamics and Stability of Systems
+       12(3):139-159, 1997.
+    """
+
+    MODEL: ClassVar[str] = "rimless_wheel"
+    PRESETS: ClassVar[tuple[str, ...]] = ("drake",)
+
+    spokes: float = _param("1", "number of spokes, an integer >= 3 (half-angle pi/spokes)", 3.0)
+    leg_length: float = _param("m", "spoke length, hub to foot", 0.0, lo_open=True)
+    g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
+    slope: float = _slope_field()
+
+    def _check_relations(self) -> None:
+        if not self.spokes.is_integer():
+            raise _relation_error(
+                "`spokes` must be an integer (a whole number of spokes)", f"{self.spokes!r}"
+            )
+
+    @classmethod
+    def drake(cls, slope: float = 0.08) -> RimlessWheelParams:
+        """The defaults of Drake's rimless wheel example [1]_: 8 spokes of 1 m, g = 9.81,
+        slope 0.08 rad (its mass, 1 kg, does not enter the motion).
+
+        References
+        ----------
+        .. [1] Drake, drake/examples/rimless_wheel (RimlessWheelParams defaults).
+        """
+        return cls(spokes=8.0, leg_length=1.0, g=9.81, slope=slope)
+
+
+# ------------------------------------------------------------------------------------------
 PARAMS: dict[str, type[_Params]] = {
     "simplest": SimplestParams,
     "compass": CompassParams,
@@ -1326,6 +1386,7 @@ PARAMS: dict[str, type[_Params]] = {
     "five_link": FiveLinkParams,
     "compass_coulomb": CompassCoulombParams,
     "kneed_coulomb": KneedCoulombParams,
+    "rimless_wheel": RimlessWheelParams,
 }
 """Model name -> parameter class."""
 
@@ -1369,6 +1430,8 @@ STATE_NAMES: dict[str, tuple[str, ...]] = {
     # as the compass gait; the hip's stick/slip state is the phase, not a state component
     "compass_coulomb": ("q_stance", "q_swing", "qd_stance", "qd_swing"),
     "kneed_coulomb": ("q1", "q2", "q3", "qd1", "qd2", "qd3"),
+    # stance spoke's angle from the slope normal (counterclockwise positive) and its rate
+    "rimless_wheel": ("theta", "theta_dot"),
 }
 """Model name -> names of the full state's components, in order."""
 
@@ -1381,6 +1444,7 @@ HAS_EVENTS: dict[str, bool] = {
     "five_link": True,
     "compass_coulomb": True,
     "kneed_coulomb": True,
+    "rimless_wheel": True,
 }
 """Model name -> whether the model walks: it has heel strikes, so runs count strides (the
 double pendulum has events too, its joint-friction mode switches, but no strides)."""

@@ -7,6 +7,7 @@
 #include "wk_common.h"
 #include "wk_friction_models.h"
 #include "wk_models.h"
+#include "wk_rimless.h"
 
 #define WK_ENTRY(label, name)                                                               \
     {                                                                                       \
@@ -33,6 +34,7 @@ static const wk_model_entry *const MODELS[] = {
     &wk_entry_kneed_coulomb,
     &wk_entry_three_link,
     &wk_entry_five_link,
+    &wk_entry_rimless_wheel,
 };
 
 const wk_model_entry *const *wk_model_table(int64_t *count)

@@ -37,6 +37,7 @@ MODEL_NAMES = (
     "five_link",
     "compass_coulomb",
     "kneed_coulomb",
+    "rimless_wheel",
 )
 
 

@@ -1,0 +1,206 @@
+/* The rimless wheel: a point mass at the hub on massless spokes of length l, rolling down a
+ * slope from spoke to spoke.  Written in C only (no numba twin); the model's description,
+ * conventions and the derivation of the impact map are in walker/models/rimless_wheel.py.
+ *
+ * State (theta, theta_dot): theta is the stance spoke's angle from the slope normal,
+ * counterclockwise positive (walker's convention), so a wheel rolling downhill has
+ * theta_dot < 0 and theta runs from +a (just after an impact) to -a (the next impact),
+ * a = pi / spokes the half-angle between spokes.  p = (spokes, leg_length, g, slope).
+ *
+ * Phases: 0 rolling (pivoting on the stance spoke), 1 standing (at rest on two spokes).
+ * Guards (rolling; constant 1.0 while standing):
+ *   0 impact            theta + a decreasing through 0: the leading spoke strikes;
+ *   1 back_impact       theta - a increasing through 0: the wheel rolled back onto its
+ *                       trailing spoke, which strikes;
+ *   2 impact_late       \ the same boundaries LATE = 2 GUARD_TOL beyond: they catch a run
+ *   3 back_impact_late  / that starts on a boundary and never arms guard 0 or 1 (the
+ *                       integrator arms a guard only once it has been seen more than
+ *                       GUARD_TOL on its pre-fire side); same resets as 0 and 1.
+ */
+#include <math.h>
+#include <stddef.h>
+#include "hybrid.h"
+#include "wk_common.h"
+#include "wk_rimless.h"
+
+#define RW_PI 3.141592653589793 /* the double nearest pi, as math.pi */
+#define RW_LATE (2.0 * WK_GUARD_TOL)
+
+enum { RW_ROLLING = 0, RW_STANDING = 1 };
+
+/* Hub velocity [m/s] in the slope frame (along the slope downhill, along the normal) of a
+ * wheel pivoting on a foot whose spoke is at angle phi from the slope normal, at rate w: the
+ * hub sits at l (-sin phi, cos phi) from the foot. */
+static void hub_velocity(double l, double phi, double w, double *v)
+{
+    v[0] = -l * w * cos(phi);
+    v[1] = -l * w * sin(phi);
+}
+
+void wk_model_rimless_wheel_rhs(int64_t phase, double t, const double *x, const double *p,
+                                double *dx, void *ctx)
+{
+    (void)t;
+    (void)ctx;
+    if (phase == RW_STANDING) {
+        dx[0] = 0.0;
+        dx[1] = 0.0;
+        return;
+    }
+    dx[0] = x[1];
+    dx[1] = p[2] / p[1] * sin(x[0] - p[3]);
+}
+
+void wk_model_rimless_wheel_jac(int64_t phase, double t, const double *x, const double *p,
+                                double *J, void *ctx)
+{
+    (void)t;
+    (void)ctx;
+    J[0] = 0.0;
+    J[1] = phase == RW_STANDING ? 0.0 : 1.0;
+    J[2] = phase == RW_STANDING ? 0.0 : p[2] / p[1] * cos(x[0] - p[3]);
+    J[3] = 0.0;
+}
+
+void wk_model_rimless_wheel_guards(int64_t phase, double t, const double *x, const double *p,
+                                   double *g, void *ctx)
+{
+    (void)t;
+    (void)ctx;
+    if (phase == RW_STANDING) {
+        for (int i = 0; i < 4; i++) g[i] = 1.0;
+        return;
+    }
+    double a = RW_PI / p[0];
+    g[0] = x[0] + a;
+    g[1] = x[0] - a;
+    g[2] = (x[0] + a) + RW_LATE;
+    g[3] = (x[0] - a) - RW_LATE;
+}
+
+/* impulse = v_plus - v_minus: the ground's impulse per unit hub mass [m/s], slope frame. */
+static void set_impulse(double *impulse, const double *v_plus, const double *v_minus)
+{
+    impulse[0] = v_plus[0] - v_minus[0];
+    impulse[1] = v_plus[1] - v_minus[1];
+}
+
+void wk_model_rimless_wheel_reset(int64_t phase, int64_t k, double t, const double *x,
+                                  const double *p, double *x_new, double *impulse,
+                                  int64_t *out, void *ctx)
+{
+    (void)t;
+    (void)ctx;
+    x_new[0] = x[0];
+    x_new[1] = x[1];
+    impulse[0] = 0.0;
+    impulse[1] = 0.0;
+    if (phase == RW_STANDING) { /* no guard fires while standing */
+        wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
+        return;
+    }
+    double l = p[1], gl = p[2] / p[1], slope = p[3];
+    double a = RW_PI / p[0];
+    /* cos(2a) > 0 (the trailing foot leaves the ground) from 5 spokes on; exactly 0 for 4
+     * spokes, where cos(2 * (pi/4)) would round to 6e-17 */
+    double c = p[0] > 4.0 ? cos(2.0 * a) : 0.0;
+    double w = x[1];
+    double v_minus[2], v_plus[2] = {0.0, 0.0};
+    hub_velocity(l, x[0], w, v_minus);
+    int64_t rest_phase = slope < a ? RW_STANDING : RW_ROLLING;
+
+    if (k == 0 || k == 2) { /* the leading spoke strikes */
+        if (c > 0.0) {      /* angular momentum about the new foot: w+ = cos(2a) w- */
+            x_new[0] = a;
+            x_new[1] = c * w;
+            hub_velocity(l, a, x_new[1], v_plus);
+            set_impulse(impulse, v_plus, v_minus);
+            wk_reset_out(out, WK_EVENT_STRIDE, RW_ROLLING, 0);
+            return;
+        }
+        /* 3 or 4 spokes: the trailing foot cannot leave the ground, the wheel stops on both
+         * spokes; from rest it stands (|slope| < a), tips forward (slope >= a) or back. */
+        if (slope <= -a) {
+            wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_BACKWARD);
+            return;
+        }
+        x_new[0] = a;
+        x_new[1] = 0.0;
+        set_impulse(impulse, v_plus, v_minus);
+        wk_reset_out(out, WK_EVENT_STRIDE, rest_phase, 0);
+        return;
+    }
+
+    /* k == 1 or 3: the trailing spoke strikes (w > 0, rolling back). */
+    double w1 = c > 0.0 ? c * w : 0.0; /* rate about the trailing foot after the impact */
+    if (slope <= -a || w1 * w1 >= 2.0 * gl * (1.0 - cos(a + slope))) {
+        /* it rolls back over the trailing spoke: a fall backward */
+        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_BACKWARD);
+        return;
+    }
+    if (c <= 0.0 || (slope < a && c * c * w1 * w1 < 2.0 * gl * (1.0 - cos(a - slope)))) {
+        /* it rocks between the two spokes, every impact scaling the rate by cos(2a), and
+         * comes to rest on both (at once for 3 or 4 spokes): the Zeno sequence of rocking
+         * impacts is not integrated, the wheel is put at rest here. */
+        x_new[0] = a;
+        x_new[1] = 0.0;
+        set_impulse(impulse, v_plus, v_minus);
+        wk_reset_out(out, WK_EVENT_CONTINUE, rest_phase, 0);
+        return;
+    }
+    /* it swings back on the trailing spoke, which becomes the stance spoke */
+    x_new[0] = -a;
+    x_new[1] = w1;
+    hub_velocity(l, -a, w1, v_plus);
+    set_impulse(impulse, v_plus, v_minus);
+    wk_reset_out(out, WK_EVENT_CONTINUE, RW_ROLLING, 0);
+}
+
+/* (kinetic, potential) per unit hub mass [J/kg]; potential zero at the stance foot. */
+void wk_model_rimless_wheel_energy(const double *x, const double *p, double *out, void *ctx)
+{
+    (void)ctx;
+    double l = p[1];
+    out[0] = 0.5 * l * l * x[1] * x[1];
+    out[1] = p[2] * l * cos(x[0] - p[3]);
+}
+
+/* Stance foot, hub, leading spoke's foot, trailing spoke's foot in the world frame [m],
+ * out (4, 2); the stance foot at the origin, x downhill along the horizontal. */
+void wk_model_rimless_wheel_points(const double *x, const double *p, double *out, void *ctx)
+{
+    (void)ctx;
+    double l = p[1], slope = p[3];
+    double a = RW_PI / p[0];
+    double s[2] = {cos(slope), -sin(slope)};
+    double n[2] = {sin(slope), cos(slope)};
+    double phi[2] = {x[0] + 2.0 * a, x[0] - 2.0 * a};
+    out[0] = 0.0;
+    out[1] = 0.0;
+    for (int i = 0; i < 2; i++) {
+        double hub = l * (-sin(x[0]) * s[i] + cos(x[0]) * n[i]);
+        out[2 + i] = hub;
+        for (int j = 0; j < 2; j++)
+            out[4 + 2 * j + i] = hub - l * (-sin(phi[j]) * s[i] + cos(phi[j]) * n[i]);
+    }
+}
+
+/* Standing (1) for a wheel at rest with two spokes on the ground (theta_dot == 0 and
+ * |theta| == a exactly) on a slope it can stand on (|slope| < a); else rolling (0). */
+void wk_model_rimless_wheel_start_phase(const double *x, const double *p, double *out,
+                                        void *ctx)
+{
+    (void)ctx;
+    double a = RW_PI / p[0], slope = p[3];
+    int standing = x[1] == 0.0 && fabs(x[0]) == a && slope > -a && slope < a;
+    out[0] = standing ? (double)RW_STANDING : (double)RW_ROLLING;
+}
+
+const wk_model_entry wk_entry_rimless_wheel = {
+    "rimless_wheel",
+    {wk_model_rimless_wheel_rhs, wk_model_rimless_wheel_guards, wk_model_rimless_wheel_reset,
+     wk_model_rimless_wheel_jac, NULL},
+    wk_model_rimless_wheel_energy,
+    wk_model_rimless_wheel_points,
+    wk_model_rimless_wheel_start_phase,
+};
