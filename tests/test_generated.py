@@ -336,7 +336,7 @@ def test_c_files_are_what_the_generator_prints(name):
 
 
 # ------------------------------------------------------------ course double pendulum energy
-# The course's double pendulum (../shared/REFERENCES.md section 5; seeds, dbpend): m1 = m2 = 1,
+# The course's double pendulum (its double-pendulum exercise): m1 = m2 = 1,
 # I1 = I2 = 0.5, l = 1, a = 0.5, g = 10, q1 = pi/2 - 0.1, q2 = pi, at rest, T = 10 s.
 # The course measures both angles from the downward vertical (link i along
 # (sin q_i, -cos q_i)), q2 absolute; the generated model measures q1 from +x and q2 relative

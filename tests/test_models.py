@@ -229,7 +229,7 @@ def test_kneed_heel_strike_conserves_angular_momenta():
 def test_kneed_fixed_point_from_thesis_digits():
     """Converges from Hsu Chen's published point; the exact-ODE cycle differs from it at the
     1e-3 level in angles and ~2e-2 in qd2 because the thesis integrates with explicit Euler
-    at dt = 1e-3 (../shared/REFERENCES.md §3)."""
+    at dt = 1e-3 (Hsu Chen 2007)."""
     scene = load_scene("gaits/kneed_hsu.toml")
     from walker import StrideMap
     from walker.fixedpoint import find_fixed_point

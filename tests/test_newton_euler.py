@@ -1,7 +1,7 @@
 """Recursive Newton–Euler inverse dynamics against the Lagrangian models, and inertia helpers.
 
 The two derivations share nothing but the geometry: Newton–Euler balances forces and
-moments link by link (../shared/seeds/, Spong et al. section 7.5); the Lagrangian path
+moments link by link (Spong et al. section 7.5, as in the course); the Lagrangian path
 differentiates energies with sympy.  Equal joint torques at random states and random
 parameters check both.
 """
@@ -30,7 +30,7 @@ from walker.symbolic.newton_euler import (
 N_STATES = 100
 RTOL = 1e-12
 
-# The course's double pendulum (../shared/REFERENCES.md section 5; seeds dbpend):
+# The course's double pendulum (its double-pendulum exercise):
 # m1 = m2 = 1, I1 = I2 = 0.5, l = 1, a = 0.5 (joint to centre of mass), g = 10.
 COURSE_DOUBLE_PENDULUM = {
     "mass_1": 1.0,

@@ -9,7 +9,7 @@ from walker import get_model, load_scene, simulate
 from walker.models import kneed as K
 from walker.params import DoublePendulumParams
 
-# The course's double pendulum (../shared/REFERENCES.md §5): q1 = pi/2 - 0.1 and q2 = pi in
+# The course's double pendulum (its double-pendulum exercise): q1 = pi/2 - 0.1 and q2 = pi in
 # the course's angles from the downward vertical with q2 absolute; walker's double pendulum
 # measures q1 from +x and q2 relative to link 1 (see tests/test_generated.py).
 COURSE_STATE = np.array([-0.1, np.pi / 2 + 0.1, 0.0, 0.0])

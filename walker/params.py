@@ -835,7 +835,7 @@ class DoublePendulumParams(_Params):
 
     References
     ----------
-    .. [1] Course material, ``../shared/REFERENCES.md`` section 5.
+    .. [1] The course's double-pendulum exercise (point masses on massless links, energy check).
     """
 
     MODEL: ClassVar[str] = "double_pendulum"
@@ -872,7 +872,7 @@ class DoublePendulumParams(_Params):
 
         References
         ----------
-        .. [1] Course material, ``../shared/REFERENCES.md`` section 5.
+        .. [1] The course's double-pendulum exercise (point masses on massless links, energy check).
         """
         return cls(
             mass_1=1.0,

@@ -2,7 +2,7 @@
 phase functions for the hybrid integrator.
 
 State ``x = (q_stance, q_swing, qd_stance, qd_swing)``: absolute leg angles from the vertical,
-counterclockwise positive (../shared/REFERENCES.md).  One phase, ``swing``.  Guards, in
+counterclockwise positive.  One phase, ``swing``.  Guards, in
 priority order:
 
 0. ``heel_strike``: height of the swing foot's lowest point above the slope, firing when it

@@ -49,7 +49,7 @@ switch is one event.
 
 References
 ----------
-.. [1] Course material, ``../shared/REFERENCES.md`` section 5 (the double pendulum and the
+.. [1] The course's double-pendulum exercise (the double pendulum and the
    equation ``D qdd + C qd + g = B tau - F_v qd - F_s sgn(qd) + J^T F``).
 .. [2] F. Pfeiffer, C. Glocker, "Multibody Dynamics with Unilateral Contacts", Wiley, 1996
    (stick-slip transitions of dry joint friction as switching conditions on the constraint

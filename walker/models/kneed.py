@@ -2,7 +2,7 @@
 functions for the hybrid integrator.
 
 State ``x = (q1, q2, q3, qd1, qd2, qd3)``: stance leg, swing thigh, swing shank, absolute
-angles from the vertical, counterclockwise positive (../shared/REFERENCES.md).  Phases:
+angles from the vertical, counterclockwise positive.  Phases:
 
 0. ``unlocked``: 3-DOF swing, knee free.
 1. ``locked``: 2-DOF swing, knee locked; ``q3 = q2`` and ``qd3 = qd2`` are kept exactly.

@@ -16,8 +16,7 @@ Nothing here imports sympy; the functions are used by tests and by anyone lumpin
 References
 ----------
 .. [1] J. J. Craig, *Introduction to Robotics: Mechanics and Control*, 3rd ed., section 6.3
-   (inertia tensor of a box, parallel-axis theorem); restated in the course slides
-   (../shared/seeds/).
+   (inertia tensor of a box, parallel-axis theorem); restated in the course slides.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """The symbolic models walker ships, each a function returning :class:`LagrangianModel` s.
 
-Conventions (../shared/REFERENCES.md): world frame x forward, y up; the slope descends toward
+Conventions (the course's): world frame x forward, y up; the slope descends toward
 +x at angle ``slope``; ``s = (cos slope, -sin slope)`` runs down the slope and
 ``n = (sin slope, cos slope)`` is its outward normal.  Walker angles are absolute, from the
 vertical, counterclockwise positive; a leg at angle ``q`` points from foot to hip along

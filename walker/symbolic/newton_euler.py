@@ -5,7 +5,7 @@ joint torques of a prescribed motion computed link by link, with no energy and n
 differentiation, must equal ``D(q) q_ddot + C(q, q_dot) q_dot + g(q)``.
 
 The recursion is the course's (Spong, Hutchinson, Vidyasagar, *Robot Modeling and Control*,
-section 7.5 [1]_; ../shared/seeds/):
+section 7.5 [1]_):
 
 Forward pass, ``i = 1 .. n``, every vector expressed in frame ``i`` and 3-D (``z`` out of the
 plane), ``R_i = R_i^{i-1}`` the rotation from frame ``i`` to frame ``i - 1``, ``b_i = z``::
