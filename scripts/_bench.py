@@ -154,7 +154,7 @@ README_SECTIONS = (
     ("basin.md", "Basin of attraction", "python scripts/bench_basin.py", ["basin.csv"]),
     (
         "coldstart.md",
-        "Cold start of the CLI (JIT compile) vs warm",
+        "Cold start of the CLI (new process, empty numba cache) vs warm",
         "python scripts/bench_coldstart.py",
         ["coldstart.csv"],
     ),

@@ -1,18 +1,31 @@
-"""Basin-of-attraction benchmark: the compass gait (gaits/compass_goswami.toml), an n x n grid
-on the slice of section coordinates (q_stance, qd_stance) around the fixed point (``walker
-basin``'s default slice: half-width 0.5 x |value|), up to 20 strides per point, on 2 worker
-processes through walker's public API (``walker.basin.basin_map``).
+"""Basin-of-attraction benchmark: the compass gait (gaits/compass_goswami.toml), n x n grids on
+the slice of section coordinates (q_stance, qd_stance) around the fixed point, up to 20 strides
+per point, through walker's public API (``walker.basin.basin_map``).
 
-Measured:
+Two grids, each ``axes 0,1`` with half-width ``span x max(|value|, 0.1)`` as ``walker basin
+--span`` draws them:
 
-1. ``basin_map`` on a 2-worker process pool already started and warmed (steady state), and
-   ``executor="serial"`` in this process, interleaved round-robin (wall time, min and
-   median);
-2. the ``walker basin`` command line, end to end in a subprocess (``--n N --strides 20``,
-   its default pool: fork-server workers, ``os.cpu_count()`` of them), once;
-3. per grid point, serially on the same random sample of grid points, walker's
-   ``StrideMap`` against a ``scipy.integrate.solve_ivp`` DOP853 stride on walker's compiled
-   compass vector field (scripts/_bench.py ``CompiledSimple``), with the iteration rule of
+* ``default``: span 0.5, ``walker basin``'s default slice; most points fall within the first
+  strides (about 3.3 strides integrated per point, 2.4 of them completed);
+* ``walking``: span 0.05, close around the fixed point, chosen so that most points (>= 80%)
+  converge or are still walking after 20 strides (about 19 strides per point): the heavier
+  grid, where the strides themselves and not the per-point bookkeeping dominate.
+
+Measured for each grid:
+
+1. ``basin_map`` three ways, interleaved round-robin (the starting contender rotated every
+   round; wall time, min and median, and the CPU time of this process and the pool's
+   workers): ``jobs=2`` (``executor=None``: 2 threads of this process,
+   the compiled strides release the GIL; this is what a user gets by default, ``jobs =
+   os.cpu_count()``, on a 2-CPU machine), ``executor=<a 2-worker process pool>`` (fork-server
+   workers started and warmed once before any timing; the strongest alternative: the section
+   map and grid rows are pickled to the workers) and ``executor="serial"`` (inline, this
+   process).  All three must give the same outcome and stride grids;
+2. the ``walker basin`` command line, end to end in a subprocess (``--n N --strides 20
+   --span S --out <tmp>``; its default ``--jobs``: os.cpu_count() threads), once;
+3. per grid point, serially on the same random sample of grid points, walker's ``StrideMap``
+   against a ``scipy.integrate.solve_ivp`` DOP853 stride on walker's compiled compass vector
+   field (scripts/_bench.py ``CompiledSimple``), with the iteration rule of
    ``walker.basin.basin_chunk``, interleaved round-robin.
 
 Writes results/bench/basin.csv, basin.md and README.md.
@@ -42,18 +55,25 @@ from walker import load_scene  # noqa: E402
 from walker.basin import basin_map  # noqa: E402
 from walker.fixedpoint import find_fixed_point  # noqa: E402
 from walker.models import get_model  # noqa: E402
+from walker.results import BASIN_CONVERGED, BASIN_UNDECIDED  # noqa: E402
 from walker.stride import StrideMap  # noqa: E402
 
 SCENE = "compass_goswami.toml"
 STRIDES = 20
-SPAN = 0.5  # walker basin's default --span
 AXES = (0, 1)  # walker basin's default --axes
+GRIDS = (  # (name, span): walker basin's default --span, and a slice where most points walk
+    ("default", 0.5),
+    ("walking", 0.05),
+)
 WORKERS = 2
 BASIN_TOL = 1e-6  # basin_map's default convergence tolerance
+IVP = "solve_ivp DOP853, walker's compiled rhs"
+WALKER = "walker StrideMap"
+CONTENDERS = ("threads", "pool", "serial")
 
 
 def _warm(_):
-    """Runs in a worker: import walker and load the compass kernels (numba cache)."""
+    """Runs in a worker: import walker, load the extension, run one compass stride."""
     from walker import load_scene as ls
     from walker.stride import StrideMap as SM
 
@@ -61,6 +81,21 @@ def _warm(_):
     P = SM(s.model, s.params)
     P(P.project(s.state))
     return os.getpid()
+
+
+def workers_cpu(pids) -> float:
+    """CPU seconds (user + system) used so far by the processes ``pids`` (Linux /proc; NaN
+    elsewhere)."""
+    try:
+        tick = os.sysconf("SC_CLK_TCK")
+        total = 0
+        for pid in pids:
+            with open(f"/proc/{pid}/stat") as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+            total += int(fields[11]) + int(fields[12])  # utime, stime
+        return total / tick
+    except (OSError, ValueError, IndexError):
+        return float("nan")
 
 
 def per_point(stride_fn, z, target):
@@ -78,15 +113,45 @@ def per_point(stride_fn, z, target):
         done += 1
 
 
+def ranges_for(fp, span):
+    """walker basin's slice: value +- span * max(|value|, 0.1) on each axis."""
+    return tuple(
+        (
+            fp.section[a] - span * max(abs(fp.section[a]), 0.1),
+            fp.section[a] + span * max(abs(fp.section[a]), 0.1),
+        )
+        for a in AXES
+    )
+
+
+def run_cli(n, span):
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "basin.h5"
+        exe = shutil.which("walker")
+        cli = [exe] if exe else [sys.executable, "-m", "walker.cli"]
+        args = ["basin", f"gaits/{SCENE}", "--n", str(n), "--strides", str(STRIDES)]
+        if span != 0.5:
+            args += ["--span", f"{span:g}"]
+        t = time.perf_counter()
+        proc = subprocess.run(
+            cli + args + ["--out", str(out)], capture_output=True, text=True, cwd=B.ROOT
+        )
+        wall = time.perf_counter() - t
+        msg = (proc.stdout.strip() or proc.stderr.strip()).splitlines()[-1:]
+    return wall, proc.returncode == 0, " ".join(msg), "walker " + " ".join(args)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="20 x 20 grid, fewer repeats")
+    parser.add_argument("--quick", action="store_true", help="20 x 20 grids, fewer repeats")
     args = parser.parse_args(argv)
     cmd = B.command_line("bench_basin.py", argv)
     n = 20 if args.quick else 100
-    reps = 2 if args.quick else 3
+    reps = 2 if args.quick else 7
+    pp_reps = 2 if args.quick else 3
     n_sample = 6 if args.quick else 24
     t_start = time.perf_counter()
+    load_before = os.getloadavg()[0]
 
     scene = load_scene(B.GAITS / SCENE)
     c = scene.compute
@@ -94,79 +159,9 @@ def main(argv=None):
         scene.model, scene.params, method=c.method, rtol=c.rtol, atol=c.atol, t_max=c.t_max
     )
     fp = find_fixed_point(P, P.project(scene.state))
-    ranges = tuple(
-        (
-            fp.section[a] - SPAN * max(abs(fp.section[a]), 0.1),
-            fp.section[a] + SPAN * max(abs(fp.section[a]), 0.1),
-        )
-        for a in AXES
-    )
-    kw = dict(axes=AXES, ranges=ranges, n=(n, n), n_strides=STRIDES, progress=False)
-
-    # 1. steady state: a started, warmed 2-worker pool vs serial, interleaved.
-    ctx = multiprocessing.get_context(
-        "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else None
-    )
-    t = time.perf_counter()
-    pool = cf.ProcessPoolExecutor(max_workers=WORKERS, mp_context=ctx)
-    pids = set(pool.map(_warm, range(4 * WORKERS)))
-    pool_start = time.perf_counter() - t
-    results = {}
-    times = {"pool": [], "serial": []}
-    try:
-        for r in range(reps):
-            order = ("pool", "serial") if r % 2 == 0 else ("serial", "pool")
-            for mode in order:
-                ex = pool if mode == "pool" else "serial"
-                t = time.perf_counter()
-                bm = basin_map(P, fp, executor=ex, **kw)
-                times[mode].append(time.perf_counter() - t)
-                results[mode] = bm
-                print(f"{mode}: {times[mode][-1]:.2f} s", flush=True)
-    finally:
-        pool.shutdown(wait=True)
-    same = bool(np.array_equal(results["pool"].outcome, results["serial"].outcome))
-    bm = results["pool"]
-    frac = float(np.mean(bm.outcome == -1))
-    frac_walk = float(np.mean(bm.outcome == -2))
-    strides_total = int(bm.strides.sum())
-
-    # 2. the CLI end to end.
-    with tempfile.TemporaryDirectory() as tmp:
-        out = Path(tmp) / "basin.h5"
-        exe = shutil.which("walker")
-        cli = [exe] if exe else [sys.executable, "-m", "walker.cli"]
-        cli += [
-            "basin",
-            str(B.GAITS / SCENE),
-            "--n",
-            str(n),
-            "--strides",
-            str(STRIDES),
-            "--out",
-            str(out),
-            "--quiet",
-        ]
-        t = time.perf_counter()
-        proc = subprocess.run(cli, capture_output=True, text=True, cwd=B.ROOT)
-        cli_wall = time.perf_counter() - t
-        cli_ok = proc.returncode == 0
-        cli_msg = (proc.stdout.strip() or proc.stderr.strip()).splitlines()[-1:]
-    print(f"CLI: {cli_wall:.2f} s ({cli_msg})", flush=True)
-
-    # 3. per point, serially: walker's StrideMap vs a solve_ivp stride, same sample points.
     model = get_model("compass")
     p = scene.params.as_array()
     ivp = B.CompiledSimple("compass", scene.params)
-    x_axis = np.linspace(*ranges[0], n)
-    y_axis = np.linspace(*ranges[1], n)
-    rng = np.random.default_rng(0)
-    sample = []
-    for _ in range(n_sample):
-        z = fp.section.copy()
-        z[AXES[0]] = x_axis[rng.integers(n)]
-        z[AXES[1]] = y_axis[rng.integers(n)]
-        sample.append(z)
 
     def walker_stride(z):
         r = P(z)
@@ -176,47 +171,153 @@ def main(argv=None):
         x, _, _ = ivp.stride(model.lift(z, p), rtol=c.rtol, atol=c.atol, t_span=c.t_max)
         return None if x is None else model.project(x, p)
 
-    outcomes = {}
-
-    def run_all(fn, key):
-        def go():
-            outcomes[key] = [per_point(fn, z.copy(), fp.section) for z in sample]
-
-        return go
-
-    pp = B.round_robin(
-        {
-            "walker StrideMap": run_all(walker_stride, "walker"),
-            "solve_ivp DOP853, walker's compiled rhs": run_all(ivp_stride, "ivp"),
-        },
-        reps,
-        inner={"walker StrideMap": 1, "solve_ivp DOP853, walker's compiled rhs": 1},
+    # A 2-worker fork-server process pool, started and warmed once (not in the timings).
+    ctx = multiprocessing.get_context(
+        "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else None
     )
-    agree = sum(a == b for a, b in zip(outcomes["walker"], outcomes["ivp"], strict=True))
-    sample_strides = sum(s for _, s in outcomes["walker"])
-    w_pt = np.median(pp["walker StrideMap"]) / n_sample
-    i_pt = np.median(pp["solve_ivp DOP853, walker's compiled rhs"]) / n_sample
-    print(f"per point: walker {w_pt * 1e3:.2f} ms, solve_ivp {i_pt * 1e3:.2f} ms", flush=True)
+    t = time.perf_counter()
+    pool = cf.ProcessPoolExecutor(max_workers=WORKERS, mp_context=ctx)
+    pids = set(pool.map(_warm, range(4 * WORKERS)))
+    pool_start = time.perf_counter() - t
+    start_method = ctx.get_start_method()
+
+    grids = {}
+    try:
+        for name, span in GRIDS:
+            ranges = ranges_for(fp, span)
+            kw = dict(axes=AXES, ranges=ranges, n=(n, n), n_strides=STRIDES, progress=False)
+            calls = {
+                "threads": lambda kw=kw: basin_map(P, fp, jobs=WORKERS, **kw),
+                "pool": lambda kw=kw: basin_map(P, fp, executor=pool, **kw),
+                "serial": lambda kw=kw: basin_map(P, fp, executor="serial", **kw),
+            }
+            times = {k: [] for k in CONTENDERS}
+            cpu = {k: [] for k in CONTENDERS}  # this process + the pool's workers
+            results = {}
+            for r in range(reps):
+                k0 = r % len(CONTENDERS)
+                for mode in CONTENDERS[k0:] + CONTENDERS[:k0]:
+                    c0 = time.process_time() + workers_cpu(pids)
+                    t = time.perf_counter()
+                    results[mode] = calls[mode]()
+                    times[mode].append(time.perf_counter() - t)
+                    cpu[mode].append(time.process_time() + workers_cpu(pids) - c0)
+                print(
+                    f"{name} round {r}: "
+                    + ", ".join(f"{m} {times[m][-1]:.2f} s" for m in CONTENDERS),
+                    flush=True,
+                )
+            bm = results["serial"]
+            same = all(
+                np.array_equal(results[m].outcome, bm.outcome)
+                and np.array_equal(results[m].strides, bm.strides)
+                for m in CONTENDERS
+            )
+            n_conv = int(np.sum(bm.outcome == BASIN_CONVERGED))
+            n_und = int(np.sum(bm.outcome == BASIN_UNDECIDED))
+            n_fell = n * n - n_conv - n_und
+            completed = int(bm.strides.sum())
+            grids[name] = dict(
+                span=span,
+                ranges=ranges,
+                axis_names=bm.axis_names,
+                times={k: np.array(v) for k, v in times.items()},
+                cpu={k: np.array(v) for k, v in cpu.items()},
+                same=same,
+                conv=n_conv / n**2,
+                und=n_und / n**2,
+                fell=n_fell / n**2,
+                completed=completed,
+                integrated=completed + n_fell,  # each fall ends in one failed stride
+            )
+    finally:
+        pool.shutdown(wait=True)
+
+    for name, g in grids.items():
+        # 2. the CLI end to end.
+        g["cli_wall"], g["cli_ok"], g["cli_msg"], g["cli_cmd"] = run_cli(n, g["span"])
+        print(f"{name} CLI: {g['cli_wall']:.2f} s ({g['cli_msg']})", flush=True)
+
+        # 3. per point, serially: walker's StrideMap vs a solve_ivp stride, same points.
+        x_axis = np.linspace(*g["ranges"][0], n)
+        y_axis = np.linspace(*g["ranges"][1], n)
+        rng = np.random.default_rng(0)
+        sample = []
+        for _ in range(n_sample):
+            z = fp.section.copy()
+            z[AXES[0]] = x_axis[rng.integers(n)]
+            z[AXES[1]] = y_axis[rng.integers(n)]
+            sample.append(z)
+        outcomes = {}
+
+        def run_all(fn, key, sample=sample, outcomes=outcomes):
+            def go():
+                outcomes[key] = [per_point(fn, z.copy(), fp.section) for z in sample]
+
+            return go
+
+        for z in sample[:2]:  # warm-up (first calls: imports, caches), not timed
+            walker_stride(z.copy())
+            ivp_stride(z.copy())
+        pp = B.round_robin(
+            {WALKER: run_all(walker_stride, "walker"), IVP: run_all(ivp_stride, "ivp")},
+            pp_reps,
+            inner={WALKER: 1, IVP: 1},
+        )
+        g["pp"] = {k: v / n_sample for k, v in pp.items()}
+        g["agree"] = sum(a == b for a, b in zip(outcomes["walker"], outcomes["ivp"], strict=True))
+        g["sample_strides"] = sum(s for _, s in outcomes["walker"])
+        g["sample_falls"] = sum(o == "fell" for o, _ in outcomes["walker"])
+        w, i = np.median(g["pp"][WALKER]), np.median(g["pp"][IVP])
+        print(f"{name} per point: walker {w * 1e3:.2f} ms, solve_ivp {i * 1e3:.2f} ms", flush=True)
 
     # ---------------------------------------------------------------------- outputs
+    labels = {
+        "threads": f"basin_map jobs={WORKERS} (threads)",
+        "pool": f"basin_map executor={WORKERS}-worker process pool",
+        "serial": 'basin_map executor="serial"',
+    }
     rows = []
-    for mode in ("pool", "serial"):
-        for k, v in enumerate(times[mode]):
-            rows.append([f"basin_map {mode}", n, WORKERS if mode == "pool" else 1, k, f"{v:.4f}"])
-    rows.append(["walker basin CLI", n, os.cpu_count(), 0, f"{cli_wall:.4f}"])
-    for name, v in pp.items():
-        for k, t in enumerate(v):
-            rows.append([f"per point sample: {name}", n_sample, 1, k, f"{t / n_sample:.6f}"])
+    for name, g in grids.items():
+        for mode in CONTENDERS:
+            for k, v in enumerate(g["times"][mode]):
+                w = 1 if mode == "serial" else WORKERS
+                cpu_k = g["cpu"][mode][k]
+                rows.append([labels[mode], name, g["span"], n, w, k, f"{v:.4f}", f"{cpu_k:.3f}"])
+        rows.append(
+            ["walker basin CLI", name, g["span"], n, os.cpu_count(), 0, f"{g['cli_wall']:.4f}", ""]
+        )
+        for who, v in g["pp"].items():
+            for k, t in enumerate(v):
+                rows.append(
+                    [f"per point sample: {who}", name, g["span"], n_sample, 1, k, f"{t:.6f}", ""]
+                )
     B.write_csv_atomic(
-        B.OUT / "basin.csv", ["what", "n_or_points", "workers", "rep", "wall_s"], rows
+        B.OUT / "basin.csv",
+        ["what", "grid", "span", "n_or_points", "workers", "rep", "wall_s", "cpu_s"],
+        rows,
     )
-    tp, ts = np.array(times["pool"]), np.array(times["serial"])
+
+    def med(g, m):
+        return float(np.median(g["times"][m]))
+
+    def phrase(name):
+        g = grids[name]
+        th, po, se = med(g, "threads"), med(g, "pool"), med(g, "serial")
+        return (
+            f"{name} slice (span {g['span']:g}, {g['integrated'] / n**2:.1f} strides per point) "
+            f"{th:.2f} s with `basin_map(jobs={WORKERS})` ({WORKERS} threads, the default), "
+            f"{se / th:.2f}x the speed of serial ({se:.2f} s); the strongest alternative, a "
+            f"started {WORKERS}-worker process pool, {po:.2f} s, {se / po:.2f}x serial"
+        )
+
+    gw = grids["walking"]
     summary = (
-        f"Compass basin {n} x {n} x {STRIDES} strides: {np.median(tp):.2f} s wall (median; "
-        f"min {tp.min():.2f} s) with `basin_map` on {WORKERS} started workers, "
-        f"{np.median(ts) / np.median(tp):.2f}x the speed of serial `basin_map` in the same run "
-        f"({np.median(ts):.2f} s); per grid point walker's StrideMap is "
-        f"{i_pt / w_pt:.0f}x faster than a solve_ivp DOP853 stride on walker's compiled rhs."
+        f"Compass basin {n} x {n}, up to {STRIDES} strides, wall medians: "
+        + "; ".join(phrase(k) for k in grids)
+        + f". Per stride walker's StrideMap is "
+        f"{np.median(gw['pp'][IVP]) / np.median(gw['pp'][WALKER]):.0f}x faster than a "
+        "solve_ivp DOP853 stride on walker's compiled rhs (walking slice, serial)."
     )
     md = [
         "# Basin of attraction",
@@ -224,56 +325,124 @@ def main(argv=None):
         f"<!-- command: {cmd} -->",
         f"<!-- summary: {summary} -->",
         "",
-        f"Made by `{cmd}` in {time.perf_counter() - t_start:.0f} s on {B.machine_line()}.",
+        f"Made by `{cmd}` in {time.perf_counter() - t_start:.0f} s on {B.machine_line()}; "
+        f"1-minute load average {load_before:.2f} before, {os.getloadavg()[0]:.2f} after.",
         "",
         f"Compass gait (gaits/{SCENE}, the scene's solver settings: {c.method}, rtol "
-        f"{c.rtol:g}, atol {c.atol:g}), fixed point found first; grid {n} x {n} on section "
-        f"coordinates {bm.axis_names[0]} in [{ranges[0][0]:.4f}, {ranges[0][1]:.4f}] and "
-        f"{bm.axis_names[1]} in [{ranges[1][0]:.4f}, {ranges[1][1]:.4f}] (the `walker "
-        f"basin` defaults: axes 0,1, span 0.5), at most {STRIDES} strides per point, "
-        f"converged when within {BASIN_TOL:g} of the fixed point. {frac:.1%} of the points "
-        f"converge, {frac_walk:.1%} are still walking after {STRIDES} strides (undecided), "
-        f"the rest fall; {strides_total} strides in all ({strides_total / n**2:.1f} per "
-        "point).",
+        f"{c.rtol:g}, atol {c.atol:g}), fixed point found first; {n} x {n} grids on the section "
+        f"coordinates {grids['default']['axis_names'][0]} and "
+        f"{grids['default']['axis_names'][1]} (the `walker basin` default axes 0,1), each axis "
+        "the fixed point's value ± span x max(|value|, 0.1) (`walker basin --span`), at most "
+        f"{STRIDES} strides per point, converged when within {BASIN_TOL:g} of the fixed point. "
+        "Two slices: `default`, `walker basin`'s span 0.5, where most points fall within a "
+        "few strides, and `walking`, span 0.05 around the fixed point, where most points "
+        "converge or are still walking after 20 strides, so that nearly every point costs "
+        "the full 20 strides.",
         "",
-        summary,
-        "",
-        "| what | wall, min | wall, median | runs |",
-        "|---|---|---|---|",
-        f"| `basin_map(..., executor=<{WORKERS}-worker pool>)`, pool started and warmed "
-        f"before | {tp.min():.2f} s | {np.median(tp):.2f} s | {len(tp)} |",
-        f'| `basin_map(..., executor="serial")` (this process) | {ts.min():.2f} s | '
-        f"{np.median(ts):.2f} s | {len(ts)} |",
-        f"| `walker basin gaits/{SCENE} --n {n} --strides {STRIDES}` end to end (new "
-        f"process: imports, fixed point, pool of os.cpu_count() = {os.cpu_count()} fork-server "
-        f"workers, HDF5 output){'' if cli_ok else ' FAILED: ' + ' '.join(cli_msg)} | "
-        f"{cli_wall:.2f} s | — | 1 |",
-        "",
-        f"The pool and serial runs are interleaved (alternating order); both give the same "
-        f"outcome grid: {same}. Starting and warming the {WORKERS}-worker fork-server pool "
-        f"(imports, kernels from numba's cache, {len(pids)} worker processes seen) took "
-        f"{pool_start:.2f} s, not in the pool rows.",
-        "",
-        f"Per grid point, serially on the same {n_sample} random grid points "
-        f"({sample_strides} strides in all), with `basin_chunk`'s iteration rule, "
-        f"interleaved round-robin over {reps} rounds:",
-        "",
-        "| per point | min | median | median / walker |",
-        "|---|---|---|---|",
+        "| slice | span | q_stance range | qd_stance range | converge | undecided | fall | "
+        "strides integrated | per point |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
-    for name, v in pp.items():
-        v = v / n_sample
+    for name, g in grids.items():
+        (x0, x1), (y0, y1) = g["ranges"]
         md.append(
-            f"| {name} | {B.fmt_time(v.min())} | {B.fmt_time(np.median(v))} | "
-            f"{np.median(v) / w_pt:.1f} |"
+            f"| {name} | {g['span']:g} | [{x0:.4f}, {x1:.4f}] | [{y0:.4f}, {y1:.4f}] | "
+            f"{g['conv']:.1%} | {g['und']:.1%} | {g['fell']:.1%} | {g['integrated']} | "
+            f"{g['integrated'] / n**2:.1f} |"
         )
     md += [
         "",
-        f"Same outcome and stride count at {agree} of {n_sample} sample points. "
-        "The solve_ivp stride uses the same tolerances and walker's compiled compass rhs and "
-        "impact map: the swing foot's height falling through zero as the heel-strike event "
-        "(walker's reset tells a heel strike from a scuff; after a scuff the run goes on to "
-        "the height's next rise through zero), and a terminal fall event at 70 degrees "
+        "Strides integrated: completed strides plus the failing stride of each fall.",
+        "",
+        summary,
+        "",
+        f"`basin_map` three ways, interleaved round-robin over {reps} rounds (the starting "
+        "contender rotated each round), wall time, and CPU time (user + system of this "
+        "process and the pool's worker processes; CPU / wall is the number of CPUs kept busy):",
+        "",
+        "| slice | what | wall, min | wall, median | median / threads | CPU, median | "
+        "CPU / wall, per round |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    desc = {
+        "threads": f"`basin_map(..., jobs={WORKERS})`: {WORKERS} threads of this process "
+        f"(the default, jobs = os.cpu_count() = {os.cpu_count()} here)",
+        "pool": f"`basin_map(..., executor=<{WORKERS}-worker process pool>)`, "
+        f"{start_method} workers started and warmed before",
+        "serial": '`basin_map(..., executor="serial")`, inline in this process',
+    }
+    for name, g in grids.items():
+        th = med(g, "threads")
+        for mode in CONTENDERS:
+            v = g["times"][mode]
+            busy = g["cpu"][mode] / v
+            md.append(
+                f"| {name} | {desc[mode]} | {v.min():.2f} s | {np.median(v):.2f} s | "
+                f"{np.median(v) / th:.2f} | {np.median(g['cpu'][mode]):.2f} s | "
+                f"{busy.min():.2f}-{busy.max():.2f} |"
+            )
+    md += [
+        "",
+        "All three give the same outcome and stride grids: "
+        + ", ".join(f"{name} {g['same']}" for name, g in grids.items())
+        + f". Starting and warming the {WORKERS}-worker {start_method} pool (a new "
+        f"interpreter per worker importing walker and loading its extension, one stride; "
+        f"{len(pids)} worker processes seen) took {pool_start:.2f} s, not in the pool rows; "
+        "the thread rows include creating and joining their threads, which `basin_map` does "
+        "on every call. The thread rows vary more from round to round than the pool rows: "
+        "in slow rounds the two threads keep fewer than two CPUs busy (CPU / wall column) "
+        "and/or spend more CPU on the same strides than one thread does (CPU column against "
+        "serial); while this script was written, with no other process running, "
+        "`basin_map(jobs=2)` alone on the 100 x 100 walking slice took 4.8-9.2 s over six "
+        "calls, and over three full runs of this script with no other busy process "
+        "(checked with `top`; the one above among them) the thread rows' medians were "
+        "0.87-1.66 s (default slice) and 4.83-6.85 s (walking slice) against the pool's "
+        "0.81-0.86 s and 4.50-4.73 s. "
+        "Another process taking a CPU also costs the threads more than the pool: a thread "
+        "descheduled while it holds the GIL stalls the other.",
+        "",
+        "The command line end to end, once each (a new process: interpreter start and "
+        "imports, fixed point, the basin on `--jobs` default = os.cpu_count() = "
+        f"{os.cpu_count()} threads, HDF5 output):",
+        "",
+        "| command | wall |",
+        "|---|---|",
+    ]
+    for _name, g in grids.items():
+        md.append(
+            f"| `{g['cli_cmd']} --out <tmp>/basin.h5` | {g['cli_wall']:.2f} s"
+            + ("" if g["cli_ok"] else f" FAILED: {g['cli_msg']}")
+            + " |"
+        )
+    md += [
+        "",
+        f"Per grid point, serially on the same {n_sample} random grid points of each slice, "
+        f"with `basin_chunk`'s iteration rule, interleaved round-robin over {pp_reps} rounds "
+        "(per stride = per point x sample points / strides integrated in the sample):",
+        "",
+        "| slice | per point | min | median | per stride, median | median / walker |",
+        "|---|---|---|---|---|---|",
+    ]
+    for name, g in grids.items():
+        w = np.median(g["pp"][WALKER])
+        k = g["sample_strides"] + g["sample_falls"]
+        for who, v in g["pp"].items():
+            md.append(
+                f"| {name} | {who} | {B.fmt_time(v.min())} | {B.fmt_time(np.median(v))} | "
+                f"{B.fmt_time(np.median(v) * n_sample / max(k, 1))} | {np.median(v) / w:.1f} |"
+            )
+    md += [
+        "",
+        "Same outcome and stride count from both at "
+        + "; ".join(
+            f"{g['agree']} of the {n_sample} {name} sample points ({g['sample_strides']} "
+            f"completed strides, {g['sample_falls']} falls)"
+            for name, g in grids.items()
+        )
+        + ". The solve_ivp stride uses the same tolerances and walker's compiled compass rhs "
+        "and impact map: the swing foot's height falling through zero as the heel-strike "
+        "event (walker's reset tells a heel strike from a scuff; after a scuff the run goes "
+        "on to the height's next rise through zero), and a terminal fall event at 70 degrees "
         "(walker's threshold). Outcomes can differ at a grazing contact, the foot dipping "
         "through the ground and back within one solve_ivp step: its end-of-step sign test "
         "misses it, walker's interior sampling and tangency check see it (the one "

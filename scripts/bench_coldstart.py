@@ -1,22 +1,39 @@
 """Cold-start benchmark: the first ``walker`` command a new user runs after installing, against
-the same command run again (warm), each in a fresh subprocess, wall time.
+the same command run again (warm), each in a fresh subprocess, wall time; and, reported
+separately, the install-time cost: building walker's C extension.
 
 For every scene in gaits/: ``walker find SCENE`` when its ``[compute] task`` is
 ``fixed_point`` (and the model has strides), ``walker run SCENE`` otherwise.
 
-Cold: numba's on-disk cache must be empty.  Every run gets ``NUMBA_CACHE_DIR`` set to a new
-empty directory (one per scene); with it set, numba reads and writes compiled functions only
-there and ignores the ``__pycache__/*.nbi|*.nbc`` files next to walker's sources (numba's
-``UserProvidedCacheLocator`` comes first in its locator list), so the first run compiles
-everything it calls and the following runs of that scene load from that directory.  This
-disturbs nobody: the in-tree caches are neither read nor written.  With ``--delete-caches``
-(the full run on a quiet machine) every ``*.nbi``/``*.nbc`` under walker's package directory
-is deleted first as well, as on a fresh install.  Whatever walker compiles at install time
-(a C extension) is already built in both cases; that is install time, not start-up.
+walker's compiled core is a C extension (``walker._hybrid``) built when the package is
+installed.  numba is still imported by the model modules (the ``@njit`` versions of the
+models and of a few helpers); the method shows any numba function a command still compiles at
+run time, by name: every run gets ``NUMBA_CACHE_DIR`` set
+to a new empty directory (one per scene); with it set, numba reads and writes compiled
+functions only there and ignores the ``__pycache__/*.nbi|*.nbc`` files next to walker's sources
+(numba's ``UserProvidedCacheLocator`` comes first in its locator list), so a numba function
+called by the run would be compiled in the cold run, cached in that directory (counted in the
+table) and loaded by the warm runs.  This disturbs nobody: the in-tree caches are neither read
+nor written.  ``--delete-caches`` deletes every ``*.nbi``/``*.nbc`` under walker's package
+directory first as well (redundant with ``NUMBA_CACHE_DIR``; do not use it while others run
+walker from this tree).
+
+"Cold" is therefore: a new process, an empty numba cache directory; the operating system's
+file cache is warm (the interpreter, the libraries, walker's sources and its extension were
+read by earlier runs: one untimed command runs before the first row), not a cold disk.
+Python bytecode is as the environment has it (with ``PYTHONDONTWRITEBYTECODE`` set no
+``.pyc`` is written for walker's modules, so every run, cold and warm, compiles them from
+source).
+
+Build time: the files ``git ls-files`` lists are copied to a temporary directory and
+``python setup.py build_ext --inplace --force`` is timed there (the C compile of the
+extension, what ``pip install -e .`` runs besides setting up its build environment); the
+checkout itself is not rebuilt.
 
 Writes results/bench/coldstart.csv, coldstart.md and README.md.
 
 Usage: python scripts/bench_coldstart.py [--quick] [--delete-caches] [--scenes a.toml,...]
+       [--warm N] [--builds N]
 """
 
 from __future__ import annotations
@@ -26,6 +43,7 @@ import os
 import shutil
 import subprocess
 import sys
+import sysconfig
 import tempfile
 import time
 from pathlib import Path
@@ -74,6 +92,48 @@ def delete_numba_caches(pkg_dir: Path) -> int:
     return n
 
 
+def time_build(n_builds: int, env) -> tuple[list[float], int, str, int]:
+    """Copy the tracked files to a temporary directory and time ``python setup.py build_ext
+    --inplace --force`` there ``n_builds`` times.  Returns (wall times, number of C sources,
+    compiler, return code of the last build)."""
+    files = subprocess.run(
+        ["git", "-C", str(B.ROOT), "ls-files", "-z"], capture_output=True, check=True
+    ).stdout.split(b"\0")
+    walls, rc = [], 0
+    with tempfile.TemporaryDirectory(prefix="walker-build-") as tmp:
+        for f in filter(None, files):
+            src = B.ROOT / os.fsdecode(f)
+            if not src.is_file():  # deleted in the work tree, not yet committed
+                continue
+            dst = Path(tmp) / os.fsdecode(f)
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, dst)
+        n_c = len(list(Path(tmp).glob("walker/_core/*.c")))
+        n_c += len(list(Path(tmp).glob("walker/_generated/*.c")))
+        for k in range(n_builds):
+            t = time.perf_counter()
+            proc = subprocess.run(
+                [sys.executable, "setup.py", "build_ext", "--inplace", "--force"],
+                cwd=tmp,
+                env=env,
+                capture_output=True,
+                text=True,
+            )
+            walls.append(time.perf_counter() - t)
+            rc = proc.returncode
+            built = list(Path(tmp).glob("walker/_hybrid*" + sysconfig.get_config_var("EXT_SUFFIX")))
+            print(
+                f"build {k}: {walls[-1]:.1f} s, exit {rc}, "
+                f"{'extension built' if built else 'NO EXTENSION'}",
+                flush=True,
+            )
+            if rc != 0 or not built:
+                print(proc.stderr[-2000:], flush=True)
+                rc = rc or 1
+                break
+    return walls, n_c, sysconfig.get_config_var("CC") or "?", rc
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="kneed_hsu only, one warm run")
@@ -81,10 +141,12 @@ def main(argv=None):
         "--delete-caches",
         action="store_true",
         help="also delete every numba cache file under walker's package directory first "
-        "(do not use while others run walker from this tree)",
+        "(redundant with the per-scene NUMBA_CACHE_DIR; do not use while others run walker "
+        "from this tree)",
     )
     parser.add_argument("--scenes", default=None, help="comma-separated scene file names")
     parser.add_argument("--warm", type=int, default=None, help="warm runs per scene")
+    parser.add_argument("--builds", type=int, default=None, help="timed extension builds (0: skip)")
     args = parser.parse_args(argv)
     cmd = B.command_line("bench_coldstart.py", argv)
     if args.scenes:
@@ -94,19 +156,28 @@ def main(argv=None):
     else:
         scenes = sorted(B.GAITS.glob("*.toml"))
     n_warm = args.warm or (1 if args.quick else 3)
+    n_builds = args.builds if args.builds is not None else (1 if args.quick else 2)
     pkg_dir = Path(walker.__file__).resolve().parent
     deleted = delete_numba_caches(pkg_dir) if args.delete_caches else None
     exe = walker_exe()
     t_start = time.perf_counter()
+    load_before = os.getloadavg()[0]
     rows = []
     base_env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    no_pyc = bool(base_env.get("PYTHONDONTWRITEBYTECODE"))
+    walker_pyc = sum(1 for _ in pkg_dir.rglob("__pycache__/*.pyc"))
     with tempfile.TemporaryDirectory(prefix="walker-coldstart-") as tmp:
-        # The floor: interpreter start + `import walker.cli` (no command, nothing compiled).
+        # The floor: interpreter start + `import walker.cli` (no command).
         env = dict(base_env, NUMBA_CACHE_DIR=str(Path(tmp) / "import-only"))
         floor = [
             timed_run([sys.executable, "-c", "import walker.cli"], env, tmp)[0]
             for _ in range(n_warm + 1)
         ]
+        # One untimed command (own throwaway numba cache) so that the OS file cache holds
+        # what the commands read (numba, scipy, the extension) for the first row as for the
+        # others.
+        env = dict(base_env, NUMBA_CACHE_DIR=str(Path(tmp) / "file-cache-warm-up"))
+        timed_run(exe + command_for(scenes[0]), env, tmp)
         for scene in scenes:
             sub = command_for(scene)
             cache = Path(tmp) / f"numba-{scene.stem}"
@@ -120,6 +191,8 @@ def main(argv=None):
                 warm.append(w)
                 rc_warm = rc_warm or rc
             n_files = sum(1 for _ in cache.rglob("*.nbc"))
+            # index files are named <module>.<function>-<line>.py<ver>.nbi
+            compiled = sorted({f.name.split("-")[0] for f in cache.rglob("*.nbi")})
             rows.append(
                 {
                     "scene": scene.name,
@@ -131,15 +204,20 @@ def main(argv=None):
                     "rc": f"{rc_cold}/{rc_warm}",
                     "status": status,
                     "cache_files": n_files,
+                    "compiled": compiled,
                 }
             )
             r = rows[-1]
             print(
                 f"{r['command']}: cold {cold:.2f} s, warm {r['warm_median']:.2f} s "
-                f"({cold / r['warm_median']:.1f}x), exit {r['rc']}, {status}, "
-                f"{n_files} cached functions",
+                f"({cold / r['warm_median']:.2f}x), exit {r['rc']}, {status}, "
+                f"{n_files} numba functions cached {compiled}",
                 flush=True,
             )
+    builds, n_c, cc, build_rc = time_build(n_builds, base_env) if n_builds else ([], 0, "", 0)
+    t_all = time.perf_counter() - t_start
+    load_after = os.getloadavg()[0]
+
     header = [
         "scene",
         "command",
@@ -151,37 +229,99 @@ def main(argv=None):
         "exit_cold_warm",
         "status",
         "numba_cache_files",
+        "numba_functions",
     ]
-    B.write_csv_atomic(
-        B.OUT / "coldstart.csv",
-        header,
+    csv_rows = [
         [
-            [
-                r["scene"],
-                r["command"],
-                f"{r['cold']:.3f}",
-                f"{r['warm_min']:.3f}",
-                f"{r['warm_median']:.3f}",
-                r["n_warm"],
-                f"{r['cold'] / r['warm_median']:.2f}",
-                r["rc"],
-                r["status"],
-                r["cache_files"],
-            ]
-            for r in rows
-        ],
+            r["scene"],
+            r["command"],
+            f"{r['cold']:.3f}",
+            f"{r['warm_min']:.3f}",
+            f"{r['warm_median']:.3f}",
+            r["n_warm"],
+            f"{r['cold'] / r['warm_median']:.2f}",
+            r["rc"],
+            r["status"],
+            r["cache_files"],
+            ";".join(r["compiled"]),
+        ]
+        for r in rows
+    ]
+    csv_rows.append(
+        [
+            "(floor)",
+            "python -c 'import walker.cli'",
+            "",
+            f"{np.min(floor):.3f}",
+            f"{np.median(floor):.3f}",
+            len(floor),
+            "",
+            "",
+            "",
+            "",
+            "",
+        ]
     )
+    for k, b in enumerate(builds):
+        csv_rows.append(
+            [
+                f"(build {k})",
+                "python setup.py build_ext --inplace --force",
+                f"{b:.3f}",
+                "",
+                "",
+                "",
+                "",
+                build_rc if k == len(builds) - 1 else 0,
+                "",
+                "",
+                "",
+            ]
+        )
+    B.write_csv_atomic(B.OUT / "coldstart.csv", header, csv_rows)
+
     head = next((r for r in rows if r["scene"] == "kneed_hsu.toml"), rows[0])
+    jit_rows = [r for r in rows if r["cache_files"]]
+    jit_names = sorted({n for r in jit_rows for n in r["compiled"]})
+    if jit_rows:
+        jit_txt = (
+            f"numba still compiles {', '.join(f'`{n}`' for n in jit_names)} at run time in "
+            f"{len(jit_rows)} of {len(rows)} scene(s) ("
+            + ", ".join(
+                f"{r['scene']}: cold {r['cold'] - r['warm_median']:+.2f} s over warm"
+                for r in jit_rows
+            )
+            + "); the other scenes compile nothing"
+        )
+    else:
+        jit_txt = f"no numba function is compiled in any of the {len(rows)} scene(s)"
+    ratios = [r["cold"] / r["warm_median"] for r in rows]
+    build_txt = (
+        f" Install-time cost, separately: building the C extension (`python setup.py "
+        f"build_ext --inplace --force`, {n_c} C files) takes {np.median(builds):.1f} s."
+        if builds and build_rc == 0
+        else ""
+    )
     summary = (
-        f"`{head['command']}` on a cold numba cache: {head['cold']:.1f} s wall, "
-        f"{head['cold'] / head['warm_median']:.0f}x the warm run ({head['warm_median']:.2f} s; "
-        f"the interpreter + `import walker.cli` alone: {np.median(floor):.2f} s)."
+        f"`{head['command']}` in a new process with an empty numba cache: "
+        f"{head['cold']:.2f} s wall, {head['cold'] / head['warm_median']:.2f}x the warm run "
+        f"({head['warm_median']:.2f} s; the interpreter + `import walker.cli` alone: "
+        f"{np.median(floor):.2f} s); cold/warm {min(ratios):.2f}-{max(ratios):.2f} over "
+        f"{len(rows)} scene(s); {jit_txt}." + build_txt
     )
     how = (
         "every numba cache file under walker's package directory "
-        f"({pkg_dir}) was deleted first ({deleted} files), and "
+        f"({pkg_dir}) was deleted first ({deleted} files); "
         if deleted is not None
         else ""
+    )
+    pyc = (
+        "`PYTHONDONTWRITEBYTECODE` is set in this environment and walker's package holds "
+        f"{walker_pyc} `.pyc` files, so every run, cold and warm, compiles walker's Python "
+        "modules to bytecode"
+        if no_pyc
+        else f"walker's package holds {walker_pyc} `.pyc` files (bytecode written by earlier "
+        "runs is reused by cold and warm runs alike)"
     )
     md = [
         "# Cold start",
@@ -189,41 +329,68 @@ def main(argv=None):
         f"<!-- command: {cmd} -->",
         f"<!-- summary: {summary} -->",
         "",
-        f"Made by `{cmd}` in {time.perf_counter() - t_start:.0f} s on {B.machine_line()}; "
-        f"walker run as `{' '.join(Path(e).name for e in exe)}`.",
+        f"Made by `{cmd}` in {t_all:.0f} s on {B.machine_line()}; "
+        f"walker run as `{' '.join(Path(e).name for e in exe)}`; 1-minute load average "
+        f"{load_before:.2f} before, {load_after:.2f} after.",
         "",
         summary,
+        "",
+        "walker's compiled core is the C extension `walker._hybrid`, built when the package "
+        "is installed. numba is still imported by the model modules (the `@njit` versions of "
+        "the models and of a few helpers); the method below shows, by name, any numba "
+        "function a command still compiles at run time (last column).",
         "",
         "Each command runs in a new subprocess (wall time, from a scratch working "
         "directory). **Cold**: the first run with `NUMBA_CACHE_DIR` set to a new, empty "
         "directory (one per scene): with it set, numba reads and writes its cache only "
         "there and ignores the `__pycache__/*.nbi|*.nbc` files beside walker's sources "
-        "(its `UserProvidedCacheLocator` is tried first), so the run compiles every "
-        "function it calls, as on a fresh install, without touching anyone else's caches; "
+        "(its `UserProvidedCacheLocator` is tried first), so any numba function the run "
+        "called would be compiled there and counted in the last column; "
         + how
-        + f"**warm**: the same command again, {n_warm} time(s), loading from that "
-        "directory (min and median). Each scene has its own cache directory, so every row "
-        "is a first run (walker's integrator is compiled again in each). Anything walker "
-        "compiles at install time (a C extension) is built before either run.",
+        + f"**warm**: the same command again, {n_warm} time(s) (min and median). Cold means "
+        "a new process and an empty numba cache, not a cold disk: the operating system's "
+        "file cache is warm (interpreter, libraries, walker's sources and extension were "
+        "read by the runs before; one untimed command runs before the first row). " + pyc + ".",
         "",
         "| command | cold | warm, min | warm, median | cold / warm | exit (cold/warm) | "
-        "outcome | functions cached |",
+        "outcome | numba functions compiled |",
         "|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         md.append(
             f"| `{r['command']}` | {r['cold']:.2f} s | {r['warm_min']:.2f} s | "
-            f"{r['warm_median']:.2f} s | {r['cold'] / r['warm_median']:.1f} | {r['rc']} | "
-            f"{r['status']} | {r['cache_files']} |"
+            f"{r['warm_median']:.2f} s | {r['cold'] / r['warm_median']:.2f} | {r['rc']} | "
+            f"{r['status']} | {r['cache_files']}"
+            + (f" ({', '.join(f'`{n}`' for n in r['compiled'])})" if r["compiled"] else "")
+            + " |"
         )
     md += [
         "",
-        f'The floor, `python -c "import walker.cli"` (interpreter start and imports, '
-        f"nothing compiled): min {np.min(floor):.2f} s, median {np.median(floor):.2f} s over "
+        f'The floor, `python -c "import walker.cli"` (interpreter start and the CLI module '
+        "with numpy; numba, scipy and the extension are imported by the commands, not by "
+        f"it): min {np.min(floor):.2f} s, median {np.median(floor):.2f} s over "
         f"{len(floor)} runs. Exit status 1 is an expected outcome (e.g. a fall), 0 success "
         "(walker/cli.py).",
         "",
     ]
+    if builds:
+        md += [
+            "## Install time: building the extension",
+            "",
+            f"The {n_c} C files of `walker/_core` and `walker/_generated` compiled into "
+            f"`walker._hybrid` by `python setup.py build_ext --inplace --force` (compiler "
+            f"`{cc}`, one file at a time, as `pip install` does) in a temporary copy of the "
+            "files `git ls-files` lists (work-tree versions), run "
+            f"{len(builds)} time(s): "
+            + (
+                f"min {np.min(builds):.1f} s, median {np.median(builds):.1f} s wall."
+                if build_rc == 0
+                else f"FAILED (exit {build_rc})."
+            )
+            + " This is paid once, at `pip install` (which also creates its isolated build "
+            "environment, not timed here), and is in neither column above.",
+            "",
+        ]
     B.write_atomic(B.OUT / "coldstart.md", "\n".join(md))
     B.update_readme()
     print("\n".join(md))
