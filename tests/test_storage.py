@@ -600,12 +600,13 @@ def _run_writer(path, n, chunk, width, pause, kill_after_lines=None, kill_delay=
     lines = []
     try:
         if kill_after_lines is not None:
-            while len(lines) < kill_after_lines:
+            while len(lines) < kill_after_lines and (not lines or lines[-1] != "finished"):
                 line = proc.stdout.readline()
                 assert line, "writer exited early"
                 lines.append(line.strip())
-            time.sleep(kill_delay)
-            os.kill(proc.pid, signal.SIGKILL)
+            if lines[-1] != "finished":  # fewer chunks left than lines to wait for: no kill
+                time.sleep(kill_delay)
+                os.kill(proc.pid, signal.SIGKILL)
         proc.wait(timeout=60)
         lines += [ln.strip() for ln in proc.stdout.read().splitlines()]
     finally:
