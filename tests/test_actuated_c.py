@@ -43,12 +43,10 @@ class Controller(ctypes.Structure):
 
 
 def _registry():
-    hybrid = pytest.importorskip("walker._hybrid")
-    if not hasattr(hybrid, "models"):
-        pytest.skip("walker._hybrid has no models() binding yet")
-    registry = hybrid.models()
-    if "three_link" not in registry or "five_link" not in registry:
-        pytest.skip("walker._hybrid does not register three_link and five_link yet")
+    from walker import _hybrid
+
+    registry = _hybrid.models()
+    assert "three_link" in registry and "five_link" in registry
     return registry
 
 
@@ -456,7 +454,6 @@ def _user_controllers():
     for the three-link walker: ``same``, the built-in controller (walker's numba
     ``controller_torque`` on the controller block of ``p``), and ``offset``, the same plus
     the constant torques read from ``user`` (a float64 array of 2)."""
-    pytest.importorskip("numba")
     from numba import carray, cfunc, types
 
     from walker.control import controller_torque
@@ -624,10 +621,7 @@ def _assert_same_stride(sol, ref, what):
 
 
 def _needs_int_addresses():
-    try:
-        _c_system("three_link")
-    except TypeError as exc:  # pragma: no cover
-        pytest.skip(f"HybridSystem does not take C addresses yet: {exc}")
+    _c_system("three_link")  # HybridSystem takes C addresses
 
 
 @pytest.mark.parametrize("name", list(SCENES))
