@@ -9,21 +9,32 @@ strides release the GIL; the per-point loop between them is Python and holds it,
 threads reach about 1.6x one, and a started process pool about 1.9x, see
 results/bench/basin.md), a process pool, or a ``dask.distributed`` cluster through
 ``Client.get_executor()``.
+
+With ``out`` the map is a checkpoint (:class:`walker.storage.BasinStore`): each chunk of rows
+is written as it finishes, and the same call after an interruption (or a kill) computes only
+the chunks not yet stored; the finished file is the same as an uninterrupted run's.  On
+``KeyboardInterrupt`` (or any interrupt raised while the chunks run) the chunks not started
+are cancelled, threads stop between grid points, a process pool's workers are terminated,
+the chunks already finished are kept in ``out``, and the interrupt propagates.
 """
 
 from __future__ import annotations
 
 import concurrent.futures as cf
+import functools
 import math
 import os
 import sys
+import threading
 
 import numpy as np
 
+from walker._executors import Abandoned, run_chunks
 from walker.fixedpoint import SectionMap, _map_value
 from walker.results import BASIN_CONVERGED, BASIN_UNDECIDED, BasinMap, FixedPoint
+from walker.storage import BASIN_NOT_COMPUTED
 
-__all__ = ["basin_map", "basin_chunk"]
+__all__ = ["BASIN_NOT_COMPUTED", "basin_map", "basin_chunk"]
 
 
 def basin_chunk(
@@ -36,6 +47,7 @@ def basin_chunk(
     n_strides: int,
     period: int,
     tol: float,
+    stop: threading.Event | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Classify the grid rows ``y_rows`` (the unit of work sent to an executor).
 
@@ -59,6 +71,9 @@ def basin_chunk(
         strides per map call (the fixed point's period).
     tol : float
         convergence when ``max|z - target| <= tol``.
+    stop : threading.Event, optional
+        (threads only) when set, the chunk is abandoned before its next grid point
+        (``walker._executors.Abandoned`` is raised).
 
     Returns
     -------
@@ -72,6 +87,8 @@ def basin_chunk(
     ax, ay = axes
     for i, yv in enumerate(y_rows):
         for j, xv in enumerate(x):
+            if stop is not None and stop.is_set():
+                raise Abandoned("basin chunk abandoned")
             z = np.array(base, dtype=float)
             z[ax] = xv
             z[ay] = yv
@@ -122,6 +139,9 @@ def basin_map(
     jobs: int | None = None,
     chunk_size: int | None = None,
     progress: bool = True,
+    out: str | os.PathLike | None = None,
+    overwrite: bool = False,
+    provenance: dict | None = None,
 ) -> BasinMap:
     """Basin of attraction of ``fixed_point`` on the slice spanned by two section coordinates.
 
@@ -152,9 +172,22 @@ def basin_map(
     jobs : int, optional
         number of workers when ``executor`` is None; default ``os.cpu_count()``.
     chunk_size : int, optional
-        grid rows per task; default about four tasks per worker.
+        grid rows per task; default about four tasks per worker, or with ``out`` the
+        existing checkpoint's chunk size, else about ``ny / 32`` rows
+        (:data:`walker.storage.BASIN_DEFAULT_CHUNKS`).
     progress : bool
         a tqdm progress bar over chunks, shown only when stderr is a terminal.
+    out : str or os.PathLike, optional
+        HDF5 checkpoint and result file (:class:`walker.storage.BasinStore`, kind
+        ``"basin"``, read by :func:`walker.storage.read`).  Each chunk of rows is written as
+        it finishes; if the file exists and checkpoints this same map (grid, fixed point,
+        ``n_strides``, ``tol``, period, ``provenance``), only the chunks not yet done are
+        computed.
+    overwrite : bool
+        with ``out``: start a new checkpoint over an existing file instead of resuming it.
+    provenance : dict, optional
+        provenance stored in ``out`` (e.g. the scene, model, parameters and solver), which a
+        resumed run must repeat.
 
     Returns
     -------
@@ -167,6 +200,11 @@ def basin_map(
     ValueError
         for a failed ``fixed_point``, invalid ``axes``, ``ranges``, ``n``, ``n_strides``,
         ``tol``, ``jobs``, ``chunk_size`` or ``executor``.
+    FileNotFoundError
+        the directory of ``out`` does not exist.
+    walker.storage.CheckpointMismatch
+        ``out`` exists (and ``overwrite`` is False) but checkpoints a different map, or is
+        not a basin checkpoint; raised before any work.
 
     Examples
     --------
@@ -239,58 +277,104 @@ def basin_map(
             f"{type(executor).__name__}"
         )
 
+    if out is not None and not isinstance(out, str | os.PathLike):
+        raise TypeError(f"`out` must be a str or os.PathLike, got {type(out).__name__}")
+    if provenance is not None and not isinstance(provenance, dict):
+        raise TypeError(f"`provenance` must be a dict or None, got {type(provenance).__name__}")
+
     period = int(fixed_point.period)
     x = np.linspace(x_lo, x_hi, nx)
     y = np.linspace(y_lo, y_hi, ny)
     base = target.copy()
+    names = tuple(section_map.section_names)
+    axis_names = (names[ax], names[ay])
     n_cpu = int(jobs) if jobs is not None else (os.cpu_count() or 1)
     serial = executor == "serial" or (executor is None and n_cpu == 1)
     n_workers = 1 if serial else getattr(executor, "_max_workers", None) or n_cpu
-    if chunk_size is None:
+    store = None
+    if out is not None:
+        from walker.storage import BasinStore
+
+        store = BasinStore.create_or_open(
+            out,
+            axis_names=axis_names,
+            x=x,
+            y=y,
+            fixed_point=target,
+            base=base,
+            n_strides=n_strides,
+            tol=tol,
+            period=period,
+            provenance=provenance or {},
+            chunk_size=None if chunk_size is None else int(chunk_size),
+            overwrite=bool(overwrite),
+        )
+        chunk_size = store.chunk_size
+        pending = store.pending_chunks()
+    elif chunk_size is None:
         chunk_size = max(1, math.ceil(ny / (4 * n_workers)))
-    starts = list(range(0, ny, int(chunk_size)))
-    chunks = [y[s : s + int(chunk_size)] for s in starts]
+    chunk_size = int(chunk_size)
+    n_chunks = -(-ny // chunk_size)
+    if store is None:
+        pending = list(range(n_chunks))
     outcome = np.empty((ny, nx), dtype=np.int64)
     strides = np.empty((ny, nx), dtype=np.int64)
     args = (base, target, (ax, ay), x)
 
+    def rows(i: int) -> np.ndarray:
+        return y[i * chunk_size : (i + 1) * chunk_size]
+
+    def finish(i: int, result: tuple[np.ndarray, np.ndarray]) -> None:
+        o, k = result
+        if store is not None:
+            store.write_chunk(i, o, k)
+        else:
+            outcome[i * chunk_size : i * chunk_size + o.shape[0]] = o
+            strides[i * chunk_size : i * chunk_size + o.shape[0]] = k
+        if bar is not None:
+            bar.update(1)
+
     bar = None
-    if _use_progress(progress):
+    if _use_progress(progress) and pending:
         from tqdm import tqdm
 
-        bar = tqdm(total=len(chunks), desc="basin", unit="chunk")
+        bar = tqdm(total=n_chunks, initial=n_chunks - len(pending), desc="basin", unit="chunk")
     try:
         if serial:
-            for s, rows in zip(starts, chunks, strict=True):
-                o, k = basin_chunk(section_map, *args, rows, n_strides, period, tol)
-                outcome[s : s + len(rows)] = o
-                strides[s : s + len(rows)] = k
-                if bar is not None:
-                    bar.update(1)
-        else:
+            for i in pending:
+                finish(i, basin_chunk(section_map, *args, rows(i), n_strides, period, tol))
+        elif pending:
             own = executor is None
-            pool = _default_pool(n_cpu) if own else executor
+            pool = _default_pool(min(n_cpu, len(pending))) if own else executor
+            stop = None
+            fn = basin_chunk
+            if isinstance(pool, cf.ThreadPoolExecutor):
+                # Threads cannot be killed: on an interrupt they stop between grid points.
+                stop = threading.Event()
+                fn = functools.partial(basin_chunk, stop=stop)
             try:
-                futures = {
-                    pool.submit(basin_chunk, section_map, *args, rows, n_strides, period, tol): s
-                    for s, rows in zip(starts, chunks, strict=True)
-                }
-                for fut in cf.as_completed(futures):
-                    s = futures[fut]
-                    o, k = fut.result()
-                    outcome[s : s + o.shape[0]] = o
-                    strides[s : s + o.shape[0]] = k
-                    if bar is not None:
-                        bar.update(1)
+                run_chunks(
+                    pool,
+                    fn,
+                    ((i, (section_map, *args, rows(i), n_strides, period, tol)) for i in pending),
+                    finish,
+                    own=own,
+                    stop=stop,
+                )
             finally:
                 if own:
                     pool.shutdown(wait=True, cancel_futures=True)
+    except KeyboardInterrupt:
+        if bar is not None:
+            bar.leave = False  # an interrupted run leaves no progress bar behind
+        raise
     finally:
         if bar is not None:
             bar.close()
-    names = tuple(section_map.section_names)
+    if store is not None:
+        return store.result()
     return BasinMap(
-        axis_names=(names[ax], names[ay]),
+        axis_names=axis_names,
         x=x,
         y=y,
         outcome=outcome,

@@ -18,8 +18,9 @@ Rules this module keeps:
 4. Reading a file that is missing, not HDF5, truncated or corrupted, from a newer schema or of
    an unknown kind raises :class:`StorageError` (a ``ValueError``) with a one-line message
    naming the file and the problem.
-5. :class:`SweepStore` checkpoints a parameter sweep chunk by chunk; see its docstring for the
-   guarantee it gives when the process is killed.
+5. :class:`SweepStore` checkpoints a parameter sweep chunk by chunk, and :class:`BasinStore`
+   a basin map rows by rows; see SweepStore's docstring for the guarantee both give when the
+   process is killed (SIGKILL) or interrupted (KeyboardInterrupt at any point).
 
 Complex arrays (Floquet multipliers, eigenvectors) are stored as complex128 (or complex64)
 datasets, which h5py writes as an HDF5 compound type with float members ``r`` and ``i``.
@@ -69,10 +70,14 @@ from walker.results import (
 from walker.status import Status
 
 __all__ = [
+    "BASIN_NOT_COMPUTED",
     "KINDS",
     "SCHEMA_VERSION",
+    "BasinStore",
+    "CheckpointMismatch",
     "StorageError",
     "SweepStore",
+    "checkpoint_progress",
     "parameters_with_units",
     "read",
     "walker_version",
@@ -92,6 +97,24 @@ _RESERVED_ATTRS = frozenset(AUTOMATIC_KEYS) | {"provenance"}
 
 class StorageError(ValueError):
     """A file cannot be read as a walker result (missing, corrupted, newer schema, ...)."""
+
+
+class CheckpointMismatch(StorageError):
+    """An existing file cannot be resumed as the requested checkpoint: it holds another
+    result, a different sweep or basin, or is corrupted.
+
+    Attributes
+    ----------
+    path : Path
+        the file.
+    reason : str
+        what is wrong, as a clause (``"checkpoints a different sweep (chunk_size 2 != 1)"``).
+    """
+
+    def __init__(self, message: str, *, path: Path, reason: str) -> None:
+        super().__init__(message)
+        self.path = path
+        self.reason = reason
 
 
 # ---------------------------------------------------------------------------------------------
@@ -804,6 +827,67 @@ def _fill_value(dtype: np.dtype) -> Any:
     return np.False_  # bool
 
 
+def _unreadable(exc: StorageError, path: Path) -> CheckpointMismatch:
+    """A StorageError of reading ``path`` as the CheckpointMismatch of resuming it."""
+    text = str(exc)
+    prefix = f"cannot read '{path}': "
+    rest = text[len(prefix) :] if text.startswith(prefix) else text
+    return CheckpointMismatch(
+        f"cannot resume '{path}': {rest}",
+        path=path,
+        reason=f"is not a walker checkpoint ({rest})",
+    )
+
+
+def _read_done(path: Path) -> np.ndarray:
+    """The ``/checkpoint/done`` flags of a checkpoint file."""
+    f = _open_for_read(path)
+    try:
+        with f:
+            return np.asarray(f[_CHECKPOINT_GROUP]["done"][()], dtype=bool)
+    except (OSError, KeyError) as exc:
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise StorageError(f"cannot read '{path}': corrupted ({reason})") from None
+
+
+def _write_rows(
+    path: Path, group: str, arrays: dict[str, np.ndarray], rows: slice, i: int, fsync: bool
+) -> None:
+    """Write ``arrays[name]`` into rows ``rows`` of the datasets ``group/name``, flush, then
+    set ``/checkpoint/done[i]``, flush, close and (``fsync``) fsync.
+
+    Only raw data at fixed offsets changes (the datasets are contiguous and allocated at
+    creation), so a kill or an exception at any point leaves a readable file in which chunk
+    ``i`` is either marked done with all its rows, or pending."""
+    try:
+        with h5py.File(path, "r+") as f:
+            g = f[group]
+            for name, arr in arrays.items():
+                g[name][rows] = arr
+            f.flush()
+            f[_CHECKPOINT_GROUP]["done"][i] = True
+            f.flush()
+    except (OSError, KeyError) as exc:
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise StorageError(f"cannot write chunk {i} to '{path}': {reason}") from None
+    if fsync:
+        _fsync_path(path)
+
+
+def checkpoint_progress(path: str | os.PathLike) -> tuple[int, int] | None:
+    """``(chunks done, chunks)`` of a sweep or basin checkpoint file, or None when ``path``
+    is not one (missing, unreadable, or a result written by :func:`write`)."""
+    path = Path(path)
+    try:
+        with h5py.File(path, "r") as f:
+            if _CHECKPOINT_GROUP not in f or "done" not in f[_CHECKPOINT_GROUP]:
+                return None
+            done = np.asarray(f[_CHECKPOINT_GROUP]["done"][()], dtype=bool)
+    except (OSError, KeyError, ValueError):
+        return None
+    return int(done.sum()), int(done.size)
+
+
 class SweepStore:
     """Chunked, resumable storage of a parameter sweep in one HDF5 file.
 
@@ -883,6 +967,7 @@ class SweepStore:
         chunk_size: int,
         provenance: dict,
         fsync: bool = True,
+        overwrite: bool = False,
     ) -> SweepStore:
         """Create the checkpoint file, or open an existing one for the same sweep.
 
@@ -901,10 +986,19 @@ class SweepStore:
             as for :func:`write`; an existing file must hold the same.
         fsync : bool
             fsync the file after each chunk (durability across power loss; costs a few ms).
+        overwrite : bool
+            replace an existing file (whatever it holds) by a new, empty checkpoint instead
+            of resuming it.
 
         Returns
         -------
         SweepStore
+
+        Raises
+        ------
+        CheckpointMismatch
+            ``path`` exists (and ``overwrite`` is False) but is not a checkpoint of this
+            sweep, or is corrupted.
         """
         if not isinstance(path, str | os.PathLike):
             raise TypeError(f"`path` must be a str or os.PathLike, got {type(path).__name__}")
@@ -947,16 +1041,16 @@ class SweepStore:
             cols[name] = (dtype, shape)
         prov_json = _check_provenance(provenance)
         store = cls(path, names, pts, cols, int(chunk_size), fsync=bool(fsync))
-        if path.exists():
+        if path.exists() and not overwrite:
             store._check_existing(prov_json)
         else:
             parent = path.parent if str(path.parent) else Path(".")
             if not parent.is_dir():
                 raise FileNotFoundError(f"directory '{parent}' of `path` '{path}' does not exist")
-            store._create(prov_json)
+            store._create(prov_json, overwrite=bool(overwrite))
         return store
 
-    def _create(self, prov_json: dict) -> None:
+    def _create(self, prov_json: dict, overwrite: bool = False) -> None:
         root_attrs = _provenance_attrs(prov_json, "sweep")
         n, cs = self.n_points, self.chunk_size
 
@@ -981,18 +1075,23 @@ class SweepStore:
             k.attrs["n_chunks"] = np.int64(self.n_chunks)
             k.create_dataset("done", data=np.zeros(self.n_chunks, dtype=bool))
 
-        _atomic_create(self.path, fill, overwrite=False)
+        _atomic_create(self.path, fill, overwrite=overwrite)
 
     def _check_existing(self, prov_json: dict) -> None:
         path = self.path
-        f = _open_for_read(path)
+        try:
+            f = _open_for_read(path)
+        except StorageError as exc:
+            raise _unreadable(exc, path) from None
         try:
             with f:
                 kind, _ = _check_header(f, path)
                 if kind != "sweep" or _CHECKPOINT_GROUP not in f:
-                    raise StorageError(
+                    raise CheckpointMismatch(
                         f"cannot resume '{path}': it holds a {kind!r} result, not a sweep "
-                        "checkpoint; use a new path"
+                        "checkpoint; use a new path",
+                        path=path,
+                        reason=f"holds a {kind!r} result, not a sweep checkpoint",
                     )
                 g = f[_RESULT_GROUP]
                 diffs = []
@@ -1025,15 +1124,23 @@ class SweepStore:
                         if stored_prov.get(k) != prov_json.get(k)
                     )
                     diffs.append(f"provenance differs in {keys}")
-        except StorageError:
-            raise
+        except StorageError as exc:
+            if isinstance(exc, CheckpointMismatch):
+                raise
+            raise _unreadable(exc, path) from None
         except (_Corrupt, OSError, KeyError, ValueError, TypeError) as exc:
             reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            raise StorageError(f"cannot resume '{path}': corrupted ({reason})") from None
+            raise CheckpointMismatch(
+                f"cannot resume '{path}': corrupted ({reason})",
+                path=path,
+                reason=f"is corrupted ({reason})",
+            ) from None
         if diffs:
-            raise StorageError(
+            raise CheckpointMismatch(
                 f"cannot resume '{path}': it checkpoints a different sweep ({'; '.join(diffs)});"
-                " use a new path or delete the file"
+                " use a new path or delete the file",
+                path=path,
+                reason=f"checkpoints a different sweep ({'; '.join(diffs)})",
             )
 
     # -- use --------------------------------------------------------------------------------
@@ -1053,13 +1160,7 @@ class SweepStore:
     @property
     def done(self) -> np.ndarray:
         """ndarray of bool, shape (n_chunks,): which chunks are stored (read from the file)."""
-        f = _open_for_read(self.path)
-        try:
-            with f:
-                return np.asarray(f[_CHECKPOINT_GROUP]["done"][()], dtype=bool)
-        except (OSError, KeyError) as exc:
-            reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            raise StorageError(f"cannot read '{self.path}': corrupted ({reason})") from None
+        return _read_done(self.path)
 
     def pending_chunks(self) -> list[int]:
         """Indices of the chunks not yet written, ascending."""
@@ -1106,21 +1207,406 @@ class SweepStore:
                     f"`values[{name!r}]` of dtype {arr.dtype} cannot be stored as {dtype}"
                 )
             arrays[name] = arr.astype(dtype, copy=False)
-        try:
-            with h5py.File(self.path, "r+") as f:
-                cg = f[_RESULT_GROUP]["columns"]
-                for name, arr in arrays.items():
-                    cg[name][sl] = arr
-                f.flush()
-                f[_CHECKPOINT_GROUP]["done"][i] = True
-                f.flush()
-        except (OSError, KeyError) as exc:
-            reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            raise StorageError(f"cannot write chunk {i} to '{self.path}': {reason}") from None
-        if self.fsync:
-            _fsync_path(self.path)
+        _write_rows(self.path, f"{_RESULT_GROUP}/columns", arrays, sl, i, self.fsync)
 
     def table(self) -> SweepTable:
         """The whole table (unwritten rows hold the fill values)."""
+        result, _ = read(self.path)
+        return result
+
+
+# ---------------------------------------------------------------------------------------------
+# Basin checkpoints
+# ---------------------------------------------------------------------------------------------
+
+BASIN_NOT_COMPUTED = -3
+"""Outcome held by the grid points of a :class:`BasinStore` whose rows are not computed yet
+(a :class:`~walker.results.BasinMap`'s codes are ``BASIN_CONVERGED`` (-1),
+``BASIN_UNDECIDED`` (-2) and :class:`~walker.status.Status` values, all >= -2)."""
+
+BASIN_DEFAULT_CHUNKS = 32
+"""A new :class:`BasinStore` without a given chunk size cuts the grid into about this many
+chunks of whole rows (fewer when there are fewer rows)."""
+
+
+def _same_array(a: Any, b: Any) -> bool:
+    """Same dtype, shape and bytes."""
+    a, b = np.asarray(a), np.asarray(b)
+    return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+def _finite_vector(value: Any, name: str) -> np.ndarray:
+    arr = np.asarray(value)
+    if arr.ndim != 1 or arr.size == 0 or arr.dtype.kind not in "biuf":
+        raise ValueError(f"`{name}` must be a non-empty 1-D array of real numbers")
+    arr = np.array(arr, dtype=np.float64)
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"`{name}` must be finite")
+    return arr
+
+
+def _positive(value: Any, name: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"`{name}` must be an int, got {value!r}")
+    if value < 1:
+        raise ValueError(f"`{name}` must be >= 1, got {value}")
+    return int(value)
+
+
+class BasinStore:
+    """Chunked, resumable storage of a basin map in one HDF5 file: chunk ``i`` is the grid
+    rows ``i*chunk_size : min((i+1)*chunk_size, ny)`` (points ``y[rows] x x``).
+
+    The file is a ``"basin"`` result (``read`` returns its :class:`~walker.results.BasinMap`,
+    and a finished file is what :func:`write` would store, plus the ``/checkpoint`` group):
+    ``x``, ``y``, ``fixed_point``, ``base``, ``axis_names`` and ``n_strides`` are written at
+    creation; ``outcome`` and ``strides`` (int64, ``(ny, nx)``) are allocated then with
+    :data:`BASIN_NOT_COMPUTED` and -1, and each chunk's rows are filled by
+    :meth:`write_chunk`.  ``/checkpoint`` holds ``chunk_size``, ``n_chunks``, ``tol`` and
+    ``period`` (attributes) and ``done`` (bool per chunk).
+
+    The contract and the guarantee under SIGKILL (and under an exception such as
+    ``KeyboardInterrupt`` at any point) are those of :class:`SweepStore`: creation is atomic,
+    a chunk marked done holds all its rows, a chunk interrupted mid-write stays pending.
+    Reopening requires the same grid (``x``, ``y`` bitwise), ``axis_names``, ``fixed_point``,
+    ``base``, ``n_strides``, ``tol``, ``period`` and caller provenance; the chunk size is
+    the stored one unless a different one is asked for (then :class:`CheckpointMismatch`).
+    The outcome of a grid point does not depend on the chunking, so neither does the file.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import numpy as np
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "basin.h5"
+    >>> kw = dict(axis_names=("a", "b"), x=np.linspace(0, 1, 3), y=np.linspace(0, 1, 5),
+    ...           fixed_point=np.zeros(2), base=np.zeros(2), n_strides=10, tol=1e-6,
+    ...           period=1, provenance={"model": "toy"})
+    >>> store = BasinStore.create_or_open(path, chunk_size=2, **kw)
+    >>> store.pending_chunks(), store.chunk_slice(2)
+    ([0, 1, 2], slice(4, 5, None))
+    >>> store.write_chunk(0, np.full((2, 3), -1), np.full((2, 3), 4))
+    >>> BasinStore.create_or_open(path, **kw).pending_chunks()
+    [1, 2]
+    >>> read(path)[0].outcome[:, 0].tolist()
+    [-1, -1, -3, -3, -3]
+    """
+
+    def __init__(self, path: Path, ny: int, nx: int, chunk_size: int, fsync: bool = True):
+        """Use :meth:`create_or_open`."""
+        self.path = path
+        self.shape = (int(ny), int(nx))
+        self.chunk_size = int(chunk_size)
+        self.fsync = fsync
+        self.n_chunks = -(-self.shape[0] // self.chunk_size)
+
+    # -- construction ---------------------------------------------------------------------
+
+    @classmethod
+    def create_or_open(
+        cls,
+        path: str | os.PathLike,
+        *,
+        axis_names: tuple[str, str],
+        x: Any,
+        y: Any,
+        fixed_point: Any,
+        base: Any,
+        n_strides: int,
+        tol: float,
+        period: int,
+        provenance: dict,
+        chunk_size: int | None = None,
+        overwrite: bool = False,
+        fsync: bool = True,
+    ) -> BasinStore:
+        """Create the checkpoint file, or open an existing one for the same basin map.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+        axis_names : (str, str)
+        x, y : array_like, shape (nx,), (ny,)
+            the grid, finite.
+        fixed_point, base : array_like, shape (n_z,)
+        n_strides : int
+            strides per point, >= 1.
+        tol : float
+            convergence tolerance of the map (> 0).
+        period : int
+            strides per map call (the fixed point's period), >= 1.
+        provenance : dict
+            as for :func:`write`; an existing file must hold the same.
+        chunk_size : int, optional
+            grid rows per chunk; default: the existing file's, else about
+            ``ny / BASIN_DEFAULT_CHUNKS``.
+        overwrite : bool
+            replace an existing file (whatever it holds) by a new, empty checkpoint.
+        fsync : bool
+            fsync the file after each chunk.
+
+        Returns
+        -------
+        BasinStore
+
+        Raises
+        ------
+        CheckpointMismatch
+            ``path`` exists (and ``overwrite`` is False) but is not a checkpoint of this
+            basin map, or is corrupted.
+        FileNotFoundError
+            the directory of ``path`` does not exist.
+        """
+        if not isinstance(path, str | os.PathLike):
+            raise TypeError(f"`path` must be a str or os.PathLike, got {type(path).__name__}")
+        path = Path(path)
+        if (
+            not isinstance(axis_names, tuple | list)
+            or len(axis_names) != 2
+            or not all(isinstance(n, str) for n in axis_names)
+        ):
+            raise TypeError(f"`axis_names` must be two str, got {axis_names!r}")
+        names = tuple(axis_names)
+        x = _finite_vector(x, "x")
+        y = _finite_vector(y, "y")
+        fixed_point = _finite_vector(fixed_point, "fixed_point")
+        base = _finite_vector(base, "base")
+        if base.shape != fixed_point.shape:
+            raise ValueError(
+                f"`base` must have the shape of `fixed_point` {fixed_point.shape}, got {base.shape}"
+            )
+        n_strides = _positive(n_strides, "n_strides")
+        period = _positive(period, "period")
+        if isinstance(tol, bool) or not isinstance(tol, numbers.Real):
+            raise TypeError(f"`tol` must be a real number, got {tol!r}")
+        tol = float(tol)
+        if not (np.isfinite(tol) and tol > 0):
+            raise ValueError(f"`tol` must be positive and finite, got {tol}")
+        if chunk_size is not None:
+            chunk_size = _positive(chunk_size, "chunk_size")
+        prov_json = _check_provenance(provenance)
+        ny, nx = y.size, x.size
+        want = dict(
+            provenance_json=prov_json,
+            axis_names=names,
+            x=x,
+            y=y,
+            fixed_point=fixed_point,
+            base=base,
+            n_strides=n_strides,
+            tol=tol,
+            period=period,
+            chunk_size=chunk_size,
+        )
+        if path.exists() and not overwrite:
+            stored_chunk = cls._compare(path, want)
+            return cls(path, ny, nx, stored_chunk, fsync=bool(fsync))
+        parent = path.parent if str(path.parent) else Path(".")
+        if not parent.is_dir():
+            raise FileNotFoundError(f"directory '{parent}' of `path` '{path}' does not exist")
+        if chunk_size is None:
+            chunk_size = max(1, -(-ny // BASIN_DEFAULT_CHUNKS))
+        store = cls(path, ny, nx, chunk_size, fsync=bool(fsync))
+        store._create(want, overwrite=bool(overwrite))
+        return store
+
+    @classmethod
+    def check_existing(
+        cls,
+        path: str | os.PathLike,
+        *,
+        provenance: dict | None = None,
+        axis_names: tuple[str, str] | None = None,
+        shape: tuple[int, int] | None = None,
+        n_strides: int | None = None,
+        tol: float | None = None,
+    ) -> None:
+        """Check, without computing the grid, that ``path`` is a basin checkpoint agreeing with
+        what is given (None: not checked).  Lets a caller refuse an unrelated file before the
+        work that :meth:`create_or_open` needs (finding the fixed point).
+
+        ``shape`` is ``(ny, nx)``.  Raises :class:`CheckpointMismatch` as ``create_or_open``
+        would; a missing file passes.
+        """
+        path = Path(path)
+        if not path.exists():
+            return
+        want: dict[str, Any] = {
+            "axis_names": None if axis_names is None else tuple(axis_names),
+            "shape": None if shape is None else tuple(int(s) for s in shape),
+            "n_strides": n_strides,
+            "tol": None if tol is None else float(tol),
+        }
+        if provenance is not None:
+            want["provenance_json"] = _check_provenance(provenance)
+        cls._compare(path, {k: v for k, v in want.items() if v is not None})
+
+    @staticmethod
+    def _compare(path: Path, want: dict[str, Any]) -> int:
+        """Raise CheckpointMismatch unless ``path`` is a basin checkpoint agreeing with every
+        entry of ``want``; returns its chunk size."""
+        try:
+            f = _open_for_read(path)
+        except StorageError as exc:
+            raise _unreadable(exc, path) from None
+        diffs: list[str] = []
+        try:
+            with f:
+                kind, _ = _check_header(f, path)
+                if kind != "basin" or _CHECKPOINT_GROUP not in f:
+                    what = (
+                        "a finished 'basin' result without a checkpoint"
+                        if kind == "basin"
+                        else f"a {kind!r} result"
+                    )
+                    raise CheckpointMismatch(
+                        f"cannot resume '{path}': it holds {what}, not a basin checkpoint; "
+                        "use a new path",
+                        path=path,
+                        reason=f"holds {what}, not a basin checkpoint",
+                    )
+                g = f[_RESULT_GROUP]
+                k = f[_CHECKPOINT_GROUP]
+                stored_cs = int(_attr(k, "chunk_size"))
+                stored_y = _read_dataset(g, "y")
+                stored_x = _read_dataset(g, "x")
+                if "axis_names" in want:
+                    names = tuple(json.loads(_attr(g, "axis_names")))
+                    if names != want["axis_names"]:
+                        diffs.append(f"axis_names {names} != {want['axis_names']}")
+                if "shape" in want:
+                    shape = (stored_y.size, stored_x.size)
+                    if shape != want["shape"]:
+                        diffs.append(f"grid shape {shape} != {want['shape']}")
+                for name, stored in (("x", stored_x), ("y", stored_y)):
+                    if name in want and not _same_array(stored, want[name]):
+                        diffs.append(f"{name} differs")
+                for name in ("fixed_point", "base"):
+                    if name in want and not _same_array(_read_dataset(g, name), want[name]):
+                        diffs.append(f"{name} differs")
+                if "n_strides" in want:
+                    stored = int(_attr(g, "n_strides"))
+                    if stored != want["n_strides"]:
+                        diffs.append(f"n_strides {stored} != {want['n_strides']}")
+                for name, conv in (("tol", float), ("period", int)):
+                    if name in want:
+                        stored = conv(_attr(k, name))
+                        if stored != want[name]:
+                            diffs.append(f"{name} {stored} != {want[name]}")
+                if want.get("chunk_size") is not None and want["chunk_size"] != stored_cs:
+                    diffs.append(f"chunk_size {stored_cs} != {want['chunk_size']}")
+                if "provenance_json" in want:
+                    stored_prov = json.loads(_attr(f, "provenance"))
+                    prov = want["provenance_json"]
+                    if stored_prov != prov:
+                        keys = sorted(
+                            key
+                            for key in set(stored_prov) | set(prov)
+                            if stored_prov.get(key) != prov.get(key)
+                        )
+                        diffs.append(f"provenance differs in {keys}")
+                for name in ("outcome", "strides"):
+                    ds = g[name]
+                    if ds.shape != (stored_y.size, stored_x.size) or ds.dtype != np.int64:
+                        raise _Corrupt(f"dataset '{ds.name}' has shape {ds.shape} {ds.dtype}")
+                done = k["done"]
+                if done.shape != (-(-stored_y.size // stored_cs),):
+                    raise _Corrupt(f"'/checkpoint/done' has shape {done.shape}")
+        except StorageError as exc:
+            if isinstance(exc, CheckpointMismatch):
+                raise
+            raise _unreadable(exc, path) from None
+        except (_Corrupt, OSError, KeyError, ValueError, TypeError) as exc:
+            reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise CheckpointMismatch(
+                f"cannot resume '{path}': corrupted ({reason})",
+                path=path,
+                reason=f"is corrupted ({reason})",
+            ) from None
+        if diffs:
+            raise CheckpointMismatch(
+                f"cannot resume '{path}': it checkpoints a different basin map "
+                f"({'; '.join(diffs)}); use a new path or delete the file",
+                path=path,
+                reason=f"checkpoints a different basin map ({'; '.join(diffs)})",
+            )
+        return stored_cs
+
+    def _create(self, want: dict[str, Any], overwrite: bool) -> None:
+        root_attrs = _provenance_attrs(want["provenance_json"], "basin")
+        ny, nx = self.shape
+        cs = self.chunk_size
+
+        def fill(f: h5py.File) -> None:
+            f.attrs.update(root_attrs)
+            g = f.create_group(_RESULT_GROUP)
+            g.attrs["dataclass"] = "BasinMap"
+            g.attrs["axis_names"] = json.dumps(list(want["axis_names"]))
+            g.attrs["n_strides"] = np.int64(want["n_strides"])
+            for name in ("x", "y", "fixed_point", "base"):
+                g.create_dataset(name, data=want[name])
+            for name, fillv in (("outcome", BASIN_NOT_COMPUTED), ("strides", -1)):
+                ds = g.create_dataset(name, shape=(ny, nx), dtype=np.int64, fillvalue=fillv)
+                # Written explicitly: contiguous storage allocated now, so chunk writes touch
+                # raw data only.
+                for start in range(0, ny, cs):
+                    stop = min(start + cs, ny)
+                    ds[start:stop] = np.full((stop - start, nx), fillv, dtype=np.int64)
+            k = f.create_group(_CHECKPOINT_GROUP)
+            k.attrs["chunk_size"] = np.int64(cs)
+            k.attrs["n_chunks"] = np.int64(self.n_chunks)
+            k.attrs["tol"] = np.float64(want["tol"])
+            k.attrs["period"] = np.int64(want["period"])
+            k.create_dataset("done", data=np.zeros(self.n_chunks, dtype=bool))
+
+        _atomic_create(self.path, fill, overwrite=overwrite)
+
+    # -- use --------------------------------------------------------------------------------
+
+    def _check_chunk(self, i: Any) -> int:
+        if isinstance(i, bool) or not isinstance(i, numbers.Integral):
+            raise TypeError(f"chunk index `i` must be an int, got {i!r}")
+        if not 0 <= i < self.n_chunks:
+            raise ValueError(f"chunk index `i` must be in [0, {self.n_chunks}), got {i}")
+        return int(i)
+
+    def chunk_slice(self, i: int) -> slice:
+        """Grid rows of chunk ``i``."""
+        i = self._check_chunk(i)
+        return slice(i * self.chunk_size, min((i + 1) * self.chunk_size, self.shape[0]))
+
+    @property
+    def done(self) -> np.ndarray:
+        """ndarray of bool, shape (n_chunks,): which chunks are stored (read from the file)."""
+        return _read_done(self.path)
+
+    def pending_chunks(self) -> list[int]:
+        """Indices of the chunks not yet written, ascending."""
+        return [int(i) for i in np.flatnonzero(~self.done)]
+
+    @property
+    def complete(self) -> bool:
+        """True when every chunk is written."""
+        return bool(np.all(self.done))
+
+    def write_chunk(self, i: int, outcome: Any, strides: Any) -> None:
+        """Write the rows of chunk ``i`` (``outcome`` and ``strides``, integer arrays of shape
+        ``(rows, nx)``), then mark the chunk done."""
+        i = self._check_chunk(i)
+        sl = self.chunk_slice(i)
+        arrays = {}
+        for name, value in (("outcome", outcome), ("strides", strides)):
+            arr = np.asarray(value)
+            if arr.shape != (sl.stop - sl.start, self.shape[1]):
+                raise ValueError(
+                    f"`{name}` must have shape {(sl.stop - sl.start, self.shape[1])} for chunk "
+                    f"{i}, got {arr.shape}"
+                )
+            if arr.dtype.kind not in "iu":
+                raise TypeError(f"`{name}` must be an integer array, got dtype {arr.dtype}")
+            arrays[name] = arr.astype(np.int64, copy=False)
+        _write_rows(self.path, _RESULT_GROUP, arrays, sl, i, self.fsync)
+
+    def result(self) -> BasinMap:
+        """The basin map (rows not yet written hold :data:`BASIN_NOT_COMPUTED` and -1)."""
         result, _ = read(self.path)
         return result

@@ -48,6 +48,7 @@ from typing import Any
 
 import numpy as np
 
+from walker._executors import run_chunks
 from walker.fixedpoint import find_fixed_point
 from walker.results import SweepTable
 from walker.stride import StrideMap
@@ -505,6 +506,7 @@ def sweep(
     progress: bool = True,
     provenance: dict | None = None,
     tol: float = 1e-10,
+    overwrite: bool = False,
 ) -> SweepTable:
     """Evaluate a stride map over a parameter grid, chunk by chunk, on an executor.
 
@@ -550,6 +552,8 @@ def sweep(
         for fixed points) itself; the walker version is added by storage.
     tol : float
         Newton tolerance (fixed_point), > 0.
+    overwrite : bool
+        with ``out``: replace an existing file by a new checkpoint instead of resuming it.
 
     Returns
     -------
@@ -568,8 +572,16 @@ def sweep(
         ``jobs`` or ``tol``; all before any work.
     FileNotFoundError
         the directory of ``out`` does not exist.
-    walker.storage.StorageError
-        ``out`` exists but checkpoints a different sweep, or is corrupted.
+    walker.storage.CheckpointMismatch
+        ``out`` exists (and ``overwrite`` is False) but checkpoints a different sweep, or is
+        corrupted; raised before any work.
+
+    Notes
+    -----
+    On ``KeyboardInterrupt`` (or any interrupt raised in the calling thread while the chunks
+    run) the chunks not started are cancelled (on dask too), running threads finish their
+    chunk, a process pool is shut down and its workers terminated, every finished chunk is
+    written to ``out``, and the interrupt propagates; the same call then resumes.
 
     Examples
     --------
@@ -581,11 +593,42 @@ def sweep(
     >>> t.columns["status"].tolist(), t.columns["stable"].tolist()
     ([0, 0], [1, 1])
     """
-    names, points, z0, n_strides, chunk, jobs, tol = _validate(
-        stride_map, ranges, kind, z0, n_strides, chunk_size, jobs, tol
+    plan = _prepare(
+        stride_map,
+        ranges,
+        kind=kind,
+        z0=z0,
+        n_strides=n_strides,
+        chunk_size=chunk_size,
+        executor=executor,
+        jobs=jobs,
+        out=out,
+        overwrite=overwrite,
+        provenance=provenance,
+        tol=tol,
     )
-    n_points = points.shape[0]
-    n_z = int(stride_map.n_z)
+    return _execute(plan, executor, progress)
+
+
+@dataclasses.dataclass
+class _Plan:
+    """A validated sweep with its checkpoint opened (or created): what is left is the work."""
+
+    stride_map: Any
+    names: tuple[str, ...]
+    points: np.ndarray
+    kind: str
+    z0: np.ndarray
+    n_strides: int
+    chunk: int
+    jobs: int | None
+    tol: float
+    columns: dict
+    store: Any
+    pending: list[int]
+
+
+def _check_executor(executor: Any, jobs: int | None) -> Any:
     if isinstance(executor, str) and executor != "serial":
         raise ValueError(f"`executor` must be an Executor, 'serial' or None, got {executor!r}")
     if hasattr(executor, "get_executor") and not isinstance(executor, cf.Executor):
@@ -596,7 +639,32 @@ def sweep(
             f"'serial' or None, got {type(executor).__name__}"
         )
     if executor is not None and jobs is not None:
-        warnings.warn("`jobs` has no effect when `executor` is given", stacklevel=2)
+        warnings.warn("`jobs` has no effect when `executor` is given", stacklevel=4)
+    return executor
+
+
+def _prepare(
+    stride_map,
+    ranges,
+    *,
+    kind,
+    z0,
+    n_strides,
+    chunk_size,
+    executor,
+    jobs,
+    out,
+    overwrite,
+    provenance,
+    tol,
+) -> _Plan:
+    """Everything :func:`sweep` does before the work: validation, then the checkpoint."""
+    names, points, z0, n_strides, chunk, jobs, tol = _validate(
+        stride_map, ranges, kind, z0, n_strides, chunk_size, jobs, tol
+    )
+    n_points = points.shape[0]
+    n_z = int(stride_map.n_z)
+    _check_executor(executor, jobs)
     columns = _columns(kind, n_z)
     n_chunks = -(-n_points // chunk)
     store = None
@@ -616,14 +684,25 @@ def sweep(
             columns=columns,
             chunk_size=chunk,
             provenance=prov,
+            overwrite=bool(overwrite),
         )
         pending = store.pending_chunks()
     else:
         if provenance is not None and not isinstance(provenance, dict):
             raise TypeError(f"`provenance` must be a dict or None, got {type(provenance).__name__}")
         pending = list(range(n_chunks))
+    return _Plan(
+        stride_map, names, points, kind, z0, n_strides, chunk, jobs, tol, columns, store, pending
+    )
 
-    # ---- the work ----------------------------------------------------------------------------
+
+def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
+    """Run the pending chunks of ``plan`` on ``executor`` (see :func:`sweep`)."""
+    executor = _check_executor(executor, None)
+    names, points, kind, columns = plan.names, plan.points, plan.kind, plan.columns
+    store, pending, chunk = plan.store, plan.pending, plan.chunk
+    stride_map = plan.stride_map
+    n_points = points.shape[0]
     table = {
         name: np.full((n_points, *shape), -1 if dtype == "i8" else np.nan, dtype=dtype)
         for name, (dtype, shape) in columns.items()
@@ -634,7 +713,7 @@ def sweep(
         return slice(i * chunk, min((i + 1) * chunk, n_points))
 
     def args(i: int) -> tuple:
-        return (task_map, names, points[rows(i)], kind, z0, n_strides, tol)
+        return (task_map, names, points[rows(i)], kind, plan.z0, plan.n_strides, plan.tol)
 
     def finish(i: int, values: dict[str, np.ndarray]) -> None:
         if store is not None:
@@ -650,7 +729,7 @@ def sweep(
     if pending and executor is None:
         # Threads of this process: the compiled strides release the GIL, so the workers run
         # in parallel with no process start-up and the map needs no pickling.
-        n_workers = min(jobs or os.cpu_count() or 1, len(pending))
+        n_workers = min(plan.jobs or os.cpu_count() or 1, len(pending))
         own_pool = cf.ThreadPoolExecutor(max_workers=n_workers, thread_name_prefix="walker-sweep")
         executor = own_pool
         task_map = stride_map
@@ -667,13 +746,19 @@ def sweep(
             for i in pending:
                 finish(i, sweep_chunk(*args(i)))
         elif pending:
-            futures = {executor.submit(sweep_chunk, *args(i)): i for i in pending}
-            try:
-                for fut in cf.as_completed(futures):
-                    finish(futures[fut], fut.result())
-            finally:
-                for fut in futures:
-                    fut.cancel()
+            # On an interrupt: chunks not started are cancelled, running threads finish their
+            # (short) chunk, a process pool's workers are terminated, and every chunk that
+            # finished is written before the interrupt propagates.
+            run_chunks(
+                executor,
+                sweep_chunk,
+                ((i, args(i)) for i in pending),
+                finish,
+                own=own_pool is not None,
+            )
+    except KeyboardInterrupt:
+        bar.leave = False  # an interrupted run leaves no progress bar behind
+        raise
     finally:
         bar.close()
         if own_pool is not None:
@@ -699,6 +784,7 @@ def run_sweep_command(
     quiet: bool = False,
     strides: int | None = None,
     chunk_size: int | None = None,
+    overwrite: bool = False,
 ) -> SweepTable:
     """``walker sweep SCENE --param NAME=START:STOP:COUNT ... --out FILE.h5``.
 
@@ -728,10 +814,15 @@ def run_sweep_command(
         strides per point / period of the gait; default the scene's ``[compute].strides``.
     chunk_size : int, optional
         as in :func:`sweep`.
+    overwrite : bool
+        replace an existing ``out`` instead of resuming it.
 
     Returns
     -------
     SweepTable
+
+    Everything, the checkpoint ``out`` included, is checked before any work and before
+    connecting to ``scheduler``.
     """
     from walker.scene import load_scene
 
@@ -757,35 +848,27 @@ def run_sweep_command(
     )
     z0 = stride_map.project(scene.state)
     provenance = {"scene": os.fspath(scene_path)}
-    if scheduler is None:
-        return sweep(
-            stride_map,
-            list(param_texts),
-            kind=kind,
-            z0=z0,
-            n_strides=strides,
-            chunk_size=chunk_size,
-            jobs=jobs,
-            out=out,
-            progress=not quiet,
-            provenance=provenance,
-        )
-    if jobs is not None:
+    if scheduler is not None and jobs is not None:
         warnings.warn("`jobs` has no effect with `scheduler` (the cluster decides)", stacklevel=2)
-    # Validate before connecting (sweep() checks again, cheaply).
-    _validate(stride_map, list(param_texts), kind, z0, strides, chunk_size, None, 1e-10)
+        jobs = None
+    # Validate and open (or create) the checkpoint before any work or connection.
+    plan = _prepare(
+        stride_map,
+        list(param_texts),
+        kind=kind,
+        z0=z0,
+        n_strides=strides,
+        chunk_size=chunk_size,
+        executor=None,
+        jobs=jobs,
+        out=out,
+        overwrite=overwrite,
+        provenance=provenance,
+        tol=1e-10,
+    )
+    if scheduler is None or not plan.pending:
+        return _execute(plan, None, not quiet)
     from distributed import Client
 
     with Client(scheduler) as client:
-        return sweep(
-            stride_map,
-            list(param_texts),
-            kind=kind,
-            z0=z0,
-            n_strides=strides,
-            chunk_size=chunk_size,
-            executor=client,
-            out=out,
-            progress=not quiet,
-            provenance=provenance,
-        )
+        return _execute(plan, client, not quiet)
