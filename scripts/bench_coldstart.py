@@ -59,7 +59,7 @@ from walker.models import get_model  # noqa: E402
 
 
 def command_for(scene_path: Path) -> list[str]:
-    """The subcommand a user runs for this scene (walker/cli.py: find needs a walker)."""
+    """The subcommand a user runs for this scene (walker/cli/find.py: find needs a walker)."""
     scene = load_scene(scene_path)
     if scene.compute.task == "fixed_point" and get_model(scene.model).is_walker:
         return ["find", str(scene_path)]
@@ -370,7 +370,7 @@ def main(argv=None):
         "with numpy; numba, scipy and the extension are imported by the commands, not by "
         f"it): min {np.min(floor):.2f} s, median {np.median(floor):.2f} s over "
         f"{len(floor)} runs. Exit status 1 is an expected outcome (e.g. a fall), 0 success "
-        "(walker/cli.py).",
+        "(walker/cli/).",
         "",
     ]
     if builds:

@@ -365,3 +365,30 @@ def test_system_validation():
         HybridSystem(**{**base, "directions": np.array([[2]])})
     with pytest.raises(ValueError, match="`guard_names` must have n_guards = 1"):
         HybridSystem(**{**base, "guard_names": ()})
+
+
+@pytest.mark.parametrize("e", [0.99, 0.9, 0.5, 0.1, 0.03])
+def test_chattering_ends_with_its_own_status(e):
+    # A ball bouncing with restitution e makes infinitely many impacts before the Zeno time
+    # t1 (1 + 2e/(1 - e)) (t1 the first impact; the intervals shrink by e per impact).  The
+    # run must stop there with CHATTERING, on the ground, not step through the accumulation
+    # (before this status the ball sank through the floor and the run ended NO_EVENT).
+    gravity = 9.81
+    sol = hybrid_solve(
+        BALL, [1.0, 0.0], np.array([gravity, e, 0.0]), n_strides=10**6, t_max=1e3,
+        output="events",
+    )
+    t1 = np.sqrt(2.0 / gravity)
+    t_zeno = t1 * (1.0 + 2.0 * e / (1.0 - e))
+    assert sol.status == Status.CHATTERING and not sol.success
+    assert t1 < sol.t < t_zeno
+    assert abs(sol.x[0]) < 1e-15 and sol.x[1] >= 0.0
+    assert_allclose(sol.events.t, ball_impact_times(1.0, gravity, e, sol.n_events), rtol=1e-9)
+
+
+def test_chattering_test_leaves_gaits_alone():
+    # a bouncing ball with constant intervals (e = 1) never forms a shrinking chain (the
+    # walkers' gaits, with alternating heel-strike / knee-lock intervals, run in every scene
+    # test)
+    sol = hybrid_solve(BALL, [1.0, 0.0], BALL_P * [1, 1 / 0.9, 1], n_strides=200, t_max=1e3)
+    assert sol.status == Status.COMPLETED and sol.n_events == 200

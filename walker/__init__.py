@@ -30,7 +30,8 @@ The pipeline, from a scene file to pictures::
                      sweep.py        resumable parameter sweeps on threads or any Executor
                  ──► storage.py      HDF5 with provenance, atomic writes
                  ──► plotting.py     figures and animations
-    cli.py sits on top (``walker find|run|continue|basin|sweep|plot``) and only orchestrates.
+    cli/ sits on top (``walker find|run|continue|basin|sweep|plot``, one module per command)
+    and only orchestrates.
 
 The numba versions of the models (walker/models/<name>.py, walker/friction.py,
 walker/control.py) are the reference the C ports are tested against bit for bit, and what the

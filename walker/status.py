@@ -46,6 +46,7 @@ class Status(IntEnum):
     DIVERGED = 13
     BUDGET_EXHAUSTED = 14
     OUTSIDE_WALKING_REGION = 15
+    CHATTERING = 16
 
     @property
     def message(self) -> str:
@@ -120,5 +121,12 @@ _MESSAGES = {
         "pi from the slope normal, the stance leg past the fall angle, or kinetic energy far "
         "above what the scene supplies), so it was not integrated. Start from a state near a "
         "gait: on the command line the scene's `[initial] state`, from Python `z0` or `x0`."
+    ),
+    Status.CHATTERING: (
+        "Events accumulated: the same event fired at three or more shrinking intervals in a "
+        "row, the last under 1% of the first (chattering, a Zeno sequence such as a foot "
+        "bouncing to rest or a joint switching between stick and slip ever faster), so the "
+        "run stopped at that event instead of stepping through the accumulation. The model "
+        "has no mode for the limit it approaches (e.g. resting contact)."
     ),
 }

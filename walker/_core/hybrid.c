@@ -34,6 +34,16 @@
 #define ST_STEP_UNDERFLOW 6
 #define ST_NONFINITE 7
 #define ST_MAX_STEPS 8
+#define ST_CHATTERING 16
+
+/* Chattering (Zeno) test, per guard: the run stops when ZENO_CHAIN or more intervals in a row
+ * between applied firings of the same guard shrink strictly and the last is below
+ * ZENO_RATIO times the first of that chain.  A bouncing ball's impacts shrink by the
+ * restitution per impact; a gait repeats its heel strikes at nearly equal intervals, and
+ * distinct events crowding together (a friction switch just before a heel strike) are
+ * different guards, so neither builds such a chain. */
+#define ZENO_CHAIN 3
+#define ZENO_RATIO 1e-2
 
 /* Dense output kinds. */
 #define DENSE_HERMITE 0
@@ -697,6 +707,7 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
                            + 12 * n_x             /* xbuf x_new fm fp w gPhi, derivatives */
                            + 2 * n_impulse        /* impulse imp */
                            + 7 * n_guards         /* ga gb gbuf rate_a rate_b g_end, dgbuf */
+                           + 4 * n_guards         /* chattering test */
                            + n_frac_max;
     double *work = calloc((size_t)n_work, sizeof(double));
     unsigned char *armed = calloc((size_t)n_guards + 1, 1);
@@ -716,6 +727,11 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
     double *ga = TAKE(n_guards), *gb = TAKE(n_guards), *gbuf = TAKE(n_guards);
     double *rate_a = TAKE(n_guards), *rate_b = TAKE(n_guards), *g_end = TAKE(n_guards);
     double *frac = TAKE(n_frac_max);
+    /* chattering test, per guard: absolute time of its last applied firing (NAN: none yet),
+     * the last interval, the first interval of the current shrinking chain, its length */
+    double *zeno_t = TAKE(n_guards), *zeno_prev = TAKE(n_guards);
+    double *zeno_first = TAKE(n_guards), *zeno_len = TAKE(n_guards);
+    for (int64_t i = 0; i < n_guards; i++) zeno_t[i] = NAN;
     deriv_t dv;
     dv.grad = TAKE(n_x);
     dv.DR = TAKE(n_x * n_x);
@@ -1099,6 +1115,24 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
             if (finishing) {
                 status = ST_COMPLETED;
                 break;
+            }
+            {
+                const double t_ev = t_off + t_off_c;
+                if (!isnan(zeno_t[best_i])) {
+                    const double dt_ev = t_ev - zeno_t[best_i];
+                    if (zeno_len[best_i] > 0.0 && dt_ev < zeno_prev[best_i]) {
+                        zeno_len[best_i] += 1.0;
+                    } else {
+                        zeno_len[best_i] = 1.0;
+                        zeno_first[best_i] = dt_ev;
+                    }
+                    zeno_prev[best_i] = dt_ev;
+                    if (zeno_len[best_i] >= ZENO_CHAIN && dt_ev <= ZENO_RATIO * zeno_first[best_i]) {
+                        status = ST_CHATTERING;
+                        break;
+                    }
+                }
+                zeno_t[best_i] = t_ev;
             }
             /* ---- restart the method at the event ---- */
             fun(m, phase, t, z, f0);

@@ -1,0 +1,263 @@
+"""Shared pieces of the command line: exit codes, usage errors, signal handling, strict JSON,
+scene loading, provenance and the checks of output paths made before any work."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import json
+import math
+import os
+import signal
+import sys
+import tempfile
+import threading
+from pathlib import Path
+
+import numpy as np
+
+EXIT_OK, EXIT_OUTCOME, EXIT_USAGE = 0, 1, 2
+EXIT_INTERRUPTED = 130
+"""Exit status after SIGINT or SIGTERM (128 + SIGINT, the shell's convention for Ctrl-C)."""
+
+BASIN_TOL = 1e-6
+"""Convergence tolerance of ``walker basin`` (section units, max-norm)."""
+
+
+class UsageError(ValueError):
+    """Bad command-line input (exit status 2)."""
+
+
+class Interrupted(KeyboardInterrupt):
+    """Raised in the main thread by the CLI's SIGINT/SIGTERM handler."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+@contextlib.contextmanager
+def interrupts_as_exceptions():
+    """While active (main thread only), SIGINT and SIGTERM raise :class:`Interrupted` in the
+    main thread, once; a second signal exits the process at once (status 130) without
+    waiting for running work.  The previous handlers are restored on exit.
+
+    An exception raised by a signal handler lands wherever the main thread is; where Python
+    cannot propagate it (a weakref callback, ``__del__``, the garbage collector) it is
+    reported to ``sys.unraisablehook`` and dropped.  The hook installed here raises it again
+    at the next opportunity instead, so an interrupt is never lost.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    import _thread
+
+    received: list[int] = []
+    redeliver: list[int] = []
+    pid = os.getpid()
+
+    def handler(signum, frame):
+        if os.getpid() != pid:
+            # A forked worker (a process pool's) inherits the handler: it gets the default
+            # behaviour, so the pool's shutdown can terminate it.
+            if signum == signal.SIGINT:
+                raise KeyboardInterrupt
+            signal.signal(signum, signal.SIG_DFL)
+            os.kill(os.getpid(), signum)
+            return
+        if redeliver:
+            raise Interrupted(redeliver.pop())
+        received.append(signum)
+        if len(received) == 1:
+            raise Interrupted(signum)
+        # A second signal while the first one's clean-up runs: leave now.  Checkpoints stay
+        # consistent (they survive SIGKILL); only the chunks still running are lost.
+        try:
+            os.write(2, b"walker: interrupted again; exiting without waiting for the workers\n")
+        finally:
+            os._exit(EXIT_INTERRUPTED)
+
+    previous_hook = sys.unraisablehook
+    active = [True]
+    lock = threading.Lock()
+
+    def trigger(signum):
+        with lock:
+            if active[0] and redeliver:
+                _thread.interrupt_main(signum)  # the handler runs again in the main thread
+
+    def unraisable(info):
+        if isinstance(info.exc_value, Interrupted) and os.getpid() == pid:
+            # Not from here (the hook runs inside the context that drops exceptions): a
+            # moment later, from another thread.
+            redeliver.append(info.exc_value.signum)
+            timer = threading.Timer(0.02, trigger, args=(info.exc_value.signum,))
+            timer.daemon = True
+            timer.start()
+            return
+        previous_hook(info)
+
+    previous = {sig: signal.signal(sig, handler) for sig in (signal.SIGINT, signal.SIGTERM)}
+    sys.unraisablehook = unraisable
+    try:
+        yield
+    finally:
+        with lock:
+            active[0] = False
+        sys.unraisablehook = previous_hook
+        for sig, old in previous.items():
+            signal.signal(sig, old)
+        if redeliver:  # dropped, and the work ended before it was raised again
+            raise Interrupted(redeliver.pop())
+
+
+def _strict(value):
+    """``value`` with every non-finite float replaced by None (JSON null)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _strict(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_strict(v) for v in value]
+    return value
+
+
+def _json(record: dict) -> str:
+    """Strict JSON (RFC 8259): a missing number (NaN, infinity) is written as null."""
+    return json.dumps(_strict(record), allow_nan=False)
+
+
+def _parse_set(items) -> dict:
+    out = {}
+    for item in items or ():
+        name, sep, value = item.partition("=")
+        if not sep or not name:
+            raise UsageError(f"--set expects NAME=VALUE, got {item!r}")
+        try:
+            out[name.strip()] = float(value)
+        except ValueError:
+            raise UsageError(f"--set {name}: value {value!r} is not a number") from None
+    return out
+
+
+def _load(args):
+    from walker.scene import load_scene
+
+    return load_scene(args.scene, overrides=_parse_set(getattr(args, "set", None)))
+
+
+def _stride_map(scene, parameter_name="slope"):
+    from walker.stride import StrideMap
+
+    c = scene.compute
+    return StrideMap(
+        scene.model,
+        scene.params,
+        method=c.method,
+        rtol=c.rtol,
+        atol=c.atol,
+        t_max=c.t_max,
+        first_step=c.first_step,
+        parameter_name=parameter_name,
+    )
+
+
+def provenance(scene, extra: dict | None = None) -> dict:
+    """What produced a result: scene, model, parameters with units, solver, kernel hash."""
+    from walker.models import get_model
+    from walker.storage import parameters_with_units
+
+    c = scene.compute
+    prov = {
+        "scene": str(scene.path),
+        "model": scene.model,
+        "parameters": parameters_with_units(scene.params),
+        "method": c.method,
+        "rtol": c.rtol,
+        "atol": c.atol,
+        "kernel_hash": get_model(scene.model).kernel_hash,
+    }
+    prov.update(extra or {})
+    return prov
+
+
+def _complex_pairs(values) -> list:
+    return [[float(np.real(v)), float(np.imag(v))] for v in values]
+
+
+def _writable_dir(directory: Path) -> bool:
+    """``directory`` accepts new files: os.access, then a real test write (read-only file
+    systems, ACLs and root's permissions fool os.access), removed at once."""
+    if not os.access(directory, os.W_OK | os.X_OK):
+        return False
+    try:
+        fd, probe = tempfile.mkstemp(dir=directory, prefix=".walker-write-test-")
+    except OSError:
+        return False
+    os.close(fd)
+    with contextlib.suppress(OSError):
+        os.unlink(probe)
+    return True
+
+
+def _check_out(path, *, overwrite: bool = False, resumable: bool = False) -> Path | None:
+    """``--out`` checked before any work: not a directory, in an existing, writable
+    directory, and not an existing file unless ``overwrite`` (or ``resumable``: a checkpoint
+    the command may resume, which must then be a writable file)."""
+    if path is None:
+        return None
+    out = Path(path)
+    if out.is_dir():
+        raise UsageError(f"--out {path} is a directory; give a file name")
+    parent = out.parent if str(out.parent) else Path(".")
+    if not parent.is_dir():
+        raise UsageError(f"--out {path}: directory '{parent}' does not exist; create it first")
+    if not _writable_dir(parent):
+        raise UsageError(
+            f"--out {path}: directory '{parent}' is not writable; choose another --out"
+        )
+    if out.exists() or out.is_symlink():
+        if not out.is_file():
+            raise UsageError(f"--out {path} exists and is not a regular file; choose another --out")
+        if not overwrite and not resumable:
+            raise UsageError(f"--out {path} exists; pass --overwrite to replace it")
+        if not overwrite and not os.access(out, os.R_OK | os.W_OK):
+            raise UsageError(
+                f"--out {path} exists and is not writable, so it cannot be resumed; pass "
+                "--overwrite to replace it"
+            )
+    return out
+
+
+def _check_figure_dir(path) -> Path:
+    """``plot --out``: a writable directory, or a new one in a writable directory."""
+    out = Path(path)
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"--out {path} exists and is not a directory; choose another --out")
+    if out.is_dir():
+        if not _writable_dir(out):
+            raise UsageError(f"--out {path}: directory is not writable; choose another --out")
+        return out
+    parent = out.parent if str(out.parent) else Path(".")
+    if not parent.is_dir():
+        raise UsageError(f"--out {path}: directory '{parent}' does not exist; create it first")
+    if not _writable_dir(parent):
+        raise UsageError(
+            f"--out {path}: directory '{parent}' is not writable; choose another --out"
+        )
+    return out
+
+
+def _resume_hint(exc, flag: str = "--out") -> UsageError:
+    """A CheckpointMismatch as the one-line usage error naming --overwrite."""
+    return UsageError(f"{flag} {exc.path} exists and {exc.reason}; pass --overwrite to replace it")
+
+
+def scene_cmd(sub, name: str, help_: str) -> argparse.ArgumentParser:
+    """A subcommand that takes a scene file and ``--set NAME=VALUE`` overrides."""
+    p = sub.add_parser(name, help=help_)
+    p.add_argument("scene", help="scene file (gaits/*.toml)")
+    p.add_argument(
+        "--set", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable)"
+    )
+    return p

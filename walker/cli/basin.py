@@ -1,0 +1,117 @@
+"""``walker basin``: the basin of attraction on a 2-D slice of the section, checkpointed."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._common import (
+    BASIN_TOL,
+    EXIT_OK,
+    EXIT_OUTCOME,
+    UsageError,
+    _check_out,
+    _load,
+    _resume_hint,
+    _stride_map,
+    provenance,
+    scene_cmd,
+)
+
+
+def cmd_basin(args) -> int:
+    from walker.basin import basin_map
+    from walker.fixedpoint import find_fixed_point
+    from walker.storage import BasinStore, CheckpointMismatch
+
+    scene = _load(args)
+    P = _stride_map(scene)
+    axes = tuple(int(a) for a in args.axes.split(","))
+    if len(axes) != 2 or not all(0 <= a < P.n_z for a in axes) or axes[0] == axes[1]:
+        raise UsageError(f"--axes must be two distinct section indices in 0..{P.n_z - 1}")
+    if args.n < 2:
+        raise UsageError(f"--n must be >= 2, got {args.n}")
+    if args.strides < 1:
+        raise UsageError(f"--strides must be >= 1, got {args.strides}")
+    if not (math.isfinite(args.span) and args.span > 0):
+        raise UsageError(f"--span must be a positive number, got {args.span}")
+    if args.jobs is not None and args.jobs < 1:
+        raise UsageError(f"--jobs must be >= 1, got {args.jobs}")
+    out = _check_out(args.out, overwrite=args.overwrite, resumable=True)
+    c = scene.compute
+    prov = provenance(scene, {"t_max": c.t_max, "first_step": c.first_step})
+    if not args.overwrite:
+        # Refuse an unrelated file before the fixed point is searched for; the grid itself
+        # (which needs the fixed point) is compared when the checkpoint is opened.
+        names = tuple(P.section_names)
+        try:
+            BasinStore.check_existing(
+                out,
+                provenance=prov,
+                axis_names=(names[axes[0]], names[axes[1]]),
+                shape=(args.n, args.n),
+                n_strides=args.strides,
+                tol=BASIN_TOL,
+            )
+        except CheckpointMismatch as exc:
+            raise _resume_hint(exc) from None
+    fp = find_fixed_point(P, P.project(scene.state))
+    if not fp.success:
+        print(f"status {fp.status.name}: no gait to map the basin of: {fp.message}")
+        return EXIT_OUTCOME
+    span = args.span
+    ranges = tuple(
+        (
+            fp.section[a] - span * max(abs(fp.section[a]), 0.1),
+            fp.section[a] + span * max(abs(fp.section[a]), 0.1),
+        )
+        for a in axes
+    )
+    try:
+        bm = basin_map(
+            P,
+            fp,
+            axes=axes,
+            ranges=ranges,
+            n=(args.n, args.n),
+            n_strides=args.strides,
+            tol=BASIN_TOL,
+            jobs=args.jobs,
+            progress=not args.quiet,
+            out=out,
+            overwrite=args.overwrite,
+            provenance=prov,
+        )
+    except CheckpointMismatch as exc:
+        raise _resume_hint(exc) from None
+    from walker.results import BASIN_CONVERGED
+
+    frac = float(np.mean(bm.outcome == BASIN_CONVERGED))
+    print(f"wrote {out}: {args.n}x{args.n} points, {frac:.1%} converge to the gait")
+    return EXIT_OK
+
+
+def register(sub) -> None:
+    p = scene_cmd(sub, "basin", "map the basin of attraction on a 2-D slice of the section")
+    p.add_argument("--out", required=True, help="HDF5 checkpoint and result; rerunning resumes it")
+    p.add_argument("--axes", default="0,1", help="two section indices, e.g. 0,1")
+    p.add_argument("--n", type=int, default=50, help="grid points per axis")
+    p.add_argument(
+        "--span",
+        type=float,
+        default=0.5,
+        help="half-width of each axis relative to the fixed point's value",
+    )
+    p.add_argument("--strides", type=int, default=20)
+    p.add_argument(
+        "--jobs",
+        type=int,
+        default=None,
+        help="worker threads (the compiled strides run in parallel); default: CPU count",
+    )
+    p.add_argument("--quiet", action="store_true")
+    p.add_argument(
+        "--overwrite", action="store_true", help="replace an existing --out instead of resuming"
+    )
+    p.set_defaults(func=cmd_basin)

@@ -1,0 +1,92 @@
+"""``walker find``: the periodic gait (fixed point of the stride map) of a scene."""
+
+from __future__ import annotations
+
+from ._common import (
+    EXIT_OK,
+    EXIT_OUTCOME,
+    UsageError,
+    _check_out,
+    _complex_pairs,
+    _json,
+    _load,
+    _stride_map,
+    provenance,
+    scene_cmd,
+)
+
+
+def cmd_find(args) -> int:
+    from walker.fixedpoint import find_fixed_point
+
+    scene = _load(args)
+    if not scene.model or scene.model == "double_pendulum":
+        raise UsageError(f"{args.scene}: model `{scene.model}` has no gait to find")
+    out = _check_out(args.out, overwrite=args.overwrite)
+    P = _stride_map(scene)
+    period = args.period or max(1, scene.compute.strides)
+    fp = find_fixed_point(
+        P,
+        P.project(scene.state),
+        period=period,
+        tol=args.tol,
+        jacobian="fd" if args.fd else "exact",
+    )
+    record = {
+        "status": fp.status.name,
+        "success": bool(fp.success),
+        "message": fp.message,
+        "model": scene.model,
+        "section_names": list(P.section_names),
+        "section": [float(v) for v in fp.section],
+        "state_names": list(scene.state_names),
+        "state": [float(v) for v in fp.state],
+        "step_time": float(fp.step_time),
+        "multipliers": _complex_pairs(fp.multipliers),
+        "stable": bool(fp.stable),
+        "residual": float(fp.residual),
+        "n_iter": int(fp.n_iter),
+        "period": int(fp.period),
+        "parameters": scene.params.to_dict(),
+    }
+    if out is not None:
+        from walker.storage import write
+
+        write(
+            out,
+            fp,
+            provenance=provenance(scene, {"status": fp.status.name}),
+            overwrite=args.overwrite,
+        )
+    if args.json:
+        print(_json(record))
+    else:
+        _print_fixed_point(scene, P, fp)
+    return EXIT_OK if fp.success else EXIT_OUTCOME
+
+
+def _print_fixed_point(scene, P, fp) -> None:
+    print(f"scene      {scene.path}  (model {scene.model})")
+    print(f"status     {fp.status.name}: {fp.message}")
+    if not fp.success:
+        return
+    print(f"residual   {fp.residual:.2e} after {fp.n_iter} Newton iterations")
+    print(f"step time  {fp.step_time:.15g} s")
+    print("state just after heel strike:")
+    for name, v in zip(scene.state_names, fp.state, strict=True):
+        print(f"  {name:<10s} {v: .15f}")
+    print("Floquet multipliers:")
+    for m in fp.multipliers:
+        print(f"  {m.real: .12f} {m.imag:+.12f}i   |.| = {abs(m):.12f}")
+    print(f"stable     {fp.stable}")
+
+
+def register(sub) -> None:
+    p = scene_cmd(sub, "find", "find the periodic gait (fixed point of the stride map)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--period", type=int, default=None, help="strides per period")
+    p.add_argument("--tol", type=float, default=1e-12, help="residual tolerance")
+    p.add_argument("--fd", action="store_true", help="finite-difference Jacobian")
+    p.add_argument("--out", help="also store the fixed point (HDF5)")
+    p.add_argument("--overwrite", action="store_true")
+    p.set_defaults(func=cmd_find)

@@ -1,0 +1,33 @@
+"""``walker plot``: the figures of a stored result."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ._common import (
+    EXIT_OK,
+    _check_figure_dir,
+)
+
+
+def cmd_plot(args) -> int:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from walker.gallery import plot_file
+
+    if not Path(args.file).exists():
+        raise FileNotFoundError(f"result file not found: {args.file}")
+    out = _check_figure_dir(args.out)
+    out.mkdir(exist_ok=True)  # the figures' own directory is created
+    paths = plot_file(args.file, out)
+    for p in paths:
+        print(f"wrote {p}")
+    return EXIT_OK
+
+
+def register(sub) -> None:
+    p = sub.add_parser("plot", help="draw the figures of a stored result")
+    p.add_argument("file")
+    p.add_argument("--out", default=".", help="directory for the figures (created)")
+    p.set_defaults(func=cmd_plot)

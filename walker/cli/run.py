@@ -1,0 +1,79 @@
+"""``walker run``: simulate strides from a scene's state and store the trajectory."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._common import (
+    EXIT_OK,
+    EXIT_OUTCOME,
+    UsageError,
+    _check_out,
+    _load,
+    provenance,
+    scene_cmd,
+)
+
+
+def cmd_run(args) -> int:
+    from walker.storage import write
+    from walker.stride import simulate
+
+    scene = _load(args)
+    out = _check_out(args.out, overwrite=args.overwrite)
+    c = scene.compute
+    strides = c.strides if args.strides is None else args.strides
+    if strides < 0:
+        raise UsageError(f"--strides must be >= 0, got {strides}")
+    if args.sample_rate is not None and not (
+        args.sample_rate > 0 and math.isfinite(args.sample_rate)
+    ):
+        raise UsageError(f"--sample-rate must be a positive number, got {args.sample_rate}")
+    common = dict(
+        n_strides=strides,
+        phase0=scene.phase,
+        method=c.method,
+        rtol=c.rtol,
+        atol=c.atol,
+        first_step=c.first_step,
+        t_max=c.t_max * max(1, strides),
+    )
+    if args.sample_rate is None:
+        sol = simulate(scene.model, scene.params, scene.state, output="full", **common)
+    else:
+        first = simulate(scene.model, scene.params, scene.state, output="events", **common)
+        times = np.arange(0.0, first.t, 1.0 / args.sample_rate)
+        sol = simulate(
+            scene.model, scene.params, scene.state, output="samples", sample_times=times, **common
+        )
+    print(f"status {sol.status.name}: {sol.message}")
+    print(
+        f"t = {sol.t:.12g} s, strides {sol.n_strides}, events {sol.n_events}, "
+        f"steps {sol.n_steps} ({sol.n_rejected} rejected), rhs {sol.n_rhs}"
+    )
+    if out is not None:
+        write(
+            out,
+            sol,
+            provenance=provenance(scene, {"status": sol.status.name}),
+            overwrite=args.overwrite,
+        )
+        print(f"wrote {out}")
+    return EXIT_OK if sol.success else EXIT_OUTCOME
+
+
+def register(sub) -> None:
+    p = scene_cmd(sub, "run", "simulate strides and store the trajectory")
+    p.add_argument("--strides", type=int, default=None)
+    p.add_argument("--out", help="HDF5 file to write")
+    p.add_argument(
+        "--sample-rate",
+        type=float,
+        default=None,
+        metavar="HZ",
+        help="store samples at this rate instead of every step",
+    )
+    p.add_argument("--overwrite", action="store_true")
+    p.set_defaults(func=cmd_run)
