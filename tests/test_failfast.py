@@ -109,6 +109,7 @@ def test_status_values_are_appended_never_renumbered():
     assert Status.DIVERGED == 13
     assert Status.BUDGET_EXHAUSTED == 14
     assert Status.OUTSIDE_WALKING_REGION == 15
+    assert Status.CHATTERING == 16
 
 
 def _cli_options() -> set[str]:
