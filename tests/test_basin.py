@@ -208,3 +208,89 @@ def test_basin_rejects_failed_fixed_point(toy):
     bad = find_fixed_point(ShiftMap(wiggle=0.1), np.array([0.0]))
     with pytest.raises(ValueError, match="`fixed_point` must be a converged FixedPoint"):
         basin_map(m, bad, ranges=RANGES, executor="serial")
+
+
+# --------------------------------------------------------------- the compiled batch path
+_AFFINE_SCENES = {
+    "compass": "gaits/compass_goswami.toml",
+    "kneed": "gaits/kneed_hsu.toml",
+    "three_link": "gaits/three_link_grizzle.toml",
+}
+
+
+def _walker_map(path):
+    from walker import load_scene
+    from walker.stride import StrideMap
+
+    scene = load_scene(path)
+    c = scene.compute
+    P = StrideMap(
+        scene.model,
+        scene.params,
+        method=c.method,
+        rtol=c.rtol,
+        atol=c.atol,
+        t_max=c.t_max,
+        first_step=c.first_step,
+    )
+    return scene, P
+
+
+class _PythonLoop:
+    """The same map without ``basin_batch``: basin_chunk runs its Python loop."""
+
+    def __init__(self, section_map):
+        self._map = section_map
+
+    def __call__(self, z, **kwargs):
+        return self._map(z, **kwargs)
+
+
+@pytest.mark.parametrize("model", sorted(_AFFINE_SCENES))
+def test_compiled_batch_gives_the_python_loops_outcomes(model):
+    # Every outcome kind of a real walker (falls, trips, converged, undecided) on a grid
+    # around its gait: the compiled row loop and the Python loop agree point for point.
+    scene, P = _walker_map(_AFFINE_SCENES[model])
+    fp = find_fixed_point(P, P.project(scene.state))
+    assert fp.success
+    assert P.basin_batch(1) is not None
+    z = fp.section
+    x = np.linspace(z[0] - 0.6 * abs(z[0]) - 0.05, z[0] + 0.6 * abs(z[0]) + 0.05, 9)
+    y = np.linspace(z[1] - 0.6 * abs(z[1]) - 0.05, z[1] + 0.6 * abs(z[1]) + 0.05, 5)
+    compiled = basin_chunk(P, z, z, (0, 1), x, y, 12, 1, 1e-6)
+    python = basin_chunk(_PythonLoop(P), z, z, (0, 1), x, y, 12, 1, 1e-6)
+    np.testing.assert_array_equal(compiled[0], python[0])
+    np.testing.assert_array_equal(compiled[1], python[1])
+    assert len(np.unique(python[0])) >= 2  # not a trivially uniform grid
+
+
+@pytest.mark.parametrize(
+    "module",
+    ["compass", "kneed", "rimless_wheel", "three_link", "compass_coulomb", "kneed_coulomb"],
+)
+def test_lift_affine_declarations_hold(module):
+    # LIFT_AFFINE promises lift(z) = lift(0) + lift_jacobian(0) z with one term per row,
+    # bit for bit (the batch's lift in walker/_core/batch.c relies on it)
+    import importlib
+
+    mod = importlib.import_module(f"walker.models.{module}")
+    assert mod.LIFT_AFFINE
+    from walker.models import get_model
+
+    m = get_model(module)
+    rng = np.random.default_rng(3)
+    p = rng.uniform(0.05, 2.0, len(m.params_class.names()))  # lift reads only a few
+    a = np.asarray(mod.lift_jacobian(np.zeros(m.n_z), p))
+    b = np.asarray(mod.lift(np.zeros(m.n_z), p))
+    assert np.all(np.count_nonzero(a, axis=1) <= 1)
+    for _ in range(50):
+        z = rng.normal(0.0, 2.0, m.n_z)
+        want = np.asarray(mod.lift(z, p))
+        got = np.array(
+            [
+                (b[r] + a[r] @ z) if b[r] != 0 else (a[r] @ z if a[r].any() else b[r])
+                for r in range(m.n_x)
+            ]
+        )
+        np.testing.assert_array_equal(got, want)
+        np.testing.assert_array_equal(mod.lift_jacobian(z, p), a)

@@ -52,7 +52,10 @@ def basin_chunk(
     """Classify the grid rows ``y_rows`` (the unit of work sent to an executor).
 
     Module-level so that it pickles.  Each point ``z = base`` with ``z[axes[0]] = x[j]`` and
-    ``z[axes[1]] = y_rows[i]`` is iterated with ``period`` strides per map call.
+    ``z[axes[1]] = y_rows[i]`` is iterated with ``period`` strides per map call.  A map with
+    a compiled batch (:meth:`walker.stride.StrideMap.basin_batch`: the walkers whose lift is
+    affine) runs a row per compiled call without the GIL, with the same outcomes; any other
+    :class:`SectionMap` runs the Python loop.
 
     Parameters
     ----------
@@ -85,6 +88,19 @@ def basin_chunk(
     outcome = np.full((len(y_rows), len(x)), BASIN_UNDECIDED, dtype=np.int64)
     strides = np.zeros((len(y_rows), len(x)), dtype=np.int64)
     ax, ay = axes
+    batch_of = getattr(section_map, "basin_batch", None)
+    batch = batch_of(period) if batch_of is not None else None
+    if batch is not None:
+        # A row per compiled call (without the GIL): the same outcomes as the loop below.
+        target = np.asarray(target, dtype=float)
+        for i, yv in enumerate(y_rows):
+            if stop is not None and stop.is_set():
+                raise Abandoned("basin chunk abandoned")
+            z0 = np.repeat(np.asarray(base, dtype=float)[None, :], len(x), axis=0)
+            z0[:, ax] = x
+            z0[:, ay] = yv
+            outcome[i], strides[i] = batch(z0, target, tol, n_strides)
+        return outcome, strides
     for i, yv in enumerate(y_rows):
         for j, xv in enumerate(x):
             if stop is not None and stop.is_set():

@@ -246,6 +246,68 @@ class StrideMap:
                 runs[n_strides] = run
         return run, cached[1], cached[2]
 
+    def basin_batch(self, period: int = 1):
+        """The compiled loop of :func:`walker.basin.basin_chunk` for this map, or None.
+
+        Returns ``run(z0, target, tol, n_strides) -> (outcome, strides)`` that iterates
+        every row of ``z0`` (shape ``(m, n_z)``) in one compiled call without the GIL, with
+        the operations of the Python loop (lift, start checks, stride, projection), so the
+        outcomes are the same.  None when the model's lift is not declared affine
+        (``LIFT_AFFINE`` in its module) or its start phase is not compiled; the caller then
+        runs the Python loop."""
+        from walker import _hybrid
+
+        model = self.model
+        if not getattr(model.module, "LIFT_AFFINE", False):
+            return None
+        if model._state_fn("start_phase") is None and hasattr(model.module, "start_phase"):
+            return None
+        run, p, guard = self._prepared(period)
+        (offset, fall_angle), n_q, wound, _, energy_address, kinetic_limit = guard
+        n_z, n_x = model.n_z, model.n_x
+        lift_a = np.ascontiguousarray(model.lift_jacobian(np.zeros(n_z), p), dtype=np.float64)
+        lift_b = np.ascontiguousarray(model.lift(np.zeros(n_z), p), dtype=np.float64)
+        proj = model.project(np.arange(n_x, dtype=np.float64), p).astype(np.int64)
+        head, settings, n_interior = run._head, run._settings, run._n_interior
+        code, adaptive, rtol, atol, first_step, max_step, _ = settings
+        per_stride = self.__dict__["_run"][3]
+        args = (
+            *head,
+            p,
+            code,
+            adaptive,
+            rtol,
+            atol,
+            first_step,
+            max_step,
+            per_stride,
+            n_interior,
+            lift_a,
+            lift_b,
+            proj,
+            float(offset),
+            float(fall_angle),
+            int(n_q),
+            float(wound),
+            energy_address or 0,
+            float(kinetic_limit),
+            model._state_fn("start_phase") or 0,
+            float(self.t_max),
+        )
+
+        def points(z0, target, tol, n_strides):
+            z0 = np.ascontiguousarray(z0, dtype=np.float64)
+            target = np.ascontiguousarray(target, dtype=np.float64)
+            outcome, strides = _hybrid.basin_points(
+                *args, z0, target, float(tol), int(n_strides), int(period)
+            )
+            return (
+                np.frombuffer(outcome, dtype=np.int64).copy(),
+                np.frombuffer(strides, dtype=np.int64).copy(),
+            )
+
+        return points
+
     def __getstate__(self):
         state = dict(self.__dict__)
         state.pop("_run", None)  # process-local addresses: rebuilt where it lands

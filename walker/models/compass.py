@@ -151,6 +151,11 @@ def energy(x, p):
     return K.kinetic(x[:2], x[2:], p), K.potential(x[:2], p)
 
 
+LIFT_AFFINE = True
+"""``lift`` is ``lift(0, p) + lift_jacobian(0, p) z``, each row one term (basin batches,
+:meth:`walker.stride.StrideMap.basin_batch`, rely on it; tests/test_basin.py checks it)."""
+
+
 def lift(z, p):
     """Section point ``(q_stance, qd_stance, qd_swing)`` -> full post-impact state."""
     slope = p[_I_SLOPE]

@@ -56,6 +56,7 @@ from walker._generated import compass as K
 from walker._linalg import solve_inplace
 from walker.models import compass as _compass
 from walker.models.compass import (
+    LIFT_AFFINE,
     SECTION_NAMES,
     SEGMENTS,
     STATE_NAMES,
@@ -89,6 +90,7 @@ __all__ = [
     "modes_of",
     "start_phase",
     "energy",
+    "LIFT_AFFINE",
     "lift",
     "lift_jacobian",
     "project",

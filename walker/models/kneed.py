@@ -275,6 +275,11 @@ def energy(x, p):
     return K.unlocked_kinetic(x[:3], x[3:], p), K.unlocked_potential(x[:3], p)
 
 
+LIFT_AFFINE = True
+"""``lift`` is ``lift(0, p) + lift_jacobian(0, p) z``, each row one term (basin batches,
+:meth:`walker.stride.StrideMap.basin_batch`, rely on it; tests/test_basin.py checks it)."""
+
+
 def lift(z, p):
     """Section point ``(q1, qd1, qd2)`` -> full state just after heel strike (knee straight)."""
     q2 = -2.0 * p[_I_SLOPE] - z[0]

@@ -47,6 +47,7 @@ from walker._generated import kneed as K
 from walker._linalg import solve_inplace
 from walker.models import kneed as _kneed
 from walker.models.kneed import (
+    LIFT_AFFINE,
     SECTION_NAMES,
     SEGMENTS,
     STATE_NAMES,
@@ -80,6 +81,7 @@ __all__ = [
     "modes_of",
     "start_phase",
     "energy",
+    "LIFT_AFFINE",
     "lift",
     "lift_jacobian",
     "project",

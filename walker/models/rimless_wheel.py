@@ -149,6 +149,11 @@ def half_angle(p) -> float:
     return math.pi / float(p[0])
 
 
+LIFT_AFFINE = True
+"""``lift`` is ``lift(0, p) + lift_jacobian(0, p) z``, each row one term (basin batches,
+:meth:`walker.stride.StrideMap.basin_batch`, rely on it; tests/test_basin.py checks it)."""
+
+
 def lift(z, p):
     """Section point ``(theta_dot,)`` -> full state just after an impact ``(alpha,
     theta_dot)``."""

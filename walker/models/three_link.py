@@ -445,6 +445,11 @@ def modes_of(phase: int) -> dict[str, str]:
     return fr.labels_of(phase, JOINTS)
 
 
+LIFT_AFFINE = True
+"""``lift`` is ``lift(0, p) + lift_jacobian(0, p) z``, each row one term (basin batches,
+:meth:`walker.stride.StrideMap.basin_batch`, rely on it; tests/test_basin.py checks it)."""
+
+
 def lift(z, p):
     """Section point ``(q_stance, q_torso, qd_stance, qd_swing, qd_torso)`` -> full state."""
     slope = p[I_SLOPE]

@@ -1,0 +1,121 @@
+/* Many starts of a walker's stride map in one compiled call: see batch.h. */
+#include "batch.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Status values (walker.status.Status). */
+#define B_FELL_BACKWARD 1
+#define B_FELL_FORWARD 2
+#define B_LINEAR_SOLVE_FAILED 10
+#define B_OUTSIDE_WALKING_REGION 15
+
+/* x = lift_b + lift_a z with the operations of the models' Python lift: a row's non-zero
+ * terms in column order, then the constant added in front (b - z for b + (-1) z). */
+static void lift(const wk_section *sec, int64_t n_x, const double *z, double *x)
+{
+    const int64_t n_z = sec->n_z;
+    for (int64_t r = 0; r < n_x; r++) {
+        const double *a = sec->lift_a + r * n_z;
+        double acc = 0.0;
+        int any = 0;
+        for (int64_t c = 0; c < n_z; c++) {
+            if (a[c] == 0.0) continue;
+            const double term = a[c] == 1.0 ? z[c] : (a[c] == -1.0 ? -z[c] : a[c] * z[c]);
+            acc = any ? acc + term : term;
+            any = 1;
+        }
+        const double b = sec->lift_b[r];
+        x[r] = any ? (b != 0.0 ? b + acc : acc) : b;
+    }
+}
+
+/* max |z - target| <= tol, false when anything is NaN (as numpy's max of NaN). */
+static int converged(const double *z, const double *target, int64_t n, double tol)
+{
+    double worst = 0.0;
+    for (int64_t i = 0; i < n; i++) {
+        const double d = fabs(z[i] - target[i]);
+        if (isnan(d)) return 0;
+        if (d > worst) worst = d;
+    }
+    return worst <= tol;
+}
+
+/* One call of the stride map from section point z (StrideMap.__call__ with n_strides =
+ * period): returns the status (0: completed, z overwritten with the new section point). */
+static int64_t map_once(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
+                        int64_t period, double *z, double *x0, int *rc)
+{
+    const int64_t n_x = tmpl->n_x;
+    lift(sec, n_x, z, x0);
+    const double psi = z[0] + sec->offset;
+    if (!(fabs(psi) < sec->fall_angle)) return psi < 0.0 ? B_FELL_FORWARD : B_FELL_BACKWARD;
+    for (int64_t i = 0; i < sec->n_q; i++)
+        if (fabs(x0[i]) > sec->wound) return B_OUTSIDE_WALKING_REGION;
+    double out[4] = {0.0, 0.0, 0.0, 0.0};
+    if (sec->energy != NULL) {
+        sec->energy(x0, tmpl->p, out, NULL);
+        if (!(out[0] <= sec->kinetic_limit)) return B_OUTSIDE_WALKING_REGION;
+    }
+    int64_t phase0 = 0;
+    if (sec->start_phase != NULL) {
+        out[0] = 0.0;
+        sec->start_phase(x0, tmpl->p, out, NULL);
+        phase0 = (int64_t)out[0];
+        if (phase0 < 0) return B_LINEAR_SOLVE_FAILED;
+    }
+    wk_problem pb = *tmpl;
+    pb.x0 = x0;
+    pb.phase0 = phase0;
+    pb.t0 = 0.0;
+    pb.t_max = sec->t_max * (double)period;
+    pb.n_strides = period;
+    pb.max_steps = sec->max_steps * period;
+    pb.output = WK_OUTPUT_MAP;
+    pb.want_jac = 0;
+    pb.sample_times = NULL;
+    pb.n_samples = 0;
+    wk_result res;
+    *rc = wk_hybrid_solve(fn, &pb, &res);
+    int64_t status = res.status;
+    if (*rc == WK_OK && status == 0)
+        for (int64_t i = 0; i < sec->n_z; i++) z[i] = res.x[sec->proj[i]];
+    wk_result_free(&res);
+    return status;
+}
+
+int wk_basin_points(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
+                    int64_t m, const double *z0, const double *target, double tol,
+                    int64_t n_strides, int64_t period, int64_t *outcome, int64_t *strides)
+{
+    const int64_t n_z = sec->n_z;
+    double *z = malloc((size_t)(n_z + tmpl->n_x) * sizeof(double));
+    if (z == NULL) return WK_ERR_NOMEM;
+    double *x0 = z + n_z;
+    int rc = WK_OK;
+    for (int64_t k = 0; k < m && rc == WK_OK; k++) {
+        memcpy(z, z0 + k * n_z, (size_t)n_z * sizeof(double));
+        int64_t done = 0;
+        int64_t result = WK_BASIN_UNDECIDED;
+        for (;;) {
+            if (converged(z, target, n_z, tol)) {
+                result = WK_BASIN_CONVERGED;
+                break;
+            }
+            if (done + period > n_strides) break;
+            const int64_t status = map_once(fn, tmpl, sec, period, z, x0, &rc);
+            if (rc != WK_OK) break;
+            if (status != 0) {
+                result = status;
+                break;
+            }
+            done += period;
+        }
+        outcome[k] = result;
+        strides[k] = done;
+    }
+    free(z);
+    return rc;
+}
