@@ -328,11 +328,16 @@ def _locate(ctx: _Context, method: str, p: _Point, q: _Point, test):
     return trial(s_star)
 
 
-def _detect(ctx, method, p, q):
-    """Bifurcations between consecutive branch points p and q (in order of occurrence)."""
+def _detect(ctx, method, p, q, kinds=("fold", "period_doubling")):
+    """Bifurcations of the given ``kinds`` between consecutive branch points p and q, in
+    order of occurrence: ``(kind, mu, z, multipliers, point)`` with ``point`` the converged
+    orbit at the bifurcation, or None when it could not be located (then ``mu`` and ``z``
+    are linear interpolations of the test function and the multipliers NaN)."""
     found = []
     fold_test = _psi_fold_arclength if method == "arclength" else _psi_fold_natural
-    for kind, test in (("fold", fold_test), ("period_doubling", _psi_pd)):
+    tests = {"fold": fold_test, "period_doubling": _psi_pd}
+    for kind in kinds:
+        test = tests[kind]
         a, b = test(p), test(q)
         if not (np.isfinite(a) and np.isfinite(b)) or a * b >= 0:
             continue
@@ -342,10 +347,10 @@ def _detect(ctx, method, p, q):
             w = a / (a - b)
             mu = p.mu + w * (q.mu - p.mu)
             z = p.z + w * (q.z - p.z)
-            found.append((kind, mu, z, np.full(z.shape[0], np.nan, dtype=complex), False))
+            found.append((kind, mu, z, np.full(z.shape[0], np.nan, dtype=complex), None))
             continue
         lam, _ = _eig_sorted(r.jac)
-        found.append((kind, r.mu, r.z.copy(), lam, True))
+        found.append((kind, r.mu, r.z.copy(), lam, r))
     found.sort(key=lambda item: abs(item[1] - p.mu))
     return found
 
@@ -356,11 +361,23 @@ def _validate_positive_int(value, name, minimum):
     return int(value)
 
 
+@dataclass
+class _Leg:
+    """One direction of a continuation: its points (the start first) and how it ended."""
+
+    points: list
+    bifurcations: list
+    status: Status
+    message: str
+
+
 def continue_branch(
     section_map: SectionMap,
     z0: np.ndarray,
     *,
-    to: float,
+    to: float | None = None,
+    bounds: tuple[float, float] | None = None,
+    stop_at_fold: bool = False,
     step: float | None = None,
     method: str = "arclength",
     min_step: float | None = None,
@@ -374,7 +391,8 @@ def continue_branch(
     parameter_step: float = 1e-6,
     max_corrector_iter: int = 8,
 ) -> Branch:
-    """Follow a branch of period-``period`` orbits from the map's parameter value to ``to``.
+    """Follow a branch of period-``period`` orbits from the map's parameter value: one way to
+    ``to``, or both ways to the ends of ``bounds``.
 
     The first point is the orbit near ``z0`` at ``section_map.parameter_value`` (found with
     :func:`~walker.fixedpoint.find_fixed_point`).  Each later point is predicted, corrected
@@ -384,21 +402,43 @@ def continue_branch(
     that needed at most 3 iterations, and halves after a failure; below ``min_step`` the
     continuation stops.  ``dP^k/dmu`` is a central finite difference in the parameter.
 
+    With ``bounds = (lo, hi)`` the branch is followed from the start toward ``lo`` and toward
+    ``hi`` (each direction on its own, ``max_points`` each) and the two halves are joined into
+    one branch ordered along the curve: from the end reached going down, through the start,
+    to the end reached going up.  A direction ends where the branch leaves ``[lo, hi]`` at
+    either end (the last point placed exactly on the bound: past a fold the branch may leave
+    through the other end), at a fold when ``stop_at_fold``, after ``max_points`` points, or
+    when the corrector or the walker fails.
+
+    With ``stop_at_fold`` a direction ends at the first fold (limit point, a real multiplier
+    through +1 with the parameter turning back): the located fold orbit is its last point,
+    and the status is ``COMPLETED`` with a message saying the fold was reached.  Without it,
+    arclength continuation goes round the fold onto the other (usually unstable) branch.
+    Natural continuation cannot pass a fold: it stops before it with ``NOT_CONVERGED``
+    either way.
+
     Parameters
     ----------
     section_map : SectionMap
     z0 : ndarray, shape (n_z,)
         guess of the first orbit, at ``section_map.parameter_value``.
-    to : float
-        parameter value to reach; the last point is placed exactly there.
+    to : float, optional
+        parameter value to reach going one way; the last point is placed exactly there.
+        Give ``to`` or ``bounds``, not both.
+    bounds : (float, float), optional
+        ``(lo, hi)`` with ``lo < hi`` containing the start value: go both ways (only one
+        way when the start sits on a bound).
+    stop_at_fold : bool
+        end each direction at its first fold (folds are detected even with
+        ``detect=False``).
     step : float, optional
         initial step: in the parameter (``"natural"``) or in arclength of ``(z, mu)``
-        (``"arclength"``); default ``0.01 |to - mu0|``.
+        (``"arclength"``); default ``0.01`` times the span (``|to - mu0|``, or ``hi - lo``).
     method : {"arclength", "natural"}
     min_step, max_step : float, optional
-        step bounds; defaults ``1e-6 |to - mu0|`` and ``0.1 |to - mu0|``.
+        step bounds; defaults ``1e-6`` and ``0.1`` times the span.
     max_points : int
-        maximum number of branch points (including the first).
+        maximum number of branch points in each direction (including the first).
     period : int
         strides per orbit.
     tol : float
@@ -417,19 +457,23 @@ def continue_branch(
     Returns
     -------
     Branch
-        ``status``: ``COMPLETED`` when ``to`` was reached; ``MAX_STEPS`` after ``max_points``
-        points; ``NOT_CONVERGED`` (or ``LINEAR_SOLVE_FAILED``) when the step fell below
+        ``status``: ``COMPLETED`` when ``to`` (every bound aimed at) or, with
+        ``stop_at_fold``, a fold was reached; ``MAX_STEPS`` after ``max_points`` points;
+        ``NOT_CONVERGED`` (or ``LINEAR_SOLVE_FAILED``) when the step fell below
         ``min_step`` — for natural continuation usually a fold (try ``"arclength"``); a fall
         status (e.g. ``FELL_FORWARD``) when the walker stops walking along the branch; the
-        first orbit's status when it could not be found (then the branch is empty).
+        first orbit's status when it could not be found (then the branch is empty).  Going
+        both ways, the status is the first direction's (toward ``lo``) unless that one
+        completed, and the message tells how each direction ended.
         ``bifurcations`` lists located folds and period doublings in branch order.
 
     Raises
     ------
     ValueError
-        for an invalid ``z0``, a non-finite ``to`` or ``to`` equal to the start value, an
-        unknown ``method`` or ``jacobian``, non-positive steps or tolerances,
-        ``min_step > max_step``, ``max_points < 2`` or ``period < 1``.
+        for an invalid ``z0``, neither or both of ``to`` and ``bounds``, a non-finite ``to``
+        or ``to`` equal to the start value, ``bounds`` not finite, not increasing or not
+        containing the start value, an unknown ``method`` or ``jacobian``, non-positive steps
+        or tolerances, ``min_step > max_step``, ``max_points < 2`` or ``period < 1``.
 
     Examples
     --------
@@ -453,6 +497,10 @@ def continue_branch(
     >>> branch = continue_branch(Affine(1.0), np.array([2.0]), to=2.0)
     >>> branch.status.name, float(branch.parameter[-1]), round(float(branch.sections[-1, 0]), 9)
     ('COMPLETED', 2.0, 4.0)
+    >>> both = continue_branch(Affine(1.0), np.array([2.0]), bounds=(0.0, 2.0))
+    >>> lo, hi = float(both.parameter[0]), float(both.parameter[-1])
+    >>> lo, hi, bool(np.all(np.diff(both.parameter) > 0))
+    (0.0, 2.0, True)
     """
     z0 = _validate_z(section_map, z0, "z0")
     period = _validate_period(period)
@@ -465,19 +513,31 @@ def continue_branch(
     max_points = _validate_positive_int(max_points, "max_points", 2)
     max_corrector_iter = _validate_positive_int(max_corrector_iter, "max_corrector_iter", 1)
     mu0 = float(section_map.parameter_value)
-    to = float(to)
-    if not np.isfinite(to):
-        raise ValueError(f"`to` must be finite, got {to}")
-    span = abs(to - mu0)
-    if span == 0:
-        raise ValueError(f"`to` must differ from the map's parameter value {mu0}, got {to}")
+    if (to is None) == (bounds is None):
+        raise ValueError(
+            "Give exactly one of `to` (continue one way) and `bounds` (both ways), got "
+            f"to={to!r}, bounds={bounds!r}"
+        )
+    if to is not None:
+        to = float(to)
+        if not np.isfinite(to):
+            raise ValueError(f"`to` must be finite, got {to}")
+        span = abs(to - mu0)
+        if span == 0:
+            raise ValueError(f"`to` must differ from the map's parameter value {mu0}, got {to}")
+        direction = 1.0 if to > mu0 else -1.0
+        # One way: the branch ends where it crosses `to`, on whichever side of the start.
+        legs = [(direction, (to, np.inf) if direction < 0 else (-np.inf, to))]
+    else:
+        lo, hi = _validate_bounds(bounds, mu0)
+        span = hi - lo
+        legs = [(d, (lo, hi)) for d, end in ((-1.0, lo), (1.0, hi)) if end != mu0]
     step = _positive(0.01 * span if step is None else step, "step")
     min_step = _positive(1e-6 * span if min_step is None else min_step, "min_step")
     max_step = _positive(0.1 * span if max_step is None else max_step, "max_step")
     if min_step > max_step:
         raise ValueError(f"`min_step` ({min_step}) must not exceed `max_step` ({max_step})")
     step = min(max(step, min_step), max_step)
-    direction = 1.0 if to > mu0 else -1.0
     name = section_map.parameter_name
     ctx = _Context(
         _BoundedMap(section_map), period, tol, mode, fd_step, parameter_step, max_corrector_iter
@@ -502,6 +562,88 @@ def continue_branch(
         return _make_branch(
             name, [], [], st, f"The start orbit failed to evaluate: {st.message}", period, n_z
         )
+    kinds = ("fold", "period_doubling") if detect else ("fold",) if stop_at_fold else ()
+    done = [
+        _follow(
+            ctx,
+            p0,
+            direction,
+            limits,
+            method=method,
+            step=step,
+            min_step=min_step,
+            max_step=max_step,
+            max_points=max_points,
+            kinds=kinds,
+            stop_at_fold=stop_at_fold,
+        )
+        for direction, limits in legs
+    ]
+    if len(done) == 1:
+        leg = done[0]
+        if to is not None:
+            return _make_branch(
+                name, leg.points, leg.bifurcations, leg.status, leg.message, period, n_z
+            )
+        # Both ways, but the start sits on a bound: the one half, in the same order (from
+        # the end reached going down, through the start, to the end reached going up).
+        empty = _Leg([p0], [], Status.COMPLETED, "")
+        done = [leg, empty] if legs[0][0] < 0 else [empty, leg]
+    down, up = done
+    status = next((leg.status for leg in done if leg.status != Status.COMPLETED), up.status)
+    message = " ".join(
+        f"Going {word}: {leg.message}"
+        for word, leg in zip(("down", "up"), done, strict=True)
+        if leg.message
+    )
+    return _make_branch(
+        name,
+        down.points[::-1] + up.points[1:],
+        down.bifurcations[::-1] + up.bifurcations,
+        status,
+        message,
+        period,
+        n_z,
+    )
+
+
+def _validate_bounds(bounds, mu0: float) -> tuple[float, float]:
+    try:
+        lo, hi = (float(v) for v in bounds)
+    except (TypeError, ValueError):
+        raise ValueError(f"`bounds` must be two numbers (lo, hi), got {bounds!r}") from None
+    if not (np.isfinite(lo) and np.isfinite(hi)):
+        raise ValueError(f"`bounds` must be finite, got ({lo}, {hi})")
+    if not lo < hi:
+        raise ValueError(f"`bounds` must satisfy lo < hi, got ({lo}, {hi})")
+    if not lo <= mu0 <= hi:
+        raise ValueError(
+            f"`bounds` ({lo}, {hi}) must contain the map's parameter value {mu0} (the start)"
+        )
+    return lo, hi
+
+
+def _follow(
+    ctx: _Context,
+    p0: _Point,
+    direction: float,
+    limits: tuple[float, float],
+    *,
+    method: str,
+    step: float,
+    min_step: float,
+    max_step: float,
+    max_points: int,
+    kinds: tuple[str, ...],
+    stop_at_fold: bool,
+) -> _Leg:
+    """Continue from ``p0`` with the parameter initially moving in ``direction`` (+1 or -1)
+    until the branch leaves ``limits = (lo, hi)`` (either may be infinite)."""
+    name = ctx.section_map.parameter_name
+    lo, hi = limits
+    target = lo if direction < 0 else hi
+    n_z = p0.z.shape[0]
+    p0 = _Point(z=p0.z, mu=p0.mu, jac=p0.jac, step_time=p0.step_time, pmu=p0.pmu)
     if method == "arclength":
         p0.tangent = _initial_tangent(p0, direction)
         dz_dmu = None
@@ -520,18 +662,18 @@ def continue_branch(
     message = ""
     while len(points) < max_points:
         p = points[-1]
-        finishing = False
+        finishing = None  # the bound the last point was placed on
         if method == "natural":
             mu_new = p.mu + direction * h
-            if direction * (mu_new - to) >= 0:
-                mu_new, finishing = to, True
+            if direction * (mu_new - target) >= 0:
+                mu_new, finishing = target, target
             z_pred = p.z + dz_dmu * (mu_new - p.mu)
             q, st, n_iter = _correct_natural(ctx, z_pred, mu_new)
             ok = q is not None
             if ok:
                 jump = np.linalg.norm(np.append(q.z - z_pred, 0.0))
                 scale = np.linalg.norm(np.append(z_pred - p.z, mu_new - p.mu))
-                ok = jump <= MAX_CORRECTION * scale + 100 * tol
+                ok = jump <= MAX_CORRECTION * scale + 100 * ctx.tol
                 if not ok:
                     st = Status.NOT_CONVERGED
         else:
@@ -545,36 +687,51 @@ def continue_branch(
                 ok = (
                     q.tangent is not None
                     and float(q.tangent @ p.tangent) >= MIN_TANGENT_DOT
-                    and np.linalg.norm(u_q - u_pred) <= MAX_CORRECTION * h + 100 * tol
+                    and np.linalg.norm(u_q - u_pred) <= MAX_CORRECTION * h + 100 * ctx.tol
                 )
                 if not ok:
                     st = Status.NOT_CONVERGED
-            if ok and direction * (q.mu - to) >= 0:
-                # Crossed `to`: place the last point exactly there.
-                w = (to - p.mu) / (q.mu - p.mu)
-                r, _, _ = _correct_natural(ctx, p.z + w * (q.z - p.z), to, with_pmu=True)
-                if r is not None:
-                    r.tangent = _tangent(r, p.tangent)
-                    if r.tangent is not None:
-                        q = r
-                finishing = True
+            if ok:
+                crossed = hi if q.mu >= hi > p.mu else lo if q.mu <= lo < p.mu else None
+                if crossed is not None:
+                    # Crossed a bound: place the last point exactly there.
+                    w = (crossed - p.mu) / (q.mu - p.mu)
+                    r, _, _ = _correct_natural(ctx, p.z + w * (q.z - p.z), crossed, with_pmu=True)
+                    if r is not None:
+                        r.tangent = _tangent(r, p.tangent)
+                        if r.tangent is not None:
+                            q = r
+                    finishing = crossed
         if not ok:
             last_fail = st
             h *= 0.5
             if h < min_step:
                 break
             continue
-        if detect:
-            for kind, mu_b, z_b, lam_b, located in _detect(ctx, method, p, q):
-                bifurcations.append(Bifurcation(kind, float(mu_b), z_b, lam_b))
-                if not located:
-                    unlocated.append(f"{kind} near {name} = {mu_b:.6g}")
+        fold = None
+        for kind, mu_b, z_b, lam_b, r in _detect(ctx, method, p, q, kinds):
+            bifurcations.append(Bifurcation(kind, float(mu_b), z_b, lam_b))
+            if r is None:
+                unlocated.append(f"{kind} near {name} = {mu_b:.6g}")
+            if kind == "fold" and stop_at_fold:
+                fold = (float(mu_b), r)
+                break
+        if fold is not None:
+            mu_f, r = fold
+            if r is not None and r is not p:
+                points.append(r)
+            status = Status.COMPLETED
+            message = (
+                f"Fold reached at {name} = {mu_f:.10g} after {len(points)} points: the branch "
+                "turns back there (continue through folds to follow it)."
+            )
+            break
         if method == "natural":
             dz_dmu = (q.z - p.z) / (q.mu - p.mu)
         points.append(q)
-        if finishing:
+        if finishing is not None:
             status = Status.COMPLETED
-            message = f"Reached {name} = {to:.10g} in {len(points)} points."
+            message = f"Reached {name} = {finishing:.10g} in {len(points)} points."
             break
         if n_iter <= FAST_ITER:
             h = min(h * STEP_GROW, max_step)
@@ -584,7 +741,7 @@ def continue_branch(
             status = Status.MAX_STEPS
             message = (
                 f"Stopped after `max_points` = {max_points} points at {name} = {last:.10g} "
-                f"before reaching {to:.10g}. Increase `max_points` or `max_step`."
+                f"before reaching {target:.10g}. Increase `max_points` or `max_step`."
             )
         elif last_fail in (Status.NOT_CONVERGED, Status.LINEAR_SOLVE_FAILED):
             status = last_fail
@@ -605,7 +762,7 @@ def continue_branch(
             )
     if unlocated:
         message += " Not located to full accuracy (interpolated): " + "; ".join(unlocated) + "."
-    return _make_branch(name, points, bifurcations, status, message, period, n_z)
+    return _Leg(points, bifurcations, status, message)
 
 
 def _make_branch(name, points, bifurcations, status, message, period, n_z) -> Branch:

@@ -26,7 +26,7 @@ import contextlib
 import os
 import sys
 
-from . import basin, branch, find, plot, run, sweep
+from . import basin, branch, find, orbit, plot, run, sweep
 from ._common import (
     BASIN_TOL,
     EXIT_INTERRUPTED,
@@ -53,7 +53,7 @@ __all__ = [
     "provenance",
 ]
 
-_COMMANDS = (find, run, branch, basin, sweep, plot)
+_COMMANDS = (find, run, branch, basin, sweep, plot, orbit)
 
 
 def build_parser() -> argparse.ArgumentParser:

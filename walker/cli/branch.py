@@ -1,8 +1,19 @@
-"""``walker continue``: follow a gait as a parameter changes (a branch of fixed points)."""
+"""``walker continue``: follow a gait as a parameter changes (a branch of fixed points).
+
+The branch is followed from the scene's gait (period: ``--period``, else the scene's
+``[compute] strides``) to both ends of the interval ``--range A:B`` (or ``--from A --to B``;
+``--to B`` alone is the interval between the start and ``B``).  Each direction stops at the
+first fold unless ``--through-folds``; ``--switch`` follows the period-doubled branch born at
+the period doubling met first from the start, written next to ``--out`` as
+``<stem>_period<2k>.h5``.
+"""
 
 from __future__ import annotations
 
 import math
+from pathlib import Path
+
+import numpy as np
 
 from ._common import (
     EXIT_OK,
@@ -18,81 +29,380 @@ from ._common import (
 )
 
 
+def parse_range(text: str, flag: str = "--range") -> tuple[float, float]:
+    """``"A:B"`` -> ``(A, B)``: two finite, different numbers (order kept)."""
+    parts = str(text).split(":")
+    if len(parts) != 2:
+        raise UsageError(f"{flag} expects A:B (two numbers), got {text!r}")
+    try:
+        a, b = (float(v) for v in parts)
+    except ValueError:
+        raise UsageError(f"{flag} expects A:B (two numbers), got {text!r}") from None
+    if not (math.isfinite(a) and math.isfinite(b)):
+        raise UsageError(f"{flag} must be finite, got {text!r}")
+    if a == b:
+        raise UsageError(f"{flag} needs two different values, got {text!r}")
+    return a, b
+
+
+def check_param(scene, name: str) -> None:
+    """``--param`` names a parameter of the scene's model."""
+    names = scene.params.names()
+    if name not in names:
+        raise UsageError(
+            f"--param must be a parameter of {scene.model} ({', '.join(names)}), got {name!r}"
+        )
+
+
+def check_walker(scene, path) -> None:
+    """The scene's model walks (has strides and a section)."""
+    from walker.models import get_model
+
+    if not get_model(scene.model).is_walker:
+        raise UsageError(f"{path}: model `{scene.model}` has no strides (not a walker)")
+
+
+def scene_period(args, scene) -> int:
+    """``--period`` (>= 1), else the scene's ``[compute] strides`` for a fixed-point task."""
+    if args.period is not None:
+        if args.period < 1:
+            raise UsageError(f"--period must be an integer >= 1, got {args.period}")
+        return int(args.period)
+    c = scene.compute
+    return max(1, int(c.strides)) if c.task == "fixed_point" else 1
+
+
+def _interval(args, mu0: float, name: str) -> tuple[float, float]:
+    if args.range is not None:
+        if args.from_ is not None or args.to is not None:
+            raise UsageError("--range excludes --from and --to; give one or the other")
+        a, b = parse_range(args.range)
+    else:
+        for flag, v in (("--from", args.from_), ("--to", args.to)):
+            if v is not None and not math.isfinite(v):
+                raise UsageError(f"{flag} must be finite, got {v}")
+        given = [v for v in (args.from_, args.to) if v is not None]
+        if not given:
+            raise UsageError(
+                f"give the interval to follow the branch over: --range A:B, or --to B (from "
+                f"the scene's {name} = {mu0:.10g})"
+            )
+        a, b = given if len(given) == 2 else (mu0, given[0])
+        if a == b:
+            raise UsageError(f"--from and --to must differ from each other and the start, got {a}")
+    lo, hi = min(a, b), max(a, b)
+    if not lo <= mu0 <= hi:
+        raise UsageError(
+            f"the scene's {name} = {mu0:.10g} (the start) lies outside [{lo:.10g}, {hi:.10g}]; "
+            f"widen --range or start inside it with --set {name}=..."
+        )
+    return lo, hi
+
+
+def _companion(out: Path | None, period: int) -> Path | None:
+    """Where ``--switch`` stores the period-doubled branch: next to ``--out``."""
+    if out is None:
+        return None
+    return out.with_name(f"{out.stem}_period{period}{out.suffix or '.h5'}")
+
+
+def _parts(branch, stable: bool) -> list[list[float]]:
+    """Parameter intervals ``[low, high]`` of the runs of (un)stable points, in branch order.
+
+    A point on a located bifurcation (marginal: a multiplier on the unit circle) counts with
+    its neighbour, and where a bifurcation lies between two runs it is their common end."""
+    flags = np.asarray(branch.stable, dtype=bool).copy()
+    mu = np.asarray(branch.parameter, dtype=float)
+    located = [b for b in branch.bifurcations if np.all(np.isfinite(b.multipliers))]
+    for i in range(flags.size):
+        on_bif = any(
+            b.parameter_value == mu[i] and np.array_equal(b.section, branch.sections[i])
+            for b in located
+        )
+        if on_bif and flags.size > 1:
+            flags[i] = flags[i - 1] if i > 0 else flags[i + 1]
+    runs = []
+    i = 0
+    while i < flags.size:
+        j = i
+        while j + 1 < flags.size and flags[j + 1] == flags[i]:
+            j += 1
+        runs.append([i, j, float(mu[i]), float(mu[j])])
+        i = j + 1
+    u = np.column_stack([branch.sections, mu])
+    for left, right in zip(runs, runs[1:], strict=False):
+        a, b = u[left[1]], u[right[0]]
+        # on the segment between the two points, up to the curvature of the branch
+        between = [
+            bf.parameter_value
+            for bf in located
+            if np.linalg.norm(np.append(bf.section, bf.parameter_value) - a)
+            + np.linalg.norm(np.append(bf.section, bf.parameter_value) - b)
+            <= 1.5 * np.linalg.norm(b - a)
+        ]
+        if between:
+            left[3] = right[2] = float(between[0])
+    return [[min(lo, hi), max(lo, hi)] for i, _, lo, hi in runs if bool(flags[i]) == stable]
+
+
+def _end_kind(branch, index: int, start_index: int, bounds) -> str:
+    mu = float(branch.parameter[index])
+    z = branch.sections[index]
+    for b in branch.bifurcations:
+        if b.kind == "fold" and b.parameter_value == mu and np.array_equal(b.section, z):
+            return "fold"
+    if index % len(branch.parameter) == start_index:
+        return "start"
+    if mu in bounds:
+        return "bound"
+    return "stopped"
+
+
+def _summary(branch, name: str, start_index: int | None, bounds) -> dict:
+    n = int(len(branch.parameter))
+    record = {
+        "status": branch.status.name,
+        "success": bool(branch.success),
+        "message": branch.message,
+        "parameter": name,
+        "period": int(branch.period),
+        "n_points": n,
+        "parameter_range": (
+            [float(branch.parameter.min()), float(branch.parameter.max())] if n else None
+        ),
+        "ends": [],
+        "stable_parts": _parts(branch, True),
+        "unstable_parts": _parts(branch, False),
+        "bifurcations": [
+            {
+                "kind": b.kind,
+                "parameter": name,
+                "parameter_value": float(b.parameter_value),
+                "section": [float(v) for v in b.section],
+                "multipliers": _complex_pairs(b.multipliers),
+            }
+            for b in branch.bifurcations
+        ],
+    }
+    if n:
+        record["ends"] = [
+            {
+                "parameter_value": float(branch.parameter[i]),
+                "at": _end_kind(branch, i, -1 if start_index is None else start_index, bounds),
+            }
+            for i in (0, n - 1)
+        ]
+    return record
+
+
+def _print_summary(rec: dict, label: str = "") -> None:
+    name = rec["parameter"]
+    print(f"{label}status {rec['status']}: {rec['message']}")
+    if not rec["n_points"]:
+        return
+    ends = " to ".join(f"{e['parameter_value']:.10g} ({e['at']})" for e in rec["ends"])
+    print(f"{rec['n_points']} points, period {rec['period']}, {name} from {ends}")
+    for key, word in (("stable_parts", "stable"), ("unstable_parts", "unstable")):
+        if rec[key]:
+            spans = ", ".join(f"{a:.6g}..{b:.6g}" for a, b in rec[key])
+            print(f"  {word:<9s}{name} {spans}")
+    for b in rec["bifurcations"]:
+        mult = ", ".join(f"{re:.6f}{im:+.6f}i" for re, im in b["multipliers"])
+        print(f"  {b['kind']:<16s} {name} = {b['parameter_value']:.12g}   [{mult}]")
+    if any(e["at"] == "fold" for e in rec["ends"]):
+        print("  stopped at the fold: pass --through-folds to follow the branch round it")
+
+
 def cmd_continue(args) -> int:
     from walker.continuation import continue_branch
     from walker.fixedpoint import find_fixed_point
 
     scene = _load(args)
-    P = _stride_map(scene, parameter_name=args.param)
-    if not math.isfinite(args.to):
-        raise UsageError(f"--to must be finite, got {args.to}")
+    check_walker(scene, args.scene)
+    check_param(scene, args.param)
+    period = scene_period(args, scene)
+    mu0 = float(getattr(scene.params, args.param))
+    bounds = _interval(args, mu0, args.param)
     out = _check_out(args.out, overwrite=args.overwrite)
-    fp = find_fixed_point(P, P.project(scene.state))
+    out2 = _companion(out, 2 * period) if args.switch else None
+    if out2 is not None:
+        _check_out(out2, overwrite=args.overwrite)
+    if args.max_points < 2:
+        raise UsageError(f"--max-points must be an integer >= 2, got {args.max_points}")
+    if args.step is not None and not (math.isfinite(args.step) and args.step > 0):
+        raise UsageError(f"--step must be positive and finite, got {args.step}")
+    P = _stride_map(scene, parameter_name=args.param)
+    fp = find_fixed_point(P, P.project(scene.state), period=period)
     if not fp.success:
-        print(f"status {fp.status.name}: no starting gait: {fp.message}")
+        rec = {
+            "status": fp.status.name,
+            "success": False,
+            "parameter": args.param,
+            "period": period,
+            "message": f"no starting gait: {fp.message}",
+        }
+        print(_json(rec) if args.json else f"status {fp.status.name}: {rec['message']}")
         return EXIT_OUTCOME
-    kwargs = {}
+    options = {
+        "method": "natural" if args.natural else "arclength",
+        "max_points": args.max_points,
+        "period": period,
+        "stop_at_fold": not args.through_folds,
+    }
     if args.step is not None:
-        kwargs["step"] = args.step
-    branch = continue_branch(
-        P,
-        fp.section,
-        to=args.to,
-        method="natural" if args.natural else "arclength",
-        max_points=args.max_points,
-        **kwargs,
-    )
+        options["step"] = args.step
+    branch = continue_branch(P, fp.section, bounds=bounds, **options)
+    start = None
+    if len(branch.parameter):
+        dist = np.abs(branch.parameter - mu0) + np.max(np.abs(branch.sections - fp.section), axis=1)
+        start = int(np.argmin(dist))
+    record = _summary(branch, args.param, start, bounds)
+    extra = {
+        "status": branch.status.name,
+        "period": period,
+        "range": list(bounds),
+        "start": mu0,
+        "stop_at_fold": not args.through_folds,
+    }
+
+    ok = branch.success
+    switched = None
+    if args.switch:
+        switched, switch_rec = _switch(P, branch, bounds, options, period, mu0, args.param)
+        record["period_doubled"] = switch_rec
+        ok = ok and switched is not None and switched.success
     if out is not None:
         from walker.storage import write
 
-        write(
-            out,
-            branch,
-            provenance=provenance(scene, {"status": branch.status.name}),
-            overwrite=args.overwrite,
-        )
-    bifs = [
-        {
-            "kind": b.kind,
-            "parameter": args.param,
-            "parameter_value": float(b.parameter_value),
-            "section": [float(v) for v in b.section],
-            "multipliers": _complex_pairs(b.multipliers),
-        }
-        for b in branch.bifurcations
-    ]
-    if args.json:
-        print(
-            _json(
-                {
-                    "status": branch.status.name,
-                    "message": branch.message,
-                    "parameter": args.param,
-                    "n_points": int(len(branch.parameter)),
-                    "parameter_range": [
-                        float(branch.parameter.min()),
-                        float(branch.parameter.max()),
-                    ],
-                    "bifurcations": bifs,
-                }
+        if switched is not None and len(switched.parameter):
+            write(
+                out2,
+                switched,
+                provenance=provenance(
+                    scene,
+                    {
+                        "status": switched.status.name,
+                        "period": 2 * period,
+                        "range": list(bounds),
+                        "switched_from": out.name,
+                        "doubling": record["period_doubled"]["doubling"],
+                        "stop_at_fold": not args.through_folds,
+                    },
+                ),
+                overwrite=args.overwrite,
             )
-        )
+            record["period_doubled"]["out"] = str(out2)
+            extra["switched_branch"] = out2.name
+        write(out, branch, provenance=provenance(scene, extra), overwrite=args.overwrite)
+        record["out"] = str(out)
+    if args.json:
+        print(_json(record))
     else:
-        print(f"status {branch.status.name}: {branch.message}")
-        print(
-            f"{len(branch.parameter)} points, {args.param} from "
-            f"{branch.parameter[0]:.10g} to {branch.parameter[-1]:.10g}"
+        _print_summary(record)
+        sw = record.get("period_doubled")
+        if sw is not None:
+            print()
+            label = f"period-{sw['period']} branch: "
+            if sw.get("n_points"):
+                _print_summary(sw, label=label)
+            elif sw["status"] is None:
+                print(f"{label}not computed: {sw['message']}")
+            else:
+                print(f"{label}status {sw['status']}: {sw['message']}")
+        for rec in (record, sw or {}):
+            if "out" in rec:
+                print(f"wrote {rec['out']}")
+    return EXIT_OK if ok else EXIT_OUTCOME
+
+
+def _switch(P, branch, bounds, options, period, mu0, name):
+    """Period-doubled branch at the doubling met first from the start (nearest in the
+    parameter), followed away from the doubling to the end of ``bounds``.
+
+    Returns ``(branch or None, record)``."""
+    from walker.continuation import continue_branch, switch_to_period_two
+
+    def failed(status, message, doubling=None):
+        return None, {
+            "status": status,
+            "success": False,
+            "period": 2 * period,
+            "message": message,
+            "doubling": doubling,
+        }
+
+    pds = [
+        b
+        for b in branch.bifurcations
+        if b.kind == "period_doubling" and np.all(np.isfinite(b.multipliers))
+    ]
+    if not pds:
+        return failed(None, "no period doubling located on the branch: nothing to switch at")
+    pd = min(pds, key=lambda b: abs(b.parameter_value - mu0))
+    mu_pd = float(pd.parameter_value)
+    fp2 = switch_to_period_two(P, pd, period=period)
+    if not fp2.success:
+        return failed(
+            fp2.status.name, f"switching at {name} = {mu_pd:.10g} failed: {fp2.message}", mu_pd
         )
-        for b in bifs:
-            mult = ", ".join(f"{re:.6f}{im:+.6f}i" for re, im in b["multipliers"])
-            print(f"  {b['kind']:<16s} {args.param} = {b['parameter_value']:.12g}   [{mult}]")
-    return EXIT_OK if branch.success else EXIT_OUTCOME
+    mu2 = float(fp2.parameters[name])
+    lo, hi = bounds
+    side = (mu2, hi) if mu2 > mu_pd else (lo, mu2)
+    if not side[0] < side[1]:
+        return failed(
+            None,
+            f"the period-{2 * period} orbit appears at {name} = {mu2:.10g}, outside "
+            f"[{lo:.10g}, {hi:.10g}]: widen --range",
+            mu_pd,
+        )
+    br2 = continue_branch(
+        P.with_parameter(mu2), fp2.section, bounds=side, **dict(options, period=2 * period)
+    )
+    start = 0 if mu2 == side[0] else len(br2.parameter) - 1
+    rec = _summary(br2, name, start, side)
+    rec["doubling"] = mu_pd
+    return br2, rec
 
 
 def register(sub) -> None:
     p = scene_cmd(sub, "continue", "follow the gait as a parameter changes")
     p.add_argument("--param", default="slope")
-    p.add_argument("--to", type=float, required=True)
+    p.add_argument(
+        "--range",
+        metavar="A:B",
+        help="follow the branch both ways from the scene's gait to A and to B (default: none; "
+        "give --range, or --from/--to)",
+    )
+    p.add_argument(
+        "--from",
+        dest="from_",
+        type=float,
+        metavar="A",
+        help="one end of the interval (default: the scene's value)",
+    )
+    p.add_argument(
+        "--to",
+        type=float,
+        metavar="B",
+        help="other end of the interval (default: the scene's value)",
+    )
+    p.add_argument(
+        "--period",
+        type=int,
+        default=None,
+        help="strides per gait cycle, >= 1 (default: the scene's [compute] strides)",
+    )
+    p.add_argument(
+        "--through-folds",
+        action="store_true",
+        help="follow the branch round a fold onto the other branch (default: stop at a fold)",
+    )
+    p.add_argument(
+        "--switch",
+        action="store_true",
+        help="also follow the period-doubled branch born at the first period doubling, "
+        "stored in <out stem>_period<2k>.h5 (default: off)",
+    )
     p.add_argument("--step", type=float, default=None)
     p.add_argument("--max-points", type=int, default=500)
     p.add_argument("--natural", action="store_true", help="natural-parameter continuation")
