@@ -64,7 +64,7 @@ def test_run_then_plot(tmp_path, capsys):
     assert sol.n_strides == 2 and prov["model"] == "kneed" and prov["kernel_hash"]
     assert sol.samples is not None and len(sol.samples) > 100
     figs = tmp_path / "figs"  # created by `walker plot`
-    code, text, _ = _run(capsys, ["plot", str(out), "--out", str(figs)])
+    code, text, _ = _run(capsys, ["plot", str(out), "--out", str(figs), "--gif"])
     assert code == 0
     names = sorted(p.name for p in figs.iterdir())
     assert "kneed_angles.png" in names and "kneed_walk.gif" in names

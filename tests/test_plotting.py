@@ -120,7 +120,7 @@ def test_plot_phase_portrait():
     assert len(fig.axes) == 1
     assert len(ax.get_lines()) == 3  # two phase pieces + the fixed point marker
     assert ax.get_lines()[-1].get_xdata()[0] == 0.5 and ax.get_lines()[-1].get_ydata()[0] == -0.1
-    assert (ax.get_xlabel(), ax.get_ylabel()) == ("q1", "dq1")
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("q1 [rad]", "dq1 [rad/s]")
     with pytest.raises(ValueError, match=r"`j` must be a state index in \[0, 4\)"):
         plotting.plot_phase_portrait(sol, 0, 4)
 
@@ -139,7 +139,7 @@ def test_plot_energy_marks_impact_losses():
     np.testing.assert_allclose(
         [s[:, 1] for s in segs], [[0.7, 1.0], [0.5, 0.7]], rtol=0, atol=1e-12
     )
-    assert [tx.get_text() for tx in ax.texts] == ["-0.3", "-0.2"]
+    assert [tx.get_text() for tx in ax.texts] == ["-0.3 J", "-0.2 J"]
     fig2 = plotting.plot_energy(t, total, 0 * t)
     assert not fig2.axes[0].collections
     with pytest.raises(ValueError, match="1-D of equal length"):
@@ -205,10 +205,16 @@ def test_plot_basin():
     (mesh,) = [c for c in ax.collections if isinstance(c, QuadMesh)]
     assert mesh.get_array().shape == (2, 3)
     legend = [tx.get_text() for tx in ax.get_legend().get_texts()]
-    assert legend == ["undecided", "converged", "fell backward", "forward", "fixed point"]
+    assert legend == [
+        "undecided after 50 strides (1)",
+        "converged (3)",
+        "fell backward (1)",
+        "forward (1)",
+        "fixed point",
+    ]
     (star,) = ax.get_lines()
     assert (star.get_xdata()[0], star.get_ydata()[0]) == (0.2, -0.2)
-    assert (ax.get_xlabel(), ax.get_ylabel()) == ("theta", "theta_dot")
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("theta [rad]", "theta_dot [rad/s]")
 
 
 def test_plot_work_precision():

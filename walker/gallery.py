@@ -1,8 +1,9 @@
 """Figures from stored results: what ``walker plot FILE.h5`` draws.
 
-Each function writes PNG (and GIF) files into a directory and returns their paths; the
-drawing itself is done by :mod:`walker.plotting`, the physics (energies, joint positions) by
-the model named in the file's provenance.
+:func:`plot_file` and :func:`plot_solution` write PNG files (and, on request, a GIF) into a
+directory and return their paths; :func:`solution_figures` returns a run's figures
+unsaved.  The drawing itself is done by :mod:`walker.plotting`, the physics (energies,
+joint positions) by the model named in the file's provenance.
 """
 
 from __future__ import annotations
@@ -11,11 +12,12 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from matplotlib.figure import Figure
 
 from walker import plotting
 from walker.results import Branch, Solution, Trajectory
 
-__all__ = ["plot_file", "plot_solution", "walker_frames"]
+__all__ = ["phase_labels", "plot_file", "plot_solution", "solution_figures", "walker_frames"]
 
 
 def _save(fig, path: Path) -> Path:
@@ -52,10 +54,43 @@ def _params_from_provenance(prov: dict):
     return model, model.params_class.from_dict(values)
 
 
+def _foot_steps(model, params, events) -> list[np.ndarray | None]:
+    """For each event, the displacement of the stance foot (world frame) when the event
+    hands the stance to the other foot (a heel strike, a rimless wheel's spoke impact),
+    else None.
+
+    The configuration is continuous across an impact; only its coordinates are relabelled.
+    So an event is a foot swap when more of the drawn joints after it coincide with joints
+    before it once shifted by the old swing foot's position relative to the old stance foot
+    than without the shift (a model may draw a joint of one leg only, e.g. the swing knee).
+    """
+    if events is None:
+        return []
+    if not model.is_walker:
+        return [None] * len(events)
+    p = params.as_array()
+    swing = getattr(model.module, "SWING_FOOT", -1)
+    steps: list[np.ndarray | None] = []
+    for i in range(len(events)):
+        before = np.asarray(model.points(events.x_pre[i], p), dtype=float)
+        after = np.asarray(model.points(events.x_post[i], p), dtype=float)
+        step = before[swing] - before[0]
+        tol = 1e-6 * max(1.0, float(np.max(np.abs(before))))
+
+        def matches(shift, before=before, after=after, tol=tol) -> int:
+            # joints after the event (shifted) that lie on a joint before it
+            d = np.linalg.norm((after + shift)[:, None, :] - before[None, :, :], axis=2)
+            return int(np.sum(np.min(d, axis=1) <= tol))
+
+        swapped = float(np.linalg.norm(step)) > tol and matches(step) > matches(0.0)
+        steps.append(step if swapped else None)
+    return steps
+
+
 def walker_frames(model, params, t, x, events=None) -> np.ndarray:
     """Joint positions in the world frame for each sample, following the walker down the
-    slope: after every heel strike in ``events`` the new stance foot is placed where the
-    swing foot landed.
+    slope: after every foot swap in ``events`` (a heel strike, see :func:`_foot_steps`) the
+    new stance foot is placed where the swing foot landed.
 
     Parameters
     ----------
@@ -64,27 +99,56 @@ def walker_frames(model, params, t, x, events=None) -> np.ndarray:
     t : ndarray, shape (n,)
     x : ndarray, shape (n, n_x)
     events : EventLog, optional
-        a heel strike is an event after which the legs have swapped (the new stance angle
-        is the old swing angle); without events the stance foot stays at the origin.
+        without events the stance foot stays at the origin.
 
     Returns
     -------
     ndarray, shape (n, n_points, 2)
     """
     p = params.as_array()
-    strike_t, steps = [], []
-    if events is not None:
-        for i in range(len(events)):
-            pre, post = events.x_pre[i], events.x_post[i]
-            if post[0] == pre[1] and post[0] != pre[0]:
-                pts = model.points(pre, p)
-                swing = getattr(model.module, "SWING_FOOT", -1)
-                strike_t.append(events.t[i])
-                steps.append(pts[swing] - pts[0])
+    t = np.asarray(t, dtype=float)
     offsets = np.zeros((len(t), 2))
-    for te, step in zip(strike_t, steps, strict=True):
-        offsets[np.asarray(t) > te] += step
+    if events is not None:
+        for te, step in zip(events.t, _foot_steps(model, params, events), strict=True):
+            if step is not None:
+                # a record holds the state before and after a reset at the same time: the
+                # new stance foot applies from the second of those samples on
+                lo = np.searchsorted(t, te, side="left")
+                hi = np.searchsorted(t, te, side="right")
+                offsets[lo + 1 if hi - lo >= 2 else hi :] += step
     return np.array([model.points(row, p) for row in x]) + offsets[:, None, :]
+
+
+def _event_energies(model, params, events) -> np.ndarray:
+    """Total energy [J] (J/kg for a model without masses) just before and just after each
+    event, shape (m, 2), from the event's own pre- and post-event states; for a walker the
+    potential energy is referred to the first stance foot (the world frame), as in
+    :func:`solution_figures`' energy plot."""
+    kin_pre, pot_pre = model.energies(np.asarray(events.x_pre), params)
+    kin_post, pot_post = model.energies(np.asarray(events.x_post), params)
+    drop_pre = np.zeros(len(events))
+    drop_post = np.zeros(len(events))
+    if model.is_walker:
+        weight = _total_mass(params) * params.g
+        height = 0.0  # of the current stance foot above the first one
+        for i, step in enumerate(_foot_steps(model, params, events)):
+            drop_pre[i] = weight * height
+            if step is not None:
+                height += float(step[1])
+            drop_post[i] = weight * height
+    return np.stack([kin_pre + pot_pre + drop_pre, kin_post + pot_post + drop_post], axis=1)
+
+
+def _impact_mask(events, n_q: int) -> np.ndarray:
+    """Which events change the rates (impacts), leaving out mode switches such as a joint
+    that starts or stops sticking, where the state is continuous."""
+    pre = np.asarray(events.x_pre)[:, n_q : 2 * n_q]
+    post = np.asarray(events.x_post)[:, n_q : 2 * n_q]
+    if not len(pre):
+        return np.zeros(0, dtype=bool)
+    scale = np.maximum(1.0, np.max(np.abs(pre), axis=1))
+    jumps = np.max(np.abs(post - pre), axis=1)
+    return jumps > 1e-9 * scale
 
 
 def _impact_times(events, n_q: int) -> np.ndarray | None:
@@ -92,16 +156,59 @@ def _impact_times(events, n_q: int) -> np.ndarray | None:
     as a joint that starts or stops sticking, where the state is continuous."""
     if events is None:
         return None
-    pre = np.asarray(events.x_pre)[:, n_q : 2 * n_q]
-    post = np.asarray(events.x_post)[:, n_q : 2 * n_q]
-    scale = np.maximum(1.0, np.max(np.abs(pre), axis=1)) if len(pre) else np.ones(0)
-    jumps = np.max(np.abs(post - pre), axis=1) if len(pre) else np.zeros(0)
-    return np.asarray(events.t)[jumps > 1e-9 * scale]
+    return np.asarray(events.t)[_impact_mask(events, n_q)]
 
 
-def plot_solution(sol: Solution, model, params, out: Path, stem: str) -> list[Path]:
-    """Angles, energy, a phase portrait, (for actuated walkers) torques and the zero
-    dynamics, and (for walkers) a stick-figure GIF."""
+def phase_labels(model, params) -> list[str]:
+    """Legend names of the model's phases, showing only the friction modes that matter.
+
+    A phase name such as ``"stance hip_stance=slip+ hip_swing=slip+"`` lists the mode of
+    every joint that can have dry friction; a joint whose Coulomb friction is zero in
+    ``params`` has no stick or slip modes, so its part is left out (``"stance"`` for a
+    frictionless walker).
+    """
+    labels = []
+    for name in model.phase_names:
+        kept = []
+        for token in str(name).split():
+            joint, sep, _mode = token.partition("=")
+            if sep and not _has_dry_friction(params, joint):
+                continue
+            kept.append(token)
+        labels.append(" ".join(kept) or str(name))
+    return labels
+
+
+def _has_dry_friction(params, joint: str) -> bool:
+    """Whether ``joint`` (a friction-layer joint name: ``ankle``, ``hip_stance``,
+    ``joint_1``, ...) has a nonzero ``coulomb_*`` parameter; True when none matches."""
+    parts = joint.split("_")
+    for key in dict.fromkeys((joint, parts[0], parts[-1])):
+        value = getattr(params, f"coulomb_{key}", None)
+        if value is not None:
+            return float(value) != 0.0
+    return True
+
+
+def solution_figures(sol: Solution, model, params) -> dict[str, Figure]:
+    """The figures of a run, by name: ``angles``; when it holds at least two samples also
+    ``energy`` and ``phase_portrait``, and for actuated walkers ``torques`` and
+    ``zero_dynamics``.
+
+    Parameters
+    ----------
+    sol : Solution
+        its ``record`` (else ``samples``) is drawn (``ValueError`` without either, from
+        :func:`walker.plotting.plot_angles`); its ``events`` give the impacts, whose
+        energy jumps are computed from each event's pre- and post-event states.
+    model : WalkerModel
+    params : the model's parameter dataclass
+
+    Returns
+    -------
+    dict of str -> matplotlib.figure.Figure
+    """
+    figures: dict[str, Figure] = {}
     traj = sol.record if sol.record is not None else sol.samples
     n_q = n_q_of(model)
     # angles and rates only (actuated models carry accumulators after them)
@@ -109,15 +216,15 @@ def plot_solution(sol: Solution, model, params, out: Path, stem: str) -> list[Pa
     angles = plotting.plot_angles(
         shown if shown is not None else sol,
         state_names=model.state_names[: 2 * n_q],
-        phase_names=model.phase_names,
+        phase_names=phase_labels(model, params),
     )
     if shown is not None and sol.events is not None:
         for ax in angles.axes:
             for te in sol.events.t:
                 ax.axvline(te, color="0.5", linestyle=":", linewidth=0.8)
-    paths = [_save(angles, out / f"{stem}_angles.png")]
+    figures["angles"] = angles
     if traj is None or len(traj) < 2:
-        return paths
+        return figures
     kinetic, potential = model.energies(traj.x, params)
     if model.is_walker:
         # Potential energy relative to the current stance foot jumps at each heel strike;
@@ -126,48 +233,55 @@ def plot_solution(sol: Solution, model, params, out: Path, stem: str) -> list[Pa
         total_mass = _total_mass(params)
         potential = potential + total_mass * params.g * (frames[:, 0, 1] - frames[0, 0, 1])
     events = _impact_times(sol.events, n_q)
-    paths.append(
-        _save(
-            plotting.plot_energy(traj.t, kinetic, potential, event_times=events),
-            out / f"{stem}_energy.png",
-        )
+    event_energies = None
+    if sol.events is not None:
+        event_energies = _event_energies(model, params, sol.events)[_impact_mask(sol.events, n_q)]
+    figures["energy"] = plotting.plot_energy(
+        traj.t,
+        kinetic,
+        potential,
+        event_times=events,
+        event_energies=event_energies,
+        unit="J" if _has_masses(params) else "J/kg",
     )
-    paths.append(
-        _save(
-            plotting.plot_phase_portrait(traj, 0, n_q, state_names=model.state_names),
-            out / f"{stem}_phase_portrait.png",
-        )
+    figures["phase_portrait"] = plotting.plot_phase_portrait(
+        traj, 0, n_q, state_names=model.state_names
     )
     if hasattr(model.module, "torques"):
         pp = params.as_array()
         u = np.array([model.module.torques(np.ascontiguousarray(row), pp) for row in traj.x])
         limit = getattr(params, "torque_limit", None)
-        paths.append(
-            _save(
-                plotting.plot_torques(traj.t, u, limit=limit, event_times=events),
-                out / f"{stem}_torques.png",
-            )
-        )
+        figures["torques"] = plotting.plot_torques(traj.t, u, limit=limit, event_times=events)
         tp, tm = getattr(params, "theta_plus", None), getattr(params, "theta_minus", None)
-        paths.append(
-            _save(
-                plotting.plot_zero_dynamics(
-                    traj.x[:, 0], traj.x[:, n_q_of(model)], theta_plus=tp, theta_minus=tm
-                ),
-                out / f"{stem}_zero_dynamics.png",
-            )
+        figures["zero_dynamics"] = plotting.plot_zero_dynamics(
+            traj.x[:, 0], traj.x[:, n_q], theta_plus=tp, theta_minus=tm
         )
-    if model.is_walker or model.name == "double_pendulum":
-        t_frames = np.linspace(traj.t[0], traj.t[-1], min(120, len(traj)))
-        idx = np.searchsorted(traj.t, t_frames).clip(0, len(traj) - 1)
-        if model.is_walker:
-            frames = walker_frames(model, params, traj.t, traj.x, sol.events)[idx]
-        else:
-            frames = np.array([model.points(traj.x[i], params) for i in idx])
-        slope = float(getattr(params, "slope", 0.0))
-        anim_path = out / f"{stem}_walk.gif"
-        plotting.animate_walker(frames, model.segments, slope=slope, path=anim_path)
-        paths.append(anim_path)
+    return figures
+
+
+def plot_solution(
+    sol: Solution, model, params, out: Path, stem: str, *, gif: bool = False
+) -> list[Path]:
+    """Write the figures of :func:`solution_figures` as ``{stem}_{name}.png`` into ``out``,
+    and with ``gif`` (walkers and the double pendulum) a stick-figure animation
+    ``{stem}_walk.gif``, which takes most of the time."""
+    paths = [
+        _save(fig, out / f"{stem}_{name}.png")
+        for name, fig in solution_figures(sol, model, params).items()
+    ]
+    traj = sol.record if sol.record is not None else sol.samples
+    if gif and traj is not None and len(traj) >= 2:
+        if model.is_walker or model.name == "double_pendulum":
+            t_frames = np.linspace(traj.t[0], traj.t[-1], min(120, len(traj)))
+            idx = np.searchsorted(traj.t, t_frames).clip(0, len(traj) - 1)
+            if model.is_walker:
+                frames = walker_frames(model, params, traj.t, traj.x, sol.events)[idx]
+            else:
+                frames = np.array([model.points(traj.x[i], params) for i in idx])
+            slope = float(getattr(params, "slope", 0.0))
+            anim_path = out / f"{stem}_walk.gif"
+            plotting.animate_walker(frames, model.segments, slope=slope, path=anim_path)
+            paths.append(anim_path)
     return paths
 
 
@@ -189,6 +303,12 @@ def n_q_of(model) -> int:
 _LEG_SEGMENTS = ("leg", "thigh", "shank", "femur", "tibia")
 
 
+def _has_masses(params) -> bool:
+    """Whether the model has masses; without (simplest walker, rimless wheel) its
+    energies are per unit mass [J/kg]."""
+    return any(name.startswith("mass_") for name in params.names())
+
+
 def _total_mass(params) -> float:
     """Total mass [kg]: every ``mass_*`` field, leg segments twice (two legs); 1 for the
     simplest walker, whose energies are per unit hip mass."""
@@ -200,8 +320,11 @@ def _total_mass(params) -> float:
     return total if total > 0 else 1.0
 
 
-def plot_file(path, out_dir=".") -> list[Path]:
+def plot_file(path, out_dir=".", *, gif: bool = False) -> list[Path]:
     """Draw every figure that fits the result stored in ``path`` into ``out_dir``.
+
+    ``gif`` also renders a stored run as a stick-figure animation (``*_walk.gif``), which
+    takes most of the time; by default it is not made.
 
     Raises
     ------
@@ -220,7 +343,7 @@ def plot_file(path, out_dir=".") -> list[Path]:
     kind = prov["kind"]
     if kind == "solution":
         model, params = _params_from_provenance(prov)
-        return plot_solution(result, model, params, out, stem)
+        return plot_solution(result, model, params, out, stem, gif=gif)
     if kind == "fixed_point":
         branch = Branch(
             "",
@@ -237,20 +360,34 @@ def plot_file(path, out_dir=".") -> list[Path]:
         )
         return [_save(plotting.plot_multipliers(branch), out / f"{stem}_multipliers.png")]
     if kind == "branch":
+        from walker.plot_branch import result_figures
+
+        model, params = _params_from_provenance(prov)
+        gait = result_figures(
+            result, prov, model=model, params=params, directory=Path(path).parent
+        )["branch"]
         fig = plotting.plot_bifurcation(result)
         _label_section(fig, prov, 0)
         return [
+            _save(gait, out / f"{stem}_branch.png"),
             _save(fig, out / f"{stem}_bifurcation.png"),
-            _save(plotting.plot_multipliers(result), out / f"{stem}_multipliers.png"),
+            _save(
+                plotting.plot_multipliers(
+                    result, parameter_unit=_parameter_unit(prov, result.parameter_name)
+                ),
+                out / f"{stem}_multipliers.png",
+            ),
         ]
     if kind == "orbit_diagram":
-        fig = plotting.plot_orbit_diagram(result)
-        _label_section(fig, prov, result.coordinate)
+        from walker.plot_branch import result_figures
+
+        model, params = _params_from_provenance(prov)
+        fig = result_figures(result, prov, model=model, params=params)["orbit_diagram"]
         return [_save(fig, out / f"{stem}_orbit_diagram.png")]
     if kind == "basin":
-        return [_save(plotting.plot_basin(result), out / f"{stem}_basin.png")]
+        return [_save(_plot_basin(result, prov), out / f"{stem}_basin.png")]
     if kind == "sweep":
-        return [_save(_plot_sweep(result), out / f"{stem}_sweep.png")]
+        return [_save(_plot_sweep(result, prov), out / f"{stem}_sweep.png")]
     raise ValueError(f"{path}: nothing to plot for a `{kind}` result")
 
 
@@ -264,20 +401,48 @@ def _label_section(fig, prov, coordinate):
             fig.axes[0].set_ylabel(f"{names[coordinate]} just after heel strike")
 
 
-def _plot_sweep(table):
-    from matplotlib.figure import Figure
+def _plot_basin(basin, prov: dict):
+    """The basin figure, with the fixed point placed by the section coordinates the axes
+    name (the model's ``section_names``)."""
+    from walker.models import MODEL_NAMES, get_model
 
-    fig = Figure(figsize=(6.4, 4.8), layout="constrained")
-    ax = fig.add_subplot()
-    x = table.points[:, 0]
-    status = table.columns["status"]
-    ok = status == 0
-    if "section" in table.columns:
-        sec = table.columns["section"]
-        for j in range(sec.shape[1]):
-            ax.plot(x[ok], sec[ok, j], ".", label=f"section[{j}]")
-    ax.plot(x[~ok], np.zeros(np.sum(~ok)), "x", color="red", label="failed")
-    ax.set_xlabel(table.parameter_names[0])
-    ax.set_ylabel("value")
-    ax.legend()
-    return fig
+    coordinates = None
+    if prov.get("model") in MODEL_NAMES:
+        names = tuple(get_model(prov["model"]).section_names)
+        axes = tuple(basin.axis_names)
+        if len(names) == np.asarray(basin.fixed_point).size and all(a in names for a in axes):
+            coordinates = (names.index(axes[0]), names.index(axes[1]))
+    return plotting.plot_basin(basin, coordinates=coordinates)
+
+
+def _parameter_unit(prov: dict, name: str) -> str | None:
+    """Unit of parameter ``name`` from a file's provenance (or its model's metadata)."""
+    entry = prov.get("parameters", {}).get(name)
+    if isinstance(entry, dict) and entry.get("unit"):
+        return str(entry["unit"])
+    from walker.models import MODEL_NAMES, get_model
+
+    if prov.get("model") in MODEL_NAMES:
+        return get_model(prov["model"]).params_class.units().get(name)
+    return None
+
+
+def _plot_sweep(table, prov: dict):
+    """The sweep figure (:func:`walker.plotting.plot_sweep`) with the parameters' units and
+    the section coordinates' names from the file's provenance."""
+    from walker.models import MODEL_NAMES, get_model
+
+    section_names = None
+    if prov.get("model") in MODEL_NAMES and "section" in table.columns:
+        names = tuple(get_model(prov["model"]).section_names)
+        if (
+            len(names)
+            == np.asarray(table.columns["section"]).reshape(len(table.points), -1).shape[1]
+        ):
+            section_names = names
+    return plotting.plot_sweep(
+        table,
+        parameter_units=[_parameter_unit(prov, n) for n in table.parameter_names],
+        section_names=section_names,
+        n_strides=int(prov.get("n_strides", 1)),
+    )

@@ -20,7 +20,7 @@ def cmd_plot(args) -> int:
         raise FileNotFoundError(f"result file not found: {args.file}")
     out = _check_figure_dir(args.out)
     out.mkdir(exist_ok=True)  # the figures' own directory is created
-    paths = plot_file(args.file, out)
+    paths = plot_file(args.file, out, gif=args.gif)
     for p in paths:
         print(f"wrote {p}")
     return EXIT_OK
@@ -30,4 +30,9 @@ def register(sub) -> None:
     p = sub.add_parser("plot", help="draw the figures of a stored result")
     p.add_argument("file")
     p.add_argument("--out", default=".", help="directory for the figures (created)")
+    p.add_argument(
+        "--gif",
+        action="store_true",
+        help="also render a stored run as a stick-figure animation (slow; default: off)",
+    )
     p.set_defaults(func=cmd_plot)
