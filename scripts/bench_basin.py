@@ -389,17 +389,12 @@ def main(argv=None):
         f"interpreter per worker importing walker and loading its extension, one stride; "
         f"{len(pids)} worker processes seen) took {pool_start:.2f} s, not in the pool rows; "
         "the thread rows include creating and joining their threads, which `basin_map` does "
-        "on every call. The thread rows vary more from round to round than the pool rows: "
-        "in slow rounds the two threads keep fewer than two CPUs busy (CPU / wall column) "
-        "and/or spend more CPU on the same strides than one thread does (CPU column against "
-        "serial); while this script was written, with no other process running, "
-        "`basin_map(jobs=2)` alone on the 100 x 100 walking slice took 4.8-9.2 s over six "
-        "calls, and over three full runs of this script with no other busy process "
-        "(checked with `top`; the one above among them) the thread rows' medians were "
-        "0.87-1.66 s (default slice) and 4.83-6.85 s (walking slice) against the pool's "
-        "0.81-0.86 s and 4.50-4.73 s. "
-        "Another process taking a CPU also costs the threads more than the pool: a thread "
-        "descheduled while it holds the GIL stalls the other.",
+        "on every call. The compass map has a compiled batch "
+        "(`StrideMap.basin_batch`): each grid row is one compiled call that releases the GIL "
+        "for all its strides, so two threads keep two CPUs busy as two processes do. (Before "
+        "the batch, the per-point loop between strides was Python and held the GIL: on the "
+        "same machine two threads reached 1.6x serial on the walking slice and 1.25x on the "
+        "default slice, against the pool's 1.9x.)",
         "",
         "The command line end to end, once each (a new process: interpreter start and "
         "imports, fixed point, the basin on `--jobs` default = os.cpu_count() = "

@@ -4,9 +4,9 @@ Each grid point starts from the fixed point with two chosen section coordinates 
 is iterated by the section map until it comes within ``tol`` of the fixed point (converged),
 falls (the failing stride's :class:`~walker.status.Status`), or runs out of strides
 (undecided).  Rows of the grid are grouped into chunks, and the chunks run on any
-:class:`concurrent.futures.Executor`: threads of this process by default (the compiled
-strides release the GIL; the per-point loop between them is Python and holds it, so two
-threads reach about 1.6x one, and a started process pool about 1.9x, see
+:class:`concurrent.futures.Executor`: threads of this process by default (a walker's grid
+row is one compiled call without the GIL, :meth:`walker.stride.StrideMap.basin_batch`, so
+two threads reach about 1.9x one, as a started process pool does, see
 results/bench/basin.md), a process pool, or a ``dask.distributed`` cluster through
 ``Client.get_executor()``.
 
