@@ -184,7 +184,7 @@ def _hdf5_items(path: Path) -> dict[str, object]:
 
         def attrs(name, obj):
             for key, value in obj.attrs.items():
-                if name == "/" and key == "created":
+                if name == "/" and key in ("created", "checksum"):
                     continue
                 v = np.asarray(value)
                 items[f"{name}@{key}"] = (v.dtype.str, v.shape, v.tobytes())

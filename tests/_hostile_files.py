@@ -1,0 +1,146 @@
+"""Damaged and hostile walker files for ``tests/test_storage_hostile.py``.
+
+Files are made with h5py directly: in the layout of schema version 1 (what walker wrote
+before checksums: contiguous datasets, no ``checksum`` attribute, no chunk SHA-256), or by
+editing a file :func:`walker.storage.write` made.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from walker import storage
+
+
+def write_v1(path, result, provenance) -> Path:
+    """``result`` in the schema-1 layout (as walker wrote it before checksums)."""
+    prov_json = storage._check_provenance(provenance)
+    kind = storage._KIND_OF[type(result)]
+    tree = storage._encode(result, type(result), type(result).__name__)
+    attrs = storage._provenance_attrs(prov_json, kind)
+    attrs["schema_version"] = np.int64(1)
+
+    def emit(node, group):
+        for name, value in node["attrs"].items():
+            group.attrs[name] = value
+        for name, arr in node["datasets"].items():
+            group.create_dataset(name, data=arr)
+        for name, sub in node["groups"].items():
+            emit(sub, group.create_group(name))
+
+    with h5py.File(path, "w", libver="earliest") as f:
+        f.attrs.update(attrs)
+        emit(tree, f.create_group("result"))
+    return Path(path)
+
+
+def sweep_v1(path, *, parameter_names, points, columns, chunk_size, provenance) -> Path:
+    """An empty sweep checkpoint in the schema-1 layout (contiguous columns, a bool
+    ``/checkpoint/done``, no chunk checksums)."""
+    attrs = storage._provenance_attrs(storage._check_provenance(provenance), "sweep")
+    attrs["schema_version"] = np.int64(1)
+    points = np.asarray(points, dtype=np.float64)
+    n = points.shape[0]
+    n_chunks = -(-n // chunk_size)
+    with h5py.File(path, "w", libver="earliest") as f:
+        f.attrs.update(attrs)
+        g = f.create_group("result")
+        g.attrs["dataclass"] = "SweepTable"
+        g.attrs["parameter_names"] = json.dumps(list(parameter_names))
+        g.create_dataset("points", data=points)
+        cg = g.create_group("columns")
+        cg.attrs["names"] = json.dumps(list(columns))
+        for name, (dtype, shape) in columns.items():
+            dtype = np.dtype(dtype)
+            fill = storage._fill_value(dtype)
+            ds = cg.create_dataset(name, shape=(n, *shape), dtype=dtype, fillvalue=fill)
+            ds[...] = np.full((n, *shape), fill, dtype=dtype)
+        k = f.create_group("checkpoint")
+        k.attrs["chunk_size"] = np.int64(chunk_size)
+        k.attrs["n_chunks"] = np.int64(n_chunks)
+        k.create_dataset("done", data=np.zeros(n_chunks, dtype=bool))
+    return Path(path)
+
+
+def unchecked(path) -> Path:
+    """Turn a file :func:`walker.storage.write` made into a schema-1 file (no ``checksum``):
+    what it holds is then checked by the reader's rules only, not by the checksum."""
+    with h5py.File(path, "r+") as f:
+        f.attrs["schema_version"] = np.int64(1)
+        if "checksum" in f.attrs:
+            del f.attrs["checksum"]
+    return Path(path)
+
+
+def set_attr(path, obj: str, name: str, value) -> Path:
+    with h5py.File(path, "r+") as f:
+        f[obj].attrs[name] = value
+    return Path(path)
+
+
+def replace_dataset(path, name: str, **create) -> Path:
+    """Delete dataset ``name`` and create it again with ``create_dataset(**create)``."""
+    with h5py.File(path, "r+") as f:
+        del f[name]
+        f.create_dataset(name, **create)
+    return Path(path)
+
+
+def link(path, name: str, target) -> Path:
+    """Replace the object ``name`` by a link (h5py.SoftLink, ExternalLink or an object)."""
+    with h5py.File(path, "r+") as f:
+        if name in f:
+            del f[name]
+        f[name] = target
+    return Path(path)
+
+
+def flip(src, dst, byte: int, bit: int) -> Path:
+    data = bytearray(Path(src).read_bytes())
+    data[byte % len(data)] ^= 1 << bit
+    Path(dst).write_bytes(bytes(data))
+    return Path(dst)
+
+
+def truncate(src, dst, keep: float) -> Path:
+    data = Path(src).read_bytes()
+    Path(dst).write_bytes(data[: int(len(data) * keep)])
+    return Path(dst)
+
+
+def basin_v1(path, basin, *, tol, period, chunk_size, provenance, done=()) -> Path:
+    """A basin checkpoint in the schema-1 layout, with the rows of the chunks in ``done``
+    taken from ``basin`` and marked done, the others not computed."""
+    attrs = storage._provenance_attrs(storage._check_provenance(provenance), "basin")
+    attrs["schema_version"] = np.int64(1)
+    ny, nx = basin.outcome.shape
+    n_chunks = -(-ny // chunk_size)
+    with h5py.File(path, "w", libver="earliest") as f:
+        f.attrs.update(attrs)
+        g = f.create_group("result")
+        g.attrs["dataclass"] = "BasinMap"
+        g.attrs["axis_names"] = json.dumps(list(basin.axis_names))
+        g.attrs["n_strides"] = np.int64(basin.n_strides)
+        for name in ("x", "y", "fixed_point", "base"):
+            g.create_dataset(name, data=getattr(basin, name))
+        for name, fill in (("outcome", storage.BASIN_NOT_COMPUTED), ("strides", -1)):
+            ds = g.create_dataset(name, shape=(ny, nx), dtype=np.int64, fillvalue=fill)
+            for start in range(0, ny, chunk_size):
+                stop = min(start + chunk_size, ny)
+                rows = np.full((stop - start, nx), fill, dtype=np.int64)
+                if start // chunk_size in done:
+                    rows = getattr(basin, name)[start:stop]
+                ds[start:stop] = rows
+        k = f.create_group("checkpoint")
+        k.attrs["chunk_size"] = np.int64(chunk_size)
+        k.attrs["n_chunks"] = np.int64(n_chunks)
+        k.attrs["tol"] = np.float64(tol)
+        k.attrs["period"] = np.int64(period)
+        flags = np.zeros(n_chunks, dtype=bool)
+        flags[list(done)] = True
+        k.create_dataset("done", data=flags)
+    return Path(path)
