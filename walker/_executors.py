@@ -11,16 +11,122 @@ whatever a caller's signal handler raises) in the thread that collects the resul
 * a ``ProcessPoolExecutor`` is shut down (``cancel_futures=True``) and its worker processes
   terminated, so no worker outlives an interrupted run computing a chunk nobody collects;
 * the chunks that finished meanwhile are handed to ``on_result`` (so a checkpoint keeps them).
+
+A process pool's workers must not outlive the process that started them (after a
+``kill -9`` of a sweep nobody collects what they compute): :func:`process_pool` makes a pool
+whose workers run :func:`die_with_parent` first, and :func:`run_chunks` runs it in the
+workers of any other ``ProcessPoolExecutor`` before their first chunk.  On Linux the kernel
+then kills a worker the moment its parent ends (``prctl(PR_SET_PDEATHSIG, SIGKILL)``), and a
+watchdog thread the moment the pool's process ends (a pidfd; it polls every
+:data:`WATCHDOG_INTERVAL` seconds where there is none).  A pool's forkserver ends when its
+last worker has, and its resource tracker after that.
 """
 
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
+import ctypes
+import functools
+import multiprocessing
+import os
+import select
+import signal
+import sys
 import threading
+import time
 from collections.abc import Callable, Iterable
 from typing import Any
 
-__all__ = ["Abandoned", "run_chunks", "stop_workers"]
+__all__ = ["Abandoned", "die_with_parent", "process_pool", "run_chunks", "stop_workers"]
+
+WATCHDOG_INTERVAL = 0.5
+"""Seconds between two looks of a pool worker's watchdog at its parent process."""
+
+_PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+_guarded_pid: int | None = None  # the process in which die_with_parent has run
+
+
+def _parent_death_signal(signum: int) -> bool:
+    """Ask Linux to send ``signum`` to this process when its parent ends; False elsewhere
+    or when it cannot."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        return libc.prctl(_PR_SET_PDEATHSIG, signum, 0, 0, 0) == 0
+    except (OSError, AttributeError):  # pragma: no cover - no libc prctl
+        return False
+
+
+def _exists(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # pragma: no cover - someone else's process now
+        return True
+    return True
+
+
+def _watch(parent: int, origin: int, pidfd: int | None) -> None:
+    """Kill this process when its parent changes (it died) or ``origin`` ends."""
+    while True:
+        if pidfd is not None:  # readable once ``origin`` has ended
+            if select.select([pidfd], [], [], WATCHDOG_INTERVAL)[0]:
+                break
+        else:
+            time.sleep(WATCHDOG_INTERVAL)
+            if not _exists(origin):
+                break
+        if os.getppid() != parent:
+            break
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+def die_with_parent() -> None:
+    """End this process (SIGKILL) when the process that started it ends: the initializer of
+    walker's process pools, and usable as ``ProcessPoolExecutor(initializer=die_with_parent)``.
+
+    "The process that started it" is ``multiprocessing.parent_process()``, the process that
+    made the pool; with the ``forkserver`` start method the worker's parent is the
+    forkserver, which waits for its workers before it ends, so both are watched.  On Linux
+    the kernel sends the signal when the parent ends (``PR_SET_PDEATHSIG``; it counts the
+    *thread* that started the process, so create the pool in a thread that outlives it, as
+    walker does) and a daemon thread waits on a pidfd of the pool's process; elsewhere that
+    thread polls every :data:`WATCHDOG_INTERVAL` seconds.  Runs once per process; does
+    nothing in a process that multiprocessing did not start.
+    """
+    global _guarded_pid
+    pid = os.getpid()
+    origin = multiprocessing.parent_process()
+    if _guarded_pid == pid or origin is None or origin.pid is None:
+        return
+    _guarded_pid = pid
+    parent = os.getppid()
+    _parent_death_signal(signal.SIGKILL)
+    pidfd = None
+    with contextlib.suppress(AttributeError, OSError):  # no pidfd: poll instead
+        pidfd = os.pidfd_open(origin.pid)
+    if os.getppid() != parent or not _exists(origin.pid):  # it ended before we watched it
+        os.kill(pid, signal.SIGKILL)
+    threading.Thread(
+        target=_watch, args=(parent, origin.pid, pidfd), name="walker-watch-parent", daemon=True
+    ).start()
+
+
+def _guarded(fn: Callable[..., Any], *args: Any) -> Any:
+    """``fn(*args)`` in a pool worker that has run :func:`die_with_parent`."""
+    die_with_parent()
+    return fn(*args)
+
+
+def process_pool(max_workers: int, mp_context: Any = None) -> cf.ProcessPoolExecutor:
+    """A ``ProcessPoolExecutor`` of ``max_workers`` processes that end with their parent
+    (:func:`die_with_parent`)."""
+    return cf.ProcessPoolExecutor(
+        max_workers=max_workers, mp_context=mp_context, initializer=die_with_parent
+    )
 
 
 class Abandoned(Exception):
@@ -83,6 +189,9 @@ def run_chunks(
     """
     futures: dict[cf.Future, Any] = {}
     handled: set[cf.Future] = set()
+    if isinstance(executor, cf.ProcessPoolExecutor):
+        # A pool made elsewhere: its workers end with this process too, from their first chunk.
+        fn = functools.partial(_guarded, fn)
     try:
         for key, args in tasks:
             futures[executor.submit(fn, *args)] = key

@@ -23,6 +23,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import functools
 import math
+import numbers
 import os
 import sys
 import threading
@@ -31,10 +32,13 @@ import numpy as np
 
 from walker._executors import Abandoned, run_chunks
 from walker.fixedpoint import SectionMap, _map_value
-from walker.results import BASIN_CONVERGED, BASIN_UNDECIDED, BasinMap, FixedPoint
+from walker.results import BASIN_CONVERGED, BASIN_UNDECIDED, BasinMap, FixedPoint, too_large
 from walker.storage import BASIN_NOT_COMPUTED
 
 __all__ = ["BASIN_NOT_COMPUTED", "basin_map", "basin_chunk"]
+
+MAX_N_STRIDES = 2**62
+"""Largest ``n_strides`` of :func:`basin_map` (the compiled loop counts in 64 bits)."""
 
 
 def basin_chunk(
@@ -253,26 +257,39 @@ def basin_map(
         raise ValueError(f"`fixed_point.section` must be finite with shape ({n_z},)")
     try:
         ax, ay = (int(a) for a in axes)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ValueError(f"`axes` must be two integers, got {axes!r}") from None
     if not (0 <= ax < n_z and 0 <= ay < n_z) or ax == ay:
         raise ValueError(f"`axes` must be two distinct indices in [0, {n_z}), got {axes!r}")
     try:
         (x_lo, x_hi), (y_lo, y_hi) = ((float(a), float(b)) for a, b in ranges)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ValueError(f"`ranges` must be ((x_lo, x_hi), (y_lo, y_hi)), got {ranges!r}") from None
     if not all(np.isfinite([x_lo, x_hi, y_lo, y_hi])) or x_lo >= x_hi or y_lo >= y_hi:
         raise ValueError(f"`ranges` must be finite with lo < hi on both axes, got {ranges!r}")
     try:
         nx, ny = (int(k) for k in n)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ValueError(f"`n` must be two integers (nx, ny), got {n!r}") from None
     if nx < 2 or ny < 2:
         raise ValueError(f"`n` must be at least (2, 2), got {n!r}")
-    if isinstance(n_strides, bool) or int(n_strides) != n_strides or n_strides < 1:
-        raise ValueError(f"`n_strides` must be an integer >= 1, got {n_strides!r}")
+    reason = too_large(16.0 * nx * ny)  # outcome and stride count, int64 each
+    if reason is not None:
+        raise ValueError(f"`n` = ({nx}, {ny}) gives a grid of {nx * ny:,} points, which {reason}")
+    if (
+        isinstance(n_strides, bool)
+        or not isinstance(n_strides, numbers.Real)
+        or not 1 <= n_strides <= MAX_N_STRIDES
+        or int(n_strides) != n_strides
+    ):
+        raise ValueError(
+            f"`n_strides` must be an integer >= 1 (at most {MAX_N_STRIDES}), got {n_strides!r}"
+        )
     n_strides = int(n_strides)
-    tol = float(tol)
+    try:
+        tol = float(tol)
+    except (TypeError, ValueError, OverflowError):
+        raise ValueError(f"`tol` must be a positive finite number, got {tol!r}") from None
     if not (np.isfinite(tol) and tol > 0):
         raise ValueError(f"`tol` must be positive and finite, got {tol}")
     if jobs is not None and (

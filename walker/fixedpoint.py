@@ -23,6 +23,7 @@ cannot succeed must end about as cheaply as one that does:
 from __future__ import annotations
 
 import math
+import numbers
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -310,8 +311,27 @@ def stride_max_steps(params, t_max: float, method: str, first_step: float | None
 # --------------------------------------------------------------------------------------------
 
 
+def _validate_section_map(section_map) -> None:
+    """A TypeError naming ``section_map`` when it lacks what :class:`SectionMap` requires."""
+    missing = [
+        name
+        for name in ("n_z", "section_names", "lift", "with_parameter")
+        if not hasattr(section_map, name)
+    ]
+    if not callable(section_map):
+        missing.insert(0, "__call__")
+    if missing:
+        raise TypeError(
+            f"`section_map` must be a SectionMap (such as walker.stride.StrideMap), got "
+            f"{type(section_map).__name__} without {', '.join(missing)}"
+        )
+
+
 def _validate_z(section_map: SectionMap, z: np.ndarray, name: str) -> np.ndarray:
-    z = np.asarray(z, dtype=float)
+    from walker.stride import _as_vector
+
+    _validate_section_map(section_map)
+    z = _as_vector(z, name)
     n_z = int(section_map.n_z)
     if z.shape != (n_z,):
         raise ValueError(f"`{name}` must have shape ({n_z},) (the map's n_z), got {z.shape}")
@@ -341,7 +361,14 @@ def _validate_max_evals(max_evals) -> int | None:
 
 
 def _positive(value, name: str) -> float:
-    value = float(value)
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
+        raise TypeError(f"`{name}` must be a real number, got {type(value).__name__} {value!r}")
+    try:
+        value = float(value)
+    except OverflowError:
+        raise ValueError(
+            f"`{name}` must be positive and finite, got an integer too large for a float"
+        ) from None
     if not (np.isfinite(value) and value > 0):
         raise ValueError(f"`{name}` must be positive and finite, got {value}")
     return value

@@ -36,9 +36,17 @@ def _params_from_provenance(prov: dict):
     to its model lacks it; it was computed without that friction, so it reads as 0, with a
     warning naming the parameters.  Any other missing parameter is an error.
     """
-    from walker.models import get_model
+    from walker.models import MODEL_NAMES, get_model
+    from walker.storage import StorageError
 
-    model = get_model(prov["model"])
+    name = prov.get("model")
+    if name not in MODEL_NAMES:
+        raise StorageError(
+            f"provenance key 'model' is {name!r}; plotting needs one of {', '.join(MODEL_NAMES)}"
+        )
+    if not isinstance(prov.get("parameters"), dict):
+        raise StorageError("provenance key 'parameters' is missing; plotting needs it")
+    model = get_model(name)
     values = {k: v["value"] for k, v in prov["parameters"].items()}
     added = [
         n for n in model.params_class.names() if n not in values and n.startswith(FRICTION_PREFIXES)
@@ -431,7 +439,10 @@ def _plot_sweep(table, prov: dict):
     """The sweep figure (:func:`walker.plotting.plot_sweep`) with the parameters' units and
     the section coordinates' names from the file's provenance."""
     from walker.models import MODEL_NAMES, get_model
+    from walker.storage import StorageError
 
+    if "status" not in table.columns:
+        raise StorageError("the sweep has no 'status' column; plotting needs it")
     section_names = None
     if prov.get("model") in MODEL_NAMES and "section" in table.columns:
         names = tuple(get_model(prov["model"]).section_names)

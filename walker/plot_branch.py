@@ -530,7 +530,16 @@ def result_figures(
     kind = provenance.get("kind")
     if kind not in ("branch", "orbit_diagram"):
         raise ValueError(f"{source}: holds a `{kind}`, not a branch or an orbit diagram")
-    model = get_model(provenance["model"]) if model is None else model
+    if model is None:
+        from walker.models import MODEL_NAMES
+        from walker.storage import StorageError
+
+        if provenance.get("model") not in MODEL_NAMES:
+            raise StorageError(
+                f"{source}: provenance key 'model' is {provenance.get('model')!r}; plotting "
+                f"needs one of {', '.join(MODEL_NAMES)}"
+            )
+        model = get_model(provenance["model"])
     if params is None:
         values = {k: v["value"] for k, v in provenance["parameters"].items()}
         params = model.params_class.from_dict(values)

@@ -3,15 +3,83 @@
 Every result that can fail carries ``status`` (:class:`walker.status.Status`), ``message`` and
 ``success``; expected failures (a fall, Newton not converging) are statuses, not exceptions.
 Arrays use SI units and the state order of the model that produced them.
+
+The size of a result is checked before it is allocated (:func:`memory_limit`): a sweep table,
+a basin grid or a sampled trajectory that would take more than :data:`MEMORY_FRACTION` of the
+memory available to the process is refused with a ``ValueError`` naming the argument.
 """
 
 from __future__ import annotations
 
+import os
+import resource
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 from walker.status import Status
+
+MEMORY_FRACTION = 0.25
+"""Largest share of the memory available to the process (physical memory, or a lower cgroup
+or ``RLIMIT_AS`` limit) that one result may take: the rest is left for the copies a run makes
+(checkpoint buffers, the table returned, HDF5) and for everything else on the machine."""
+
+_CGROUP_LIMITS = (
+    "/sys/fs/cgroup/memory.max",  # cgroup v2, as seen from inside a container
+    "/sys/fs/cgroup/memory/memory.limit_in_bytes",  # cgroup v1
+)
+
+
+def memory_limit() -> int:
+    """Bytes one result may take: :data:`MEMORY_FRACTION` of the memory available.
+
+    The memory available is the smallest of the physical memory
+    (``SC_PHYS_PAGES * SC_PAGE_SIZE``), the cgroup memory limit and ``RLIMIT_AS``, where
+    these are known.
+    """
+    limits = []
+    try:
+        limits.append(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - not POSIX
+        pass
+    for path in _CGROUP_LIMITS:
+        try:
+            text = Path(path).read_text().strip()
+        except OSError:
+            continue
+        if text.isdigit():
+            limits.append(int(text))
+    try:
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+        if soft not in (resource.RLIM_INFINITY, -1) and soft > 0:
+            limits.append(soft)
+    except (ValueError, OSError):  # pragma: no cover
+        pass
+    available = min((v for v in limits if v > 0), default=8 << 30)
+    return int(available * MEMORY_FRACTION)
+
+
+def format_bytes(n_bytes: float) -> str:
+    """``n_bytes`` for a message: ``"74.5 GiB"``."""
+    value = float(n_bytes)
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
+        if value < 1024 or unit == "PiB":
+            return f"{value:.0f} {unit}" if unit == "B" else f"{value:.3g} {unit}"
+        value /= 1024
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def too_large(n_bytes: float) -> str | None:
+    """None when ``n_bytes`` fit in :func:`memory_limit`; else the end of an error message,
+    ``"needs 74.5 GiB, more than the limit of 5.8 GiB (a quarter of the memory)"``."""
+    limit = memory_limit()
+    if n_bytes <= limit:
+        return None
+    return (
+        f"needs {format_bytes(n_bytes)}, more than the limit of {format_bytes(limit)} "
+        f"({MEMORY_FRACTION:.0%} of the memory available)"
+    )
 
 
 @dataclass

@@ -10,13 +10,14 @@ from __future__ import annotations
 
 import copy
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
 from walker.integrate import PreparedRun, check_solver_settings, hybrid_solve
 from walker.models import WalkerModel, get_model
-from walker.results import MapResult, Solution
+from walker.results import MapResult, Solution, too_large
 from walker.status import Status
 
 __all__ = ["StrideMap", "simulate"]
@@ -113,12 +114,77 @@ def simulate(
     )
 
 
-def _as_vector(value, name: str) -> np.ndarray:
-    """``value`` as a float array, or a TypeError naming the argument."""
+def _as_vector(value, name: str, length: int | None = None) -> np.ndarray:
+    """``value`` as a float array, or an error naming the argument: a TypeError for what is
+    not an array of real numbers (complex values are refused, never truncated to their real
+    part), a ValueError for a number too large for a float or (with ``length``) a shape other
+    than ``(length,)``."""
+
+    def bad_type() -> TypeError:
+        return TypeError(f"`{name}` must be an array of real numbers, got {_short(value)}")
+
+    arr = value if isinstance(value, np.ndarray) else None
+    if arr is None or arr.dtype.kind not in "fiu":
+        try:
+            arr = np.asarray(value)
+        except (TypeError, ValueError):
+            raise bad_type() from None
+        if arr.dtype.kind == "c":
+            raise TypeError(
+                f"`{name}` must be real, got complex values (the imaginary part would be lost)"
+            )
+        if arr.dtype.kind == "O":  # e.g. Python ints too large for a float, or mixed objects
+            try:
+                arr = np.asarray(value, dtype=float)
+            except OverflowError:
+                raise ValueError(
+                    f"All components of `{name}` must be finite; a number in it is too large "
+                    "for a float"
+                ) from None
+            except (TypeError, ValueError):
+                raise bad_type() from None
+        elif arr.dtype.kind not in "fiub":
+            raise bad_type()
+    arr = arr.astype(float, copy=False)
+    if length is not None and arr.shape != (length,):
+        raise ValueError(f"`{name}` must have shape ({length},), got {arr.shape}")
+    return arr
+
+
+def _short(value) -> str:
+    """``value``'s repr for a one-line message, cut short."""
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _positive_rate(value) -> float:
+    """``sample_rate`` as a float, or an error naming it."""
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
+        raise TypeError(f"`sample_rate` must be a real number [Hz], got {type(value).__name__}")
     try:
-        return np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise TypeError(f"`{name}` must be an array of real numbers, got {value!r}") from None
+        rate = float(value)
+    except OverflowError:
+        raise ValueError(
+            "`sample_rate` must be a positive finite number [Hz], got an integer too large "
+            "for a float"
+        ) from None
+    if not (math.isfinite(rate) and rate > 0):
+        raise ValueError(f"`sample_rate` must be a positive finite number [Hz], got {value!r}")
+    return rate
+
+
+def check_sample_count(duration: float, sample_rate: float, n_x: int, what: str) -> int:
+    """The number of samples of a run of ``duration`` seconds at ``sample_rate`` Hz, or a
+    ValueError naming ``what`` when their times, states and phases would not fit in
+    :func:`walker.results.memory_limit`."""
+    n = math.ceil(max(float(duration), 0.0) * sample_rate) + 1
+    reason = too_large(n * (n_x + 2) * 8.0)
+    if reason is not None:
+        raise ValueError(
+            f"{what} {sample_rate:g} Hz over the {duration:.6g} s of the run gives {n:,} "
+            f"samples, which {reason}; lower {what}"
+        )
+    return n
 
 
 def _start_phase(model: WalkerModel, x0: np.ndarray, params) -> int:
@@ -335,6 +401,14 @@ class StrideMap:
 
     def with_params(self, **changes) -> StrideMap:
         """A copy with other parameters (validated)."""
+        for name, value in changes.items():
+            if isinstance(value, numbers.Integral) and not isinstance(value, bool | np.bool_):
+                try:
+                    float(value)
+                except OverflowError:
+                    raise ValueError(
+                        f"`{name}` must be finite, got an integer too large for a float"
+                    ) from None
         return self._with_params_object(self.params.replace(**changes))
 
     def _with_params_object(self, params) -> StrideMap:
@@ -350,10 +424,12 @@ class StrideMap:
         return new
 
     def lift(self, z) -> np.ndarray:
-        return self.model.lift(z, self.params)
+        """The full state, shape ``(n_x,)``, at the section point ``z``, shape ``(n_z,)``."""
+        return self.model.lift(_as_vector(z, "z", self.model.n_z), self.params)
 
     def project(self, x) -> np.ndarray:
-        return self.model.project(x, self.params)
+        """The section point, shape ``(n_z,)``, of the full state ``x``, shape ``(n_x,)``."""
+        return self.model.project(_as_vector(x, "x", self.model.n_x), self.params)
 
     def __call__(
         self, z, *, jacobian: bool = False, n_strides: int = 1, parameter: float | None = None
@@ -417,9 +493,36 @@ class StrideMap:
         return MapResult(Status.COMPLETED, model.project(x, p), jz, float(t), x)
 
     def trajectory(self, z, *, n_strides: int = 1, sample_rate: float | None = None) -> Solution:
-        """Simulate from section point ``z`` keeping events and samples (or every step)."""
+        """Simulate from section point ``z`` keeping events and samples (or every step).
+
+        Parameters
+        ----------
+        z : array_like, shape (n_z,)
+            section point to start from.
+        n_strides : int
+            strides to run, >= 1.
+        sample_rate : float, optional
+            samples per second [Hz], > 0: the states at ``0, 1/sample_rate, ...`` up to the
+            end of the run; default every integration step.  The samples must fit in
+            :func:`walker.results.memory_limit` (checked before they are allocated).
+
+        Raises
+        ------
+        ValueError, TypeError
+            a bad ``z``, ``n_strides`` or ``sample_rate``, or too many samples; before any
+            work except the run that measures the duration for ``sample_rate``.
+        """
+        z = _as_vector(z, "z", self.model.n_z)
+        if not all(map(math.isfinite, z.tolist())):
+            raise ValueError("All components of the section point `z` must be finite.")
+        if isinstance(n_strides, bool) or not isinstance(n_strides, int | np.integer):
+            raise TypeError(f"`n_strides` must be an int, got {type(n_strides).__name__}")
+        if n_strides < 1:
+            raise ValueError(f"`n_strides` must be >= 1, got {n_strides}")
+        if sample_rate is not None:
+            sample_rate = _positive_rate(sample_rate)
         p = self.params.as_array()
-        x0 = self.model.lift(np.asarray(z, dtype=float), p)
+        x0 = self.model.lift(z, p)
         if sample_rate is None:
             return simulate(
                 self.model,
@@ -444,6 +547,7 @@ class StrideMap:
             atol=self.atol,
             first_step=self.first_step,
         )
+        check_sample_count(first.t, sample_rate, self.model.n_x, "`sample_rate`")
         times = np.arange(0.0, first.t, 1.0 / sample_rate)
         return simulate(
             self.model,

@@ -19,6 +19,12 @@ How the work is cut and run (DESIGN.md, decision 10):
    yet marked done.
 4. Everything is validated before any work starts; expected failures of a point (a fall,
    Newton not converging) are statuses in the table, never exceptions.
+5. Sizes are bounded before anything is allocated: a sweep has at most
+   :data:`MAX_SWEEP_POINTS` points, and its table must fit in
+   :func:`walker.results.memory_limit`.
+6. The pool of ``executor="processes"`` is walker's own: its workers end when the process
+   that started them dies (:func:`walker._executors.die_with_parent`), so a ``kill -9`` of a
+   sweep leaves no worker computing for nobody.
 
 Examples
 --------
@@ -48,14 +54,15 @@ from typing import Any
 
 import numpy as np
 
-from walker._executors import run_chunks
+from walker._executors import die_with_parent, process_pool, run_chunks
 from walker.fixedpoint import find_fixed_point
-from walker.results import SweepTable
-from walker.stride import StrideMap
+from walker.results import SweepTable, too_large
+from walker.stride import StrideMap, _as_vector
 
 __all__ = [
     "KINDS",
     "MapSpec",
+    "die_with_parent",
     "grid_points",
     "parse_range",
     "run_sweep_command",
@@ -73,6 +80,13 @@ per-chunk overhead (submit, pickle, one HDF5 write with fsync: a few ms) stays s
 MIN_DEFAULT_CHUNKS = 16
 """The default chunk size gives at least this many chunks (when there are as many points),
 so that a pool of a few workers is balanced and a killed sweep loses little."""
+
+MAX_SWEEP_POINTS = 1_000_000
+"""Most points one sweep takes (a 1000 x 1000 grid): hours of work at a few ms per point, a
+table of tens of MB.  Cut a larger study into several sweeps."""
+
+SCHEDULER_TIMEOUT = 5.0
+"""Seconds allowed to connect to a ``dask.distributed`` scheduler (:func:`run_sweep_command`)."""
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _RANGE_RULE = (
@@ -154,7 +168,13 @@ def parse_range(text: str) -> tuple[str, np.ndarray]:
                 f"bad parameter range {text!r}: COUNT must be an integer >= 1, got "
                 f"{parts[2]!r}; {_RANGE_RULE}"
             )
-        return name, np.linspace(start, stop, int(parts[2]))
+        count = int(parts[2])
+        if count > MAX_SWEEP_POINTS:
+            raise ValueError(
+                f"bad parameter range {text!r}: COUNT {count:,} is more than a sweep takes "
+                f"(at most {MAX_SWEEP_POINTS:,} points); cut the range into several sweeps"
+            )
+        return name, np.linspace(start, stop, count)
     values = [_finite_float(v.strip(), "value", text) for v in spec.split(",")]
     return name, np.array(values, dtype=np.float64)
 
@@ -188,15 +208,7 @@ def _normalize_ranges(ranges: Any) -> list[tuple[str, np.ndarray]]:
                 ) from None
             if not isinstance(name, str) or not _NAME.match(name):
                 raise ValueError(f"parameter names in `ranges` must be identifiers, got {name!r}")
-            values = np.asarray(values)
-            if values.ndim == 0:
-                values = values[None]
-            if values.ndim != 1 or values.shape[0] == 0 or values.dtype.kind not in "biuf":
-                raise ValueError(
-                    f"values of `{name}` in `ranges` must be a non-empty 1-D array of real "
-                    f"numbers, got shape {values.shape} dtype {values.dtype}"
-                )
-            values = values.astype(np.float64)
+            values = _real_values(name, values)
             if not np.all(np.isfinite(values)):
                 raise ValueError(f"values of `{name}` in `ranges` must all be finite")
         out.append((name, values))
@@ -204,7 +216,62 @@ def _normalize_ranges(ranges: Any) -> list[tuple[str, np.ndarray]]:
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:
         raise ValueError(f"`ranges` names each parameter at most once; repeated: {dup}")
+    check_grid_size([len(v) for _, v in out], "`ranges`")
     return out
+
+
+def _real_values(name: str, values: Any) -> np.ndarray:
+    """The values of one parameter of ``ranges`` as a 1-D float array, or an error naming
+    it: booleans, complex numbers and numbers too large for a float are refused."""
+    if isinstance(values, np.ndarray) and values.dtype.kind != "O":
+        has_bool = values.dtype.kind == "b"
+    elif isinstance(values, Sequence | np.ndarray) and not isinstance(values, str):
+        flat = np.ravel(np.asarray(values, dtype=object))
+        has_bool = any(isinstance(v, bool | np.bool_) for v in flat.tolist())
+    else:
+        has_bool = isinstance(values, bool | np.bool_)
+    if has_bool:
+        raise TypeError(f"values of `{name}` in `ranges` must be numbers, got a bool")
+    rule = f"values of `{name}` in `ranges` must be a non-empty 1-D array of real numbers"
+    try:
+        arr = np.asarray(values)
+    except (TypeError, ValueError):
+        raise ValueError(f"{rule}, got {type(values).__name__}") from None
+    if arr.ndim == 0:
+        arr = arr[None]
+    if arr.dtype.kind == "O" and arr.ndim == 1:
+        try:
+            arr = np.asarray(values, dtype=np.float64).reshape(-1)
+        except OverflowError:
+            raise ValueError(
+                f"values of `{name}` in `ranges` must all be finite; one is too large for a float"
+            ) from None
+        except (TypeError, ValueError):
+            raise ValueError(f"{rule}, got {values!r}"[:300]) from None
+    if arr.ndim != 1 or arr.shape[0] == 0 or arr.dtype.kind not in "iuf":
+        raise ValueError(f"{rule}, got shape {arr.shape} dtype {arr.dtype}")
+    return arr.astype(np.float64)
+
+
+def check_grid_size(lengths: Sequence[int], what: str, bytes_per_point: int = 0) -> int:
+    """The number of points of a grid with these range ``lengths``, or a ValueError naming
+    ``what`` (``"`ranges`"``, ``"--param"``) when it is more than :data:`MAX_SWEEP_POINTS`
+    or its table of ``bytes_per_point`` per point does not fit in
+    :func:`walker.results.memory_limit`.  Nothing is allocated."""
+    n_points = math.prod(int(n) for n in lengths)
+    shape = " x ".join(f"{int(n):,}" for n in lengths)
+    if n_points > MAX_SWEEP_POINTS:
+        raise ValueError(
+            f"the grid of {what} has {n_points:,} points ({shape}), more than a sweep takes "
+            f"(at most {MAX_SWEEP_POINTS:,}); cut it into several sweeps"
+        )
+    reason = too_large(n_points * float(bytes_per_point))
+    if reason is not None:
+        raise ValueError(
+            f"the grid of {what} has {n_points:,} points ({shape}), whose table {reason}; "
+            "sweep fewer points"
+        )
+    return n_points
 
 
 def grid_points(ranges: Any) -> tuple[tuple[str, ...], np.ndarray]:
@@ -290,6 +357,63 @@ def _materialize(section_map: Any) -> Any:
     return cached
 
 
+def _check_names(stride_map: Any, names: Sequence[str], what: str) -> None:
+    valid = tuple(stride_map.params.names())
+    for name in names:
+        if name not in valid:
+            raise ValueError(
+                f"unknown parameter `{name}` in {what} for model "
+                f"`{getattr(stride_map.model, 'name', stride_map.model)}`; valid names: "
+                f"{', '.join(valid)}"
+            )
+
+
+def _point_error(names: Sequence[str], row: np.ndarray, exc: Exception) -> ValueError:
+    point = ", ".join(f"{n}={v!r}" for n, v in zip(names, row.tolist(), strict=True))
+    return ValueError(f"grid point ({point}) is not valid: {exc}")
+
+
+def _check_points(params: Any, names: Sequence[str], points: np.ndarray) -> None:
+    """Every row of ``points`` (values of ``names``) is a valid change of ``params``, or a
+    ValueError naming the first bad point and the rule.
+
+    The bounds of each parameter are checked once per distinct value, the cross-field rules
+    (``_check_relations``) once per point without building validated copies, so a million
+    points take seconds, not minutes.
+    """
+    from walker.params import _check_bounds, _Params
+
+    if not isinstance(params, _Params) or not dataclasses.is_dataclass(params):
+        for row in points:  # a parameter object of another kind: its own validation
+            try:
+                params.replace(**dict(zip(names, row.tolist(), strict=True)))
+            except (TypeError, ValueError) as exc:
+                raise _point_error(names, row, exc) from None
+        return
+    fields = {f.name: f for f in dataclasses.fields(params)}
+    for j, name in enumerate(names):
+        for value in np.unique(points[:, j]).tolist():
+            try:
+                _check_bounds(name, value, fields[name].metadata)
+            except ValueError as exc:
+                row = points[int(np.argmax(points[:, j] == value))]
+                raise _point_error(names, row, exc) from None
+    if type(params)._check_relations is _Params._check_relations:
+        return
+    for row in points:
+        candidate = params._replace_validated(**dict(zip(names, row.tolist(), strict=True)))
+        try:
+            candidate._check_relations()
+        except (TypeError, ValueError) as exc:
+            raise _point_error(names, row, exc) from None
+
+
+def _bytes_per_point(kind: str, n_z: int, n_names: int) -> int:
+    """Bytes of one point of a sweep's table: its parameter values and its columns."""
+    columns = _columns(kind, n_z)
+    return 8 * (n_names + sum(math.prod(shape) for _, shape in columns.values()))
+
+
 def _columns(kind: str, n_z: int) -> dict[str, tuple[str, tuple[int, ...]]]:
     """Column name -> (dtype, per-point shape) of a sweep table."""
     cols: dict[str, tuple[str, tuple[int, ...]]] = {
@@ -341,6 +465,13 @@ def sweep_chunk(
     dict
         column name -> ndarray of shape ``(m, *shape)`` (see :func:`sweep`).
 
+    Raises
+    ------
+    ValueError, TypeError
+        an unknown ``kind`` or parameter name, ``points`` not of shape ``(m, k)`` or a point
+        outside the parameters' bounds, a bad ``z0``, ``n_strides`` or ``tol``; before any
+        work.
+
     Notes
     -----
     Each fixed-point search has a budget of
@@ -351,7 +482,15 @@ def sweep_chunk(
     """
     from walker.fixedpoint import POINT_MAX_EVALS
 
+    if kind not in KINDS:
+        raise ValueError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}")
     base = _materialize(section_map)
+    if not (hasattr(base, "params") and hasattr(base, "_with_params_object")):
+        raise TypeError(
+            "`section_map` must be a walker.stride.StrideMap or a MapSpec, got "
+            f"{type(base).__name__}"
+        )
+    names, points, z0, n_strides, tol = _chunk_arguments(base, names, points, z0, n_strides, tol)
     n_z = int(base.n_z)
     m = points.shape[0]
     out = {
@@ -389,6 +528,34 @@ def sweep_chunk(
     return out
 
 
+def _chunk_arguments(base, names, points, z0, n_strides, tol):
+    """The arguments of :func:`sweep_chunk` checked (it is public: nothing is assumed)."""
+    if isinstance(names, str) or not all(isinstance(n, str) for n in names):
+        raise TypeError(f"`names` must be a tuple of parameter names, got {names!r}")
+    names = tuple(names)
+    _check_names(base, names, "`names`")
+    try:
+        points = np.asarray(points, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        raise TypeError("`points` must be an array of real numbers, shape (m, k)") from None
+    if points.ndim != 2 or points.shape[1] != len(names):
+        raise ValueError(
+            f"`points` must have shape (m, {len(names)}) (one column per name), got {points.shape}"
+        )
+    if not np.all(np.isfinite(points)):
+        raise ValueError("All values in `points` must be finite")
+    _check_points(base.params, names, points)
+    n_z = int(base.n_z)
+    z0 = np.asarray(z0)
+    if z0.dtype.kind not in "iuf" or z0.shape != (n_z,) or not np.all(np.isfinite(z0)):
+        raise ValueError(
+            f"`z0` must be {n_z} finite real numbers (the map's n_z), got shape {z0.shape} "
+            f"dtype {z0.dtype}"
+        )
+    n_strides = _positive_int(n_strides, "n_strides")
+    return names, points, z0.astype(np.float64), n_strides, _positive_float(tol, "tol")
+
+
 # ---------------------------------------------------------------------------------------------
 # The driver
 # ---------------------------------------------------------------------------------------------
@@ -407,6 +574,20 @@ def _positive_int(value: Any, name: str) -> int:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
         raise ValueError(f"`{name}` must be an integer >= 1, got {value!r}")
     return int(value)
+
+
+def _positive_float(value: Any, name: str) -> float:
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
+        raise TypeError(f"`{name}` must be a real number, got {type(value).__name__} {value!r}")
+    try:
+        number = float(value)
+    except OverflowError:
+        raise ValueError(
+            f"`{name}` must be positive and finite, got an integer too large for a float"
+        ) from None
+    if not (math.isfinite(number) and number > 0):
+        raise ValueError(f"`{name}` must be positive and finite, got {value!r}")
+    return number
 
 
 def default_chunk_size(n_points: int, kind: str) -> int:
@@ -456,39 +637,24 @@ def _validate(stride_map, ranges, kind, z0, n_strides, chunk_size, jobs, tol):
         )
     if kind not in KINDS:
         raise ValueError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}")
-    names, points = grid_points(ranges)
-    valid = tuple(stride_map.params.names())
-    for name in names:
-        if name not in valid:
-            raise ValueError(
-                f"unknown parameter `{name}` in `ranges` for model "
-                f"`{getattr(stride_map.model, 'name', stride_map.model)}`; valid names: "
-                f"{', '.join(valid)}"
-            )
-    for row in points:
-        try:
-            stride_map.params.replace(**dict(zip(names, row.tolist(), strict=True)))
-        except (TypeError, ValueError) as exc:
-            point = ", ".join(f"{n}={v!r}" for n, v in zip(names, row.tolist(), strict=True))
-            raise ValueError(f"grid point ({point}) is not valid: {exc}") from None
     n_z = int(stride_map.n_z)
-    z0 = np.asarray(z0, dtype=float)
+    z0 = _as_vector(z0, "z0")
     if z0.shape != (n_z,):
         raise ValueError(f"`z0` must have shape ({n_z},) (the map's n_z), got {z0.shape}")
     if not np.all(np.isfinite(z0)):
-        raise ValueError(f"All components of `z0` must be finite, got {z0}")
+        raise ValueError(f"All components of `z0` must be finite, got {z0.tolist()}")
     n_strides = _positive_int(n_strides, "n_strides")
-    n_points = points.shape[0]
-    chunk = (
-        default_chunk_size(n_points, kind)
-        if chunk_size is None
-        else _positive_int(chunk_size, "chunk_size")
-    )
+    if chunk_size is not None:
+        chunk_size = _positive_int(chunk_size, "chunk_size")
     if jobs is not None:
         jobs = _positive_int(jobs, "jobs")
-    tol = float(tol)
-    if not (math.isfinite(tol) and tol > 0):
-        raise ValueError(f"`tol` must be positive and finite, got {tol}")
+    tol = _positive_float(tol, "tol")
+    names, points = grid_points(ranges)
+    _check_names(stride_map, names, "`ranges`")
+    n_points = points.shape[0]
+    check_grid_size([n_points], "`ranges`", _bytes_per_point(kind, n_z, len(names)))
+    _check_points(stride_map.params, names, points)
+    chunk = default_chunk_size(n_points, kind) if chunk_size is None else chunk_size
     return names, points, z0, n_strides, chunk, jobs, tol
 
 
@@ -532,13 +698,17 @@ def sweep(
         points per task, >= 1.  Default :func:`default_chunk_size` (at most 256 for
         outcome, 16 for fixed_point, and at least 16 chunks when there are 16 points).
         A resumed sweep must use the chunk size it started with.
-    executor : concurrent.futures.Executor, dask.distributed.Client, "serial" or None
+    executor : concurrent.futures.Executor, dask.distributed.Client, "serial", "processes" or None
         ``None``: ``jobs or os.cpu_count()`` threads of this process (the compiled strides
-        release the GIL) created and shut down here; ``"serial"``: run inline; an
-        ``Executor`` is used as is (and left running); a ``dask.distributed.Client`` through
-        its ``get_executor()``.
+        release the GIL) created and shut down here; ``"processes"``: as many worker
+        processes, created and shut down here, which end when this process dies
+        (:func:`walker._executors.process_pool`); ``"serial"``: run inline; an ``Executor``
+        is used as is (and left running; the workers of a ``ProcessPoolExecutor`` are made
+        to end with this process from their first chunk on); a
+        ``dask.distributed.Client`` through its ``get_executor()``.
     jobs : int, optional
-        threads of the default pool (>= 1); ignored with a warning when ``executor`` is given.
+        workers of the default pool or of ``"processes"`` (>= 1); ignored with a warning
+        when another ``executor`` is given.
     out : str or os.PathLike, optional
         HDF5 checkpoint (:class:`walker.storage.SweepStore`).  Each chunk is written as it
         finishes; if the file exists and holds this same sweep (grid, columns, chunk size,
@@ -629,8 +799,11 @@ class _Plan:
 
 
 def _check_executor(executor: Any, jobs: int | None) -> Any:
-    if isinstance(executor, str) and executor != "serial":
-        raise ValueError(f"`executor` must be an Executor, 'serial' or None, got {executor!r}")
+    if isinstance(executor, str) and executor not in ("serial", "processes"):
+        raise ValueError(
+            f"`executor` must be an Executor, 'serial' or None, or 'processes' (worker "
+            f"processes), got {executor!r}"
+        )
     if hasattr(executor, "get_executor") and not isinstance(executor, cf.Executor):
         executor = executor.get_executor()  # a dask.distributed Client
     if executor is not None and not isinstance(executor, str | cf.Executor):
@@ -638,7 +811,7 @@ def _check_executor(executor: Any, jobs: int | None) -> Any:
             "`executor` must be a concurrent.futures.Executor, a dask.distributed.Client, "
             f"'serial' or None, got {type(executor).__name__}"
         )
-    if executor is not None and jobs is not None:
+    if executor not in (None, "processes") and jobs is not None:
         warnings.warn("`jobs` has no effect when `executor` is given", stacklevel=4)
     return executor
 
@@ -733,6 +906,10 @@ def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
         own_pool = cf.ThreadPoolExecutor(max_workers=n_workers, thread_name_prefix="walker-sweep")
         executor = own_pool
         task_map = stride_map
+    elif pending and executor == "processes":
+        # Worker processes that end with this one (a kill -9 of the sweep leaves none).
+        own_pool = process_pool(min(plan.jobs or os.cpu_count() or 1, len(pending)))
+        executor = own_pool
     n_done = n_points - sum(rows(i).stop - rows(i).start for i in pending)
     bar = tqdm(
         total=n_points,
@@ -785,6 +962,7 @@ def run_sweep_command(
     strides: int | None = None,
     chunk_size: int | None = None,
     overwrite: bool = False,
+    processes: bool = False,
 ) -> SweepTable:
     """``walker sweep SCENE --param NAME=START:STOP:COUNT ... --out FILE.h5``.
 
@@ -800,10 +978,12 @@ def run_sweep_command(
         ``"NAME=START:STOP:COUNT"`` or ``"NAME=V1,V2,..."``, one per varied parameter.
     kind : {"outcome", "fixed_point"}
     jobs : int, optional
-        local worker processes (default: all CPUs); not used with ``scheduler``.
+        local workers (default: all CPUs): threads, or processes with ``processes``; not used
+        with ``scheduler``.
     scheduler : str, optional
         address of a ``dask.distributed`` scheduler (``"tcp://host:8786"``); the sweep runs
-        on that cluster through ``Client(scheduler).get_executor()``.
+        on that cluster through ``Client(scheduler).get_executor()``.  A scheduler that
+        does not answer within :data:`SCHEDULER_TIMEOUT` seconds raises ``ConnectionError``.
     out : str or os.PathLike, optional
         HDF5 checkpoint; rerunning the same command resumes.  Its provenance holds the scene
         path, the model, the base parameters with units, method, rtol, atol, the kernel hash
@@ -816,10 +996,21 @@ def run_sweep_command(
         as in :func:`sweep`.
     overwrite : bool
         replace an existing ``out`` instead of resuming it.
+    processes : bool
+        run on ``jobs`` worker processes (``executor="processes"`` of :func:`sweep`) instead
+        of threads.
 
     Returns
     -------
     SweepTable
+
+    Raises
+    ------
+    ValueError, TypeError
+        bad input (as :func:`sweep`); before any work.
+    ConnectionError
+        ``scheduler`` cannot be reached within :data:`SCHEDULER_TIMEOUT` seconds; the
+        checkpoint ``out`` exists then, and the same call resumes it.
 
     Everything, the checkpoint ``out`` included, is checked before any work and before
     connecting to ``scheduler``.
@@ -867,8 +1058,74 @@ def run_sweep_command(
         tol=1e-10,
     )
     if scheduler is None or not plan.pending:
-        return _execute(plan, None, not quiet)
-    from distributed import Client
-
-    with Client(scheduler) as client:
+        return _execute(plan, "processes" if processes else None, not quiet)
+    with _connect(scheduler) as client:
         return _execute(plan, client, not quiet)
+
+
+def _connect(scheduler: str) -> Any:
+    """A ``dask.distributed.Client`` of ``scheduler``, or a ConnectionError saying why not
+    within about :data:`SCHEDULER_TIMEOUT` seconds (a ValueError for an address that is
+    none).
+
+    Before a ``Client`` is made, a host and port are tried with a plain TCP connection (a
+    port nobody listens on fails at once, not after dask's retries) and the server is asked
+    who it is: what answers but is no scheduler is refused with its reason, and no half-made
+    ``Client`` is left to complain when it is collected.
+    """
+    import socket
+
+    from distributed import Client
+    from distributed.comm import get_address_host_port, parse_address
+
+    try:
+        scheme = parse_address(scheduler)[0]
+        tcp = scheme in ("tcp", "tls", "ws", "wss")
+        host, port = get_address_host_port(scheduler) if tcp else (None, None)
+    except ValueError as exc:
+        raise ValueError(
+            f"`scheduler` must be a scheduler address such as 'tcp://host:8786', got "
+            f"{scheduler!r}: {str(exc).splitlines()[0] if str(exc) else 'invalid'}"
+        ) from None
+
+    def fail(reason: str) -> ConnectionError:
+        return ConnectionError(
+            f"cannot connect to the dask scheduler {scheduler!r} within "
+            f"{SCHEDULER_TIMEOUT:g} s: {reason}"
+        )
+
+    if tcp:
+        try:
+            with socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT):
+                pass
+        except OSError as exc:
+            raise fail(exc.strerror or str(exc) or type(exc).__name__) from None
+    try:
+        identity = _ask_identity(scheduler)
+    except Exception as exc:  # whatever the server sent: hostile bytes are not a bug of ours
+        raise fail(f"no dask scheduler answers there ({type(exc).__name__}: {exc})"[:300]) from None
+    if not (isinstance(identity, dict) and identity.get("type") == "Scheduler"):
+        raise fail("the server there is not a dask scheduler")
+    try:
+        return Client(scheduler, timeout=SCHEDULER_TIMEOUT, set_as_default=False)
+    except (OSError, TimeoutError) as exc:
+        raise fail(str(exc).splitlines()[0] if str(exc) else type(exc).__name__) from None
+
+
+def _ask_identity(scheduler: str) -> Any:
+    """The reply of the server at ``scheduler`` to dask's ``identity`` request, asked on a
+    thread of its own (so a running event loop of the caller is no obstacle)."""
+    import asyncio
+
+    from distributed.comm import connect
+
+    async def ask():
+        comm = await connect(scheduler, timeout=SCHEDULER_TIMEOUT)
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            return await asyncio.wait_for(comm.read(), SCHEDULER_TIMEOUT)
+        finally:
+            comm.abort()
+
+    with cf.ThreadPoolExecutor(1, thread_name_prefix="walker-scheduler") as pool:
+        return pool.submit(asyncio.run, ask()).result()

@@ -4,8 +4,26 @@ One module per subcommand (``find.py`` ... ``plot.py``: its ``cmd_*`` function a
 ``register`` that adds the parser); the shared checks live in ``_common.py``.
 
 Every subcommand takes a scene file (``gaits/*.toml``) and only orchestrates the library.
-Invalid input gives a one-line ``walker: error: ...`` and exit status 2; expected outcomes
-(a fall, Newton not converging) are reported with exit status 1.
+
+Exit status:
+
+* 0: done.
+* 1: an outcome, not an error: the walker fell, no gait was found (``EXIT_OUTCOME``).
+* 2: invalid input, one line ``walker: error: ...`` naming the flag, or the file and key
+  (``EXIT_USAGE``).  These are exactly the errors walker raises for bad input: a
+  :class:`UsageError` of the command line, a ``ValueError`` or ``TypeError`` raised by
+  walker's own validation (raised in walker's code: the innermost frame of its traceback
+  is in the package; the library's messages name the argument), a
+  :class:`walker.storage.StorageError`, and an ``OSError`` of a named file (the line names
+  the path, and the flag it came from).
+* 3: an internal error, a bug (``EXIT_INTERNAL``): any other exception, an ``OSError``
+  without a file or a ``ValueError`` raised inside another library included.  One line
+  ``walker: internal error (<type>: <message>), please report; traceback in <file>``; the
+  traceback goes to a new file under ``$XDG_CACHE_HOME/walker/`` (``~/.cache/walker/``; the
+  temporary directory when that cannot be written).
+* 130: interrupted (SIGINT, SIGTERM; below).
+* 141: standard output was closed by its reader (``walker find ... | head -c1``): the rest of
+  the output is dropped, nothing is printed, as for a tool ended by SIGPIPE.
 
 Output paths are checked before any work: ``--out`` naming a directory, in a missing or
 unwritable directory, or an existing file without ``--overwrite`` (``sweep`` and ``basin``:
@@ -24,11 +42,19 @@ from __future__ import annotations
 import argparse
 import contextlib
 import os
+import platform
+import select
 import sys
+import tempfile
+import time
+import traceback
+from pathlib import Path
 
 from . import basin, branch, find, orbit, plot, run, sweep
 from ._common import (
     BASIN_TOL,
+    EXIT_BROKEN_PIPE,
+    EXIT_INTERNAL,
     EXIT_INTERRUPTED,
     EXIT_OK,
     EXIT_OUTCOME,
@@ -41,6 +67,8 @@ from ._common import (
 
 __all__ = [
     "BASIN_TOL",
+    "EXIT_BROKEN_PIPE",
+    "EXIT_INTERNAL",
     "EXIT_INTERRUPTED",
     "EXIT_OK",
     "EXIT_OUTCOME",
@@ -100,7 +128,6 @@ def _interrupted_line(args, before: tuple | None) -> str:
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    from walker.storage import StorageError
 
     before = _file_id(args.out) if args.command in _CHECKPOINTING else None
     guard = (
@@ -109,7 +136,9 @@ def main(argv=None) -> int:
     try:
         with guard:
             try:
-                return args.func(args)
+                code = args.func(args)
+                sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
+                return code
             except KeyboardInterrupt:  # Ctrl-C, or SIGTERM/SIGINT (interrupts_as_exceptions)
                 # Still under the handler: a second signal now exits at once.
                 print(_interrupted_line(args, before), file=sys.stderr)
@@ -117,20 +146,130 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:  # a signal just after the command's own handling
         print("walker: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
-    except (
-        UsageError,
-        ValueError,
-        TypeError,
-        FileNotFoundError,
-        FileExistsError,
-        PermissionError,
-        IsADirectoryError,
-        NotADirectoryError,
-        StorageError,
-    ) as exc:
-        msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        print(f"walker: error: {msg}", file=sys.stderr)
+    except BrokenPipeError as exc:
+        if _stdout_closed():
+            return _drop_stdout()
+        return _internal_error(exc, argv)
+    except Exception as exc:
+        line = _input_error_line(args, exc)
+        if line is None:
+            return _internal_error(exc, argv)
+        print(f"walker: error: {line}", file=sys.stderr)
         return EXIT_USAGE
+
+
+_PACKAGE_DIR = Path(__file__).resolve().parent.parent
+
+
+def _raised_by_walker(exc: BaseException) -> bool:
+    """``exc`` was raised in walker's own code (its innermost frame is in the package), not
+    inside another library walker called."""
+    tb = exc.__traceback__
+    if tb is None:
+        return False
+    while tb.tb_next is not None:
+        tb = tb.tb_next
+    try:
+        return Path(tb.tb_frame.f_code.co_filename).resolve().is_relative_to(_PACKAGE_DIR)
+    except (OSError, ValueError):  # pragma: no cover - a strange code object
+        return False
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip()
+    line = text.splitlines()[0] if text else type(exc).__name__
+    return line if len(line) <= 400 else line[:397] + "..."
+
+
+def _path_label(args, filename) -> str:
+    """The flag (or role) a path given on the command line came from, for messages."""
+    try:
+        name = os.fspath(filename)
+    except TypeError:
+        return ""
+    for attr, label in (("out", "--out "), ("scene", "scene file "), ("file", "result file ")):
+        value = getattr(args, attr, None)
+        if isinstance(value, str) and value and os.fspath(value) == name:
+            return label
+    return ""
+
+
+def _input_error_line(args, exc: Exception) -> str | None:
+    """The one line for an error of the input, or None for an internal error."""
+    from walker.storage import StorageError
+
+    if isinstance(exc, UsageError | StorageError):
+        return _first_line(exc)
+    if isinstance(exc, OSError) and exc.filename is not None:
+        # An OSError of a named file: the path, the flag it came from and the reason.
+        reason = exc.strerror or _first_line(exc)
+        return f"{_path_label(args, exc.filename)}{os.fsdecode(exc.filename)}: {reason}"
+    if isinstance(exc, ValueError | TypeError | OSError) and _raised_by_walker(exc):
+        return _first_line(exc)
+    return None
+
+
+def _crash_log(exc: BaseException, argv) -> str | None:
+    """Write ``exc``'s traceback to a new log file; its path, or None when none could be
+    written."""
+    from walker import __version__
+
+    cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    for directory in (Path(cache) / "walker", Path(tempfile.gettempdir())):
+        try:
+            directory.mkdir(parents=True, exist_ok=True)
+            fd, path = tempfile.mkstemp(prefix=f"crash-{stamp}-", suffix=".log", dir=directory)
+            with os.fdopen(fd, "w", encoding="utf-8", errors="replace") as fh:
+                fh.write(
+                    f"walker {__version__}, Python {platform.python_version()}, "
+                    f"{platform.platform()}\n"
+                )
+                shown = sys.argv[1:] if argv is None else list(argv)
+                fh.write(f"command: walker {' '.join(map(str, shown))}\n\n")
+                fh.write("".join(traceback.format_exception(exc)))
+            return path
+        except OSError:
+            continue
+    return None
+
+
+def _internal_error(exc: BaseException, argv) -> int:
+    """Report ``exc`` as the bug it is: one line, the traceback in a log file."""
+    path = _crash_log(exc, argv)
+    where = f"traceback in {path}" if path else "traceback follows"
+    print(
+        f"walker: internal error ({type(exc).__name__}: {_first_line(exc)}), please report; "
+        f"{where}",
+        file=sys.stderr,
+    )
+    if path is None:
+        traceback.print_exception(exc, file=sys.stderr)
+    return EXIT_INTERNAL
+
+
+def _stdout_closed() -> bool:
+    """Standard output is a pipe whose reader is gone (True also when that cannot be told:
+    printing is what walker does with a pipe)."""
+    try:
+        poller = select.poll()
+        poller.register(sys.stdout.fileno(), 0)
+        events = poller.poll(0)
+    except (AttributeError, OSError, ValueError):
+        return True
+    return any(ev & (select.POLLERR | select.POLLHUP) for _, ev in events)
+
+
+def _drop_stdout() -> int:
+    """After EPIPE on standard output: send what is still buffered nowhere (so the flush at
+    exit does not complain) and exit quietly."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (AttributeError, OSError, ValueError):
+        pass
+    return EXIT_BROKEN_PIPE
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -17,11 +17,20 @@ from pathlib import Path
 import numpy as np
 
 EXIT_OK, EXIT_OUTCOME, EXIT_USAGE = 0, 1, 2
+EXIT_INTERNAL = 3
+"""Exit status of an internal error (a bug in walker: an exception it did not expect)."""
 EXIT_INTERRUPTED = 130
 """Exit status after SIGINT or SIGTERM (128 + SIGINT, the shell's convention for Ctrl-C)."""
+EXIT_BROKEN_PIPE = 141
+"""Exit status when the reader of standard output went away (``walker ... | head``): 128 +
+SIGPIPE, what the shell reports for a tool the signal ended."""
 
 BASIN_TOL = 1e-6
 """Convergence tolerance of ``walker basin`` (section units, max-norm)."""
+
+MAX_STRIDES = 1_000_000
+"""Most strides a command takes per run, per point or per period (``--strides``,
+``--period``): far beyond any study, and within what the compiled loop counts."""
 
 
 class UsageError(ValueError):
@@ -137,7 +146,25 @@ def _parse_set(items) -> dict:
             out[name.strip()] = float(value)
         except ValueError:
             raise UsageError(f"--set {name}: value {value!r} is not a number") from None
+        if not math.isfinite(out[name.strip()]):
+            raise UsageError(f"--set {name}: value {value!r} must be a finite number")
     return out
+
+
+def _positive_flag(value, flag: str, *, minimum: float = 0.0, integer: bool = False):
+    """``value`` of ``flag`` when it is finite and above ``minimum`` (at least ``minimum`` for
+    an ``integer``), else a UsageError naming the flag."""
+    if value is None:
+        return None
+    if integer:
+        if value < minimum:
+            raise UsageError(f"{flag} must be an integer >= {minimum:g}, got {value}")
+        if value > MAX_STRIDES:
+            raise UsageError(f"{flag} must be <= {MAX_STRIDES:,}, got {value}")
+        return value
+    if not (math.isfinite(value) and value > minimum):
+        raise UsageError(f"{flag} must be a finite number > {minimum:g}, got {value}")
+    return value
 
 
 def _load(args):
@@ -200,13 +227,32 @@ def _writable_dir(directory: Path) -> bool:
     return True
 
 
-def _check_out(path, *, overwrite: bool = False, resumable: bool = False) -> Path | None:
+def _check_out(
+    path, *, overwrite: bool = False, resumable: bool = False, size: int = 1 << 20
+) -> Path | None:
     """``--out`` checked before any work: not a directory, in an existing, writable
     directory, and not an existing file unless ``overwrite`` (or ``resumable``: a checkpoint
-    the command may resume, which must then be a writable file)."""
+    the command may resume, which must then be a writable file).  A path the system refuses
+    (a name too long, a loop of links, ...) is a UsageError naming ``--out`` and the reason.
+    With ``size`` > 0 the file system must also take a file of about ``size`` bytes (not
+    read-only, enough free space: :func:`walker.storage.check_writable`)."""
     if path is None:
         return None
-    out = Path(path)
+    try:
+        out = _check_out_path(Path(path), path, overwrite, resumable)
+    except OSError as exc:
+        raise UsageError(f"--out {path}: {exc.strerror or exc}; choose another --out") from None
+    if size > 0:
+        from walker.storage import StorageError, check_writable
+
+        try:
+            check_writable(out, size)
+        except (StorageError, OSError) as exc:
+            raise UsageError(f"--out {path}: {exc}; choose another --out") from None
+    return out
+
+
+def _check_out_path(out: Path, path, overwrite: bool, resumable: bool) -> Path:
     if out.is_dir():
         raise UsageError(f"--out {path} is a directory; give a file name")
     parent = out.parent if str(out.parent) else Path(".")
@@ -231,7 +277,13 @@ def _check_out(path, *, overwrite: bool = False, resumable: bool = False) -> Pat
 
 def _check_figure_dir(path) -> Path:
     """``plot --out``: a writable directory, or a new one in a writable directory."""
-    out = Path(path)
+    try:
+        return _check_figure_path(Path(path), path)
+    except OSError as exc:
+        raise UsageError(f"--out {path}: {exc.strerror or exc}; choose another --out") from None
+
+
+def _check_figure_path(out: Path, path) -> Path:
     if out.exists() and not out.is_dir():
         raise UsageError(f"--out {path} exists and is not a directory; choose another --out")
     if out.is_dir():

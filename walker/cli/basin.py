@@ -13,6 +13,7 @@ from ._common import (
     UsageError,
     _check_out,
     _load,
+    _positive_flag,
     _resume_hint,
     _stride_map,
     provenance,
@@ -23,22 +24,36 @@ from ._common import (
 def cmd_basin(args) -> int:
     from walker.basin import basin_map
     from walker.fixedpoint import find_fixed_point
+    from walker.results import too_large
     from walker.storage import BasinStore, CheckpointMismatch
 
-    scene = _load(args)
-    P = _stride_map(scene)
-    axes = tuple(int(a) for a in args.axes.split(","))
-    if len(axes) != 2 or not all(0 <= a < P.n_z for a in axes) or axes[0] == axes[1]:
-        raise UsageError(f"--axes must be two distinct section indices in 0..{P.n_z - 1}")
     if args.n < 2:
         raise UsageError(f"--n must be >= 2, got {args.n}")
-    if args.strides < 1:
-        raise UsageError(f"--strides must be >= 1, got {args.strides}")
+    # outcome and stride count (int64 each) per grid point, in memory and in the file
+    reason = too_large(16.0 * args.n * args.n)
+    if reason is not None:
+        raise UsageError(
+            f"--n {args.n} gives a grid of {args.n * args.n:,} points, which {reason}; lower --n"
+        )
+    _positive_flag(args.strides, "--strides", minimum=1, integer=True)
     if not (math.isfinite(args.span) and args.span > 0):
         raise UsageError(f"--span must be a positive number, got {args.span}")
     if args.jobs is not None and args.jobs < 1:
         raise UsageError(f"--jobs must be >= 1, got {args.jobs}")
-    out = _check_out(args.out, overwrite=args.overwrite, resumable=True)
+    scene = _load(args)
+    P = _stride_map(scene)
+    try:
+        axes = tuple(int(a) for a in args.axes.split(","))
+    except ValueError:
+        axes = ()
+    if len(axes) != 2 or not all(0 <= a < P.n_z for a in axes) or axes[0] == axes[1]:
+        raise UsageError(
+            f"--axes must be two distinct section indices in 0..{P.n_z - 1} such as 0,1, "
+            f"got {args.axes!r}"
+        )
+    out = _check_out(
+        args.out, overwrite=args.overwrite, resumable=True, size=16 * args.n * args.n + (1 << 20)
+    )
     c = scene.compute
     prov = provenance(scene, {"t_max": c.t_max, "first_step": c.first_step})
     if not args.overwrite:

@@ -18,6 +18,7 @@ import numpy as np
 from ._common import (
     EXIT_OK,
     EXIT_OUTCOME,
+    MAX_STRIDES,
     UsageError,
     _check_out,
     _complex_pairs,
@@ -67,6 +68,8 @@ def scene_period(args, scene) -> int:
     if args.period is not None:
         if args.period < 1:
             raise UsageError(f"--period must be an integer >= 1, got {args.period}")
+        if args.period > MAX_STRIDES:
+            raise UsageError(f"--period must be <= {MAX_STRIDES:,}, got {args.period}")
         return int(args.period)
     c = scene.compute
     return max(1, int(c.strides)) if c.task == "fixed_point" else 1

@@ -10,6 +10,7 @@ from ._common import (
     _complex_pairs,
     _json,
     _load,
+    _positive_flag,
     _stride_map,
     provenance,
     scene_cmd,
@@ -19,12 +20,14 @@ from ._common import (
 def cmd_find(args) -> int:
     from walker.fixedpoint import find_fixed_point
 
+    _positive_flag(args.period, "--period", minimum=1, integer=True)
+    _positive_flag(args.tol, "--tol")
     scene = _load(args)
     if not scene.model or scene.model == "double_pendulum":
         raise UsageError(f"{args.scene}: model `{scene.model}` has no gait to find")
     out = _check_out(args.out, overwrite=args.overwrite)
     P = _stride_map(scene)
-    period = args.period or max(1, scene.compute.strides)
+    period = max(1, scene.compute.strides) if args.period is None else args.period
     fp = find_fixed_point(
         P,
         P.project(scene.state),

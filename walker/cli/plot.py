@@ -6,6 +6,7 @@ from pathlib import Path
 
 from ._common import (
     EXIT_OK,
+    UsageError,
     _check_figure_dir,
 )
 
@@ -16,7 +17,11 @@ def cmd_plot(args) -> int:
     matplotlib.use("Agg")
     from walker.gallery import plot_file
 
-    if not Path(args.file).exists():
+    try:
+        found = Path(args.file).exists()
+    except OSError as exc:  # a name too long, ...
+        raise UsageError(f"result file {args.file}: {exc.strerror or exc}") from None
+    if not found:
         raise FileNotFoundError(f"result file not found: {args.file}")
     out = _check_figure_dir(args.out)
     out.mkdir(exist_ok=True)  # the figures' own directory is created

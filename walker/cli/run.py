@@ -9,6 +9,7 @@ import numpy as np
 from ._common import (
     EXIT_OK,
     EXIT_OUTCOME,
+    MAX_STRIDES,
     UsageError,
     _check_out,
     _load,
@@ -19,18 +20,20 @@ from ._common import (
 
 def cmd_run(args) -> int:
     from walker.storage import write
-    from walker.stride import simulate
+    from walker.stride import check_sample_count, simulate
 
-    scene = _load(args)
-    out = _check_out(args.out, overwrite=args.overwrite)
-    c = scene.compute
-    strides = c.strides if args.strides is None else args.strides
-    if strides < 0:
-        raise UsageError(f"--strides must be >= 0, got {strides}")
+    if args.strides is not None and args.strides < 0:
+        raise UsageError(f"--strides must be >= 0, got {args.strides}")
+    if args.strides is not None and args.strides > MAX_STRIDES:
+        raise UsageError(f"--strides must be <= {MAX_STRIDES:,}, got {args.strides}")
     if args.sample_rate is not None and not (
         args.sample_rate > 0 and math.isfinite(args.sample_rate)
     ):
         raise UsageError(f"--sample-rate must be a positive number, got {args.sample_rate}")
+    scene = _load(args)
+    out = _check_out(args.out, overwrite=args.overwrite)
+    c = scene.compute
+    strides = c.strides if args.strides is None else args.strides
     common = dict(
         n_strides=strides,
         phase0=scene.phase,
@@ -44,6 +47,10 @@ def cmd_run(args) -> int:
         sol = simulate(scene.model, scene.params, scene.state, output="full", **common)
     else:
         first = simulate(scene.model, scene.params, scene.state, output="events", **common)
+        try:
+            check_sample_count(first.t, args.sample_rate, len(scene.state), "--sample-rate")
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
         times = np.arange(0.0, first.t, 1.0 / args.sample_rate)
         sol = simulate(
             scene.model, scene.params, scene.state, output="samples", sample_times=times, **common

@@ -6,16 +6,38 @@ import numpy as np
 
 from ._common import (
     EXIT_OK,
+    UsageError,
     _check_out,
+    _positive_flag,
     _resume_hint,
 )
 
 
 def cmd_sweep(args) -> int:
+    from walker.models import get_model
+    from walker.scene import load_scene
     from walker.storage import CheckpointMismatch
-    from walker.sweep import run_sweep_command
+    from walker.sweep import _bytes_per_point, check_grid_size, parse_range, run_sweep_command
 
-    _check_out(args.out, overwrite=args.overwrite, resumable=True)
+    for flag in ("--jobs", "--chunk-size"):
+        value = getattr(args, flag[2:].replace("-", "_"))
+        if value is not None and value < 1:
+            raise UsageError(f"{flag} must be an integer >= 1, got {value}")
+    _positive_flag(args.strides, "--strides", minimum=1, integer=True)
+    scene = load_scene(args.scene)
+    # The grid's size before anything is allocated for it, in the flag's words.
+    lengths = []
+    for text in args.param:
+        try:
+            lengths.append(len(parse_range(text)[1]))
+        except ValueError as exc:
+            raise UsageError(f"--param: {exc}") from None
+    n_z = get_model(scene.model).n_z
+    try:
+        check_grid_size(lengths, "--param", _bytes_per_point(args.kind, n_z, len(lengths)))
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    _check_out(args.out, overwrite=args.overwrite, resumable=True, size=0)  # the store checks
     try:
         table = run_sweep_command(
             args.scene,
@@ -28,9 +50,21 @@ def cmd_sweep(args) -> int:
             strides=args.strides,
             chunk_size=args.chunk_size,
             overwrite=args.overwrite,
+            processes=getattr(args, "processes", False),
         )
     except CheckpointMismatch as exc:
         raise _resume_hint(exc) from None
+    except ConnectionError as exc:
+        raise UsageError(f"--scheduler {args.scheduler}: {exc}") from None
+    except ValueError as exc:
+        message = str(exc)
+        if args.scheduler is not None and message.startswith("`scheduler`"):
+            raise UsageError(f"--scheduler {args.scheduler}: {message}") from None
+        if "`ranges`" in message:  # the library's name for what --param gives
+            raise UsageError(message.replace("`ranges`", "--param")) from None
+        if message.startswith("grid point"):
+            raise UsageError(f"--param: {message}") from None
+        raise
     n_ok = int(np.sum(table.columns["status"] == 0))
     print(f"wrote {args.out}: {len(table.points)} points, {n_ok} completed")
     return EXIT_OK
