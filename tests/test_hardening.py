@@ -648,3 +648,21 @@ def test_kill_9_of_a_basin_on_a_users_forkserver_pool_leaves_nothing(tmp_path):
         return len([m for m in marks.iterdir() if m.name != str(pid)]) >= 2
 
     _kill_and_watch(tmp_path, KILL_BASIN.format(marks=str(marks)), ready)
+
+
+def test_sweep_processes_flag_gives_the_threads_table(tmp_path, capsys):
+    """`walker sweep --processes` (worker processes that die with walker) computes the same
+    table as the default threads (before: no command-line way to select processes)."""
+    from walker import storage
+
+    tables = []
+    for extra, name in (([], "threads.h5"), (["--processes"], "processes.h5")):
+        out = tmp_path / name
+        argv = ["sweep", SCENE, "--param", "slope=0.04:0.06:6", "--jobs", "2", "--quiet"]
+        assert main([*argv, *extra, "--out", str(out)]) == 0
+        tables.append(storage.read(out)[0])
+    capsys.readouterr()
+    a, b = tables
+    assert a.columns.keys() == b.columns.keys()
+    for key in a.columns:
+        np.testing.assert_array_equal(a.columns[key], b.columns[key])

@@ -115,7 +115,10 @@ def _check_number(name: str, value: Any) -> float:
     """Return ``value`` as a finite float, or raise naming ``name``."""
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
         raise TypeError(f"`{name}` must be a real number, got {type(value).__name__} {value!r}")
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:
+        raise ValueError(f"`{name}` must be finite, got an integer too large for a float") from None
     if not math.isfinite(value):
         raise ValueError(f"`{name}` must be finite, got {value!r}")
     return value

@@ -82,6 +82,12 @@ def register(sub) -> None:
         default=None,
         help="worker threads (the compiled strides run in parallel); default: CPU count",
     )
+    p.add_argument(
+        "--processes",
+        action="store_true",
+        help="run on --jobs worker processes instead of threads (they end with this process; "
+        "default: threads)",
+    )
     p.add_argument("--scheduler", default=None, help="dask.distributed scheduler address")
     p.add_argument("--chunk-size", type=int, default=None)
     p.add_argument(
