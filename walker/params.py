@@ -50,6 +50,7 @@ __all__ = [
     "PARAMS",
     "STATE_NAMES",
     "HAS_EVENTS",
+    "STATE_UNITS",
     "SimplestParams",
     "CompassParams",
     "CompassCoulombParams",
@@ -1437,6 +1438,27 @@ STATE_NAMES: dict[str, tuple[str, ...]] = {
     "rimless_wheel": ("theta", "theta_dot"),
 }
 """Model name -> names of the full state's components, in order."""
+
+
+def _angles_and_rates(n_angles: int, extra: tuple[str, ...] = ()) -> tuple[str, ...]:
+    return ("rad",) * n_angles + ("rad/s",) * n_angles + extra
+
+
+STATE_UNITS: dict[str, tuple[str, ...]] = {
+    "simplest": _angles_and_rates(2),
+    "compass": _angles_and_rates(2),
+    "kneed": _angles_and_rates(3),
+    "double_pendulum": _angles_and_rates(2),
+    # the two accumulators: actuator work [J] and time with a saturated torque [s]
+    "three_link": _angles_and_rates(3, ("J", "s")),
+    "five_link": _angles_and_rates(5, ("J", "s")),
+    "compass_coulomb": _angles_and_rates(2),
+    "kneed_coulomb": _angles_and_rates(3),
+    "rimless_wheel": _angles_and_rates(1),
+}
+"""Model name -> unit of each component of the full state, parallel to :data:`STATE_NAMES`
+(angles [rad], their rates [rad/s]; the simplest walker's time unit is ``sqrt(l/g)`` when
+``g = leg_length = 1``, as in its ``garcia`` preset)."""
 
 HAS_EVENTS: dict[str, bool] = {
     "simplest": True,

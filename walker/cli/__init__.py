@@ -50,7 +50,7 @@ import time
 import traceback
 from pathlib import Path
 
-from . import basin, branch, find, orbit, plot, run, sweep
+from . import basin, branch, find, info, orbit, plot, run, sweep
 from ._common import (
     BASIN_TOL,
     EXIT_BROKEN_PIPE,
@@ -81,7 +81,7 @@ __all__ = [
     "provenance",
 ]
 
-_COMMANDS = (find, run, branch, basin, sweep, plot, orbit)
+_COMMANDS = (find, run, branch, basin, sweep, plot, orbit, info)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -19,6 +19,7 @@ from ._common import (
     provenance,
     scene_cmd,
 )
+from .info import HelpFormatter
 
 
 def cmd_basin(args) -> int:
@@ -109,23 +110,43 @@ def cmd_basin(args) -> int:
 
 def register(sub) -> None:
     p = scene_cmd(sub, "basin", "map the basin of attraction on a 2-D slice of the section")
-    p.add_argument("--out", required=True, help="HDF5 checkpoint and result; rerunning resumes it")
-    p.add_argument("--axes", default="0,1", help="two section indices, e.g. 0,1")
-    p.add_argument("--n", type=int, default=50, help="grid points per axis")
+    p.formatter_class = HelpFormatter
+    p.add_argument(
+        "--out",
+        metavar="FILE",
+        required=True,
+        help="HDF5 checkpoint and result; rerunning the same command resumes it (required)",
+    )
+    p.add_argument(
+        "--axes",
+        default="0,1",
+        metavar="I,J",
+        help="the two section coordinates to vary, by index; `walker models MODEL` lists a "
+        "model's section coordinates with their indices (compass: 0 q_stance, 1 qd_stance, "
+        "2 qd_swing)",
+    )
+    p.add_argument("--n", type=int, default=50, help="grid points per axis, >= 2")
     p.add_argument(
         "--span",
         type=float,
         default=0.5,
-        help="half-width of each axis relative to the fixed point's value",
+        help="half-width of each axis: SPAN times the size of the fixed point's coordinate "
+        "(its magnitude, or 0.1 where that is smaller)",
     )
-    p.add_argument("--strides", type=int, default=20)
+    p.add_argument(
+        "--strides",
+        type=int,
+        default=20,
+        help="most strides per grid point; a point neither converged nor fallen by then is "
+        "undecided",
+    )
     p.add_argument(
         "--jobs",
         type=int,
         default=None,
         help="worker threads (the compiled strides run in parallel); default: CPU count",
     )
-    p.add_argument("--quiet", action="store_true")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument(
         "--overwrite", action="store_true", help="replace an existing --out instead of resuming"
     )

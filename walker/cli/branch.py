@@ -28,6 +28,7 @@ from ._common import (
     provenance,
     scene_cmd,
 )
+from .info import HelpFormatter
 
 
 def parse_range(text: str, flag: str = "--range") -> tuple[float, float]:
@@ -369,7 +370,10 @@ def _switch(P, branch, bounds, options, period, mu0, name):
 
 def register(sub) -> None:
     p = scene_cmd(sub, "continue", "follow the gait as a parameter changes")
-    p.add_argument("--param", default="slope")
+    p.formatter_class = HelpFormatter
+    p.add_argument(
+        "--param", default="slope", help="parameter to vary (`walker params MODEL` lists them)"
+    )
     p.add_argument(
         "--range",
         metavar="A:B",
@@ -406,10 +410,27 @@ def register(sub) -> None:
         help="also follow the period-doubled branch born at the first period doubling, "
         "stored in <out stem>_period<2k>.h5 (default: off)",
     )
-    p.add_argument("--step", type=float, default=None)
-    p.add_argument("--max-points", type=int, default=500)
-    p.add_argument("--natural", action="store_true", help="natural-parameter continuation")
-    p.add_argument("--json", action="store_true")
-    p.add_argument("--out", help="HDF5 file to write")
-    p.add_argument("--overwrite", action="store_true")
+    p.add_argument(
+        "--step",
+        type=float,
+        default=None,
+        help="first continuation step, in the parameter (--natural) or in arclength "
+        "(default: 0.01 of the interval's length)",
+    )
+    p.add_argument(
+        "--max-points", type=int, default=500, help="most branch points in each direction"
+    )
+    p.add_argument(
+        "--natural",
+        action="store_true",
+        help="natural-parameter continuation, which stops before a fold (default: off, "
+        "pseudo-arclength)",
+    )
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print one JSON object (strict JSON: null for a missing number)",
+    )
+    p.add_argument("--out", metavar="FILE", help="HDF5 file to write the branch to (default: none)")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --out")
     p.set_defaults(func=cmd_continue)

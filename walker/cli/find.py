@@ -15,6 +15,7 @@ from ._common import (
     provenance,
     scene_cmd,
 )
+from .info import HelpFormatter
 
 
 def cmd_find(args) -> int:
@@ -86,10 +87,31 @@ def _print_fixed_point(scene, P, fp) -> None:
 
 def register(sub) -> None:
     p = scene_cmd(sub, "find", "find the periodic gait (fixed point of the stride map)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument("--period", type=int, default=None, help="strides per period")
-    p.add_argument("--tol", type=float, default=1e-12, help="residual tolerance")
-    p.add_argument("--fd", action="store_true", help="finite-difference Jacobian")
-    p.add_argument("--out", help="also store the fixed point (HDF5)")
-    p.add_argument("--overwrite", action="store_true")
+    p.formatter_class = HelpFormatter
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print one JSON object (strict JSON: null for a missing number)",
+    )
+    p.add_argument(
+        "--period",
+        type=int,
+        default=None,
+        help="strides per period, >= 1 (default: the scene's [compute] strides)",
+    )
+    p.add_argument(
+        "--tol",
+        type=float,
+        default=1e-12,
+        help="residual tolerance, max|P^k(z) - z| in section units",
+    )
+    p.add_argument(
+        "--fd",
+        action="store_true",
+        help="finite-difference Jacobian instead of the exact one (variational equations)",
+    )
+    p.add_argument(
+        "--out", metavar="FILE", help="also store the fixed point in this HDF5 file (default: none)"
+    )
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --out")
     p.set_defaults(func=cmd_find)

@@ -26,6 +26,7 @@ from ._common import (
     scene_cmd,
 )
 from .branch import check_param, check_walker, parse_range
+from .info import HelpFormatter
 
 PERIOD_TOL = 1e-8
 """Two recorded values closer than this (section units, absolute) count as the same point."""
@@ -179,12 +180,13 @@ def cmd_orbit_diagram(args) -> int:
 
 def register(sub) -> None:
     p = scene_cmd(sub, "orbit-diagram", "where the walker settles as a parameter changes")
+    p.formatter_class = HelpFormatter
     p.add_argument("--param", default="slope", help="parameter to vary (default: slope)")
     p.add_argument(
         "--range",
         required=True,
         metavar="A:B",
-        help="values from A to B, in that order (B < A sweeps downward); required",
+        help="values from A to B, in that order (B < A sweeps downward) (required)",
     )
     p.add_argument("--n", type=int, default=100, help="number of values (default: 100)")
     p.add_argument(
@@ -202,6 +204,6 @@ def register(sub) -> None:
         help="section coordinate recorded, by name or index (default: 0, the first)",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object (default: text)")
-    p.add_argument("--out", required=True, help="HDF5 file to write; required")
+    p.add_argument("--out", required=True, help="HDF5 file to write (required)")
     p.add_argument("--overwrite", action="store_true", help="replace --out (default: refuse)")
     p.set_defaults(func=cmd_orbit_diagram)

@@ -9,6 +9,7 @@ from ._common import (
     UsageError,
     _check_figure_dir,
 )
+from .info import HelpFormatter
 
 
 def cmd_plot(args) -> int:
@@ -32,9 +33,14 @@ def cmd_plot(args) -> int:
 
 
 def register(sub) -> None:
-    p = sub.add_parser("plot", help="draw the figures of a stored result")
-    p.add_argument("file")
-    p.add_argument("--out", default=".", help="directory for the figures (created)")
+    p = sub.add_parser(
+        "plot",
+        help="draw the figures of a stored result",
+        description="draw the figures of a stored result",
+        formatter_class=HelpFormatter,
+    )
+    p.add_argument("file", help="HDF5 result of find, run, continue, orbit-diagram, basin or sweep")
+    p.add_argument("--out", default=".", metavar="DIR", help="directory for the figures (created)")
     p.add_argument(
         "--gif",
         action="store_true",

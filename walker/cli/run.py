@@ -16,6 +16,7 @@ from ._common import (
     provenance,
     scene_cmd,
 )
+from .info import HelpFormatter
 
 
 def cmd_run(args) -> int:
@@ -73,14 +74,22 @@ def cmd_run(args) -> int:
 
 def register(sub) -> None:
     p = scene_cmd(sub, "run", "simulate strides and store the trajectory")
-    p.add_argument("--strides", type=int, default=None)
-    p.add_argument("--out", help="HDF5 file to write")
+    p.formatter_class = HelpFormatter
+    p.add_argument(
+        "--strides",
+        type=int,
+        default=None,
+        help="strides to run, 0 = integrate to t_max (default: the scene's [compute] strides)",
+    )
+    p.add_argument(
+        "--out", metavar="FILE", help="HDF5 file to write the run to (default: none, summary only)"
+    )
     p.add_argument(
         "--sample-rate",
         type=float,
         default=None,
         metavar="HZ",
-        help="store samples at this rate instead of every step",
+        help="store samples at this rate [1/s] instead of every step (default: every step)",
     )
-    p.add_argument("--overwrite", action="store_true")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --out")
     p.set_defaults(func=cmd_run)

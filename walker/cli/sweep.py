@@ -11,6 +11,7 @@ from ._common import (
     _positive_flag,
     _resume_hint,
 )
+from .info import HelpFormatter
 
 
 def cmd_sweep(args) -> int:
@@ -71,11 +72,34 @@ def cmd_sweep(args) -> int:
 
 
 def register(sub) -> None:
-    p = sub.add_parser("sweep", help="resumable parameter sweep")
-    p.add_argument("scene")
-    p.add_argument("--param", action="append", required=True, metavar="NAME=START:STOP:COUNT")
-    p.add_argument("--kind", choices=("outcome", "fixed_point"), default="fixed_point")
-    p.add_argument("--strides", type=int, default=1)
+    p = sub.add_parser(
+        "sweep",
+        help="resumable parameter sweep",
+        description="resumable parameter sweep",
+        formatter_class=HelpFormatter,
+    )
+    p.add_argument("scene", help="scene file (gaits/*.toml)")
+    p.add_argument(
+        "--param",
+        action="append",
+        required=True,
+        metavar="NAME=START:STOP:COUNT",
+        help="a parameter and its COUNT values from START to STOP (or NAME=V1,V2,...); repeat "
+        "for a grid (required)",
+    )
+    p.add_argument(
+        "--kind",
+        choices=("outcome", "fixed_point"),
+        default="fixed_point",
+        help="fixed_point: the gait and its multipliers at each point; outcome: how --strides "
+        "strides from the scene's state end",
+    )
+    p.add_argument(
+        "--strides",
+        type=int,
+        default=1,
+        help="fixed_point: the gait's period; outcome: strides run at each point",
+    )
     p.add_argument(
         "--jobs",
         type=int,
@@ -88,12 +112,27 @@ def register(sub) -> None:
         help="run on --jobs worker processes instead of threads (they end with this process; "
         "default: threads)",
     )
-    p.add_argument("--scheduler", default=None, help="dask.distributed scheduler address")
-    p.add_argument("--chunk-size", type=int, default=None)
     p.add_argument(
-        "--out", required=True, help="HDF5 checkpoint; rerunning the same command resumes it"
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="dask.distributed scheduler address, e.g. tcp://host:8786 (default: none, run "
+        "on this machine)",
     )
-    p.add_argument("--quiet", action="store_true")
+    p.add_argument(
+        "--chunk-size",
+        type=int,
+        default=None,
+        help="grid points per chunk, the unit of work and of checkpointing (default: from the "
+        "grid's size)",
+    )
+    p.add_argument(
+        "--out",
+        metavar="FILE",
+        required=True,
+        help="HDF5 checkpoint; rerunning the same command resumes it (required)",
+    )
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument(
         "--overwrite", action="store_true", help="replace an existing --out instead of resuming"
     )
