@@ -610,6 +610,8 @@ def test_child_crash_is_reported_by_signal(tmp_path, monkeypatch):
         os.kill(os.getpid(), signal.SIGSEGV)
 
     monkeypatch.setattr(storage, "_load_here", crash)  # the forked child inherits it
+    # the forked child inherits the patch: fork even when an earlier test left a thread
+    monkeypatch.setattr(storage, "_can_fork", lambda: True)
     with pytest.raises(StorageError, match=r"crashed reading it .*killed by SIGSEGV") as info:
         read(path)
     _one_line(info)
@@ -618,6 +620,8 @@ def test_child_crash_is_reported_by_signal(tmp_path, monkeypatch):
 def test_child_hang_is_reported_after_timeout(tmp_path, monkeypatch):
     path = write(tmp_path / "m.h5", RESULTS["map_result"](), provenance={})
     monkeypatch.setattr(storage, "_load_here", lambda *args: time.sleep(600))
+    # the forked child inherits the patch: fork even when an earlier test left a thread
+    monkeypatch.setattr(storage, "_can_fork", lambda: True)
     start = time.monotonic()
     with pytest.raises(StorageError, match=r"did not finish within 1 s"):
         read(path, timeout=1)
@@ -631,6 +635,8 @@ def test_child_memory_is_limited(tmp_path, monkeypatch):
         return {"x": np.ones(budget + (3 << 30), dtype=np.uint8)}
 
     monkeypatch.setattr(storage, "_load_here", greedy)
+    # the forked child inherits the patch: fork even when an earlier test left a thread
+    monkeypatch.setattr(storage, "_can_fork", lambda: True)
     with pytest.raises(StorageError, match="more than the memory budget of 100000000 bytes"):
         read(path, memory=100_000_000)
 
