@@ -14,6 +14,7 @@ import numpy as np
 
 from walker import StrideMap, load_scene
 from walker.fixedpoint import find_fixed_point
+from walker.models import get_model
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = (
@@ -21,6 +22,7 @@ SCENES = (
     "compass_goswami",
     "kneed_hsu",
     "kneed_mcgeer_roundfoot",
+    "kneed_mcgeer_pointmass",
     "kneed_coulomb_hsu",
     "compass_coulomb_goswami",
 )
@@ -30,7 +32,8 @@ def reference(scene_name: str) -> str:
     scene = load_scene(ROOT / "gaits" / f"{scene_name}.toml")
     results = []
     for tol in (1e-11, 1e-12, 1e-13):
-        P = StrideMap(scene.model, scene.params, rtol=tol, atol=tol)
+        model = get_model(scene.model, swing_scuff=scene.swing_scuff)
+        P = StrideMap(model, scene.params, rtol=tol, atol=tol)
         fp = find_fixed_point(P, P.project(scene.state), tol=1e-13)
         if not fp.success:
             return f"# {scene_name}: {fp.status.name}: {fp.message}"

@@ -277,7 +277,18 @@ def _options(parser):
 
 
 SUBPARSERS = dict(_subparsers(build_parser()))
-OWN = ("find", "run", "continue", "basin", "sweep", "plot", "models", "params", "scene", "orbit-diagram")
+OWN = (
+    "find",
+    "run",
+    "continue",
+    "basin",
+    "sweep",
+    "plot",
+    "models",
+    "params",
+    "scene",
+    "orbit-diagram",
+)
 
 
 def test_every_command_is_listed():

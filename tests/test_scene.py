@@ -19,6 +19,7 @@ SHIPPED = [
     "compass_goswami",
     "kneed_hsu",
     "kneed_mcgeer_roundfoot",
+    "kneed_mcgeer_pointmass",
     "double_pendulum",
     "three_link_grizzle",
     "five_link_hzd",
@@ -31,6 +32,7 @@ WITH_REFERENCE = [
     "simplest_garcia",
     "compass_goswami",
     "kneed_hsu",
+    "kneed_mcgeer_pointmass",
     "three_link_grizzle",
     "five_link_hzd",
     "kneed_coulomb_hsu",
@@ -271,11 +273,15 @@ def test_bad_toml(tmp_path):
 def test_unknown_table(tmp_path):
     _fails(
         tmp_path,
-        r"unknown table \[output\]; valid tables: \[scene\], \[parameters\], \[initial\], "
-        r"\[compute\], \[reference\]$",
+        r"unknown table \[output\]; valid tables: \[scene\], \[model\], \[parameters\], "
+        r"\[initial\], \[compute\], \[reference\]$",
         {"output": 'file = "x"'},
     )
-    _fails(tmp_path, r"unknown table \[model\]", raw='model = "compass"\n' + _text(BASE))
+    _fails(
+        tmp_path,
+        r"`model` must be a table \[model\], got str",
+        raw='model = "compass"\n' + _text(BASE),
+    )
 
 
 @pytest.mark.parametrize("table", ["scene", "parameters", "initial"])
@@ -308,6 +314,60 @@ def test_scene_table_errors(tmp_path):
         tmp_path,
         r"\[scene\] `source` must be a string, got \[1\]$",
         {"scene": 'model = "compass"\nsource = [1]'},
+    )
+
+
+# ---- [model] -----------------------------------------------------------------------------
+KNEED_BASE = {
+    "scene": 'model = "kneed"',
+    "parameters": 'preset = "hsu_chen"',
+    "initial": "state = [0.1877, -0.2884, -0.2884, -1.1014, -0.0399, -0.0399]",
+}
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_swing_scuff_defaults_to_trip(name):
+    scene = load_scene(GAITS / f"{name}.toml")
+    expected = "ignore" if name == "kneed_mcgeer_pointmass" else "trip"
+    assert scene.swing_scuff == expected
+
+
+def test_model_table_swing_scuff(tmp_path):
+    for value in ("trip", "ignore"):
+        path = _write(tmp_path, {**KNEED_BASE, "model": f'swing_scuff = "{value}"'})
+        scene = load_scene(path)
+        assert scene.swing_scuff == value
+        model = get_model(scene.model, swing_scuff=scene.swing_scuff)
+        assert model.swing_scuff == value
+        expected = "kneed/plain" if value == "trip" else "kneed/plain/ignore_scuff"
+        assert model.system_for(scene.params).name == expected
+    # an empty [model] table is the default
+    assert load_scene(_write(tmp_path, {**KNEED_BASE, "model": ""})).swing_scuff == "trip"
+
+
+def test_model_table_errors(tmp_path):
+    _fails(
+        tmp_path,
+        r"\[model\] unknown key `swing`; valid keys: swing_scuff$",
+        {**KNEED_BASE, "model": 'swing = "ignore"'},
+    )
+    _fails(
+        tmp_path,
+        r"\[model\] `swing_scuff` must be one of \['trip', 'ignore'\] for model kneed "
+        r"\('ignore' is offered by kneed\), got 'never'$",
+        {**KNEED_BASE, "model": 'swing_scuff = "never"'},
+    )
+    _fails(
+        tmp_path,
+        r"\[model\] `swing_scuff` must be a str, got 1$",
+        {**KNEED_BASE, "model": "swing_scuff = 1"},
+    )
+    # a convention the model does not have is an error, not silently dropped
+    _fails(
+        tmp_path,
+        r"\[model\] `swing_scuff` must be one of \['trip'\] for model compass \('ignore' is "
+        r"offered by kneed\), got 'ignore'$",
+        {"model": 'swing_scuff = "ignore"'},
     )
 
 
@@ -413,8 +473,8 @@ def test_initial_table_errors(tmp_path):
 
 
 def test_initial_phase_and_integer_state(tmp_path):
-    scene = load_scene(_write(tmp_path, {"initial": "state = [0, 1, 0, 0]\nphase = 2"}))
-    assert scene.phase == 2
+    scene = load_scene(_write(tmp_path, {"initial": "state = [0, 1, 0, 0]\nphase = 0"}))
+    assert scene.phase == 0
     assert scene.state.dtype == np.float64
     assert_allclose(scene.state, [0.0, 1.0, 0.0, 0.0], rtol=0, atol=0)
 

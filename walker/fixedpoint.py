@@ -794,6 +794,9 @@ def _finish(
     n_z = z.shape[0]
     pvalue = section_map.parameter_value if parameter is None else parameter
     parameters = {section_map.parameter_name: float(pvalue)}
+    model = getattr(section_map, "model", None)
+    conventions = getattr(model, "conventions", None)
+    conventions = dict(conventions) if isinstance(conventions, dict) else {}
     # lift may depend on the parameter (e.g. the slope fixes the swing angle at heel strike)
     lifter = section_map
     if parameter is not None and float(parameter) != float(section_map.parameter_value):
@@ -805,7 +808,7 @@ def _finish(
             raise
         state = np.full(int(getattr(getattr(lifter, "model", None), "n_x", 1)), np.nan)
     if status != Status.COMPLETED:
-        return _nan_fixed_point(
+        fp = _nan_fixed_point(
             n_z,
             status,
             message,
@@ -816,6 +819,8 @@ def _finish(
             parameters,
             np.full_like(state, np.nan),
         )
+        fp.conventions = conventions
+        return fp
     if known is not None:
         res, jac, st = known, np.asarray(known.jac, dtype=float), Status.COMPLETED
     else:
@@ -825,9 +830,11 @@ def _finish(
             f"Converged, but the Jacobian at the solution failed ({st.name}): {st.message} "
             "Try `jacobian='fd'` or a smaller `fd_step`."
         )
-        return _nan_fixed_point(
+        fp = _nan_fixed_point(
             n_z, st, msg, z, history, n_iter, period, parameters, np.full_like(state, np.nan)
         )
+        fp.conventions = conventions
+        return fp
     lam, vec = _eig_sorted(jac)
     return FixedPoint(
         status=Status.COMPLETED,
@@ -845,6 +852,7 @@ def _finish(
         period=period,
         stable=bool(np.all(np.abs(lam) < 1.0)),
         parameters=parameters,
+        conventions=conventions,
     )
 
 

@@ -165,6 +165,10 @@ class Solution:
         sum over accepted steps of the local error norms the method reported (in units of
         the tolerance-scaled norm times ``rtol``); a rough global error indicator.
     phase_names, guard_names : tuple of str
+    conventions : dict of str to str
+        the modelling conventions the run used, e.g. ``{"swing_scuff": "ignore"}`` for a
+        kneed walker (:attr:`walker.models.WalkerModel.conventions`); empty when the model
+        has none or the run came from :func:`walker.integrate.hybrid_solve` directly.
     """
 
     status: Status
@@ -186,6 +190,7 @@ class Solution:
     error_estimate: float = 0.0
     phase_names: tuple[str, ...] = ()
     guard_names: tuple[str, ...] = ()
+    conventions: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -244,6 +249,9 @@ class FixedPoint:
         all multipliers strictly inside the unit circle.
     parameters : dict
         parameter name -> value used.
+    conventions : dict of str to str
+        the modelling conventions of the stride map's model, e.g.
+        ``{"swing_scuff": "ignore"}`` (:attr:`walker.models.WalkerModel.conventions`).
     """
 
     status: Status
@@ -261,6 +269,7 @@ class FixedPoint:
     period: int = 1
     stable: bool = False
     parameters: dict = field(default_factory=dict)
+    conventions: dict = field(default_factory=dict)
 
 
 @dataclass

@@ -9,6 +9,11 @@ A scene file (``gaits/*.toml``) has these tables; unknown tables or keys are err
     description = "..."          # optional str
     source = "..."               # optional str: citation of the parameters / state
 
+    [model]                      # optional: conventions of the model
+    swing_scuff = "trip"         # "trip" (default) or "ignore" (kneed): a swing foot touching
+                                 # the ground with the knee bent trips, or passes through
+                                 # (walker.models.kneed)
+
     [parameters]                 # required: every field of the model's parameter class, no
     mass_hip = 0.5               # others (see walker.params), in that class's units ...
     # ... OR a published set plus optional overrides of some of its fields:
@@ -21,8 +26,8 @@ A scene file (``gaits/*.toml``) has these tables; unknown tables or keys are err
 
     [compute]                    # optional; the defaults are shown
     task = "fixed_point"         # "fixed_point" or "simulate"
-    strides = 1                  # int; fixed_point: the period (>= 1); simulate: strides to
-                                 # run, 0 = integrate to t_max. Models without events
+    strides = 1                  # int <= 1e6; fixed_point: the period (>= 1); simulate:
+                                 # strides to run, 0 = integrate to t_max. Models without events
                                  # (double_pendulum) need task = "simulate" and strides = 0,
                                  # which is then their default.
     method = "DOP853"            # "DOP853", "RK45", "RK4" or "Euler"
@@ -47,7 +52,9 @@ rad/s.
 
 Every error in a file is a one-line ``ValueError`` naming the file and the key path, e.g.
 ``gaits/x.toml: [parameters] unknown key `mas_hip`; valid keys: ...``; a missing file raises
-``FileNotFoundError``.
+``FileNotFoundError``.  Hostile files end the same way: a file larger than
+:data:`MAX_SCENE_BYTES`, tables nested too deeply for the TOML parser, or an integer too large
+for a float are ``ValueError`` naming the file (and the key).
 
 Examples
 --------
@@ -82,7 +89,20 @@ METHODS = {"DOP853": METHOD_DOP853, "RK45": METHOD_DP5, "RK4": METHOD_RK4, "Eule
 
 FIXED_STEP_METHODS = ("RK4", "Euler")
 
-_TABLES = {"scene": True, "parameters": True, "initial": True, "compute": False, "reference": False}
+MAX_STRIDES = 1_000_000
+"""Largest ``[compute].strides``."""
+
+MAX_SCENE_BYTES = 1 << 20
+"""Largest scene file read [bytes] (the shipped ones are about 2 KB)."""
+
+_TABLES = {
+    "scene": True,
+    "model": False,
+    "parameters": True,
+    "initial": True,
+    "compute": False,
+    "reference": False,
+}
 _SCENE_KEYS = ("model", "description", "source")
 _INITIAL_KEYS = ("state", "phase")
 _REFERENCE_KEYS = ("state", "section", "multipliers", "step_time", "tolerance", "note")
@@ -90,6 +110,21 @@ _REFERENCE_KEYS = ("state", "section", "multipliers", "step_time", "tolerance", 
 
 def _is_real(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+def _too_large(value: Any) -> bool:
+    """An integer beyond the range of a float (TOML integers are unbounded)."""
+    if not isinstance(value, int) or isinstance(value, bool) or value.bit_length() < 1000:
+        return False
+    try:
+        float(value)
+    except OverflowError:
+        return True
+    return False
+
+
+def _digits(value: int) -> str:
+    return f"an integer of about {int(value.bit_length() * 0.30103) + 1} digits"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -131,6 +166,8 @@ class ComputeSettings:
             )
         if self.strides < 0:
             raise ValueError(f"`strides` must be >= 0, got {self.strides}")
+        if self.strides > MAX_STRIDES:
+            raise ValueError(f"`strides` must be <= {MAX_STRIDES:,}, got {self.strides}")
         if self.method not in METHODS:
             raise ValueError(f"`method` must be one of {', '.join(METHODS)}, got {self.method!r}")
         for name in ("rtol", "atol", "t_max"):
@@ -181,6 +218,9 @@ class Scene:
     reference : dict or None
         ``[reference]`` with arrays for ``state``, ``section`` (float) and ``multipliers``
         (complex), floats for ``step_time`` and ``tolerance``.
+    swing_scuff : str
+        ``[model] swing_scuff``: ``"trip"`` (default) or ``"ignore"``; :attr:`walker_model`
+        is the model under that convention.
     """
 
     name: str
@@ -193,11 +233,20 @@ class Scene:
     phase: int | None
     compute: ComputeSettings
     reference: dict | None
+    swing_scuff: str = "trip"
 
     @property
     def state_names(self) -> tuple[str, ...]:
         """Names of the state components."""
         return STATE_NAMES[self.model]
+
+    @property
+    def walker_model(self):
+        """The :class:`walker.models.WalkerModel` to run the scene with: ``model`` under the
+        scene's conventions (``swing_scuff``)."""
+        from walker.models import get_model
+
+        return get_model(self.model, swing_scuff=self.swing_scuff)
 
     def replace_params(self, **changes: Any) -> Scene:
         """A copy whose parameters have ``changes`` applied (validated by the params class)."""
@@ -205,6 +254,12 @@ class Scene:
 
 
 # ---- loading ---------------------------------------------------------------------------------
+def _shown(value: Any) -> str:
+    """``value`` for a one-line message: its repr, cut short."""
+    text = repr(value) if not _too_large(value) else _digits(value)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
 class _Reader:
     """Validates the parsed tables of one file, prefixing every error with the file name."""
 
@@ -246,7 +301,9 @@ class _Reader:
 
     def number(self, where: str, key: str, value: Any, positive: bool = False) -> float:
         if not _is_real(value):
-            raise self.error(where, f"`{key}` must be a number, got {value!r}")
+            raise self.error(where, f"`{key}` must be a number, got {_shown(value)}")
+        if _too_large(value):
+            raise self.error(where, f"`{key}` must be finite, got {_digits(value)}")
         value = float(value)
         if not math.isfinite(value):
             raise self.error(where, f"`{key}` must be finite, got {value!r}")
@@ -292,7 +349,9 @@ def _parameters(
             )
     for name, value in values.items():
         if not _is_real(value):
-            raise reader.error(where, f"`{name}` must be a number, got {value!r}")
+            raise reader.error(where, f"`{name}` must be a number, got {_shown(value)}")
+        if _too_large(value):
+            raise reader.error(where, f"`{name}` must be finite, got {_digits(value)}")
     context = ""
     if overrides:
         context = f"(with overrides {', '.join(f'`{k}`' for k in overrides)}) "
@@ -324,7 +383,9 @@ def _overrides(reader: _Reader, model: str, overrides: Any) -> dict[str, float]:
                     "overrides", f"`{name}` must be a number, got {value!r}"
                 ) from None
         elif not _is_real(value) and not isinstance(value, np.floating | np.integer):
-            raise reader.error("overrides", f"`{name}` must be a number, got {value!r}")
+            raise reader.error("overrides", f"`{name}` must be a number, got {_shown(value)}")
+        if _too_large(value):
+            raise reader.error("overrides", f"`{name}` must be finite, got {_digits(value)}")
         out[name] = float(value)
     return out
 
@@ -333,6 +394,9 @@ def _compute(reader: _Reader, model: str, table: Mapping[str, Any] | None) -> Co
     table = dict(table or {})
     valid = tuple(f.name for f in dataclasses.fields(ComputeSettings))
     reader.keys("compute", table, valid)
+    for key, value in table.items():
+        if _too_large(value):
+            raise reader.error("compute", f"`{key}` must be finite, got {_digits(value)}")
     if not HAS_EVENTS[model]:
         table.setdefault("task", "simulate")
         table.setdefault("strides", 0)
@@ -386,6 +450,11 @@ def _reference(reader: _Reader, n_x: int, table: Mapping[str, Any] | None) -> di
     return out
 
 
+def _phase_list(phases: tuple[str, ...]) -> str:
+    listed = ", ".join(f"{i} {name!r}" for i, name in enumerate(phases[:4]))
+    return listed + (f", ... ({len(phases)} phases)" if len(phases) > 4 else "")
+
+
 def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = None) -> Scene:
     """Read and validate a scene file.
 
@@ -403,8 +472,12 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
 
     Raises
     ------
+    TypeError
+        ``path`` is not a str or path-like.
     FileNotFoundError
         ``path`` does not exist.
+    OSError
+        ``path`` cannot be read (its ``filename`` names it), e.g. a name too long.
     ValueError
         invalid TOML or an invalid scene (the message names the file and the key path).
 
@@ -414,16 +487,33 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
     >>> scene.params.mass_hip, scene.state_names[:3]
     (0.5, ('q1', 'q2', 'q3'))
     """
+    if not isinstance(path, str | os.PathLike):
+        raise TypeError(f"`path` must be a str or os.PathLike, got {type(path).__name__}")
     path_obj = Path(path)
     shown = os.fspath(path)
-    if not path_obj.is_file():
+    if not isinstance(shown, str):
+        raise TypeError(f"`path` must name a file as str, got {type(shown).__name__}")
+    if not path_obj.is_file():  # OSError (a name too long, ...) names the path
         raise FileNotFoundError(f"scene file not found: {shown}")
     reader = _Reader(shown)
+    with path_obj.open("rb") as fh:
+        data = fh.read(MAX_SCENE_BYTES + 1)
+    if len(data) > MAX_SCENE_BYTES:
+        raise reader.error(
+            "", f"a scene file has at most {MAX_SCENE_BYTES:,} bytes; this is larger"
+        )
     try:
-        with path_obj.open("rb") as fh:
-            doc = tomllib.load(fh)
+        doc = tomllib.loads(data.decode("utf-8"))
+    except UnicodeDecodeError as exc:
+        raise reader.error(
+            "", f"invalid TOML: not UTF-8 text ({exc.reason} at byte {exc.start})"
+        ) from None
     except tomllib.TOMLDecodeError as exc:
         raise reader.error("", f"invalid TOML: {exc}") from None
+    except RecursionError:
+        raise reader.error("", "invalid TOML: arrays or inline tables nested too deeply") from None
+    except ValueError as exc:  # e.g. an integer beyond Python's digit limit
+        raise reader.error("", f"invalid TOML: {str(exc).splitlines()[0]}") from None
 
     unknown = [k for k in doc if k not in _TABLES]
     if unknown:
@@ -438,6 +528,7 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
     initial_t = reader.table(doc, "initial")
     compute_t = reader.table(doc, "compute")
     reference_t = reader.table(doc, "reference")
+    model_t = reader.table(doc, "model") or {}
 
     reader.keys("scene", scene_t, _SCENE_KEYS)
     model = reader.string("scene", scene_t, "model", required=True)
@@ -455,8 +546,18 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
     state = reader.vector("initial", "state", initial_t["state"], n_x)
     state.setflags(write=False)
     phase = initial_t.get("phase")
-    if phase is not None and (not isinstance(phase, int) or isinstance(phase, bool) or phase < 0):
-        raise reader.error("initial", f"`phase` must be an integer >= 0, got {phase!r}")
+    if phase is not None:
+        from walker.models import get_model
+
+        if not isinstance(phase, int) or isinstance(phase, bool) or phase < 0:
+            raise reader.error("initial", f"`phase` must be an integer >= 0, got {_shown(phase)}")
+        phases = get_model(model).phase_names
+        if phase >= len(phases):
+            raise reader.error(
+                "initial",
+                f"`phase` must be < {len(phases)}, the number of phases of model {model} "
+                f"({_phase_list(phases)}), got {_shown(phase)}",
+            )
 
     return Scene(
         name=path_obj.stem,
@@ -469,4 +570,17 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
         phase=phase,
         compute=_compute(reader, model, compute_t),
         reference=_reference(reader, n_x, reference_t),
+        swing_scuff=_swing_scuff(reader, model, model_t),
     )
+
+
+def _swing_scuff(reader: _Reader, model: str, table: Mapping[str, Any]) -> str:
+    from walker.models import get_model
+
+    reader.keys("model", table, ("swing_scuff",))
+    value = table.get("swing_scuff", "trip")
+    try:
+        get_model(model, swing_scuff=value)
+    except (TypeError, ValueError) as exc:
+        raise reader.error("model", str(exc)) from None
+    return value

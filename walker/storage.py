@@ -191,6 +191,7 @@ class _Corrupt(Exception):
 #   "status"          attribute holding the Status member's name ("COMPLETED")
 #   "names"           attribute holding a JSON list of strings (read back as a tuple)
 #   "json"            attribute holding a JSON object (dict of parameters)
+#   "optional_json"   the same, absent in files written before the field existed (read as {})
 #   ("group", cls) / ("optional_group", cls) / ("group_list", cls)   subgroups
 #   "array_dict"      subgroup with one dataset per key, key order in attribute "names"
 # ---------------------------------------------------------------------------------------------
@@ -226,6 +227,7 @@ _SPECS: dict[type, dict[str, Any]] = {
         "error_estimate": "float",
         "phase_names": "names",
         "guard_names": "names",
+        "conventions": "optional_json",
     },
     MapResult: {
         "status": "status",
@@ -250,6 +252,7 @@ _SPECS: dict[type, dict[str, Any]] = {
         "period": "int",
         "stable": "bool",
         "parameters": "json",
+        "conventions": "optional_json",
     },
     Bifurcation: {
         "kind": "str",
@@ -647,7 +650,7 @@ def _encode_field(tree: dict, name: str, value: Any, codec: Any, where: str) -> 
         if not isinstance(value, tuple | list) or not all(isinstance(v, str) for v in value):
             raise TypeError(f"`{where}` must be a tuple of str, got {value!r}")
         attrs[name] = json.dumps(list(value))
-    elif codec == "json":
+    elif codec in ("json", "optional_json"):
         if not isinstance(value, dict):
             raise TypeError(f"`{where}` must be a dict, got {type(value).__name__}")
         attrs[name] = json.dumps(_to_json(value, where))
@@ -2206,7 +2209,9 @@ def _decode_field(node: dict, name: str, codec: Any, where: str) -> Any:
         return Status[value]
     if codec == "names":
         return _names_attr(node, name, where)
-    if codec == "json":
+    if codec == "optional_json" and name not in node["attrs"]:
+        return {}
+    if codec in ("json", "optional_json"):
         value = _from_json(_json_attr(node, name, where), f"{sub_where}")
         if not isinstance(value, dict):
             raise _Corrupt(f"attribute '{name}' of '{where}' must be a JSON object")

@@ -96,7 +96,7 @@ def simulate(
     p = params.as_array()
     if phase0 is None:
         phase0 = _start_phase(model, x0, p)
-    return hybrid_solve(
+    sol = hybrid_solve(
         model.system_for(p),
         x0,
         p,
@@ -112,6 +112,9 @@ def simulate(
         jacobian=jacobian,
         max_steps=max_steps,
     )
+    if model.conventions:
+        sol.conventions = dict(model.conventions)
+    return sol
 
 
 def _as_vector(value, name: str, length: int | None = None) -> np.ndarray:

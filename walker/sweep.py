@@ -1029,7 +1029,7 @@ def run_sweep_command(
     if strides is None:
         strides = max(1, c.strides)
     stride_map = StrideMap(
-        scene.model,
+        scene.walker_model,
         scene.params,
         method=c.method,
         rtol=c.rtol,

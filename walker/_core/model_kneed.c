@@ -3,10 +3,13 @@
  * qd3); phases unlocked (0) and locked (1, q3 = q2 and qd3 = qd2 kept exactly); guards
  * knee_lock, swing_foot_contact, fall_forward, fall_backward.
  *
- * The glue is written once over a table of kernels and instantiated twice: "kneed" on the
- * general kernels wk_kneed_* and "kneed/plain" on wk_kneed_plain_* (point feet, no offsets,
- * no segment inertias, no dampers; walker/_generated/kneed_plain.h) where a plain kernel
- * exists, the general one elsewhere (energies). */
+ * The glue is written once over a table of kernels and instantiated four times: "kneed" on
+ * the general kernels wk_kneed_* and "kneed/plain" on wk_kneed_plain_* (point feet, no
+ * offsets, no segment inertias, no dampers; walker/_generated/kneed_plain.h) where a plain
+ * kernel exists, the general one elsewhere (energies); and each again as
+ * "kneed/ignore_scuff", "kneed/plain/ignore_scuff" for the swing-foot scuffing convention
+ * swing_scuff = "ignore" (a bent-knee swing foot passes through the ground; the table's
+ * ignore_scuff flag is read only when that contact guard fires). */
 #include <math.h>
 #include "wk_common.h"
 #include "kneed.h"
@@ -32,6 +35,7 @@ typedef struct {
     wk_qp_v ext_mass_matrix;
     wk_qp_v ext_swing_contact_jac;
     wk_qp_v ext_stance_contact_jac;
+    int ignore_scuff; /* swing_scuff = "ignore" (1) or "trip" (0) */
 } kneed_kernels;
 
 static void lengths(const double *p, double *shank, double *thigh)
@@ -180,7 +184,9 @@ static int64_t heel_strike(const kneed_kernels *K, const double *x, const double
 }
 
 /* Knee lock, followed in the same reset by heel strike when the swing foot is on the ground
- * (within the integrator's guard tolerance), ahead and moving down. */
+ * (within the integrator's guard tolerance), ahead and moving down.  Under "trip" a foot
+ * below the ground counts as on it; under "ignore" a foot deeper than the tolerance is
+ * passing through the ground and heel strike waits for its next descent. */
 static void knee_lock_event(const kneed_kernels *K, int64_t phase, const double *x,
                             const double *p, double *x_new, double *impulse, int64_t *out)
 {
@@ -193,6 +199,7 @@ static void knee_lock_event(const kneed_kernels *K, int64_t phase, const double 
     lengths(p, &shank, &thigh);
     swing_foot(x_new, p, &height, &ahead);
     int touching = height <= 1e-9 * (shank + thigh);
+    if (K->ignore_scuff) touching = touching && height >= -1e-9 * (shank + thigh);
     if (touching && ahead > WK_MIN_STEP * (shank + thigh) && swing_foot_rate(x_new, p) < 0) {
         double locked[6];
         for (int i = 0; i < 6; i++) locked[i] = x_new[i];
@@ -225,6 +232,12 @@ static void reset(const kneed_kernels *K, int64_t phase, int64_t k, const double
                 /* The knee locks at this same instant (its guard a hair behind): knee lock
                  * first, then heel strike, as when the knee-lock guard fires first. */
                 knee_lock_event(K, phase, x, p, x_new, impulse, out);
+                return;
+            }
+            if (K->ignore_scuff) {
+                /* swing_scuff = "ignore": the bent-knee swing foot passes through the
+                 * ground. */
+                wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
                 return;
             }
             wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_TRIPPED);
@@ -267,23 +280,28 @@ static void points(const kneed_kernels *K, const double *x, const double *p, dou
     out[7] = pts[9];
 }
 
-static const kneed_kernels GENERAL = {
-    wk_kneed_unlocked_accel,     wk_kneed_unlocked_accel_jac, wk_kneed_unlocked_mass_matrix,
-    wk_kneed_unlocked_kinetic,   wk_kneed_unlocked_potential, wk_kneed_unlocked_points,
-    wk_kneed_locked_accel,       wk_kneed_locked_accel_jac,   wk_kneed_locked_points,
-    wk_kneed_locked_hip_jac,     wk_kneed_ext_mass_matrix,    wk_kneed_ext_swing_contact_jac,
-    wk_kneed_ext_stance_contact_jac,
-};
+#define GENERAL_KERNELS                                                                     \
+    wk_kneed_unlocked_accel, wk_kneed_unlocked_accel_jac, wk_kneed_unlocked_mass_matrix,       \
+        wk_kneed_unlocked_kinetic, wk_kneed_unlocked_potential, wk_kneed_unlocked_points,     \
+        wk_kneed_locked_accel, wk_kneed_locked_accel_jac, wk_kneed_locked_points,             \
+        wk_kneed_locked_hip_jac, wk_kneed_ext_mass_matrix, wk_kneed_ext_swing_contact_jac,    \
+        wk_kneed_ext_stance_contact_jac
 
-static const kneed_kernels PLAIN = {
-    wk_kneed_plain_unlocked_accel,     wk_kneed_plain_unlocked_accel_jac,
-    wk_kneed_plain_unlocked_mass_matrix, wk_kneed_unlocked_kinetic,
-    wk_kneed_unlocked_potential,       wk_kneed_plain_unlocked_points,
-    wk_kneed_plain_locked_accel,       wk_kneed_plain_locked_accel_jac,
-    wk_kneed_plain_locked_points,      wk_kneed_plain_locked_hip_jac,
-    wk_kneed_plain_ext_mass_matrix,    wk_kneed_plain_ext_swing_contact_jac,
-    wk_kneed_plain_ext_stance_contact_jac,
-};
+#define PLAIN_KERNELS                                                                       \
+    wk_kneed_plain_unlocked_accel, wk_kneed_plain_unlocked_accel_jac,                         \
+        wk_kneed_plain_unlocked_mass_matrix, wk_kneed_unlocked_kinetic,                       \
+        wk_kneed_unlocked_potential, wk_kneed_plain_unlocked_points,                          \
+        wk_kneed_plain_locked_accel, wk_kneed_plain_locked_accel_jac,                         \
+        wk_kneed_plain_locked_points, wk_kneed_plain_locked_hip_jac,                          \
+        wk_kneed_plain_ext_mass_matrix, wk_kneed_plain_ext_swing_contact_jac,                 \
+        wk_kneed_plain_ext_stance_contact_jac
+
+static const kneed_kernels GENERAL = {GENERAL_KERNELS, 0};
+static const kneed_kernels PLAIN = {PLAIN_KERNELS, 0};
+static const kneed_kernels GENERAL_IGNORE_SCUFF = {GENERAL_KERNELS, 1};
+static const kneed_kernels PLAIN_IGNORE_SCUFF = {PLAIN_KERNELS, 1};
 
 WK_MODEL_VARIANT(kneed, GENERAL)
 WK_MODEL_VARIANT(kneed_plain, PLAIN)
+WK_MODEL_VARIANT(kneed_ignore_scuff, GENERAL_IGNORE_SCUFF)
+WK_MODEL_VARIANT(kneed_plain_ignore_scuff, PLAIN_IGNORE_SCUFF)

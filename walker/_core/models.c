@@ -1,7 +1,9 @@
 /* Registry of walker's compiled models (see wk_models.h): the hand-written C ports of the
  * models in walker/models (walker/_core/model_*.c).  "<model>/plain" entries run the
  * kernels printed for point feet, no offsets, no segment inertias and no dampers
- * (those parameters exactly zero); the parameter vector is the model's full one. */
+ * (those parameters exactly zero); the parameter vector is the model's full one.
+ * "kneed/ignore_scuff" and "kneed/plain/ignore_scuff" are the same under the swing-foot
+ * scuffing convention "ignore" (walker/models/kneed.py). */
 #include <stddef.h>
 #include "wk_actuated.h"
 #include "wk_common.h"
@@ -22,6 +24,10 @@ static const wk_model_entry COMPASS = WK_ENTRY("compass", compass);
 static const wk_model_entry COMPASS_PLAIN = WK_ENTRY("compass/plain", compass_plain);
 static const wk_model_entry KNEED = WK_ENTRY("kneed", kneed);
 static const wk_model_entry KNEED_PLAIN = WK_ENTRY("kneed/plain", kneed_plain);
+static const wk_model_entry KNEED_IGNORE_SCUFF =
+    WK_ENTRY("kneed/ignore_scuff", kneed_ignore_scuff);
+static const wk_model_entry KNEED_PLAIN_IGNORE_SCUFF =
+    WK_ENTRY("kneed/plain/ignore_scuff", kneed_plain_ignore_scuff);
 
 static const wk_model_entry *const MODELS[] = {
     &SIMPLEST,
@@ -29,6 +35,8 @@ static const wk_model_entry *const MODELS[] = {
     &COMPASS_PLAIN,
     &KNEED,
     &KNEED_PLAIN,
+    &KNEED_IGNORE_SCUFF,
+    &KNEED_PLAIN_IGNORE_SCUFF,
     &wk_entry_compass_coulomb,
     &wk_entry_double_pendulum,
     &wk_entry_kneed_coulomb,

@@ -137,5 +137,7 @@ WK_DECLARE_MODEL(compass)
 WK_DECLARE_MODEL(compass_plain)
 WK_DECLARE_MODEL(kneed)
 WK_DECLARE_MODEL(kneed_plain)
+WK_DECLARE_MODEL(kneed_ignore_scuff)
+WK_DECLARE_MODEL(kneed_plain_ignore_scuff)
 
 #endif

@@ -178,7 +178,7 @@ def _stride_map(scene, parameter_name="slope"):
 
     c = scene.compute
     return StrideMap(
-        scene.model,
+        scene.walker_model,
         scene.params,
         method=c.method,
         rtol=c.rtol,
@@ -203,6 +203,7 @@ def provenance(scene, extra: dict | None = None) -> dict:
         "rtol": c.rtol,
         "atol": c.atol,
         "kernel_hash": get_model(scene.model).kernel_hash,
+        **scene.walker_model.conventions,
     }
     prov.update(extra or {})
     return prov

@@ -41,6 +41,7 @@ def cmd_find(args) -> int:
         "success": bool(fp.success),
         "message": fp.message,
         "model": scene.model,
+        "conventions": dict(fp.conventions),
         "section_names": list(P.section_names),
         "section": [float(v) for v in fp.section],
         "state_names": list(scene.state_names),
@@ -71,6 +72,8 @@ def cmd_find(args) -> int:
 
 def _print_fixed_point(scene, P, fp) -> None:
     print(f"scene      {scene.path}  (model {scene.model})")
+    for key, value in fp.conventions.items():
+        print(f"convention {key} = {value}")
     print(f"status     {fp.status.name}: {fp.message}")
     if not fp.success:
         return

@@ -45,22 +45,28 @@ def cmd_run(args) -> int:
         t_max=c.t_max * max(1, strides),
     )
     if args.sample_rate is None:
-        sol = simulate(scene.model, scene.params, scene.state, output="full", **common)
+        sol = simulate(scene.walker_model, scene.params, scene.state, output="full", **common)
     else:
-        first = simulate(scene.model, scene.params, scene.state, output="events", **common)
+        first = simulate(scene.walker_model, scene.params, scene.state, output="events", **common)
         try:
             check_sample_count(first.t, args.sample_rate, len(scene.state), "--sample-rate")
         except ValueError as exc:
             raise UsageError(str(exc)) from None
         times = np.arange(0.0, first.t, 1.0 / args.sample_rate)
         sol = simulate(
-            scene.model, scene.params, scene.state, output="samples", sample_times=times, **common
+            scene.walker_model,
+            scene.params,
+            scene.state,
+            output="samples",
+            sample_times=times,
+            **common,
         )
     print(f"status {sol.status.name}: {sol.message}")
     print(
         f"t = {sol.t:.12g} s, strides {sol.n_strides}, events {sol.n_events}, "
         f"steps {sol.n_steps} ({sol.n_rejected} rejected), rhs {sol.n_rhs}"
     )
+    _print_penetration(scene, sol)
     if out is not None:
         write(
             out,
@@ -70,6 +76,31 @@ def cmd_run(args) -> int:
         )
         print(f"wrote {out}")
     return EXIT_OK if sol.success else EXIT_OUTCOME
+
+
+def _print_penetration(scene, sol) -> None:
+    """For models that report it (kneed), how deep the swing foot went below the slope: what
+    the swing-foot scuffing convention let pass."""
+    deepest = getattr(scene.walker_model.module, "deepest_penetration", None)
+    if deepest is None:
+        return
+    convention = f"swing_scuff = {scene.swing_scuff}"
+    pen = deepest(sol, scene.params)
+    if pen.depth == 0.0:
+        print(f"swing foot never below the slope ({convention})")
+        return
+    where = f"{abs(pen.ahead):.4g} m {'ahead of' if pen.ahead >= 0 else 'behind'}"
+    knee = (
+        "knee locked"
+        if pen.phase == 1
+        else "knee straight, unlocked"
+        if pen.knee_bend == 0.0
+        else f"knee bent {pen.knee_bend:.4g} rad"
+    )
+    print(
+        f"swing foot at most {pen.depth * 1e3:.4g} mm below the slope, at t = {pen.t:.6g} s, "
+        f"{where} the stance foot, {knee} ({convention})"
+    )
 
 
 def register(sub) -> None:

@@ -14,6 +14,10 @@ A model module (``walker/models/<name>.py``) provides, per the contract of
 5. Optionally ``start_phase(x, p) -> int``: the phase a run from state ``x`` starts in, for
    models whose phase depends on the state (joint friction modes: a joint at rest sticks or
    slips depending on the forces).  Without it a run starts in phase 0.
+6. Optionally ``SWING_SCUFF``: the swing-foot scuffing conventions the model offers
+   (``("trip", "ignore")``, the default first) and ``reset_ignore_scuff``, the reset map
+   under ``"ignore"``, compiled as the registry variants ``<model>/ignore_scuff`` and
+   ``<model>/<variant>/ignore_scuff`` (:func:`get_model` ``swing_scuff``).
 
 Importing a model compiles nothing; a compass-gait run never loads the kneed kernels.
 """
@@ -46,18 +50,36 @@ class WalkerModel:
     """A model: its compiled functions (module) and their description.
 
     Use :func:`get_model` rather than constructing one.
+
+    Attributes
+    ----------
+    name : str
+    swing_scuff : str
+        swing-foot scuffing convention, ``"trip"`` (default) or ``"ignore"`` (models whose
+        module declares ``SWING_SCUFF``; see :mod:`walker.models.kneed`).
     """
 
     name: str
+    swing_scuff: str = "trip"
 
     def __reduce__(self):
-        # Pickle by name: the compiled functions are rebuilt (from numba's disk cache) in the
-        # receiving process, so models and stride maps travel to worker processes.
-        return (get_model, (self.name,))
+        # Pickle by name and convention: the compiled functions are rebuilt (from numba's
+        # disk cache) in the receiving process, so models and stride maps travel to worker
+        # processes.
+        return (get_model, (self.name, self.swing_scuff))
 
     @cached_property
     def module(self):
         return importlib.import_module(f"walker.models.{self.name}")
+
+    @cached_property
+    def conventions(self) -> dict[str, str]:
+        """The modelling conventions this model offers and the ones it runs under, e.g.
+        ``{"swing_scuff": "ignore"}`` (empty for a model with none); results carry them
+        (:attr:`walker.results.Solution.conventions`)."""
+        if getattr(self.module, "SWING_SCUFF", ()):
+            return {"swing_scuff": self.swing_scuff}
+        return {}
 
     @cached_property
     def _compiled(self) -> dict:
@@ -97,13 +119,19 @@ class WalkerModel:
 
     def system_for(self, p):
         """The :class:`walker.integrate.HybridSystem` specialised to parameters ``p``: the
-        variant is chosen once, here, when a stride map or a run is set up."""
-        return self._system(self.variant_for(p))
+        variant is chosen once, here, when a stride map or a run is set up (and under
+        ``swing_scuff = "ignore"`` its ``/ignore_scuff`` twin)."""
+        return self._system(self._with_convention(self.variant_for(p)))
 
     @property
     def system(self):
         """The general :class:`walker.integrate.HybridSystem` (every parameter honoured)."""
-        return self._system("")
+        return self._system(self._with_convention(""))
+
+    def _with_convention(self, variant: str) -> str:
+        if self.swing_scuff == "trip":
+            return variant
+        return f"{variant}/ignore_scuff" if variant else "ignore_scuff"
 
     def _system(self, variant: str):
         cache = self.__dict__.setdefault("_systems", {})
@@ -115,7 +143,8 @@ class WalkerModel:
             if compiled is not None:
                 fns = {k: compiled[k] for k in ("rhs", "guards", "reset", "jac")}
             else:  # a model still written with numba: bridged to the C integrator
-                fns = {"rhs": m.rhs, "guards": m.guards, "reset": m.reset, "jac": m.jac}
+                reset = m.reset_ignore_scuff if variant.endswith("ignore_scuff") else m.reset
+                fns = {"rhs": m.rhs, "guards": m.guards, "reset": reset, "jac": m.jac}
             cache[variant] = HybridSystem(
                 name=self.name if not variant else f"{self.name}/{variant}",
                 n_x=m.N_X,
@@ -303,13 +332,47 @@ def _reset_type():
 _RESET_TYPE = _reset_type()
 """ctypes prototype of a reset map (walker/_core/wk_system.h)."""
 
-_CACHE: dict[str, WalkerModel] = {}
+_CACHE: dict[tuple[str, str], WalkerModel] = {}
 
 
-def get_model(name: str) -> WalkerModel:
-    """The model called ``name``; one of :data:`MODEL_NAMES`."""
+def get_model(name: str, swing_scuff: str = "trip") -> WalkerModel:
+    """The model called ``name``; one of :data:`MODEL_NAMES`.
+
+    Parameters
+    ----------
+    name : str
+    swing_scuff : str
+        swing-foot scuffing convention: ``"trip"`` (default; a swing foot touching the
+        ground with the knee bent ends the run ``TRIPPED``) or ``"ignore"`` (it passes
+        through the ground, as in McGeer's analysis and most published kneed-walker codes),
+        for models that offer it (``kneed``).
+
+    Examples
+    --------
+    >>> from walker.models import get_model
+    >>> get_model("kneed", swing_scuff="ignore").system.name
+    'kneed/ignore_scuff'
+    """
     if name not in MODEL_NAMES:
         raise ValueError(f"`model` must be one of {list(MODEL_NAMES)}, got {name!r}")
-    if name not in _CACHE:
-        _CACHE[name] = WalkerModel(name)
-    return _CACHE[name]
+    if not isinstance(swing_scuff, str):
+        raise TypeError(f"`swing_scuff` must be a str, got {swing_scuff!r}")
+    key = (name, swing_scuff)
+    model = _CACHE.get(key)
+    if model is None:
+        if swing_scuff != "trip":
+            offered = getattr(importlib.import_module(f"walker.models.{name}"), "SWING_SCUFF", ())
+            if swing_scuff not in offered:
+                with_option = [n for n in MODEL_NAMES if _offers_ignore(n)]
+                raise ValueError(
+                    f"`swing_scuff` must be one of {list(offered or ('trip',))} for model "
+                    f"{name} ('ignore' is offered by {', '.join(with_option)}), got "
+                    f"{swing_scuff!r}"
+                )
+        model = _CACHE[key] = WalkerModel(name, swing_scuff)
+    return model
+
+
+def _offers_ignore(name: str) -> bool:
+    module = importlib.import_module(f"walker.models.{name}")
+    return "ignore" in getattr(module, "SWING_SCUFF", ())
