@@ -12,7 +12,8 @@ Writes, under ``results/stress/``:
   reference run, for ``rtol = atol`` from 1e-3 to 1e-13;
 * ``README.md``: the numbers, in words and tables.
 
-The functions are also used by ``tests/test_stress.py`` (short versions).
+``tests/test_stress.py`` runs short versions of these measurements with its own helpers
+(``tests/_stress.py``); this script imports from walker only.
 
 Usage: python scripts/stress.py [--strides 100000] [--chunk 1000] [--quick]
 """
@@ -219,7 +220,7 @@ def long_run(
 # constant, so the error estimate is exactly zero and the step grows by the maximal factor.
 
 
-@njit(cache=False)  # loaded by file path in tests: a disk cache cannot find this module again
+@njit(cache=False)  # run as __main__ or loaded by file path: no disk cache for this module
 def _osc_rhs(phase, t, x, p, dx):
     if phase == 0:
         dx[0] = x[1]

@@ -144,7 +144,11 @@ def test_full_order_fixed_point_agrees_with_hzd():
     assert_allclose(fp.step_time, o.step_time, rtol=1e-9)
 
 
-def test_scene_reference_is_the_orbit():
+@pytest.mark.regression_pin
+def test_scene_reference_is_the_orbit_regression_pin():
+    """REGRESSION PIN: the scene's [reference] multipliers of the three-link HZD orbit are
+    walker's own (gaits/three_link_grizzle.toml: "reference values below: walker's own").
+    """
     scene = load_scene("gaits/three_link_grizzle.toml")
     fp = full_orbit()
     assert scene.params == grizzle()

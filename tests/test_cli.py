@@ -80,6 +80,8 @@ def test_continue_reports_the_period_doubling(capsys):
     kinds = [b["kind"] for b in rec["bifurcations"]]
     assert "period_doubling" in kinds
     pd = rec["bifurcations"][kinds.index("period_doubling")]
+    # Garcia, Chatterjee, Ruina, Coleman (1998): the period-one gait of the simplest walker
+    # is stable up to gamma = 0.0151 (also tests/test_gaits.py), within the 1e-4 allowed here.
     assert abs(pd["parameter_value"] - 0.01509) < 1e-4
 
 
@@ -128,3 +130,14 @@ def test_sweep_writes_a_table(tmp_path, capsys):
     table, _ = read(out)
     assert table.points.shape == (4, 1)
     assert np.all(table.columns["status"] == 0)
+
+
+def test_plot_of_an_unreadable_file_leaves_no_figure_directory(tmp_path, capsys):
+    bad = tmp_path / "bad.h5"
+    bad.write_bytes(b"not an HDF5 file")
+    code, _, err = _run(capsys, ["plot", str(bad), "--out", str(tmp_path / "figs")])
+    assert code == 2 and "not an HDF5 file" in err
+    assert not (tmp_path / "figs").exists()
+    (tmp_path / "kept").mkdir()  # a directory that existed before stays
+    code, _, _ = _run(capsys, ["plot", str(bad), "--out", str(tmp_path / "kept")])
+    assert code == 2 and (tmp_path / "kept").is_dir()

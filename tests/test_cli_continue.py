@@ -210,7 +210,9 @@ def test_continue_goes_both_ways_by_default(tmp_path, capsys):
     assert rec["stable_parts"] == [[0.045, 0.06]] and br.bifurcations == []
 
 
+@pytest.mark.regression_pin
 def test_kneed_stops_at_its_fold(capsys):
+    """REGRESSION PIN: KNEED_FOLD (slope 0.03178509468) is walker's own, checked to 1e-8."""
     argv = ["continue", "gaits/kneed_hsu.toml", "--range", "0.02:0.06"]
     code, text, _ = _run(capsys, argv + ["--json"])
     rec = _strict(text)
@@ -233,7 +235,9 @@ def test_kneed_stops_at_its_fold(capsys):
     assert "MAX_STEPS" not in text and "max_points" not in text
 
 
+@pytest.mark.regression_pin
 def test_kneed_through_folds_follows_the_unstable_branch(capsys):
+    """REGRESSION PIN: KNEED_FOLD (slope 0.03178509468) is walker's own, checked to 1e-8."""
     argv = ["continue", "gaits/kneed_hsu.toml", "--range", "0.02:0.06", "--through-folds"]
     code, text, _ = _run(capsys, argv + ["--json"])
     rec = _strict(text)
@@ -247,7 +251,11 @@ def test_kneed_through_folds_follows_the_unstable_branch(capsys):
     assert [b["kind"] for b in rec["bifurcations"]] == ["fold"]
 
 
+@pytest.mark.regression_pin
 def test_switch_follows_the_period_doubled_branch(tmp_path, capsys):
+    """REGRESSION PIN: COMPASS_PD (slope 0.0766356316) is walker's own, checked to 1e-8 (Goswami
+    et al. report only "near 4.4 deg": tests/test_gaits.py checks that to 5e-4).
+    """
     out = tmp_path / "compass.h5"
     argv = [
         "continue",

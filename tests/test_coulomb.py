@@ -154,7 +154,12 @@ def test_slip_loses_exactly_coulomb_work_then_sticks():
     assert_allclose(e_post, e_pre, rtol=0, atol=1e-14)
 
 
+@pytest.mark.regression_pin
 def test_small_friction_still_walks():
+    """REGRESSION PIN: the step time 0.7339066619 s at 0.01 N m of hip friction is walker's own
+    (DOP853, rtol 1e-12; see the module docstring); the rest is checked against the
+    frictionless gait and central differences.
+    """
     compass = find_fixed_point(StrideMap("compass", CompassParams.goswami()), SPONG_Z)
     P = StrideMap("compass_coulomb", _params(0.01))
     fp = find_fixed_point(P, SPONG_Z)
@@ -189,8 +194,11 @@ def test_large_friction_is_a_fall_not_an_exception():
     assert np.all(np.isnan(r.z))
 
 
+@pytest.mark.regression_pin
 def test_ankle_friction_slows_the_gait_and_large_friction_stops_it():
-    """Dry friction at the stance ankle: the gait slows (measured 0.7288 m/s at 0, 0.6922 at
+    """REGRESSION PIN: the three speeds (0.7288, 0.6922, 0.5149 m/s) are walker's own.
+
+    Dry friction at the stance ankle: the gait slows (measured 0.7288 m/s at 0, 0.6922 at
     1, 0.5149 at 5 N m, all stable); at 10 N m the stance leg sticks mid-stride, and once it
     breaks loose the heel strike is not physical (the trailing foot would not lift off):
     an outcome, not an exception."""

@@ -356,8 +356,12 @@ def _walking_speed(z, step_time, params):
     return 2.0 * params.leg_length * math.sin(z[0] + params.slope) / step_time
 
 
+@pytest.mark.regression_pin
 def test_hip_damping_continuation_of_the_compass_gait():
-    """Goswami's 3 degree gait (gaits/compass_goswami.toml) followed in ``damping_hip``.
+    """REGRESSION PIN: the undamped speed 0.728774 m/s and the fold at b = 0.2530 are walker's own;
+    the monotone trends and outcomes are the checks.
+
+    Goswami's 3 degree gait (gaits/compass_goswami.toml) followed in ``damping_hip``.
 
     Natural continuation (the parameter is bounded below by 0 and ``continue_branch`` takes
     a central difference in it, so the branch starts at 1e-6, next to the exact b = 0 fixed
@@ -400,8 +404,12 @@ def test_hip_damping_continuation_of_the_compass_gait():
         assert sol.status == Status.FELL_FORWARD, (b, sol.message)
 
 
+@pytest.mark.regression_pin
 def test_ankle_damping_slows_the_compass_gait():
-    """Goswami's 3 degree gait (gaits/compass_goswami.toml) followed in ``damping_ankle``.
+    """REGRESSION PIN: the undamped speed 0.728774 m/s and the period doubling at b = 32.825 are
+    walker's own; the monotone trends and outcomes are the checks.
+
+    Goswami's 3 degree gait (gaits/compass_goswami.toml) followed in ``damping_ankle``.
 
     Natural continuation from 1e-6 (as for the hip damper) to 40 N m s/rad.  Measured: the
     walking speed falls monotonically along the whole period-one branch (0.7288 m/s at 0,
@@ -446,8 +454,12 @@ def test_ankle_damping_slows_the_compass_gait():
 
 
 # ------------------------------------------------------------------ the kneed walker
+@pytest.mark.regression_pin
 def test_small_knee_damping_changes_the_kneed_gait_smoothly():
-    """Hsu Chen's gait (gaits/kneed_hsu.toml) at ``damping_knee`` = 0 .. 0.01 N m s/rad,
+    """REGRESSION PIN: the undamped speed 0.837009 m/s is walker's own (Hsu Chen's thesis digits
+    come from explicit Euler, see tests/test_gaits.py).
+
+    Hsu Chen's gait (gaits/kneed_hsu.toml) at ``damping_knee`` = 0 .. 0.01 N m s/rad,
     each fixed point warm-started from the previous one: all stable; the shift of the fixed
     point is linear in b for small b (from 1e-4 to 2e-4 it doubles, to 3 %; the curvature
     is strong: from 1e-3 to 2e-3 it grows only 1.78 times); the knee damper slows
@@ -482,8 +494,11 @@ def test_small_knee_damping_changes_the_kneed_gait_smoothly():
     assert sol.status == Status.TRIPPED, sol.message
 
 
+@pytest.mark.regression_pin
 def test_small_ankle_damping_slows_the_kneed_walker():
-    """Hsu Chen's gait (gaits/kneed_hsu.toml) at ``damping_ankle`` = 0, 0.01, 0.1 N m s/rad,
+    """REGRESSION PIN: the undamped speed 0.837009 m/s is walker's own.
+
+    Hsu Chen's gait (gaits/kneed_hsu.toml) at ``damping_ankle`` = 0, 0.01, 0.1 N m s/rad,
     each fixed point warm-started from the previous one: all stable, and the ankle damper
     slows the walker (measured 0.8370 -> 0.8325 -> 0.7926 m/s, nearly linearly: the drop
     at 0.1 is 9.85 times that at 0.01)."""
@@ -541,8 +556,12 @@ def _simplest_speed(z, step_time):
     return 2.0 * math.sin(z[0]) / step_time
 
 
+@pytest.mark.regression_pin
 def test_ankle_damping_slows_the_simplest_walker_until_it_stops():
-    """Garcia's gait at gamma = 0.009 (gaits/simplest_garcia.toml) followed in
+    """REGRESSION PIN: the speeds 0.10249884 .. 0.06016216, the period doubling at b =
+    0.2221955396 and the last stable point 0.205 are walker's own.
+
+    Garcia's gait at gamma = 0.009 (gaits/simplest_garcia.toml) followed in
     ``damping_ankle`` (dimensionless, units of M l^2 sqrt(g/l)) from 0.
 
     Natural continuation from 1e-6 to 0.3.  Measured: the walking speed (step length

@@ -188,7 +188,11 @@ def test_start_phase_follows_the_friction():
     assert held == ("unlocked", {"ankle": "slip-", "hip": "slip+", "knee": "stick"})
 
 
+@pytest.mark.regression_pin
 def test_knee_friction_slows_the_gait():
+    """REGRESSION PIN: the speeds 0.83701, 0.83082, 0.82612 m/s (knee friction 0, 0.005, 0.01 N m)
+    are walker's own (module docstring); the monotone fall is the check.
+    """
     z = MODEL.project(X_GAIT, None)
     speeds = []
     for F in (0.0, 0.005, 0.01):

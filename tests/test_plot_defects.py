@@ -286,7 +286,11 @@ def three_link_run(tmp_path_factory):
     return sol, model, params, figures
 
 
+@pytest.mark.regression_pin
 def test_three_link_impact_labels_are_the_event_losses(three_link_run):
+    """REGRESSION PIN: the impact loss -14.86789 J is walker's own; the labels and jump lengths
+    are checked against the event log.
+    """
     sol, model, params, figures = three_link_run
     ax = figures["energy"].axes[0]
     events = sol.events
@@ -385,7 +389,11 @@ def _branch(n=10):
     )
 
 
+@pytest.mark.regression_pin
 def test_multipliers_of_one_gait_have_no_colour_bar(tmp_path, monkeypatch):
+    """REGRESSION PIN: the largest multiplier modulus 0.6554 of Hsu Chen's gait is walker's own
+    (gaits/kneed_hsu.toml [reference]).
+    """
     path = tmp_path / "gait.h5"
     assert main(["find", "gaits/kneed_hsu.toml", "--out", str(path)]) == 0
     gait, _ = read(path)

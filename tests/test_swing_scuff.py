@@ -42,7 +42,8 @@ def test_scene_asks_for_ignore_and_the_model_carries_it():
     assert get_model("compass").conventions == {}
 
 
-def test_pointmass_gait_under_ignore_matches_its_pin():
+@pytest.mark.regression_pin
+def test_pointmass_gait_under_ignore_regression_pin():
     """REGRESSION PIN: the gait shipped in the scene's [reference] (walker's own, DOP853 at
     1e-13), found again from the scene's rounded state; the result records the convention."""
     scene = _scene()
@@ -57,8 +58,11 @@ def test_pointmass_gait_under_ignore_matches_its_pin():
     assert fp.conventions == {"swing_scuff": "ignore"}
 
 
+@pytest.mark.regression_pin
 def test_the_same_state_trips_under_trip_where_the_foot_meets_the_ground():
-    """Under "trip" the gait's own state ends TRIPPED, at the instant the bent-knee swing
+    """REGRESSION PIN: the trip instant 0.31073722720505237 s is walker's own.
+
+    Under "trip" the gait's own state ends TRIPPED, at the instant the bent-knee swing
     foot reaches the slope (checked from the geometry, not from the integrator's event)."""
     scene = _scene()
     x0 = scene.reference["state"]

@@ -25,8 +25,14 @@ def cmd_plot(args) -> int:
     if not found:
         raise FileNotFoundError(f"result file not found: {args.file}")
     out = _check_figure_dir(args.out)
-    out.mkdir(exist_ok=True)  # the figures' own directory is created
-    paths = plot_file(args.file, out, gif=args.gif)
+    created = not out.exists()
+    out.mkdir(exist_ok=True)  # the figures' own directory is created ...
+    try:
+        paths = plot_file(args.file, out, gif=args.gif)
+    except BaseException:
+        if created and not any(out.iterdir()):
+            out.rmdir()  # ... and removed again when the file could not be plotted
+        raise
     for p in paths:
         print(f"wrote {p}")
     return EXIT_OK
