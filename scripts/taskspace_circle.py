@@ -21,6 +21,8 @@ arm straightens) instead of blowing up.
 
 Writes ``results/taskspace/circle.png`` (path and circle; tracking error against time) and
 ``results/taskspace/circle.md`` (final tracking error and the bound from the gains).
+``scripts/gallery.py`` draws the same figure into the gallery through :func:`track_example`
+and :func:`plot_tracking`.
 
 Usage: python scripts/taskspace_circle.py [--natural-frequency 4] [--t-final 4] [--out DIR]
 
@@ -271,6 +273,38 @@ def track_circle(
     )
 
 
+CIRCLE = Circle(center=(1.0, 0.6), radius=0.3, period=2.0)
+"""The example's circle: well inside the reach of ``DoublePendulumParams.course()``."""
+
+
+def track_example(
+    arm: CartesianFunctions | None = None,
+    *,
+    natural_frequency: float = 4.0,
+    t_final: float = 4.0,
+    n_samples: int = 801,
+) -> tuple[Tracking, Circle, DoublePendulumParams]:
+    """The example's run: the course's arm (``DoublePendulumParams.course()``), at rest with
+    its tip at :data:`CIRCLE`'s centre (elbow up), tracks :data:`CIRCLE` under
+    :func:`computed_torque`.  ``arm`` defaults to a fresh ``planar_elbow_cartesian()``.
+    Returns ``(run, circle, params)``; what the script and the gallery draw."""
+    if arm is None:
+        arm = CartesianFunctions(planar_elbow_cartesian())
+    params = DoublePendulumParams.course()
+    p = params.as_array()
+    q0 = elbow_inverse_kinematics(CIRCLE.center, p, elbow=1)
+    run = track_circle(
+        arm,
+        p,
+        CIRCLE,
+        natural_frequency=natural_frequency,
+        q0=q0,
+        t_final=t_final,
+        n_samples=n_samples,
+    )
+    return run, CIRCLE, params
+
+
 # ------------------------------------------------------------------------------ output
 def plot_tracking(run: Tracking, circle: Circle):
     """Path against the circle, and the tracking error against time; returns the Figure."""
@@ -384,14 +418,11 @@ def main(argv=None) -> int:
     timings["derive and lambdify"] = time.perf_counter() - t0
     print(f"derived and lambdified the Cartesian form in {timings['derive and lambdify']:.2f} s")
 
-    params = DoublePendulumParams.course()
-    p = params.as_array()
-    circle = Circle(center=(1.0, 0.6), radius=0.3, period=2.0)
-    q0 = elbow_inverse_kinematics(circle.center, p, elbow=1)
     t0 = time.perf_counter()
-    run = track_circle(
-        arm, p, circle, natural_frequency=args.natural_frequency, q0=q0, t_final=args.t_final
+    run, circle, params = track_example(
+        arm, natural_frequency=args.natural_frequency, t_final=args.t_final
     )
+    p = params.as_array()
     timings["closed loop"] = time.perf_counter() - t0
     print(
         f"closed loop: status {run.status} ({run.message}), {run.nfev} evaluations, "
