@@ -185,3 +185,62 @@ def test_floquet_validation():
         floquet(HenonMap(), np.zeros(1))
     with pytest.raises(ValueError, match=r"`period` must be an integer >= 1"):
         floquet(HenonMap(), np.zeros(2), 0)
+
+
+# --- StrideMap and simulate resolve the model once (issue 12): same numbers as the
+# --- model's own lift / project / start phase and as hybrid_solve -----------------------
+
+
+@pytest.mark.parametrize(
+    "scene_file",
+    ["gaits/kneed_hsu.toml", "gaits/compass_goswami.toml", "gaits/simplest_garcia.toml"],
+)
+def test_stride_map_prepared_parts_match_model(scene_file):
+    from pathlib import Path
+
+    from walker import load_scene
+    from walker.stride import StrideMap
+
+    scene = load_scene(Path(__file__).resolve().parent.parent / scene_file)
+    P = StrideMap(scene.model, scene.params, rtol=1e-10, atol=1e-10)
+    model, p = P.model, scene.params.as_array()
+    z = P.project(scene.state)
+    r = P(z, jacobian=True)
+    assert r.success
+    # the slow path, written out: the model's own functions
+    x0 = model.lift(z, p)
+    run, _, _ = P._prepared(1)
+    status, t, x, jac = run.map(x0, p, model.start_phase(x0, p), P.t_max, 1, True)
+    assert status == 0
+    np.testing.assert_array_equal(r.z, model.project(x, p))
+    np.testing.assert_array_equal(r.state, x)
+    assert r.step_time == t
+    np.testing.assert_array_equal(r.jac, P._proj @ jac @ model.lift_jacobian(z, p))
+    # a list, an int array and a float array of the same point give the same stride
+    np.testing.assert_array_equal(P(list(z)).z, P(z).z)
+
+
+def test_simulate_parameter_cache_follows_the_objects():
+    from walker.integrate import hybrid_solve
+    from walker.models import get_model
+    from walker.params import CompassParams
+    from walker.stride import simulate
+
+    model = get_model("compass")
+    x0 = np.array([0.2187, -0.3234, -1.0918, -0.3772])
+    for slope in (0.0525, 0.055, 0.0525):
+        params = CompassParams.drake().replace(slope=slope)
+        p = params.as_array()
+        sol = simulate("compass", params, x0, rtol=1e-9, atol=1e-9)
+        ref = hybrid_solve(
+            model.system_for(p),
+            x0,
+            p,
+            phase0=model.start_phase(x0, p),
+            t_max=20.0 * np.sqrt(params.leg_length / params.g),
+            rtol=1e-9,
+            atol=1e-9,
+        )
+        assert sol.status == ref.status
+        np.testing.assert_array_equal(sol.x, ref.x)
+        assert sol.t == ref.t

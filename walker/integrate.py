@@ -415,6 +415,7 @@ class HybridSystem:
 # =============================================================================================
 
 _EMPTY = np.empty(0)
+_STATUSES = {int(s): s for s in Status}  # status code -> Status, without the enum call
 _RTOL_MIN = 100 * np.finfo(float).eps
 
 
@@ -680,27 +681,32 @@ def _solve(
     jacobian,
     n_interior,
     fixed_step,
+    p_checked=False,
 ):
     """:func:`hybrid_solve` with an extra ``fixed_step`` switch that runs the adaptive
     methods (DOP853, RK45) with the fixed step ``first_step`` and no error control (used to
-    measure convergence orders)."""
+    measure convergence orders).  ``p_checked``: the caller guarantees that ``p`` is a
+    C-contiguous, finite float64 vector of the system's length (checked once, when it was
+    made: :func:`walker.stride.simulate`'s parameter cache)."""
     if not isinstance(system, HybridSystem):
         raise TypeError(f"`system` must be a HybridSystem, got {type(system).__name__}")
     n_x = system.n_x
     x0 = np.array(x0, dtype=np.float64)  # copy: the caller's array is never touched
     if x0.ndim != 1 or x0.shape[0] != n_x:
         raise ValueError(f"`x0` must be 1-D of length n_x = {n_x}, got shape {x0.shape}")
-    if not np.isfinite(x0).all():
+    if not all(map(math.isfinite, x0.tolist())):
         raise ValueError("All components of the initial state `x0` must be finite.")
-    p = np.ascontiguousarray(p, dtype=np.float64)
-    if p.ndim != 1:
-        raise ValueError(f"`p` must be 1-D, got shape {p.shape}")
-    if system.n_params is not None and p.shape[0] != system.n_params:
-        raise ValueError(
-            f"`p` must have length {system.n_params} for system `{system.name}`, got {p.shape[0]}"
-        )
-    if not np.isfinite(p).all():
-        raise ValueError("All parameters `p` must be finite.")
+    if not p_checked:
+        p = np.ascontiguousarray(p, dtype=np.float64)
+        if p.ndim != 1:
+            raise ValueError(f"`p` must be 1-D, got shape {p.shape}")
+        if system.n_params is not None and p.shape[0] != system.n_params:
+            raise ValueError(
+                f"`p` must have length {system.n_params} for system `{system.name}`, "
+                f"got {p.shape[0]}"
+            )
+        if not np.isfinite(p).all():
+            raise ValueError("All parameters `p` must be finite.")
     phase0 = _check_int("phase0", phase0, 0)
     if phase0 >= system.n_phases:
         raise ValueError(f"`phase0` must be < n_phases = {system.n_phases}, got {phase0}")
@@ -797,7 +803,7 @@ def _solve(
         dt_dx0,
         has_dt,
     ) = res
-    status = Status(status)
+    status = _STATUSES.get(status) or Status(status)
     events = samples = record = None
     if out_code >= OUTPUT_EVENTS:
         n_imp = system.n_impulse

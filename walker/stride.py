@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from walker.integrate import PreparedRun, check_solver_settings, hybrid_solve
+from walker.integrate import PreparedRun, _solve, check_solver_settings
 from walker.models import WalkerModel, get_model
 from walker.results import MapResult, Solution, too_large
 from walker.status import Status
@@ -89,32 +89,80 @@ def simulate(
     >>> sol.status.name, sol.n_strides
     ('COMPLETED', 3)
     """
-    model = _resolve(model, params)
+    model, p, system, time_scale, start_phase = _setup(model, params)
     x0 = _as_vector(x0, "x0")
     if t_max is None:
-        t_max = 20.0 * max(1, n_strides) * _time_scale(params)
-    p = params.as_array()
+        t_max = 20.0 * max(1, n_strides) * time_scale
     if phase0 is None:
-        phase0 = _start_phase(model, x0, p)
-    sol = hybrid_solve(
-        model.system_for(p),
+        phase0 = (
+            0
+            if start_phase is None
+            or x0.shape != (model.n_x,)
+            or not all(map(math.isfinite, x0.tolist()))
+            else start_phase(x0, p)
+        )
+    sol = _solve(
+        system,
         x0,
         p,
         phase0=phase0,
+        t0=0.0,
         t_max=t_max,
         n_strides=n_strides,
         method=method,
         rtol=rtol,
         atol=atol,
         first_step=first_step,
+        max_step=np.inf,
+        max_steps=max_steps,
         output=output,
         sample_times=sample_times,
         jacobian=jacobian,
-        max_steps=max_steps,
+        n_interior=4,
+        fixed_step=False,
+        p_checked=True,
     )
     if model.conventions:
         sol.conventions = dict(model.conventions)
     return sol
+
+
+# (model, params) -> what a run needs of them, for the last few pairs: a run after the first
+# with the same objects resolves, converts and checks nothing of them again.  Keyed by the
+# objects' identity; an entry holds both, so an id is not reused while its entry exists
+# (parameter objects are frozen: an entry never goes stale).
+_SETUP: dict = {}
+_SETUP_MAX = 32
+
+
+def _setup(model, params):
+    """``(model, p, system, time_scale, start_phase)`` for a model (name or WalkerModel) and
+    its parameter object, validated on first use: ``p`` the parameter vector (read-only,
+    finite, of the model's length), ``system`` the HybridSystem specialised to it,
+    ``start_phase`` None when the model always starts in phase 0, else ``(x0, p) -> int``."""
+    key = (model if isinstance(model, str) else id(model), id(params))
+    hit = _SETUP.get(key)
+    if hit is not None and hit[0] is params and hit[1] is model:
+        return hit[2]
+    resolved = _resolve(model, params)
+    p = np.ascontiguousarray(params.as_array(), dtype=np.float64)
+    system = resolved.system_for(p)
+    if system.n_params is not None and p.shape != (system.n_params,):
+        raise ValueError(
+            f"`p` must have length {system.n_params} for system `{system.name}`, got {p.shape[0]}"
+        )
+    if not np.isfinite(p).all():
+        raise ValueError("All parameters `p` must be finite.")
+    p.flags.writeable = False
+    if resolved._state_fn("start_phase") is None and not hasattr(resolved.module, "start_phase"):
+        start_phase = None  # WalkerModel.start_phase returns 0 for every state
+    else:
+        start_phase = resolved.start_phase
+    value = (resolved, p, system, _time_scale(params), start_phase)
+    if len(_SETUP) >= _SETUP_MAX:
+        _SETUP.clear()
+    _SETUP[key] = (params, model, value)
+    return value
 
 
 def _as_vector(value, name: str, length: int | None = None) -> np.ndarray:
@@ -298,22 +346,57 @@ class StrideMap:
                 address,
                 region.kinetic_limit,
             )
-            cached = ({}, p, guard, per_stride, self.model.system_for(p))
+            cached = ({}, p, guard, per_stride, self.model.system_for(p), self._fast_parts(p))
             object.__setattr__(self, "_run", cached)
         runs = cached[0]
         run = runs.get(n_strides)
         if run is None:
-            run = PreparedRun(
-                cached[4],
-                method=self.method,
-                rtol=self.rtol,
-                atol=self.atol,
-                first_step=self.first_step,
-                max_steps=cached[3] * n_strides,
-            )
-            if len(runs) < 16:
-                runs[n_strides] = run
+            run = self._new_run(cached, n_strides)
         return run, cached[1], cached[2]
+
+    def _fast_parts(self, p):
+        """What a call needs of the model besides the run, resolved once: ``(lift, project,
+        lift_jacobian, start_phase)``.  ``lift(z, p)`` is the model module's own function
+        (the wrapper's conversions are done: ``z`` is a float array and ``p`` the parameter
+        vector); for a model whose lift is declared affine (``LIFT_AFFINE``, as
+        :meth:`basin_batch` relies on) ``project`` is the index array of the components it
+        selects and ``lift_jacobian`` the constant Jacobian, else None (the model's own
+        functions are called); ``start_phase`` None when every state starts in phase 0."""
+        model = self.model
+        module = model.module
+        project = lift_jac = None
+        if getattr(module, "LIFT_AFFINE", False):
+            n_x = model.n_x
+            idx = model.project(np.arange(n_x, dtype=np.float64), p)
+            probe = np.linspace(-0.75, 0.5, n_x) + 0.1
+            if (
+                idx.shape == (model.n_z,)
+                and np.array_equal(idx, np.round(idx))
+                and np.array_equal(model.project(probe, p), probe[idx.astype(np.int64)])
+            ):
+                project = idx.astype(np.intp)
+                lift_jac = model.lift_jacobian(np.zeros(model.n_z), p)
+                lift_jac.flags.writeable = False
+        if model._state_fn("start_phase") is None and not hasattr(module, "start_phase"):
+            start_phase = None
+        else:
+            start_phase = model.start_phase
+        return module.lift, project, lift_jac, start_phase
+
+    def _new_run(self, cached, n_strides):
+        """A PreparedRun for ``n_strides`` strides, kept for up to 16 stride counts."""
+        runs = cached[0]
+        run = PreparedRun(
+            cached[4],
+            method=self.method,
+            rtol=self.rtol,
+            atol=self.atol,
+            first_step=self.first_step,
+            max_steps=cached[3] * n_strides,
+        )
+        if len(runs) < 16:
+            runs[n_strides] = run
+        return run
 
     def basin_batch(self, period: int = 1):
         """The compiled loop of :func:`walker.basin.basin_chunk` for this map, or None.
@@ -455,7 +538,8 @@ class StrideMap:
         """
         if parameter is not None and parameter != self.parameter_value:
             return self.with_parameter(parameter)(z, jacobian=jacobian, n_strides=n_strides)
-        z = _as_vector(z, "z")
+        if z.__class__ is not np.ndarray or z.dtype != np.float64:
+            z = _as_vector(z, "z")
         model = self.model
         if z.shape != (model.n_z,):
             raise ValueError(f"`z` must have shape ({model.n_z},), got {z.shape}")
@@ -467,9 +551,15 @@ class StrideMap:
             raise TypeError(f"`n_strides` must be an int, got {type(n_strides).__name__}")
         if n_strides < 1:
             raise ValueError(f"`n_strides` must be >= 1, got {n_strides}")
-        run, p, guard = self._prepared(n_strides)
+        cached = self.__dict__.get("_run")
+        if cached is not None and n_strides in cached[0]:
+            run, p, guard = cached[0][n_strides], cached[1], cached[2]
+        else:
+            run, p, guard = self._prepared(n_strides)
+            cached = self.__dict__["_run"]
+        lift, project, lift_jac, start_phase = cached[5]
         (offset, fall_angle), n_q, wound, energy_fn, energy_address, kinetic_limit = guard
-        x0 = np.ascontiguousarray(model.lift(z, p), dtype=np.float64)
+        x0 = np.ascontiguousarray(lift(z, p), dtype=np.float64)
         # A walker that starts past its fall guards is not integrated: a fall guard fires on
         # crossing its threshold, never for a stance leg already past it or an angle wound
         # round, and the steps of a state with rates far beyond any gait's shrink with them.
@@ -485,15 +575,26 @@ class StrideMap:
             nan = np.full(self.n_z, np.nan)
             return MapResult(Status.OUTSIDE_WALKING_REGION, nan, None, 0.0, x0)
         status, t, x, jac = run.map(
-            x0, p, model.start_phase(x0, p), self.t_max * n_strides, n_strides, jacobian
+            x0,
+            p,
+            0 if start_phase is None else start_phase(x0, p),
+            self.t_max * n_strides,
+            n_strides,
+            jacobian,
         )
         if status != 0:
             nan = np.full(self.n_z, np.nan)
             return MapResult(Status(status), nan, None, float(t), x)
         jz = None
         if jacobian:
-            jz = self._proj @ jac @ model.lift_jacobian(z, p)
-        return MapResult(Status.COMPLETED, model.project(x, p), jz, float(t), x)
+            jz = self._proj @ jac @ (model.lift_jacobian(z, p) if lift_jac is None else lift_jac)
+        return MapResult(
+            Status.COMPLETED,
+            model.project(x, p) if project is None else x[project],
+            jz,
+            float(t),
+            x,
+        )
 
     def trajectory(self, z, *, n_strides: int = 1, sample_rate: float | None = None) -> Solution:
         """Simulate from section point ``z`` keeping events and samples (or every step).
