@@ -1255,9 +1255,42 @@ class FiveLinkParams(_Params):
         ``gaits/five_link_hzd.toml``), made HZD-invariant by
         :func:`walker.hzd.make_invariant`; keyword ``changes`` are applied before it.
 
+        Which parameter set, and why.  walker ships the published table [1]_ [2]_: masses
+        12 / 6.8 / 3.2 kg (torso, femur, tibia; 32 kg in all), centres of mass 0.24 m above
+        the hip, 0.11 m below the hip, 0.24 m below the knee, inertias 1.33 / 0.47 / 0.20
+        kg m^2 about the centres of mass.  A second public set with a 20 kg torso is NOT
+        shipped, because it is not RABBIT as published:
+
+        - Its source is Westervelt and Grizzle's five-link model-generation MATLAB script (header
+          "Copyright (c) 2001 by Eric Westervelt and Jessy Grizzle", dated 6 August 2001): M =
+          20 / 6.8 / 3.2 kg, MZ = 0.2 / 0.163 / 0.128 kg m, XX = 2.22 / 1.08 / 0.93 kg m^2,
+          torso length 0.625 m.  There the kinetic energy of a link is
+          ``M |v_O|^2 / 2 + MZ (omega x e) . v_O + XX omega^2 / 2`` and its centre of mass
+          ``O + (MZ / M) e`` (O its proximal joint, e the unit vector along it): MZ is the first
+          moment and XX the inertia about the joint (the script's own comment on MZ reads
+          "center of mass offsets (times mass??)").  The script does not name RABBIT.
+        - By the parallel-axis theorem the centres of mass are MZ / M = 0.010 / 0.024 / 0.040 m
+          from the joint and the inertias about them XX - MZ^2 / M = 2.218 / 1.076 / 0.925
+          kg m^2 (positive: a valid mass matrix).  That is another robot than [1]_: 40 kg in
+          all, leg centres of mass 2.4 and 4 cm from the hip and the knee, and radii of
+          gyration 0.398 m (femur) and 0.538 m (tibia) about the centres of mass, against links
+          0.4 m long.  No change of convention maps one set to the other: [1]_ in the
+          script's form is MZ = 2.88 / 0.748 / 0.768 kg m, XX = 2.021 / 0.552 / 0.384 kg m^2.
+          Only the torso's radius of gyration agrees (0.333 m: 2.22 = 1.33 * 20 / 12 to the
+          digits given).
+        - M. P. Kelly's OptimTraj example (repository MatthewPeterKelly/OptimTraj, file
+          ``demo/fiveLinkBiped/getPhysicalParameters.m``, 2015) carries the same digits, cites
+          [1]_, and reads them as distances [m] from a joint to the centre of mass and
+          inertias about the centre of mass (its ``Derive_Equations.m``: tibia and femur from
+          the knee and the hip, the torso's 0.2 m from its top end).  That reading
+          mis-transcribes the script's MZ (kg m, not m) and gives a third robot.
+
+        ``tests/test_rabbit_params.py`` checks these numbers.
+
         References
         ----------
         .. [1] Westervelt, Grizzle, Koditschek, IEEE TAC 48(1), 2003, Table I.
+        .. [2] Chevallereau et al., IEEE Control Systems Magazine 23(5), 2003.
         """
         from walker.hzd import make_invariant  # lazy: hzd imports this module
 
