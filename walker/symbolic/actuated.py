@@ -176,14 +176,14 @@ def three_link_kernels() -> list[Kernel]:
     ``dmass``, ...), ``hip_jac``, ``ground_reaction(q, qd, qdd, p)``; floating base:
     ``ext_mass_matrix``, ``ext_swing_contact_jac``, ``ext_stance_contact_jac``.
     """
-    from walker.symbolic.kernels import _dynamics_kernels, _hip_jacobian
+    from walker.symbolic.dynamics import dynamics_kernels, hip_jacobian
 
     m = three_link()
     ext = three_link_extended()
     qdd = sp.symbols("q_stance_ddot q_swing_ddot q_torso_ddot", real=True)
     q, p = ("q", ext.q), ("p", ext.params)
-    return _dynamics_kernels(m, "") + [
-        _hip_jacobian(m, ""),
+    return dynamics_kernels(m, "") + [
+        hip_jacobian(m, ""),
         Kernel(
             "ground_reaction",
             (("q", m.q), ("qd", m.qd), ("qdd", qdd), ("p", m.params)),

@@ -176,14 +176,14 @@ def five_link_kernels() -> list[Kernel]:
     ``ext_mass_matrix``, ``ext_swing_contact_jac``, ``ext_stance_contact_jac``.
     """
     from walker.symbolic.actuated import ground_reaction
-    from walker.symbolic.kernels import _dynamics_kernels, _hip_jacobian
+    from walker.symbolic.dynamics import dynamics_kernels, hip_jacobian
 
     m = five_link()
     ext = five_link_extended()
     qdd = sp.symbols(" ".join(f"{n}_ddot" for n in COORDINATES), real=True)
     q, p = ("q", ext.q), ("p", ext.params)
-    return _dynamics_kernels(m, "") + [
-        _hip_jacobian(m, ""),
+    return dynamics_kernels(m, "") + [
+        hip_jacobian(m, ""),
         Kernel(
             "ground_reaction",
             (("q", m.q), ("qd", m.qd), ("qdd", qdd), ("p", m.params)),

@@ -13,6 +13,7 @@ import sympy as sp
 
 from walker.symbolic import models
 from walker.symbolic.codegen import AccelJacobianKernel, AccelKernel, Kernel
+from walker.symbolic.dynamics import dynamics_kernels, hip_jacobian
 from walker.symbolic.mechanics import LagrangianModel
 
 __all__ = [
@@ -26,66 +27,6 @@ __all__ = [
     "module_extra",
     "variant_kernels",
 ]
-
-
-def _dynamics_kernels(m: LagrangianModel, prefix: str) -> list[Kernel]:
-    """Kernels of a single-support model.
-
-    The accelerations include the model's own forcing ``Q`` (joint damping): ``accel`` and
-    ``accel_jac`` solve ``D qdd = -(h - Q)``.  ``bias``, ``dbias_dq`` and ``dbias_dqd`` keep
-    the conservative ``h = C qd + g``; a model with forcing also gets a ``forcing`` kernel.
-    """
-    q, qd, p = ("q", m.q), ("qd", m.qd), ("p", m.params)
-    h = m.bias
-    h_forced = m.forced_bias
-    qv, qdv = sp.Matrix(m.q), sp.Matrix(m.qd)
-    if m.has_forcing:
-        accel_doc = (
-            "Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled "
-            "Cholesky, out (>= n,)."
-        )
-        forcing = [
-            Kernel(
-                f"{prefix}forcing",
-                (q, qd, p),
-                m.forcing,
-                "Generalized joint-damping forces Q(q, qd), out (n,); power Q.qd <= 0.",
-            )
-        ]
-    else:
-        accel_doc = "Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,)."
-        forcing = []
-    return [
-        AccelKernel(f"{prefix}accel", (q, qd, p), m.D, h_forced, accel_doc),
-        AccelJacobianKernel(
-            f"{prefix}accel_jac",
-            (q, qd, p),
-            m.D,
-            h_forced,
-            "d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve.",
-        ),
-        Kernel(f"{prefix}mass_matrix", (q, p), m.D, "Mass matrix D(q), out (n, n)."),
-        Kernel(f"{prefix}coriolis", (q, qd, p), m.C, "Coriolis matrix C(q, qd), out (n, n)."),
-        Kernel(f"{prefix}gravity", (q, p), m.G, "Gravity vector g(q) = dP/dq, out (n,)."),
-        Kernel(f"{prefix}bias", (q, qd, p), h, "h(q, qd) = C(q, qd) qd + g(q), out (n,)."),
-        *forcing,
-        Kernel(
-            f"{prefix}dmass",
-            (q, p),
-            [m.D.diff(qi) for qi in m.q],
-            "dD/dq_k for every k, out (n, n, n): out[k] = dD/dq_k.",
-        ),
-        Kernel(f"{prefix}dbias_dq", (q, qd, p), h.jacobian(qv), "dh/dq, out (n, n)."),
-        Kernel(f"{prefix}dbias_dqd", (q, qd, p), h.jacobian(qdv), "dh/dqd, out (n, n)."),
-        Kernel(f"{prefix}kinetic", (q, qd, p), m.K, "Kinetic energy [J]."),
-        Kernel(f"{prefix}potential", (q, p), m.P, "Potential energy [J] (y = 0 at the origin)."),
-        Kernel(
-            f"{prefix}points",
-            (q, p),
-            sp.Matrix([[v[0], v[1]] for v in m.points.values()]),
-            f"Named points in the world frame, out (n_points, 2); names in {prefix.upper()}POINTS.",
-        ),
-    ]
 
 
 def _extended_kernels(m: LagrangianModel, prefix: str, swing_index: int) -> list[Kernel]:
@@ -116,15 +57,6 @@ def _model_of(m: LagrangianModel) -> str:
     return m.name.split("_")[0]
 
 
-def _hip_jacobian(m: LagrangianModel, prefix: str) -> Kernel:
-    return Kernel(
-        f"{prefix}hip_jac",
-        (("q", m.q), ("p", m.params)),
-        m.point_jacobian("hip"),
-        "Jacobian of the hip position, out (2, n).",
-    )
-
-
 def _simplest_kernels() -> list[Kernel]:
     s = models.simplest()
     q, qd, p = ("q", s["q"]), ("qd", s["qd"]), ("p", s["params"])
@@ -142,20 +74,20 @@ def kernels_for(name: str) -> list[Kernel]:
     if name == "compass":
         sw = models.compass()
         return (
-            _dynamics_kernels(sw, "")
-            + [_hip_jacobian(sw, "")]
+            dynamics_kernels(sw, "")
+            + [hip_jacobian(sw, "")]
             + _extended_kernels(models.compass_extended(), "ext_", 1)
         )
     if name == "kneed":
         un, lo = models.kneed_unlocked(), models.kneed_locked()
         return (
-            _dynamics_kernels(un, "unlocked_")
-            + _dynamics_kernels(lo, "locked_")
-            + [_hip_jacobian(lo, "locked_")]
+            dynamics_kernels(un, "unlocked_")
+            + dynamics_kernels(lo, "locked_")
+            + [hip_jacobian(lo, "locked_")]
             + _extended_kernels(models.kneed_extended(), "ext_", 1)
         )
     if name == "double_pendulum":
-        return _dynamics_kernels(models.double_pendulum(), "")
+        return dynamics_kernels(models.double_pendulum(), "")
     if name == "three_link":
         from walker.symbolic import actuated
 
