@@ -122,7 +122,7 @@ def test_conventions_md_gives_every_state_in_order():
         assert f"| {listed} |" in _row_of(section, name), name
 
 
-@pytest.mark.parametrize("doc", ["scenes.md", "conventions.md"])
+@pytest.mark.parametrize("doc", ["scenes.md", "conventions.md", "architecture.md"])
 def test_docs_point_only_inside_the_repository(doc):
     text = (DOCS / doc).read_text(encoding="utf-8")
     assert "../" not in text and "http" not in text and "/work" not in text
@@ -145,3 +145,15 @@ def test_readme_finding_your_way_lists_the_commands_and_docs():
         assert command in section
     for doc in ("docs/scenes.md", "docs/conventions.md", "docs/storage.md"):
         assert doc in section and (ROOT / doc).is_file()
+
+
+def test_architecture_md_names_only_paths_that_exist():
+    """docs/architecture.md tells a contributor where each change goes: every repository path
+    it names (``walker/...``, ``scripts/...``, ``tests/...``, ``gaits/...``, ``docs/...``)
+    exists."""
+    text = (DOCS / "architecture.md").read_text(encoding="utf-8")
+    root = DOCS.parent
+    named = set(re.findall(r"`((?:walker|scripts|tests|gaits|docs)/[^`*<> ]*)`", text))
+    assert len(named) > 20
+    for path in sorted(named):
+        assert (root / path.rstrip("/")).exists(), path

@@ -135,7 +135,7 @@ def test_scene_and_result_names_too_long(tmp_path, capsys, no_work):
 def test_unreachable_scheduler_fails_fast_with_exit_2(tmp_path):
     """Before: dask retried for 30 s, then an ``OSError`` traceback with exit 1 (38 s in
     all).  Now a refused port is reported at once; the hang guard is generous against the
-    few seconds allowed (``walker.sweep.SCHEDULER_TIMEOUT``)."""
+    few seconds allowed (``walker.cli.sweep.SCHEDULER_TIMEOUT``)."""
     out = tmp_path / "sw.h5"
     args = ["sweep", SCENE, "--param", "slope=0.05:0.06:2", "--out", out]
     proc = _walker(*args, "--scheduler", "tcp://127.0.0.1:1", timeout=30)
@@ -150,7 +150,7 @@ def test_scheduler_probe_accepts_a_real_scheduler():
     """The check made before connecting lets a real dask scheduler through (an in-process
     cluster)."""
     distributed = pytest.importorskip("distributed")
-    from walker.sweep import run_sweep_command
+    from walker.cli.sweep import run_sweep_command
 
     with distributed.LocalCluster(
         n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None

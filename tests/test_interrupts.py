@@ -377,7 +377,7 @@ def no_simulation(monkeypatch):
     import walker.sweep
 
     monkeypatch.setattr(walker.stride.StrideMap, "__call__", refuse)
-    monkeypatch.setattr(walker.stride, "hybrid_solve", refuse)
+    monkeypatch.setattr(walker.stride, "_solve", refuse)  # simulate's way into the integrator
     monkeypatch.setattr(walker.stride, "simulate", refuse)
     monkeypatch.setattr(walker.fixedpoint, "find_fixed_point", refuse)
     monkeypatch.setattr(walker.basin, "basin_chunk", refuse)

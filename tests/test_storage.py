@@ -359,7 +359,7 @@ def test_overwrite_refused_then_allowed(tmp_path):
 
 
 def test_failure_mid_write_leaves_nothing(tmp_path, monkeypatch):
-    original = storage._emit
+    original = storage.encode._emit
     calls = []
 
     def failing_emit(tree, group):
@@ -368,7 +368,7 @@ def test_failure_mid_write_leaves_nothing(tmp_path, monkeypatch):
             raise OSError("disk full (simulated)")
         original(tree, group)
 
-    monkeypatch.setattr(storage, "_emit", failing_emit)
+    monkeypatch.setattr(storage.encode, "_emit", failing_emit)
     with pytest.raises(OSError, match="simulated"):
         write(tmp_path / "s.h5", _solution(), provenance={})
     assert len(calls) == 3
@@ -381,7 +381,7 @@ def test_failure_mid_overwrite_keeps_old_file(tmp_path, monkeypatch):
     def failing_replace(src, dst):
         raise OSError("rename failed (simulated)")
 
-    monkeypatch.setattr(storage.os, "replace", failing_replace)
+    monkeypatch.setattr(storage.disk.os, "replace", failing_replace)
     with pytest.raises(OSError, match="simulated"):
         write(path, _orbit_diagram(), provenance={"model": "new"}, overwrite=True)
     assert [p.name for p in tmp_path.iterdir()] == ["b.h5"]

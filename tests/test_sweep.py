@@ -19,9 +19,10 @@ import pytest
 from numpy.testing import assert_allclose
 
 from walker import StrideMap, load_scene
+from walker.cli.sweep import run_sweep_command
 from walker.status import Status
 from walker.storage import StorageError, read
-from walker.sweep import grid_points, parse_range, run_sweep_command, sweep
+from walker.sweep import grid_points, parse_range, sweep
 
 REPO = Path(__file__).resolve().parents[1]
 TESTS = Path(__file__).resolve().parent

@@ -28,7 +28,7 @@ The pipeline, from a scene file to pictures::
                      continuation.py natural and pseudo-arclength, folds, period doublings
                      basin.py        basins of attraction (threads: strides release the GIL)
                      sweep.py        resumable parameter sweeps on threads or any Executor
-                 ──► storage.py      HDF5 with provenance, atomic writes
+                 ──► storage/        HDF5 with provenance, checksums, atomic writes
                  ──► plotting.py     figures and animations
     cli/ sits on top (``walker find|run|continue|basin|sweep|plot``, one module per command)
     and only orchestrates.

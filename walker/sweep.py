@@ -65,7 +65,6 @@ __all__ = [
     "die_with_parent",
     "grid_points",
     "parse_range",
-    "run_sweep_command",
     "sweep",
     "sweep_chunk",
 ]
@@ -84,9 +83,6 @@ so that a pool of a few workers is balanced and a killed sweep loses little."""
 MAX_SWEEP_POINTS = 1_000_000
 """Most points one sweep takes (a 1000 x 1000 grid): hours of work at a few ms per point, a
 table of tens of MB.  Cut a larger study into several sweeps."""
-
-SCHEDULER_TIMEOUT = 5.0
-"""Seconds allowed to connect to a ``dask.distributed`` scheduler (:func:`run_sweep_command`)."""
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _RANGE_RULE = (
@@ -600,21 +596,22 @@ def default_chunk_size(n_points: int, kind: str) -> int:
 
 
 def _sweep_provenance(stride_map: StrideMap, kind, z0, n_strides, tol, provenance) -> dict:
-    from walker.storage import parameters_with_units
+    from walker.storage import solver_provenance
 
     auto: dict[str, Any] = {"sweep_kind": kind, "n_strides": n_strides, "z0": z0.tolist()}
     if kind == "fixed_point":
         auto["tol"] = tol
     if isinstance(stride_map, StrideMap):
         auto.update(
-            model=stride_map.model.name,
-            parameters=parameters_with_units(stride_map.params),
-            method=stride_map.method,
-            rtol=float(stride_map.rtol),
-            atol=float(stride_map.atol),
-            t_max=float(stride_map.t_max),
-            first_step=None if stride_map.first_step is None else float(stride_map.first_step),
-            kernel_hash=stride_map.model.kernel_hash,
+            solver_provenance(
+                stride_map.model,
+                stride_map.params,
+                method=stride_map.method,
+                rtol=stride_map.rtol,
+                atol=stride_map.atol,
+                t_max=stride_map.t_max,
+                first_step=stride_map.first_step,
+            )
         )
     if provenance is None:
         return auto
@@ -716,10 +713,12 @@ def sweep(
     progress : bool
         tqdm bar over points on stderr (only when stderr is a terminal).
     provenance : dict, optional
-        extra provenance for ``out`` (e.g. the scene path).  The sweep records ``model``,
+        extra provenance for ``out`` (e.g. the scene path).  The sweep records
+        ``sweep_kind``, ``n_strides``, ``z0`` (and ``tol`` for fixed points) and the
+        :func:`walker.storage.solver_provenance` of the map itself (``model``,
         ``parameters`` (base values with units), ``method``, ``rtol``, ``atol``, ``t_max``,
-        ``first_step``, ``kernel_hash``, ``sweep_kind``, ``n_strides``, ``z0`` (and ``tol``
-        for fixed points) itself; the walker version is added by storage.
+        ``first_step``, ``kernel_hash`` and the model's conventions, e.g. ``swing_scuff``);
+        the walker version is added by storage.
     tol : float
         Newton tolerance (fixed_point), > 0.
     overwrite : bool
@@ -943,189 +942,3 @@ def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
     if store is not None:
         return store.table()
     return SweepTable(parameter_names=names, points=points, columns=table)
-
-
-# ---------------------------------------------------------------------------------------------
-# Command line
-# ---------------------------------------------------------------------------------------------
-
-
-def run_sweep_command(
-    scene_path: str | os.PathLike,
-    param_texts: Sequence[str],
-    *,
-    kind: str = "outcome",
-    jobs: int | None = None,
-    scheduler: str | None = None,
-    out: str | os.PathLike | None = None,
-    quiet: bool = False,
-    strides: int | None = None,
-    chunk_size: int | None = None,
-    overwrite: bool = False,
-    processes: bool = False,
-) -> SweepTable:
-    """``walker sweep SCENE --param NAME=START:STOP:COUNT ... --out FILE.h5``.
-
-    Loads the scene, builds its stride map from ``[compute]`` (method, rtol, atol, t_max,
-    first_step), starts from the section of the scene's initial state, and runs
-    :func:`sweep`.
-
-    Parameters
-    ----------
-    scene_path : str or os.PathLike
-        scene file (``gaits/*.toml``) of a walker.
-    param_texts : sequence of str
-        ``"NAME=START:STOP:COUNT"`` or ``"NAME=V1,V2,..."``, one per varied parameter.
-    kind : {"outcome", "fixed_point"}
-    jobs : int, optional
-        local workers (default: all CPUs): threads, or processes with ``processes``; not used
-        with ``scheduler``.
-    scheduler : str, optional
-        address of a ``dask.distributed`` scheduler (``"tcp://host:8786"``); the sweep runs
-        on that cluster through ``Client(scheduler).get_executor()``.  A scheduler that
-        does not answer within :data:`SCHEDULER_TIMEOUT` seconds raises ``ConnectionError``.
-    out : str or os.PathLike, optional
-        HDF5 checkpoint; rerunning the same command resumes.  Its provenance holds the scene
-        path, the model, the base parameters with units, method, rtol, atol, the kernel hash
-        and the walker version.
-    quiet : bool
-        no progress bar.
-    strides : int, optional
-        strides per point / period of the gait; default the scene's ``[compute].strides``.
-    chunk_size : int, optional
-        as in :func:`sweep`.
-    overwrite : bool
-        replace an existing ``out`` instead of resuming it.
-    processes : bool
-        run on ``jobs`` worker processes (``executor="processes"`` of :func:`sweep`) instead
-        of threads.
-
-    Returns
-    -------
-    SweepTable
-
-    Raises
-    ------
-    ValueError, TypeError
-        bad input (as :func:`sweep`); before any work.
-    ConnectionError
-        ``scheduler`` cannot be reached within :data:`SCHEDULER_TIMEOUT` seconds; the
-        checkpoint ``out`` exists then, and the same call resumes it.
-
-    Everything, the checkpoint ``out`` included, is checked before any work and before
-    connecting to ``scheduler``.
-    """
-    from walker.scene import load_scene
-
-    if isinstance(param_texts, str) or not isinstance(param_texts, Sequence) or not param_texts:
-        raise ValueError(
-            f"`param_texts` must be a non-empty list of 'NAME=START:STOP:COUNT' texts, got "
-            f"{param_texts!r}"
-        )
-    if scheduler is not None and not isinstance(scheduler, str):
-        raise TypeError(f"`scheduler` must be an address str, got {type(scheduler).__name__}")
-    scene = load_scene(scene_path)
-    c = scene.compute
-    if strides is None:
-        strides = max(1, c.strides)
-    stride_map = StrideMap(
-        scene.walker_model,
-        scene.params,
-        method=c.method,
-        rtol=c.rtol,
-        atol=c.atol,
-        t_max=c.t_max,
-        first_step=c.first_step,
-    )
-    z0 = stride_map.project(scene.state)
-    provenance = {"scene": os.fspath(scene_path)}
-    if scheduler is not None and jobs is not None:
-        warnings.warn("`jobs` has no effect with `scheduler` (the cluster decides)", stacklevel=2)
-        jobs = None
-    # Validate and open (or create) the checkpoint before any work or connection.
-    plan = _prepare(
-        stride_map,
-        list(param_texts),
-        kind=kind,
-        z0=z0,
-        n_strides=strides,
-        chunk_size=chunk_size,
-        executor=None,
-        jobs=jobs,
-        out=out,
-        overwrite=overwrite,
-        provenance=provenance,
-        tol=1e-10,
-    )
-    if scheduler is None or not plan.pending:
-        return _execute(plan, "processes" if processes else None, not quiet)
-    with _connect(scheduler) as client:
-        return _execute(plan, client, not quiet)
-
-
-def _connect(scheduler: str) -> Any:
-    """A ``dask.distributed.Client`` of ``scheduler``, or a ConnectionError saying why not
-    within about :data:`SCHEDULER_TIMEOUT` seconds (a ValueError for an address that is
-    none).
-
-    Before a ``Client`` is made, a host and port are tried with a plain TCP connection (a
-    port nobody listens on fails at once, not after dask's retries) and the server is asked
-    who it is: what answers but is no scheduler is refused with its reason, and no half-made
-    ``Client`` is left to complain when it is collected.
-    """
-    import socket
-
-    from distributed import Client
-    from distributed.comm import get_address_host_port, parse_address
-
-    try:
-        scheme = parse_address(scheduler)[0]
-        tcp = scheme in ("tcp", "tls", "ws", "wss")
-        host, port = get_address_host_port(scheduler) if tcp else (None, None)
-    except ValueError as exc:
-        raise ValueError(
-            f"`scheduler` must be a scheduler address such as 'tcp://host:8786', got "
-            f"{scheduler!r}: {str(exc).splitlines()[0] if str(exc) else 'invalid'}"
-        ) from None
-
-    def fail(reason: str) -> ConnectionError:
-        return ConnectionError(
-            f"cannot connect to the dask scheduler {scheduler!r} within "
-            f"{SCHEDULER_TIMEOUT:g} s: {reason}"
-        )
-
-    if tcp:
-        try:
-            with socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT):
-                pass
-        except OSError as exc:
-            raise fail(exc.strerror or str(exc) or type(exc).__name__) from None
-    try:
-        identity = _ask_identity(scheduler)
-    except Exception as exc:  # whatever the server sent: hostile bytes are not a bug of ours
-        raise fail(f"no dask scheduler answers there ({type(exc).__name__}: {exc})"[:300]) from None
-    if not (isinstance(identity, dict) and identity.get("type") == "Scheduler"):
-        raise fail("the server there is not a dask scheduler")
-    try:
-        return Client(scheduler, timeout=SCHEDULER_TIMEOUT, set_as_default=False)
-    except (OSError, TimeoutError) as exc:
-        raise fail(str(exc).splitlines()[0] if str(exc) else type(exc).__name__) from None
-
-
-def _ask_identity(scheduler: str) -> Any:
-    """The reply of the server at ``scheduler`` to dask's ``identity`` request, asked on a
-    thread of its own (so a running event loop of the caller is no obstacle)."""
-    import asyncio
-
-    from distributed.comm import connect
-
-    async def ask():
-        comm = await connect(scheduler, timeout=SCHEDULER_TIMEOUT)
-        try:
-            await comm.write({"op": "identity", "reply": True})
-            return await asyncio.wait_for(comm.read(), SCHEDULER_TIMEOUT)
-        finally:
-            comm.abort()
-
-    with cf.ThreadPoolExecutor(1, thread_name_prefix="walker-scheduler") as pool:
-        return pool.submit(asyncio.run, ask()).result()

@@ -190,23 +190,12 @@ def _stride_map(scene, parameter_name="slope"):
 
 
 def provenance(scene, extra: dict | None = None) -> dict:
-    """What produced a result: scene, model, parameters with units, solver, kernel hash."""
-    from walker.models import get_model
-    from walker.storage import parameters_with_units
+    """What produced a result: :func:`walker.storage.scene_provenance` of ``scene`` (scene
+    path, model, parameters with units, solver settings, kernel hash, the model's
+    conventions), then the keys of ``extra``."""
+    from walker.storage import scene_provenance
 
-    c = scene.compute
-    prov = {
-        "scene": str(scene.path),
-        "model": scene.model,
-        "parameters": parameters_with_units(scene.params),
-        "method": c.method,
-        "rtol": c.rtol,
-        "atol": c.atol,
-        "kernel_hash": get_model(scene.model).kernel_hash,
-        **scene.walker_model.conventions,
-    }
-    prov.update(extra or {})
-    return prov
+    return scene_provenance(scene, **(extra or {}))
 
 
 def _complex_pairs(values) -> list:

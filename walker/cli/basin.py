@@ -55,8 +55,7 @@ def cmd_basin(args) -> int:
     out = _check_out(
         args.out, overwrite=args.overwrite, resumable=True, size=16 * args.n * args.n + (1 << 20)
     )
-    c = scene.compute
-    prov = provenance(scene, {"t_max": c.t_max, "first_step": c.first_step})
+    prov = provenance(scene)
     if not args.overwrite:
         # Refuse an unrelated file before the fixed point is searched for; the grid itself
         # (which needs the fixed point) is compared when the checkpoint is opened.

@@ -1,6 +1,13 @@
-"""``walker sweep``: a resumable parameter sweep."""
+"""``walker sweep``: a resumable parameter sweep (:func:`run_sweep_command`, on the library's
+:func:`walker.sweep.sweep`), locally or on a ``dask.distributed`` cluster."""
 
 from __future__ import annotations
+
+import concurrent.futures as cf
+import os
+import warnings
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -10,15 +17,22 @@ from ._common import (
     _check_out,
     _positive_flag,
     _resume_hint,
+    _stride_map,
 )
 from .info import HelpFormatter
+
+if TYPE_CHECKING:
+    from walker.results import SweepTable
+
+SCHEDULER_TIMEOUT = 5.0
+"""Seconds allowed to connect to a ``dask.distributed`` scheduler (:func:`run_sweep_command`)."""
 
 
 def cmd_sweep(args) -> int:
     from walker.models import get_model
     from walker.scene import load_scene
     from walker.storage import CheckpointMismatch
-    from walker.sweep import _bytes_per_point, check_grid_size, parse_range, run_sweep_command
+    from walker.sweep import _bytes_per_point, check_grid_size, parse_range
 
     for flag in ("--jobs", "--chunk-size"):
         value = getattr(args, flag[2:].replace("-", "_"))
@@ -69,6 +83,182 @@ def cmd_sweep(args) -> int:
     n_ok = int(np.sum(table.columns["status"] == 0))
     print(f"wrote {args.out}: {len(table.points)} points, {n_ok} completed")
     return EXIT_OK
+
+
+def run_sweep_command(
+    scene_path: str | os.PathLike,
+    param_texts: Sequence[str],
+    *,
+    kind: str = "outcome",
+    jobs: int | None = None,
+    scheduler: str | None = None,
+    out: str | os.PathLike | None = None,
+    quiet: bool = False,
+    strides: int | None = None,
+    chunk_size: int | None = None,
+    overwrite: bool = False,
+    processes: bool = False,
+) -> SweepTable:
+    """``walker sweep SCENE --param NAME=START:STOP:COUNT ... --out FILE.h5``.
+
+    Loads the scene, builds its stride map from ``[compute]`` (method, rtol, atol, t_max,
+    first_step), starts from the section of the scene's initial state, and runs
+    :func:`~walker.sweep.sweep`.
+
+    Parameters
+    ----------
+    scene_path : str or os.PathLike
+        scene file (``gaits/*.toml``) of a walker.
+    param_texts : sequence of str
+        ``"NAME=START:STOP:COUNT"`` or ``"NAME=V1,V2,..."``, one per varied parameter.
+    kind : {"outcome", "fixed_point"}
+    jobs : int, optional
+        local workers (default: all CPUs): threads, or processes with ``processes``; not used
+        with ``scheduler``.
+    scheduler : str, optional
+        address of a ``dask.distributed`` scheduler (``"tcp://host:8786"``); the sweep runs
+        on that cluster through ``Client(scheduler).get_executor()``.  A scheduler that
+        does not answer within :data:`SCHEDULER_TIMEOUT` seconds raises ``ConnectionError``.
+    out : str or os.PathLike, optional
+        HDF5 checkpoint; rerunning the same command resumes.  Its provenance is
+        :func:`walker.storage.scene_provenance` of the scene (the scene path, the model, the
+        base parameters with units, method, rtol, atol, t_max, first_step, the kernel hash,
+        the model's conventions) plus what :func:`walker.sweep.sweep` records itself, and
+        the walker version.
+    quiet : bool
+        no progress bar.
+    strides : int, optional
+        strides per point / period of the gait; default the scene's ``[compute].strides``.
+    chunk_size : int, optional
+        as in :func:`~walker.sweep.sweep`.
+    overwrite : bool
+        replace an existing ``out`` instead of resuming it.
+    processes : bool
+        run on ``jobs`` worker processes (``executor="processes"`` of
+        :func:`~walker.sweep.sweep`) instead of threads.
+
+    Returns
+    -------
+    SweepTable
+
+    Raises
+    ------
+    ValueError, TypeError
+        bad input (as :func:`~walker.sweep.sweep`); before any work.
+    ConnectionError
+        ``scheduler`` cannot be reached within :data:`SCHEDULER_TIMEOUT` seconds; the
+        checkpoint ``out`` exists then, and the same call resumes it.
+
+    Everything, the checkpoint ``out`` included, is checked before any work and before
+    connecting to ``scheduler``.
+    """
+    from walker.scene import load_scene
+    from walker.storage import scene_provenance
+    from walker.sweep import _execute, _prepare
+
+    if isinstance(param_texts, str) or not isinstance(param_texts, Sequence) or not param_texts:
+        raise ValueError(
+            f"`param_texts` must be a non-empty list of 'NAME=START:STOP:COUNT' texts, got "
+            f"{param_texts!r}"
+        )
+    if scheduler is not None and not isinstance(scheduler, str):
+        raise TypeError(f"`scheduler` must be an address str, got {type(scheduler).__name__}")
+    scene = load_scene(scene_path)
+    if strides is None:
+        strides = max(1, scene.compute.strides)
+    stride_map = _stride_map(scene)
+    z0 = stride_map.project(scene.state)
+    provenance = scene_provenance(scene)
+    if scheduler is not None and jobs is not None:
+        warnings.warn("`jobs` has no effect with `scheduler` (the cluster decides)", stacklevel=2)
+        jobs = None
+    # Validate and open (or create) the checkpoint before any work or connection.
+    plan = _prepare(
+        stride_map,
+        list(param_texts),
+        kind=kind,
+        z0=z0,
+        n_strides=strides,
+        chunk_size=chunk_size,
+        executor=None,
+        jobs=jobs,
+        out=out,
+        overwrite=overwrite,
+        provenance=provenance,
+        tol=1e-10,
+    )
+    if scheduler is None or not plan.pending:
+        return _execute(plan, "processes" if processes else None, not quiet)
+    with _connect(scheduler) as client:
+        return _execute(plan, client, not quiet)
+
+
+def _connect(scheduler: str) -> Any:
+    """A ``dask.distributed.Client`` of ``scheduler``, or a ConnectionError saying why not
+    within about :data:`SCHEDULER_TIMEOUT` seconds (a ValueError for an address that is
+    none).
+
+    Before a ``Client`` is made, a host and port are tried with a plain TCP connection (a
+    port nobody listens on fails at once, not after dask's retries) and the server is asked
+    who it is: what answers but is no scheduler is refused with its reason, and no half-made
+    ``Client`` is left to complain when it is collected.
+    """
+    import socket
+
+    from distributed import Client
+    from distributed.comm import get_address_host_port, parse_address
+
+    try:
+        scheme = parse_address(scheduler)[0]
+        tcp = scheme in ("tcp", "tls", "ws", "wss")
+        host, port = get_address_host_port(scheduler) if tcp else (None, None)
+    except ValueError as exc:
+        raise ValueError(
+            f"`scheduler` must be a scheduler address such as 'tcp://host:8786', got "
+            f"{scheduler!r}: {str(exc).splitlines()[0] if str(exc) else 'invalid'}"
+        ) from None
+
+    def fail(reason: str) -> ConnectionError:
+        return ConnectionError(
+            f"cannot connect to the dask scheduler {scheduler!r} within "
+            f"{SCHEDULER_TIMEOUT:g} s: {reason}"
+        )
+
+    if tcp:
+        try:
+            with socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT):
+                pass
+        except OSError as exc:
+            raise fail(exc.strerror or str(exc) or type(exc).__name__) from None
+    try:
+        identity = _ask_identity(scheduler)
+    except Exception as exc:  # whatever the server sent: hostile bytes are not a bug of ours
+        raise fail(f"no dask scheduler answers there ({type(exc).__name__}: {exc})"[:300]) from None
+    if not (isinstance(identity, dict) and identity.get("type") == "Scheduler"):
+        raise fail("the server there is not a dask scheduler")
+    try:
+        return Client(scheduler, timeout=SCHEDULER_TIMEOUT, set_as_default=False)
+    except (OSError, TimeoutError) as exc:
+        raise fail(str(exc).splitlines()[0] if str(exc) else type(exc).__name__) from None
+
+
+def _ask_identity(scheduler: str) -> Any:
+    """The reply of the server at ``scheduler`` to dask's ``identity`` request, asked on a
+    thread of its own (so a running event loop of the caller is no obstacle)."""
+    import asyncio
+
+    from distributed.comm import connect
+
+    async def ask():
+        comm = await connect(scheduler, timeout=SCHEDULER_TIMEOUT)
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            return await asyncio.wait_for(comm.read(), SCHEDULER_TIMEOUT)
+        finally:
+            comm.abort()
+
+    with cf.ThreadPoolExecutor(1, thread_name_prefix="walker-scheduler") as pool:
+        return pool.submit(asyncio.run, ask()).result()
 
 
 def register(sub) -> None:

@@ -1,0 +1,184 @@
+"""What sweep and basin checkpoints share: chunk writes with ``os.pwrite`` at the byte offsets
+the file's layout gives (:class:`_ChunkWriter`), the chunk states, the size check of a new
+checkpoint and its ``/checkpoint`` group.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from walker.storage.checksums import _chunk_digest, _flag_chunk, _fletcher32
+from walker.storage.decode import _dynamic_data, _load_checked
+from walker.storage.disk import (
+    _DISK_ERRNOS,
+    _PERMANENT_ERRNOS,
+    _check_space,
+    _disk_error,
+    _ram_bytes,
+    _write_all,
+)
+from walker.storage.encode import _chunked_dataset
+from walker.storage.isolated import _check_path
+from walker.storage.loader import _dynamic_fill, _first_line, _int_attr
+from walker.storage.schema import (
+    _CHECKPOINT_GROUP,
+    _CHUNK_SHA,
+    WRITE_ATTEMPTS,
+    CheckpointMismatch,
+    StorageError,
+)
+
+
+def _unreadable(exc: StorageError, path: Path) -> CheckpointMismatch:
+    """A StorageError of reading ``path`` as the CheckpointMismatch of resuming it."""
+    text = str(exc)
+    prefix = f"cannot read '{path}': "
+    rest = text[len(prefix) :] if text.startswith(prefix) else text
+    return CheckpointMismatch(
+        f"cannot resume '{path}': {rest}",
+        path=path,
+        reason=f"is not a walker checkpoint ({rest})",
+    )
+
+
+def _file_identity(path: Path) -> tuple[int, int, int]:
+    st = path.stat()
+    return (st.st_dev, st.st_ino, st.st_size)
+
+
+class _ChunkWriter:
+    """Writes checkpoint chunk ``i`` of an existing file without HDF5: the rows of every
+    dataset written chunk by chunk, then (version 2) the chunk's SHA-256, then its done
+    flag, each with ``os.pwrite`` at the byte offset of its HDF5 chunk (version 2: the data
+    followed by its Fletcher-32 checksum) or of its rows in the contiguous dataset
+    (version 1).  No HDF5 metadata is ever written, so no lock is taken, a reader may have
+    the file open, and a kill leaves every other byte as it was."""
+
+    def __init__(self, path: Path, root: dict, kind: str, version: int) -> None:
+        k = root["groups"][_CHECKPOINT_GROUP]
+        self.path = path
+        self.kind = kind
+        self.version = version
+        self.cs = _int_attr(k["attrs"], "chunk_size", f"/{_CHECKPOINT_GROUP}", minimum=1)
+        self.data = [(p, a.dtype, a.shape) for p, a in _dynamic_data(root, kind)]
+        self.n_rows = self.data[0][2][0]
+        self.layout = root["extra"]["layout"]
+        self.identity = _file_identity(path)
+
+    def pieces(self, i: int, arrays: dict[str, np.ndarray]) -> list[tuple[int, bytes]]:
+        rows = slice(i * self.cs, min((i + 1) * self.cs, self.n_rows))
+        chunk_rows = min(self.cs, self.n_rows)
+        out = []
+        hashed = []
+        for p, dtype, shape in self.data:
+            arr = np.ascontiguousarray(arrays[p], dtype=dtype)
+            hashed.append((p, arr))
+            if arr.itemsize * math.prod(shape[1:]) == 0:
+                continue
+            if self.version < 2:
+                row_bytes = arr.itemsize * math.prod(shape[1:])
+                out.append((int(self.layout[p][0]) + rows.start * row_bytes, arr.tobytes()))
+                continue
+            if arr.shape[0] < chunk_rows:  # the last chunk: HDF5 stores a whole chunk
+                fill = _dynamic_fill(self.kind, p, dtype)
+                pad = np.full((chunk_rows - arr.shape[0], *shape[1:]), fill, dtype=dtype)
+                arr = np.concatenate([arr, pad])
+            body = arr.tobytes()
+            out.append((int(self.layout[p][i]), body + _fletcher32(body).to_bytes(4, "little")))
+        done = f"/{_CHECKPOINT_GROUP}/done"
+        if self.version < 2:
+            out.append((int(self.layout[done][0]) + i, b"\x01"))
+            return out
+        sha = _chunk_digest(i, hashed)
+        sha_path = f"/{_CHECKPOINT_GROUP}/{_CHUNK_SHA}"
+        out.append((int(self.layout[sha_path][i]), sha + _fletcher32(sha).to_bytes(4, "little")))
+        out.append((int(self.layout[done][i]), _flag_chunk(True)))
+        return out
+
+    def write(self, i: int, arrays: dict[str, np.ndarray], fsync: bool) -> None:
+        pieces = self.pieces(i, arrays)
+        for attempt in range(WRITE_ATTEMPTS):
+            try:
+                self._write_pieces(pieces, fsync)
+                return
+            except OSError as exc:
+                last = attempt == WRITE_ATTEMPTS - 1
+                if exc.errno in _PERMANENT_ERRNOS or last:
+                    if exc.errno in _DISK_ERRNOS:
+                        raise _disk_error(exc, self.path, f"cannot write chunk {i} to") from None
+                    tries = "" if exc.errno in _PERMANENT_ERRNOS else f" after {attempt + 1} tries"
+                    raise StorageError(
+                        f"cannot write chunk {i} to '{self.path}'{tries}: {_first_line(exc)}"
+                    ) from None
+                time.sleep(0.05 * 4**attempt)
+
+    def _write_pieces(self, pieces: list[tuple[int, bytes]], fsync: bool) -> None:
+        fd = os.open(self.path, os.O_WRONLY | getattr(os, "O_CLOEXEC", 0))
+        try:
+            st = os.fstat(fd)
+            if (st.st_dev, st.st_ino, st.st_size) != self.identity:
+                raise StorageError(
+                    f"cannot write to '{self.path}': the file was replaced or changed size "
+                    "since it was opened as a checkpoint"
+                )
+            for offset, data in pieces:  # rows, then the chunk's checksum, then its flag
+                _write_all(fd, data, offset)
+            if fsync:
+                os.fsync(fd)
+        finally:
+            os.close(fd)
+
+
+def _checkpoint_state(path: Path) -> np.ndarray:
+    """State of each chunk of a checkpoint (0 pending, 1 done, 2 damaged), read here."""
+    loaded = _load_checked(_check_path(path), isolate=False)
+    if loaded.state is None:
+        raise StorageError(f"cannot read '{path}': not a checkpoint")
+    return loaded.state
+
+
+def checkpoint_progress(path: str | os.PathLike) -> tuple[int, int] | None:
+    """``(chunks done, chunks)`` of a sweep or basin checkpoint file, or None when ``path``
+    is not one (missing, unreadable, or a result written by :func:`write`).  A chunk whose
+    checksum fails does not count as done."""
+    try:
+        state = _checkpoint_state(Path(path))
+    except (StorageError, OSError, TypeError):
+        return None
+    return int(np.sum(state == 1)), int(state.size)
+
+
+def _check_checkpoint_size(path: Path, n_bytes: int, chunk_bytes: int) -> None:
+    """A new checkpoint of about ``n_bytes`` must fit in memory (it is built there) and on
+    the disk (it is built in memory first: about twice its size), and each chunk within
+    HDF5's 4 GiB per chunk."""
+    if chunk_bytes + 4 >= 1 << 32:
+        raise ValueError(
+            f"`chunk_size` gives chunks of {chunk_bytes} bytes, more than HDF5's 4 GiB limit "
+            "per chunk; use a smaller chunk_size"
+        )
+    limit = int(0.4 * _ram_bytes())
+    if n_bytes > limit:
+        raise StorageError(
+            f"cannot create '{path}': the checkpoint would take {n_bytes} bytes, more than "
+            f"the {limit} bytes it may use in memory while it is created"
+        )
+    parent = path.parent if str(path.parent) else Path(".")
+    _check_space(parent, n_bytes, path)
+
+
+def _checkpoint_group(f: h5py.File, chunk_size: int, n_chunks: int) -> h5py.Group:
+    """``/checkpoint``: chunk size and count, a done flag and a SHA-256 per chunk (each in
+    its own HDF5 chunk, so that setting one is one small write)."""
+    k = f.create_group(_CHECKPOINT_GROUP)
+    k.attrs["chunk_size"] = np.int64(chunk_size)
+    k.attrs["n_chunks"] = np.int64(n_chunks)
+    _chunked_dataset(k, "done", (n_chunks,), 1, bool, False)
+    _chunked_dataset(k, _CHUNK_SHA, (n_chunks, 32), 1, np.uint8, 0)
+    return k

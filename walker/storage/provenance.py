@@ -1,0 +1,357 @@
+"""Provenance: what produced a result (:func:`scene_provenance`, :func:`solver_provenance`,
+:func:`parameters_with_units`, :func:`walker_version`), and the JSON form of provenance
+values with the checks made on writing and on reading.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from typing import Any
+
+import numpy as np
+
+from walker.status import Status
+from walker.storage.schema import _CHECKSUM_ATTR, _RESERVED_ATTRS, AUTOMATIC_KEYS, _Corrupt
+
+
+def walker_version() -> str:
+    """``walker.__version__`` if set, else the installed ``walker-hybrid`` version, else
+    ``"unknown"``."""
+    import walker
+
+    version = getattr(walker, "__version__", None)
+    if isinstance(version, str) and version:
+        return version
+    try:
+        from importlib.metadata import PackageNotFoundError
+        from importlib.metadata import version as dist_version
+
+        return dist_version("walker-hybrid")
+    except (ImportError, PackageNotFoundError):
+        return "unknown"
+
+
+def parameters_with_units(params: Any) -> dict[str, dict[str, Any]]:
+    """Provenance ``parameters`` entry from a :mod:`walker.params` dataclass.
+
+    Parameters
+    ----------
+    params : object with ``to_dict()`` (name -> value) and ``units()`` (name -> unit)
+        e.g. ``CompassParams.goswami()``.
+
+    Returns
+    -------
+    dict
+        ``{name: {"value": value, "unit": unit}}`` in the parameters' canonical order.
+
+    Examples
+    --------
+    >>> from walker.params import SimplestParams
+    >>> parameters_with_units(SimplestParams.garcia())["slope"]["unit"]
+    'rad'
+    """
+    if not (hasattr(params, "to_dict") and hasattr(params, "units")):
+        raise TypeError(
+            f"`params` must have `to_dict()` and `units()` (a walker.params dataclass), "
+            f"got {type(params).__name__}"
+        )
+    values = params.to_dict()
+    units = params.units()
+    return {
+        name: {"value": float(value), "unit": str(units[name])} for name, value in values.items()
+    }
+
+
+def solver_provenance(
+    model: Any,
+    params: Any,
+    *,
+    method: str,
+    rtol: float,
+    atol: float,
+    t_max: float,
+    first_step: float | None,
+) -> dict[str, Any]:
+    """Provenance of a computation: the model, its parameters, the solver and the kernels.
+
+    The one place where these keys are built: :func:`scene_provenance` (every file the
+    command line writes) and :func:`walker.sweep.sweep` (a sweep's checkpoint) both use it.
+
+    Parameters
+    ----------
+    model : walker model
+        the model that ran (``scene.walker_model``, ``StrideMap.model``): its ``name``,
+        ``conventions`` (e.g. ``{"swing_scuff": "ignore"}``) and ``kernel_hash``.
+    params : walker.params dataclass
+        the parameters (the base values, for a sweep).
+    method, rtol, atol, t_max, first_step
+        the solver settings (``first_step`` None: chosen by the integrator).
+
+    Returns
+    -------
+    dict
+        ``model``, ``parameters`` (:func:`parameters_with_units`), ``method``, ``rtol``,
+        ``atol``, ``t_max``, ``first_step``, ``kernel_hash``, then one key per convention of
+        the model (``swing_scuff`` for the kneed walkers).
+
+    Examples
+    --------
+    >>> from walker.models import get_model
+    >>> from walker.params import SimplestParams
+    >>> prov = solver_provenance(get_model("simplest"), SimplestParams.garcia(),
+    ...                          method="dop853", rtol=1e-10, atol=1e-12, t_max=20.0,
+    ...                          first_step=None)
+    >>> list(prov)
+    ['model', 'parameters', 'method', 'rtol', 'atol', 't_max', 'first_step', 'kernel_hash']
+    """
+    return {
+        "model": model.name,
+        "parameters": parameters_with_units(params),
+        "method": method,
+        "rtol": float(rtol),
+        "atol": float(atol),
+        "t_max": float(t_max),
+        "first_step": None if first_step is None else float(first_step),
+        "kernel_hash": model.kernel_hash,
+        **model.conventions,
+    }
+
+
+def scene_provenance(scene: Any, **extra: Any) -> dict[str, Any]:
+    """Provenance of a result computed from a scene, as the command line stores it.
+
+    Parameters
+    ----------
+    scene : walker.scene.Scene
+        the loaded scene (with any ``--set`` overrides applied).
+    **extra
+        the caller's own keys (``status``, ``range``, ...), added last; a key of the same
+        name as one below replaces it.
+
+    Returns
+    -------
+    dict
+        ``scene`` (the scene file's path), then :func:`solver_provenance` of the scene's
+        model, parameters and ``[compute]`` settings: ``model``, ``parameters``, ``method``,
+        ``rtol``, ``atol``, ``t_max``, ``first_step``, ``kernel_hash`` and the model's
+        conventions (``swing_scuff``); then ``extra``.
+
+    Examples
+    --------
+    >>> from walker.scene import load_scene
+    >>> prov = scene_provenance(load_scene("gaits/kneed_hsu.toml"), status="COMPLETED")
+    >>> prov["scene"], prov["model"], prov["swing_scuff"], prov["status"]
+    ('gaits/kneed_hsu.toml', 'kneed', 'trip', 'COMPLETED')
+    """
+    c = scene.compute
+    prov = {
+        "scene": str(scene.path),
+        **solver_provenance(
+            scene.walker_model,
+            scene.params,
+            method=c.method,
+            rtol=c.rtol,
+            atol=c.atol,
+            t_max=c.t_max,
+            first_step=c.first_step,
+        ),
+    }
+    prov.update(extra)
+    return prov
+
+
+def _is_dunder(key: str) -> bool:
+    return key.startswith("__") and key.endswith("__")
+
+
+def _to_json(value: Any, where: str) -> Any:
+    """JSON-ready form of ``value``; Status members, tuples and arrays are tagged."""
+    if value is None or isinstance(value, str | bool):
+        return value
+    if isinstance(value, Status):
+        return {"__status__": value.name}
+    if isinstance(value, np.bool_):
+        return bool(value)
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real):
+        return float(value)
+    if isinstance(value, numbers.Complex):
+        return {"__complex__": [float(value.real), float(value.imag)]}
+    if isinstance(value, tuple):
+        return {"__tuple__": [_to_json(v, f"{where}[{i}]") for i, v in enumerate(value)]}
+    if isinstance(value, list):
+        return [_to_json(v, f"{where}[{i}]") for i, v in enumerate(value)]
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind not in "biufc":
+            raise TypeError(f"`{where}` must be a numeric array, got dtype {value.dtype}")
+        arr = np.ascontiguousarray(value)
+        flat = arr.view(arr.real.dtype) if arr.dtype.kind == "c" else arr
+        return {
+            "__ndarray__": {
+                "dtype": arr.dtype.str,
+                "shape": list(arr.shape),
+                "data": flat.ravel().tolist(),
+            }
+        }
+    if isinstance(value, dict):
+        out = {}
+        for key, v in value.items():
+            if not isinstance(key, str):
+                raise TypeError(f"keys of `{where}` must be str, got {key!r}")
+            if _is_dunder(key):
+                raise ValueError(f"keys of `{where}` must not look like '__x__', got {key!r}")
+            out[key] = _to_json(v, f"{where}[{key!r}]")
+        return out
+    raise TypeError(
+        f"`{where}` must be None, str, bool, a number, Status, list, tuple, dict or a numeric "
+        f"ndarray, got {type(value).__name__}"
+    )
+
+
+def _is_real(value: Any) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, bool | np.bool_)
+
+
+def _from_json(value: Any, where: str = "provenance") -> Any:
+    """Inverse of :func:`_to_json` for a parsed JSON value; raises _Corrupt naming ``where``
+    when a tagged object is malformed."""
+    if isinstance(value, list):
+        return [_from_json(v, f"{where}[{i}]") for i, v in enumerate(value)]
+    if not isinstance(value, dict):
+        return value
+    tags = [key for key in value if _is_dunder(key)]
+    if not tags:
+        return {k: _from_json(v, f"{where}[{k!r}]") for k, v in value.items()}
+    if len(value) != 1:
+        raise _Corrupt(f"`{where}` mixes the tag {tags[0]!r} with other keys")
+    ((tag, inner),) = value.items()
+    if tag == "__status__":
+        if not isinstance(inner, str) or inner not in Status.__members__:
+            raise _Corrupt(f"`{where}` holds an unknown status {inner!r}")
+        return Status[inner]
+    if tag == "__tuple__":
+        if not isinstance(inner, list):
+            raise _Corrupt(f"`{where}`: '__tuple__' must hold a list, got {type(inner).__name__}")
+        return tuple(_from_json(v, f"{where}[{i}]") for i, v in enumerate(inner))
+    if tag == "__complex__":
+        if not (isinstance(inner, list) and len(inner) == 2 and all(map(_is_real, inner))):
+            raise _Corrupt(f"`{where}`: '__complex__' must hold [re, im], got {inner!r:.60}")
+        return complex(inner[0], inner[1])
+    if tag == "__ndarray__":
+        return _ndarray_from_json(inner, where)
+    raise _Corrupt(f"`{where}` holds an unknown tag {tag!r}")
+
+
+def _ndarray_from_json(inner: Any, where: str) -> np.ndarray:
+    if not isinstance(inner, dict) or set(inner) != {"dtype", "shape", "data"}:
+        raise _Corrupt(f"`{where}`: '__ndarray__' must hold dtype, shape and data")
+    try:
+        dtype = np.dtype(inner["dtype"]) if isinstance(inner["dtype"], str) else None
+    except TypeError:
+        dtype = None
+    if dtype is None or dtype.kind not in "biufc" or dtype.fields is not None:
+        raise _Corrupt(f"`{where}`: '__ndarray__' has an invalid dtype {inner['dtype']!r:.40}")
+    shape = inner["shape"]
+    if not (
+        isinstance(shape, list)
+        and len(shape) <= 32
+        and all(isinstance(s, int) and not isinstance(s, bool) and s >= 0 for s in shape)
+    ):
+        raise _Corrupt(f"`{where}`: '__ndarray__' has an invalid shape {shape!r:.40}")
+    data = inner["data"]
+    count = math.prod(shape) * (2 if dtype.kind == "c" else 1)
+    if not isinstance(data, list) or len(data) != count:
+        raise _Corrupt(f"`{where}`: '__ndarray__' data does not match its shape {shape}")
+    if not all(isinstance(v, int | float) for v in data):  # bool is an int
+        raise _Corrupt(f"`{where}`: '__ndarray__' data must be numbers")
+    real = np.empty(0, dtype).real.dtype
+    try:
+        flat = np.array(data, dtype=real)
+    except (OverflowError, ValueError, TypeError):
+        raise _Corrupt(f"`{where}`: '__ndarray__' data do not fit {dtype}") from None
+    if dtype.kind == "c":
+        flat = flat.view(dtype)
+    return flat.reshape(shape)
+
+
+_PROVENANCE_RULES: dict[str, tuple[str, Any]] = {
+    "scene": ("a str", lambda v: isinstance(v, str)),
+    "model": ("a str", lambda v: isinstance(v, str)),
+    "method": ("a str", lambda v: isinstance(v, str)),
+    "kernel_hash": ("a str", lambda v: isinstance(v, str)),
+    "sweep_kind": ("a str", lambda v: isinstance(v, str)),
+    "rtol": ("a real number", _is_real),
+    "atol": ("a real number", _is_real),
+    "tol": ("a real number", _is_real),
+    "t_max": ("a real number", _is_real),
+    "first_step": ("a real number or null", lambda v: v is None or _is_real(v)),
+    "n_strides": ("an int", lambda v: isinstance(v, int) and not isinstance(v, bool)),
+    "status": ("a Status or a str", lambda v: isinstance(v, Status | str)),
+    "z0": ("a list of real numbers", lambda v: isinstance(v, list) and all(map(_is_real, v))),
+}
+"""Provenance keys walker itself writes, and the type each must have when present."""
+
+
+def _parameters_problem(parameters: Any) -> tuple[str | None, str] | None:
+    """Why ``parameters`` is not ``{name: {"value": real, "unit": str}}``: (the entry's name
+    or None for the whole, the rule), or None."""
+    if not isinstance(parameters, dict):
+        return None, (
+            f"must be a dict name -> {{'value': v, 'unit': u}}, got {type(parameters).__name__}"
+        )
+    for name, entry in parameters.items():
+        if (
+            not isinstance(entry, dict)
+            or set(entry) != {"value", "unit"}
+            or not isinstance(entry["unit"], str)
+            or not _is_real(entry["value"])
+        ):
+            return name, (
+                "must be a dict with exactly the keys 'value' and 'unit' (a real number and a "
+                f"str), got {entry!r:.80}"
+            )
+    return None
+
+
+def _check_provenance(provenance: Any) -> dict[str, Any]:
+    """Validate the caller's provenance and return its JSON-ready form."""
+    if not isinstance(provenance, dict):
+        raise TypeError(f"`provenance` must be a dict, got {type(provenance).__name__}")
+    for key in provenance:
+        if not isinstance(key, str):
+            raise TypeError(f"keys of `provenance` must be str, got {key!r}")
+        if key in _RESERVED_ATTRS or key.startswith("parameters."):
+            raise ValueError(
+                f"`provenance` must not set {key!r}: write() sets "
+                f"{', '.join(AUTOMATIC_KEYS)} and {_CHECKSUM_ATTR!r} itself"
+            )
+    parameters = provenance.get("parameters")
+    if parameters is not None:
+        problem = _parameters_problem(parameters)
+        if problem is not None:
+            name, rule = problem
+            if name is None:
+                raise TypeError(f"`provenance['parameters']` {rule}")
+            raise ValueError(f"`provenance['parameters'][{name!r}]` {rule}")
+    prov_json = _to_json(provenance, "provenance")
+    # What read() will check must hold now: a file walker writes always reads back.
+    try:
+        _check_provenance_types(_from_json(prov_json))
+    except _Corrupt as exc:
+        raise ValueError(str(exc)) from None
+    return prov_json
+
+
+def _check_provenance_types(provenance: dict[str, Any]) -> None:
+    """Raise _Corrupt naming the first known provenance key with a wrong type."""
+    for key, (rule, ok) in _PROVENANCE_RULES.items():
+        if key in provenance and not ok(provenance[key]):
+            raise _Corrupt(f"provenance key {key!r} must be {rule}, got {provenance[key]!r:.60}")
+    if provenance.get("parameters") is not None:
+        problem = _parameters_problem(provenance["parameters"])
+        if problem is not None:
+            name, rule = problem
+            entry = "" if name is None else f" entry {name!r}"
+            raise _Corrupt(f"provenance key 'parameters'{entry} {rule}")

@@ -1,0 +1,350 @@
+"""The file format: the schema version, the limits, the errors, and how each field of each
+result dataclass is stored (``_SPECS``), with the shape rules of each class
+(``_shape_problem``).  ``docs/storage.md`` describes the layout; this module checks at
+import that ``_SPECS`` covers every field of every class in :mod:`walker.results`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+from typing import Any
+
+from walker.results import (
+    BasinMap,
+    Bifurcation,
+    Branch,
+    EventLog,
+    FixedPoint,
+    MapResult,
+    OrbitDiagram,
+    Solution,
+    SweepTable,
+    Trajectory,
+)
+
+SCHEMA_VERSION = 2
+"""Version of the file layout written by walker.storage; files with a larger one are refused.
+Version 2 added the checksums (Fletcher-32 on datasets, the root ``checksum`` attribute and
+``/checkpoint/chunk_sha256``); version-1 files are still read and resumed, unchecked."""
+
+AUTOMATIC_KEYS = ("walker_version", "schema_version", "kind", "created")
+"""Provenance keys set by :func:`write` itself; a caller may not pass them."""
+
+READ_TIMEOUT = 60.0
+"""Seconds a checked read may take, plus one per 50 MB of file, before it is abandoned as
+a hang (:func:`read` ``timeout``)."""
+
+MAX_COMPRESSION_RATIO = 1032
+"""Largest expansion of deflate (gzip) data; a compressed dataset declaring more bytes than
+this times its stored size is refused before any of it is read."""
+
+WRITE_ATTEMPTS = 4
+"""Attempts of a checkpoint chunk write that fails with a transient error (backoff 0.05 s,
+0.2 s, 0.8 s) before it is a :class:`StorageError`."""
+
+_RESULT_GROUP = "result"
+_CHECKPOINT_GROUP = "checkpoint"
+_CHECKSUM_ATTR = "checksum"
+_CHUNK_SHA = "chunk_sha256"
+_RESERVED_ATTRS = frozenset(AUTOMATIC_KEYS) | {"provenance", _CHECKSUM_ATTR}
+
+BASIN_NOT_COMPUTED = -3
+"""Outcome held by the grid points of a :class:`BasinStore` whose rows are not computed yet
+(a :class:`~walker.results.BasinMap`'s codes are ``BASIN_CONVERGED`` (-1),
+``BASIN_UNDECIDED`` (-2) and :class:`~walker.status.Status` values, all >= -2)."""
+
+
+class StorageError(ValueError):
+    """A file cannot be read as a walker result (missing, corrupted, newer schema, ...), or
+    cannot be written (full disk, read-only file system, ...)."""
+
+
+class CheckpointMismatch(StorageError):
+    """An existing file cannot be resumed as the requested checkpoint: it holds another
+    result, a different sweep or basin, or is corrupted.
+
+    Attributes
+    ----------
+    path : Path
+        the file.
+    reason : str
+        what is wrong, as a clause (``"checkpoints a different sweep (chunk_size 2 != 1)"``).
+    """
+
+    def __init__(self, message: str, *, path: Path, reason: str) -> None:
+        super().__init__(message)
+        self.path = path
+        self.reason = reason
+
+
+class _Corrupt(Exception):
+    """Internal: the file's content does not follow the schema."""
+
+
+# ---------------------------------------------------------------------------------------------
+# Field codecs: how each field of each result dataclass is stored.
+#
+#   "array"           dataset, dtype and shape kept exactly
+#   "optional_array"  dataset, absent when the field is None
+#   "float" / "int" / "bool" / "str"   attribute
+#   "status"          attribute holding the Status member's name ("COMPLETED")
+#   "names"           attribute holding a JSON list of strings (read back as a tuple)
+#   "json"            attribute holding a JSON object (dict of parameters)
+#   "optional_json"   the same, absent in files written before the field existed (read as {})
+#   ("group", cls) / ("optional_group", cls) / ("group_list", cls)   subgroups
+#   "array_dict"      subgroup with one dataset per key, key order in attribute "names"
+# ---------------------------------------------------------------------------------------------
+
+_SPECS: dict[type, dict[str, Any]] = {
+    EventLog: {
+        "t": "array",
+        "guard": "array",
+        "phase_before": "array",
+        "phase_after": "array",
+        "x_pre": "array",
+        "x_post": "array",
+        "impulse": "array",
+    },
+    Trajectory: {"t": "array", "x": "array", "phase": "array"},
+    Solution: {
+        "status": "status",
+        "message": "str",
+        "success": "bool",
+        "t": "float",
+        "x": "array",
+        "phase": "int",
+        "n_steps": "int",
+        "n_rejected": "int",
+        "n_rhs": "int",
+        "n_events": "int",
+        "n_strides": "int",
+        "events": ("optional_group", EventLog),
+        "samples": ("optional_group", Trajectory),
+        "record": ("optional_group", Trajectory),
+        "jac": "optional_array",
+        "dt_dx0": "optional_array",
+        "error_estimate": "float",
+        "phase_names": "names",
+        "guard_names": "names",
+        "conventions": "optional_json",
+    },
+    MapResult: {
+        "status": "status",
+        "z": "array",
+        "jac": "optional_array",
+        "step_time": "float",
+        "state": "array",
+    },
+    FixedPoint: {
+        "status": "status",
+        "message": "str",
+        "success": "bool",
+        "section": "array",
+        "state": "array",
+        "step_time": "float",
+        "multipliers": "array",
+        "eigenvectors": "array",
+        "jacobian": "array",
+        "residual": "float",
+        "n_iter": "int",
+        "history": "array",
+        "period": "int",
+        "stable": "bool",
+        "parameters": "json",
+        "conventions": "optional_json",
+    },
+    Bifurcation: {
+        "kind": "str",
+        "parameter_value": "float",
+        "section": "array",
+        "multipliers": "array",
+    },
+    Branch: {
+        "parameter_name": "str",
+        "parameter": "array",
+        "sections": "array",
+        "step_times": "array",
+        "multipliers": "array",
+        "stable": "array",
+        "bifurcations": ("group_list", Bifurcation),
+        "status": "status",
+        "message": "str",
+        "success": "bool",
+        "period": "int",
+    },
+    OrbitDiagram: {
+        "parameter_name": "str",
+        "parameter": "array",
+        "values": "array",
+        "coordinate": "int",
+    },
+    BasinMap: {
+        "axis_names": "names",
+        "x": "array",
+        "y": "array",
+        "outcome": "array",
+        "strides": "array",
+        "fixed_point": "array",
+        "base": "array",
+        "n_strides": "int",
+    },
+    SweepTable: {
+        "parameter_names": "names",
+        "points": "array",
+        "columns": "array_dict",
+    },
+}
+
+KINDS: dict[str, type] = {
+    "solution": Solution,
+    "fixed_point": FixedPoint,
+    "branch": Branch,
+    "orbit_diagram": OrbitDiagram,
+    "basin": BasinMap,
+    "sweep": SweepTable,
+    "map_result": MapResult,
+}
+"""Result kinds a file can hold, and the dataclass of each."""
+
+_KIND_OF = {cls: kind for kind, cls in KINDS.items()}
+
+
+def _check_specs() -> None:
+    """Every dataclass field must have a codec: a new field in results.py must not be dropped."""
+    for cls, spec in _SPECS.items():
+        names = [f.name for f in dataclasses.fields(cls)]
+        if names != list(spec):
+            raise RuntimeError(
+                f"walker.storage has no schema for {cls.__name__} fields {names} "
+                f"(it knows {list(spec)}); update _SPECS and docs/storage.md"
+            )
+
+
+_check_specs()
+
+
+def _shape_problem(cls: type, v: dict[str, Any]) -> tuple[str, str] | None:
+    """The first field of a ``cls`` instance (field values ``v``, already of the right types)
+    whose shape or dtype breaks the class's contract, as (field, rule), or None.  The rules
+    are those of the class docstrings in :mod:`walker.results`."""
+
+    def vector(name: str, n: int | None = None, kinds: str = "biufc") -> tuple[str, str] | None:
+        a = v[name]
+        if a.ndim != 1 or (n is not None and a.shape[0] != n):
+            want = "1-D" if n is None else f"of shape ({n},)"
+            return name, f"must be {want}, got shape {a.shape}"
+        if a.dtype.kind not in kinds:
+            return name, f"must have a dtype of kind {kinds!r}, got {a.dtype}"
+        return None
+
+    def matrix(name: str, rows: int | None = None, cols: int | None = None, kinds: str = "biufc"):
+        a = v[name]
+        if a is None:
+            return None
+        if a.ndim != 2 or (rows is not None and a.shape[0] != rows):
+            want = "2-D" if rows is None else f"2-D with {rows} rows"
+            return name, f"must be {want}, got shape {a.shape}"
+        if cols is not None and a.shape[1] != cols:
+            return name, f"must have {cols} columns, got shape {a.shape}"
+        if a.dtype.kind not in kinds:
+            return name, f"must have a dtype of kind {kinds!r}, got {a.dtype}"
+        return None
+
+    def first(*checks: Any) -> tuple[str, str] | None:
+        for check in checks:
+            problem = check()
+            if problem is not None:
+                return problem
+        return None
+
+    if cls is EventLog:
+        if v["t"].ndim != 1:
+            return "t", f"must be 1-D, got shape {v['t'].shape}"
+        n = v["t"].shape[0]
+        return first(
+            *(lambda k=k: vector(k, n, "iu") for k in ("guard", "phase_before", "phase_after")),
+            lambda: matrix("x_pre", n),
+            lambda: matrix("x_post", n, v["x_pre"].shape[1]),
+            lambda: matrix("impulse", n),
+        )
+    if cls is Trajectory:
+        if v["t"].ndim != 1:
+            return "t", f"must be 1-D, got shape {v['t'].shape}"
+        n = v["t"].shape[0]
+        return first(lambda: matrix("x", n), lambda: vector("phase", n, "iu"))
+    if cls is Solution:
+        if v["x"].ndim != 1:
+            return "x", f"must be 1-D, got shape {v['x'].shape}"
+        n_x = v["x"].shape[0]
+        for group, field in (("events", "x_pre"), ("samples", "x"), ("record", "x")):
+            sub = v[group]
+            if sub is not None and getattr(sub, field).shape[1] != n_x:
+                shape = getattr(sub, field).shape
+                return f"{group}/{field}", f"must have n_x = {n_x} columns (as `x`), got {shape}"
+        return first(
+            lambda: matrix("jac", n_x, n_x),
+            lambda: None if v["dt_dx0"] is None else vector("dt_dx0", n_x),
+        )
+    if cls is MapResult:
+        if v["z"].ndim != 1:
+            return "z", f"must be 1-D, got shape {v['z'].shape}"
+        n_z = v["z"].shape[0]
+        return first(lambda: matrix("jac", n_z, n_z), lambda: vector("state"))
+    if cls is FixedPoint:
+        if v["section"].ndim != 1:
+            return "section", f"must be 1-D, got shape {v['section'].shape}"
+        n_z = v["section"].shape[0]
+        return first(
+            lambda: vector("state"),
+            lambda: vector("multipliers", n_z),
+            lambda: matrix("eigenvectors", n_z, n_z),
+            lambda: matrix("jacobian", n_z, n_z),
+            lambda: vector("history"),
+        )
+    if cls is Bifurcation:
+        return first(lambda: vector("section"), lambda: vector("multipliers"))
+    if cls is Branch:
+        if v["parameter"].ndim != 1:
+            return "parameter", f"must be 1-D, got shape {v['parameter'].shape}"
+        n = v["parameter"].shape[0]
+        return first(
+            lambda: matrix("sections", n),
+            lambda: vector("step_times", n),
+            lambda: matrix("multipliers", n),
+            lambda: vector("stable", n, "b"),
+        )
+    if cls is OrbitDiagram:
+        if v["parameter"].ndim != 1:
+            return "parameter", f"must be 1-D, got shape {v['parameter'].shape}"
+        return matrix("values", v["parameter"].shape[0])
+    if cls is BasinMap:
+        if len(v["axis_names"]) != 2:
+            return "axis_names", f"must be two names, got {len(v['axis_names'])}"
+        problem = first(lambda: vector("x"), lambda: vector("y"), lambda: vector("fixed_point"))
+        if problem is not None:
+            return problem
+        grid = (v["y"].shape[0], v["x"].shape[0])
+        for name in ("outcome", "strides"):
+            if v[name].shape != grid or v[name].dtype.kind not in "iu":
+                return (
+                    name,
+                    f"must be integers of shape (ny, nx) = {grid}, got {v[name].dtype} "
+                    f"{v[name].shape}",
+                )
+        return vector("base", v["fixed_point"].shape[0])
+    if cls is SweepTable:
+        k = len(v["parameter_names"])
+        points = v["points"]
+        if points.ndim != 2 or points.shape[1] != k:
+            return (
+                "points",
+                f"must have shape (n, {k}) (one column per parameter), got {points.shape}",
+            )
+        for name, col in v["columns"].items():
+            if col.ndim < 1 or col.shape[0] != points.shape[0]:
+                return f"columns/{name}", (
+                    f"must have {points.shape[0]} rows (one per point), got shape {col.shape}"
+                )
+        return None
+    return None  # pragma: no cover - every class in _SPECS is handled above
