@@ -58,7 +58,7 @@ def test_bezier_derivatives_match_differences():
 
 
 def test_params_validation():
-    with pytest.raises(ValueError, match="`controller` must be 0, 1 or 2"):
+    with pytest.raises(ValueError, match="`controller` must be 0, 1, 2 or 3"):
         grizzle().replace(controller=1.5)
     with pytest.raises(ValueError, match="`theta_minus` must differ"):
         grizzle().replace(theta_minus=grizzle().theta_plus)
@@ -278,6 +278,10 @@ def _massless_torso(compass: CompassParams, **extra):
         theta_plus=0.2,
         theta_minus=-0.2,
         **{f"bezier_{o}_{k}": 0.0 for o in ("swing", "torso") for k in range(5)},
+        step_event=0.0,
+        ft_alpha=0.9,
+        ft_epsilon=0.1,
+        **{f"poly_{o}_{k}": 0.0 for o in ("swing", "torso") for k in range(6)},
         damping_hip=0.0,
         coulomb_hip=0.0,
     ).replace(**extra)

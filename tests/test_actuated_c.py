@@ -242,7 +242,7 @@ def test_sizes_match_the_modules():
     assert (five_link.N_X, five_link.N_Q, len(five_link.GUARD_NAMES)) == (12, 5, 15)
     assert (three_link.N_CODES, five_link.N_CODES) == (9, 81)
     assert (three_link.CONTROL_OFFSET, five_link.CONTROL_OFFSET) == (11, 14)
-    assert (three_link.I_DAMPING_HIP, three_link.I_COULOMB_HIP) == (27, 28)
+    assert (three_link.I_DAMPING_HIP, three_link.I_COULOMB_HIP) == (42, 43)
     assert (
         five_link.I_DAMPING_HIP,
         five_link.I_DAMPING_KNEE,

@@ -286,7 +286,8 @@ def test_layout_and_phase_table(name):
     if name == "five_link":
         assert names[M.I_DAMPING_KNEE] == "damping_knee"
         assert names[M.I_COULOMB_KNEE] == "coulomb_knee"
-    assert names[M.I_DAMPING_HIP - 1].startswith("bezier_")
+    # before the friction: the Bezier block (three_link: then the finite-time block)
+    assert names[M.I_DAMPING_HIP - 1].startswith("poly_" if name == "three_link" else "bezier_")
     # joints are the actuated ones: S = B^T; 3**n_joints phases, 2 more guards per joint
     assert_allclose(M.S_MATRIX, M.B_MATRIX.T, rtol=0, atol=0)
     assert M.N_CODES == fr.N_MODES**M.N_JOINTS == len(M.PHASE_NAMES)

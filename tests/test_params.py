@@ -99,6 +99,12 @@ def test_field_order_is_the_kernel_order():
         "theta_minus",
         *(f"bezier_swing_{k}" for k in range(5)),
         *(f"bezier_torso_{k}" for k in range(5)),
+        # the finite-time controller (controller 3) and the step event
+        "step_event",
+        "ft_alpha",
+        "ft_epsilon",
+        *(f"poly_swing_{k}" for k in range(6)),
+        *(f"poly_torso_{k}" for k in range(6)),
         "damping_hip",
         "coulomb_hip",
     )
@@ -379,8 +385,11 @@ BOUND_CASES = [
     (ThreeLinkParams, "slope", 1.6, r"`slope` must be in \(-pi/2, pi/2\) \[rad\], got 1.6"),
     (ThreeLinkParams, "g", 0.0, r"`g` must be > 0 \[m/s\^2\], got 0.0"),
     (ThreeLinkParams, "friction", 0.0, r"`friction` must be > 0 \[1\], got 0.0"),
-    (ThreeLinkParams, "controller", -1.0, r"`controller` must be in \[0, 2\] \[1\], got -1.0"),
-    (ThreeLinkParams, "controller", 3.0, r"`controller` must be in \[0, 2\] \[1\], got 3.0"),
+    (ThreeLinkParams, "controller", -1.0, r"`controller` must be in \[0, 3\] \[1\], got -1.0"),
+    (ThreeLinkParams, "controller", 4.0, r"`controller` must be in \[0, 3\] \[1\], got 4.0"),
+    (ThreeLinkParams, "step_event", 2.0, r"`step_event` must be in \[0, 1\] \[1\], got 2.0"),
+    (ThreeLinkParams, "ft_alpha", 1.0, r"`ft_alpha` must be in \(0, 1\) \[1\], got 1.0"),
+    (ThreeLinkParams, "ft_epsilon", 0.0, r"`ft_epsilon` must be > 0 \[s\], got 0.0"),
     (ThreeLinkParams, "kp", -1.0, r"`kp` must be >= 0 \[1/s\^2\], got -1.0"),
     (ThreeLinkParams, "kd", -1.0, r"`kd` must be >= 0 \[1/s\], got -1.0"),
     (ThreeLinkParams, "torque_limit", 0.0, r"`torque_limit` must be > 0 \[N m\], got 0.0"),
@@ -426,6 +435,7 @@ UNBOUNDED = {
     (ThreeLinkParams, "theta_plus"),
     (ThreeLinkParams, "theta_minus"),
     *((ThreeLinkParams, f"bezier_{out}_{k}") for out in ("swing", "torso") for k in range(5)),
+    *((ThreeLinkParams, f"poly_{out}_{k}") for out in ("swing", "torso") for k in range(6)),
     (FiveLinkParams, "theta_plus"),
     (FiveLinkParams, "theta_minus"),
     *(
@@ -512,7 +522,7 @@ CROSS_CASES = [
         {"com_from_foot": 0.0, "com_to_hip": 0.0},
         r"leg length `com_from_foot \+ com_to_hip` must be > 0 \[m\], got 0.0$",
     ),
-    (ThreeLinkParams, {"controller": 1.5}, r"`controller` must be 0, 1 or 2, got 1.5$"),
+    (ThreeLinkParams, {"controller": 1.5}, r"`controller` must be 0, 1, 2 or 3, got 1.5$"),
     (
         ThreeLinkParams,
         {"controller": 1.0, "theta_plus": 0.3, "theta_minus": 0.3},

@@ -22,6 +22,7 @@ SHIPPED = [
     "kneed_mcgeer_pointmass",
     "double_pendulum",
     "three_link_grizzle",
+    "three_link_book",
     "five_link_hzd",
     "kneed_coulomb_hsu",
     "compass_coulomb_goswami",

@@ -6,7 +6,9 @@ the model's parameter vector ``p`` (for the three-link walker, ``p[CONTROL_OFFSE
 :class:`walker.params.ThreeLinkParams`).  Layout of the block ``c``:
 
 ====  =========================================================================
-c[0]  mode: 0 off (zero torque), 1 joint-space PD, 2 virtual constraints (IO lin.)
+c[0]  mode: 0 off (zero torque), 1 joint-space PD, 2 virtual constraints (IO lin.);
+      3 (finite-time controller on polynomial outputs) is compiled C only
+      (``walker/_core/wk_control.c``); here it gives NaN torques
 c[1]  ``kp``;  c[2] ``kd``
 c[3]  torque limit [N m]: every component is clipped to ``[-limit, limit]``
 c[4]  ``theta_plus``;  c[5] ``theta_minus`` (phase variable range)
@@ -145,6 +147,11 @@ def controller_torque(q, qd, D, h, B, c, u):
     if mode == MODE_OFF:
         for i in range(m):
             u[i] = 0.0
+        return False
+    if mode > MODE_VIRTUAL_CONSTRAINTS:
+        # mode 3 (finite-time, polynomial outputs) is compiled C only: wk_control.c
+        for i in range(m):
+            u[i] = np.nan
         return False
     y = np.empty(m)
     yd = np.empty(m)

@@ -34,7 +34,9 @@ def _params_from_provenance(prov: dict):
 
     A file written before a joint-friction parameter (``damping_*``, ``coulomb_*``) was added
     to its model lacks it; it was computed without that friction, so it reads as 0, with a
-    warning naming the parameters.  Any other missing parameter is an error.
+    warning naming the parameters.  Fields a parameter class lists in ``ADDED_FIELDS`` (the
+    three-link book controller's) read as its first preset's values, which reproduce the model
+    such a file was computed with.  Any other missing parameter is an error.
     """
     from walker.models import MODEL_NAMES, get_model
     from walker.storage import StorageError
@@ -48,6 +50,12 @@ def _params_from_provenance(prov: dict):
         raise StorageError("provenance key 'parameters' is missing; plotting needs it")
     model = get_model(name)
     values = {k: v["value"] for k, v in prov["parameters"].items()}
+    later = getattr(model.params_class, "ADDED_FIELDS", ())
+    missing_later = [n for n in later if n not in values]
+    if missing_later:
+        # computed before these fields existed: the values that reproduce that model
+        preset = getattr(model.params_class, model.params_class.PRESETS[0])()
+        values.update({n: getattr(preset, n) for n in missing_later})
     added = [
         n for n in model.params_class.names() if n not in values and n.startswith(FRICTION_PREFIXES)
     ]

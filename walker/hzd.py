@@ -110,6 +110,12 @@ def _model(params) -> _Model:
 
 def _check(params) -> np.ndarray:
     _model(params)
+    if isinstance(params, ThreeLinkParams) and params.controller == 3.0:
+        raise ValueError(
+            "`controller` must be 1 or 2 (Bezier virtual constraints) for the hybrid-zero-"
+            "dynamics tools; controller 3 (finite-time, polynomial outputs) is not supported "
+            f"here (use walker.StrideMap), got {params.controller!r}"
+        )
     return params.as_array()
 
 

@@ -903,6 +903,14 @@ def _bezier_field(output: str, k: int) -> Any:
     return _param("rad", f"Bezier coefficient {k} of the desired {output} angle")
 
 
+_POLY_DEGREE = 5  # must equal WK_CONTROL_POLY_DEGREE in walker/_core/wk_control.h
+
+
+def _poly_field(output: str, k: int) -> Any:
+    unit = {0: "rad", 1: "1"}.get(k, f"1/rad^{k - 1}")
+    return _param(unit, f"coefficient of q_stance^{k} in the desired {output} angle (controller 3)")
+
+
 @dataclasses.dataclass(frozen=True)
 class ThreeLinkParams(_Params):
     """Grizzle's three-link walker (two legs, torso, two hip actuators) and its controller.
@@ -938,16 +946,35 @@ class ThreeLinkParams(_Params):
         ``|F_t| <= mu F_n`` at impact and during stance.
     controller : float
         0: off (passive); 1: joint-space PD to the Bezier references; 2: virtual constraints
-        by input-output linearization (computed torque) with PD on the outputs.
+        by input-output linearization (computed torque) with PD on the outputs; 3: the
+        finite-time controller of Bhat and Bernstein on polynomial outputs, by input-output
+        linearization (Westervelt et al. 2007 [3]_; compiled C only, see ``ft_alpha``).
     kp, kd : float
-        output (or joint) gains [1/s^2], [1/s] for mode 2; [N m/rad], [N m s/rad] for mode 1.
+        output (or joint) gains [1/s^2], [1/s] for mode 2; [N m/rad], [N m s/rad] for mode 1;
+        unused by mode 3.
     torque_limit : float
         actuator saturation |tau_i| <= torque_limit [N m], > 0.
     theta_plus, theta_minus : float
         stance angle at the start and the end of a step [rad] (the phase variable is the
         stance angle, normalized to s = (q_stance - theta_plus)/(theta_minus - theta_plus)).
     bezier_swing_0 .. bezier_swing_4, bezier_torso_0 .. bezier_torso_4 : float
-        Bezier coefficients [rad] of the desired absolute swing-leg and torso angles.
+        Bezier coefficients [rad] of the desired absolute swing-leg and torso angles (modes
+        1 and 2).
+    step_event : float
+        where a step ends: 0, heel strike where the swing foot reaches the ground (walker's
+        default); 1, where the stance angle falls through ``theta_minus``, wherever the swing
+        foot is (the impact surface of [3]_'s example code; the impact map is the same).
+    ft_alpha, ft_epsilon : float
+        controller 3: the exponent alpha in (0, 1) and the time scale epsilon [s], > 0, of
+        the finite-time controller: each output's acceleration is set to
+        ``psi(y, epsilon yd) / epsilon^2`` with ``phi = y + sig(epsilon yd, 2 - alpha) / (2 -
+        alpha)``, ``psi = -sig(epsilon yd, alpha) - sig(phi, alpha / (2 - alpha))`` and
+        ``sig(x, e) = sgn(x) |x|^e`` (``walker/_core/wk_control.h``).
+    poly_swing_0 .. poly_swing_5, poly_torso_0 .. poly_torso_5 : float
+        controller 3: the outputs are ``y = q_swing - sum_k poly_swing_k q_stance^k`` and
+        ``y = q_torso - sum_k poly_torso_k q_stance^k`` (plain polynomials of degree 5 in the
+        stance angle, walker's counterclockwise angles; :meth:`westervelt_book` converts the
+        book's coefficients).
     damping_hip : float
         viscous friction F_v of each hip joint [N m s/rad], >= 0: torque ``-F_v w_j``
         (0 in the preset: the published model is frictionless).
@@ -956,6 +983,9 @@ class ThreeLinkParams(_Params):
         while the joint slips, up to ``F_s`` holding it while it sticks (stick and slip are
         phases of :mod:`walker.models.three_link`; 0 in the preset).  The controller does not
         know about either friction: it is a disturbance its PD on the outputs rejects.
+
+    The fields ``step_event`` .. ``poly_torso_5`` sit between the Bezier coefficients and the
+    hip friction (indices 27..41; ``walker.models.three_link`` names them).
 
     References
     ----------
@@ -969,6 +999,15 @@ class ThreeLinkParams(_Params):
 
     MODEL: ClassVar[str] = "three_link"
     PRESETS: ClassVar[tuple[str, ...]] = ("grizzle",)
+    ADDED_FIELDS: ClassVar[tuple[str, ...]] = (
+        "step_event",
+        "ft_alpha",
+        "ft_epsilon",
+        *(f"poly_{o}_{k}" for o in ("swing", "torso") for k in range(_POLY_DEGREE + 1)),
+    )
+    """Fields added after three-link files were first written: a file without them was
+    computed with heel strike ending the step and no finite-time controller, the values the
+    ``grizzle`` preset gives them (:func:`walker.gallery` reads such a file with those)."""
 
     mass_hip: float = _param("kg", "point mass at the hip", 0.0, lo_open=True)
     mass_leg: float = _param("kg", "point mass of each leg", 0.0, lo_open=True)
@@ -981,7 +1020,9 @@ class ThreeLinkParams(_Params):
     slope: float = _slope_field()
     g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
     friction: float = _param("1", "ground friction coefficient mu", 0.0, lo_open=True)
-    controller: float = _param("1", "0 off, 1 joint PD, 2 virtual constraints", 0.0, 2.0)
+    controller: float = _param(
+        "1", "0 off, 1 joint PD, 2 virtual constraints, 3 finite-time (book)", 0.0, 3.0
+    )
     kp: float = _param("1/s^2", "proportional gain", 0.0)
     kd: float = _param("1/s", "derivative gain", 0.0)
     torque_limit: float = _param("N m", "actuator torque limit", 0.0, lo_open=True)
@@ -997,6 +1038,35 @@ class ThreeLinkParams(_Params):
     bezier_torso_2: float = _bezier_field("torso", 2)
     bezier_torso_3: float = _bezier_field("torso", 3)
     bezier_torso_4: float = _bezier_field("torso", 4)
+    step_event: float = _param(
+        "1",
+        "step ends: 0 swing foot reaches the ground, 1 stance angle reaches theta_minus",
+        0.0,
+        1.0,
+    )
+    ft_alpha: float = _param(
+        "1",
+        "finite-time controller exponent alpha (controller 3)",
+        0.0,
+        1.0,
+        lo_open=True,
+        hi_open=True,
+    )
+    ft_epsilon: float = _param(
+        "s", "finite-time controller time scale epsilon (controller 3)", 0.0, lo_open=True
+    )
+    poly_swing_0: float = _poly_field("swing-leg", 0)
+    poly_swing_1: float = _poly_field("swing-leg", 1)
+    poly_swing_2: float = _poly_field("swing-leg", 2)
+    poly_swing_3: float = _poly_field("swing-leg", 3)
+    poly_swing_4: float = _poly_field("swing-leg", 4)
+    poly_swing_5: float = _poly_field("swing-leg", 5)
+    poly_torso_0: float = _poly_field("torso", 0)
+    poly_torso_1: float = _poly_field("torso", 1)
+    poly_torso_2: float = _poly_field("torso", 2)
+    poly_torso_3: float = _poly_field("torso", 3)
+    poly_torso_4: float = _poly_field("torso", 4)
+    poly_torso_5: float = _poly_field("torso", 5)
     damping_hip: float = _param(
         "N m s/rad",
         "viscous friction of each hip joint, torque -F_v w on the leg (w = leg rate - torso rate)",
@@ -1018,8 +1088,10 @@ class ThreeLinkParams(_Params):
             raise _relation_error(
                 "leg length `com_from_foot + com_to_hip` must be > 0 [m]", f"{self.leg_length!r}"
             )
-        if self.controller not in (0.0, 1.0, 2.0):
-            raise _relation_error("`controller` must be 0, 1 or 2", f"{self.controller!r}")
+        if self.controller not in (0.0, 1.0, 2.0, 3.0):
+            raise _relation_error("`controller` must be 0, 1, 2 or 3", f"{self.controller!r}")
+        if self.step_event not in (0.0, 1.0):
+            raise _relation_error("`step_event` must be 0 or 1", f"{self.step_event!r}")
         if self.controller != 0.0 and not self.theta_minus != self.theta_plus:
             raise _relation_error(
                 "`theta_minus` must differ from `theta_plus` when the controller is on",
@@ -1048,6 +1120,60 @@ class ThreeLinkParams(_Params):
         from walker.hzd import make_invariant  # lazy: hzd imports this module
 
         return make_invariant(cls(**{**_GRIZZLE_DEFAULTS, **changes}))
+
+    @classmethod
+    def westervelt_book(cls, a: Any = None, **changes: Any) -> ThreeLinkParams:
+        """The three-link example of Westervelt et al. [3]_ as its example code runs it: the
+        finite-time controller (``controller = 3``) on the book's polynomial outputs, and the
+        step ending where the stance angle reaches the switching angle (``step_event = 1``).
+        Not one of ``PRESETS`` (``gaits/three_link_book.toml`` writes every value out).
+
+        The code measures angles clockwise, walker counterclockwise: ``theta_i = -q_i``
+        (stance, swing, torso; rates alike; the hip torques are the same numbers).  Its outputs
+        are ``h1 = theta3 - (a01 + a11 theta1 + a21 theta1^2 + a31 theta1^3)`` and ``h2 =
+        theta2 + theta1 - (a02 + a12 theta1 + a22 theta1^2 + a32 theta1^3) (theta1 - th1d)
+        (theta1 + th1d)`` (``dynamics_three_link.m``); in walker's angles the desired torso
+        angle is ``sum_k (-1)^(k+1) a_k1 q_stance^k`` and the desired swing angle ``-q_stance
+        + (q_stance^2 - th1d^2) sum_k (-1)^(k+1) a_k2 q_stance^k``, expanded here into the
+        ``poly_*`` coefficients.  The step ends at ``theta1 = th1d``, i.e. ``q_stance =
+        theta_minus = -th1d``.
+
+        Parameters
+        ----------
+        a : sequence of 8 floats, optional
+            the book's ``[a01, a11, a21, a31, a02, a12, a22, a32]``; default the published
+            ``[0.512, 0.073, 0.035, -0.819, -2.27, 3.26, 3.11, 1.89]`` (``walker_main.m``).
+        **changes
+            any other field (e.g. ``theta_minus``, ``ft_alpha``), applied before the
+            coefficients are expanded (``th1d = -theta_minus``).
+
+        References
+        ----------
+        .. [3] Westervelt, Grizzle, Chevallereau, Choi, Morris, CRC Press 2007, example code
+           (``WGCCM_three_link_walker_example``): ``model_params_three_link.m`` (the model),
+           ``control_params_three_link.m`` (th3d = pi/6, th1d = pi/8, alpha = 0.9,
+           epsilon = 0.1), ``walker_main.m`` (a, omega_1 = 1.55).
+        """
+        if a is None:
+            a = _BOOK_A
+        a = [_check_number(f"a[{i}]", v) for i, v in enumerate(np.asarray(a, dtype=object).ravel())]
+        if len(a) != 8:
+            raise ValueError(f"`a` must hold 8 coefficients (a01..a31, a02..a32), got {len(a)}")
+        base = cls(**{**_BOOK_DEFAULTS, **changes})
+        th1d2 = base.theta_minus**2
+        torso = [(-1.0) ** (k + 1) * a[k] for k in range(4)] + [0.0, 0.0]
+        b = [(-1.0) ** (k + 1) * a[4 + k] for k in range(4)]
+        swing = [
+            -th1d2 * b[0],
+            -1.0 - th1d2 * b[1],
+            b[0] - th1d2 * b[2],
+            b[1] - th1d2 * b[3],
+            b[2],
+            b[3],
+        ]
+        coefficients = {f"poly_torso_{k}": v for k, v in enumerate(torso)}
+        coefficients.update({f"poly_swing_{k}": v for k, v in enumerate(swing)})
+        return base.replace(**coefficients)
 
 
 _GRIZZLE_DEFAULTS: dict[str, float] = {
@@ -1084,9 +1210,34 @@ _GRIZZLE_DEFAULTS: dict[str, float] = {
     "bezier_torso_2": -math.pi / 6,
     "bezier_torso_3": -math.pi / 6,
     "bezier_torso_4": -math.pi / 6,
+    # walker's heel strike; the finite-time controller's settings are those of
+    # control_params_three_link.m (alpha = 0.9, epsilon = 0.1), unused by controller 2
+    "step_event": 0.0,
+    "ft_alpha": 0.9,
+    "ft_epsilon": 0.1,
+    **{f"poly_{o}_{k}": 0.0 for o in ("swing", "torso") for k in range(_POLY_DEGREE + 1)},
     # the published model is frictionless
     "damping_hip": 0.0,
     "coulomb_hip": 0.0,
+}
+
+_BOOK_A = (0.512, 0.073, 0.035, -0.819, -2.27, 3.26, 3.11, 1.89)
+"""The output coefficients ``a`` of Westervelt et al. 2007's three-link example (the book's
+example code, ``walker_main.m``: ``a = [0.512 0.073 0.035 -0.819 -2.27 3.26 3.11 1.89]``)."""
+
+_BOOK_DEFAULTS: dict[str, float] = {
+    **_GRIZZLE_DEFAULTS,
+    # the book's controller and event (control_params_three_link.m: th1d = pi/8,
+    # alpha = 0.9, epsilon = 0.1); the poly_* coefficients come from _BOOK_A
+    "controller": 3.0,
+    "step_event": 1.0,
+    "theta_plus": math.pi / 8,
+    "theta_minus": -math.pi / 8,
+    "ft_alpha": 0.9,
+    "ft_epsilon": 0.1,
+    # the book's code has no torque limit and does not check the ground reaction: a limit
+    # the gait never reaches, and walker's friction cone mu = 0.8 (which the gait satisfies)
+    "torque_limit": 1000.0,
 }
 
 

@@ -3,7 +3,10 @@
  * (q_stance, q_swing, q_torso, qd_stance, qd_swing, qd_torso, actuator_work,
  * saturated_time); phase = joint-mode code of (hip_stance, hip_swing) (wk_friction.h);
  * guards heel_strike, fall_forward, fall_backward, slip_forward, slip_backward, lift_off,
- * then slip_stops / stick_breaks per joint.  The controller comes from ctx (wk_actuated.h). */
+ * then slip_stops / stick_breaks per joint.  The controller comes from ctx (wk_actuated.h).
+ * Compiled C only, no numba twin: controller mode 3 (the finite-time controller on polynomial
+ * outputs, wk_control_finite_time_torque, with its own Jacobian treatment in jac) and
+ * step_event = 1 (guard 0 is q_stance - theta_minus; the numba guards follow it). */
 #include <math.h>
 #include <stddef.h>
 #include "wk_common.h"
@@ -22,20 +25,28 @@
 #define I_SLOPE 8
 #define I_FRICTION 10
 #define CONTROL_OFFSET WK_THREE_LINK_CONTROL_OFFSET
-#define I_DAMPING_HIP 27
-#define I_COULOMB_HIP 28
+#define I_STEP_EVENT 27
+#define I_FT 28 /* the finite-time block (wk_control.h): ft_alpha, ft_epsilon, poly_* */
+#define I_DAMPING_HIP 42
+#define I_COULOMB_HIP 43
+#define I_THETA_MINUS (CONTROL_OFFSET + WK_CONTROL_I_THETA_MINUS)
 #define JAC_STEP 1e-6
+#define JAC_STEP_FT 1e-4 /* mode 3 (see wk_model_three_link_jac) */
 
 static const double B_MATRIX[N_Q * N_U] = {1.0, 0.0, 0.0, 1.0, -1.0, -1.0};
 static const double S_MATRIX[N_JOINTS * N_Q] = {1.0, 0.0, -1.0, 0.0, 1.0, -1.0};
 
-/* The controller's torque: the user's (ctx, wk_actuated.h) or the built-in one. */
+/* The controller's torque: the user's (ctx, wk_actuated.h) or the built-in one (mode 3,
+ * the finite-time controller on polynomial outputs, reads the block p + I_FT). */
 static int torque(void *ctx, const double *q, const double *qd, const double *D,
                   const double *h, const double *p, double *u)
 {
     const wk_controller *ctl = (const wk_controller *)ctx;
     if (ctl != NULL && ctl->torque != NULL)
         return ctl->torque(q, qd, D, h, B_MATRIX, p, u, ctl->user) != 0;
+    if ((int64_t)p[CONTROL_OFFSET + WK_CONTROL_I_MODE] == WK_CONTROL_MODE_FINITE_TIME)
+        return wk_control_finite_time_torque(q, qd, D, h, B_MATRIX, p + CONTROL_OFFSET,
+                                             p + I_FT, u, N_Q);
     return wk_control_controller_torque(q, qd, D, h, B_MATRIX, p + CONTROL_OFFSET, u, N_Q);
 }
 
@@ -99,14 +110,41 @@ void wk_model_three_link_rhs(int64_t phase, double t, const double *x, const dou
     dx[7] = sat ? 1.0 : 0.0;
 }
 
+/* Mode 3's linearized controller (wk_control.h), handed to the rhs as a user controller. */
+typedef struct {
+    double lin[5 * (N_Q - 1)];
+} ft_linearized;
+
+static int ft_linearized_torque(const double *q, const double *qd, const double *D,
+                                const double *h, const double *B, const double *p, double *u,
+                                void *user)
+{
+    const ft_linearized *L = (const ft_linearized *)user;
+    return wk_control_finite_time_torque_linearized(q, qd, D, h, B, p + CONTROL_OFFSET,
+                                                    p + I_FT, L->lin, u, N_Q);
+}
+
 void wk_model_three_link_jac(int64_t phase, double t, const double *x, const double *p,
                              double *J, void *ctx)
 {
     double xp[N_X], fp[N_X], fm[N_X];
+    const wk_controller *ctl = (const wk_controller *)ctx;
+    ft_linearized L;
+    wk_controller lin_ctl;
+    double rel_step = JAC_STEP;
+    if ((ctl == NULL || ctl->torque == NULL) &&
+        (int64_t)p[CONTROL_OFFSET + WK_CONTROL_I_MODE] == WK_CONTROL_MODE_FINITE_TIME) {
+        /* differentiate with v linearized about x (wk_control_finite_time_linearization) */
+        wk_control_finite_time_linearization(x, x + 3, p + I_FT, L.lin, N_Q);
+        lin_ctl.torque = ft_linearized_torque;
+        lin_ctl.user = &L;
+        ctx = &lin_ctl;
+        rel_step = JAC_STEP_FT;
+    }
     for (int i = 0; i < N_X; i++) xp[i] = x[i];
     for (int j = 0; j < N_X; j++) {
         double ax = fabs(x[j]);
-        double hstep = JAC_STEP * (ax > 1.0 ? ax : 1.0);
+        double hstep = rel_step * (ax > 1.0 ? ax : 1.0);
         xp[j] = x[j] + hstep;
         wk_model_three_link_rhs(phase, t, xp, p, fp, ctx);
         xp[j] = x[j] - hstep;
@@ -144,7 +182,9 @@ void wk_model_three_link_guards(int64_t phase, double t, const double *x, const 
     double psi1 = x[0] + p[I_SLOPE];
     double height, ahead;
     swing_foot(x, p, &height, &ahead);
-    g[0] = height;
+    /* step_event 1: the step ends where the stance angle falls through theta_minus (the
+     * impact surface of Westervelt et al. 2007), wherever the swing foot is */
+    g[0] = p[I_STEP_EVENT] == 1.0 ? x[0] - p[I_THETA_MINUS] : height;
     g[1] = psi1 + WK_FALL_ANGLE;
     g[2] = psi1 - WK_FALL_ANGLE;
     double qdd[N_Q], u[N_U], lam[N_JOINTS];

@@ -61,6 +61,14 @@ joint minus the viscous losses.
 
 Section (just after heel strike): ``(q_stance, q_torso, qd_stance, qd_swing, qd_torso)``;
 ``q_swing = -2 slope - q_stance`` there; ``lift`` sets both accumulators to zero.
+
+The book's variant (Westervelt, Grizzle, Chevallereau, Choi, Morris 2007, three-link example;
+``ThreeLinkParams.westervelt_book``, ``gaits/three_link_book.toml``): ``step_event = 1`` makes
+guard 0 ``q_stance - theta_minus`` (the step ends where the stance angle falls through
+``theta_minus``, wherever the swing foot is; same impact map and leg swap), and the section's
+``q_swing`` is then ``theta_minus``.  ``controller = 3``, the finite-time controller on
+polynomial outputs, exists in the compiled C model only (``walker/_core/wk_control.c``):
+the numba functions here (``torques``, ``ground_reaction``, ...) return NaN torques for it.
 """
 
 import math
@@ -116,8 +124,16 @@ legs the foot height ``r (cos q_stance - cos q_swing)`` has two zeros: ``q_swing
 foot, step length zero up to round-off): the latter is the mid-stance scuff."""
 CONTROL_OFFSET = 11
 """Index in ``p`` of the controller block (:mod:`walker.control` layout)."""
-I_DAMPING_HIP, I_COULOMB_HIP = 27, 28
-"""Indices in ``p`` of ``damping_hip`` and ``coulomb_hip`` (after the controller block; a
+I_THETA_MINUS = CONTROL_OFFSET + 5
+I_STEP_EVENT = 27
+"""Index in ``p`` of ``step_event`` (0: the step ends at heel strike, 1: where the stance
+angle falls through ``theta_minus``)."""
+I_FT = 28
+"""Index in ``p`` of the finite-time controller's block (controller 3, compiled C only):
+``ft_alpha``, ``ft_epsilon``, ``poly_swing_0..5``, ``poly_torso_0..5``
+(``walker/_core/wk_control.h``)."""
+I_DAMPING_HIP, I_COULOMB_HIP = 42, 43
+"""Indices in ``p`` of ``damping_hip`` and ``coulomb_hip`` (after the controller blocks; a
 test checks them against :class:`walker.params.ThreeLinkParams`)."""
 
 B_MATRIX = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, -1.0]])
@@ -272,7 +288,7 @@ def swing_foot(x, p):
 @njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
     psi1 = x[0] + p[I_SLOPE]
-    g[0] = swing_foot(x, p)[0]
+    g[0] = x[0] - p[I_THETA_MINUS] if p[I_STEP_EVENT] == 1.0 else swing_foot(x, p)[0]
     g[1] = psi1 + FALL_ANGLE
     g[2] = psi1 - FALL_ANGLE
     qdd = np.empty(3)
@@ -451,15 +467,22 @@ LIFT_AFFINE = True
 
 
 def lift(z, p):
-    """Section point ``(q_stance, q_torso, qd_stance, qd_swing, qd_torso)`` -> full state."""
-    slope = p[I_SLOPE]
-    return np.array([z[0], -2.0 * slope - z[0], z[1], z[2], z[3], z[4], 0.0, 0.0])
+    """Section point ``(q_stance, q_torso, qd_stance, qd_swing, qd_torso)`` -> full state.
+
+    With ``step_event = 0`` the swing foot is on the slope, ``q_swing = -2 slope -
+    q_stance``; with ``step_event = 1`` the step ended at ``q_stance = theta_minus``, so after
+    the legs swap ``q_swing = theta_minus`` whatever ``q_stance`` is."""
+    if p[I_STEP_EVENT] == 1.0:
+        q_swing = p[I_THETA_MINUS]
+    else:
+        q_swing = -2.0 * p[I_SLOPE] - z[0]
+    return np.array([z[0], q_swing, z[1], z[2], z[3], z[4], 0.0, 0.0])
 
 
 def lift_jacobian(z, p):
     J = np.zeros((N_X, 5))
     J[0, 0] = 1.0
-    J[1, 0] = -1.0
+    J[1, 0] = 0.0 if p[I_STEP_EVENT] == 1.0 else -1.0
     J[2, 1] = 1.0
     J[3, 2] = J[4, 3] = J[5, 4] = 1.0
     return J
