@@ -51,7 +51,7 @@ def _scene(name):
 
 def _store_and_plot(result, scene, name):
     path = OUT / f"{name}.h5"
-    write(path, result, provenance=provenance(scene), overwrite=True)
+    write(path, result, provenance=provenance(scene, out=path), overwrite=True)
     return plot_file(path, OUT, gif=True)
 
 

@@ -326,9 +326,12 @@ def test_run_sweep_command_writes_provenance(tmp_path):
     stored, prov = read(out)
     _assert_tables_equal(table, stored)
     scene = load_scene(SIMPLEST_SCENE)
-    assert prov["scene"] == os.fspath(SIMPLEST_SCENE)
+    # the scene relative to the file's directory: no directory of this machine recorded
+    assert not os.path.isabs(prov["scene"])
+    assert (out.parent / prov["scene"]).resolve() == Path(SIMPLEST_SCENE).resolve()
     assert prov["model"] == "simplest" and prov["sweep_kind"] == "outcome"
-    assert prov["parameters"]["slope"] == {"value": 0.009, "unit": "rad"}
+    assert prov["parameters"]["slope"] == {"value": 0.009, "unit": "rad"}  # the scene's
+    assert prov["swept"] == {"slope": {"unit": "rad", "start": 0.008, "stop": 0.01, "count": 3}}
     assert (prov["method"], prov["rtol"], prov["atol"]) == (
         scene.compute.method,
         scene.compute.rtol,

@@ -189,13 +189,14 @@ def _stride_map(scene, parameter_name="slope"):
     )
 
 
-def provenance(scene, extra: dict | None = None) -> dict:
+def provenance(scene, extra: dict | None = None, *, out=None) -> dict:
     """What produced a result: :func:`walker.storage.scene_provenance` of ``scene`` (scene
-    path, model, parameters with units, solver settings, kernel hash, the model's
-    conventions), then the keys of ``extra``."""
+    path, relative to the directory of ``out`` when given; model, parameters with units,
+    solver settings, kernel hash, the model's conventions), then the keys of ``extra``."""
     from walker.storage import scene_provenance
 
-    return scene_provenance(scene, **(extra or {}))
+    where = None if out is None else Path(out).parent
+    return scene_provenance(scene, relative_to=where, **(extra or {}))
 
 
 def _complex_pairs(values) -> list:

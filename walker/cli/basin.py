@@ -55,7 +55,7 @@ def cmd_basin(args) -> int:
     out = _check_out(
         args.out, overwrite=args.overwrite, resumable=True, size=16 * args.n * args.n + (1 << 20)
     )
-    prov = provenance(scene)
+    prov = provenance(scene, out=out)
     if not args.overwrite:
         # Refuse an unrelated file before the fixed point is searched for; the grid itself
         # (which needs the fixed point) is compared when the checkpoint is opened.

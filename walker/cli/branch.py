@@ -292,12 +292,13 @@ def cmd_continue(args) -> int:
                         "doubling": record["period_doubled"]["doubling"],
                         "stop_at_fold": not args.through_folds,
                     },
+                    out=out2,
                 ),
                 overwrite=args.overwrite,
             )
             record["period_doubled"]["out"] = str(out2)
             extra["switched_branch"] = out2.name
-        write(out, branch, provenance=provenance(scene, extra), overwrite=args.overwrite)
+        write(out, branch, provenance=provenance(scene, extra, out=out), overwrite=args.overwrite)
         record["out"] = str(out)
     if args.json:
         print(_json(record))

@@ -60,7 +60,7 @@ def cmd_find(args) -> int:
         write(
             out,
             fp,
-            provenance=provenance(scene, {"status": fp.status.name}),
+            provenance=provenance(scene, {"status": fp.status.name}, out=out),
             overwrite=args.overwrite,
         )
     if args.json:

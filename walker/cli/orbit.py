@@ -144,7 +144,7 @@ def cmd_orbit_diagram(args) -> int:
     }
     from walker.storage import write
 
-    write(out, diagram, provenance=provenance(scene, write_prov), overwrite=args.overwrite)
+    write(out, diagram, provenance=provenance(scene, write_prov, out=out), overwrite=args.overwrite)
     record = {
         "status": status,
         "parameter": args.param,

@@ -71,7 +71,7 @@ def cmd_run(args) -> int:
         write(
             out,
             sol,
-            provenance=provenance(scene, {"status": sol.status.name}),
+            provenance=provenance(scene, {"status": sol.status.name}, out=out),
             overwrite=args.overwrite,
         )
         print(f"wrote {out}")

@@ -7,6 +7,7 @@ import concurrent.futures as cf
 import os
 import warnings
 from collections.abc import Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -168,7 +169,8 @@ def run_sweep_command(
         strides = max(1, scene.compute.strides)
     stride_map = _stride_map(scene)
     z0 = stride_map.project(scene.state)
-    provenance = scene_provenance(scene)
+    provenance = scene_provenance(scene, relative_to=None if out is None else Path(out).parent)
+    provenance["swept"] = _swept(scene, param_texts)
     if scheduler is not None and jobs is not None:
         warnings.warn("`jobs` has no effect with `scheduler` (the cluster decides)", stacklevel=2)
         jobs = None
@@ -191,6 +193,29 @@ def run_sweep_command(
         return _execute(plan, "processes" if processes else None, not quiet)
     with _connect(scheduler) as client:
         return _execute(plan, client, not quiet)
+
+
+def _swept(scene, param_texts) -> dict:
+    """The swept values for the provenance, by parameter: ``start``, ``stop``, ``count`` for
+    a range, ``values`` for a list; with the unit.  (``parameters`` keeps the scene's
+    values; each point's own are in the table's ``points``.)  A text that does not parse
+    is left to the sweep's own check, which names it."""
+    from walker.sweep import parse_range
+
+    units = scene.params.units()
+    swept = {}
+    for text in param_texts:
+        try:
+            name, values = parse_range(text)
+        except (TypeError, ValueError):
+            continue
+        entry: dict[str, Any] = {"unit": units.get(name, "")}
+        if ":" in str(text).partition("=")[2]:
+            entry.update(start=float(values[0]), stop=float(values[-1]), count=len(values))
+        else:
+            entry["values"] = [float(v) for v in values]
+        swept[name] = entry
+    return swept
 
 
 def _connect(scheduler: str) -> Any:

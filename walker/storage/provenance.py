@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 from typing import Any
 
 import numpy as np
@@ -118,13 +119,19 @@ def solver_provenance(
     }
 
 
-def scene_provenance(scene: Any, **extra: Any) -> dict[str, Any]:
+def scene_provenance(
+    scene: Any, *, relative_to: str | os.PathLike | None = None, **extra: Any
+) -> dict[str, Any]:
     """Provenance of a result computed from a scene, as the command line stores it.
 
     Parameters
     ----------
     scene : walker.scene.Scene
         the loaded scene (with any ``--set`` overrides applied).
+    relative_to : str or path-like, optional
+        the directory of the file the result goes to: ``scene`` is then recorded relative
+        to it (``../gaits/kneed_hsu.toml``), so the file names no directory of the machine
+        it was made on and stays right when the result and the scenes move together.
     **extra
         the caller's own keys (``status``, ``range``, ...), added last; a key of the same
         name as one below replaces it.
@@ -132,10 +139,11 @@ def scene_provenance(scene: Any, **extra: Any) -> dict[str, Any]:
     Returns
     -------
     dict
-        ``scene`` (the scene file's path), then :func:`solver_provenance` of the scene's
-        model, parameters and ``[compute]`` settings: ``model``, ``parameters``, ``method``,
-        ``rtol``, ``atol``, ``t_max``, ``first_step``, ``kernel_hash`` and the model's
-        conventions (``swing_scuff``); then ``extra``.
+        ``scene`` (the scene file's path, as given or relative to ``relative_to``), then
+        :func:`solver_provenance` of the scene's model, parameters and ``[compute]``
+        settings: ``model``, ``parameters``, ``method``, ``rtol``, ``atol``, ``t_max``,
+        ``first_step``, ``kernel_hash`` and the model's conventions (``swing_scuff``); then
+        ``extra``.
 
     Examples
     --------
@@ -145,8 +153,11 @@ def scene_provenance(scene: Any, **extra: Any) -> dict[str, Any]:
     ('gaits/kneed_hsu.toml', 'kneed', 'trip', 'COMPLETED')
     """
     c = scene.compute
+    where = str(scene.path)
+    if relative_to is not None:
+        where = os.path.relpath(os.path.abspath(scene.path), os.path.abspath(relative_to))
     prov = {
-        "scene": str(scene.path),
+        "scene": where,
         **solver_provenance(
             scene.walker_model,
             scene.params,
