@@ -617,3 +617,26 @@ def test_value_equality_and_hash():
     assert CompassParams.goswami() == CompassParams.goswami()
     assert hash(CompassParams.goswami()) == hash(CompassParams.goswami())
     assert CompassParams.goswami() != CompassParams.drake()
+
+
+@pytest.mark.parametrize(
+    ("cls", "preset", "defaults"),
+    [
+        (ThreeLinkParams, "grizzle", "_GRIZZLE_DEFAULTS"),
+        (FiveLinkParams, "rabbit", "_RABBIT_DEFAULTS"),
+    ],
+)
+def test_hzd_presets_store_the_invariant_design(cls, preset, defaults):
+    """The presets' Bezier coefficients are stored as numbers (params imports no analysis
+    code); they are what walker.hzd.make_invariant makes of the design, to the last bits."""
+    import walker.params as params_module
+    from walker.hzd import make_invariant
+
+    stored = getattr(cls, preset)()
+    computed = make_invariant(cls(**getattr(params_module, defaults)))
+    for name in cls.names():
+        assert getattr(stored, name) == pytest.approx(getattr(computed, name), rel=4e-16, abs=1e-16)
+    # changes the impact does not depend on are taken; the others are refused by name
+    assert getattr(cls, preset)(kp=50.0, damping_hip=0.2).kp == 50.0
+    with pytest.raises(ValueError, match=rf"`{preset}\(\)` changes may only set .* got `slope`"):
+        getattr(cls, preset)(slope=0.01)

@@ -1111,15 +1111,21 @@ class ThreeLinkParams(_Params):
         r/2). The step angle pi/8 and the forward-leaning torso (pi/6 in [3]_'s clockwise
         convention, -pi/6 here) are those of ``control_params_three_link.m``; the Bezier
         coefficients are walker's own, made HZD-invariant by
-        :func:`walker.hzd.make_invariant` (see ``gaits/three_link_grizzle.toml``).
+        :func:`walker.hzd.make_invariant` (see ``gaits/three_link_grizzle.toml``); the
+        invariant values are stored here as numbers (``_GRIZZLE_INVARIANT``; a test checks
+        them against ``make_invariant``), so this module imports no analysis code.
+
+        ``changes`` may set what the impact does not depend on (controller, gains, torque
+        limit, friction, ``g``, the book controller's fields); a change of the mechanics, the
+        slope or the design makes the Bezier coefficients non-invariant, and is refused: pass
+        ``ThreeLinkParams.grizzle().replace(...)`` through :func:`walker.hzd.make_invariant`.
 
         References
         ----------
         .. [3] Westervelt, Grizzle, Chevallereau, Choi, Morris, CRC Press 2007.
         """
-        from walker.hzd import make_invariant  # lazy: hzd imports this module
-
-        return make_invariant(cls(**{**_GRIZZLE_DEFAULTS, **changes}))
+        _impact_neutral(cls, "grizzle", changes)
+        return cls(**{**_GRIZZLE_DEFAULTS, **_GRIZZLE_INVARIANT, **changes})
 
     @classmethod
     def westervelt_book(cls, a: Any = None, **changes: Any) -> ThreeLinkParams:
@@ -1220,6 +1226,37 @@ _GRIZZLE_DEFAULTS: dict[str, float] = {
     "damping_hip": 0.0,
     "coulomb_hip": 0.0,
 }
+
+_GRIZZLE_INVARIANT: dict[str, float] = {
+    # walker.hzd.make_invariant(ThreeLinkParams(**_GRIZZLE_DEFAULTS)), printed with repr
+    # (tests/test_params.py recomputes them)
+    "bezier_swing_0": -0.39269908169872414,
+    "bezier_swing_1": -0.30240495072649726,
+    "bezier_swing_4": 0.39269908169872414,
+    "bezier_torso_0": -0.5235987755982988,
+    "bezier_torso_1": -1.0141912081225373,
+}
+
+_IMPACT_NEUTRAL = ("g", "friction", "controller", "kp", "kd", "torque_limit", "step_event")
+_IMPACT_NEUTRAL_PREFIXES = ("damping_", "coulomb_", "ft_", "poly_")
+
+
+def _impact_neutral(cls: type, preset: str, changes: Mapping[str, Any]) -> None:
+    """Refuse preset ``changes`` that would leave its Bezier design non-invariant."""
+    bad = [
+        k
+        for k in changes
+        if k not in _IMPACT_NEUTRAL and not k.startswith(_IMPACT_NEUTRAL_PREFIXES)
+    ]
+    if bad:
+        listed = ", ".join(f"`{k}`" for k in bad)
+        raise ValueError(
+            f"`{preset}()` changes may only set what the impact does not depend on "
+            f"({', '.join(_IMPACT_NEUTRAL)}, {', '.join(p + '*' for p in _IMPACT_NEUTRAL_PREFIXES)}"
+            f"), got {listed}: use {cls.__name__}.{preset}().replace(...) and "
+            "walker.hzd.make_invariant for an HZD-invariant design"
+        )
+
 
 _BOOK_A = (0.512, 0.073, 0.035, -0.819, -2.27, 3.26, 3.11, 1.89)
 """The output coefficients ``a`` of Westervelt et al. 2007's three-link example (the book's
@@ -1403,8 +1440,11 @@ class FiveLinkParams(_Params):
         """RABBIT's masses, lengths and inertias [1]_ with walker's virtual-constraint design.
 
         The Bezier coefficients are walker's own (a level-ground gait, see
-        ``gaits/five_link_hzd.toml``), made HZD-invariant by
-        :func:`walker.hzd.make_invariant`; keyword ``changes`` are applied before it.
+        ``gaits/five_link_hzd.toml``), made HZD-invariant by :func:`walker.hzd.make_invariant`
+        and stored here as numbers (``_RABBIT_INVARIANT``; a test checks them against it).
+        ``changes`` may set what the impact does not depend on (controller, gains, torque
+        limit, friction, ``g``); a change of the mechanics, the slope or the design is refused:
+        pass ``FiveLinkParams.rabbit().replace(...)`` through :func:`walker.hzd.make_invariant`.
 
         Which parameter set, and why.  walker ships the published table [1]_ [2]_: masses
         12 / 6.8 / 3.2 kg (torso, femur, tibia; 32 kg in all), centres of mass 0.24 m above
@@ -1443,9 +1483,8 @@ class FiveLinkParams(_Params):
         .. [1] Westervelt, Grizzle, Koditschek, IEEE TAC 48(1), 2003, Table I.
         .. [2] Chevallereau et al., IEEE Control Systems Magazine 23(5), 2003.
         """
-        from walker.hzd import make_invariant  # lazy: hzd imports this module
-
-        return make_invariant(cls(**{**_RABBIT_DEFAULTS, **changes}))
+        _impact_neutral(cls, "rabbit", changes)
+        return cls(**{**_RABBIT_DEFAULTS, **_RABBIT_INVARIANT, **changes})
 
 
 _RABBIT_DEFAULTS: dict[str, float] = {
@@ -1502,6 +1541,22 @@ _RABBIT_DEFAULTS: dict[str, float] = {
     "damping_knee": 0.0,
     "coulomb_hip": 0.0,
     "coulomb_knee": 0.0,
+}
+
+
+_RABBIT_INVARIANT: dict[str, float] = {
+    # walker.hzd.make_invariant(FiveLinkParams(**_RABBIT_DEFAULTS)), printed with repr
+    # (tests/test_params.py recomputes them)
+    "bezier_knee_0": 0.20000000000000004,
+    "bezier_knee_1": 0.26191304879112004,
+    "bezier_torso_0": -0.1,
+    "bezier_torso_1": -0.12078909628878046,
+    "bezier_femur_0": -0.1,
+    "bezier_femur_1": -0.19440104689560306,
+    "bezier_femur_4": 0.30000000000000004,
+    "bezier_tibia_0": -0.30000000000000004,
+    "bezier_tibia_1": -0.3911584631046911,
+    "bezier_tibia_4": 0.1,
 }
 
 
