@@ -510,7 +510,7 @@ COMPUTE_CASES = [
     (
         "tmax = 3",
         r"unknown key `tmax`; valid keys: task, strides, method, rtol, atol, t_max, "
-        r"first_step$",
+        r"first_step, tol$",
     ),
 ]
 
@@ -589,3 +589,12 @@ REFERENCE_CASES = [
 @pytest.mark.parametrize(("body", "message"), REFERENCE_CASES, ids=[m for _, m in REFERENCE_CASES])
 def test_reference_errors(tmp_path, body, message):
     _fails(tmp_path, r"\[reference\] " + message, {"reference": body})
+
+
+def test_compute_tol_is_read_and_checked(tmp_path):
+    scene = load_scene(_write(tmp_path, {"compute": "tol = 1e-11"}))
+    assert scene.compute.tol == 1e-11
+    assert load_scene(_write(tmp_path, {})).compute.tol == 1e-12
+    _fails(
+        tmp_path, r"\[compute\] `tol` must be a finite number > 0, got 0", {"compute": "tol = 0"}
+    )

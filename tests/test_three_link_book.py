@@ -195,7 +195,7 @@ def _walker_gait():
     scene = load_scene(SCENE)
     c = scene.compute
     P = StrideMap(scene.model, scene.params, rtol=c.rtol, atol=c.atol, t_max=c.t_max)
-    fp = find_fixed_point(P, P.project(scene.state))
+    fp = find_fixed_point(P, P.project(scene.state), tol=c.tol)
     assert fp.success, fp.message
     return fp
 

@@ -35,6 +35,7 @@ A scene file (``gaits/*.toml``) has these tables; unknown tables or keys are err
     atol = 1e-12                 # > 0
     t_max = 20.0                 # > 0 [s], per stride (the whole run when strides = 0)
     first_step = 1e-3            # optional > 0 [s]; required (the fixed step) for RK4 / Euler
+    tol = 1e-12                  # > 0: fixed-point residual max|P^k(z) - z| (walker find --tol)
 
     [reference]                  # optional: our own high-accuracy values and their tolerance
     state = [...]                # full state on the orbit, length as [initial].state
@@ -145,6 +146,9 @@ class ComputeSettings:
         time limit per stride (the whole run when ``strides == 0``) [s], > 0.
     first_step : float or None
         initial step [s], > 0; the fixed step of ``"RK4"`` / ``"Euler"``, which require it.
+    tol : float
+        residual tolerance of the fixed-point search, max|P^k(z) - z| in section units, > 0
+        (``walker find``; its ``--tol`` overrides it).
     """
 
     task: str = "fixed_point"
@@ -154,6 +158,7 @@ class ComputeSettings:
     atol: float = 1e-12
     t_max: float = 20.0
     first_step: float | None = None
+    tol: float = 1e-12
 
     def __post_init__(self) -> None:
         if self.task not in TASKS:
@@ -170,7 +175,7 @@ class ComputeSettings:
             raise ValueError(f"`strides` must be <= {MAX_STRIDES:,}, got {self.strides}")
         if self.method not in METHODS:
             raise ValueError(f"`method` must be one of {', '.join(METHODS)}, got {self.method!r}")
-        for name in ("rtol", "atol", "t_max"):
+        for name in ("rtol", "atol", "t_max", "tol"):
             value = getattr(self, name)
             if not _is_real(value) or not math.isfinite(value) or value <= 0:
                 raise ValueError(f"`{name}` must be a finite number > 0, got {value!r}")

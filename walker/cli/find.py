@@ -22,7 +22,8 @@ def cmd_find(args) -> int:
     from walker.fixedpoint import find_fixed_point
 
     _positive_flag(args.period, "--period", minimum=1, integer=True)
-    _positive_flag(args.tol, "--tol")
+    if args.tol is not None:
+        _positive_flag(args.tol, "--tol")
     scene = _load(args)
     if not scene.model or scene.model == "double_pendulum":
         raise UsageError(f"{args.scene}: model `{scene.model}` has no gait to find")
@@ -33,7 +34,7 @@ def cmd_find(args) -> int:
         P,
         P.project(scene.state),
         period=period,
-        tol=args.tol,
+        tol=scene.compute.tol if args.tol is None else args.tol,
         jacobian="fd" if args.fd else "exact",
     )
     record = {
@@ -105,8 +106,9 @@ def register(sub) -> None:
     p.add_argument(
         "--tol",
         type=float,
-        default=1e-12,
-        help="residual tolerance, max|P^k(z) - z| in section units",
+        default=None,
+        help="residual tolerance, max|P^k(z) - z| in section units (default: the scene's "
+        "[compute] tol, 1e-12 unless set)",
     )
     p.add_argument(
         "--fd",

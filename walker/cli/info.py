@@ -591,6 +591,11 @@ def scene_text(model: str, preset: str) -> str:
                     "[s] time limit per stride (the whole run when strides = 0), > 0; "
                     f"default {defaults['t_max']!r}",
                 ),
+                (
+                    f"tol = {defaults['tol']!r}",
+                    "fixed-point residual max|P^k(z) - z| (walker find --tol), > 0; "
+                    f"default {defaults['tol']!r}",
+                ),
             ]
         ),
         "# first_step = 0.001   # [s] optional first step, > 0 (default: chosen by the",
