@@ -392,3 +392,77 @@ def test_chattering_test_leaves_gaits_alone():
     # test)
     sol = hybrid_solve(BALL, [1.0, 0.0], BALL_P * [1, 1 / 0.9, 1], n_strides=200, t_max=1e3)
     assert sol.status == Status.COMPLETED and sol.n_events == 200
+
+
+# --- Seeded variational equations (issue 12): jacobian_seed S propagates (d x / d x0) S -----
+
+
+def _seeded(system, x0, p, seed, **kw):
+    args = dict(
+        phase0=0,
+        t0=0.0,
+        t_max=100.0,
+        n_strides=2,
+        method="DOP853",
+        rtol=1e-10,
+        atol=1e-12,
+        first_step=None,
+        max_step=np.inf,
+        max_steps=1_000_000,
+        output="events",
+        sample_times=None,
+        jacobian=True,
+        n_interior=4,
+        fixed_step=False,
+    )
+    args.update(kw)
+    return _solve(system, x0, p, jacobian_seed=seed, **args)
+
+
+def test_identity_seed_is_the_run_without_a_seed_bit_for_bit():
+    x0 = walker_state(*GARCIA_FIXED) + np.array([0.001, -0.002, 0.001, 0.0])
+    p = np.array([GARCIA_SLOPE])
+    plain = _seeded(WALKER, x0, p, None)
+    eye = _seeded(WALKER, x0, p, np.eye(4))
+    assert plain.status == eye.status == Status.COMPLETED
+    np.testing.assert_array_equal(eye.jac, plain.jac)
+    np.testing.assert_array_equal(eye.dt_dx0, plain.dt_dx0)
+    np.testing.assert_array_equal(eye.x, plain.x)
+    assert (eye.t, eye.n_steps, eye.n_rhs) == (plain.t, plain.n_steps, plain.n_rhs)
+
+
+@pytest.mark.parametrize("columns", [1, 2, 3])
+def test_seed_columns_are_the_full_sensitivities_times_the_seed(columns):
+    """On fixed steps (RK4) the seeded and the full run take the same steps and locate the
+    same events, so jac and dt_dx0 are the full ones times the seed up to rounding; with
+    adaptive steps (the control measures the columns carried) to the integration error."""
+    x0 = walker_state(*GARCIA_FIXED) + np.array([0.001, -0.002, 0.001, 0.0])
+    p = np.array([GARCIA_SLOPE])
+    seed = np.random.default_rng(columns).normal(size=(4, columns))
+    for kw, tol in ((dict(method="RK4", first_step=1e-2), 1e-13), (dict(), 1e-7)):
+        full = _seeded(WALKER, x0, p, None, **kw)
+        part = _seeded(WALKER, x0, p, seed, **kw)
+        assert part.jac.shape == (4, columns) and part.dt_dx0.shape == (columns,)
+        scale = np.max(np.abs(full.jac @ seed))
+        assert np.max(np.abs(part.jac - full.jac @ seed)) <= tol * scale
+        assert_allclose(part.dt_dx0, full.dt_dx0 @ seed, rtol=0, atol=tol * scale)
+        if "method" in kw:
+            np.testing.assert_array_equal(part.x, full.x)
+            np.testing.assert_array_equal(part.events.t, full.events.t)
+
+
+@pytest.mark.parametrize(
+    ("seed", "kw", "match"),
+    [
+        (np.ones((3, 2)), {}, r"`jacobian_seed` must have shape \(n_x = 4, m\)"),
+        (np.ones(4), {}, r"`jacobian_seed` must have shape"),
+        (np.ones((4, 5)), {}, r"1 <= m <= n_x = 4"),
+        (np.ones((4, 0)), {}, r"1 <= m <= n_x = 4"),
+        (np.full((4, 2), np.nan), {}, "`jacobian_seed` must be finite"),
+        (np.ones((4, 2)), dict(jacobian=False), "only used with `jacobian=True`"),
+    ],
+)
+def test_seed_validation(seed, kw, match):
+    x0 = walker_state(*GARCIA_FIXED)
+    with pytest.raises(ValueError, match=match):
+        _seeded(WALKER, x0, np.array([GARCIA_SLOPE]), seed, **kw)

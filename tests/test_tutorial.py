@@ -119,4 +119,6 @@ def test_compass_numbers_quoted(session):
     assert re.search(r"slope 0\.0771\d*\.\.0\.0852\d*\s+period 2", orbits)
     assert re.search(r"slope 0\.0861\d*\.\.\S+\s+period 4", orbits)
     assert re.search(r"period 8", orbits)
-    assert re.search(r"slope 0\.0909\d*\.\.0\.095\s+fell", orbits)
+    # the first fall lies in the chaotic band: it moves with rounding (0.0909 or 0.0912)
+    falls = re.search(r"slope (0\.09\d*)\.\.0\.095\s+fell", orbits)
+    assert falls and 0.0900 <= float(falls.group(1)) <= 0.0920, orbits

@@ -39,9 +39,12 @@ them into the C header ``walker/_core/tableaux.h`` bit for bit.
 
 Step-size control (adaptive methods): the error estimate is measured in the scaled RMS norm
 with scale ``atol + rtol * max(|y|, |y_new|)`` (components of the variational matrix
-included when ``jacobian=True``); a step is accepted when that norm is <= 1; the next step is
-``h * min(10, max(0.2, 0.9 * err**(-1/(q+1))))`` with ``q`` the order of the error estimate
-(7 for DOP853, 4 for RK45), never growing right after a rejection.  The first step of every
+included when ``jacobian=True``; with a seed of ``m < n_x`` columns, see :func:`_solve`, their
+squared errors count ``n_x / m`` times and the mean is taken over ``n_x + n_x**2``
+components, as if the columns not carried erred like those carried); a step is accepted
+when that norm is <= 1; the next step is ``h * min(10, max(0.2, 0.9 * err**(-1/(q+1))))``
+with ``q`` the order of the error estimate (7 for DOP853, 4 for RK45), never growing right
+after a rejection.  The first step of every
 phase segment (at ``t0`` and after each applied event) is chosen by Hairer's rule [2]_
 (Sect. II.4) unless ``first_step`` is given, which is used at ``t0`` only.
 
@@ -526,11 +529,25 @@ class PreparedRun:
     def __reduce__(self):
         raise TypeError("a PreparedRun holds process-local addresses: build one per process")
 
-    def map(self, x0, p, phase0: int, t_max: float, n_strides: int, jacobian: bool):
+    def map(
+        self,
+        x0,
+        p,
+        phase0: int,
+        t_max: float,
+        n_strides: int,
+        jacobian: bool,
+        jacobian_seed=None,
+    ):
         """One run from ``(t0 = 0, x0)``: ``(status, t, x, jac)``, ``status`` an int
         (:class:`walker.status.Status` value), ``jac`` None unless ``jacobian``.  A negative
         ``phase0`` (a model's start phase that could not be chosen) gives
-        ``LINEAR_SOLVE_FAILED`` without a run."""
+        ``LINEAR_SOLVE_FAILED`` without a run.
+
+        ``jacobian_seed`` (with ``jacobian``): None, or a C-contiguous float64 array ``S`` of
+        shape ``(n_x, m)``, ``1 <= m <= n_x``, finite (the caller guarantees it); the run
+        then propagates only the ``m`` columns of ``(d x / d x0) S`` and ``jac`` is that
+        ``(n_x, m)`` product (see :func:`_solve`)."""
         if jacobian and self.system.jac is None:
             raise ValueError("`jacobian=True` needs a system with `jac` (system.jac is None)")
         if phase0 < 0:
@@ -550,8 +567,12 @@ class PreparedRun:
             _EMPTY,
             jacobian,
             self._n_interior,
+            jacobian_seed,
         )
-        return r[0], r[1], _floats(r[2]), (_floats(r[18], self._head[6]) if jacobian else None)
+        if not jacobian:
+            return r[0], r[1], _floats(r[2]), None
+        m = self._head[6] if jacobian_seed is None else jacobian_seed.shape[1]
+        return r[0], r[1], _floats(r[2]), _floats(r[18], m)
 
 
 def hybrid_solve(
@@ -682,12 +703,23 @@ def _solve(
     n_interior,
     fixed_step,
     p_checked=False,
+    jacobian_seed=None,
 ):
     """:func:`hybrid_solve` with an extra ``fixed_step`` switch that runs the adaptive
     methods (DOP853, RK45) with the fixed step ``first_step`` and no error control (used to
     measure convergence orders).  ``p_checked``: the caller guarantees that ``p`` is a
     C-contiguous, finite float64 vector of the system's length (checked once, when it was
-    made: :func:`walker.stride.simulate`'s parameter cache)."""
+    made: :func:`walker.stride.simulate`'s parameter cache).
+
+    ``jacobian_seed`` (with ``jacobian=True``): None (the identity: ``Solution.jac`` is the
+    full ``(n_x, n_x)`` derivative of the final state with respect to ``x0``) or an array
+    ``S`` of shape ``(n_x, m)``, ``1 <= m <= n_x``: the variational equations, saltation
+    matrices and resets then carry only the ``m`` columns of ``Phi = (d x / d x0) S`` (a
+    stride map needs ``d x / d x0`` times its lift's Jacobian, ``m = n_z`` columns), and
+    ``Solution.jac`` has shape ``(n_x, m)``, ``Solution.dt_dx0`` shape ``(m,)``
+    (``(d t / d x0) S``).  The step-size control measures the components carried, so the
+    steps taken, and the results to within the integration tolerance, depend on the
+    seed; the identity seed gives the run without one bit for bit."""
     if not isinstance(system, HybridSystem):
         raise TypeError(f"`system` must be a HybridSystem, got {type(system).__name__}")
     n_x = system.n_x
@@ -750,6 +782,20 @@ def _solve(
     if jacobian and system.jac is None:
         raise ValueError("`jacobian=True` needs a system with `jac` (system.jac is None)")
     n_interior = _check_int("n_interior", n_interior, 0)
+    n_c = n_x
+    if jacobian_seed is not None:
+        if not jacobian:
+            raise ValueError("`jacobian_seed` is only used with `jacobian=True`")
+        jacobian_seed = np.array(jacobian_seed, dtype=np.float64, order="C")
+        if jacobian_seed.ndim != 2 or jacobian_seed.shape[0] != n_x:
+            raise ValueError(
+                f"`jacobian_seed` must have shape (n_x = {n_x}, m), got {jacobian_seed.shape}"
+            )
+        n_c = jacobian_seed.shape[1]
+        if not 1 <= n_c <= n_x:
+            raise ValueError(f"`jacobian_seed` must have 1 <= m <= n_x = {n_x} columns, got {n_c}")
+        if not np.isfinite(jacobian_seed).all():
+            raise ValueError("`jacobian_seed` must be finite")
 
     rhs, guards, reset, jac, ctx, _ = _compiled(system)
     res = _hybrid.solve(
@@ -779,6 +825,7 @@ def _solve(
         st,
         jacobian,
         n_interior,
+        jacobian_seed,
     )
     (
         status,
@@ -836,7 +883,7 @@ def _solve(
         events=events,
         samples=samples,
         record=record,
-        jac=_floats(jac_out, n_x) if jacobian else None,
+        jac=_floats(jac_out, n_c) if jacobian else None,
         dt_dx0=_floats(dt_dx0) if (jacobian and has_dt) else None,
         error_estimate=float(err_sum),
         phase_names=system.phase_names,

@@ -361,7 +361,9 @@ class StrideMap:
         vector); for a model whose lift is declared affine (``LIFT_AFFINE``, as
         :meth:`basin_batch` relies on) ``project`` is the index array of the components it
         selects and ``lift_jacobian`` the constant Jacobian, else None (the model's own
-        functions are called); ``start_phase`` None when every state starts in phase 0."""
+        functions are called); ``start_phase`` None when every state starts in phase 0.
+        The constant ``lift_jacobian`` (C-contiguous float64, ``(n_x, n_z)``) is also the seed
+        of the variational equations for ``jacobian=True``."""
         model = self.model
         module = model.module
         project = lift_jac = None
@@ -375,7 +377,9 @@ class StrideMap:
                 and np.array_equal(model.project(probe, p), probe[idx.astype(np.int64)])
             ):
                 project = idx.astype(np.intp)
-                lift_jac = model.lift_jacobian(np.zeros(model.n_z), p)
+                lift_jac = np.array(
+                    model.lift_jacobian(np.zeros(model.n_z), p), dtype=np.float64, order="C"
+                )
                 lift_jac.flags.writeable = False
         if model._state_fn("start_phase") is None and not hasattr(module, "start_phase"):
             start_phase = None
@@ -574,6 +578,15 @@ class StrideMap:
         ):
             nan = np.full(self.n_z, np.nan)
             return MapResult(Status.OUTSIDE_WALKING_REGION, nan, None, 0.0, x0)
+        seed = None
+        if jacobian:
+            # The map's Jacobian is project . (d x / d x0) . lift_jacobian: the run carries
+            # only the n_z columns (d x / d x0) . lift_jacobian of the sensitivities.
+            seed = lift_jac
+            if seed is None:
+                seed = np.array(model.lift_jacobian(z, p), dtype=np.float64, order="C")
+                if not np.isfinite(seed).all():
+                    lift_jac, seed = seed, None  # the full sensitivities, times it below
         status, t, x, jac = run.map(
             x0,
             p,
@@ -581,13 +594,16 @@ class StrideMap:
             self.t_max * n_strides,
             n_strides,
             jacobian,
+            seed,
         )
         if status != 0:
             nan = np.full(self.n_z, np.nan)
             return MapResult(Status(status), nan, None, float(t), x)
         jz = None
         if jacobian:
-            jz = self._proj @ jac @ (model.lift_jacobian(z, p) if lift_jac is None else lift_jac)
+            if seed is None:
+                jac = jac @ lift_jac
+            jz = self._proj @ jac if project is None else jac[project]
         return MapResult(
             Status.COMPLETED,
             model.project(x, p) if project is None else x[project],

@@ -180,18 +180,21 @@ static PyObject *bytes_of(const void *data, int64_t count, size_t item)
     return PyByteArray_FromStringAndSize((const char *)data, (Py_ssize_t)((size_t)count * item));
 }
 
-#define SOLVE_NARGS 26
+#define SOLVE_NARGS 26 /* and an optional 27th, jacobian_seed */
 
 PyDoc_STRVAR(solve_doc,
              "solve(rhs, guards, reset, jac, ctx, directions, n_x, n_guards, n_impulse, x0, p,\n"
              "      phase0, t0, t_max, n_strides, method, adaptive, rtol, atol, first_step,\n"
-             "      max_step, max_steps, output, sample_times, want_jac, n_interior)\n"
+             "      max_step, max_steps, output, sample_times, want_jac, n_interior,\n"
+             "      jacobian_seed=None)\n"
              "--\n\n"
              "One run of the hybrid integrator (see walker/integrate.py, which validates the\n"
              "input and is the way to call this).  rhs, guards, reset, jac, ctx: int addresses\n"
              "(wk_system.h; jac = 0: none, ctx = 0: NULL).  directions: int64 (n_phases,\n"
              "n_guards); x0, p, sample_times: float64 1-D; method and output: the codes of\n"
-             "walker.status.  The GIL is released while integrating.\n\n"
+             "walker.status.  jacobian_seed (with want_jac): None or a float64 (n_x, m) array S,\n"
+             "1 <= m <= n_x; the run then propagates (d x / d x0) S, and jac and dt_dx0 hold\n"
+             "m columns.  The GIL is released while integrating.\n\n"
              "Returns (status, t, x, phase, counters, err_sum, ev_t, ev_guard, ev_phase_before,\n"
              "ev_phase_after, ev_x_pre, ev_x_post, ev_impulse, s_x, s_phase, r_t, r_x, r_phase,\n"
              "jac, dt_dx0, has_dt): counters a tuple of 8 ints (steps, rejected, rhs calls,\n"
@@ -201,16 +204,16 @@ PyDoc_STRVAR(solve_doc,
 static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     (void)self;
-    if (nargs != SOLVE_NARGS) {
-        PyErr_Format(PyExc_TypeError, "solve() takes %d arguments, got %zd", SOLVE_NARGS,
-                     nargs);
+    if (nargs != SOLVE_NARGS && nargs != SOLVE_NARGS + 1) {
+        PyErr_Format(PyExc_TypeError, "solve() takes %d or %d arguments, got %zd", SOLVE_NARGS,
+                     SOLVE_NARGS + 1, nargs);
         return NULL;
     }
     uintptr_t a_rhs, a_guards, a_reset, a_jac, a_ctx;
     wk_problem pb;
     memset(&pb, 0, sizeof pb);
-    Py_buffer v_dir, v_x0, v_p, v_st;
-    int have_dir = 0, have_x0 = 0, have_p = 0, have_st = 0;
+    Py_buffer v_dir, v_x0, v_p, v_st, v_seed;
+    int have_dir = 0, have_x0 = 0, have_p = 0, have_st = 0, have_seed = 0;
     PyObject *result = NULL;
     int64_t method, output;
 
@@ -316,6 +319,21 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
             if (pb.sample_times[i] < pb.sample_times[i - 1])
                 FAIL(PyExc_ValueError, "`sample_times` must be sorted (non-decreasing)");
     }
+
+    if (nargs > SOLVE_NARGS && args[SOLVE_NARGS] != Py_None) {
+        if (!pb.want_jac) FAIL(PyExc_ValueError, "`jacobian_seed` needs `want_jac`");
+        if (arg_buffer(args[SOLVE_NARGS], "jacobian_seed", 'd', 2, &v_seed)) goto out;
+        have_seed = 1;
+        if (v_seed.shape[0] != pb.n_x || v_seed.shape[1] < 1 || v_seed.shape[1] > pb.n_x)
+            FAIL(PyExc_ValueError,
+                 "`jacobian_seed` must have shape (n_x = %lld, m) with 1 <= m <= n_x, got "
+                 "(%zd, %zd)",
+                 (long long)pb.n_x, v_seed.shape[0], v_seed.shape[1]);
+        if (!all_finite((const double *)v_seed.buf, v_seed.shape[0] * v_seed.shape[1]))
+            FAIL(PyExc_ValueError, "`jacobian_seed` must be finite");
+        pb.jac_seed = (const double *)v_seed.buf;
+        pb.n_seed = v_seed.shape[1];
+    }
 #undef FAIL
 
     wk_functions fn;
@@ -340,6 +358,7 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
     } else {
         const int64_t *c = res.counters;
         const int64_t n_x = pb.n_x, n_imp = pb.n_impulse;
+        const int64_t n_c = pb.jac_seed != NULL ? pb.n_seed : n_x;
         const int64_t n_log = c[WK_N_LOG], n_samp = c[WK_N_SAMPLES], n_rec = c[WK_N_RECORD];
         const size_t d = sizeof(double), q = sizeof(int64_t);
         PyObject *counters = Py_BuildValue("(LLLLLLLL)", (long long)c[0], (long long)c[1],
@@ -355,7 +374,7 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
                 bytes_of(res.ev_impulse, n_log * n_imp, d), bytes_of(res.s_x, n_samp * n_x, d),
                 bytes_of(res.s_phase, n_samp, q), bytes_of(res.r_t, n_rec, d),
                 bytes_of(res.r_x, n_rec * n_x, d), bytes_of(res.r_phase, n_rec, q),
-                bytes_of(res.jac, n_x * n_x, d), bytes_of(res.dt_dx0, n_x, d),
+                bytes_of(res.jac, n_x * n_c, d), bytes_of(res.dt_dx0, n_c, d),
                 res.has_dt ? Py_True : Py_False);
         }
     }
@@ -366,6 +385,7 @@ out:
     if (have_x0) PyBuffer_Release(&v_x0);
     if (have_p) PyBuffer_Release(&v_p);
     if (have_st) PyBuffer_Release(&v_st);
+    if (have_seed) PyBuffer_Release(&v_seed);
     return result;
 }
 

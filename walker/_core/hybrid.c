@@ -76,51 +76,68 @@ typedef struct {
     int64_t n_guards;
     int64_t n_impulse;
     int want_jac;
-    double *J; /* (n_x, n_x) scratch for the Jacobian */
+    int64_t n_c; /* columns of the sensitivity matrix Phi (n_x, n_c) */
+    double *J;   /* (n_x, n_x) scratch for the Jacobian */
 } model_t;
 
 /* ------------------------------------------------------------------------------------------
  * Building blocks
  * ------------------------------------------------------------------------------------------ */
 
-/* Augmented vector field: dz[:n_x] = f(x) and, with want_jac, dPhi = J(x) Phi, Phi stored
- * row-major in z[n_x:]. */
+/* Augmented vector field: dz[:n_x] = f(x) and, with want_jac, dPhi = J(x) Phi, Phi (n_x, n_c)
+ * stored row-major in z[n_x:]. */
 #define SPARSE_JAC_MAX 32
+
+/* The variational part alone: dz[n_x:] = J(x) Phi (want_jac only). */
+static void fun_var(const model_t *m, int64_t phase, double t, const double *z, double *dz)
+{
+    const int64_t n = m->n_x;
+    const int64_t nc = m->n_c;
+    const double *Phi = z + n;
+    double *J = m->J;
+    m->fn.jac(phase, t, z, m->p, J, m->fn.ctx);
+    /* dPhi = J Phi: each entry the sum over k in increasing order, from 0.0, of J[i][k]
+     * Phi[k][j], two columns at a time (each in its own accumulator: the same sums). */
+    for (int64_t i = 0; i < n; i++) {
+        const double *Ji = J + i * n;
+        double *out = dz + n + i * nc;
+        double chk = 0.0; /* 0 while every entry is finite, NaN after one that is not */
+        int64_t j = 0;
+        for (; j + 2 <= nc; j += 2) {
+            double s0 = 0.0, s1 = 0.0;
+            for (int64_t k = 0; k < n; k++) {
+                s0 += Ji[k] * Phi[k * nc + j];
+                s1 += Ji[k] * Phi[k * nc + j + 1];
+            }
+            out[j] = s0;
+            out[j + 1] = s1;
+            chk += (s0 - s0) + (s1 - s1);
+        }
+        if (j < nc) {
+            double s0 = 0.0;
+            for (int64_t k = 0; k < n; k++) s0 += Ji[k] * Phi[k * nc + j];
+            out[j] = s0;
+            chk += s0 - s0;
+        }
+        if (chk == 0.0 || n > SPARSE_JAC_MAX) continue;
+        /* A non-finite entry: the row again over the nonzeros of J's row only, the product
+         * the kernel has always formed up to SPARSE_JAC_MAX states.  Where every term is
+         * finite the two agree bit for bit (an exact zero added to a sum from 0.0 changes
+         * nothing), so only a row with an infinite or NaN term can differ: there 0 * inf
+         * is NaN in the full sum and absent from this one. */
+        for (int64_t jj = 0; jj < nc; jj++) {
+            double acc = 0.0;
+            for (int64_t k = 0; k < n; k++)
+                if (Ji[k] != 0.0) acc += Ji[k] * Phi[k * nc + jj];
+            out[jj] = acc;
+        }
+    }
+}
 
 static void fun(const model_t *m, int64_t phase, double t, const double *z, double *dz)
 {
-    const int64_t n = m->n_x;
     m->fn.rhs(phase, t, z, m->p, dz, m->fn.ctx);
-    if (m->want_jac) {
-        double *J = m->J;
-        m->fn.jac(phase, t, z, m->p, J, m->fn.ctx);
-        if (n <= SPARSE_JAC_MAX) {
-            /* dPhi = J Phi over the nonzero entries of each row of J only (walker Jacobians
-             * are half zeros: the rows of the angles are rows of the identity).  The sums run
-             * in the same order as the dense product, and adding an exact zero changes no
-             * sum of finite terms, so the result is bit-identical to the dense loop below
-             * whenever Phi is finite. */
-            int64_t cols[SPARSE_JAC_MAX];
-            for (int64_t i = 0; i < n; i++) {
-                int64_t c = 0;
-                for (int64_t k = 0; k < n; k++)
-                    if (J[i * n + k] != 0.0) cols[c++] = k;
-                for (int64_t j = 0; j < n; j++) {
-                    double s = 0.0;
-                    for (int64_t a = 0; a < c; a++) s += J[i * n + cols[a]] * z[n + cols[a] * n + j];
-                    dz[n + i * n + j] = s;
-                }
-            }
-            return;
-        }
-        for (int64_t i = 0; i < n; i++) {
-            for (int64_t j = 0; j < n; j++) {
-                double s = 0.0;
-                for (int64_t k = 0; k < n; k++) s += J[i * n + k] * z[n + k * n + j];
-                dz[n + i * n + j] = s;
-            }
-        }
-    }
+    if (m->want_jac) fun_var(m, phase, t, z, dz);
 }
 
 static int all_finite(const double *v, int64_t n)
@@ -128,6 +145,44 @@ static int all_finite(const double *v, int64_t n)
     for (int64_t i = 0; i < n; i++)
         if (!isfinite(v[i])) return 0;
     return 1;
+}
+
+/* out[i] = y[i] + h * acc[i] (y NULL: h * acc[i]) for i < n_comp, acc[i] the sum over
+ * j < count of coef[j] * K[j * n + i] from 0.0 in increasing j.  Four components at a time,
+ * each in its own accumulator: the same operations in the same order as one component at a
+ * time, with each coefficient loaded once per four. */
+static inline void stage_combine(const double *coef, int count, const double *K, int64_t n,
+                                 int64_t n_comp, const double *y, double h, double *out)
+{
+    int64_t i = 0;
+    for (; i + 4 <= n_comp; i += 4) {
+        double a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0;
+        const double *Ki = K + i;
+        for (int j = 0; j < count; j++) {
+            const double c = coef[j];
+            const double *Kj = Ki + j * n;
+            a0 += c * Kj[0];
+            a1 += c * Kj[1];
+            a2 += c * Kj[2];
+            a3 += c * Kj[3];
+        }
+        if (y != NULL) {
+            out[i] = y[i] + h * a0;
+            out[i + 1] = y[i + 1] + h * a1;
+            out[i + 2] = y[i + 2] + h * a2;
+            out[i + 3] = y[i + 3] + h * a3;
+        } else {
+            out[i] = h * a0;
+            out[i + 1] = h * a1;
+            out[i + 2] = h * a2;
+            out[i + 3] = h * a3;
+        }
+    }
+    for (; i < n_comp; i++) {
+        double acc = 0.0;
+        for (int j = 0; j < count; j++) acc += coef[j] * K[j * n + i];
+        out[i] = (y != NULL) ? y[i] + h * acc : h * acc;
+    }
 }
 
 /* Stages 1..n_stages-1 (stage 0 = K[0] given), then y_new, then the FSAL stage
@@ -139,28 +194,56 @@ static int64_t rk_stages(const model_t *m, int64_t phase, double t, const double
 {
     const int64_t n = m->n_z;
     for (int s = 1; s < n_stages; s++) {
-        for (int64_t i = 0; i < n; i++) {
-            double acc = 0.0;
-            for (int j = 0; j < s; j++) acc += A[s * a_cols + j] * K[j * n + i];
-            tmp[i] = y[i] + h * acc;
-        }
+        stage_combine(A + s * a_cols, s, K, n, n, y, h, tmp);
         fun(m, phase, t + C[s] * h, tmp, K + s * n);
     }
-    for (int64_t i = 0; i < n; i++) {
-        double acc = 0.0;
-        for (int s = 0; s < n_stages; s++) acc += B[s] * K[s * n + i];
-        y_new[i] = y[i] + h * acc;
-    }
+    stage_combine(B, n_stages, K, n, n, y, h, y_new);
     fun(m, phase, t + h, y_new, K + n_stages * n);
     return n_stages;
 }
 
-/* Scaled RMS error estimate of the embedded pair (0 for fixed-step methods). */
-static double error_norm(int method, const double *K, double h, const double *scale, int64_t n)
+/* Scaled RMS error estimate of the embedded pair (0 for fixed-step methods).
+ *
+ * With a seed of n_c < n_x columns (``n_head`` = n_x < n, ``weight`` = n_x / n_c,
+ * ``n_norm`` = n_x + n_x * n_x) the squared scaled errors of the sensitivity components
+ * count ``weight`` times and the norm divides by ``n_norm``: as if the columns not carried
+ * erred like those carried, so the control asks of the carried columns what the full
+ * matrix's asks of all.  Without one, ``n_head`` = n and ``n_norm`` = n: the plain norm. */
+static double error_norm(int method, const double *K, double h, const double *scale, int64_t n,
+                         int64_t n_head, double weight, double n_norm)
 {
     if (method == WK_METHOD_DOP853) {
-        double e5 = 0.0, e3 = 0.0;
-        for (int64_t i = 0; i < n; i++) {
+        double e5 = 0.0, e3 = 0.0, s5 = 0.0, s3 = 0.0;
+        int64_t i = 0;
+        /* four components at a time (each with its own accumulators; the squares are added
+         * in increasing i as below) */
+        for (; i + 4 <= n; i += 4) {
+            double a5[4] = {0.0, 0.0, 0.0, 0.0}, a3[4] = {0.0, 0.0, 0.0, 0.0};
+            for (int s = 0; s < WK_DOP853_E5_ROWS; s++) {
+                const double c5 = WK_DOP853_E5[s], c3 = WK_DOP853_E3[s];
+                const double *Ks = K + s * n + i;
+                a5[0] += c5 * Ks[0];
+                a3[0] += c3 * Ks[0];
+                a5[1] += c5 * Ks[1];
+                a3[1] += c3 * Ks[1];
+                a5[2] += c5 * Ks[2];
+                a3[2] += c3 * Ks[2];
+                a5[3] += c5 * Ks[3];
+                a3[3] += c3 * Ks[3];
+            }
+            for (int b = 0; b < 4; b++) {
+                const double q5 = a5[b] / scale[i + b];
+                const double q3 = a3[b] / scale[i + b];
+                if (i + b < n_head) {
+                    e5 += q5 * q5;
+                    e3 += q3 * q3;
+                } else {
+                    s5 += q5 * q5;
+                    s3 += q3 * q3;
+                }
+            }
+        }
+        for (; i < n; i++) {
             double a5 = 0.0, a3 = 0.0;
             for (int s = 0; s < WK_DOP853_E5_ROWS; s++) {
                 a5 += WK_DOP853_E5[s] * K[s * n + i];
@@ -168,22 +251,35 @@ static double error_norm(int method, const double *K, double h, const double *sc
             }
             const double q5 = a5 / scale[i];
             const double q3 = a3 / scale[i];
-            e5 += q5 * q5;
-            e3 += q3 * q3;
+            if (i < n_head) {
+                e5 += q5 * q5;
+                e3 += q3 * q3;
+            } else {
+                s5 += q5 * q5;
+                s3 += q3 * q3;
+            }
+        }
+        if (n_head < n) {
+            e5 += weight * s5;
+            e3 += weight * s3;
         }
         if (e5 == 0.0 && e3 == 0.0) return 0.0;
         /* dop853's combination of the 5th- and 3rd-order estimates. */
-        return fabs(h) * e5 / sqrt((e5 + 0.01 * e3) * (double)n);
+        return fabs(h) * e5 / sqrt((e5 + 0.01 * e3) * n_norm);
     }
     if (method == WK_METHOD_DP5) {
-        double e = 0.0;
+        double e = 0.0, se = 0.0;
         for (int64_t i = 0; i < n; i++) {
             double a = 0.0;
             for (int s = 0; s < WK_RK45_E_ROWS; s++) a += WK_RK45_E[s] * K[s * n + i];
             const double q = h * a / scale[i];
-            e += q * q;
+            if (i < n_head)
+                e += q * q;
+            else
+                se += q * q;
         }
-        return sqrt(e / (double)n);
+        if (n_head < n) e += weight * se;
+        return sqrt(e / n_norm);
     }
     return 0.0;
 }
@@ -227,36 +323,55 @@ static double initial_step(const model_t *m, int64_t phase, double t, const doub
     return min2(min2(min2(100.0 * h0, h1), max_step), span);
 }
 
-/* Fill the dense-output coefficients Q of the step (t, y_old) -> (t + h, y_new).  K[0] is
- * f at the step start and K[n_stages] f at the step end (Hermite: K[1]).  Returns the
- * number of extra rhs evaluations (3 for DOP853, else 0). */
+/* How much of a step's dense output is ready: none, the state's n_x components (all that
+ * guards and samples read) or all n_z (the event state with its sensitivities). */
+#define DENSE_NONE 0
+#define DENSE_STATE 1
+#define DENSE_FULL 2
+
+/* Fill the dense-output coefficients Q of the step (t, y_old) -> (t + h, y_new), from what
+ * is ready (``have``) up to ``want`` (DENSE_STATE or DENSE_FULL).  K[0] is f at the step
+ * start and K[n_stages] f at the step end (Hermite: K[1]).  Returns the number of extra rhs
+ * evaluations (3 for DOP853, else 0), once per step.
+ *
+ * DOP853 with sensitivities: the state's components of the three extra stages depend on
+ * the state's alone (the variational equations do not feed back), so DENSE_STATE computes
+ * just those (rhs calls, no Jacobians), and DENSE_FULL -- needed only in a step with an
+ * event -- adds the sensitivities' (Jacobian calls at the same stage points).  Every number
+ * is computed by the same expression as in one pass, so the result is bit-identical. */
 static int64_t dense_prepare(int kind, const model_t *m, int64_t phase, double t,
                              const double *y_old, const double *y_new, double h, double *K,
-                             double *Q, double *tmp)
+                             double *Q, double *tmp, int have, int want)
 {
     const int64_t n = m->n_z;
     if (kind == DENSE_DOP853) {
+        const int split = m->want_jac && want == DENSE_STATE;
+        /* components [lo, hi) of Q are filled now */
+        const int64_t lo = (have == DENSE_STATE) ? m->n_x : 0;
+        const int64_t hi = split ? m->n_x : n;
+        if (lo >= hi) return 0;
         for (int s = WK_DOP853_N_STAGES + 1; s < K_ROWS; s++) {
-            for (int64_t i = 0; i < n; i++) {
-                double acc = 0.0;
-                for (int j = 0; j < s; j++) acc += WK_DOP853_A[s][j] * K[j * n + i];
-                tmp[i] = y_old[i] + h * acc;
-            }
-            fun(m, phase, t + WK_DOP853_C[s] * h, tmp, K + s * n);
+            stage_combine(WK_DOP853_A[s], s, K, n, hi, y_old, h, tmp);
+            const double ts = t + WK_DOP853_C[s] * h;
+            if (split)
+                m->fn.rhs(phase, ts, tmp, m->p, K + s * n, m->fn.ctx);
+            else if (have == DENSE_STATE)
+                fun_var(m, phase, ts, tmp, K + s * n);
+            else
+                fun(m, phase, ts, tmp, K + s * n);
         }
-        for (int64_t i = 0; i < n; i++) {
+        for (int64_t i = lo; i < hi; i++) {
             const double dy = y_new[i] - y_old[i];
             Q[0 * n + i] = dy;
             Q[1 * n + i] = h * K[i] - dy;
             Q[2 * n + i] = 2.0 * dy - h * (K[WK_DOP853_N_STAGES * n + i] + K[i]);
-            for (int r = 0; r < WK_DOP853_D_ROWS; r++) {
-                double acc = 0.0;
-                for (int s = 0; s < WK_DOP853_D_COLS; s++) acc += WK_DOP853_D[r][s] * K[s * n + i];
-                Q[(3 + r) * n + i] = h * acc;
-            }
         }
-        return K_ROWS - WK_DOP853_N_STAGES - 1;
+        for (int r = 0; r < WK_DOP853_D_ROWS; r++)
+            stage_combine(WK_DOP853_D[r], WK_DOP853_D_COLS, K + lo, n, hi - lo, NULL, h,
+                          Q + (3 + r) * n + lo);
+        return have == DENSE_NONE ? K_ROWS - WK_DOP853_N_STAGES - 1 : 0;
     }
+    if (have != DENSE_NONE) return 0;
     if (kind == DENSE_RK45) {
         for (int64_t i = 0; i < n; i++) {
             for (int r = 0; r < WK_RK45_P_COLS; r++) {
@@ -273,6 +388,12 @@ static int64_t dense_prepare(int kind, const model_t *m, int64_t phase, double t
         Q[2 * n + i] = h * K[n + i];
     }
     return 0;
+}
+
+/* What dense_prepare(..., DENSE_NONE, DENSE_STATE) leaves ready. */
+static inline int dense_have_after(int kind, const model_t *m)
+{
+    return (kind == DENSE_DOP853 && m->want_jac) ? DENSE_STATE : DENSE_FULL;
 }
 
 /* Dense output at t_old + theta * h, first ``count`` components into ``out``; Q has rows
@@ -644,7 +765,14 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
     const int64_t n_guards = pb->n_guards;
     const int64_t n_impulse = pb->n_impulse;
     const int want_jac = pb->want_jac != 0;
-    const int64_t n_z = want_jac ? n_x + n_x * n_x : n_x;
+    /* columns of Phi: the seed's, or n_x for the identity */
+    const int64_t n_c = (pb->jac_seed != NULL) ? pb->n_seed : n_x;
+    const int64_t n_z = want_jac ? n_x + n_x * n_c : n_x;
+    /* the error norm (error_norm): plain, or weighted for a seed of fewer than n_x columns */
+    const int seeded = want_jac && n_c < n_x;
+    const int64_t err_head = seeded ? n_x : n_z;
+    const double err_weight = seeded ? (double)n_x / (double)n_c : 1.0;
+    const double err_n = seeded ? (double)n_x + (double)n_x * (double)n_x : (double)n_z;
     const int method = pb->method;
     const int adaptive = pb->adaptive != 0;
     const double rtol = pb->rtol, atol = pb->atol;
@@ -703,8 +831,9 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
     const int64_t n_work = 7 * n_z                /* z y_new tmp f0 f1 scale iscale */
                            + K_ROWS * n_z + Q_ROWS * n_z /* K Q */
                            + n_z                  /* zev */
-                           + 3 * n_x * n_x        /* J Phi_m DR */
-                           + 12 * n_x             /* xbuf x_new fm fp w gPhi, derivatives */
+                           + 2 * n_x * n_x        /* J DR */
+                           + n_x * n_c + n_c      /* Phi_m gPhi */
+                           + 11 * n_x             /* xbuf x_new fm fp w, derivatives */
                            + 2 * n_impulse        /* impulse imp */
                            + 7 * n_guards         /* ga gb gbuf rate_a rate_b g_end, dgbuf */
                            + 4 * n_guards         /* chattering test */
@@ -720,9 +849,9 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
     double *z = TAKE(n_z), *y_new = TAKE(n_z), *tmp = TAKE(n_z), *f0 = TAKE(n_z);
     double *f1 = TAKE(n_z), *scale = TAKE(n_z), *iscale = TAKE(n_z);
     double *K = TAKE(K_ROWS * n_z), *Q = TAKE(Q_ROWS * n_z), *zev = TAKE(n_z);
-    double *J = TAKE(n_x * n_x), *Phi_m = TAKE(n_x * n_x);
+    double *J = TAKE(n_x * n_x), *Phi_m = TAKE(n_x * n_c);
     double *xbuf = TAKE(n_x), *x_new = TAKE(n_x), *fm = TAKE(n_x), *fp = TAKE(n_x);
-    double *w = TAKE(n_x), *gPhi = TAKE(n_x);
+    double *w = TAKE(n_x), *gPhi = TAKE(n_c);
     double *impulse = TAKE(n_impulse);
     double *ga = TAKE(n_guards), *gb = TAKE(n_guards), *gbuf = TAKE(n_guards);
     double *rate_a = TAKE(n_guards), *rate_b = TAKE(n_guards), *g_end = TAKE(n_guards);
@@ -744,8 +873,8 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
     dv.colh = TAKE(n_x);
 #undef TAKE
 
-    const model_t mdl = {*fn,    pb->p,   pb->directions, n_x, n_z, n_guards, n_impulse,
-                         want_jac, J};
+    const model_t mdl = {*fn,       pb->p, pb->directions, n_x, n_z, n_guards, n_impulse,
+                         want_jac, n_c,   J};
     const model_t *m = &mdl;
 
     /* ---- result arrays ---- */
@@ -754,8 +883,8 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
     const double *sample_times = pb->sample_times;
     int64_t cap_e = 0, cap_r = 0;
     res->x = malloc((size_t)n_x * sizeof(double));
-    res->jac = calloc((size_t)(n_x * n_x), sizeof(double));
-    res->dt_dx0 = calloc((size_t)n_x, sizeof(double));
+    res->jac = calloc((size_t)(n_x * n_c), sizeof(double));
+    res->dt_dx0 = calloc((size_t)n_c, sizeof(double));
     if (res->x == NULL || res->jac == NULL || res->dt_dx0 == NULL) {
         rc = WK_ERR_NOMEM;
         goto done;
@@ -784,8 +913,12 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
     int64_t status = RUNNING;
 
     for (int64_t i = 0; i < n_x; i++) z[i] = pb->x0[i];
-    if (want_jac)
-        for (int64_t i = 0; i < n_x; i++) z[n_x + i * n_x + i] = 1.0;
+    if (want_jac) {
+        if (pb->jac_seed != NULL)
+            memcpy(z + n_x, pb->jac_seed, (size_t)(n_x * n_c) * sizeof(double));
+        else
+            for (int64_t i = 0; i < n_x; i++) z[n_x + i * n_x + i] = 1.0;
+    }
 
     /* Time is a compensated absolute offset (at the start of the current segment) plus a
      * local time from 0. */
@@ -855,7 +988,7 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
         double err = 0.0;
         if (adaptive) {
             for (int64_t i = 0; i < n_z; i++) scale[i] = atol + rtol * max2(fabs(z[i]), fabs(y_new[i]));
-            err = error_norm(method, K, h, scale, n_z);
+            err = error_norm(method, K, h, scale, n_z, err_head, err_weight, err_n);
         }
         const int finite = all_finite(y_new, n_z) && all_finite(K_end, n_z) && isfinite(err);
         if (!finite) {
@@ -880,7 +1013,7 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
         nonfinite_seen = 0;
         err_sum += err * rtol;
         if (kind == DENSE_HERMITE) memmove(K + n_z, K_end, (size_t)n_z * sizeof(double));
-        int dense_ready = 0;
+        int dense_have = DENSE_NONE;
         int event_applied = 0;
         double ta = t;
         int64_t j = 1;
@@ -906,9 +1039,10 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
                          0.0 > rate_b[i])
                     sign = -1.0;
                 if (sign != 0.0) {
-                    if (!dense_ready) {
-                        n_rhs += dense_prepare(kind, m, phase, t, z, y_new, h, K, Q, tmp);
-                        dense_ready = 1;
+                    if (dense_have == DENSE_NONE) {
+                        n_rhs += dense_prepare(kind, m, phase, t, z, y_new, h, K, Q, tmp, DENSE_NONE,
+                                               DENSE_STATE);
+                        dense_have = dense_have_after(kind, m);
                     }
                     double gv;
                     const double th = dip(m, &st, xbuf, gbuf, i, sign, &gv);
@@ -931,9 +1065,10 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
                 tb = t_new;
                 fn->guards(phase, tb, y_new, pb->p, gb, fn->ctx);
             } else {
-                if (!dense_ready) {
-                    n_rhs += dense_prepare(kind, m, phase, t, z, y_new, h, K, Q, tmp);
-                    dense_ready = 1;
+                if (dense_have == DENSE_NONE) {
+                    n_rhs += dense_prepare(kind, m, phase, t, z, y_new, h, K, Q, tmp, DENSE_NONE,
+                                           DENSE_STATE);
+                    dense_have = dense_have_after(kind, m);
                 }
                 tb = t + frac[j - 1] * h;
                 dense_eval(kind, Q, n_z, z, frac[j - 1], n_x, xbuf);
@@ -947,9 +1082,10 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
                 const int64_t d = dir[i];
                 double troot = INFINITY;
                 if (crosses(d, ga[i], gb[i])) {
-                    if (!dense_ready) {
-                        n_rhs += dense_prepare(kind, m, phase, t, z, y_new, h, K, Q, tmp);
-                        dense_ready = 1;
+                    if (dense_have == DENSE_NONE) {
+                        n_rhs += dense_prepare(kind, m, phase, t, z, y_new, h, K, Q, tmp, DENSE_NONE,
+                                               DENSE_STATE);
+                        dense_have = dense_have_after(kind, m);
                     }
                     troot = locate(m, &st, xbuf, gbuf, i, ta, tb, ga[i], gb[i]);
                 } else if (last && j == n_frac) {
@@ -972,9 +1108,10 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
                 continue;
             }
             /* ---- an event at best_t ---- */
-            if (!dense_ready) {
-                n_rhs += dense_prepare(kind, m, phase, t, z, y_new, h, K, Q, tmp);
-                dense_ready = 1;
+            if (dense_have != DENSE_FULL) {
+                n_rhs += dense_prepare(kind, m, phase, t, z, y_new, h, K, Q, tmp, dense_have,
+                                       DENSE_FULL);
+                dense_have = DENSE_FULL;
             }
             const double theta = (best_t - t) / h;
             dense_eval(kind, Q, n_z, z, theta, n_z, zev);
@@ -1070,24 +1207,24 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
                 } else {
                     for (int64_t i = 0; i < n_x; i++) w[i] = fp[i] - w[i];
                 }
-                /* M = DR + w grad^T / den; Phi <- M Phi */
+                /* M = DR + w grad^T / den; Phi <- M Phi (the n_c columns of Phi) */
                 for (int64_t r = 0; r < n_x; r++)
-                    for (int64_t c = 0; c < n_x; c++) Phi_m[r * n_x + c] = zev[n_x + r * n_x + c];
-                for (int64_t c = 0; c < n_x; c++) {
+                    for (int64_t c = 0; c < n_c; c++) Phi_m[r * n_c + c] = zev[n_x + r * n_c + c];
+                for (int64_t c = 0; c < n_c; c++) {
                     double acc = 0.0;
-                    for (int64_t k = 0; k < n_x; k++) acc += dv.grad[k] * Phi_m[k * n_x + c];
+                    for (int64_t k = 0; k < n_x; k++) acc += dv.grad[k] * Phi_m[k * n_c + c];
                     gPhi[c] = acc;
                 }
                 for (int64_t r = 0; r < n_x; r++) {
-                    for (int64_t c = 0; c < n_x; c++) {
+                    for (int64_t c = 0; c < n_c; c++) {
                         double acc = w[r] * gPhi[c] / den;
                         for (int64_t k = 0; k < n_x; k++)
-                            acc += dv.DR[r * n_x + k] * Phi_m[k * n_x + c];
-                        z[n_x + r * n_x + c] = acc;
+                            acc += dv.DR[r * n_x + k] * Phi_m[k * n_c + c];
+                        z[n_x + r * n_c + c] = acc;
                     }
                 }
                 if (finishing) {
-                    for (int64_t c = 0; c < n_x; c++) res->dt_dx0[c] = -gPhi[c] / den;
+                    for (int64_t c = 0; c < n_c; c++) res->dt_dx0[c] = -gPhi[c] / den;
                     res->has_dt = 1;
                 }
             }
@@ -1156,9 +1293,10 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
         if (event_applied) continue;
         /* ---- no event in this step: samples, record, advance ---- */
         if (n_samp < n_samp_total && local_time(sample_times[n_samp], t_off, t_off_c) <= t_new) {
-            if (!dense_ready) {
-                n_rhs += dense_prepare(kind, m, phase, t, z, y_new, h, K, Q, tmp);
-                dense_ready = 1;
+            if (dense_have == DENSE_NONE) {
+                n_rhs += dense_prepare(kind, m, phase, t, z, y_new, h, K, Q, tmp, DENSE_NONE,
+                                       DENSE_STATE);
+                dense_have = dense_have_after(kind, m);
             }
             while (n_samp < n_samp_total &&
                    local_time(sample_times[n_samp], t_off, t_off_c) <= t_new) {
@@ -1199,9 +1337,7 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
         rejected_now = 0;
     }
 
-    if (want_jac)
-        for (int64_t r = 0; r < n_x; r++)
-            for (int64_t c = 0; c < n_x; c++) res->jac[r * n_x + c] = z[n_x + r * n_x + c];
+    if (want_jac) memcpy(res->jac, z + n_x, (size_t)(n_x * n_c) * sizeof(double));
     memcpy(res->x, z, (size_t)n_x * sizeof(double));
     res->status = status;
     res->t = t_off + (t + t_off_c);

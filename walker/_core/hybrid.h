@@ -59,6 +59,12 @@ typedef struct {
     int64_t n_samples;
     int want_jac;
     int64_t n_interior;
+    /* With want_jac: the seed S (n_x, n_seed) row-major of the sensitivities, so the run
+     * propagates Phi = (d x / d x0) S, n_seed columns, through the flow, the saltation
+     * matrices and the resets (a stride map needs only (d x / d x0) times its lift's
+     * Jacobian).  NULL: the identity, n_seed = n_x (the full d x / d x0). */
+    const double *jac_seed;
+    int64_t n_seed;
 } wk_problem;
 
 /* Counters, in this order in wk_result.counters. */
@@ -98,8 +104,9 @@ typedef struct {
     double *r_t;
     double *r_x; /* (n_rec, n_x) */
     int64_t *r_phase;
-    double *jac;    /* (n_x, n_x) d x_final / d x0 (zeros unless want_jac) */
-    double *dt_dx0; /* (n_x,) */
+    double *jac;    /* (n_x, n_c) d x_final / d x0 times the seed (zeros unless want_jac);
+                     * n_c = n_seed with a seed, else n_x */
+    double *dt_dx0; /* (n_c,) d t_final / d x0 times the seed */
     int has_dt;
 } wk_result;
 
