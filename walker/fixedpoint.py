@@ -28,6 +28,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from walker._checks import as_vector, time_scale
 from walker.results import FixedPoint, MapResult
 from walker.status import Status
 
@@ -166,7 +167,7 @@ class WalkingRegion:
 
     * ``scale`` (n_z,): the unit of each section coordinate for the search's trust region:
       1 for an angle [rad], ``sqrt(g / l)`` for a rate [rad/s] (``l`` the leg length, as in
-      :func:`walker.stride._time_scale`), so a step of 1 is one radian or one natural rate.
+      :func:`walker._checks.time_scale`), so a step of 1 is one radian or one natural rate.
     * stance leg: section coordinate 0 is the stance-leg angle (``theta``, ``q_stance``,
       ``q1``, ``q_leg``); a point whose stance leg lies at ``FALL_ANGLE``
       (walker/models/_common.py, 70 degrees) or more from the slope normal has fallen.
@@ -189,14 +190,13 @@ class WalkingRegion:
 
     def __init__(self, model, params):
         from walker.models._common import FALL_ANGLE
-        from walker.stride import _time_scale
 
         self.model = model
         self.params = params
         self.p = np.ascontiguousarray(params.as_array(), dtype=np.float64)
         self.slope = float(getattr(params, "slope", 0.0))
         names = tuple(model.section_names)
-        rate = 1.0 / _time_scale(params)
+        rate = 1.0 / time_scale(params)
         self.scale = np.array([rate if _is_rate(n) else 1.0 for n in names])
         self.stance = _STANCE_ANGLE.get(names[0]) if names else None
         self.fall_angle = FALL_ANGLE
@@ -287,7 +287,7 @@ def stride_max_steps(params, t_max: float, method: str, first_step: float | None
     """Integration steps (accepted + rejected) one stride of a stride map may take.
 
     Adaptive methods: ``max(STRIDE_MIN_STEPS, ceil(STEPS_PER_TIME_UNIT * t_max / T))`` with
-    ``T = sqrt(l / g)`` (:func:`walker.stride._time_scale`).  Measured on the shipped scenes'
+    ``T = sqrt(l / g)`` (:func:`walker._checks.time_scale`).  Measured on the shipped scenes'
     gaits with DOP853 at rtol = atol = 1e-12: a stride takes 17 (simplest) to 62 (five-link)
     steps over 1.7-3.9 T, i.e. 4-36 steps per T (83 steps, 49 per T, for the five-link walker
     at 1e-13); the kneed walker 37 steps.  With the scenes' ``t_max = 20 s`` (62.6 T) a stride
@@ -298,12 +298,11 @@ def stride_max_steps(params, t_max: float, method: str, first_step: float | None
     steps at most anyway; their budget is that plus two.
     """
     from walker.integrate import check_solver_settings
-    from walker.stride import _time_scale
 
     _, _, _, first_step, adaptive = check_solver_settings(method, 1e-6, 1e-6, first_step)
     if not adaptive:
         return int(math.ceil(t_max / first_step)) + 2
-    return max(STRIDE_MIN_STEPS, int(math.ceil(STEPS_PER_TIME_UNIT * t_max / _time_scale(params))))
+    return max(STRIDE_MIN_STEPS, int(math.ceil(STEPS_PER_TIME_UNIT * t_max / time_scale(params))))
 
 
 # --------------------------------------------------------------------------------------------
@@ -328,10 +327,8 @@ def _validate_section_map(section_map) -> None:
 
 
 def _validate_z(section_map: SectionMap, z: np.ndarray, name: str) -> np.ndarray:
-    from walker.stride import _as_vector
-
     _validate_section_map(section_map)
-    z = _as_vector(z, name)
+    z = as_vector(z, name)
     n_z = int(section_map.n_z)
     if z.shape != (n_z,):
         raise ValueError(f"`{name}` must have shape ({n_z},) (the map's n_z), got {z.shape}")

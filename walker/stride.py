@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from walker._checks import as_vector as _as_vector
+from walker._checks import time_scale as _time_scale
 from walker.integrate import PreparedRun, _solve, check_solver_settings
 from walker.models import WalkerModel, get_model
 from walker.results import MapResult, Solution, too_large
@@ -165,49 +167,6 @@ def _setup(model, params):
     return value
 
 
-def _as_vector(value, name: str, length: int | None = None) -> np.ndarray:
-    """``value`` as a float array, or an error naming the argument: a TypeError for what is
-    not an array of real numbers (complex values are refused, never truncated to their real
-    part), a ValueError for a number too large for a float or (with ``length``) a shape other
-    than ``(length,)``."""
-
-    def bad_type() -> TypeError:
-        return TypeError(f"`{name}` must be an array of real numbers, got {_short(value)}")
-
-    arr = value if isinstance(value, np.ndarray) else None
-    if arr is None or arr.dtype.kind not in "fiu":
-        try:
-            arr = np.asarray(value)
-        except (TypeError, ValueError):
-            raise bad_type() from None
-        if arr.dtype.kind == "c":
-            raise TypeError(
-                f"`{name}` must be real, got complex values (the imaginary part would be lost)"
-            )
-        if arr.dtype.kind == "O":  # e.g. Python ints too large for a float, or mixed objects
-            try:
-                arr = np.asarray(value, dtype=float)
-            except OverflowError:
-                raise ValueError(
-                    f"All components of `{name}` must be finite; a number in it is too large "
-                    "for a float"
-                ) from None
-            except (TypeError, ValueError):
-                raise bad_type() from None
-        elif arr.dtype.kind not in "fiub":
-            raise bad_type()
-    arr = arr.astype(float, copy=False)
-    if length is not None and arr.shape != (length,):
-        raise ValueError(f"`{name}` must have shape ({length},), got {arr.shape}")
-    return arr
-
-
-def _short(value) -> str:
-    """``value``'s repr for a one-line message, cut short."""
-    text = repr(value)
-    return text if len(text) <= 80 else text[:77] + "..."
-
-
 def _positive_rate(value) -> float:
     """``sample_rate`` as a float, or an error naming it."""
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
@@ -243,14 +202,6 @@ def _start_phase(model: WalkerModel, x0: np.ndarray, params) -> int:
     if x0.shape != (model.n_x,) or not np.all(np.isfinite(x0)):
         return 0
     return model.start_phase(x0, params)
-
-
-def _time_scale(params) -> float:
-    """sqrt(leg length / g) [s], the natural time unit of a walker."""
-    length = getattr(params, "leg_length", None)
-    if length is None:
-        length = getattr(params, "length_1", 1.0) + getattr(params, "length_2", 0.0)
-    return float(np.sqrt(length / params.g))
 
 
 @dataclass(frozen=True, eq=False)

@@ -54,10 +54,11 @@ from typing import Any
 
 import numpy as np
 
+from walker._checks import as_vector as _as_vector
 from walker._executors import die_with_parent, process_pool, run_chunks
 from walker.fixedpoint import find_fixed_point
 from walker.results import SweepTable, too_large
-from walker.stride import StrideMap, _as_vector
+from walker.stride import StrideMap
 
 __all__ = [
     "KINDS",

@@ -1,0 +1,61 @@
+"""Checks and scales shared by the simulation and analysis layers (walker.stride,
+walker.fixedpoint, walker.sweep): an argument as a float vector with an error naming it, a
+value's short repr for one-line messages, and a walker's natural time unit.  Imports nothing
+of walker, so every layer may use it."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["as_vector", "short_repr", "time_scale"]
+
+
+def as_vector(value, name: str, length: int | None = None) -> np.ndarray:
+    """``value`` as a float array, or an error naming the argument: a TypeError for what is
+    not an array of real numbers (complex values are refused, never truncated to their real
+    part), a ValueError for a number too large for a float or (with ``length``) a shape other
+    than ``(length,)``."""
+
+    def bad_type() -> TypeError:
+        return TypeError(f"`{name}` must be an array of real numbers, got {short_repr(value)}")
+
+    arr = value if isinstance(value, np.ndarray) else None
+    if arr is None or arr.dtype.kind not in "fiu":
+        try:
+            arr = np.asarray(value)
+        except (TypeError, ValueError):
+            raise bad_type() from None
+        if arr.dtype.kind == "c":
+            raise TypeError(
+                f"`{name}` must be real, got complex values (the imaginary part would be lost)"
+            )
+        if arr.dtype.kind == "O":  # e.g. Python ints too large for a float, or mixed objects
+            try:
+                arr = np.asarray(value, dtype=float)
+            except OverflowError:
+                raise ValueError(
+                    f"All components of `{name}` must be finite; a number in it is too large "
+                    "for a float"
+                ) from None
+            except (TypeError, ValueError):
+                raise bad_type() from None
+        elif arr.dtype.kind not in "fiub":
+            raise bad_type()
+    arr = arr.astype(float, copy=False)
+    if length is not None and arr.shape != (length,):
+        raise ValueError(f"`{name}` must have shape ({length},), got {arr.shape}")
+    return arr
+
+
+def short_repr(value) -> str:
+    """``value``'s repr for a one-line message, cut short."""
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def time_scale(params) -> float:
+    """sqrt(leg length / g) [s], the natural time unit of a walker."""
+    length = getattr(params, "leg_length", None)
+    if length is None:
+        length = getattr(params, "length_1", 1.0) + getattr(params, "length_2", 0.0)
+    return float(np.sqrt(length / params.g))
