@@ -144,6 +144,14 @@ def test_unreachable_scheduler_fails_fast_with_exit_2(tmp_path):
     proc = _walker(*args, "--overwrite", "--scheduler", "nohost", timeout=30)
     assert proc.returncode == EXIT_USAGE, proc.stderr
     _one_error_line(proc.stderr, "--scheduler nohost", "missing port")
+    # --jobs with --scheduler: one warning line in flags, then the error
+    proc = _walker(*args, "--overwrite", "--jobs", "2", "--scheduler", "nohost", timeout=30)
+    assert proc.returncode == EXIT_USAGE, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert lines[0] == (
+        "walker: warning: --jobs has no effect with --scheduler (the cluster decides)"
+    ), lines
+    assert len(lines) == 2 and "missing port" in lines[1], lines
 
 
 def test_scheduler_probe_accepts_a_real_scheduler():

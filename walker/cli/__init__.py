@@ -48,6 +48,7 @@ import sys
 import tempfile
 import time
 import traceback
+import warnings
 from pathlib import Path
 
 from . import basin, branch, find, info, orbit, plot, run, sweep
@@ -134,7 +135,8 @@ def main(argv=None) -> int:
         interrupts_as_exceptions() if args.command in _CHECKPOINTING else contextlib.nullcontext()
     )
     try:
-        with guard:
+        with guard, warnings.catch_warnings():
+            warnings.showwarning = _one_line_warning
             try:
                 code = args.func(args)
                 sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
@@ -156,6 +158,12 @@ def main(argv=None) -> int:
             return _internal_error(exc, argv)
         print(f"walker: error: {line}", file=sys.stderr)
         return EXIT_USAGE
+
+
+def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning on the command line: one line, no source location."""
+    text = " ".join(str(message).split())
+    print(f"walker: warning: {text}", file=sys.stderr if file is None else file)
 
 
 _PACKAGE_DIR = Path(__file__).resolve().parent.parent

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import os
+import sys
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
@@ -54,12 +55,19 @@ def cmd_sweep(args) -> int:
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     _check_out(args.out, overwrite=args.overwrite, resumable=True, size=0)  # the store checks
+    jobs = args.jobs
+    if jobs is not None and args.scheduler is not None:
+        print(
+            "walker: warning: --jobs has no effect with --scheduler (the cluster decides)",
+            file=sys.stderr,
+        )
+        jobs = None
     try:
         table = run_sweep_command(
             args.scene,
             args.param,
             kind=args.kind,
-            jobs=args.jobs,
+            jobs=jobs,
             scheduler=args.scheduler,
             out=args.out,
             quiet=args.quiet,
