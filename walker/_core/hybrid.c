@@ -20,6 +20,7 @@
 #define SAFETY 0.9
 #define MIN_FACTOR 0.2
 #define MAX_FACTOR 10.0
+#define SEED_COLUMN_FLOOR 0.01 /* see the seeded error scale in wk_hybrid_solve */
 /* Relative step of the Richardson-extrapolated central differences at events. */
 #define FD_REL_STEP 1e-3
 /* Probe step for guard rates along the vector field. */
@@ -988,6 +989,25 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
         double err = 0.0;
         if (adaptive) {
             for (int64_t i = 0; i < n_z; i++) scale[i] = atol + rtol * max2(fabs(z[i]), fabs(y_new[i]));
+            if (seeded) {
+                /* a seeded column's entries: relative to themselves, but to no less than
+                 * SEED_COLUMN_FLOOR of the column's largest.  A column of (d x / d x0) S may
+                 * nearly cancel in an entry whose terms the full matrix controls one by one
+                 * (the five-link walker's lift mixes the stance and swing angles): measured
+                 * against that entry alone, the step shrank 30-fold. */
+                for (int64_t c = 0; c < n_c; c++) {
+                    double cmax = 0.0;
+                    for (int64_t r = 0; r < n_x; r++) {
+                        const int64_t i = n_x + r * n_c + c;
+                        cmax = max2(cmax, max2(fabs(z[i]), fabs(y_new[i])));
+                    }
+                    for (int64_t r = 0; r < n_x; r++) {
+                        const int64_t i = n_x + r * n_c + c;
+                        scale[i] = atol + rtol * max2(max2(fabs(z[i]), fabs(y_new[i])),
+                                                      SEED_COLUMN_FLOOR * cmax);
+                    }
+                }
+            }
             err = error_norm(method, K, h, scale, n_z, err_head, err_weight, err_n);
         }
         const int finite = all_finite(y_new, n_z) && all_finite(K_end, n_z) && isfinite(err);
