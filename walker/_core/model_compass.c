@@ -75,16 +75,10 @@ static void guards(const compass_kernels *K, int64_t phase, const double *x,
 static int64_t heel_strike(const compass_kernels *K, const double *x, const double *p,
                            double *x_new, double *impulse)
 {
-    const double *q = x;
-    double pts[4 * 2], hip_J[2 * 2], qf[4], qdf[4];
-    double M[4 * 4], Jsw[2 * 4], Jst[2 * 4], qdf_plus[4], lift;
-    K->points(q, p, pts);
-    K->hip_jac(q, p, hip_J);
-    wk_floating_base_state(q, x + 2, pts + 2, hip_J, qf, qdf, 2);
-    K->ext_mass_matrix(qf, p, M);
-    K->ext_swing_contact_jac(qf, p, Jsw);
-    K->ext_stance_contact_jac(qf, p, Jst);
-    if (!wk_heel_strike_impact(M, Jsw, Jst, qdf, p[I_SLOPE], qdf_plus, impulse, &lift, 4))
+    double qdf_plus[4], lift;
+    if (!wk_floating_base_heel_strike(K->points, K->hip_jac, K->ext_mass_matrix,
+                                      K->ext_swing_contact_jac, K->ext_stance_contact_jac, x,
+                                      x + 2, p, 2, 4, 1, p[I_SLOPE], qdf_plus, impulse, &lift))
         return WK_LINEAR_SOLVE_FAILED;
     x_new[0] = x[1];
     x_new[1] = x[0];

@@ -114,3 +114,22 @@ int wk_heel_strike_impact(const double *M, const double *J_swing, const double *
     *lift = v0 * n0 + v1 * n1;
     return 1;
 }
+
+int wk_floating_base_heel_strike(wk_qp_v points, wk_qp_v hip_jac, wk_qp_v ext_mass_matrix,
+                                 wk_qp_v ext_swing_contact_jac, wk_qp_v ext_stance_contact_jac,
+                                 const double *q, const double *qd, const double *p, int n,
+                                 int n_points, int hip_row, double slope, double *qdf_plus,
+                                 double *impulse, double *lift)
+{
+    enum { NF = WK_FLOATING_BASE_MAX };
+    double pts[WK_POINTS_MAX * 2], hip_J[2 * NF], qf[NF], qdf[NF];
+    double M[NF * NF], Jsw[2 * NF], Jst[2 * NF];
+    if (n + 2 > NF || n_points > WK_POINTS_MAX || hip_row < 0 || hip_row >= n_points) return 0;
+    points(q, p, pts);
+    hip_jac(q, p, hip_J);
+    wk_floating_base_state(q, qd, pts + 2 * hip_row, hip_J, qf, qdf, n);
+    ext_mass_matrix(qf, p, M);
+    ext_swing_contact_jac(qf, p, Jsw);
+    ext_stance_contact_jac(qf, p, Jst);
+    return wk_heel_strike_impact(M, Jsw, Jst, qdf, slope, qdf_plus, impulse, lift, n + 2);
+}

@@ -70,6 +70,24 @@ int wk_heel_strike_impact(const double *M, const double *J_swing, const double *
                           const double *qdf, double slope, double *qdf_plus, double *impulse,
                           double *lift, int n_f);
 
+/* Largest floating-base model (coordinates) and number of drawing points
+ * wk_floating_base_heel_strike handles. */
+#define WK_FLOATING_BASE_MAX 8
+#define WK_POINTS_MAX 8
+
+/* walker.models._common.floating_base_heel_strike: the plastic heel strike of a pinned model
+ * of n coordinates (q, qd) on its floating-base extension of n + 2, from the generated
+ * kernels points(q, p, pts) (n_points rows of 2, the hip at row hip_row), hip_jac(q, p, J)
+ * (2 x n) and the floating-base ext_mass_matrix, ext_swing_contact_jac and
+ * ext_stance_contact_jac(qf, p, out).  Writes qdf_plus (n + 2), impulse[0..1] and *lift as
+ * wk_heel_strike_impact; returns 0 for a singular system (or sizes over the maxima).  The
+ * caller swaps the legs and judges the impact. */
+int wk_floating_base_heel_strike(wk_qp_v points, wk_qp_v hip_jac, wk_qp_v ext_mass_matrix,
+                                 wk_qp_v ext_swing_contact_jac, wk_qp_v ext_stance_contact_jac,
+                                 const double *q, const double *qd, const double *p, int n,
+                                 int n_points, int hip_row, double slope, double *qdf_plus,
+                                 double *impulse, double *lift);
+
 /* The models' functions, registered in models.c: wk_model_<name>_{rhs, guards, reset, jac}
  * (wk_system.h) and wk_model_<name>_{energy, points} (wk_models.h). */
 #define WK_DECLARE_MODEL(name)                                                              \

@@ -343,3 +343,154 @@ void wk_friction_guards(const double *S, const double *F, const int64_t *modes,
         }
     }
 }
+
+void wk_friction_dynamics(const wk_friction_kernels *K, const double *x, const double *p,
+                          double *D, double *f, double *qd)
+{
+    const int n = K->n;
+    double h[WK_FRICTION_MAX_N];
+    for (int i = 0; i < n; i++) qd[i] = x[K->v0 + i];
+    K->mass_matrix(x, p, D);
+    K->bias(x, qd, p, h);
+    K->forcing(x, qd, p, f);
+    for (int i = 0; i < n; i++) f[i] -= h[i];
+}
+
+int wk_friction_phase_solve(const wk_friction_kernels *K, const double *F,
+                            const int64_t *modes, const double *x, const double *p,
+                            double *qdd, double *lam)
+{
+    double D[WK_FRICTION_MAX_N * WK_FRICTION_MAX_N], f[WK_FRICTION_MAX_N];
+    double qd[WK_FRICTION_MAX_N];
+    if (!sizes_ok(K->n, K->m)) return 0;
+    wk_friction_dynamics(K, x, p, D, f, qd);
+    return wk_friction_accelerations(D, f, K->S, F, modes, K->n, K->m, qdd, lam);
+}
+
+void wk_friction_phase_accelerations(const wk_friction_kernels *K, const double *F,
+                                     const int64_t *modes, const double *x, const double *p,
+                                     double *qdd)
+{
+    const int n = K->n;
+    double Q[WK_FRICTION_MAX_N];
+    if (!sizes_ok(n, K->m)) return;
+    int kind = wk_friction_slip_force(K->S, F, modes, n, K->m, Q);
+    if (kind == 0) { /* a joint sticks: the augmented system */
+        double lam[WK_FRICTION_MAX_JOINTS];
+        wk_friction_phase_solve(K, F, modes, x, p, qdd, lam);
+        return;
+    }
+    /* the fused kernel (viscous dampers included) plus D^-1 of the slip torques */
+    K->accel(x, x + K->v0, p, qdd);
+    if (kind > 0) {
+        double D[WK_FRICTION_MAX_N * WK_FRICTION_MAX_N];
+        K->mass_matrix(x, p, D);
+        wk_solve_inplace(D, Q, n);
+        for (int i = 0; i < n; i++) qdd[i] += Q[i];
+    }
+}
+
+int wk_friction_phase_jacobian(const wk_friction_kernels *K, const double *F,
+                               const int64_t *modes, const double *x, const double *p,
+                               double *a)
+{
+    enum { N = WK_FRICTION_MAX_N };
+    const int n = K->n;
+    double D[N * N], f[N], qd[N], qdd[N], lam[WK_FRICTION_MAX_JOINTS];
+    double dD[N * N * N], df_dq[N * N], dh_dqd[N * N], df_dqd[N * N];
+    double unit[N], col[N];
+    if (!sizes_ok(n, K->m)) return 0;
+    wk_friction_dynamics(K, x, p, D, f, qd);
+    wk_friction_accelerations(D, f, K->S, F, modes, n, K->m, qdd, lam);
+    K->dmass(x, p, dD);
+    K->dbias_dq(x, qd, p, df_dq);
+    K->dbias_dqd(x, qd, p, dh_dqd);
+    for (int k = 0; k < n; k++) {
+        /* The viscous forcing is linear in qd and independent of q: probe its columns. */
+        for (int i = 0; i < n; i++) unit[i] = 0.0;
+        unit[k] = 1.0;
+        K->forcing(x, unit, p, col);
+        for (int i = 0; i < n; i++) {
+            df_dqd[i * n + k] = col[i] - dh_dqd[i * n + k];
+            df_dq[i * n + k] = -df_dq[i * n + k];
+        }
+    }
+    return wk_friction_accelerations_jacobian(D, dD, df_dq, df_dqd, K->S, modes, qdd, n, K->m,
+                                              a);
+}
+
+void wk_friction_phase_guards(const wk_friction_kernels *K, const double *F,
+                              const int64_t *modes, const double *x, const double *p,
+                              double *g)
+{
+    double lam[WK_FRICTION_MAX_JOINTS] = {0.0};
+    bool stuck = false;
+    if (!sizes_ok(K->n, K->m)) return;
+    for (int j = 0; j < K->m; j++) stuck = stuck || modes[j] == WK_STICK;
+    if (stuck) { /* the holding torques; otherwise the guards need the rates only */
+        double qdd[WK_FRICTION_MAX_N];
+        wk_friction_phase_solve(K, F, modes, x, p, qdd, lam);
+    }
+    wk_friction_guards(K->S, F, modes, x + K->v0, lam, K->n, K->m, g);
+}
+
+int wk_friction_phase_settle(const wk_friction_kernels *K, const double *F, int64_t *modes,
+                             double *x, const double *p)
+{
+    enum { N = WK_FRICTION_MAX_N };
+    double D[N * N], f[N], qd[N], qd_new[N];
+    bool free_joints[WK_FRICTION_MAX_JOINTS];
+    if (!sizes_ok(K->n, K->m)) return 0;
+    for (int j = 0; j < K->m; j++) free_joints[j] = true;
+    wk_friction_dynamics(K, x, p, D, f, qd);
+    if (!wk_friction_settle(D, f, K->S, F, qd, free_joints, K->n, K->m, modes, qd_new)) return 0;
+    for (int i = 0; i < K->n; i++) x[K->v0 + i] = qd_new[i];
+    return 1;
+}
+
+int wk_friction_phase_switch(const wk_friction_kernels *K, const double *F, int64_t *modes,
+                             int64_t k, const double *x, const double *p, double *x_new)
+{
+    enum { N = WK_FRICTION_MAX_N };
+    double D[N * N], f[N], qd[N], qd_new[N];
+    if (!sizes_ok(K->n, K->m)) return 0;
+    wk_friction_dynamics(K, x, p, D, f, qd);
+    if (!wk_friction_switch(D, f, K->S, F, qd, k / 2, k % 2 == 1, K->n, K->m, modes, qd_new))
+        return 0;
+    for (int i = 0; i < K->n; i++) x_new[K->v0 + i] = qd_new[i];
+    return 1;
+}
+
+void wk_friction_first_order(const double *x, const double *qdd, int n, double *dx)
+{
+    for (int i = 0; i < n; i++) {
+        dx[i] = x[n + i];
+        dx[n + i] = qdd[i];
+    }
+}
+
+void wk_friction_first_order_jacobian(const double *a, int n, double *J)
+{
+    const int nx = 2 * n;
+    for (int i = 0; i < nx * nx; i++) J[i] = 0.0;
+    for (int i = 0; i < n; i++) {
+        J[i * nx + n + i] = 1.0;
+        for (int c = 0; c < nx; c++) J[(n + i) * nx + c] = a[i * nx + c];
+    }
+}
+
+void wk_friction_after_base_reset(wk_friction_start_fn start, int64_t phase, double *x_new,
+                                  const double *p, int64_t *out)
+{
+    int64_t action = out[0], new_base = out[1], status = out[2];
+    if (action == WK_EVENT_IGNORE || action == WK_EVENT_TERMINAL) {
+        wk_reset_out(out, action, phase, status);
+        return;
+    }
+    int64_t new_phase = start(new_base, x_new, p);
+    if (new_phase < 0) {
+        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_LINEAR_SOLVE_FAILED);
+        return;
+    }
+    wk_reset_out(out, action, new_phase, status);
+}

@@ -17,6 +17,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include "wk_common.h"
 
 /* Joint modes (walker.friction.SLIP_POSITIVE, SLIP_NEGATIVE, STICK) and their number. */
 #define WK_SLIP_POSITIVE 0
@@ -103,5 +104,77 @@ int wk_friction_switch(const double *D, const double *f, const double *S, const 
  * stuck, 1.0 where unused; g has 2 m entries. */
 void wk_friction_guards(const double *S, const double *F, const int64_t *modes,
                         const double *qd, const double *lam, int n, int m, double *g);
+
+/* A model's phase functions over its generated kernels: C port of walker.friction's
+ * dynamics, phase_* and first_order* (same operations in the same order).  A base phase of
+ * a model is a table of its kernels: n coordinates q = x[0..n), rates qd = x[v0..v0 + n),
+ * m joints with rows S (m x n); mass_matrix(q, p, D), bias(q, qd, p, h) (C qd + g),
+ * forcing(q, qd, p, f) (the viscous forcing, linear in qd), accel(q, qd, p, qdd) (the fused
+ * frictionless accelerations), dmass(q, p, dD), dbias_dq and dbias_dqd(q, qd, p, out).  F
+ * (m,) are the dry frictions, modes (m,) the joint modes. */
+typedef struct {
+    int n;
+    int m;
+    int v0;
+    const double *S;
+    wk_qp_v mass_matrix;
+    wk_qqdp_v bias;
+    wk_qqdp_v forcing;
+    wk_qqdp_v accel;
+    wk_qp_v dmass;
+    wk_qqdp_v dbias_dq;
+    wk_qqdp_v dbias_dqd;
+} wk_friction_kernels;
+
+/* dynamics: D (n x n), f = Q_viscous - C qd - g (n,) and qd (n,) at state x. */
+void wk_friction_dynamics(const wk_friction_kernels *K, const double *x, const double *p,
+                          double *D, double *f, double *qd);
+
+/* phase_solve: wk_friction_accelerations at state x: qdd (n,), lam (m,). */
+int wk_friction_phase_solve(const wk_friction_kernels *K, const double *F,
+                            const int64_t *modes, const double *x, const double *p,
+                            double *qdd, double *lam);
+
+/* phase_accelerations: qdd (n,) for the vector field: with no joint stuck the fused accel
+ * kernel plus D^-1 of the slip torques, else the augmented system. */
+void wk_friction_phase_accelerations(const wk_friction_kernels *K, const double *F,
+                                     const int64_t *modes, const double *x, const double *p,
+                                     double *qdd);
+
+/* phase_jacobian: d qdd / d(q, qd) into a (n x 2n), with the forcing Jacobian df/dq =
+ * -dh/dq, df/dqd = V - dh/dqd (V the viscous forcing's columns, probed with unit rates). */
+int wk_friction_phase_jacobian(const wk_friction_kernels *K, const double *F,
+                               const int64_t *modes, const double *x, const double *p,
+                               double *a);
+
+/* phase_guards: the friction guards into g[0..2m); the holding torques are solved for only
+ * when a joint sticks. */
+void wk_friction_phase_guards(const wk_friction_kernels *K, const double *F,
+                              const int64_t *modes, const double *x, const double *p,
+                              double *g);
+
+/* phase_settle: every joint's mode chosen at state x (modes in place), the projected rates
+ * written into x[v0..v0 + n); returns 0 (x unchanged) if a system is singular. */
+int wk_friction_phase_settle(const wk_friction_kernels *K, const double *F, int64_t *modes,
+                             double *x, const double *p);
+
+/* phase_switch: the reset of friction guard k (2 j slip_stops, 2 j + 1 stick_breaks of
+ * joint j) at state x: modes in place, the new rates into x_new[v0..v0 + n); returns 0
+ * (x_new unchanged) if a system is singular. */
+int wk_friction_phase_switch(const wk_friction_kernels *K, const double *F, int64_t *modes,
+                             int64_t k, const double *x, const double *p, double *x_new);
+
+/* first_order: dx = (qd, qdd) for x = (q, qd) of n coordinates; first_order_jacobian: J
+ * (2n x 2n) = [0, I; a] from a (n x 2n). */
+void wk_friction_first_order(const double *x, const double *qdd, int n, double *dx);
+void wk_friction_first_order_jacobian(const double *a, int n, double *J);
+
+/* walker.models._common.after_base_reset: out holds a base model's reset (action, new base,
+ * status) at x_new; after a real event every joint's mode is chosen afresh by
+ * start(new_base, x_new, p) (the new phase, rates projected in place; -1 if singular).
+ * Rewrites out as the friction model's reset in phase. */
+typedef int64_t (*wk_friction_start_fn)(int64_t base, double *x, const double *p);
+void wk_friction_after_base_reset(wk_friction_start_fn start, int64_t phase, double *x_new,
+                                  const double *p, int64_t *out);
 
 #endif

@@ -1,6 +1,7 @@
-"""Compiled pieces shared by the walkers: the fall threshold and impacts as augmented
-linear systems.  (Accelerations and their Jacobian are generated kernels: ``accel`` and
-``accel_jac`` in walker/_generated.)"""
+"""Compiled pieces shared by the walkers: the fall threshold, the status values a reset
+returns, impacts as augmented linear systems, the floating-base heel strike and the reset of a
+model with joint friction after its base model's events.  (Accelerations and their Jacobian
+are generated kernels: ``accel`` and ``accel_jac`` in walker/_generated.)"""
 
 import math
 
@@ -8,6 +9,14 @@ import numpy as np
 from numba import njit
 
 from walker._linalg import solve_inplace
+from walker.status import EVENT_IGNORE, EVENT_TERMINAL, Status
+
+# The walker.status.Status values a reset map returns, as plain integers for compiled code.
+FELL_BACKWARD = int(Status.FELL_BACKWARD)
+FELL_FORWARD = int(Status.FELL_FORWARD)
+TRIPPED = int(Status.TRIPPED)
+NONPHYSICAL_IMPACT = int(Status.NONPHYSICAL_IMPACT)
+LINEAR_SOLVE_FAILED = int(Status.LINEAR_SOLVE_FAILED)
 
 # A stance leg this far from the slope normal [rad] (70 degrees) means the walker is falling:
 # no passive gait comes near it, and stopping there saves integrating the whole fall.
@@ -100,3 +109,62 @@ def heel_strike_impact(M, J_swing, J_stance, qdf, slope, qdf_plus, impulse):
         v0 += J_stance[0, j] * qdf_plus[j]
         v1 += J_stance[1, j] * qdf_plus[j]
     return True, v0 * n0 + v1 * n1
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def floating_base_heel_strike(
+    points,
+    hip_jac,
+    ext_mass_matrix,
+    ext_swing_contact_jac,
+    ext_stance_contact_jac,
+    q,
+    qd,
+    p,
+    n_points,
+    hip_row,
+    slope,
+    qdf_plus,
+    impulse,
+):
+    """The plastic heel strike of a pinned model of ``n = q.shape[0]`` coordinates on its
+    floating-base extension (``n + 2`` coordinates: ``q`` and the hip position).
+
+    The generated kernels are passed as arguments: ``points(q, p, pts)`` (``n_points`` rows,
+    the hip at row ``hip_row``), ``hip_jac(q, p, J)`` (2, n), and the floating-base
+    ``ext_mass_matrix``, ``ext_swing_contact_jac`` and ``ext_stance_contact_jac`` (qf, p,
+    out).  Writes the post-impact floating-base rates into ``qdf_plus`` (n + 2,) and the
+    impulse on the new stance foot, ``(along the slope, normal to it)`` [N s], into
+    ``impulse[:2]``; returns ``(ok, lift)`` as :func:`heel_strike_impact`.  The caller swaps
+    the legs and judges the impact (normal impulse and lift-off positive, friction cone).
+    """
+    n = q.shape[0]
+    pts = np.empty((n_points, 2))
+    points(q, p, pts)
+    hip_J = np.empty((2, n))
+    hip_jac(q, p, hip_J)
+    qf = np.empty(n + 2)
+    qdf = np.empty(n + 2)
+    floating_base_state(q, qd, pts[hip_row], hip_J, qf, qdf)
+    M = np.empty((n + 2, n + 2))
+    ext_mass_matrix(qf, p, M)
+    Jsw = np.empty((2, n + 2))
+    ext_swing_contact_jac(qf, p, Jsw)
+    Jst = np.empty((2, n + 2))
+    ext_stance_contact_jac(qf, p, Jst)
+    return heel_strike_impact(M, Jsw, Jst, qdf, slope, qdf_plus, impulse)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def after_base_reset(start, phase, action, new_base, status, x_new, p):
+    """The reset of a model with joint friction at one of its base model's events (heel
+    strike, knee lock, falls): ``(action, new_base, status)`` is the base model's reset at
+    ``x_new``; after a real event every joint's mode is chosen afresh there by
+    ``start(new_base, x_new, p)`` (the new phase, rates projected in place; -1 if singular).
+    Returns the reset's ``(action, next phase, status)``."""
+    if action == EVENT_IGNORE or action == EVENT_TERMINAL:
+        return action, phase, status
+    new_phase = start(new_base, x_new, p)
+    if new_phase < 0:
+        return EVENT_TERMINAL, phase, LINEAR_SOLVE_FAILED
+    return action, new_phase, status

@@ -24,16 +24,14 @@ from numba import njit
 from walker._generated import compass as K
 from walker.models._common import (
     FALL_ANGLE,
+    FELL_BACKWARD,
+    FELL_FORWARD,
+    LINEAR_SOLVE_FAILED,
     MIN_STEP,
-    floating_base_state,
-    heel_strike_impact,
+    NONPHYSICAL_IMPACT,
+    floating_base_heel_strike,
 )
-from walker.status import (
-    EVENT_IGNORE,
-    EVENT_STRIDE,
-    EVENT_TERMINAL,
-    Status,
-)
+from walker.status import EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL
 
 N_X = 4
 N_IMPULSE = 2
@@ -55,10 +53,6 @@ with these parameters fixed at exactly zero, so scenes that leave them at zero p
 arithmetic for them.  :meth:`walker.models.WalkerModel.variant_for` picks it."""
 
 _I_R, _I_SLOPE = 5, 6
-_NONPHYSICAL = int(Status.NONPHYSICAL_IMPACT)
-_FELL_FORWARD = int(Status.FELL_FORWARD)
-_FELL_BACKWARD = int(Status.FELL_BACKWARD)
-_SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
 
 
 @njit(cache=True, error_model="numpy")
@@ -102,30 +96,30 @@ def heel_strike(x, p, x_new, impulse):
     Returns a Status value: COMPLETED for a physical impact.  ``impulse`` receives the
     impulse on the new stance foot (along the slope, normal to it) [N s].
     """
-    q = x[:2]
-    pts = np.empty((4, 2))
-    K.points(q, p, pts)
-    hip_J = np.empty((2, 2))
-    K.hip_jac(q, p, hip_J)
-    qf = np.empty(4)
-    qdf = np.empty(4)
-    floating_base_state(q, x[2:], pts[1], hip_J, qf, qdf)
-    M = np.empty((4, 4))
-    K.ext_mass_matrix(qf, p, M)
-    Jsw = np.empty((2, 4))
-    K.ext_swing_contact_jac(qf, p, Jsw)
-    Jst = np.empty((2, 4))
-    K.ext_stance_contact_jac(qf, p, Jst)
     qdf_plus = np.empty(4)
-    ok, lift = heel_strike_impact(M, Jsw, Jst, qdf, p[_I_SLOPE], qdf_plus, impulse)
+    ok, lift = floating_base_heel_strike(
+        K.points,
+        K.hip_jac,
+        K.ext_mass_matrix,
+        K.ext_swing_contact_jac,
+        K.ext_stance_contact_jac,
+        x[:2],
+        x[2:],
+        p,
+        4,
+        1,
+        p[_I_SLOPE],
+        qdf_plus,
+        impulse,
+    )
     if not ok:
-        return _SINGULAR
+        return LINEAR_SOLVE_FAILED
     x_new[0] = x[1]
     x_new[1] = x[0]
     x_new[2] = qdf_plus[1]
     x_new[3] = qdf_plus[0]
     if not (impulse[1] > 0.0) or not (lift > 0.0):
-        return _NONPHYSICAL
+        return NONPHYSICAL_IMPACT
     return 0
 
 
@@ -141,8 +135,8 @@ def reset(phase, k, t, x, p, x_new, impulse):
             return EVENT_TERMINAL, phase, status
         return EVENT_STRIDE, 0, 0
     if k == 1:
-        return EVENT_TERMINAL, phase, _FELL_FORWARD
-    return EVENT_TERMINAL, phase, _FELL_BACKWARD
+        return EVENT_TERMINAL, phase, FELL_FORWARD
+    return EVENT_TERMINAL, phase, FELL_BACKWARD
 
 
 @njit(cache=True, error_model="numpy")

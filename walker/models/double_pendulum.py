@@ -61,8 +61,8 @@ from numba import njit
 
 from walker import friction as fr
 from walker._generated import double_pendulum as K
-from walker._linalg import solve_inplace
-from walker.status import EVENT_CONTINUE, EVENT_TERMINAL, Status
+from walker.models._common import LINEAR_SOLVE_FAILED
+from walker.status import EVENT_CONTINUE, EVENT_TERMINAL
 
 __all__ = [
     "N_X",
@@ -104,114 +104,52 @@ STATE_NAMES = ("q1", "q2", "qd1", "qd2")
 SECTION_NAMES = ()
 
 _S = np.array([[1.0, 0.0], [0.0, 1.0]])
-_SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
+
+# The phase functions are walker.friction's, over the pendulum's kernels: the joint rows _S,
+# the dry frictions p[I_COULOMB:], the rates x[2:4].
+
+
+@njit(cache=True, error_model="numpy")
+def _dynamics(x, p):
+    """(D, f, qd): ``f = Q_viscous - C qd - g`` (:func:`walker.friction.dynamics`)."""
+    return fr.dynamics(K.mass_matrix, K.bias, K.forcing, x, 2, p, 2)
 
 
 @njit(cache=True, error_model="numpy")
 def _matrices(x, p):
     """(D, f, F, qd): ``f = Q_viscous - C qd - g``, ``F`` the dry frictions."""
-    q = x[0:2]
-    qd = x[2:4].copy()
-    D = np.empty((2, 2))
-    K.mass_matrix(q, p, D)
-    h = np.empty(2)
-    K.bias(q, qd, p, h)
-    f = np.empty(2)
-    K.forcing(q, qd, p, f)
-    for i in range(2):
-        f[i] -= h[i]
+    D, f, qd = _dynamics(x, p)
     return D, f, p[I_COULOMB : I_COULOMB + N_JOINTS].copy(), qd
 
 
 @njit(cache=True, error_model="numpy")
-def _modes(phase):
+def _joints(phase, p):
+    """(modes, F): the joint modes of ``phase`` and the dry frictions."""
     modes = np.empty(N_JOINTS, dtype=np.int64)
     fr.decode(phase, modes)
-    return modes
+    return modes, p[I_COULOMB : I_COULOMB + N_JOINTS]
 
 
 @njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
-    modes = _modes(phase)
+    modes, F = _joints(phase, p)
     qdd = np.empty(2)
-    Q = np.empty(2)
-    kind = fr.slip_force(_S, p[I_COULOMB : I_COULOMB + N_JOINTS], modes, Q)
-    if kind == 0:  # a joint sticks: the augmented system
-        D, f, F, _ = _matrices(x, p)
-        lam = np.empty(N_JOINTS)
-        fr.accelerations(D, f, _S, F, modes, qdd, lam)
-    else:  # the fused kernel (viscous dampers included) plus D^-1 of the slip torques
-        K.accel(x[0:2], x[2:4], p, qdd)
-        if kind > 0:
-            D = np.empty((2, 2))
-            K.mass_matrix(x[0:2], p, D)
-            solve_inplace(D, Q)
-            qdd[0] += Q[0]
-            qdd[1] += Q[1]
-    dx[0] = x[2]
-    dx[1] = x[3]
-    dx[2] = qdd[0]
-    dx[3] = qdd[1]
+    fr.phase_accelerations(_dynamics, K.mass_matrix, K.accel, _S, F, modes, x, 2, p, qdd)
+    fr.first_order(x, qdd, 2, dx)
 
 
 @njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
-    D, f, F, qd = _matrices(x, p)
-    modes = _modes(phase)
-    qdd = np.empty(2)
-    lam = np.empty(N_JOINTS)
-    fr.accelerations(D, f, _S, F, modes, qdd, lam)
-    q = x[0:2]
-    dD = np.empty((2, 2, 2))
-    K.dmass(q, p, dD)
-    df_dq = np.empty((2, 2))
-    K.dbias_dq(q, qd, p, df_dq)
-    dh_dqd = np.empty((2, 2))
-    K.dbias_dqd(q, qd, p, dh_dqd)
-    df_dqd = np.empty((2, 2))
-    unit = np.zeros(2)
-    col = np.empty(2)
-    for k in range(2):
-        # The viscous forcing is linear in qd and independent of q: probe its columns.
-        unit[:] = 0.0
-        unit[k] = 1.0
-        K.forcing(q, unit, p, col)
-        for i in range(2):
-            df_dqd[i, k] = col[i] - dh_dqd[i, k]
-            df_dq[i, k] = -df_dq[i, k]
+    modes, F = _joints(phase, p)
     a = np.empty((2, 4))
-    fr.accelerations_jacobian(D, dD, df_dq, df_dqd, _S, modes, qdd, a)
-    J[:, :] = 0.0
-    J[0, 2] = 1.0
-    J[1, 3] = 1.0
-    for i in range(2):
-        for c in range(4):
-            J[2 + i, c] = a[i, c]
+    fr.phase_jacobian(_dynamics, K.forcing, K.dmass, K.dbias_dq, K.dbias_dqd, _S, F, modes, x, p, a)
+    fr.first_order_jacobian(a, 2, J)
 
 
 @njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
-    modes = _modes(phase)
-    lam = np.zeros(N_JOINTS)
-    if fr.STICK in modes:  # the holding torques; otherwise the guards need the rates only
-        D, f, F, _ = _matrices(x, p)
-        qdd = np.empty(2)
-        fr.accelerations(D, f, _S, F, modes, qdd, lam)
-    fr.guards(_S, p[I_COULOMB : I_COULOMB + N_JOINTS], modes, x[2:4], lam, g)
-
-
-@njit(cache=True, error_model="numpy")
-def _start(x, p):
-    """Choose both joints' modes for state ``x`` (velocities projected in place onto the
-    stuck joints) and return the phase; -1 if a solve is singular."""
-    D, f, F, qd = _matrices(x, p)
-    modes = np.zeros(N_JOINTS, dtype=np.int64)
-    qd_new = np.empty(2)
-    if not fr.settle(D, f, _S, F, qd, np.ones(N_JOINTS, dtype=np.bool_), modes, qd_new):
-        return -1
-    x[2] = qd_new[0]
-    x[3] = qd_new[1]
-    return fr.encode(modes)
+    modes, F = _joints(phase, p)
+    fr.phase_guards(_dynamics, _S, F, modes, x, 2, p, g)
 
 
 @njit(cache=True, error_model="numpy")
@@ -219,13 +157,9 @@ def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
     impulse[0] = 0.0
-    D, f, F, qd = _matrices(x, p)
-    modes = _modes(phase)
-    qd_new = np.empty(2)
-    if not fr.switch(D, f, _S, F, qd, k // 2, k % 2 == 1, modes, qd_new):
-        return EVENT_TERMINAL, phase, _SINGULAR
-    x_new[2] = qd_new[0]
-    x_new[3] = qd_new[1]
+    modes, F = _joints(phase, p)
+    if not fr.phase_switch(_dynamics, _S, F, modes, k, x, 2, p, x_new):
+        return EVENT_TERMINAL, phase, LINEAR_SOLVE_FAILED
     return EVENT_CONTINUE, fr.encode(modes), 0
 
 
@@ -234,10 +168,10 @@ def joint_torques(phase, x, p):
     """Dry-friction torque at each joint (joint_1, joint_2) [N m]: ``-+F_s`` while slipping,
     the holding torque while stuck.  Each acts on the distal link (its opposite on the
     proximal one)."""
-    D, f, F, _ = _matrices(x, p)
+    modes, F = _joints(phase, p)
     qdd = np.empty(2)
     lam = np.empty(N_JOINTS)
-    fr.accelerations(D, f, _S, F, _modes(phase), qdd, lam)
+    fr.phase_solve(_dynamics, _S, F, modes, x, p, qdd, lam)
     return lam
 
 
@@ -245,7 +179,11 @@ def joint_torques(phase, x, p):
 def start_phase(x, p):
     """The phase consistent with state ``x`` (joint modes from the rates, and for the joints
     at rest from the friction; see :func:`walker.friction.choose_modes`)."""
-    return _start(x.copy(), p)
+    modes, F = _joints(0, p)
+    y = x.copy()
+    if not fr.phase_settle(_dynamics, _S, F, modes, y, 2, p):
+        return -1
+    return fr.encode(modes)
 
 
 def phase_of(**modes: str) -> int:

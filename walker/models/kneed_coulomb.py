@@ -44,8 +44,8 @@ from numba import njit
 
 from walker import friction as fr
 from walker._generated import kneed as K
-from walker._linalg import solve_inplace
 from walker.models import kneed as _kneed
+from walker.models._common import LINEAR_SOLVE_FAILED, after_base_reset
 from walker.models.kneed import (
     LIFT_AFFINE,
     SECTION_NAMES,
@@ -58,7 +58,7 @@ from walker.models.kneed import (
     project,
     swing_foot,
 )
-from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_TERMINAL, Status
+from walker.status import EVENT_CONTINUE, EVENT_TERMINAL
 
 __all__ = [
     "N_X",
@@ -113,8 +113,11 @@ DIRECTIONS = np.array(
 
 _S_UNLOCKED = np.array([[1.0, 0.0, 0.0], [-1.0, 1.0, 0.0], [0.0, -1.0, 1.0]])
 _S_LOCKED = np.array([[1.0, 0.0], [-1.0, 1.0]])
-_SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
 KERNEL_HASH = K.KERNEL_HASH
+
+# The phase functions are walker.friction's, over the kneed walker's kernels of each base
+# phase: unlocked (3 coordinates and joints, rows _S_UNLOCKED) and locked (2, _S_LOCKED); the
+# dry frictions p[I_COULOMB:], the rates x[3:6] (locked: x[3:5], with qd3 = qd2).
 
 
 @njit(cache=True, error_model="numpy")
@@ -137,142 +140,103 @@ def _join(base, modes):
 
 
 @njit(cache=True, error_model="numpy")
+def _dry(base, p):
+    """Dry frictions of the base phase's joints [N m]."""
+    return p[I_COULOMB : I_COULOMB + (3 if base == UNLOCKED else 2)]
+
+
+@njit(cache=True, error_model="numpy")
+def _unlocked(x, p):
+    """(D, f, qd) of the unlocked walker (:func:`walker.friction.dynamics`)."""
+    return fr.dynamics(K.unlocked_mass_matrix, K.unlocked_bias, K.unlocked_forcing, x, 3, p, 3)
+
+
+@njit(cache=True, error_model="numpy")
+def _locked(x, p):
+    """(D, f, qd) of the locked walker (coordinates q1, q2)."""
+    return fr.dynamics(K.locked_mass_matrix, K.locked_bias, K.locked_forcing, x, 3, p, 2)
+
+
+@njit(cache=True, error_model="numpy")
 def _matrices(base, x, p):
     """(D, f, S, F, qd) of the base phase: ``f = Q_viscous - C qd - g``."""
     if base == UNLOCKED:
-        q = x[0:3]
-        qd = x[3:6].copy()
-        D = np.empty((3, 3))
-        K.unlocked_mass_matrix(q, p, D)
-        h = np.empty(3)
-        K.unlocked_bias(q, qd, p, h)
-        f = np.empty(3)
-        K.unlocked_forcing(q, qd, p, f)
-        for i in range(3):
-            f[i] -= h[i]
-        return D, f, _S_UNLOCKED, p[I_COULOMB : I_COULOMB + 3].copy(), qd
-    q = x[0:2]
-    qd = x[3:5].copy()
-    D = np.empty((2, 2))
-    K.locked_mass_matrix(q, p, D)
-    h = np.empty(2)
-    K.locked_bias(q, qd, p, h)
-    f = np.empty(2)
-    K.locked_forcing(q, qd, p, f)
-    for i in range(2):
-        f[i] -= h[i]
-    return D, f, _S_LOCKED, p[I_COULOMB : I_COULOMB + 2].copy(), qd
+        D, f, qd = _unlocked(x, p)
+        return D, f, _S_UNLOCKED, _dry(base, p).copy(), qd
+    D, f, qd = _locked(x, p)
+    return D, f, _S_LOCKED, _dry(base, p).copy(), qd
 
 
 @njit(cache=True, error_model="numpy")
 def _solve(base, modes, x, p, qdd, lam):
-    D, f, S, F, _ = _matrices(base, x, p)
-    n = D.shape[0]
-    return fr.accelerations(D, f, S, F, modes[: S.shape[0]], qdd[:n], lam[: S.shape[0]])
-
-
-@njit(cache=True, error_model="numpy")
-def _fast_accel(base, modes, x, p, qdd):
-    """Accelerations when no joint sticks: the fused generated kernel (viscous dampers
-    included) plus ``D^-1`` of the slip torques; False when some joint sticks."""
-    n = 3 if base == UNLOCKED else 2
-    m = 3 if base == UNLOCKED else 2
-    Q = np.empty(n)
-    S = _S_UNLOCKED if base == UNLOCKED else _S_LOCKED
-    kind = fr.slip_force(S, p[I_COULOMB : I_COULOMB + m], modes[:m], Q)
-    if kind == 0:
-        return False
     if base == UNLOCKED:
-        K.unlocked_accel(x[0:3], x[3:6], p, qdd[:3])
-        if kind > 0:
-            D = np.empty((3, 3))
-            K.unlocked_mass_matrix(x[0:3], p, D)
-            solve_inplace(D, Q)
-    else:
-        K.locked_accel(x[0:2], x[3:5], p, qdd[:2])
-        if kind > 0:
-            D = np.empty((2, 2))
-            K.locked_mass_matrix(x[0:2], p, D)
-            solve_inplace(D, Q)
-    if kind > 0:
-        for i in range(n):
-            qdd[i] += Q[i]
-    return True
+        return fr.phase_solve(_unlocked, _S_UNLOCKED, _dry(base, p), modes, x, p, qdd, lam)
+    return fr.phase_solve(_locked, _S_LOCKED, _dry(base, p), modes, x, p, qdd, lam)
 
 
 @njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
     modes = np.empty(3, dtype=np.int64)
     base = _split(phase, modes)
+    F = _dry(base, p)
     qdd = np.empty(3)
-    if not _fast_accel(base, modes, x, p, qdd):
-        lam = np.empty(3)
-        _solve(base, modes, x, p, qdd, lam)
+    if base == UNLOCKED:
+        fr.phase_accelerations(
+            _unlocked, K.unlocked_mass_matrix, K.unlocked_accel, _S_UNLOCKED, F, modes, x, 3, p, qdd
+        )
+        fr.first_order(x, qdd, 3, dx)
+        return
+    fr.phase_accelerations(
+        _locked, K.locked_mass_matrix, K.locked_accel, _S_LOCKED, F, modes, x, 3, p, qdd
+    )
     dx[0] = x[3]
     dx[1] = x[4]
-    if base == UNLOCKED:
-        dx[2] = x[5]
-        dx[3] = qdd[0]
-        dx[4] = qdd[1]
-        dx[5] = qdd[2]
-    else:
-        dx[2] = x[4]
-        dx[3] = qdd[0]
-        dx[4] = qdd[1]
-        dx[5] = qdd[1]
+    dx[2] = x[4]
+    dx[3] = qdd[0]
+    dx[4] = qdd[1]
+    dx[5] = qdd[1]
 
 
 @njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
     modes = np.empty(3, dtype=np.int64)
     base = _split(phase, modes)
-    D, f, S, F, qd = _matrices(base, x, p)
-    n = D.shape[0]
-    m = S.shape[0]
-    qdd = np.empty(n)
-    lam = np.empty(m)
-    fr.accelerations(D, f, S, F, modes[:m], qdd, lam)
-    q = x[0:n]
-    dD = np.empty((n, n, n))
-    dh_dq = np.empty((n, n))
-    dh_dqd = np.empty((n, n))
-    df_dqd = np.empty((n, n))
-    unit = np.zeros(n)
-    col = np.empty(n)
-    for k in range(n):
-        # The viscous forcing is linear in qd and independent of q: probe its columns.
-        unit[:] = 0.0
-        unit[k] = 1.0
-        if base == UNLOCKED:
-            K.unlocked_forcing(q, unit, p, col)
-        else:
-            K.locked_forcing(q, unit, p, col)
-        for i in range(n):
-            df_dqd[i, k] = col[i]
+    F = _dry(base, p)
     if base == UNLOCKED:
-        K.unlocked_dmass(q, p, dD)
-        K.unlocked_dbias_dq(q, qd, p, dh_dq)
-        K.unlocked_dbias_dqd(q, qd, p, dh_dqd)
-    else:
-        K.locked_dmass(q, p, dD)
-        K.locked_dbias_dq(q, qd, p, dh_dq)
-        K.locked_dbias_dqd(q, qd, p, dh_dqd)
-    for i in range(n):
-        for k in range(n):
-            dh_dq[i, k] = -dh_dq[i, k]
-            df_dqd[i, k] -= dh_dqd[i, k]
-    a = np.empty((n, 2 * n))
-    fr.accelerations_jacobian(D, dD, dh_dq, df_dqd, S, modes[:m], qdd, a)
+        a = np.empty((3, 6))
+        fr.phase_jacobian(
+            _unlocked,
+            K.unlocked_forcing,
+            K.unlocked_dmass,
+            K.unlocked_dbias_dq,
+            K.unlocked_dbias_dqd,
+            _S_UNLOCKED,
+            F,
+            modes,
+            x,
+            p,
+            a,
+        )
+        fr.first_order_jacobian(a, 3, J)
+        return
+    a = np.empty((2, 4))
+    fr.phase_jacobian(
+        _locked,
+        K.locked_forcing,
+        K.locked_dmass,
+        K.locked_dbias_dq,
+        K.locked_dbias_dqd,
+        _S_LOCKED,
+        F,
+        modes,
+        x,
+        p,
+        a,
+    )
+    # Locked: (q1, q2, qd1, qd2) map to state columns 0, 1, 3, 4; q3, qd3 copy q2, qd2.
     J[:, :] = 0.0
     J[0, 3] = 1.0
     J[1, 4] = 1.0
-    if base == UNLOCKED:
-        J[2, 5] = 1.0
-        for i in range(3):
-            for c in range(6):
-                J[3 + i, c] = a[i, c]
-        return
-    # Locked: (q1, q2, qd1, qd2) map to state columns 0, 1, 3, 4; q3, qd3 copy q2, qd2.
     J[2, 4] = 1.0
     cols = (0, 1, 3, 4)
     for i in range(2):
@@ -287,41 +251,28 @@ def guards(phase, t, x, p, g):
     modes = np.empty(3, dtype=np.int64)
     base = _split(phase, modes)
     _kneed.guards(base, t, x, p, g)
-    m = 3 if base == UNLOCKED else 2
-    lam = np.zeros(3)
-    stuck = False
-    for j in range(m):
-        stuck |= modes[j] == fr.STICK
-    if stuck:  # the holding torques; otherwise the guards need the rates only
-        qdd = np.empty(3)
-        _solve(base, modes, x, p, qdd, lam)
-    S = _S_UNLOCKED if base == UNLOCKED else _S_LOCKED
-    fr.guards(S, p[I_COULOMB : I_COULOMB + m], modes[:m], x[3 : 3 + m], lam[:m], g[4 : 4 + 2 * m])
-    if base == LOCKED:
-        g[8] = 1.0
-        g[9] = 1.0
-
-
-@njit(cache=True, error_model="numpy")
-def _write_rates(base, qd, x):
-    for i in range(qd.shape[0]):
-        x[3 + i] = qd[i]
-    if base == LOCKED:
-        x[5] = x[4]
+    F = _dry(base, p)
+    if base == UNLOCKED:
+        fr.phase_guards(_unlocked, _S_UNLOCKED, F, modes, x, 3, p, g[4:10])
+        return
+    fr.phase_guards(_locked, _S_LOCKED, F, modes, x, 3, p, g[4:8])
+    g[8] = 1.0
+    g[9] = 1.0
 
 
 @njit(cache=True, error_model="numpy")
 def _start(base, x, p):
     """Choose every joint's mode for state ``x`` (velocities projected in place onto the
     stuck joints) and return the phase; -1 if a solve is singular."""
-    D, f, S, F, qd = _matrices(base, x, p)
     modes = np.zeros(3, dtype=np.int64)
     modes[2] = fr.STICK  # the locked knee (unused while unlocked: chosen below)
-    qd_new = np.empty(qd.shape[0])
-    free = np.ones(S.shape[0], dtype=np.bool_)
-    if not fr.settle(D, f, S, F, qd, free, modes[: S.shape[0]], qd_new):
+    if base == UNLOCKED:
+        if not fr.phase_settle(_unlocked, _S_UNLOCKED, _dry(base, p), modes, x, 3, p):
+            return -1
+        return _join(base, modes)
+    if not fr.phase_settle(_locked, _S_LOCKED, _dry(base, p), modes, x, 3, p):
         return -1
-    _write_rates(base, qd_new, x)
+    x[5] = x[4]
     return _join(base, modes)
 
 
@@ -331,18 +282,16 @@ def reset(phase, k, t, x, p, x_new, impulse):
     base = _split(phase, modes)
     if k < 4:
         action, new_base, status = _kneed.reset(base, k, t, x, p, x_new, impulse)
-        if action == EVENT_IGNORE or action == EVENT_TERMINAL:
-            return action, phase, status
-        new_phase = _start(new_base, x_new, p)
-        if new_phase < 0:
-            return EVENT_TERMINAL, phase, _SINGULAR
-        return action, new_phase, status
-    D, f, S, F, qd = _matrices(base, x, p)
-    qd_new = np.empty(qd.shape[0])
-    j = (k - 4) // 2
-    if not fr.switch(D, f, S, F, qd, j, (k - 4) % 2 == 1, modes[: S.shape[0]], qd_new):
-        return EVENT_TERMINAL, phase, _SINGULAR
-    _write_rates(base, qd_new, x_new)
+        return after_base_reset(_start, phase, action, new_base, status, x_new, p)
+    F = _dry(base, p)
+    if base == UNLOCKED:
+        ok = fr.phase_switch(_unlocked, _S_UNLOCKED, F, modes, k - 4, x, 3, p, x_new)
+    else:
+        ok = fr.phase_switch(_locked, _S_LOCKED, F, modes, k - 4, x, 3, p, x_new)
+    if not ok:
+        return EVENT_TERMINAL, phase, LINEAR_SOLVE_FAILED
+    if base == LOCKED:
+        x_new[5] = x_new[4]
     return EVENT_CONTINUE, _join(base, modes), 0
 
 
