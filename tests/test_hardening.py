@@ -674,3 +674,21 @@ def test_sweep_processes_flag_gives_the_threads_table(tmp_path, capsys):
     assert a.columns.keys() == b.columns.keys()
     for key in a.columns:
         np.testing.assert_array_equal(a.columns[key], b.columns[key])
+
+
+@pytest.mark.parametrize(
+    ("args", "flag", "rule"),
+    [
+        (["--n", "100000000"], "--n", "must be <= 1,000,000"),
+        (["--n", "500000", "--strides", "100000"], "--n 500000 values", "lower --n or --strides"),
+        (["--transient", "2000000"], "--transient", "must be <= 1,000,000"),
+        (["--strides", "0"], "--strides", "must be an integer >= 1"),
+    ],
+)
+def test_orbit_diagram_sizes_are_checked_before_work(tmp_path, args, flag, rule):
+    proc = _walker(
+        "orbit-diagram", SCENE, "--range", "0.05:0.06", *args, "--out", tmp_path / "o.h5"
+    )
+    assert proc.returncode == EXIT_USAGE, proc.stderr
+    _one_error_line(proc.stderr, flag, rule)
+    assert not (tmp_path / "o.h5").exists()

@@ -14,6 +14,8 @@ import sys
 
 import numpy as np
 
+from walker.results import too_large
+
 from ._common import (
     EXIT_OK,
     EXIT_OUTCOME,
@@ -21,6 +23,7 @@ from ._common import (
     _check_out,
     _json,
     _load,
+    _positive_flag,
     _stride_map,
     provenance,
     scene_cmd,
@@ -99,12 +102,15 @@ def cmd_orbit_diagram(args) -> int:
     check_walker(scene, args.scene)
     check_param(scene, args.param)
     a, b = parse_range(args.range)
-    if args.n < 2:
-        raise UsageError(f"--n must be an integer >= 2, got {args.n}")
-    if args.transient < 0:
-        raise UsageError(f"--transient must be an integer >= 0, got {args.transient}")
-    if args.strides < 1:
-        raise UsageError(f"--strides must be an integer >= 1, got {args.strides}")
+    _positive_flag(args.n, "--n", minimum=2, integer=True)
+    _positive_flag(args.transient, "--transient", minimum=0, integer=True)
+    _positive_flag(args.strides, "--strides", minimum=1, integer=True)
+    reason = too_large(8.0 * args.n * (args.strides + 2))
+    if reason is not None:
+        raise UsageError(
+            f"--n {args.n} values x --strides {args.strides} recorded {reason}; lower --n or "
+            "--strides"
+        )
     P = _stride_map(scene, parameter_name=args.param)
     names = list(P.section_names)
     coord = args.coordinate
