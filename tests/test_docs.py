@@ -157,3 +157,32 @@ def test_architecture_md_names_only_paths_that_exist():
     assert len(named) > 20
     for path in sorted(named):
         assert (root / path.rstrip("/")).exists(), path
+
+
+def test_storage_md_codes_and_h5py_example(tmp_path, monkeypatch):
+    """docs/storage.md lists every status value, and its h5py-only reading example runs on
+    a sweep file walker wrote."""
+    from walker.cli.sweep import run_sweep_command
+    from walker.status import Status
+
+    text = (DOCS / "storage.md").read_text(encoding="utf-8")
+    for status in Status:
+        assert f"| {int(status)} | `{status.name}` |" in text, status
+    section = text.split("**Reading without walker**", 1)[1]
+    code = section.split("```python\n", 1)[1].split("```", 1)[0]
+    run_sweep_command(
+        ROOT / "gaits/compass_goswami.toml",
+        ["slope=0.04:0.05:2"],
+        kind="outcome",
+        jobs=1,
+        scheduler=None,
+        out=tmp_path / "sweep.h5",
+        quiet=True,
+        strides=1,
+    )
+    monkeypatch.chdir(tmp_path)
+    namespace: dict = {}
+    exec(compile(code, "storage.md", "exec"), namespace)  # noqa: S102 - the doc's own example
+    assert namespace["names"] == ["slope"]
+    assert namespace["points"].shape == (2, 1)
+    assert namespace["status"].tolist() == [0, 0]
