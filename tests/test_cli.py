@@ -141,3 +141,15 @@ def test_plot_of_an_unreadable_file_leaves_no_figure_directory(tmp_path, capsys)
     (tmp_path / "kept").mkdir()  # a directory that existed before stays
     code, _, _ = _run(capsys, ["plot", str(bad), "--out", str(tmp_path / "kept")])
     assert code == 2 and (tmp_path / "kept").is_dir()
+
+
+def test_basin_axes_by_name_or_index(tmp_path, capsys):
+    base = ["basin", "gaits/compass_goswami.toml", "--n", "3", "--strides", "2", "--quiet"]
+    code, _, _ = _run(
+        capsys, [*base, "--axes", "qd_stance,qd_swing", "--out", str(tmp_path / "a.h5")]
+    )
+    assert code == 0
+    assert read(tmp_path / "a.h5")[0].axis_names == ("qd_stance", "qd_swing")
+    code, _, err = _run(capsys, [*base, "--axes", "q,2", "--out", str(tmp_path / "b.h5")])
+    assert code == 2
+    assert "by index or name (0 q_stance, 1 qd_stance, 2 qd_swing)" in err

@@ -43,14 +43,20 @@ def cmd_basin(args) -> int:
         raise UsageError(f"--jobs must be >= 1, got {args.jobs}")
     scene = _load(args)
     P = _stride_map(scene)
-    try:
-        axes = tuple(int(a) for a in args.axes.split(","))
-    except ValueError:
-        axes = ()
+    section = list(P.section_names)
+    axes = tuple(
+        section.index(a.strip())
+        if a.strip() in section
+        else int(a)
+        if a.strip().lstrip("-").isdigit()
+        else -1
+        for a in args.axes.split(",")
+    )
     if len(axes) != 2 or not all(0 <= a < P.n_z for a in axes) or axes[0] == axes[1]:
+        listed = ", ".join(f"{i} {n}" for i, n in enumerate(section))
         raise UsageError(
-            f"--axes must be two distinct section indices in 0..{P.n_z - 1} such as 0,1, "
-            f"got {args.axes!r}"
+            f"--axes must be two distinct section coordinates, by index or name ({listed}), "
+            f"such as 0,1, got {args.axes!r}"
         )
     out = _check_out(
         args.out, overwrite=args.overwrite, resumable=True, size=16 * args.n * args.n + (1 << 20)
@@ -120,9 +126,9 @@ def register(sub) -> None:
         "--axes",
         default="0,1",
         metavar="I,J",
-        help="the two section coordinates to vary, by index; `walker models MODEL` lists a "
-        "model's section coordinates with their indices (compass: 0 q_stance, 1 qd_stance, "
-        "2 qd_swing)",
+        help="the two section coordinates to vary, by index or name; `walker models MODEL` "
+        "lists a model's section coordinates with their indices (compass: 0 q_stance, "
+        "1 qd_stance, 2 qd_swing)",
     )
     p.add_argument("--n", type=int, default=50, help="grid points per axis, >= 2")
     p.add_argument(
