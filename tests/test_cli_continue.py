@@ -450,3 +450,23 @@ def test_orbit_diagram_usage_errors(extra, message, tmp_path, capsys):
     code, out, err = _run(capsys, argv)
     assert code == 2 and out == "" and message in err
     assert not (tmp_path / "x.h5").exists()
+
+
+def test_continue_messages_speak_in_flags(tmp_path, capsys):
+    code = main(
+        [
+            "continue",
+            "gaits/compass_goswami.toml",
+            "--range",
+            "0.04:0.06",
+            "--max-points",
+            "3",
+            "--json",
+            "--out",
+            str(tmp_path / "c.h5"),
+        ]
+    )
+    rec = json.loads(capsys.readouterr().out)
+    assert code == 1 and rec["status"] == "MAX_STEPS"
+    assert "Increase --max-points." in rec["message"]
+    assert "max_points" not in rec["message"] and "max_step" not in rec["message"]

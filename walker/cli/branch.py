@@ -162,12 +162,30 @@ def _end_kind(branch, index: int, start_index: int, bounds) -> str:
     return "stopped"
 
 
+_FLAG_WORDS = (
+    ("Increase `max_points` or `max_step`.", "Increase --max-points."),
+    ("`max_points`", "--max-points"),
+    (
+        "Try a smaller `min_step`, `max_step` or a looser `tol`.",
+        "Try a narrower --range, or from Python a smaller `min_step` or `max_step`.",
+    ),
+)
+
+
+def _flag_words(message: str) -> str:
+    """A continuation message in the command line's words (its flags, not Python's
+    argument names)."""
+    for python_words, flags in _FLAG_WORDS:
+        message = message.replace(python_words, flags)
+    return message
+
+
 def _summary(branch, name: str, start_index: int | None, bounds) -> dict:
     n = int(len(branch.parameter))
     record = {
         "status": branch.status.name,
         "success": bool(branch.success),
-        "message": branch.message,
+        "message": _flag_words(branch.message),
         "parameter": name,
         "period": int(branch.period),
         "n_points": n,
