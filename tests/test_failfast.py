@@ -20,7 +20,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import walker.continuation as continuation_module
+import walker.steppers as steppers_module
 import walker.sweep as sweep_module
 from walker import load_scene, simulate
 from walker.cli import build_parser
@@ -344,7 +344,7 @@ def test_each_sweep_point_has_a_budget(monkeypatch):
 
 def test_each_natural_corrector_has_a_budget(monkeypatch):
     records = []
-    solve = continuation_module._solve_fixed_point
+    solve = steppers_module.solve_fixed_point
 
     def budgeted(section_map, z0, **kwargs):
         m = Counting(section_map)
@@ -352,7 +352,7 @@ def test_each_natural_corrector_has_a_budget(monkeypatch):
         records.append((kwargs.get("max_evals"), len(m.calls)))
         return out
 
-    monkeypatch.setattr(continuation_module, "_solve_fixed_point", budgeted)
+    monkeypatch.setattr(steppers_module, "solve_fixed_point", budgeted)
     scene, P = scene_map(KNEED)
     branch = continue_branch(P, P.project(scene.state), to=0.02, method="natural")
     # past the fold at slope ~0.0319 there is no gait: the continuation stops there

@@ -24,8 +24,11 @@ The pipeline, from a scene file to pictures::
                  ──► integrate.py    HybridSystem (the C contract, also for user-supplied C
                                      functions), hybrid_solve, PreparedRun -> Solution
                  ──► stride.py       simulate(); StrideMap: section -> section (+ Jacobian)
-                 ──► fixedpoint.py   Newton / Levenberg-Marquardt fixed points, Floquet
-                     continuation.py natural and pseudo-arclength, folds, period doublings
+                 ──► fixedpoint.py   fixed points, Floquet multipliers; sectionmap.py (map
+                                     value and Jacobian, eigen-sorting, input checks),
+                                     region.py (walking region), newton.py (Newton / LM)
+                     continuation.py natural and pseudo-arclength (steppers.py, one stepper
+                                     a method), folds, period doublings (bifurcations.py)
                      basin.py        basins of attraction (threads: strides release the GIL)
                      sweep.py        resumable parameter sweeps on threads or any Executor
                  ──► storage/        HDF5 with provenance, checksums, atomic writes

@@ -1,6 +1,9 @@
 """Running independent chunks on a :class:`concurrent.futures.Executor`, and stopping them.
 
-Used by :func:`walker.sweep.sweep` and :func:`walker.basin.basin_map`.  Nothing here touches
+Used by :func:`walker.sweep.sweep` and :func:`walker.basin.basin_map`, which share here their
+pool policy (:func:`worker_pool`: threads of this process unless asked for processes) and their
+progress policy (:func:`progress_bar`: a tqdm bar on stderr only when it is a terminal, erased
+after an interrupt).  Nothing here touches
 signals: an interrupt reaches :func:`run_chunks` as an exception (``KeyboardInterrupt``, or
 whatever a caller's signal handler raises) in the thread that collects the results, and
 :func:`run_chunks` then stops the work before re-raising it:
@@ -38,7 +41,16 @@ import time
 from collections.abc import Callable, Iterable
 from typing import Any
 
-__all__ = ["Abandoned", "die_with_parent", "process_pool", "run_chunks", "stop_workers"]
+__all__ = [
+    "Abandoned",
+    "die_with_parent",
+    "process_pool",
+    "progress_bar",
+    "run_chunks",
+    "stop_workers",
+    "use_progress",
+    "worker_pool",
+]
 
 WATCHDOG_INTERVAL = 0.5
 """Seconds between two looks of a pool worker's watchdog at its parent process."""
@@ -127,6 +139,53 @@ def process_pool(max_workers: int, mp_context: Any = None) -> cf.ProcessPoolExec
     return cf.ProcessPoolExecutor(
         max_workers=max_workers, mp_context=mp_context, initializer=die_with_parent
     )
+
+
+def worker_pool(
+    jobs: int | None, n_tasks: int, *, name: str, processes: bool = False
+) -> cf.Executor:
+    """The pool a run makes for itself (and shuts down when done): ``jobs`` workers (default
+    ``os.cpu_count()``), no more than the ``n_tasks`` chunks to run.
+
+    Threads of this process by default: a stride runs in walker's compiled kernel with the GIL
+    released, so ``n`` threads run ``n`` strides at once, with no process start-up and nothing
+    to pickle (a map written in Python holds the GIL and gains nothing from threads: pass a
+    ``ProcessPoolExecutor`` for it).  Their names start with ``walker-<name>``.  With
+    ``processes``: a :func:`process_pool`, whose workers end with this process.
+    """
+    n_workers = min(jobs or os.cpu_count() or 1, n_tasks)
+    if processes:
+        return process_pool(n_workers)
+    return cf.ThreadPoolExecutor(max_workers=n_workers, thread_name_prefix=f"walker-{name}")
+
+
+def use_progress(progress: bool) -> bool:
+    """Whether a run draws a progress bar: asked for (``progress``) and stderr is a terminal."""
+    if not progress:
+        return False
+    try:
+        return bool(sys.stderr.isatty())
+    except (AttributeError, ValueError):
+        return False
+
+
+@contextlib.contextmanager
+def progress_bar(progress: bool, *, total: int, initial: int, desc: str, unit: str):
+    """A tqdm bar on stderr for the ``with`` block, drawn only when :func:`use_progress`
+    (otherwise a disabled bar, whose ``update`` does nothing).  It is closed on the way out,
+    and an interrupted run (``KeyboardInterrupt``) leaves no bar behind."""
+    from tqdm.auto import tqdm
+
+    bar = tqdm(
+        total=total, initial=initial, unit=unit, desc=desc, disable=not use_progress(progress)
+    )
+    try:
+        yield bar
+    except KeyboardInterrupt:
+        bar.leave = False
+        raise
+    finally:
+        bar.close()
 
 
 class Abandoned(Exception):

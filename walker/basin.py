@@ -25,14 +25,13 @@ import functools
 import math
 import numbers
 import os
-import sys
 import threading
 
 import numpy as np
 
-from walker._executors import Abandoned, run_chunks
-from walker.fixedpoint import SectionMap, _map_value
+from walker._executors import Abandoned, progress_bar, run_chunks, worker_pool
 from walker.results import BASIN_CONVERGED, BASIN_UNDECIDED, BasinMap, FixedPoint, too_large
+from walker.sectionmap import SectionMap, map_value
 from walker.storage import BASIN_NOT_COMPUTED
 
 __all__ = ["BASIN_NOT_COMPUTED", "basin_map", "basin_chunk"]
@@ -119,7 +118,7 @@ def basin_chunk(
                     break
                 if done + period > n_strides:
                     break
-                res = _map_value(section_map, z, period, None)
+                res = map_value(section_map, z, period, None)
                 if not res.success:
                     outcome[i, j] = int(res.status)
                     break
@@ -127,23 +126,6 @@ def basin_chunk(
                 done += period
             strides[i, j] = done
     return outcome, strides
-
-
-def _default_pool(n_workers: int) -> cf.ThreadPoolExecutor:
-    """Threads in this process: a stride runs in walker's compiled kernel with the GIL
-    released, so ``n_workers`` threads run ``n_workers`` strides at once, with no process
-    start-up and nothing to pickle.  (A section map written in Python holds the GIL and gains
-    nothing from threads: pass a ``ProcessPoolExecutor`` for it.)"""
-    return cf.ThreadPoolExecutor(max_workers=n_workers, thread_name_prefix="walker-basin")
-
-
-def _use_progress(progress: bool) -> bool:
-    if not progress:
-        return False
-    try:
-        return bool(sys.stderr.isatty())
-    except (AttributeError, ValueError):
-        return False
 
 
 def basin_map(
@@ -364,21 +346,23 @@ def basin_map(
         else:
             outcome[i * chunk_size : i * chunk_size + o.shape[0]] = o
             strides[i * chunk_size : i * chunk_size + o.shape[0]] = k
-        if bar is not None:
-            bar.update(1)
+        bar.update(1)
 
-    bar = None
-    if _use_progress(progress) and pending:
-        from tqdm import tqdm
-
-        bar = tqdm(total=n_chunks, initial=n_chunks - len(pending), desc="basin", unit="chunk")
-    try:
+    # The progress policy of walker._executors (a bar only on a terminal, none left behind
+    # by an interrupt), drawn only when there is work.
+    with progress_bar(
+        progress and bool(pending),
+        total=n_chunks,
+        initial=n_chunks - len(pending),
+        desc="basin",
+        unit="chunk",
+    ) as bar:
         if serial:
             for i in pending:
                 finish(i, basin_chunk(section_map, *args, rows(i), n_strides, period, tol))
         elif pending:
             own = executor is None
-            pool = _default_pool(min(n_cpu, len(pending))) if own else executor
+            pool = worker_pool(n_cpu, len(pending), name="basin") if own else executor
             stop = None
             fn = basin_chunk
             if isinstance(pool, cf.ThreadPoolExecutor):
@@ -397,13 +381,6 @@ def basin_map(
             finally:
                 if own:
                     pool.shutdown(wait=True, cancel_futures=True)
-    except KeyboardInterrupt:
-        if bar is not None:
-            bar.leave = False  # an interrupted run leaves no progress bar behind
-        raise
-    finally:
-        if bar is not None:
-            bar.close()
     if store is not None:
         return store.result()
     return BasinMap(

@@ -65,6 +65,8 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
+from walker.plot_common import equal_runs, with_unit
+
 __all__ = [
     "BranchMeasures",
     "branch_measures",
@@ -249,18 +251,6 @@ def branch_measures(
     )
 
 
-def _label(text: str, unit: str) -> str:
-    return f"{text} [{unit}]" if unit else text
-
-
-def _runs(flags: np.ndarray) -> list[tuple[int, int]]:
-    """Index ranges [start, stop) of runs of equal consecutive flags."""
-    if flags.size == 0:
-        return []
-    cuts = np.flatnonzero(flags[1:] != flags[:-1]) + 1
-    return list(zip(np.r_[0, cuts].tolist(), np.r_[cuts, flags.size].tolist(), strict=True))
-
-
 def plot_branch(
     branches: Any | Sequence[Any],
     measures: BranchMeasures | Sequence[BranchMeasures],
@@ -318,11 +308,11 @@ def plot_branch(
     m0 = measures[0]
     speed_unit = f"{m0.length_unit}/{m0.time_unit}"
     panels = [
-        ("step_time", _label("step time", m0.time_unit)),
-        ("speed", _label("walking speed", speed_unit)),
-        ("step_length", _label("step length", m0.length_unit)),
-        ("cost_of_transport", _label("cost of transport", "1")),
-        ("max_multiplier", _label("largest |multiplier|", "1")),
+        ("step_time", with_unit("step time", m0.time_unit)),
+        ("speed", with_unit("walking speed", speed_unit)),
+        ("step_length", with_unit("step length", m0.length_unit)),
+        ("cost_of_transport", with_unit("cost of transport", "1")),
+        ("max_multiplier", with_unit("largest |multiplier|", "1")),
     ]
     for ax, (_, ylabel) in zip(axes, panels, strict=True):
         ax.set_ylabel(ylabel)
@@ -335,7 +325,7 @@ def plot_branch(
         for ax, (key, _) in zip(axes, panels, strict=True):
             y = np.asarray(getattr(m, key), dtype=float)
             y = y.reshape(m.parameter.size, -1)
-            for start, stop in _runs(stable):
+            for start, stop in equal_runs(stable):
                 s = bool(stable[start])
                 stop_incl = min(stop + 1, m.parameter.size)
                 for col in range(y.shape[1]):
@@ -366,7 +356,7 @@ def plot_branch(
                 fontsize="x-small",
                 color="C3",
             )
-    axes[-1].set_xlabel(_label(m0.parameter_name, m0.parameter_unit))
+    axes[-1].set_xlabel(with_unit(m0.parameter_name, m0.parameter_unit))
     _dedupe_legend(axes[0])
     periods = ", ".join(str(m.period) for m in measures)
     fig.suptitle(f"gait branch{'es' if len(measures) > 1 else ''} (period {periods})")
@@ -469,8 +459,8 @@ def plot_orbit_diagram(
         if coordinate_unit is not None
         else (section_unit(coordinate_name) if coordinate_name else "")
     )
-    ax.set_xlabel(_label(str(diagram.parameter_name), parameter_unit))
-    ax.set_ylabel(_label(f"{name} just after heel strike", unit))
+    ax.set_xlabel(with_unit(str(diagram.parameter_name), parameter_unit))
+    ax.set_ylabel(with_unit(f"{name} just after heel strike", unit))
     ax.set_title("orbit diagram")
     return fig
 

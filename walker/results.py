@@ -2,6 +2,9 @@
 
 Every result that can fail carries ``status`` (:class:`walker.status.Status`), ``message`` and
 ``success``; expected failures (a fall, Newton not converging) are statuses, not exceptions.
+``success`` is ``status == Status.COMPLETED``: it stays a stored field, because the file
+schema writes every field (:mod:`walker.storage.schema`), and walker's analysis code sets it
+only through :meth:`Outcome.from_status` and :meth:`Outcome.with_status`.
 Arrays use SI units and the state order of the model that produced them.
 
 The size of a result is checked before it is allocated (:func:`memory_limit`): a sweep table,
@@ -11,6 +14,7 @@ memory available to the process is refused with a ``ValueError`` naming the argu
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import resource
 from dataclasses import dataclass, field
@@ -131,8 +135,30 @@ class Trajectory:
         return int(self.t.shape[0])
 
 
+class Outcome:
+    """What the results that can fail share (:class:`Solution`, :class:`FixedPoint`,
+    :class:`Branch`): ``status``, ``message`` and ``success``.
+
+    ``success`` is derived, ``status == Status.COMPLETED``, but kept as a dataclass field:
+    the file schema stores every field by name, so turning it into a property would change
+    the files.  Build a result with :meth:`from_status` and re-label one with
+    :meth:`with_status`, so that no code sets ``success`` by hand.
+    """
+
+    @classmethod
+    def from_status(cls, status: Status, message: str, **fields):
+        """A result with ``status``, ``message``, ``success`` derived, and the other fields."""
+        return cls(status=status, message=message, success=status == Status.COMPLETED, **fields)
+
+    def with_status(self, status: Status, message: str):
+        """A copy with another ``status`` and ``message`` (``success`` follows)."""
+        return dataclasses.replace(
+            self, status=status, message=message, success=status == Status.COMPLETED
+        )
+
+
 @dataclass
-class Solution:
+class Solution(Outcome):
     """Result of one run of the hybrid integrator.
 
     Attributes
@@ -222,7 +248,7 @@ class MapResult:
 
 
 @dataclass
-class FixedPoint:
+class FixedPoint(Outcome):
     """A period-``period`` orbit of a section map and its stability.
 
     Attributes
@@ -271,6 +297,41 @@ class FixedPoint:
     parameters: dict = field(default_factory=dict)
     conventions: dict = field(default_factory=dict)
 
+    @classmethod
+    def failed(
+        cls,
+        status: Status,
+        message: str,
+        section,
+        *,
+        period: int,
+        parameters: dict,
+        history=(),
+        n_iter: int = 0,
+        state: np.ndarray | None = None,
+        conventions: dict | None = None,
+    ) -> FixedPoint:
+        """A search that ended without an orbit: ``section`` is where it ended, the
+        multipliers, eigenvectors, Jacobian and step time are NaN, ``stable`` is False."""
+        n_z = np.asarray(section).shape[0]
+        return cls.from_status(
+            status,
+            message,
+            section=np.asarray(section, dtype=float).copy(),
+            state=np.full(1, np.nan) if state is None else state,
+            step_time=float("nan"),
+            multipliers=np.full(n_z, np.nan, dtype=complex),
+            eigenvectors=np.full((n_z, n_z), np.nan, dtype=complex),
+            jacobian=np.full((n_z, n_z), np.nan),
+            residual=float(history[-1]) if len(history) else float("nan"),
+            n_iter=n_iter,
+            history=np.asarray(history, dtype=float),
+            period=period,
+            stable=False,
+            parameters=parameters,
+            conventions={} if conventions is None else conventions,
+        )
+
 
 @dataclass
 class Bifurcation:
@@ -283,7 +344,7 @@ class Bifurcation:
 
 
 @dataclass
-class Branch:
+class Branch(Outcome):
     """A continued branch of period-``period`` orbits.
 
     Attributes

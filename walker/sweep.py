@@ -26,6 +26,11 @@ How the work is cut and run (DESIGN.md, decision 10):
    that started them dies (:func:`walker._executors.die_with_parent`), so a ``kill -9`` of a
    sweep leaves no worker computing for nobody.
 
+Where the parts are: the grid, its checks and the table's layout in :mod:`walker.sweep_grid`
+(everything public there is importable from here too); the pool and progress policy, shared
+with :func:`walker.basin.basin_map`, in :mod:`walker._executors`; here the unit of work
+(:func:`sweep_chunk`, :class:`MapSpec`) and the driver (:func:`sweep`).
+
 Examples
 --------
 >>> from walker import StrideMap, load_scene
@@ -45,259 +50,46 @@ import dataclasses
 import math
 import numbers
 import os
-import re
-import sys
 import warnings
-from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from walker._checks import as_vector as _as_vector
-from walker._executors import die_with_parent, process_pool, run_chunks
+from walker._executors import die_with_parent, progress_bar, run_chunks, worker_pool
 from walker.fixedpoint import find_fixed_point
-from walker.results import SweepTable, too_large
+from walker.results import SweepTable
 from walker.stride import StrideMap
+from walker.sweep_grid import (
+    DEFAULT_CHUNK_POINTS,
+    KINDS,
+    MAX_SWEEP_POINTS,
+    MIN_DEFAULT_CHUNKS,
+    check_grid_size,
+    check_names,
+    check_points,
+    default_chunk_size,
+    grid_points,
+    parse_range,
+    table_columns,
+)
+from walker.sweep_grid import bytes_per_point as _bytes_per_point  # walker.cli.sweep's name
 
 __all__ = [
+    "DEFAULT_CHUNK_POINTS",
     "KINDS",
+    "MAX_SWEEP_POINTS",
+    "MIN_DEFAULT_CHUNKS",
     "MapSpec",
+    "check_grid_size",
+    "default_chunk_size",
     "die_with_parent",
     "grid_points",
     "parse_range",
     "sweep",
     "sweep_chunk",
 ]
-
-KINDS = ("outcome", "fixed_point")
-"""Valid values of ``kind``."""
-
-DEFAULT_CHUNK_POINTS = {"outcome": 256, "fixed_point": 16}
-"""Largest default chunk per kind: a chunk takes roughly 0.1-0.3 s on a 2020s CPU, so the
-per-chunk overhead (submit, pickle, one HDF5 write with fsync: a few ms) stays small."""
-
-MIN_DEFAULT_CHUNKS = 16
-"""The default chunk size gives at least this many chunks (when there are as many points),
-so that a pool of a few workers is balanced and a killed sweep loses little."""
-
-MAX_SWEEP_POINTS = 1_000_000
-"""Most points one sweep takes (a 1000 x 1000 grid): hours of work at a few ms per point, a
-table of tens of MB.  Cut a larger study into several sweeps."""
-
-_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
-_RANGE_RULE = (
-    "expected NAME=START:STOP:COUNT (COUNT an integer >= 1, values evenly spaced from START "
-    "to STOP inclusive) or NAME=V1,V2,... (finite numbers)"
-)
-
-
-# ---------------------------------------------------------------------------------------------
-# Grids
-# ---------------------------------------------------------------------------------------------
-
-
-def _finite_float(text: str, what: str, full: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise ValueError(
-            f"bad parameter range {full!r}: {what} {text!r} is not a number; {_RANGE_RULE}"
-        ) from None
-    if not math.isfinite(value):
-        raise ValueError(
-            f"bad parameter range {full!r}: {what} must be finite, got {text!r}; {_RANGE_RULE}"
-        )
-    return value
-
-
-def parse_range(text: str) -> tuple[str, np.ndarray]:
-    """Parse one parameter range of the command line.
-
-    Parameters
-    ----------
-    text : str
-        ``"NAME=START:STOP:COUNT"``: ``COUNT`` values evenly spaced from ``START`` to ``STOP``
-        inclusive (``numpy.linspace``; ``COUNT = 1`` gives ``START``); or ``"NAME=V1,V2,..."``:
-        the listed values in the given order (one value is allowed).  Values in the
-        parameter's own unit (``walker.params``); whitespace around parts is ignored.
-
-    Returns
-    -------
-    name : str
-    values : ndarray, shape (COUNT,)
-
-    Raises
-    ------
-    ValueError
-        the text does not follow either form; the message quotes it and states the rule.
-
-    Examples
-    --------
-    >>> parse_range("slope=0.001:0.003:3")
-    ('slope', array([0.001, 0.002, 0.003]))
-    >>> parse_range("mass_hip=10, 12")
-    ('mass_hip', array([10., 12.]))
-    """
-    if not isinstance(text, str):
-        raise TypeError(f"a parameter range must be a str, got {type(text).__name__}")
-    name, sep, spec = text.partition("=")
-    name = name.strip()
-    if not sep or not _NAME.match(name):
-        raise ValueError(
-            f"bad parameter range {text!r}: it must start with a parameter name and '='; "
-            f"{_RANGE_RULE}"
-        )
-    spec = spec.strip()
-    if not spec:
-        raise ValueError(f"bad parameter range {text!r}: no values after '='; {_RANGE_RULE}")
-    if ":" in spec:
-        parts = [s.strip() for s in spec.split(":")]
-        if len(parts) != 3:
-            raise ValueError(
-                f"bad parameter range {text!r}: START:STOP:COUNT needs exactly 3 parts, got "
-                f"{len(parts)}; {_RANGE_RULE}"
-            )
-        start = _finite_float(parts[0], "START", text)
-        stop = _finite_float(parts[1], "STOP", text)
-        if not re.fullmatch(r"[0-9]+", parts[2]) or int(parts[2]) < 1:
-            raise ValueError(
-                f"bad parameter range {text!r}: COUNT must be an integer >= 1, got "
-                f"{parts[2]!r}; {_RANGE_RULE}"
-            )
-        count = int(parts[2])
-        if count > MAX_SWEEP_POINTS:
-            raise ValueError(
-                f"bad parameter range {text!r}: COUNT {count:,} is more than a sweep takes "
-                f"(at most {MAX_SWEEP_POINTS:,} points); cut the range into several sweeps"
-            )
-        return name, np.linspace(start, stop, count)
-    values = [_finite_float(v.strip(), "value", text) for v in spec.split(",")]
-    return name, np.array(values, dtype=np.float64)
-
-
-def _normalize_ranges(ranges: Any) -> list[tuple[str, np.ndarray]]:
-    """``ranges`` as a list of (name, 1-D float array); accepts texts, pairs or a mapping."""
-    if isinstance(ranges, str):
-        ranges = [ranges]
-    if isinstance(ranges, Mapping):
-        items = list(ranges.items())
-    elif isinstance(ranges, Sequence) or isinstance(ranges, np.ndarray):
-        items = list(ranges)
-    else:
-        raise TypeError(
-            "`ranges` must be a sequence of 'NAME=...' texts or (name, values) pairs, or a "
-            f"mapping name -> values, got {type(ranges).__name__}"
-        )
-    if not items:
-        raise ValueError("`ranges` must name at least one parameter, got none")
-    out: list[tuple[str, np.ndarray]] = []
-    for item in items:
-        if isinstance(item, str):
-            name, values = parse_range(item)
-        else:
-            try:
-                name, values = item
-            except (TypeError, ValueError):
-                raise TypeError(
-                    f"each entry of `ranges` must be a 'NAME=...' text or a (name, values) "
-                    f"pair, got {item!r}"
-                ) from None
-            if not isinstance(name, str) or not _NAME.match(name):
-                raise ValueError(f"parameter names in `ranges` must be identifiers, got {name!r}")
-            values = _real_values(name, values)
-            if not np.all(np.isfinite(values)):
-                raise ValueError(f"values of `{name}` in `ranges` must all be finite")
-        out.append((name, values))
-    names = [n for n, _ in out]
-    dup = sorted({n for n in names if names.count(n) > 1})
-    if dup:
-        raise ValueError(f"`ranges` names each parameter at most once; repeated: {dup}")
-    check_grid_size([len(v) for _, v in out], "`ranges`")
-    return out
-
-
-def _real_values(name: str, values: Any) -> np.ndarray:
-    """The values of one parameter of ``ranges`` as a 1-D float array, or an error naming
-    it: booleans, complex numbers and numbers too large for a float are refused."""
-    if isinstance(values, np.ndarray) and values.dtype.kind != "O":
-        has_bool = values.dtype.kind == "b"
-    elif isinstance(values, Sequence | np.ndarray) and not isinstance(values, str):
-        flat = np.ravel(np.asarray(values, dtype=object))
-        has_bool = any(isinstance(v, bool | np.bool_) for v in flat.tolist())
-    else:
-        has_bool = isinstance(values, bool | np.bool_)
-    if has_bool:
-        raise TypeError(f"values of `{name}` in `ranges` must be numbers, got a bool")
-    rule = f"values of `{name}` in `ranges` must be a non-empty 1-D array of real numbers"
-    try:
-        arr = np.asarray(values)
-    except (TypeError, ValueError):
-        raise ValueError(f"{rule}, got {type(values).__name__}") from None
-    if arr.ndim == 0:
-        arr = arr[None]
-    if arr.dtype.kind == "O" and arr.ndim == 1:
-        try:
-            arr = np.asarray(values, dtype=np.float64).reshape(-1)
-        except OverflowError:
-            raise ValueError(
-                f"values of `{name}` in `ranges` must all be finite; one is too large for a float"
-            ) from None
-        except (TypeError, ValueError):
-            raise ValueError(f"{rule}, got {values!r}"[:300]) from None
-    if arr.ndim != 1 or arr.shape[0] == 0 or arr.dtype.kind not in "iuf":
-        raise ValueError(f"{rule}, got shape {arr.shape} dtype {arr.dtype}")
-    return arr.astype(np.float64)
-
-
-def check_grid_size(lengths: Sequence[int], what: str, bytes_per_point: int = 0) -> int:
-    """The number of points of a grid with these range ``lengths``, or a ValueError naming
-    ``what`` (``"`ranges`"``, ``"--param"``) when it is more than :data:`MAX_SWEEP_POINTS`
-    or its table of ``bytes_per_point`` per point does not fit in
-    :func:`walker.results.memory_limit`.  Nothing is allocated."""
-    n_points = math.prod(int(n) for n in lengths)
-    shape = " x ".join(f"{int(n):,}" for n in lengths)
-    if n_points > MAX_SWEEP_POINTS:
-        raise ValueError(
-            f"the grid of {what} has {n_points:,} points ({shape}), more than a sweep takes "
-            f"(at most {MAX_SWEEP_POINTS:,}); cut it into several sweeps"
-        )
-    reason = too_large(n_points * float(bytes_per_point))
-    if reason is not None:
-        raise ValueError(
-            f"the grid of {what} has {n_points:,} points ({shape}), whose table {reason}; "
-            "sweep fewer points"
-        )
-    return n_points
-
-
-def grid_points(ranges: Any) -> tuple[tuple[str, ...], np.ndarray]:
-    """The Cartesian product of parameter ranges, last parameter varying fastest.
-
-    Parameters
-    ----------
-    ranges : sequence or mapping
-        ``"NAME=..."`` texts (:func:`parse_range`), ``(name, values)`` pairs, or a mapping
-        ``name -> values``; each name at most once.
-
-    Returns
-    -------
-    names : tuple of str, length k
-    points : ndarray, shape (n, k)
-        ``n`` is the product of the range lengths; row ``i`` is one parameter point, in
-        C order of the grid (``itertools.product`` order).
-
-    Examples
-    --------
-    >>> names, pts = grid_points(["a=1,2", "b=0:1:3"])
-    >>> names, pts.tolist()
-    (('a', 'b'), [[1.0, 0.0], [1.0, 0.5], [1.0, 1.0], [2.0, 0.0], [2.0, 0.5], [2.0, 1.0]])
-    """
-    items = _normalize_ranges(ranges)
-    names = tuple(n for n, _ in items)
-    mesh = np.meshgrid(*[v for _, v in items], indexing="ij")
-    points = np.stack([m.ravel() for m in mesh], axis=1)
-    return names, np.ascontiguousarray(points, dtype=np.float64)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -352,81 +144,6 @@ def _materialize(section_map: Any) -> Any:
         cached = section_map.build()
         _WORKER_MAP[section_map] = cached
     return cached
-
-
-def _check_names(stride_map: Any, names: Sequence[str], what: str) -> None:
-    valid = tuple(stride_map.params.names())
-    for name in names:
-        if name not in valid:
-            raise ValueError(
-                f"unknown parameter `{name}` in {what} for model "
-                f"`{getattr(stride_map.model, 'name', stride_map.model)}`; valid names: "
-                f"{', '.join(valid)}"
-            )
-
-
-def _point_error(names: Sequence[str], row: np.ndarray, exc: Exception) -> ValueError:
-    point = ", ".join(f"{n}={v!r}" for n, v in zip(names, row.tolist(), strict=True))
-    return ValueError(f"grid point ({point}) is not valid: {exc}")
-
-
-def _check_points(params: Any, names: Sequence[str], points: np.ndarray) -> None:
-    """Every row of ``points`` (values of ``names``) is a valid change of ``params``, or a
-    ValueError naming the first bad point and the rule.
-
-    The bounds of each parameter are checked once per distinct value, the cross-field rules
-    (``_check_relations``) once per point without building validated copies, so a million
-    points take seconds, not minutes.
-    """
-    from walker.params import _check_bounds, _Params
-
-    if not isinstance(params, _Params) or not dataclasses.is_dataclass(params):
-        for row in points:  # a parameter object of another kind: its own validation
-            try:
-                params.replace(**dict(zip(names, row.tolist(), strict=True)))
-            except (TypeError, ValueError) as exc:
-                raise _point_error(names, row, exc) from None
-        return
-    fields = {f.name: f for f in dataclasses.fields(params)}
-    for j, name in enumerate(names):
-        for value in np.unique(points[:, j]).tolist():
-            try:
-                _check_bounds(name, value, fields[name].metadata)
-            except ValueError as exc:
-                row = points[int(np.argmax(points[:, j] == value))]
-                raise _point_error(names, row, exc) from None
-    if type(params)._check_relations is _Params._check_relations:
-        return
-    for row in points:
-        candidate = params._replace_validated(**dict(zip(names, row.tolist(), strict=True)))
-        try:
-            candidate._check_relations()
-        except (TypeError, ValueError) as exc:
-            raise _point_error(names, row, exc) from None
-
-
-def _bytes_per_point(kind: str, n_z: int, n_names: int) -> int:
-    """Bytes of one point of a sweep's table: its parameter values and its columns."""
-    columns = _columns(kind, n_z)
-    return 8 * (n_names + sum(math.prod(shape) for _, shape in columns.values()))
-
-
-def _columns(kind: str, n_z: int) -> dict[str, tuple[str, tuple[int, ...]]]:
-    """Column name -> (dtype, per-point shape) of a sweep table."""
-    cols: dict[str, tuple[str, tuple[int, ...]]] = {
-        "status": ("i8", ()),
-        "section": ("f8", (n_z,)),
-        "step_time": ("f8", ()),
-    }
-    if kind == "fixed_point":
-        cols.update(
-            multipliers_re=("f8", (n_z,)),
-            multipliers_im=("f8", (n_z,)),
-            residual=("f8", ()),
-            stable=("i8", ()),
-            n_iter=("i8", ()),
-        )
-    return cols
 
 
 def sweep_chunk(
@@ -492,7 +209,7 @@ def sweep_chunk(
     m = points.shape[0]
     out = {
         name: np.full((m, *shape), -1 if dtype == "i8" else np.nan, dtype=dtype)
-        for name, (dtype, shape) in _columns(kind, n_z).items()
+        for name, (dtype, shape) in table_columns(kind, n_z).items()
     }
     z_guess = z0
     for i in range(m):
@@ -530,7 +247,7 @@ def _chunk_arguments(base, names, points, z0, n_strides, tol):
     if isinstance(names, str) or not all(isinstance(n, str) for n in names):
         raise TypeError(f"`names` must be a tuple of parameter names, got {names!r}")
     names = tuple(names)
-    _check_names(base, names, "`names`")
+    check_names(base, names, "`names`")
     try:
         points = np.asarray(points, dtype=np.float64)
     except (TypeError, ValueError, OverflowError):
@@ -541,7 +258,7 @@ def _chunk_arguments(base, names, points, z0, n_strides, tol):
         )
     if not np.all(np.isfinite(points)):
         raise ValueError("All values in `points` must be finite")
-    _check_points(base.params, names, points)
+    check_points(base.params, names, points)
     n_z = int(base.n_z)
     z0 = np.asarray(z0)
     if z0.dtype.kind not in "iuf" or z0.shape != (n_z,) or not np.all(np.isfinite(z0)):
@@ -556,15 +273,6 @@ def _chunk_arguments(base, names, points, z0, n_strides, tol):
 # ---------------------------------------------------------------------------------------------
 # The driver
 # ---------------------------------------------------------------------------------------------
-
-
-def _use_progress(progress: bool) -> bool:
-    if not progress:
-        return False
-    try:
-        return bool(sys.stderr.isatty())
-    except (AttributeError, ValueError):
-        return False
 
 
 def _positive_int(value: Any, name: str) -> int:
@@ -585,15 +293,6 @@ def _positive_float(value: Any, name: str) -> float:
     if not (math.isfinite(number) and number > 0):
         raise ValueError(f"`{name}` must be positive and finite, got {value!r}")
     return number
-
-
-def default_chunk_size(n_points: int, kind: str) -> int:
-    """Chunk size used when none is given: depends only on the grid size and ``kind``.
-
-    (Not on the number of workers, so a sweep resumed with other ``jobs`` or another
-    executor finds the same chunks.)
-    """
-    return max(1, min(DEFAULT_CHUNK_POINTS[kind], -(-n_points // MIN_DEFAULT_CHUNKS)))
 
 
 def _sweep_provenance(stride_map: StrideMap, kind, z0, n_strides, tol, provenance) -> dict:
@@ -648,10 +347,10 @@ def _validate(stride_map, ranges, kind, z0, n_strides, chunk_size, jobs, tol):
         jobs = _positive_int(jobs, "jobs")
     tol = _positive_float(tol, "tol")
     names, points = grid_points(ranges)
-    _check_names(stride_map, names, "`ranges`")
+    check_names(stride_map, names, "`ranges`")
     n_points = points.shape[0]
     check_grid_size([n_points], "`ranges`", _bytes_per_point(kind, n_z, len(names)))
-    _check_points(stride_map.params, names, points)
+    check_points(stride_map.params, names, points)
     chunk = default_chunk_size(n_points, kind) if chunk_size is None else chunk_size
     return names, points, z0, n_strides, chunk, jobs, tol
 
@@ -838,7 +537,7 @@ def _prepare(
     n_points = points.shape[0]
     n_z = int(stride_map.n_z)
     _check_executor(executor, jobs)
-    columns = _columns(kind, n_z)
+    columns = table_columns(kind, n_z)
     n_chunks = -(-n_points // chunk)
     store = None
     if out is not None:
@@ -896,48 +595,38 @@ def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
                 table[name][rows(i)] = values[name]
         bar.update(rows(i).stop - rows(i).start)
 
-    from tqdm.auto import tqdm
-
     own_pool = None
-    if pending and executor is None:
-        # Threads of this process: the compiled strides release the GIL, so the workers run
-        # in parallel with no process start-up and the map needs no pickling.
-        n_workers = min(plan.jobs or os.cpu_count() or 1, len(pending))
-        own_pool = cf.ThreadPoolExecutor(max_workers=n_workers, thread_name_prefix="walker-sweep")
+    if pending and (executor is None or executor == "processes"):
+        # Threads of this process by default: the compiled strides release the GIL, so the
+        # workers run in parallel with no process start-up and the map needs no pickling.
+        # "processes": worker processes that end with this one (a kill -9 of the sweep
+        # leaves none).
+        processes = executor == "processes"
+        own_pool = worker_pool(plan.jobs, len(pending), name="sweep", processes=processes)
         executor = own_pool
-        task_map = stride_map
-    elif pending and executor == "processes":
-        # Worker processes that end with this one (a kill -9 of the sweep leaves none).
-        own_pool = process_pool(min(plan.jobs or os.cpu_count() or 1, len(pending)))
-        executor = own_pool
+        if not processes:
+            task_map = stride_map
     n_done = n_points - sum(rows(i).stop - rows(i).start for i in pending)
-    bar = tqdm(
-        total=n_points,
-        initial=n_done,
-        unit="pt",
-        desc=f"sweep {kind}",
-        disable=not _use_progress(progress),
-    )
     try:
-        if executor == "serial":
-            for i in pending:
-                finish(i, sweep_chunk(*args(i)))
-        elif pending:
-            # On an interrupt: chunks not started are cancelled, running threads finish their
-            # (short) chunk, a process pool's workers are terminated, and every chunk that
-            # finished is written before the interrupt propagates.
-            run_chunks(
-                executor,
-                sweep_chunk,
-                ((i, args(i)) for i in pending),
-                finish,
-                own=own_pool is not None,
-            )
-    except KeyboardInterrupt:
-        bar.leave = False  # an interrupted run leaves no progress bar behind
-        raise
+        # An interrupted run leaves no progress bar behind (progress_bar).
+        with progress_bar(
+            progress, total=n_points, initial=n_done, desc=f"sweep {kind}", unit="pt"
+        ) as bar:
+            if executor == "serial":
+                for i in pending:
+                    finish(i, sweep_chunk(*args(i)))
+            elif pending:
+                # On an interrupt: chunks not started are cancelled, running threads finish
+                # their (short) chunk, a process pool's workers are terminated, and every
+                # chunk that finished is written before the interrupt propagates.
+                run_chunks(
+                    executor,
+                    sweep_chunk,
+                    ((i, args(i)) for i in pending),
+                    finish,
+                    own=own_pool is not None,
+                )
     finally:
-        bar.close()
         if own_pool is not None:
             own_pool.shutdown(wait=True, cancel_futures=True)
     if store is not None:

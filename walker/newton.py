@@ -1,0 +1,445 @@
+"""The gait search at a fixed parameter: damped Newton with a Levenberg–Marquardt fallback.
+
+:func:`solve_fixed_point` solves ``F(z) = P^k(z) - z = 0`` on the Poincaré section and
+returns a :class:`NewtonResult` (how the search ended, where, and the map result at the
+solution when the last step brought its Jacobian).  :func:`walker.fixedpoint.find_fixed_point`
+checks the input, calls it and builds the :class:`~walker.results.FixedPoint`; the natural
+continuation corrector (:mod:`walker.steppers`) calls it with a small budget.
+
+Each step is confined to a trust region in scaled section coordinates
+(:class:`~walker.region.WalkingRegion`), a trial point outside the walking region of a
+walker's map is refused without integrating it, and the search stops after ``max_evals``
+map evaluations, when the residual stalls, or when the steps keep leading out of the
+walking region (see :mod:`walker.fixedpoint` for the statuses).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from walker.region import WalkingRegion
+from walker.results import MapResult
+from walker.sectionmap import map_jacobian, map_value
+from walker.status import Status
+
+__all__ = ["NewtonResult", "default_max_evals", "solve_fixed_point"]
+
+# Line search: accept a step when the 2-norm of F drops by this fraction of the step length
+# (Armijo condition on the merit ||F||), halving the step at most MAX_HALVINGS times (down to
+# 1/4096 of the step cut to the trust region; shorter steps only crawl into a local minimum
+# of ||F||, where Levenberg-Marquardt takes over).  The halving also stops at a trial point
+# whose ||F|| lies within LINE_FLAT (relative) above the current one without dropping below
+# it: ||F|| is flat along the Newton direction there, as at a local minimum of ||F||.
+ARMIJO = 1e-4
+MAX_HALVINGS = 12
+LINE_FLAT = 1e-2
+# Levenberg–Marquardt damping: start, growth on rejection, shrink on acceptance, give-up
+# level; at most LM_TRIES trial points per iteration.
+LM_START = 1e-3
+LM_GROW = 10.0
+LM_SHRINK = 0.3
+LM_MAX = 1e12
+LM_TRIES = 8
+# A Newton matrix whose condition number exceeds this is treated as singular.
+COND_MAX = 1e14
+
+# --- Failing fast ----------------------------------------------------------------------------
+# Evaluation budget: stride-map calls a search may make (any n_strides; the Jacobian at a
+# converged solution, when the last Newton step did not bring it, is not counted).  The
+# shipped scenes' gaits converge from their scene guesses in 1-5 evaluations (kneed: 4), and
+# from guesses within +-50 % of the kneed or compass gait in at most 19.
+MAX_EVALS = 60
+# With finite-difference Jacobians each Jacobian costs 2 n_z evaluations more: room for ten.
+FD_EXTRA_JACOBIANS = 10
+# Budget of each search at a sweep point (walker.sweep.sweep_chunk: the warm start, and the
+# retry from the sweep's guess): about 2-3x what a gait needs from a warm start (4-6 on the
+# kneed slope sweep), so a point without a gait costs a few tens of strides at most.
+POINT_MAX_EVALS = 12
+# Natural-continuation correctors (walker.continuation): CORRECTOR_EVALS_PER_ITER
+# evaluations per allowed corrector iteration (a Newton step and one halving).
+CORRECTOR_EVALS_PER_ITER = 2
+# Trust region, max-norm in scaled section coordinates (WalkingRegion.scale): start, largest.
+# After an accepted full step the radius grows to twice the step (at most TR_MAX); after a
+# step that had to be shortened it shrinks to that step's length.
+TR_START = 0.5
+TR_MAX = 2.0
+# Stall: each of the last STALL_WINDOW accepted steps lowered max|F| by less than 10 %
+# (Newton near a solution gains orders of magnitude per step; a search sliding into a local
+# minimum of |P(z) - z|, as past a fold of the gait branch, gains almost nothing).  Measured
+# on 200 guesses within +-50 % of the kneed gait: 117 converge (120 without the stall test,
+# the three others after 29-302 evaluations), and the searches past the fold end after
+# 10-47 evaluations instead of about 1,000.
+STALL_WINDOW = 3
+STALL_RATIO = 0.9
+STALL_ALPHA = 1.0 / 16
+
+
+@dataclass
+class NewtonResult:
+    """How :func:`solve_fixed_point` ended.
+
+    Attributes
+    ----------
+    status : Status
+        ``COMPLETED`` on convergence, else why the search ended.
+    message : str
+        what happened, and what to change.
+    z : ndarray, shape (n_z,)
+        the solution, or the last accepted iterate.
+    history : list of float
+        ``max|F|`` at each accepted iterate (empty when the guess was not evaluated).
+    n_iter : int
+        accepted iterations.
+    known : MapResult or None
+        the map at ``z`` with its exact Jacobian when the last step computed it there (so the
+        Jacobian at the solution is not computed twice), else None.
+    """
+
+    status: Status
+    message: str
+    z: np.ndarray
+    history: list
+    n_iter: int
+    known: MapResult | None = None
+
+    @property
+    def success(self) -> bool:
+        return self.status == Status.COMPLETED
+
+
+def _residual(section_map, z, period, parameter, with_jacobian=False):
+    """``F(z) = P^k(z) - z`` and the map result (F is None when the stride failed).
+
+    With ``with_jacobian`` the map is evaluated with its exact Jacobian in the same call, so
+    an accepted Newton trial point brings the next iteration's Jacobian with it.
+    """
+    if with_jacobian:
+        res = section_map(z, jacobian=True, n_strides=period, parameter=parameter)
+    else:
+        res = map_value(section_map, z, period, parameter)
+    if not res.success or not np.all(np.isfinite(res.z)):
+        return None, res
+    return res.z - z, res
+
+
+def _usable_jacobian(res):
+    jac = getattr(res, "jac", None)
+    if jac is None:
+        return None
+    jac = np.asarray(jac, dtype=float)
+    return jac if np.all(np.isfinite(jac)) else None
+
+
+class _OutOfBudget(Exception):
+    """The search's evaluation budget is spent (internal)."""
+
+
+class _Evaluator:
+    """Counts the search's stride-map evaluations against its budget."""
+
+    __slots__ = ("section_map", "period", "parameter", "max_evals", "n_evals")
+
+    def __init__(self, section_map, period, parameter, max_evals):
+        self.section_map = section_map
+        self.period = period
+        self.parameter = parameter
+        self.max_evals = max_evals
+        self.n_evals = 0
+
+    def _spend(self, n):
+        if self.n_evals + n > self.max_evals:
+            raise _OutOfBudget
+        self.n_evals += n
+
+    def residual(self, z, with_jacobian=False):
+        self._spend(1)
+        return _residual(self.section_map, z, self.period, self.parameter, with_jacobian)
+
+    def jacobian(self, z, mode, fd_step):
+        self._spend(1 if mode == "exact" else 1 + 2 * z.shape[0])
+        return map_jacobian(self.section_map, z, self.period, self.parameter, mode, fd_step)
+
+
+def default_max_evals(n_z: int, mode: str) -> int:
+    """The default evaluation budget: ``MAX_EVALS`` with the exact Jacobian, plus room for
+    ``FD_EXTRA_JACOBIANS`` central-difference Jacobians (``2 n_z`` evaluations each) with
+    ``jacobian="fd"``."""
+    return MAX_EVALS + (0 if mode == "exact" else FD_EXTRA_JACOBIANS * 2 * int(n_z))
+
+
+def _hint(section_map, parameter, *, budget=False) -> str:
+    """What a user can change, on the command line and from Python."""
+    name = getattr(section_map, "parameter_name", "parameter")
+    value = section_map.parameter_value if parameter is None else parameter
+    py = "raise `max_evals`, or pass another `z0`" if budget else "pass another `z0`"
+    return (
+        f"On the command line: try `--set {name}=...` closer to a value where a gait is known "
+        f"(here {name} = {float(value):.6g}), or a better `[initial] state` in the scene file; "
+        f"from Python: {py}, or follow a known gait with `continue_branch`."
+    )
+
+
+def solve_fixed_point(
+    section_map,
+    z0,
+    *,
+    period,
+    parameter,
+    tol,
+    max_iter,
+    mode,
+    fd_step,
+    fallback,
+    max_evals=None,
+    region=None,
+) -> NewtonResult:
+    """Damped Newton + LM on ``P^k(z) - z`` at a fixed parameter, in a trust region.
+
+    The input is taken as checked (:func:`walker.fixedpoint.find_fixed_point` checks it):
+    ``z0`` a finite vector, ``period`` and ``max_iter`` ints, ``mode`` in
+    :data:`~walker.sectionmap.JACOBIAN_MODES`.  ``max_evals`` bounds the stride-map
+    evaluations (None: :func:`default_max_evals`); ``region`` is the walking region (None:
+    :meth:`WalkingRegion.of` the map, which is None for a map without a walker model).
+    """
+    if region is None:
+        region = WalkingRegion.of(section_map, parameter)
+        if region is not None:
+            region.with_guess(z0)
+    if max_evals is None:
+        max_evals = default_max_evals(z0.shape[0], mode)
+    ev = _Evaluator(section_map, period, parameter, int(max_evals))
+    state = {"z": z0.copy(), "history": [], "it": 0}
+    try:
+        return _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback)
+    except _OutOfBudget:
+        history = state["history"]
+        last = (
+            f"max|F| = {history[-1]:.3g} at the last accepted iterate"
+            if history
+            else "before the first stride was evaluated"
+        )
+        msg = (
+            f"No period-{period} orbit within the budget of {ev.max_evals} stride-map "
+            f"evaluations (`max_evals`): {last}, iterate {state['it']}. "
+            + _hint(section_map, parameter, budget=True)
+        )
+        return NewtonResult(Status.BUDGET_EXHAUSTED, msg, state["z"], history, state["it"], None)
+
+
+def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
+    period = ev.period
+    z = z0.copy()
+    n = z.shape[0]
+    eye = np.eye(n)
+    exact = mode == "exact"
+    gait = region is not None  # a walker's stride map: gait statuses and messages
+    scale = region.scale if gait else np.maximum(1.0, np.abs(z0))
+    if gait:
+        why = region.outside(z)
+        if why is not None:
+            msg = (
+                f"The initial guess lies outside the region where the walker can walk: {why}. "
+                "It was not integrated. Start from a state near a gait: on the command line "
+                "the scene's `[initial] state`, from Python `z0`."
+            )
+            return NewtonResult(Status.OUTSIDE_WALKING_REGION, msg, z, [], 0, None)
+    f, res = ev.residual(z, with_jacobian=exact)
+    jac_here = _usable_jacobian(res) if exact else None
+    res_here = res
+    if f is None:
+        msg = (
+            f"The starting point fails within {period} stride(s): {res.status.message} "
+            "Start from a state that walks."
+        )
+        return NewtonResult(res.status, msg, z, [], 0, None)
+    history = state["history"]
+    history.append(float(np.max(np.abs(f))))
+    lm = LM_START
+    radius = TR_START
+    poor = []  # per accepted step: did it gain little (see STALL_RATIO, STALL_ALPHA)?
+    for it in range(max_iter + 1):
+        state["it"] = it
+        if history[-1] <= tol:
+            known = res_here if jac_here is not None else None
+            msg = _converged_message(tol, it, history)
+            return NewtonResult(Status.COMPLETED, msg, z, history, it, known)
+        if it == max_iter:
+            break
+        if len(poor) >= STALL_WINDOW and all(poor[-STALL_WINDOW:]):
+            return _stalled(ev, z, history, it, gait, fallback, "stall")
+        if jac_here is not None:
+            jac_map, st = jac_here, Status.COMPLETED
+        else:
+            _, jac_map, st = ev.jacobian(z, mode, fd_step)
+        if jac_map is None:
+            msg = (
+                f"Computing the Jacobian at iterate {it} failed ({st.name}): {st.message} "
+                "Try `jacobian='exact'` or a better initial guess."
+            )
+            return NewtonResult(st, msg, z, history, it, None)
+        a = jac_map - eye
+        merit = float(np.linalg.norm(f))
+        accepted = False
+        shortened = False
+        alpha = 1.0
+        refused = 0  # trial points outside the walking region (not integrated)
+        failed = 0  # trial strides that failed
+        walked = 0  # trial strides that completed
+        why_refused = ""
+        # --- Newton step, cut to the trust region, with backtracking on ||F||_2 ----------
+        cond = np.linalg.cond(a)
+        full_step_status = Status.COMPLETED
+        if np.isfinite(cond) and cond < COND_MAX:
+            dz = np.linalg.solve(a, -f)
+            length = float(np.max(np.abs(dz) / scale))
+            if length > radius:
+                dz *= radius / length
+            alpha = 1.0
+            for _ in range(MAX_HALVINGS):
+                z_try = z + alpha * dz
+                why = region.outside(z_try) if gait else None
+                if why is not None:
+                    refused += 1
+                    why_refused = why_refused or why
+                    if alpha == 1.0:
+                        full_step_status = Status.OUTSIDE_WALKING_REGION
+                    alpha *= 0.5
+                    continue
+                f_try, res_try = ev.residual(z_try, with_jacobian=exact and alpha == 1.0)
+                if f_try is None:
+                    failed += 1
+                    if alpha == 1.0:
+                        full_step_status = res_try.status
+                else:
+                    walked += 1
+                    merit_try = float(np.linalg.norm(f_try))
+                    if merit_try <= (1 - ARMIJO * alpha) * merit:
+                        accepted = True
+                        shortened = alpha < 1.0
+                        break
+                    if merit_try <= (1 + LINE_FLAT) * merit:
+                        break  # flat along the Newton direction: a local minimum of ||F||
+                alpha *= 0.5
+        elif not fallback:
+            msg = (
+                f"The Newton matrix DP^{period} - I is singular (condition number {cond:.3g}) "
+                f"at iterate {it}; the orbit may sit at a fold or the map may have no fixed "
+                "point here. Try `fallback=True`, another initial guess, or continuation."
+            )
+            return NewtonResult(Status.LINEAR_SOLVE_FAILED, msg, z, history, it, None)
+        # --- Levenberg–Marquardt fallback when Newton stalls, in the same trust region ----
+        if not accepted and fallback:
+            jtj = a.T @ a
+            g = a.T @ f
+            lm_scale = np.diag(np.maximum(np.diag(jtj), 1e-12))
+            tries = 0
+            while lm <= LM_MAX and tries < LM_TRIES:
+                tries += 1
+                try:
+                    dz = np.linalg.solve(jtj + lm * lm_scale, -g)
+                except np.linalg.LinAlgError:
+                    lm *= LM_GROW
+                    continue
+                length = float(np.max(np.abs(dz) / scale))
+                if not np.isfinite(length):
+                    lm *= LM_GROW
+                    continue
+                if length > radius:
+                    dz *= radius / length
+                z_try = z + dz
+                why = region.outside(z_try) if gait else None
+                if why is not None:
+                    refused += 1
+                    why_refused = why_refused or why
+                    lm *= LM_GROW
+                    continue
+                f_try, res_try = ev.residual(z_try)
+                if f_try is None:
+                    failed += 1
+                elif np.linalg.norm(f_try) < merit:
+                    accepted = True
+                    lm = max(lm * LM_SHRINK, 1e-12)
+                    break
+                else:
+                    walked += 1
+                lm *= LM_GROW
+            if not accepted and lm > LM_MAX:
+                lm = LM_START
+        if not accepted:
+            if gait and full_step_status != Status.COMPLETED and walked == 0:
+                return _diverged(ev, z, history, it, full_step_status, why_refused, refused)
+            if full_step_status not in (Status.COMPLETED, Status.NONFINITE) and not gait:
+                msg = (
+                    f"Newton stalled at iterate {it} (max|F| = {history[-1]:.3g}) because the "
+                    f"full Newton step leads to a state that fails: {full_step_status.message} "
+                    "The orbit sought may not walk; try another initial guess or parameter."
+                )
+                return NewtonResult(full_step_status, msg, z, history, it, None)
+            return _stalled(ev, z, history, it, gait, fallback, "no_descent")
+        step = float(np.max(np.abs(z_try - z) / scale))
+        radius = step if shortened else min(TR_MAX, max(radius, 2.0 * step))
+        z = z_try
+        state["z"] = z
+        f = f_try
+        jac_here = _usable_jacobian(res_try) if exact else None
+        res_here = res_try
+        history.append(float(np.max(np.abs(f))))
+        poor.append(history[-1] > STALL_RATIO * history[-2] or (shortened and alpha <= STALL_ALPHA))
+    msg = (
+        f"Newton did not reach max|P^{period}(z) - z| <= {tol:.3g} in {max_iter} iterations "
+        f"(last residual {history[-1]:.3g}). Try more `max_iter`, a looser `tol`, or a better "
+        "initial guess."
+    )
+    return NewtonResult(Status.NOT_CONVERGED, msg, z, history, max_iter, None)
+
+
+def _stalled(ev, z, history, it, gait, fallback, why):
+    """The residual stalls at a positive value: a local minimum of ``|P^k(z) - z|``."""
+    period = ev.period
+    what = "Newton and Levenberg-Marquardt" if fallback else "Newton"
+    if why == "stall":
+        how = (
+            f"max|P^{period}(z) - z| stalled at {history[-1]:.3g} (each of the last "
+            f"{STALL_WINDOW} steps lowered it by less than {1 - STALL_RATIO:.0%}) at iterate {it}"
+        )
+    else:
+        how = (
+            f"{what} could not reduce ||P^{period}(z) - z|| below {history[-1]:.3g} at iterate {it}"
+        )
+    if not gait:
+        msg = (
+            f"{how}; there may be no period-{period} orbit near the guess. Try a better initial "
+            "guess (e.g. from continuation or brute-force iteration)"
+            + ("." if fallback else ", or `fallback=True`.")
+        )
+        return NewtonResult(Status.NOT_CONVERGED, msg, z, history, it, None)
+    msg = (
+        f"No period-{period} gait near the initial guess: {how}, after {ev.n_evals} stride-map "
+        "evaluations. This is what a search sees past a fold of the gait branch, where the gait "
+        "ceases to exist. " + _hint(ev.section_map, ev.parameter)
+    )
+    return NewtonResult(Status.NO_GAIT_NEAR_GUESS, msg, z, history, it, None)
+
+
+def _diverged(ev, z, history, it, full_step_status, why_refused, refused):
+    """Every trial step leads out of the walking region (refused or falling)."""
+    if full_step_status == Status.OUTSIDE_WALKING_REGION:
+        lead = f"leads outside the region where the walker can walk ({why_refused})"
+    else:
+        lead = f"leads to a stride that fails ({full_step_status.name})"
+    msg = (
+        f"The search diverged at iterate {it} (max|F| = {history[-1]:.3g}): the Newton step "
+        f"{lead}, and no shorter step walks and reduces the residual ({refused} trial point(s) "
+        f"refused without integrating them; {ev.n_evals} stride-map evaluations in all). "
+        + _hint(ev.section_map, ev.parameter)
+    )
+    return NewtonResult(Status.DIVERGED, msg, z, history, it, None)
+
+
+def _converged_message(tol, n_iter, history):
+    return (
+        f"Converged: max|P^k(z) - z| = {history[-1]:.3g} <= tol = {tol:.3g} (absolute, section "
+        f"units) after {n_iter} iteration(s)."
+    )
