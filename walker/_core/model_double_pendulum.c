@@ -1,4 +1,4 @@
-/* The course's double pendulum with viscous and dry joint friction: C port of the compiled
+/* The planar double pendulum with viscous and dry joint friction: C port of the compiled
  * functions of walker/models/double_pendulum.py (same operations in the same order).  State
  * (q1, q2, qd1, qd2); phase = joint-mode code joint_1 + 3 joint_2 (wk_friction.h); guards
  * per joint slip_stops and stick_breaks, no other events.  The phase functions are

@@ -23,7 +23,7 @@
 #ifndef WK_GENERATED_DOUBLE_PENDULUM_H
 #define WK_GENERATED_DOUBLE_PENDULUM_H
 
-/* The course's double pendulum (planar elbow coordinates). */
+/* The planar double pendulum (elbow-manipulator coordinates). */
 #define WK_DOUBLE_PENDULUM_KERNEL_HASH "8bc88c67611405c10247b2a55fecc1cee0746fdd047d2b9edfb4a31f594b5604"
 
 /* Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,). [out[2]] */

@@ -21,7 +21,7 @@
 #   points(q, p)
 """Generated numba kernels for the `double_pendulum` model.
 
-The course's double pendulum (planar elbow coordinates).
+The planar double pendulum (elbow-manipulator coordinates).
 """
 
 import math  # noqa: F401

@@ -1,11 +1,11 @@
-"""The course's double pendulum (planar elbow coordinates) with viscous and dry (Coulomb)
+"""The planar double pendulum (elbow-manipulator coordinates) with viscous and dry (Coulomb)
 joint friction: stick and slip as phases and events (:mod:`walker.friction`).
 
 State ``x = (q1, q2, qd1, qd2)``: ``q1`` of link 1 from the +x axis, ``q2`` of link 2
 relative to link 1 (counterclockwise positive).  Parameters:
-:class:`walker.params.DoublePendulumParams`, the course's nine physical parameters followed
+:class:`walker.params.DoublePendulumParams`, nine physical parameters followed
 by ``damping_1``, ``damping_2`` [N m s/rad] and ``coulomb_1``, ``coulomb_2`` [N m]
-(``p[9]`` .. ``p[12]``).  With all four zero (the course's preset) the pendulum is
+(``p[9]`` .. ``p[12]``).  With all four zero (the energy-check preset) the pendulum is
 conservative and serves to check the integrator by energy conservation.
 
 Joints and their rates ``w = S qd`` (``S`` the identity, since ``q2`` is relative):
@@ -13,8 +13,8 @@ Joints and their rates ``w = S qd`` (``S`` the identity, since ``q2`` is relativ
 * ``joint_1`` (the ground to link 1): ``w1 = qd1``;
 * ``joint_2`` (link 1 to link 2): ``w2 = qd2``.
 
-The course's ``D qdd + C qd + g = -F_v qd - F_s sgn(qd)`` joint by joint: the viscous part
-``-b_j w_j`` is the generated forcing (:func:`walker.symbolic.models.double_pendulum`,
+The friction terms of ``D qdd + C qd + g = -F_v qd - F_s sgn(qd)``, joint by joint: the
+viscous part ``-b_j w_j`` is the generated forcing (:func:`walker.symbolic.models.double_pendulum`,
 Rayleigh dissipation); the dry part is never smoothed.  While joint ``j`` slips its friction
 torque is ``-F_j sgn(w_j)``; while it sticks the joint is held by the constraint torque that
 the augmented system ``[D, -S_k^T; S_k, 0] [qdd; lambda] = [f; 0]`` gives, as long as
@@ -49,8 +49,8 @@ switch is one event.
 
 References
 ----------
-.. [1] The course's double-pendulum exercise (the double pendulum and the
-   equation ``D qdd + C qd + g = B tau - F_v qd - F_s sgn(qd) + J^T F``).
+.. [1] M. W. Spong, S. Hutchinson, M. Vidyasagar, *Robot Modeling and Control*, Wiley, 2006,
+   ch. 7 (the two-link planar elbow manipulator; ``D qdd + C qd + g = tau``).
 .. [2] F. Pfeiffer, C. Glocker, "Multibody Dynamics with Unilateral Contacts", Wiley, 1996
    (stick-slip transitions of dry joint friction as switching conditions on the constraint
    force).

@@ -12,7 +12,7 @@ the limit [s].  The torque ``u`` is computed inside ``rhs`` by
 :func:`walker.control.controller_torque` (phase variable ``q_leg``, outputs ``q[1:]``) from
 the controller block ``p[CONTROL_OFFSET:]`` of :class:`walker.params.FiveLinkParams`.
 
-Dynamics (the course's ``D qdd + C qd + g = B u - F_v qd - F_s sgn(qd) + J^T F`` with the
+Dynamics (``D qdd + C qd + g = B u - F_v qd - F_s sgn(qd) + J^T F`` with the
 friction acting on the joint rates): the joints are the actuated ones, ``JOINTS =
 ("hip_stance", "hip_swing", "knee_stance", "knee_swing")`` with rates ``w = S qd``, ``S =
 B^T`` (:data:`S_MATRIX`): hips ``femur - torso``, knees ``tibia - femur`` (rates).  The

@@ -11,7 +11,7 @@ impact carries over unchanged: the work done by the actuators since ``t0``,
 computed inside ``rhs`` by :func:`walker.control.controller_torque` from the state and the
 controller block ``p[CONTROL_OFFSET:]`` of :class:`walker.params.ThreeLinkParams`.
 
-Dynamics (the course's ``D qdd + C qd + g = B u - F_v qd - F_s sgn(qd) + J^T F`` with the
+Dynamics (``D qdd + C qd + g = B u - F_v qd - F_s sgn(qd) + J^T F`` with the
 friction acting on the joint rates): the joints are the actuated ones, ``JOINTS =
 ("hip_stance", "hip_swing")`` with rates ``w = S qd``, ``S = B^T`` (:data:`S_MATRIX`):
 ``w = (qd_stance - qd_torso, qd_swing - qd_torso)``.  The controller is unchanged and does

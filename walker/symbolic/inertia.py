@@ -1,13 +1,13 @@
 """Inertia tensors of simple bodies and the parallel-axis theorem (numeric, numpy only).
 
-Conventions (the course material, after Craig, *Introduction to Robotics*, ch. 6 [1]_): the
+Conventions (after Craig, *Introduction to Robotics*, ch. 6 [1]_): the
 inertia tensor of a body about a point is
 
     I = integral rho(r) (|r|^2 I_3 - r r^T) dV,
 
 so its off-diagonal entries are the *negated* products of inertia, ``I[0, 1] = -int x y dm``.
 Moved from the centre of mass ``C`` to a frame ``A`` parallel to it whose origin sees the
-centre of mass at ``p`` (the parallel-axis theorem, the course's matrix form)
+centre of mass at ``p`` (the parallel-axis theorem in matrix form)
 
     I_A = I_C + m (p^T p I_3 - p p^T).
 
@@ -16,7 +16,7 @@ Nothing here imports sympy; the functions are used by tests and by anyone lumpin
 References
 ----------
 .. [1] J. J. Craig, *Introduction to Robotics: Mechanics and Control*, 3rd ed., section 6.3
-   (inertia tensor of a box, parallel-axis theorem); restated in the course slides.
+   (inertia tensor of a box, parallel-axis theorem).
 """
 
 from __future__ import annotations
@@ -87,7 +87,7 @@ def box_inertia(mass: float, lx: float, ly: float, lz: float) -> np.ndarray:
     -------
     ndarray, shape (3, 3)
         ``m/12 diag(ly^2 + lz^2, lx^2 + lz^2, lx^2 + ly^2)`` [kg m^2] (Craig [1]_, the
-        course's box example with its width ``w`` along ``x``, length ``l`` along ``y`` and
+        box example with its width ``w`` along ``x``, length ``l`` along ``y`` and
         height ``h`` along ``z``).
 
     Examples

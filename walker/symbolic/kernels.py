@@ -125,7 +125,7 @@ GENERATED_MODULES = {
     "simplest": "Garcia's simplest walker (limit of the point-mass compass gait).",
     "compass": "Compass gait: single-support dynamics and the floating-base heel-strike model.",
     "kneed": "Kneed walker: knee-free (3-DOF) and knee-locked (2-DOF) swing, floating base.",
-    "double_pendulum": "The course's double pendulum (planar elbow coordinates).",
+    "double_pendulum": "The planar double pendulum (elbow-manipulator coordinates).",
     "three_link": (
         "Grizzle's three-link walker (legs and torso, hip actuators): pinned dynamics, ground "
         "reaction, floating-base heel-strike model."

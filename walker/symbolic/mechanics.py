@@ -2,7 +2,7 @@
 
 A model is a list of :class:`Body` objects (point masses or rigid links) whose centre-of-mass
 positions and absolute angles are expressions in the generalized coordinates ``q``.  From them
-:func:`derive` builds, as in the course material,
+:func:`derive` builds, by the textbook Lagrangian route (Spong et al.),
 
 * centre-of-mass velocities through Jacobians, ``v_i = (dp_i/dq) q_dot``,
 * kinetic energy ``K = sum 1/2 m_i v_i.v_i + 1/2 I_i omega_i^2`` and potential energy
@@ -197,7 +197,7 @@ def christoffel_coriolis(D: sp.Matrix, q, qd) -> sp.Matrix:
     """Coriolis matrix from the Christoffel symbols of the first kind of ``D``.
 
     ``C[k, j] = sum_i 1/2 (dD[k, j]/dq_i + dD[k, i]/dq_j - dD[i, j]/dq_k) qd_i``
-    (Spong, Hutchinson, Vidyasagar, Robot Modeling and Control, eq. 7.61; the course material).
+    (Spong, Hutchinson, Vidyasagar, Robot Modeling and Control, eq. 7.61).
     """
     n = len(q)
     dD = [D.diff(qi) for qi in q]  # dD[i][k, j] = dD_kj / dq_i

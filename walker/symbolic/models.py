@@ -1,6 +1,6 @@
 """The symbolic models walker ships, each a function returning :class:`LagrangianModel` s.
 
-Conventions (the course's): world frame x forward, y up; the slope descends toward
+Conventions: world frame x forward, y up; the slope descends toward
 +x at angle ``slope``; ``s = (cos slope, -sin slope)`` runs down the slope and
 ``n = (sin slope, cos slope)`` is its outward normal.  Walker angles are absolute, from the
 vertical, counterclockwise positive; a leg at angle ``q`` points from foot to hip along
@@ -27,13 +27,13 @@ joint's relative rate ``w`` with equal and opposite torques ``-b w`` on the dist
   the stance leg, ``w = qd_stance - 0`` (compass ``qd_stance``, kneed ``qd1``): a torque
   ``-b qd_stance`` on the stance leg, in every single-support phase.  A point foot cannot
   transmit a torque; the damper stands for a passive ankle with a foot flat on the slope, or
-  for rolling resistance (the course's ``D qdd + C qd + g = -F_v qd`` with ``F_v`` on the
+  for rolling resistance (the viscous term of ``D qdd + C qd + g = -F_v qd`` with ``F_v`` on the
   stance coordinate);
 * the simplest walker, ``damping_ankle`` only (dimensionless, in units of
   ``M l^2 sqrt(g/l)``): its legs are massless, so a finite torque on the swing leg (a hip
   damper) has no limit; the stance-ankle damper acts on the stance leg carrying ``M`` and is
   derived with the limit (:func:`simplest`);
-* the course's double pendulum, ``damping_1`` on ``w1 = qd1`` (ground to link 1) and
+* the double pendulum, ``damping_1`` on ``w1 = qd1`` (ground to link 1) and
   ``damping_2`` on ``w2 = qd2`` (link 1 to link 2, ``q2`` being relative).  Its dry
   frictions ``coulomb_1``, ``coulomb_2`` are in the parameter vector but not in the smooth
   model: stick and slip are phases (:mod:`walker.models.double_pendulum`).
@@ -464,10 +464,10 @@ def kneed_extended() -> LagrangianModel:
     )
 
 
-# ------------------------------------------------------------------ the course's two-link arms
+# ------------------------------------------------------------------ two-link arms
 @cache
 def double_pendulum() -> LagrangianModel:
-    """The course's double pendulum: link 1 hinged at the origin, ``q1`` from the +x axis,
+    """The planar double pendulum: link 1 hinged at the origin, ``q1`` from the +x axis,
     ``q2`` relative to link 1 (the planar elbow manipulator's coordinates, Spong et al.)."""
     params = param_symbols("double_pendulum")
     m1, m2, I1, I2, l1, l2, c1, c2, g, damping_1, damping_2 = params[:11]

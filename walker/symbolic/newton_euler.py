@@ -4,7 +4,7 @@ An independent check on the Lagrangian derivation in :mod:`walker.symbolic.mecha
 joint torques of a prescribed motion computed link by link, with no energy and no
 differentiation, must equal ``D(q) q_ddot + C(q, q_dot) q_dot + g(q)``.
 
-The recursion is the course's (Spong, Hutchinson, Vidyasagar, *Robot Modeling and Control*,
+The recursion is the textbook one (Spong, Hutchinson, Vidyasagar, *Robot Modeling and Control*,
 section 7.5 [1]_):
 
 Forward pass, ``i = 1 .. n``, every vector expressed in frame ``i`` and 3-D (``z`` out of the
@@ -15,8 +15,8 @@ plane), ``R_i = R_i^{i-1}`` the rotation from frame ``i`` to frame ``i - 1``, ``
     a_c,i   = R_i^T a_e,{i-1} + alpha_i x r_{i,ci} + omega_i x (omega_i x r_{i,ci})
     a_e,i   = R_i^T a_e,{i-1} + alpha_i x r_{i,i+1} + omega_i x (omega_i x r_{i,i+1})
 
-(the slide prints ``a_c,{i-1}`` in the ``a_c,i`` line; the book, and the physics, use the
-acceleration of the *end* of link ``i - 1``, which is where joint ``i`` sits).
+(some lecture notes print ``a_c,{i-1}`` in the ``a_c,i`` line; the book, and the physics, use
+the acceleration of the *end* of link ``i - 1``, which is where joint ``i`` sits).
 
 Backward pass, ``i = n .. 1``, with ``f_{n+1} = tau_{n+1} = 0`` and ``R_{i+1}`` from frame
 ``i + 1`` to frame ``i``::
@@ -27,7 +27,7 @@ Backward pass, ``i = n .. 1``, with ``f_{n+1} = tau_{n+1} = 0`` and ``R_{i+1}`` 
 
 and the joint torque is the ``z`` component of ``tau_i``.
 
-Gravity enters by the base-acceleration trick of the course (Craig [2]_: "set the
+Gravity enters by the base-acceleration trick (Craig [2]_: "set the
 acceleration of the base to ``-G``"): ``a_e,0 = -gravity`` and the ``- m_i g_i`` term is
 dropped, so every ``a_c,i`` below is the centre-of-mass acceleration *minus* gravity.
 
@@ -250,7 +250,7 @@ def bias_forces(chain: PlanarChain, q, qd, *, gravity) -> np.ndarray:
 
 def mass_matrix(chain: PlanarChain, q) -> np.ndarray:
     """Mass matrix ``D(q)`` column by column: ``D e_j`` is the inverse dynamics at rest,
-    without gravity, with unit acceleration of joint ``j`` (the course's MATLAB recipe).
+    without gravity, with unit acceleration of joint ``j`` (the usual numerical recipe).
 
     Parameters
     ----------

@@ -18,8 +18,8 @@ substituting into the joint-space equation and multiplying on the left by ``J^-T
     G_x = J^-T g                            gravity terms [N]
     Q_x = J^-T Q                            the model's own forces (joint dampers) [N]
 
-(Craig [1]_, "Formulating manipulator dynamics in Cartesian space", the form the course's
-*Manipulator Dynamics* seed ends with; Khatib [2]_ for the operational-space controller).
+(Craig [1]_, "Formulating manipulator dynamics in Cartesian space", the standard
+task-space form of the equations of motion; Khatib [2]_ for the operational-space controller).
 ``V_x`` is written as a function of ``(q, q_dot)``, as in [1]_; ``J^-1`` is the adjugate over
 ``det J``, a 2 x 2 kinematic inverse; the mass matrix ``D`` is never inverted.
 
@@ -39,7 +39,7 @@ The two chains walker ships:
 * :func:`planar_elbow_cartesian`: the planar elbow manipulator of
   :func:`walker.symbolic.models.planar_elbow` (parameters as
   :class:`walker.params.DoublePendulumParams`), its tip in the world frame; singular when the
-  elbow angle ``q2`` is 0 (arm straight) or ``pi`` (folded).  For the course's arm
+  elbow angle ``q2`` is 0 (arm straight) or ``pi`` (folded).  For the unit arm
   (``length_1 = length_2 = 1 m``) ``cond(J) = 8192`` at ``|q2| = 6.1e-4 rad``.
 * :func:`swing_foot_cartesian`: the kneed walker's swing leg (thigh and shank of
   :func:`walker.symbolic.models.kneed_unlocked`) as a chain pinned at the hip, the swing foot
