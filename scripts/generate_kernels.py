@@ -1,9 +1,10 @@
 """Regenerate walker/_generated/ from the symbolic models (run after changing them): the numba
 modules ``<module>.py``; for the modules compiled into walker._hybrid also the C kernels
 ``<module>.c``/``.h``, their structural variants ``<module>_<variant>.c``/``.h`` and the
-registry ``kernel_table.c``.
+registry ``kernel_table.c``; and the named indices of every model, ``indices.py`` and
+``indices.h`` (:mod:`walker.symbolic.indices`; ``--indices`` writes only these, in a second).
 
-Usage: python scripts/generate_kernels.py [MODULE ...]
+Usage: python scripts/generate_kernels.py [--indices] [MODULE ...]
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from walker.symbolic.codegen import (
     symbolic_hash,
     variant_hash,
 )
+from walker.symbolic.indices import render_indices_h, render_indices_py
 from walker.symbolic.kernels import (
     C_MODULES,
     C_VARIANTS,
@@ -115,6 +117,14 @@ def generate_table() -> Path:
     return write(OUT / "kernel_table.c", render_kernel_table(modules))
 
 
+def generate_indices() -> list[Path]:
+    """Write ``indices.h`` and ``indices.py``, the models' named indices."""
+    return [
+        write(OUT / "indices.h", render_indices_h()),
+        write(OUT / "indices.py", render_indices_py()),
+    ]
+
+
 def clear_numba_cache() -> int:
     """Delete numba's cache files under walker/.
 
@@ -131,12 +141,20 @@ def clear_numba_cache() -> int:
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("modules", nargs="*", default=sorted(GENERATED_MODULES))
+    parser.add_argument(
+        "--indices", action="store_true", help="write only indices.py and indices.h"
+    )
     args = parser.parse_args(argv)
     OUT.mkdir(parents=True, exist_ok=True)
     init = OUT / "__init__.py"
     if not init.exists():
         init.write_text('"""Generated kernels: do not edit; see scripts/generate_kernels.py."""\n')
     root = OUT.parents[1]
+    print(", ".join(str(p.relative_to(root)) for p in generate_indices()))
+    if args.indices:
+        print(f"cleared {clear_numba_cache()} numba cache files (callers cache old indices)")
+        print("rebuild the extension: python setup.py build_ext --inplace (or pip install -e .)")
+        return
     for name in args.modules:
         t = time.perf_counter()
         paths = generate(name)

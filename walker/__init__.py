@@ -10,7 +10,9 @@ The pipeline, from a scene file to pictures::
                                      cse + printing -> walker/_generated/<model>.c (C kernels,
                                      general and "plain" variants with zero parameters
                                      removed) and <model>.py (the same kernels for numba),
-                                     committed, stamped with a hash
+                                     committed, stamped with a hash; symbolic/indices.py ->
+                                     _generated/indices.py|.h, the named parameter, phase
+                                     and guard indices every model reads
     (install)    ──► setup.py        compiles walker/_core/*.c + walker/_generated/*.c into the
                                      extension walker._hybrid:
                      _core/hybrid.c  DOP853 / RK45 / RK4 / Euler, dense output, event location,

@@ -11,8 +11,8 @@
 #include "compass.h"
 #include "compass_plain.h"
 
-#define I_R 5
-#define I_SLOPE 6
+#define I_R WK_COMPASS_P_FOOT_RADIUS
+#define I_SLOPE WK_COMPASS_P_SLOPE
 
 typedef struct {
     wk_qqdp_v accel;
@@ -48,7 +48,7 @@ static void jac(const compass_kernels *K, int64_t phase, const double *x, const 
 /* (height above the slope, distance ahead of the stance foot along the slope) [m]. */
 static void swing_foot(const double *x, const double *p, double *height, double *ahead)
 {
-    double L = p[2] + p[3];
+    double L = p[WK_COMPASS_P_COM_FROM_FOOT] + p[WK_COMPASS_P_COM_TO_HIP];
     double R = p[I_R];
     double slope = p[I_SLOPE];
     double psi1 = x[0] + slope;
@@ -65,9 +65,9 @@ static void guards(const compass_kernels *K, int64_t phase, const double *x,
     double psi1 = x[0] + p[I_SLOPE];
     double height, ahead;
     swing_foot(x, p, &height, &ahead);
-    g[0] = height;
-    g[1] = psi1 + WK_FALL_ANGLE;
-    g[2] = psi1 - WK_FALL_ANGLE;
+    g[WK_COMPASS_GUARD_HEEL_STRIKE] = height;
+    g[WK_COMPASS_GUARD_FALL_FORWARD] = psi1 + WK_FALL_ANGLE;
+    g[WK_COMPASS_GUARD_FALL_BACKWARD] = psi1 - WK_FALL_ANGLE;
 }
 
 /* Floating-base heel-strike impact and leg swap; returns a status (0 for a physical
@@ -95,7 +95,7 @@ static void reset(const compass_kernels *K, int64_t phase, int64_t k, const doub
     if (k == 0) {
         double height, ahead;
         swing_foot(x, p, &height, &ahead);
-        if (ahead <= WK_MIN_STEP * (p[2] + p[3])) {
+        if (ahead <= WK_MIN_STEP * (p[WK_COMPASS_P_COM_FROM_FOOT] + p[WK_COMPASS_P_COM_TO_HIP])) {
             wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
             return;
         }

@@ -11,7 +11,7 @@
 #include "wk_friction_models.h"
 #include "compass.h"
 
-#define I_COULOMB 10
+#define I_COULOMB WK_COMPASS_COULOMB_P_COULOMB_ANKLE
 #define N_JOINTS 2
 #define N_BASE_GUARDS 3
 

@@ -10,7 +10,7 @@
 #include "wk_friction_models.h"
 #include "double_pendulum.h"
 
-#define I_COULOMB 11
+#define I_COULOMB WK_DOUBLE_PENDULUM_P_COULOMB_1
 #define N_JOINTS 2
 
 /* Joint rows: w1 = qd1, w2 = qd2 (q2 is relative). */

@@ -18,15 +18,15 @@
 #define N_U 4
 #define N_JOINTS 4
 #define N_BASE_GUARDS 7
-#define I_LENGTH_FEMUR 3
-#define I_LENGTH_TIBIA 4
-#define I_SLOPE 11
-#define I_FRICTION 13
+#define I_LENGTH_FEMUR WK_FIVE_LINK_P_LENGTH_FEMUR
+#define I_LENGTH_TIBIA WK_FIVE_LINK_P_LENGTH_TIBIA
+#define I_SLOPE WK_FIVE_LINK_P_SLOPE
+#define I_FRICTION WK_FIVE_LINK_P_FRICTION
 #define CONTROL_OFFSET WK_FIVE_LINK_CONTROL_OFFSET
-#define I_DAMPING_HIP 40
-#define I_DAMPING_KNEE 41
-#define I_COULOMB_HIP 42
-#define I_COULOMB_KNEE 43
+#define I_DAMPING_HIP WK_FIVE_LINK_P_DAMPING_HIP
+#define I_DAMPING_KNEE WK_FIVE_LINK_P_DAMPING_KNEE
+#define I_COULOMB_HIP WK_FIVE_LINK_P_COULOMB_HIP
+#define I_COULOMB_KNEE WK_FIVE_LINK_P_COULOMB_KNEE
 #define JAC_STEP 1e-6
 
 static const double B_MATRIX[N_Q * N_U] = {
@@ -170,21 +170,21 @@ void wk_model_five_link_guards(int64_t phase, double t, const double *x, const d
     double slope = p[I_SLOPE];
     double ft_, fn_;
     slope_frame(pts + 8, slope, &ft_, &fn_);
-    g[0] = fn_;
+    g[WK_FIVE_LINK_GUARD_HEEL_STRIKE] = fn_;
     double ht, hn;
     slope_frame(pts + 4, slope, &ht, &hn);
     double psi = atan2(-ht, hn); /* stance foot -> hip, from the slope normal */
-    g[1] = psi + WK_FALL_ANGLE;
-    g[2] = psi - WK_FALL_ANGLE;
+    g[WK_FIVE_LINK_GUARD_FALL_FORWARD] = psi + WK_FALL_ANGLE;
+    g[WK_FIVE_LINK_GUARD_FALL_BACKWARD] = psi - WK_FALL_ANGLE;
     double qdd[N_Q], u[N_U], lam[N_JOINTS];
     closed_loop(phase, x, p, qdd, u, lam, ctx);
     double ft, fn;
     slope_frame_force(x, p, qdd, &ft, &fn);
     double mu = p[I_FRICTION];
-    g[3] = mu * fn - ft;
-    g[4] = mu * fn + ft;
-    g[5] = fn;
-    g[6] = hn;
+    g[WK_FIVE_LINK_GUARD_SLIP_FORWARD] = mu * fn - ft;
+    g[WK_FIVE_LINK_GUARD_SLIP_BACKWARD] = mu * fn + ft;
+    g[WK_FIVE_LINK_GUARD_LIFT_OFF] = fn;
+    g[WK_FIVE_LINK_GUARD_HIP_DOWN] = hn;
     int64_t modes[N_JOINTS];
     double F[N_JOINTS];
     wk_friction_decode(phase, modes, N_JOINTS);

@@ -15,8 +15,8 @@
 #include "kneed.h"
 #include "kneed_plain.h"
 
-#define I_R 11
-#define I_SLOPE 12
+#define I_R WK_KNEED_P_FOOT_RADIUS
+#define I_SLOPE WK_KNEED_P_SLOPE
 /* |q3 - q2| [rad] below which a foot contact with the knee unlocked counts as simultaneous
  * with knee lock rather than as a trip. */
 #define KNEE_TOL 1e-6
@@ -40,8 +40,8 @@ typedef struct {
 
 static void lengths(const double *p, double *shank, double *thigh)
 {
-    *shank = p[3] + p[4];
-    *thigh = p[5] + p[6];
+    *shank = p[WK_KNEED_P_SHANK_COM_FROM_FOOT] + p[WK_KNEED_P_SHANK_COM_TO_KNEE];
+    *thigh = p[WK_KNEED_P_THIGH_COM_FROM_KNEE] + p[WK_KNEED_P_THIGH_COM_TO_HIP];
 }
 
 /* Least step length of a heel strike [m] (WK_MIN_STEP leg lengths). */
@@ -55,7 +55,7 @@ static double min_step(const double *p)
 static void rhs(const kneed_kernels *K, int64_t phase, const double *x, const double *p,
                 double *dx)
 {
-    if (phase == 0) {
+    if (phase == WK_KNEED_PHASE_UNLOCKED) {
         dx[0] = x[3];
         dx[1] = x[4];
         dx[2] = x[5];
@@ -74,7 +74,7 @@ static void jac(const kneed_kernels *K, int64_t phase, const double *x, const do
                 double *J)
 {
     for (int i = 0; i < 36; i++) J[i] = 0.0;
-    if (phase == 0) {
+    if (phase == WK_KNEED_PHASE_UNLOCKED) {
         J[0 * 6 + 3] = 1.0;
         J[1 * 6 + 4] = 1.0;
         J[2 * 6 + 5] = 1.0;
@@ -129,11 +129,11 @@ static void guards(const kneed_kernels *K, int64_t phase, const double *x, const
     (void)K;
     double psi1 = x[0] + p[I_SLOPE];
     double height, ahead;
-    g[0] = phase == 0 ? x[2] - x[1] : 1.0;
+    g[WK_KNEED_GUARD_KNEE_LOCK] = phase == WK_KNEED_PHASE_UNLOCKED ? x[2] - x[1] : 1.0;
     swing_foot(x, p, &height, &ahead);
-    g[1] = height;
-    g[2] = psi1 + WK_FALL_ANGLE;
-    g[3] = psi1 - WK_FALL_ANGLE;
+    g[WK_KNEED_GUARD_SWING_FOOT_CONTACT] = height;
+    g[WK_KNEED_GUARD_FALL_FORWARD] = psi1 + WK_FALL_ANGLE;
+    g[WK_KNEED_GUARD_FALL_BACKWARD] = psi1 - WK_FALL_ANGLE;
 }
 
 /* Plastic knee-lock impact; impulse[0] is the knee impulse [N m s].  Returns a status. */
@@ -227,7 +227,7 @@ static void reset(const kneed_kernels *K, int64_t phase, int64_t k, const double
     if (k == 1) {
         double height, ahead;
         swing_foot(x, p, &height, &ahead);
-        if (phase == 0) {
+        if (phase == WK_KNEED_PHASE_UNLOCKED) {
             if (fabs(x[2] - x[1]) <= KNEE_TOL && ahead > min_step(p)) {
                 /* The knee locks at this same instant (its guard a hair behind): knee lock
                  * first, then heel strike, as when the knee-lock guard fires first. */

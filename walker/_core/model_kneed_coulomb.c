@@ -12,7 +12,7 @@
 #include "wk_friction_models.h"
 #include "kneed.h"
 
-#define I_COULOMB 17
+#define I_COULOMB WK_KNEED_COULOMB_P_COULOMB_ANKLE
 #define N_UNLOCKED 27
 #define UNLOCKED 0
 #define LOCKED 1
@@ -106,8 +106,8 @@ static void guards(int64_t phase, double t, const double *x, const double *p, do
     wk_model_kneed_guards(base, t, x, p, g, ctx);
     wk_friction_phase_guards(&KERNELS[base], p + I_COULOMB, modes, x, p, g + N_BASE_GUARDS);
     if (base == LOCKED) {
-        g[8] = 1.0;
-        g[9] = 1.0;
+        g[WK_KNEED_COULOMB_GUARD_KNEE_SLIP_STOPS] = 1.0;
+        g[WK_KNEED_COULOMB_GUARD_KNEE_STICK_BREAKS] = 1.0;
     }
 }
 

@@ -26,7 +26,7 @@
 #define RW_PI 3.141592653589793 /* the double nearest pi, as math.pi */
 #define RW_LATE (2.0 * WK_GUARD_TOL)
 
-enum { RW_ROLLING = 0, RW_STANDING = 1 };
+enum { RW_ROLLING = WK_RIMLESS_WHEEL_PHASE_ROLLING, RW_STANDING = WK_RIMLESS_WHEEL_PHASE_STANDING };
 
 /* Hub velocity [m/s] in the slope frame (along the slope downhill, along the normal) of a
  * wheel pivoting on a foot whose spoke is at angle phi from the slope normal, at rate w: the
@@ -48,7 +48,7 @@ void wk_model_rimless_wheel_rhs(int64_t phase, double t, const double *x, const 
         return;
     }
     dx[0] = x[1];
-    dx[1] = p[2] / p[1] * sin(x[0] - p[3]);
+    dx[1] = p[WK_RIMLESS_WHEEL_P_G] / p[WK_RIMLESS_WHEEL_P_LEG_LENGTH] * sin(x[0] - p[WK_RIMLESS_WHEEL_P_SLOPE]);
 }
 
 void wk_model_rimless_wheel_jac(int64_t phase, double t, const double *x, const double *p,
@@ -58,7 +58,7 @@ void wk_model_rimless_wheel_jac(int64_t phase, double t, const double *x, const 
     (void)ctx;
     J[0] = 0.0;
     J[1] = phase == RW_STANDING ? 0.0 : 1.0;
-    J[2] = phase == RW_STANDING ? 0.0 : p[2] / p[1] * cos(x[0] - p[3]);
+    J[2] = phase == RW_STANDING ? 0.0 : p[WK_RIMLESS_WHEEL_P_G] / p[WK_RIMLESS_WHEEL_P_LEG_LENGTH] * cos(x[0] - p[WK_RIMLESS_WHEEL_P_SLOPE]);
     J[3] = 0.0;
 }
 
@@ -71,11 +71,11 @@ void wk_model_rimless_wheel_guards(int64_t phase, double t, const double *x, con
         for (int i = 0; i < 4; i++) g[i] = 1.0;
         return;
     }
-    double a = RW_PI / p[0];
-    g[0] = x[0] + a;
-    g[1] = x[0] - a;
-    g[2] = (x[0] + a) + RW_LATE;
-    g[3] = (x[0] - a) - RW_LATE;
+    double a = RW_PI / p[WK_RIMLESS_WHEEL_P_SPOKES];
+    g[WK_RIMLESS_WHEEL_GUARD_IMPACT] = x[0] + a;
+    g[WK_RIMLESS_WHEEL_GUARD_BACK_IMPACT] = x[0] - a;
+    g[WK_RIMLESS_WHEEL_GUARD_IMPACT_LATE] = (x[0] + a) + RW_LATE;
+    g[WK_RIMLESS_WHEEL_GUARD_BACK_IMPACT_LATE] = (x[0] - a) - RW_LATE;
 }
 
 /* impulse = v_plus - v_minus: the ground's impulse per unit hub mass [m/s], slope frame. */
@@ -99,11 +99,11 @@ void wk_model_rimless_wheel_reset(int64_t phase, int64_t k, double t, const doub
         wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
         return;
     }
-    double l = p[1], gl = p[2] / p[1], slope = p[3];
-    double a = RW_PI / p[0];
+    double l = p[WK_RIMLESS_WHEEL_P_LEG_LENGTH], gl = p[WK_RIMLESS_WHEEL_P_G] / p[WK_RIMLESS_WHEEL_P_LEG_LENGTH], slope = p[WK_RIMLESS_WHEEL_P_SLOPE];
+    double a = RW_PI / p[WK_RIMLESS_WHEEL_P_SPOKES];
     /* cos(2a) > 0 (the trailing foot leaves the ground) from 5 spokes on; exactly 0 for 4
      * spokes, where cos(2 * (pi/4)) would round to 6e-17 */
-    double c = p[0] > 4.0 ? cos(2.0 * a) : 0.0;
+    double c = p[WK_RIMLESS_WHEEL_P_SPOKES] > 4.0 ? cos(2.0 * a) : 0.0;
     double w = x[1];
     double v_minus[2], v_plus[2] = {0.0, 0.0};
     hub_velocity(l, x[0], w, v_minus);
@@ -160,9 +160,9 @@ void wk_model_rimless_wheel_reset(int64_t phase, int64_t k, double t, const doub
 void wk_model_rimless_wheel_energy(const double *x, const double *p, double *out, void *ctx)
 {
     (void)ctx;
-    double l = p[1];
+    double l = p[WK_RIMLESS_WHEEL_P_LEG_LENGTH];
     out[0] = 0.5 * l * l * x[1] * x[1];
-    out[1] = p[2] * l * cos(x[0] - p[3]);
+    out[1] = p[WK_RIMLESS_WHEEL_P_G] * l * cos(x[0] - p[WK_RIMLESS_WHEEL_P_SLOPE]);
 }
 
 /* Stance foot, hub, leading spoke's foot, trailing spoke's foot in the world frame [m],
@@ -170,8 +170,8 @@ void wk_model_rimless_wheel_energy(const double *x, const double *p, double *out
 void wk_model_rimless_wheel_points(const double *x, const double *p, double *out, void *ctx)
 {
     (void)ctx;
-    double l = p[1], slope = p[3];
-    double a = RW_PI / p[0];
+    double l = p[WK_RIMLESS_WHEEL_P_LEG_LENGTH], slope = p[WK_RIMLESS_WHEEL_P_SLOPE];
+    double a = RW_PI / p[WK_RIMLESS_WHEEL_P_SPOKES];
     double s[2] = {cos(slope), -sin(slope)};
     double n[2] = {sin(slope), cos(slope)};
     double phi[2] = {x[0] + 2.0 * a, x[0] - 2.0 * a};
@@ -191,7 +191,7 @@ void wk_model_rimless_wheel_start_phase(const double *x, const double *p, double
                                         void *ctx)
 {
     (void)ctx;
-    double a = RW_PI / p[0], slope = p[3];
+    double a = RW_PI / p[WK_RIMLESS_WHEEL_P_SPOKES], slope = p[WK_RIMLESS_WHEEL_P_SLOPE];
     int standing = x[1] == 0.0 && fabs(x[0]) == a && slope > -a && slope < a;
     out[0] = standing ? (double)RW_STANDING : (double)RW_ROLLING;
 }

@@ -44,9 +44,9 @@ void wk_model_simplest_guards(int64_t phase, double t, const double *x, const do
     (void)t;
     (void)p;
     (void)ctx;
-    g[0] = x[1] - 2.0 * x[0];
-    g[1] = x[0] + WK_FALL_ANGLE;
-    g[2] = x[0] - WK_FALL_ANGLE;
+    g[WK_SIMPLEST_GUARD_HEEL_STRIKE] = x[1] - 2.0 * x[0];
+    g[WK_SIMPLEST_GUARD_FALL_FORWARD] = x[0] + WK_FALL_ANGLE;
+    g[WK_SIMPLEST_GUARD_FALL_BACKWARD] = x[0] - WK_FALL_ANGLE;
 }
 
 void wk_model_simplest_reset(int64_t phase, int64_t k, double t, const double *x,
@@ -82,7 +82,7 @@ void wk_model_simplest_reset(int64_t phase, int64_t k, double t, const double *x
 void wk_model_simplest_energy(const double *x, const double *p, double *out, void *ctx)
 {
     (void)ctx;
-    double slope = p[0], g = p[1], l = p[2];
+    double slope = p[WK_SIMPLEST_P_SLOPE], g = p[WK_SIMPLEST_P_G], l = p[WK_SIMPLEST_P_LEG_LENGTH];
     out[0] = 0.5 * l * l * x[2] * x[2];
     out[1] = g * l * cos(x[0] - slope);
 }
@@ -91,7 +91,7 @@ void wk_model_simplest_energy(const double *x, const double *p, double *out, voi
 void wk_model_simplest_points(const double *x, const double *p, double *out, void *ctx)
 {
     (void)ctx;
-    double slope = p[0], l = p[2];
+    double slope = p[WK_SIMPLEST_P_SLOPE], l = p[WK_SIMPLEST_P_LEG_LENGTH];
     double s[2] = {cos(slope), -sin(slope)};
     double n[2] = {sin(slope), cos(slope)};
     double st = -sin(x[0]), ct = cos(x[0]);

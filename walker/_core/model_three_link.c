@@ -20,16 +20,16 @@
 #define N_U 2
 #define N_JOINTS 2
 #define N_BASE_GUARDS 6
-#define I_LEG_A 3
-#define I_LEG_B 4
-#define I_SLOPE 8
-#define I_FRICTION 10
+#define I_LEG_A WK_THREE_LINK_P_COM_FROM_FOOT
+#define I_LEG_B WK_THREE_LINK_P_COM_TO_HIP
+#define I_SLOPE WK_THREE_LINK_P_SLOPE
+#define I_FRICTION WK_THREE_LINK_P_FRICTION
 #define CONTROL_OFFSET WK_THREE_LINK_CONTROL_OFFSET
-#define I_STEP_EVENT 27
-#define I_FT 28 /* the finite-time block (wk_control.h): ft_alpha, ft_epsilon, poly_* */
-#define I_DAMPING_HIP 42
-#define I_COULOMB_HIP 43
-#define I_THETA_MINUS (CONTROL_OFFSET + WK_CONTROL_I_THETA_MINUS)
+#define I_STEP_EVENT WK_THREE_LINK_P_STEP_EVENT
+#define I_FT WK_THREE_LINK_P_FT_ALPHA /* the finite-time block (wk_control.h): ft_alpha, ft_epsilon, poly_* */
+#define I_DAMPING_HIP WK_THREE_LINK_P_DAMPING_HIP
+#define I_COULOMB_HIP WK_THREE_LINK_P_COULOMB_HIP
+#define I_THETA_MINUS WK_THREE_LINK_P_THETA_MINUS
 #define JAC_STEP 1e-6
 #define JAC_STEP_FT 1e-4 /* mode 3 (see wk_model_three_link_jac) */
 
@@ -184,17 +184,17 @@ void wk_model_three_link_guards(int64_t phase, double t, const double *x, const 
     swing_foot(x, p, &height, &ahead);
     /* step_event 1: the step ends where the stance angle falls through theta_minus (the
      * impact surface of Westervelt et al. 2007), wherever the swing foot is */
-    g[0] = p[I_STEP_EVENT] == 1.0 ? x[0] - p[I_THETA_MINUS] : height;
-    g[1] = psi1 + WK_FALL_ANGLE;
-    g[2] = psi1 - WK_FALL_ANGLE;
+    g[WK_THREE_LINK_GUARD_HEEL_STRIKE] = p[I_STEP_EVENT] == 1.0 ? x[0] - p[I_THETA_MINUS] : height;
+    g[WK_THREE_LINK_GUARD_FALL_FORWARD] = psi1 + WK_FALL_ANGLE;
+    g[WK_THREE_LINK_GUARD_FALL_BACKWARD] = psi1 - WK_FALL_ANGLE;
     double qdd[N_Q], u[N_U], lam[N_JOINTS];
     closed_loop(phase, x, p, qdd, u, lam, ctx);
     double ft, fn;
     slope_frame_force(x, p, qdd, &ft, &fn);
     double mu = p[I_FRICTION];
-    g[3] = mu * fn - ft;
-    g[4] = mu * fn + ft;
-    g[5] = fn;
+    g[WK_THREE_LINK_GUARD_SLIP_FORWARD] = mu * fn - ft;
+    g[WK_THREE_LINK_GUARD_SLIP_BACKWARD] = mu * fn + ft;
+    g[WK_THREE_LINK_GUARD_LIFT_OFF] = fn;
     int64_t modes[N_JOINTS];
     double F[N_JOINTS];
     wk_friction_decode(phase, modes, N_JOINTS);

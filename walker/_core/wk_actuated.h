@@ -49,8 +49,8 @@ typedef struct {
 } wk_controller;
 
 /* Index of the controller block in p (walker.models.<model>.CONTROL_OFFSET). */
-#define WK_THREE_LINK_CONTROL_OFFSET 11
-#define WK_FIVE_LINK_CONTROL_OFFSET 14
+#define WK_THREE_LINK_CONTROL_OFFSET WK_THREE_LINK_P_CONTROLLER
+#define WK_FIVE_LINK_CONTROL_OFFSET WK_FIVE_LINK_P_CONTROLLER
 
 #define WK_DECLARE_ACTUATED(name)                                                           \
     void wk_model_##name##_rhs(int64_t phase, double t, const double *x, const double *p,   \

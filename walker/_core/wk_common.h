@@ -6,6 +6,8 @@
 #ifndef WK_COMMON_H
 #define WK_COMMON_H
 
+#include "indices.h" /* every model's named parameter, phase and guard indices (generated) */
+
 #include <stdint.h>
 #include "wk_system.h"
 

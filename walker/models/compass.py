@@ -22,6 +22,7 @@ import numpy as np
 from numba import njit
 
 from walker._generated import compass as K
+from walker._generated import indices as ix
 from walker.models._common import (
     FALL_ANGLE,
     FELL_BACKWARD,
@@ -52,7 +53,8 @@ VARIANTS = {
 with these parameters fixed at exactly zero, so scenes that leave them at zero pay no
 arithmetic for them.  :meth:`walker.models.WalkerModel.variant_for` picks it."""
 
-_I_R, _I_SLOPE = 5, 6
+_I_R, _I_SLOPE = ix.COMPASS_P_FOOT_RADIUS, ix.COMPASS_P_SLOPE
+_I_LEG_A, _I_LEG_B = ix.COMPASS_P_COM_FROM_FOOT, ix.COMPASS_P_COM_TO_HIP
 
 
 @njit(cache=True, error_model="numpy")
@@ -73,7 +75,7 @@ def jac(phase, t, x, p, J):
 @njit(cache=True, error_model="numpy")
 def swing_foot(x, p):
     """(height above the slope, distance ahead of the stance foot along the slope) [m]."""
-    L = p[2] + p[3]
+    L = p[_I_LEG_A] + p[_I_LEG_B]
     R = p[_I_R]
     slope = p[_I_SLOPE]
     psi1 = x[0] + slope
@@ -84,9 +86,9 @@ def swing_foot(x, p):
 @njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
     psi1 = x[0] + p[_I_SLOPE]
-    g[0] = swing_foot(x, p)[0]
-    g[1] = psi1 + FALL_ANGLE
-    g[2] = psi1 - FALL_ANGLE
+    g[ix.COMPASS_GUARD_HEEL_STRIKE] = swing_foot(x, p)[0]
+    g[ix.COMPASS_GUARD_FALL_FORWARD] = psi1 + FALL_ANGLE
+    g[ix.COMPASS_GUARD_FALL_BACKWARD] = psi1 - FALL_ANGLE
 
 
 @njit(cache=True, error_model="numpy")
@@ -128,7 +130,7 @@ def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
     if k == 0:
-        if swing_foot(x, p)[1] <= MIN_STEP * (p[2] + p[3]):
+        if swing_foot(x, p)[1] <= MIN_STEP * (p[_I_LEG_A] + p[_I_LEG_B]):
             return EVENT_IGNORE, phase, 0
         status = heel_strike(x, p, x_new, impulse)
         if status != 0:

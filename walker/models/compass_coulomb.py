@@ -53,6 +53,7 @@ from numba import njit
 
 from walker import friction as fr
 from walker._generated import compass as K
+from walker._generated import indices as ix
 from walker.models import compass as _compass
 from walker.models._common import LINEAR_SOLVE_FAILED, after_base_reset
 from walker.models.compass import (
@@ -102,10 +103,11 @@ N_X = 4
 N_IMPULSE = 2
 JOINTS = ("ankle", "hip")
 N_JOINTS = 2
-I_COULOMB = 10
-"""Index of ``coulomb_ankle`` in the parameter vector (``coulomb_hip`` follows); a literal,
-because numba freezes module globals into its disk cache, which it keys on this file alone;
-a test checks it against :class:`walker.params.CompassCoulombParams`."""
+I_COULOMB = ix.COMPASS_COULOMB_P_COULOMB_ANKLE
+"""Index of ``coulomb_ankle`` in the parameter vector (``coulomb_hip`` follows), from the
+generated :mod:`walker._generated.indices` (numba freezes it into its disk cache, keyed on
+this file: ``scripts/generate_kernels.py --indices`` clears that cache when it prints new
+indices)."""
 N_BASE_GUARDS = 3
 
 PHASE_NAMES = tuple(f"swing {fr.mode_names(c, JOINTS)}" for c in range(fr.N_MODES**N_JOINTS))

@@ -61,6 +61,7 @@ from numba import njit
 
 from walker import friction as fr
 from walker._generated import double_pendulum as K
+from walker._generated import indices as ix
 from walker.models._common import LINEAR_SOLVE_FAILED
 from walker.status import EVENT_CONTINUE, EVENT_TERMINAL
 
@@ -92,10 +93,11 @@ N_X = 4
 N_IMPULSE = 1
 JOINTS = ("joint_1", "joint_2")
 N_JOINTS = 2
-I_COULOMB = 11
-"""Index of ``coulomb_1`` in the parameter vector (``coulomb_2`` follows); a literal,
-because numba freezes module globals into its disk cache, which it keys on this file alone;
-a test checks it against :class:`walker.params.DoublePendulumParams`."""
+I_COULOMB = ix.DOUBLE_PENDULUM_P_COULOMB_1
+"""Index of ``coulomb_1`` in the parameter vector (``coulomb_2`` follows), from the
+generated :mod:`walker._generated.indices` (numba freezes it into its disk cache, keyed on
+this file: ``scripts/generate_kernels.py --indices`` clears that cache when it prints new
+indices)."""
 
 PHASE_NAMES = tuple(f"free {fr.mode_names(c, JOINTS)}" for c in range(fr.N_MODES**N_JOINTS))
 GUARD_NAMES = tuple(f"{j}_{kind}" for j in JOINTS for kind in ("slip_stops", "stick_breaks"))

@@ -75,6 +75,7 @@ from numba import njit
 
 from walker import friction as fr
 from walker._generated import five_link as K
+from walker._generated import indices as ix
 from walker.control import controller_torque
 from walker.models._common import FALL_ANGLE, floating_base_state, heel_strike_impact
 from walker.status import EVENT_CONTINUE, EVENT_STRIDE, EVENT_TERMINAL, Status
@@ -129,10 +130,12 @@ SECTION_NAMES = (
     "qd_tibia_sw",
 )
 
-I_LENGTH_FEMUR, I_LENGTH_TIBIA, I_SLOPE, I_FRICTION = 3, 4, 11, 13
-CONTROL_OFFSET = 14
+I_LENGTH_FEMUR, I_LENGTH_TIBIA = ix.FIVE_LINK_P_LENGTH_FEMUR, ix.FIVE_LINK_P_LENGTH_TIBIA
+I_SLOPE, I_FRICTION = ix.FIVE_LINK_P_SLOPE, ix.FIVE_LINK_P_FRICTION
+CONTROL_OFFSET = ix.FIVE_LINK_P_CONTROLLER
 """Index in ``p`` of the controller block (:mod:`walker.control` layout)."""
-I_DAMPING_HIP, I_DAMPING_KNEE, I_COULOMB_HIP, I_COULOMB_KNEE = 40, 41, 42, 43
+I_DAMPING_HIP, I_DAMPING_KNEE = ix.FIVE_LINK_P_DAMPING_HIP, ix.FIVE_LINK_P_DAMPING_KNEE
+I_COULOMB_HIP, I_COULOMB_KNEE = ix.FIVE_LINK_P_COULOMB_HIP, ix.FIVE_LINK_P_COULOMB_KNEE
 """Indices in ``p`` of the joint friction (after the controller block; a test checks them
 against :class:`walker.params.FiveLinkParams`)."""
 MIN_STEP = 1e-8
@@ -342,21 +345,21 @@ def guards(phase, t, x, p, g):
     pts = np.empty((6, 2))
     K.points(x[:5], p, pts)
     slope = p[I_SLOPE]
-    g[0] = _slope_frame(pts[4], slope)[1]
+    g[ix.FIVE_LINK_GUARD_HEEL_STRIKE] = _slope_frame(pts[4], slope)[1]
     ht, hn = _slope_frame(pts[2], slope)
     psi = math.atan2(-ht, hn)  # stance foot -> hip, from the slope normal
-    g[1] = psi + FALL_ANGLE
-    g[2] = psi - FALL_ANGLE
+    g[ix.FIVE_LINK_GUARD_FALL_FORWARD] = psi + FALL_ANGLE
+    g[ix.FIVE_LINK_GUARD_FALL_BACKWARD] = psi - FALL_ANGLE
     qdd = np.empty(5)
     u = np.empty(4)
     lam = np.empty(N_JOINTS)
     closed_loop(phase, x, p, qdd, u, lam)
     ft, fn = _slope_frame_force(x, p, qdd)
     mu = p[I_FRICTION]
-    g[3] = mu * fn - ft
-    g[4] = mu * fn + ft
-    g[5] = fn
-    g[6] = hn
+    g[ix.FIVE_LINK_GUARD_SLIP_FORWARD] = mu * fn - ft
+    g[ix.FIVE_LINK_GUARD_SLIP_BACKWARD] = mu * fn + ft
+    g[ix.FIVE_LINK_GUARD_LIFT_OFF] = fn
+    g[ix.FIVE_LINK_GUARD_HIP_DOWN] = hn
     modes = np.empty(N_JOINTS, dtype=np.int64)
     fr.decode(phase, modes)
     F = _dry(p)

@@ -48,6 +48,7 @@ import math
 import numpy as np
 from numba import njit
 
+from walker._generated import indices as ix
 from walker._generated import kneed as K
 from walker.models._common import (
     FALL_ANGLE,
@@ -89,7 +90,7 @@ VARIANTS = {
 with these parameters fixed at exactly zero, so scenes that leave them at zero pay no
 arithmetic for them.  :meth:`walker.models.WalkerModel.variant_for` picks it."""
 
-_I_R, _I_SLOPE = 11, 12
+_I_R, _I_SLOPE = ix.KNEED_P_FOOT_RADIUS, ix.KNEED_P_SLOPE
 # |q3 - q2| [rad] below which a foot contact with the knee unlocked counts as simultaneous
 # with knee lock rather than as a trip.
 _KNEE_TOL = 1e-6
@@ -102,8 +103,8 @@ _SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
 
 @njit(cache=True, error_model="numpy")
 def _lengths(p):
-    shank = p[3] + p[4]
-    thigh = p[5] + p[6]
+    shank = p[ix.KNEED_P_SHANK_COM_FROM_FOOT] + p[ix.KNEED_P_SHANK_COM_TO_KNEE]
+    thigh = p[ix.KNEED_P_THIGH_COM_FROM_KNEE] + p[ix.KNEED_P_THIGH_COM_TO_HIP]
     return shank, thigh
 
 
@@ -116,7 +117,7 @@ def _min_step(p):
 
 @njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
-    if phase == 0:
+    if phase == ix.KNEED_PHASE_UNLOCKED:
         dx[0] = x[3]
         dx[1] = x[4]
         dx[2] = x[5]
@@ -133,7 +134,7 @@ def rhs(phase, t, x, p, dx):
 @njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
     J[:, :] = 0.0
-    if phase == 0:
+    if phase == ix.KNEED_PHASE_UNLOCKED:
         J[0, 3] = 1.0
         J[1, 4] = 1.0
         J[2, 5] = 1.0
@@ -186,10 +187,10 @@ def _swing_foot_rate(x, p):
 @njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
     psi1 = x[0] + p[_I_SLOPE]
-    g[0] = x[2] - x[1] if phase == 0 else 1.0
-    g[1] = swing_foot(x, p)[0]
-    g[2] = psi1 + FALL_ANGLE
-    g[3] = psi1 - FALL_ANGLE
+    g[ix.KNEED_GUARD_KNEE_LOCK] = x[2] - x[1] if phase == ix.KNEED_PHASE_UNLOCKED else 1.0
+    g[ix.KNEED_GUARD_SWING_FOOT_CONTACT] = swing_foot(x, p)[0]
+    g[ix.KNEED_GUARD_FALL_FORWARD] = psi1 + FALL_ANGLE
+    g[ix.KNEED_GUARD_FALL_BACKWARD] = psi1 - FALL_ANGLE
 
 
 @njit(cache=True, error_model="numpy")
@@ -280,7 +281,7 @@ def _reset(phase, k, x, p, x_new, impulse, ignore_scuff):
     if k == 0:
         return _knee_lock_event(phase, x, p, x_new, impulse, ignore_scuff)
     if k == 1:
-        if phase == 0:
+        if phase == ix.KNEED_PHASE_UNLOCKED:
             if abs(x[2] - x[1]) <= _KNEE_TOL and swing_foot(x, p)[1] > _min_step(p):
                 # The knee locks at this same instant (its guard a hair behind): knee lock
                 # first, then heel strike, as when the knee-lock guard fires first.

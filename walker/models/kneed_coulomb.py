@@ -43,6 +43,7 @@ import numpy as np
 from numba import njit
 
 from walker import friction as fr
+from walker._generated import indices as ix
 from walker._generated import kneed as K
 from walker.models import kneed as _kneed
 from walker.models._common import LINEAR_SOLVE_FAILED, after_base_reset
@@ -94,10 +95,10 @@ N_IMPULSE = 2
 JOINTS = ("ankle", "hip", "knee")
 N_UNLOCKED = fr.N_MODES**3
 N_LOCKED = fr.N_MODES**2
-UNLOCKED, LOCKED = 0, 1
-I_COULOMB = 17
+UNLOCKED, LOCKED = ix.KNEED_PHASE_UNLOCKED, ix.KNEED_PHASE_LOCKED
+I_COULOMB = ix.KNEED_COULOMB_P_COULOMB_ANKLE
 """Index of ``coulomb_ankle`` in the parameter vector (``coulomb_hip``, ``coulomb_knee``
-follow); a test checks it against :class:`walker.params.KneedCoulombParams`."""
+follow), from the generated :mod:`walker._generated.indices`."""
 
 PHASE_NAMES = tuple(f"unlocked {fr.mode_names(c, JOINTS)}" for c in range(N_UNLOCKED)) + tuple(
     f"locked {fr.mode_names(c, JOINTS[:2])}" for c in range(N_LOCKED)
@@ -256,8 +257,8 @@ def guards(phase, t, x, p, g):
         fr.phase_guards(_unlocked, _S_UNLOCKED, F, modes, x, 3, p, g[4:10])
         return
     fr.phase_guards(_locked, _S_LOCKED, F, modes, x, 3, p, g[4:8])
-    g[8] = 1.0
-    g[9] = 1.0
+    g[ix.KNEED_COULOMB_GUARD_KNEE_SLIP_STOPS] = 1.0
+    g[ix.KNEED_COULOMB_GUARD_KNEE_STICK_BREAKS] = 1.0
 
 
 @njit(cache=True, error_model="numpy")

@@ -100,6 +100,8 @@ import math
 
 import numpy as np
 
+from walker._generated import indices as ix
+
 __all__ = [
     "N_X",
     "N_Q",
@@ -146,7 +148,7 @@ hand: no generated kernels); bump the version in ``_SPEC`` when they change."""
 
 def half_angle(p) -> float:
     """``alpha = pi / spokes`` [rad], the half-angle between spokes (``p[0]`` is spokes)."""
-    return math.pi / float(p[0])
+    return math.pi / float(p[ix.RIMLESS_WHEEL_P_SPOKES])
 
 
 LIFT_AFFINE = True

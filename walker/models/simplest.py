@@ -35,6 +35,7 @@ import math
 import numpy as np
 from numba import njit
 
+from walker._generated import indices as ix
 from walker._generated import simplest as K
 from walker.models._common import FALL_ANGLE
 from walker.status import EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
@@ -75,9 +76,9 @@ def jac(phase, t, x, p, J):
 
 @njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
-    g[0] = x[1] - 2.0 * x[0]
-    g[1] = x[0] + FALL_ANGLE
-    g[2] = x[0] - FALL_ANGLE
+    g[ix.SIMPLEST_GUARD_HEEL_STRIKE] = x[1] - 2.0 * x[0]
+    g[ix.SIMPLEST_GUARD_FALL_FORWARD] = x[0] + FALL_ANGLE
+    g[ix.SIMPLEST_GUARD_FALL_BACKWARD] = x[0] - FALL_ANGLE
 
 
 @njit(cache=True, error_model="numpy")
@@ -103,7 +104,7 @@ def reset(phase, k, t, x, p, x_new, impulse):
 def energy(x, p):
     """(kinetic, potential) per unit hip mass [J/kg] (the feet carry no energy in the
     limit); potential zero at the stance foot."""
-    slope, g, l = p[0], p[1], p[2]
+    slope, g, l = p[ix.SIMPLEST_P_SLOPE], p[ix.SIMPLEST_P_G], p[ix.SIMPLEST_P_LEG_LENGTH]
     kinetic = 0.5 * l * l * x[2] * x[2]
     potential = g * l * math.cos(x[0] - slope)
     return kinetic, potential
@@ -125,7 +126,7 @@ def project(x, p):
 
 def points(x, p):
     """Stance foot, hip, swing foot in the world frame [m]."""
-    slope, l = p[0], p[2]
+    slope, l = p[ix.SIMPLEST_P_SLOPE], p[ix.SIMPLEST_P_LEG_LENGTH]
     s = np.array([math.cos(slope), -math.sin(slope)])
     n = np.array([math.sin(slope), math.cos(slope)])
     hip = l * (-math.sin(x[0]) * s + math.cos(x[0]) * n)

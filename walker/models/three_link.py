@@ -77,6 +77,7 @@ import numpy as np
 from numba import njit
 
 from walker import friction as fr
+from walker._generated import indices as ix
 from walker._generated import three_link as K
 from walker.control import controller_torque
 from walker.models._common import FALL_ANGLE, floating_base_state, heel_strike_impact
@@ -116,23 +117,24 @@ STATE_NAMES = (
 )
 SECTION_NAMES = ("q_stance", "q_torso", "qd_stance", "qd_swing", "qd_torso")
 
-I_LEG_A, I_LEG_B, I_SLOPE, I_FRICTION = 3, 4, 8, 10
+I_LEG_A, I_LEG_B = ix.THREE_LINK_P_COM_FROM_FOOT, ix.THREE_LINK_P_COM_TO_HIP
+I_SLOPE, I_FRICTION = ix.THREE_LINK_P_SLOPE, ix.THREE_LINK_P_FRICTION
 MIN_STEP = 1e-8
 """A heel strike needs the swing foot ahead by more than ``MIN_STEP`` leg lengths.  With rigid
 legs the foot height ``r (cos q_stance - cos q_swing)`` has two zeros: ``q_swing =
 -q_stance`` (a step) and ``q_swing = q_stance`` (the swing foot passing through the stance
 foot, step length zero up to round-off): the latter is the mid-stance scuff."""
-CONTROL_OFFSET = 11
+CONTROL_OFFSET = ix.THREE_LINK_P_CONTROLLER
 """Index in ``p`` of the controller block (:mod:`walker.control` layout)."""
-I_THETA_MINUS = CONTROL_OFFSET + 5
-I_STEP_EVENT = 27
+I_THETA_MINUS = ix.THREE_LINK_P_THETA_MINUS
+I_STEP_EVENT = ix.THREE_LINK_P_STEP_EVENT
 """Index in ``p`` of ``step_event`` (0: the step ends at heel strike, 1: where the stance
 angle falls through ``theta_minus``)."""
-I_FT = 28
+I_FT = ix.THREE_LINK_P_FT_ALPHA
 """Index in ``p`` of the finite-time controller's block (controller 3, compiled C only):
 ``ft_alpha``, ``ft_epsilon``, ``poly_swing_0..5``, ``poly_torso_0..5``
 (``walker/_core/wk_control.h``)."""
-I_DAMPING_HIP, I_COULOMB_HIP = 42, 43
+I_DAMPING_HIP, I_COULOMB_HIP = ix.THREE_LINK_P_DAMPING_HIP, ix.THREE_LINK_P_COULOMB_HIP
 """Indices in ``p`` of ``damping_hip`` and ``coulomb_hip`` (after the controller blocks; a
 test checks them against :class:`walker.params.ThreeLinkParams`)."""
 
@@ -288,18 +290,20 @@ def swing_foot(x, p):
 @njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
     psi1 = x[0] + p[I_SLOPE]
-    g[0] = x[0] - p[I_THETA_MINUS] if p[I_STEP_EVENT] == 1.0 else swing_foot(x, p)[0]
-    g[1] = psi1 + FALL_ANGLE
-    g[2] = psi1 - FALL_ANGLE
+    g[ix.THREE_LINK_GUARD_HEEL_STRIKE] = (
+        x[0] - p[I_THETA_MINUS] if p[I_STEP_EVENT] == 1.0 else swing_foot(x, p)[0]
+    )
+    g[ix.THREE_LINK_GUARD_FALL_FORWARD] = psi1 + FALL_ANGLE
+    g[ix.THREE_LINK_GUARD_FALL_BACKWARD] = psi1 - FALL_ANGLE
     qdd = np.empty(3)
     u = np.empty(2)
     lam = np.empty(N_JOINTS)
     closed_loop(phase, x, p, qdd, u, lam)
     ft, fn = _slope_frame_force(x, p, qdd)
     mu = p[I_FRICTION]
-    g[3] = mu * fn - ft
-    g[4] = mu * fn + ft
-    g[5] = fn
+    g[ix.THREE_LINK_GUARD_SLIP_FORWARD] = mu * fn - ft
+    g[ix.THREE_LINK_GUARD_SLIP_BACKWARD] = mu * fn + ft
+    g[ix.THREE_LINK_GUARD_LIFT_OFF] = fn
     modes = np.empty(N_JOINTS, dtype=np.int64)
     fr.decode(phase, modes)
     F = _dry(p)
