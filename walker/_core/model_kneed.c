@@ -161,17 +161,11 @@ static int64_t knee_lock(const kneed_kernels *K, const double *x, const double *
 static int64_t heel_strike(const kneed_kernels *K, const double *x, const double *p,
                            double *x_new, double *impulse)
 {
-    const double *q = x;
-    const double *qd = x + 3;
-    double pts[5 * 2], hip_J[2 * 2], qf[4], qdf[4];
-    double M[4 * 4], Jsw[2 * 4], Jst[2 * 4], qdf_plus[4], lift;
-    K->locked_points(q, p, pts);
-    K->locked_hip_jac(q, p, hip_J);
-    wk_floating_base_state(q, qd, pts + 2, hip_J, qf, qdf, 2);
-    K->ext_mass_matrix(qf, p, M);
-    K->ext_swing_contact_jac(qf, p, Jsw);
-    K->ext_stance_contact_jac(qf, p, Jst);
-    if (!wk_heel_strike_impact(M, Jsw, Jst, qdf, p[I_SLOPE], qdf_plus, impulse, &lift, 4))
+    /* the knee is locked: the 2-link kernels, the hip at row 1 of the 5 locked points */
+    double qdf_plus[4], lift;
+    if (!wk_floating_base_heel_strike(K->locked_points, K->locked_hip_jac, K->ext_mass_matrix,
+                                      K->ext_swing_contact_jac, K->ext_stance_contact_jac, x,
+                                      x + 3, p, 2, 5, 1, p[I_SLOPE], qdf_plus, impulse, &lift))
         return WK_LINEAR_SOLVE_FAILED;
     x_new[0] = x[1];
     x_new[1] = x[0];

@@ -53,8 +53,7 @@ from walker._generated import kneed as K
 from walker.models._common import (
     FALL_ANGLE,
     MIN_STEP,
-    floating_base_state,
-    heel_strike_impact,
+    floating_base_heel_strike,
     impact,
 )
 from walker.status import (
@@ -218,23 +217,23 @@ def knee_lock(x, p, x_new, impulse):
 def heel_strike(x, p, x_new, impulse):
     """Floating-base heel strike (knee locked) and leg swap; the new swing knee is straight
     and unlocked.  ``impulse`` = (along slope, normal) on the new stance foot [N s]."""
-    q = x[0:2]
-    qd = x[3:5]
-    pts = np.empty((5, 2))
-    K.locked_points(q, p, pts)
-    hip_J = np.empty((2, 2))
-    K.locked_hip_jac(q, p, hip_J)
-    qf = np.empty(4)
-    qdf = np.empty(4)
-    floating_base_state(q, qd, pts[1], hip_J, qf, qdf)
-    M = np.empty((4, 4))
-    K.ext_mass_matrix(qf, p, M)
-    Jsw = np.empty((2, 4))
-    K.ext_swing_contact_jac(qf, p, Jsw)
-    Jst = np.empty((2, 4))
-    K.ext_stance_contact_jac(qf, p, Jst)
+    # the knee is locked: the 2-link kernels, the hip at row 1 of the 5 locked points
     qdf_plus = np.empty(4)
-    ok, lift = heel_strike_impact(M, Jsw, Jst, qdf, p[_I_SLOPE], qdf_plus, impulse)
+    ok, lift = floating_base_heel_strike(
+        K.locked_points,
+        K.locked_hip_jac,
+        K.ext_mass_matrix,
+        K.ext_swing_contact_jac,
+        K.ext_stance_contact_jac,
+        x[0:2],
+        x[3:5],
+        p,
+        5,
+        1,
+        p[_I_SLOPE],
+        qdf_plus,
+        impulse,
+    )
     if not ok:
         return _SINGULAR
     x_new[0] = x[1]
