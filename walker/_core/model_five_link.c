@@ -196,16 +196,13 @@ void wk_model_five_link_guards(int64_t phase, double t, const double *x, const d
  * impact) and the impulse on the new stance foot (along the slope, normal to it). */
 static int64_t heel_strike(const double *x, const double *p, double *x_new, double *impulse)
 {
-    const double *q = x;
-    double pts[6 * 2], hip_J[2 * 5], qf[7], qdf[7], M[7 * 7], Jsw[2 * 7], Jst[2 * 7];
+    /* the hip at row 2 of the 6 points */
     double qdf_plus[7], lift;
-    wk_five_link_points(q, p, pts);
-    wk_five_link_hip_jac(q, p, hip_J);
-    wk_floating_base_state(q, x + 5, pts + 4, hip_J, qf, qdf, 5);
-    wk_five_link_ext_mass_matrix(qf, p, M);
-    wk_five_link_ext_swing_contact_jac(qf, p, Jsw);
-    wk_five_link_ext_stance_contact_jac(qf, p, Jst);
-    if (!wk_heel_strike_impact(M, Jsw, Jst, qdf, p[I_SLOPE], qdf_plus, impulse, &lift, 7))
+    if (!wk_floating_base_heel_strike(wk_five_link_points, wk_five_link_hip_jac,
+                                      wk_five_link_ext_mass_matrix,
+                                      wk_five_link_ext_swing_contact_jac,
+                                      wk_five_link_ext_stance_contact_jac, x, x + 5, p, 5, 6, 2,
+                                      p[I_SLOPE], qdf_plus, impulse, &lift))
         return WK_LINEAR_SOLVE_FAILED;
     for (int i = 0; i < 5; i++) {
         double sq = 0.0;

@@ -206,16 +206,13 @@ void wk_model_three_link_guards(int64_t phase, double t, const double *x, const 
  * impact) and the impulse on the new stance foot (along the slope, normal to it). */
 static int64_t heel_strike(const double *x, const double *p, double *x_new, double *impulse)
 {
-    const double *q = x;
-    double pts[4 * 2], hip_J[2 * 3], qf[5], qdf[5], M[5 * 5], Jsw[2 * 5], Jst[2 * 5];
+    /* the hip at row 1 of the 4 points */
     double qdf_plus[5], lift;
-    wk_three_link_points(q, p, pts);
-    wk_three_link_hip_jac(q, p, hip_J);
-    wk_floating_base_state(q, x + 3, pts + 2, hip_J, qf, qdf, 3);
-    wk_three_link_ext_mass_matrix(qf, p, M);
-    wk_three_link_ext_swing_contact_jac(qf, p, Jsw);
-    wk_three_link_ext_stance_contact_jac(qf, p, Jst);
-    if (!wk_heel_strike_impact(M, Jsw, Jst, qdf, p[I_SLOPE], qdf_plus, impulse, &lift, 5))
+    if (!wk_floating_base_heel_strike(wk_three_link_points, wk_three_link_hip_jac,
+                                      wk_three_link_ext_mass_matrix,
+                                      wk_three_link_ext_swing_contact_jac,
+                                      wk_three_link_ext_stance_contact_jac, x, x + 3, p, 3, 4, 1,
+                                      p[I_SLOPE], qdf_plus, impulse, &lift))
         return WK_LINEAR_SOLVE_FAILED;
     x_new[0] = x[1];
     x_new[1] = x[0];

@@ -77,7 +77,7 @@ from walker import friction as fr
 from walker._generated import five_link as K
 from walker._generated import indices as ix
 from walker.control import controller_torque
-from walker.models._common import FALL_ANGLE, floating_base_state, heel_strike_impact
+from walker.models._common import FALL_ANGLE, floating_base_heel_strike
 from walker.status import EVENT_CONTINUE, EVENT_STRIDE, EVENT_TERMINAL, Status
 
 N_X = 12
@@ -373,22 +373,22 @@ def heel_strike(x, p, x_new, impulse):
     Returns a Status value: 0 (COMPLETED) for a physical impact.  ``impulse`` receives the
     impulse on the new stance foot, ``(along the slope, normal to it)`` [N s].
     """
-    q = x[:5]
-    pts = np.empty((6, 2))
-    K.points(q, p, pts)
-    hip_J = np.empty((2, 5))
-    K.hip_jac(q, p, hip_J)
-    qf = np.empty(7)
-    qdf = np.empty(7)
-    floating_base_state(q, x[5:10], pts[2], hip_J, qf, qdf)
-    M = np.empty((7, 7))
-    K.ext_mass_matrix(qf, p, M)
-    Jsw = np.empty((2, 7))
-    K.ext_swing_contact_jac(qf, p, Jsw)
-    Jst = np.empty((2, 7))
-    K.ext_stance_contact_jac(qf, p, Jst)
     qdf_plus = np.empty(7)
-    ok, lift = heel_strike_impact(M, Jsw, Jst, qdf, p[I_SLOPE], qdf_plus, impulse)
+    ok, lift = floating_base_heel_strike(  # the hip at row 2 of the 6 points
+        K.points,
+        K.hip_jac,
+        K.ext_mass_matrix,
+        K.ext_swing_contact_jac,
+        K.ext_stance_contact_jac,
+        x[:5],
+        x[5:10],
+        p,
+        6,
+        2,
+        p[I_SLOPE],
+        qdf_plus,
+        impulse,
+    )
     if not ok:
         return _SINGULAR
     for i in range(5):

@@ -80,7 +80,7 @@ from walker import friction as fr
 from walker._generated import indices as ix
 from walker._generated import three_link as K
 from walker.control import controller_torque
-from walker.models._common import FALL_ANGLE, floating_base_state, heel_strike_impact
+from walker.models._common import FALL_ANGLE, floating_base_heel_strike
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
 
 N_X = 8
@@ -317,22 +317,22 @@ def heel_strike(x, p, x_new, impulse):
     Returns a Status value: 0 (COMPLETED) for a physical impact.  ``impulse`` receives the
     impulse on the new stance foot, ``(along the slope, normal to it)`` [N s].
     """
-    q = x[:3]
-    pts = np.empty((4, 2))
-    K.points(q, p, pts)
-    hip_J = np.empty((2, 3))
-    K.hip_jac(q, p, hip_J)
-    qf = np.empty(5)
-    qdf = np.empty(5)
-    floating_base_state(q, x[3:6], pts[1], hip_J, qf, qdf)
-    M = np.empty((5, 5))
-    K.ext_mass_matrix(qf, p, M)
-    Jsw = np.empty((2, 5))
-    K.ext_swing_contact_jac(qf, p, Jsw)
-    Jst = np.empty((2, 5))
-    K.ext_stance_contact_jac(qf, p, Jst)
     qdf_plus = np.empty(5)
-    ok, lift = heel_strike_impact(M, Jsw, Jst, qdf, p[I_SLOPE], qdf_plus, impulse)
+    ok, lift = floating_base_heel_strike(  # the hip at row 1 of the 4 points
+        K.points,
+        K.hip_jac,
+        K.ext_mass_matrix,
+        K.ext_swing_contact_jac,
+        K.ext_stance_contact_jac,
+        x[:3],
+        x[3:6],
+        p,
+        4,
+        1,
+        p[I_SLOPE],
+        qdf_plus,
+        impulse,
+    )
     if not ok:
         return _SINGULAR
     x_new[0] = x[1]
