@@ -16,13 +16,12 @@ import time
 from pathlib import Path
 
 from walker.symbolic.codegen import (
-    render_c_module,
-    render_kernel_table,
     render_module,
     share_trig,
     symbolic_hash,
     variant_hash,
 )
+from walker.symbolic.codegen_c import render_c_module, render_kernel_table
 from walker.symbolic.indices import render_indices_h, render_indices_py
 from walker.symbolic.kernels import (
     C_MODULES,

@@ -28,7 +28,7 @@ typedef struct {
 /* Generated kernel signatures: "qqdp_v" f(q, qd, p, out); "qp_v" f(q, p, out);
  * "qqdp_s" double f(q, qd, p); "qp_s" double f(q, p); "qqdqddp_v" f(q, qd, qdd, p, out)
  * (the actuated walkers' ground_reaction).  All arguments const double *, out double *
- * (row-major); see walker.symbolic.codegen.SIGNATURES. */
+ * (row-major); see walker.symbolic.codegen_c.SIGNATURES. */
 typedef struct {
     const char *name;  /* "<model>.<kernel>", variants "<model>/plain.<kernel>" */
     const char *sig;
