@@ -9,7 +9,8 @@ import tomllib
 import pytest
 
 from walker.cli import build_parser, main
-from walker.cli.info import STARTS, HelpFormatter
+from walker.cli._catalog import STARTS
+from walker.cli._help import HelpFormatter
 from walker.models import MODEL_NAMES, get_model
 from walker.params import HAS_EVENTS, PARAMS, STATE_NAMES, STATE_UNITS
 from walker.scene import ComputeSettings, load_scene

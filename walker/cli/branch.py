@@ -28,7 +28,7 @@ from ._common import (
     provenance,
     scene_cmd,
 )
-from .info import HelpFormatter
+from ._help import HelpFormatter
 
 
 def parse_range(text: str, flag: str = "--range") -> tuple[float, float]:

@@ -15,7 +15,7 @@ from ._common import (
     provenance,
     scene_cmd,
 )
-from .info import HelpFormatter
+from ._help import HelpFormatter
 
 
 def cmd_find(args) -> int:

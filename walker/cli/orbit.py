@@ -28,8 +28,8 @@ from ._common import (
     provenance,
     scene_cmd,
 )
+from ._help import HelpFormatter
 from .branch import check_param, check_walker, parse_range
-from .info import HelpFormatter
 
 PERIOD_TOL = 1e-8
 """Two recorded values closer than this (section units, absolute) count as the same point."""

@@ -9,7 +9,7 @@ from ._common import (
     UsageError,
     _check_figure_dir,
 )
-from .info import HelpFormatter
+from ._help import HelpFormatter
 
 
 def cmd_plot(args) -> int:

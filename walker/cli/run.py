@@ -16,7 +16,7 @@ from ._common import (
     provenance,
     scene_cmd,
 )
-from .info import HelpFormatter
+from ._help import HelpFormatter
 
 
 def cmd_run(args) -> int:

@@ -21,7 +21,7 @@ from ._common import (
     _resume_hint,
     _stride_map,
 )
-from .info import HelpFormatter
+from ._help import HelpFormatter
 
 if TYPE_CHECKING:
     from walker.results import SweepTable
