@@ -101,7 +101,7 @@ def simulate(
             if start_phase is None
             or x0.shape != (model.n_x,)
             or not all(map(math.isfinite, x0.tolist()))
-            else start_phase(x0, p)
+            else start_phase(np.ascontiguousarray(x0), p)
         )
     sol = _solve(
         system,
@@ -156,10 +156,7 @@ def _setup(model, params):
     if not np.isfinite(p).all():
         raise ValueError("All parameters `p` must be finite.")
     p.flags.writeable = False
-    if resolved._state_fn("start_phase") is None and not hasattr(resolved.module, "start_phase"):
-        start_phase = None  # WalkerModel.start_phase returns 0 for every state
-    else:
-        start_phase = resolved.start_phase
+    start_phase = resolved.start_phase_fn()  # None: every state starts in phase 0
     value = (resolved, p, system, _time_scale(params), start_phase)
     if len(_SETUP) >= _SETUP_MAX:
         _SETUP.clear()
@@ -332,11 +329,7 @@ class StrideMap:
                     model.lift_jacobian(np.zeros(model.n_z), p), dtype=np.float64, order="C"
                 )
                 lift_jac.flags.writeable = False
-        if model._state_fn("start_phase") is None and not hasattr(module, "start_phase"):
-            start_phase = None
-        else:
-            start_phase = model.start_phase
-        return module.lift, project, lift_jac, start_phase
+        return module.lift, project, lift_jac, model.start_phase_fn()
 
     def _new_run(self, cached, n_strides):
         """A PreparedRun for ``n_strides`` strides, kept for up to 16 stride counts."""

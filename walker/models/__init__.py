@@ -256,6 +256,21 @@ class WalkerModel:
             return 0
         return int(fn(np.ascontiguousarray(x, dtype=np.float64), _p(p)))
 
+    def start_phase_fn(self):
+        """The phase choice for the hot path: ``(x, p) -> int`` on arrays already checked
+        (C-contiguous float64 of the model's lengths), no conversion or shape check per call;
+        None when every state starts in phase 0.  :meth:`start_phase` is the checked form."""
+        address = self._state_fn("start_phase")
+        if address is not None:
+            from walker import _hybrid
+
+            call = _hybrid.call_state_fn
+            return lambda x, p: int(call(address, x, p, 1)[0])
+        fn = getattr(self.module, "start_phase", None)
+        if fn is None:
+            return None
+        return lambda x, p: int(fn(x, p))
+
     def apply_reset(self, phase: int, k: int, x, p, t: float = 0.0):
         """Run the compiled reset map the integrator runs, for guard ``k`` firing at state
         ``x`` in ``phase`` (analysis tools; the integrator calls it itself).
