@@ -15,16 +15,18 @@ The pipeline, from a scene file to pictures::
                                      and guard indices every model reads
     (install)    ──► setup.py        compiles walker/_core/*.c + walker/_generated/*.c into the
                                      extension walker._hybrid:
-                     _core/hybrid.c  DOP853 / RK45 / RK4 / Euler, dense output, event location,
-                                     the hybrid loop, variational equations with saltation
+                     _core/hybrid*.c the integrator: the hybrid loop (hybrid.c), DOP853 / RK45 /
+                                     RK4 / Euler steps (_step), dense output (_dense), event
+                                     location (_events), saltation (_saltation)
                      _core/model_*.c each walker's rhs, guards, resets (impacts as augmented
                                      linear systems), Jacobian, energy, points, start phase;
                                      wk_friction.c (dry joint friction: stick/slip modes),
                                      wk_control.c (virtual-constraint controller)
     (run time)   ──► models/         per walker: names, phases, guards, section lift/project;
                                      WalkerModel.system_for(p) picks the compiled variant once
-                 ──► integrate.py    HybridSystem (the C contract, also for user-supplied C
-                                     functions), hybrid_solve, PreparedRun -> Solution
+                 ──► integrate.py    hybrid_solve, PreparedRun -> Solution; the C contract
+                                     HybridSystem (also for user-supplied C functions) in
+                                     hybrid_system.py
                  ──► stride.py       simulate(); StrideMap: section -> section (+ Jacobian)
                  ──► fixedpoint.py   fixed points, Floquet multipliers; sectionmap.py (map
                                      value and Jacobian, eigen-sorting, input checks),
