@@ -685,6 +685,9 @@ _WRITER = textwrap.dedent(
         sl = store.chunk_slice(i)
         store.write_chunk(i, {{"a": np.repeat(points[sl], 50, axis=1) + 1.0,
                                "b": np.arange(sl.start, sl.stop)}})
+        if i < 3:  # the first chunks wait for a reader's turn: reads mid-run on any machine
+            print("wrote", flush=True)
+            sys.stdin.readline()
         time.sleep(0.02)
     print("finished", flush=True)
     """
@@ -700,23 +703,34 @@ def test_readers_and_a_running_writer_coexist(tmp_path, isolate):
     path = tmp_path / "s.h5"
     proc = subprocess.Popen(
         [sys.executable, "-c", _WRITER.format(path=str(path))],
+        stdin=subprocess.PIPE,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
     )
+
+    def check_snapshot() -> None:
+        table, _ = read(path) if isolate else read(path, isolate=False)
+        b = table.columns["b"]
+        done = b >= 0
+        np.testing.assert_array_equal(b[done], np.arange(60)[done])
+        expected = np.repeat(table.points, 50, axis=1) + 1.0
+        np.testing.assert_array_equal(table.columns["a"][done], expected[done])
+        assert np.isnan(table.columns["a"][~done]).all()
+
     try:
         assert proc.stdout.readline().strip() == "created"
         # A reader holding the file open with HDF5's own lock does not stop the writer.
         with h5py.File(path, "r") as held:
             n_reads = 0
-            while proc.poll() is None:
-                table, _ = read(path) if isolate else read(path, isolate=False)
-                b = table.columns["b"]
-                done = b >= 0
-                np.testing.assert_array_equal(b[done], np.arange(60)[done])
-                expected = np.repeat(table.points, 50, axis=1) + 1.0
-                np.testing.assert_array_equal(table.columns["a"][done], expected[done])
-                assert np.isnan(table.columns["a"][~done]).all()
+            for _ in range(3):  # the writer waits after each of its first three chunks
+                assert proc.stdout.readline().strip() == "wrote"
+                check_snapshot()
+                n_reads += 1
+                proc.stdin.write("go\n")
+                proc.stdin.flush()
+            while proc.poll() is None:  # then reads run beside writes
+                check_snapshot()
                 n_reads += 1
             assert held["checkpoint/done"].shape == (20,)
         out, err = proc.communicate(timeout=60)
@@ -726,7 +740,7 @@ def test_readers_and_a_running_writer_coexist(tmp_path, isolate):
             proc.wait()
     assert proc.returncode == 0, err
     assert out.strip() == "finished"
-    assert n_reads >= 2
+    assert n_reads >= 3
     assert storage.checkpoint_progress(path) == (20, 20)
 
 
