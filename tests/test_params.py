@@ -283,6 +283,16 @@ def test_grizzle_preset():
         ThreeLinkParams.preset("westervelt")
 
 
+def test_bezier_degree_matches_the_controller():
+    """The actuated walkers' Bezier fields have the degree walker.control evaluates."""
+    from walker.control import BEZIER_DEGREE
+    from walker.params.actuated import _BEZIER_DEGREE
+
+    assert _BEZIER_DEGREE == BEZIER_DEGREE
+    assert "bezier_swing_4" in ThreeLinkParams.names()
+    assert f"bezier_swing_{BEZIER_DEGREE + 1}" not in ThreeLinkParams.names()
+
+
 def test_course_preset():
     p = DoublePendulumParams.course()
     # the course's pendulum has frictionless joints
@@ -629,7 +639,7 @@ def test_value_equality_and_hash():
 def test_hzd_presets_store_the_invariant_design(cls, preset, defaults):
     """The presets' Bezier coefficients are stored as numbers (params imports no analysis
     code); they are what walker.hzd.make_invariant makes of the design, to the last bits."""
-    import walker.params as params_module
+    import walker.params._actuated_presets as params_module
     from walker.hzd import make_invariant
 
     stored = getattr(cls, preset)()

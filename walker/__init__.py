@@ -3,7 +3,7 @@
 The pipeline, from a scene file to pictures::
 
     gaits/*.toml ──► scene.py        load_scene: model name, parameters, state, settings
-                 ──► params.py       frozen dataclasses with units and bounds; as_array()
+                 ──► params/         frozen dataclasses with units and bounds; as_array()
     (by hand)    ──► symbolic/       sympy: bodies -> D, C (Christoffel), g, B, contact
                                      Jacobians, energies; Newton-Euler as the check
                  ──► symbolic/codegen.py + scripts/generate_kernels.py
