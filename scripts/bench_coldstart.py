@@ -61,7 +61,7 @@ from walker.models import get_model  # noqa: E402
 def command_for(scene_path: Path) -> list[str]:
     """The subcommand a user runs for this scene (walker/cli/find.py: find needs a walker)."""
     scene = load_scene(scene_path)
-    if scene.compute.task == "fixed_point" and get_model(scene.model).is_walker:
+    if scene.compute.task == "fixed_point" and get_model(scene.model).has_strides:
         return ["find", str(scene_path)]
     return ["run", str(scene_path)]
 

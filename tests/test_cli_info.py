@@ -12,7 +12,7 @@ from walker.cli import build_parser, main
 from walker.cli._catalog import STARTS
 from walker.cli._help import HelpFormatter
 from walker.models import MODEL_NAMES, get_model
-from walker.params import HAS_EVENTS, PARAMS, STATE_NAMES, STATE_UNITS
+from walker.params import HAS_STRIDES, PARAMS, STATE_NAMES, STATE_UNITS
 from walker.scene import ComputeSettings, load_scene
 
 PRESETS = [(model, preset) for model, cls in PARAMS.items() for preset in cls.PRESETS]
@@ -82,7 +82,7 @@ def test_models_json_describes_every_model(capsys):
         assert [s["index"] for s in rec["section"]] == list(range(model.n_z))
         assert rec["parameter_class"] == PARAMS[rec["name"]].__name__
         assert rec["presets"] == list(PARAMS[rec["name"]].PRESETS)
-        assert rec["walker"] == HAS_EVENTS[rec["name"]]
+        assert rec["walker"] == HAS_STRIDES[rec["name"]]
 
 
 def test_models_json_section_units_are_the_state_units(capsys):
@@ -179,7 +179,7 @@ def test_scene_new_is_accepted_by_find_or_run(tmp_path, capsys, model, preset):
     scene = load_scene(path)
     assert scene.model == model and scene.params == PARAMS[model].preset(preset)
     assert tuple(scene.state) == STARTS[(model, preset)].state
-    command = "find" if HAS_EVENTS[model] else "run"
+    command = "find" if HAS_STRIDES[model] else "run"
     code, out, err = _run(capsys, [command, str(path)])
     # 0: the gait (or the run); 1: an expected outcome, for the starts known not to walk
     assert code == (0 if STARTS[(model, preset)].walks else 1), (out, err)

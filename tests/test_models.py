@@ -9,13 +9,38 @@ from _mechanics import angular_momentum, body_functions, point
 from numpy.testing import assert_allclose
 
 from walker import get_model, load_scene, simulate
+from walker.models import MODEL_NAMES
 from walker.models import compass as C
 from walker.models import kneed as KN
-from walker.params import CompassParams, KneedParams, SimplestParams
+from walker.params import MODELS, CompassParams, KneedParams, SimplestParams
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, Status
 from walker.symbolic import models as sym
 
 RNG = np.random.default_rng(20261122)
+
+
+# ----------------------------------------------------------------------------- the registry
+@pytest.mark.parametrize("name", MODEL_NAMES)
+def test_model_agrees_with_its_registry_record(name):
+    """Each model's compiled description (its module and the system the integrator runs)
+    matches its record in walker.params.MODELS: state names and length, parameter class,
+    strides (a Poincare section exactly when it has strides)."""
+    spec = MODELS[name]
+    model = get_model(name)
+    assert model.spec is spec
+    assert model.module.STATE_NAMES == spec.state_names == model.state_names
+    assert model.n_x == model.module.N_X == spec.n_x == model.system.n_x
+    assert model.state_units == spec.state_units
+    assert model.params_class is spec.params_class and spec.params_class.MODEL == name
+    assert model.system.n_params == spec.params_class.n_params()
+    assert model.has_strides is spec.has_strides
+    assert (model.n_z > 0) is spec.has_strides
+    assert model.is_walker is model.has_strides  # the former name
+
+
+def test_model_names_are_the_registry_keys():
+    assert MODEL_NAMES == tuple(MODELS)
+    assert MODEL_NAMES[:3] == ("simplest", "compass", "kneed")
 
 
 def _heel_strike_state_compass(p, rng):

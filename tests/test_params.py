@@ -9,6 +9,8 @@ from numpy.testing import assert_allclose
 
 from walker.params import (
     HAS_EVENTS,
+    HAS_STRIDES,
+    MODELS,
     PARAMS,
     STATE_NAMES,
     CompassCoulombParams,
@@ -17,6 +19,7 @@ from walker.params import (
     FiveLinkParams,
     KneedCoulombParams,
     KneedParams,
+    ModelSpec,
     RimlessWheelParams,
     SimplestParams,
     ThreeLinkParams,
@@ -145,7 +148,7 @@ def test_units_and_docs_follow_the_canonical_order():
 
 
 def test_registry_tables_agree():
-    assert set(PARAMS) == set(STATE_NAMES) == set(HAS_EVENTS)
+    assert set(PARAMS) == set(STATE_NAMES) == set(HAS_STRIDES)
     assert list(PARAMS) == [
         "simplest",
         "compass",
@@ -158,7 +161,7 @@ def test_registry_tables_agree():
         "rimless_wheel",
     ]
     assert [len(STATE_NAMES[m]) for m in PARAMS] == [4, 4, 6, 4, 8, 12, 4, 6, 2]
-    assert [HAS_EVENTS[m] for m in PARAMS] == [
+    assert [HAS_STRIDES[m] for m in PARAMS] == [
         True,
         True,
         True,
@@ -174,6 +177,22 @@ def test_registry_tables_agree():
     for model, cls in PARAMS.items():
         assert cls.MODEL == model
         assert params_class(model) is cls
+    # the tables are views of the one registry; HAS_EVENTS is HAS_STRIDES's former name
+    assert list(MODELS) == list(PARAMS)
+    for model, spec in MODELS.items():
+        assert spec.name == model and spec.params_class is PARAMS[model]
+        assert spec.state_names is STATE_NAMES[model] and spec.n_x == len(STATE_NAMES[model])
+        assert spec.has_strides is HAS_STRIDES[model]
+    assert HAS_EVENTS is HAS_STRIDES
+
+
+def test_model_spec_refuses_units_that_do_not_match_the_state():
+    with pytest.raises(
+        ValueError,
+        match=r"^`state_units` must have one unit per state component \(2\) for model "
+        r"rimless_wheel, got 1$",
+    ):
+        ModelSpec(RimlessWheelParams, ("theta", "theta_dot"), ("rad",), has_strides=True)
 
 
 def test_params_class_unknown_model():

@@ -82,7 +82,7 @@ def _foot_steps(model, params, events) -> list[np.ndarray | None]:
     """
     if events is None:
         return []
-    if not model.is_walker:
+    if not model.has_strides:
         return [None] * len(events)
     p = params.as_array()
     swing = getattr(model.module, "SWING_FOOT", -1)
@@ -144,7 +144,7 @@ def _event_energies(model, params, events) -> np.ndarray:
     kin_post, pot_post = model.energies(np.asarray(events.x_post), params)
     drop_pre = np.zeros(len(events))
     drop_post = np.zeros(len(events))
-    if model.is_walker:
+    if model.has_strides:
         weight = _total_mass(params) * params.g
         height = 0.0  # of the current stance foot above the first one
         for i, step in enumerate(_foot_steps(model, params, events)):
@@ -242,7 +242,7 @@ def solution_figures(sol: Solution, model, params) -> dict[str, Figure]:
     if traj is None or len(traj) < 2:
         return figures
     kinetic, potential = model.energies(traj.x, params)
-    if model.is_walker:
+    if model.has_strides:
         # Potential energy relative to the current stance foot jumps at each heel strike;
         # refer it to the world frame by the accumulated drop of the stance foot.
         frames = walker_frames(model, params, traj.t, traj.x, sol.events)
@@ -287,10 +287,10 @@ def plot_solution(
     ]
     traj = sol.record if sol.record is not None else sol.samples
     if gif and traj is not None and len(traj) >= 2:
-        if model.is_walker or model.name == "double_pendulum":
+        if model.has_strides or model.name == "double_pendulum":
             t_frames = np.linspace(traj.t[0], traj.t[-1], min(120, len(traj)))
             idx = np.searchsorted(traj.t, t_frames).clip(0, len(traj) - 1)
-            if model.is_walker:
+            if model.has_strides:
                 frames = walker_frames(model, params, traj.t, traj.x, sol.events)[idx]
             else:
                 frames = np.array([model.points(traj.x[i], params) for i in idx])

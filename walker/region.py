@@ -99,7 +99,7 @@ class WalkingRegion:
 
         model = getattr(section_map, "model", None)
         params = getattr(section_map, "params", None)
-        if not isinstance(model, WalkerModel) or not model.is_walker:
+        if not isinstance(model, WalkerModel) or not model.has_strides:
             return None
         if not hasattr(params, "as_array"):
             return None

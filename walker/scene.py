@@ -77,7 +77,7 @@ from typing import Any
 
 import numpy as np
 
-from walker.params import HAS_EVENTS, PARAMS, STATE_NAMES
+from walker.params import HAS_STRIDES, PARAMS, STATE_NAMES
 from walker.status import METHOD_DOP853, METHOD_DP5, METHOD_EULER, METHOD_RK4
 
 __all__ = ["TASKS", "METHODS", "STATE_NAMES", "ComputeSettings", "Scene", "load_scene"]
@@ -402,7 +402,7 @@ def _compute(reader: _Reader, model: str, table: Mapping[str, Any] | None) -> Co
     for key, value in table.items():
         if _too_large(value):
             raise reader.error("compute", f"`{key}` must be finite, got {_digits(value)}")
-    if not HAS_EVENTS[model]:
+    if not HAS_STRIDES[model]:
         table.setdefault("task", "simulate")
         table.setdefault("strides", 0)
         if table["task"] != "simulate" or table["strides"] != 0:

@@ -240,7 +240,7 @@ class StrideMap:
     def __post_init__(self):
         model = _resolve(self.model, self.params)
         object.__setattr__(self, "model", model)
-        if not model.is_walker:
+        if not model.has_strides:
             raise ValueError(f"`model` `{model.name}` has no heel strike, so no stride map")
         if self.parameter_name not in model.params_class.names():
             raise ValueError(

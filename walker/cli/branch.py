@@ -60,7 +60,7 @@ def check_walker(scene, path) -> None:
     """The scene's model walks (has strides and a section)."""
     from walker.models import get_model
 
-    if not get_model(scene.model).is_walker:
+    if not get_model(scene.model).has_strides:
         raise UsageError(f"{path}: model `{scene.model}` has no strides (not a walker)")
 
 

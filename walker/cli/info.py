@@ -37,16 +37,15 @@ def _named(names, units) -> list[dict]:
 def model_record(name: str) -> dict:
     """Everything ``walker models`` says about model ``name``, as plain data."""
     from walker.models import get_model
-    from walker.params import STATE_UNITS
 
     model = get_model(name)
-    units = dict(zip(model.state_names, STATE_UNITS[name], strict=True))
+    units = dict(zip(model.state_names, model.state_units, strict=True))
     module = model.module
     return {
         "name": name,
         "summary": MODEL_SUMMARIES[name],
-        "walker": model.is_walker,
-        "state": _named(model.state_names, STATE_UNITS[name]),
+        "walker": model.has_strides,
+        "state": _named(model.state_names, model.state_units),
         "phases": list(model.phase_names),
         "guards": list(model.guard_names),
         "section": _named(model.section_names, [units[n] for n in model.section_names]),

@@ -60,14 +60,14 @@ _COMMENT_COLUMN = 44
 def scene_text(model: str, preset: str) -> str:
     """The commented scene file ``walker scene new MODEL --preset PRESET`` writes."""
     from walker.models import get_model
-    from walker.params import HAS_EVENTS, PARAMS, STATE_UNITS, _rule_text
+    from walker.params import _rule_text
     from walker.scene import METHODS, ComputeSettings
 
-    cls = PARAMS[model]
+    walker_model = get_model(model)
+    cls = walker_model.params_class
     params = cls.preset(preset)
     start = STARTS[(model, preset)]
-    walker_model = get_model(model)
-    walks = HAS_EVENTS[model]
+    walks = walker_model.has_strides
     command = "walker find" if walks else "walker run"
     defaults = {f.name: f.default for f in dataclasses.fields(ComputeSettings)}
     out = [
@@ -129,7 +129,7 @@ def scene_text(model: str, preset: str) -> str:
         ),
     ]
     names = walker_model.state_names
-    state_units = STATE_UNITS[model]
+    state_units = walker_model.state_units
     out += [
         "",
         "[initial]",
@@ -240,9 +240,9 @@ def _write_atomically(out: Path, text: str, overwrite: bool) -> None:
 
 
 def cmd_scene_new(args) -> int:
-    from walker.params import PARAMS
+    from walker.params import MODELS
 
-    presets = PARAMS[args.model].PRESETS
+    presets = MODELS[args.model].params_class.PRESETS
     preset = presets[0] if args.preset is None else args.preset
     if preset not in presets:
         raise UsageError(
@@ -256,8 +256,6 @@ def cmd_scene_new(args) -> int:
         print(text, end="")
         return EXIT_OK
     _write_atomically(out, text, args.overwrite)
-    from walker.params import HAS_EVENTS
-
-    command = "walker find" if HAS_EVENTS[args.model] else "walker run"
+    command = "walker find" if MODELS[args.model].has_strides else "walker run"
     print(f"wrote {out}; next: {command} {out}")
     return EXIT_OK

@@ -4,7 +4,10 @@ Python-side description (state, phases, guards, section coordinates).
 A model module (``walker/models/<name>.py``) provides, per the contract of
 :class:`walker.integrate.HybridSystem`:
 
-1. ``N_X``, ``STATE_NAMES``: the state, the same in every phase.
+1. ``N_X``, ``STATE_NAMES``: the state, the same in every phase.  ``STATE_NAMES`` is read
+   from the model's record in the model registry :data:`walker.params.MODELS` (which also
+   holds its parameter class, state units and whether it has strides); ``N_X``, its length,
+   is written out for the compiled code (``tests/test_models.py`` checks that they agree).
 2. ``PHASE_NAMES``, ``GUARD_NAMES``, ``DIRECTIONS`` (n_phases, n_guards) and compiled
    ``rhs``, ``guards``, ``reset``, ``jac`` (vector field Jacobian for the variational
    equations), ``N_IMPULSE``.
@@ -30,19 +33,12 @@ from functools import cached_property
 
 import numpy as np
 
+from walker.params import MODELS, ModelSpec
+
 __all__ = ["WalkerModel", "get_model", "MODEL_NAMES"]
 
-MODEL_NAMES = (
-    "simplest",
-    "compass",
-    "kneed",
-    "double_pendulum",
-    "three_link",
-    "five_link",
-    "compass_coulomb",
-    "kneed_coulomb",
-    "rimless_wheel",
-)
+MODEL_NAMES = tuple(MODELS)
+"""The models walker ships: the keys of the model registry :data:`walker.params.MODELS`."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -160,10 +156,13 @@ class WalkerModel:
         return cache[variant]
 
     @property
-    def params_class(self):
-        from walker.params import PARAMS
+    def spec(self) -> ModelSpec:
+        """This model's record in the model registry :data:`walker.params.MODELS`."""
+        return MODELS[self.name]
 
-        return PARAMS[self.name]
+    @property
+    def params_class(self):
+        return self.spec.params_class
 
     @property
     def n_x(self) -> int:
@@ -171,7 +170,12 @@ class WalkerModel:
 
     @property
     def state_names(self) -> tuple[str, ...]:
-        return self.module.STATE_NAMES
+        return self.spec.state_names
+
+    @property
+    def state_units(self) -> tuple[str, ...]:
+        """Unit of each component of the full state, parallel to :attr:`state_names`."""
+        return self.spec.state_units
 
     @property
     def section_names(self) -> tuple[str, ...]:
@@ -190,8 +194,15 @@ class WalkerModel:
         return self.module.GUARD_NAMES
 
     @property
+    def has_strides(self) -> bool:
+        """Whether the model walks: heel strikes end strides, and it has a Poincare section
+        (its registry record's ``has_strides``)."""
+        return self.spec.has_strides
+
+    @property
     def is_walker(self) -> bool:
-        return self.n_z > 0
+        """The former name of :attr:`has_strides`, kept for code that reads it."""
+        return self.has_strides
 
     @property
     def kernel_hash(self) -> str:

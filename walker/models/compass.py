@@ -32,6 +32,7 @@ from walker.models._common import (
     NONPHYSICAL_IMPACT,
     floating_base_heel_strike,
 )
+from walker.params import MODELS
 from walker.status import EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL
 
 N_X = 4
@@ -39,7 +40,7 @@ N_IMPULSE = 2
 PHASE_NAMES = ("swing",)
 GUARD_NAMES = ("heel_strike", "fall_forward", "fall_backward")
 DIRECTIONS = np.array([[-1, -1, 1]], dtype=np.int64)
-STATE_NAMES = ("q_stance", "q_swing", "qd_stance", "qd_swing")
+STATE_NAMES = MODELS["compass"].state_names  # the model registry (walker.params)
 SECTION_NAMES = ("q_stance", "qd_stance", "qd_swing")
 VARIANTS = {
     "plain": (

@@ -60,7 +60,6 @@ from walker.models.compass import (
     LIFT_AFFINE,
     SECTION_NAMES,
     SEGMENTS,
-    STATE_NAMES,
     energy,
     lift,
     lift_jacobian,
@@ -68,6 +67,7 @@ from walker.models.compass import (
     project,
     swing_foot,
 )
+from walker.params import MODELS
 from walker.status import EVENT_CONTINUE, EVENT_TERMINAL
 
 __all__ = [
@@ -101,6 +101,7 @@ __all__ = [
 
 N_X = 4
 N_IMPULSE = 2
+STATE_NAMES = MODELS["compass_coulomb"].state_names  # the model registry (walker.params)
 JOINTS = ("ankle", "hip")
 N_JOINTS = 2
 I_COULOMB = ix.COMPASS_COULOMB_P_COULOMB_ANKLE

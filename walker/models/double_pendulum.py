@@ -63,6 +63,7 @@ from walker import friction as fr
 from walker._generated import double_pendulum as K
 from walker._generated import indices as ix
 from walker.models._common import LINEAR_SOLVE_FAILED
+from walker.params import MODELS
 from walker.status import EVENT_CONTINUE, EVENT_TERMINAL
 
 __all__ = [
@@ -102,7 +103,7 @@ indices)."""
 PHASE_NAMES = tuple(f"free {fr.mode_names(c, JOINTS)}" for c in range(fr.N_MODES**N_JOINTS))
 GUARD_NAMES = tuple(f"{j}_{kind}" for j in JOINTS for kind in ("slip_stops", "stick_breaks"))
 DIRECTIONS = np.array([fr.directions(c, N_JOINTS) for c in range(len(PHASE_NAMES))], dtype=np.int64)
-STATE_NAMES = ("q1", "q2", "qd1", "qd2")
+STATE_NAMES = MODELS["double_pendulum"].state_names  # the model registry (walker.params)
 SECTION_NAMES = ()
 
 _S = np.array([[1.0, 0.0], [0.0, 1.0]])

@@ -78,6 +78,7 @@ from walker._generated import five_link as K
 from walker._generated import indices as ix
 from walker.control import controller_torque
 from walker.models._common import FALL_ANGLE, floating_base_heel_strike
+from walker.params import MODELS
 from walker.status import EVENT_CONTINUE, EVENT_STRIDE, EVENT_TERMINAL, Status
 
 N_X = 12
@@ -104,20 +105,7 @@ DIRECTIONS = np.array(
     [[-1, -1, 1, -1, -1, -1, -1] + fr.directions(c, N_JOINTS) for c in range(N_CODES)],
     dtype=np.int64,
 )
-STATE_NAMES = (
-    "q_leg",
-    "q_knee",
-    "q_torso",
-    "q_femur_sw",
-    "q_tibia_sw",
-    "qd_leg",
-    "qd_knee",
-    "qd_torso",
-    "qd_femur_sw",
-    "qd_tibia_sw",
-    "actuator_work",
-    "saturated_time",
-)
+STATE_NAMES = MODELS["five_link"].state_names  # the model registry (walker.params)
 SECTION_NAMES = (
     "q_leg",
     "q_knee",

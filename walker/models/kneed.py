@@ -56,6 +56,7 @@ from walker.models._common import (
     floating_base_heel_strike,
     impact,
 )
+from walker.params import MODELS
 from walker.status import (
     EVENT_CONTINUE,
     EVENT_IGNORE,
@@ -69,7 +70,7 @@ N_IMPULSE = 2
 PHASE_NAMES = ("unlocked", "locked")
 GUARD_NAMES = ("knee_lock", "swing_foot_contact", "fall_forward", "fall_backward")
 DIRECTIONS = np.array([[1, -1, -1, 1], [0, -1, -1, 1]], dtype=np.int64)
-STATE_NAMES = ("q1", "q2", "q3", "qd1", "qd2", "qd3")
+STATE_NAMES = MODELS["kneed"].state_names  # the model registry (walker.params)
 SWING_SCUFF = ("trip", "ignore")
 """Swing-foot scuffing conventions (module docstring); the first is the default."""
 SECTION_NAMES = ("q1", "qd1", "qd2")

@@ -51,7 +51,6 @@ from walker.models.kneed import (
     LIFT_AFFINE,
     SECTION_NAMES,
     SEGMENTS,
-    STATE_NAMES,
     energy,
     lift,
     lift_jacobian,
@@ -59,6 +58,7 @@ from walker.models.kneed import (
     project,
     swing_foot,
 )
+from walker.params import MODELS
 from walker.status import EVENT_CONTINUE, EVENT_TERMINAL
 
 __all__ = [
@@ -92,6 +92,7 @@ __all__ = [
 
 N_X = 6
 N_IMPULSE = 2
+STATE_NAMES = MODELS["kneed_coulomb"].state_names  # the model registry (walker.params)
 JOINTS = ("ankle", "hip", "knee")
 N_UNLOCKED = fr.N_MODES**3
 N_LOCKED = fr.N_MODES**2

@@ -101,6 +101,7 @@ import math
 import numpy as np
 
 from walker._generated import indices as ix
+from walker.params import MODELS
 
 __all__ = [
     "N_X",
@@ -126,7 +127,7 @@ N_IMPULSE = 2
 PHASE_NAMES = ("rolling", "standing")
 GUARD_NAMES = ("impact", "back_impact", "impact_late", "back_impact_late")
 DIRECTIONS = np.array([[-1, 1, -1, 1], [-1, 1, -1, 1]], dtype=np.int64)
-STATE_NAMES = ("theta", "theta_dot")
+STATE_NAMES = MODELS["rimless_wheel"].state_names  # the model registry (walker.params)
 SECTION_NAMES = ("theta_dot",)
 
 SEGMENTS = ((0, 1), (1, 2), (1, 3))

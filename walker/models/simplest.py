@@ -38,6 +38,7 @@ from numba import njit
 from walker._generated import indices as ix
 from walker._generated import simplest as K
 from walker.models._common import FALL_ANGLE
+from walker.params import MODELS
 from walker.status import EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
 
 N_X = 4
@@ -45,7 +46,7 @@ N_IMPULSE = 1
 PHASE_NAMES = ("swing",)
 GUARD_NAMES = ("heel_strike", "fall_forward", "fall_backward")
 DIRECTIONS = np.array([[1, -1, 1]], dtype=np.int64)
-STATE_NAMES = ("theta", "phi", "theta_dot", "phi_dot")
+STATE_NAMES = MODELS["simplest"].state_names  # the model registry (walker.params)
 SECTION_NAMES = ("theta", "theta_dot")
 
 _FELL_FORWARD = int(Status.FELL_FORWARD)

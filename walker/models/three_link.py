@@ -81,6 +81,7 @@ from walker._generated import indices as ix
 from walker._generated import three_link as K
 from walker.control import controller_torque
 from walker.models._common import FALL_ANGLE, floating_base_heel_strike
+from walker.params import MODELS
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
 
 N_X = 8
@@ -105,16 +106,7 @@ DIRECTIONS = np.array(
     [[-1, -1, 1, -1, -1, -1] + fr.directions(c, N_JOINTS) for c in range(N_CODES)],
     dtype=np.int64,
 )
-STATE_NAMES = (
-    "q_stance",
-    "q_swing",
-    "q_torso",
-    "qd_stance",
-    "qd_swing",
-    "qd_torso",
-    "actuator_work",
-    "saturated_time",
-)
+STATE_NAMES = MODELS["three_link"].state_names  # the model registry (walker.params)
 SECTION_NAMES = ("q_stance", "q_torso", "qd_stance", "qd_swing", "qd_torso")
 
 I_LEG_A, I_LEG_B = ix.THREE_LINK_P_COM_FROM_FOOT, ix.THREE_LINK_P_COM_TO_HIP

@@ -17,8 +17,10 @@ Published parameter sets are classmethods (``CompassParams.goswami()``), each ci
 source, and are listed in the class attribute ``PRESETS``.
 
 Models and their state vectors (absolute angles from the vertical, counterclockwise positive,
-unless stated otherwise) are listed in :data:`STATE_NAMES`; :data:`PARAMS` maps a model name
-to its parameter class.
+unless stated otherwise) are listed in the model registry :data:`MODELS`, one
+:class:`ModelSpec` a model (parameter class, state names and units, whether it has strides);
+:data:`PARAMS`, :data:`STATE_NAMES`, :data:`STATE_UNITS` and :data:`HAS_STRIDES` are its
+views by model name.
 
 The package is split by kind, and this module re-exports every public name:
 
@@ -27,7 +29,7 @@ The package is split by kind, and this module re-exports every public name:
 - ``coulomb.py``: the compass gait and the kneed walker with Coulomb joint friction;
 - ``actuated.py``: the three-link and five-link walkers with their controller block, their
   presets' numbers in ``_actuated_presets.py``;
-- ``registry.py``: the tables by model name.
+- ``registry.py``: the model registry.
 
 Examples
 --------
@@ -56,11 +58,23 @@ from walker.params.passive import (
     RimlessWheelParams,
     SimplestParams,
 )
-from walker.params.registry import HAS_EVENTS, PARAMS, STATE_NAMES, STATE_UNITS, params_class
+from walker.params.registry import (
+    HAS_EVENTS,
+    HAS_STRIDES,
+    MODELS,
+    PARAMS,
+    STATE_NAMES,
+    STATE_UNITS,
+    ModelSpec,
+    params_class,
+)
 
 __all__ = [
+    "MODELS",
+    "ModelSpec",
     "PARAMS",
     "STATE_NAMES",
+    "HAS_STRIDES",
     "HAS_EVENTS",
     "STATE_UNITS",
     "SimplestParams",
