@@ -312,6 +312,22 @@ def test_bezier_degree_matches_the_controller():
     assert f"bezier_swing_{BEZIER_DEGREE + 1}" not in ThreeLinkParams.names()
 
 
+def test_polynomial_degree_matches_the_compiled_controller():
+    """The book controller's polynomial fields have the degree walker/_core/wk_control.h
+    evaluates (WK_CONTROL_POLY_DEGREE)."""
+    import re
+    from pathlib import Path
+
+    import walker
+    from walker.params.actuated import _POLY_DEGREE
+
+    header = Path(walker.__file__).parent / "_core" / "wk_control.h"
+    found = re.findall(r"#define WK_CONTROL_POLY_DEGREE (\d+)", header.read_text())
+    assert found == [str(_POLY_DEGREE)]
+    assert f"poly_swing_{_POLY_DEGREE}" in ThreeLinkParams.names()
+    assert f"poly_swing_{_POLY_DEGREE + 1}" not in ThreeLinkParams.names()
+
+
 def test_course_preset():
     p = DoublePendulumParams.course()
     # the course's pendulum has frictionless joints
