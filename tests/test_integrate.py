@@ -375,7 +375,11 @@ def test_chattering_ends_with_its_own_status(e):
     # (before this status the ball sank through the floor and the run ended NO_EVENT).
     gravity = 9.81
     sol = hybrid_solve(
-        BALL, [1.0, 0.0], np.array([gravity, e, 0.0]), n_strides=10**6, t_max=1e3,
+        BALL,
+        [1.0, 0.0],
+        np.array([gravity, e, 0.0]),
+        n_strides=10**6,
+        t_max=1e3,
         output="events",
     )
     t1 = np.sqrt(2.0 / gravity)

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import math
 
-_POLY_DEGREE = 5  # must equal WK_CONTROL_POLY_DEGREE in walker/_core/wk_control.h (tests/test_params.py)
+# must equal WK_CONTROL_POLY_DEGREE in walker/_core/wk_control.h (tests/test_params.py)
+_POLY_DEGREE = 5
 
 
 _GRIZZLE_DEFAULTS: dict[str, float] = {
