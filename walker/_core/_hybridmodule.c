@@ -9,7 +9,7 @@
  * Plain C API, no numpy: arrays come in through the buffer protocol (C-contiguous float64
  * or int64) and go out as bytearrays that walker/integrate.py views with numpy.frombuffer.
  * Model functions are passed as integer addresses of C functions with the signatures of
- * wk_system.h.
+ * wk_system.h.  The argument converters are in _hybridargs.c (see _hybridbinding.h).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -18,6 +18,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "_hybridbinding.h"
 #include "batch.h"
 #include "hybrid.h"
 
@@ -28,157 +29,8 @@
 #include "wk_system.h"
 
 /* ------------------------------------------------------------------------------------------
- * Argument conversion: every error names the argument.
- * ------------------------------------------------------------------------------------------ */
-
-/* An int (not a bool) that fits in int64. */
-static int arg_int(PyObject *o, const char *name, int64_t *out)
-{
-    if (PyBool_Check(o) || !PyIndex_Check(o)) {
-        PyErr_Format(PyExc_TypeError, "`%s` must be an int, got %.200s", name,
-                     Py_TYPE(o)->tp_name);
-        return -1;
-    }
-    PyObject *index = PyNumber_Index(o);
-    if (index == NULL) return -1;
-    long long v = PyLong_AsLongLong(index);
-    Py_DECREF(index);
-    if (v == -1 && PyErr_Occurred()) {
-        PyErr_Format(PyExc_OverflowError, "`%s` does not fit in a 64-bit integer", name);
-        return -1;
-    }
-    *out = (int64_t)v;
-    return 0;
-}
-
-/* A real number (int or float, not a bool). */
-static int arg_double(PyObject *o, const char *name, double *out)
-{
-    if (PyFloat_CheckExact(o)) {
-        *out = PyFloat_AS_DOUBLE(o);
-        return 0;
-    }
-    if (PyBool_Check(o) || !(PyFloat_Check(o) || PyIndex_Check(o) ||
-                             (Py_TYPE(o)->tp_as_number && Py_TYPE(o)->tp_as_number->nb_float))) {
-        PyErr_Format(PyExc_TypeError, "`%s` must be a real number, got %.200s", name,
-                     Py_TYPE(o)->tp_name);
-        return -1;
-    }
-    double v = PyFloat_AsDouble(o);
-    if (v == -1.0 && PyErr_Occurred()) {
-        PyErr_Clear();
-        PyErr_Format(PyExc_TypeError, "`%s` must be a real number, got %.200s", name,
-                     Py_TYPE(o)->tp_name);
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
-/* A bool (or an int used as one). */
-static int arg_bool(PyObject *o, const char *name, int *out)
-{
-    if (!PyLong_Check(o)) {
-        PyErr_Format(PyExc_TypeError, "`%s` must be a bool, got %.200s", name,
-                     Py_TYPE(o)->tp_name);
-        return -1;
-    }
-    int v = PyObject_IsTrue(o);
-    if (v < 0) return -1;
-    *out = v;
-    return 0;
-}
-
-/* The address of a C function: a non-negative int (0 = NULL, allowed when ``nullable``). */
-static int arg_address(PyObject *o, const char *name, int nullable, uintptr_t *out)
-{
-    if (PyBool_Check(o) || !PyLong_Check(o)) {
-        PyErr_Format(PyExc_TypeError, "`%s` must be an int address, got %.200s", name,
-                     Py_TYPE(o)->tp_name);
-        return -1;
-    }
-    unsigned long long v = PyLong_AsUnsignedLongLong(o);
-    if (v == (unsigned long long)-1 && PyErr_Occurred()) {
-        PyErr_Clear();
-        PyErr_Format(PyExc_ValueError, "`%s` must be a non-negative address below 2**64",
-                     name);
-        return -1;
-    }
-    if (v == 0 && !nullable) {
-        PyErr_Format(PyExc_ValueError, "`%s` must be a non-zero function address", name);
-        return -1;
-    }
-    if ((unsigned long long)(uintptr_t)v != v) {
-        PyErr_Format(PyExc_ValueError, "`%s` does not fit in a pointer", name);
-        return -1;
-    }
-    *out = (uintptr_t)v;
-    return 0;
-}
-
-static int little_endian(void)
-{
-    const uint16_t one = 1;
-    unsigned char first;
-    memcpy(&first, &one, 1);
-    return first == 1;
-}
-
-/* Does a struct-module format describe one native 8-byte float ('d') or int ('q')? */
-static int format_is(const char *format, char kind)
-{
-    if (format == NULL) return 0;
-    if (*format == '@' || *format == '=' || (*format == '<' && little_endian())) format++;
-    if (format[1] != '\0') return 0;
-    if (kind == 'd') return format[0] == 'd';
-    return format[0] == 'q' || (format[0] == 'l' && sizeof(long) == 8);
-}
-
-/* A C-contiguous buffer of float64 (kind 'd') or int64 (kind 'q') with ``ndim``
- * dimensions.  On success the caller releases ``view``. */
-static int arg_buffer(PyObject *o, const char *name, char kind, int ndim, Py_buffer *view)
-{
-    const char *what = kind == 'd' ? "float64" : "int64";
-    if (PyObject_GetBuffer(o, view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0) {
-        PyErr_Clear();
-        PyErr_Format(PyExc_TypeError, "`%s` must be a C-contiguous %s array, got %.200s",
-                     name, what, Py_TYPE(o)->tp_name);
-        return -1;
-    }
-    if (view->itemsize != 8 || !format_is(view->format, kind)) {
-        PyErr_Format(PyExc_TypeError, "`%s` must be a C-contiguous %s array, got format '%s'",
-                     name, what, view->format ? view->format : "B");
-        PyBuffer_Release(view);
-        return -1;
-    }
-    if (view->ndim != ndim) {
-        PyErr_Format(PyExc_ValueError, "`%s` must be %d-D, got %d-D", name, ndim, view->ndim);
-        PyBuffer_Release(view);
-        return -1;
-    }
-    return 0;
-}
-
-static int all_finite(const double *v, Py_ssize_t n)
-{
-    for (Py_ssize_t i = 0; i < n; i++)
-        if (!isfinite(v[i])) return 0;
-    return 1;
-}
-
-/* ------------------------------------------------------------------------------------------
  * solve
  * ------------------------------------------------------------------------------------------ */
-
-/* Largest sizes accepted (far above any walker; they keep the work-array sizes in range). */
-#define MAX_N_X 4096
-#define MAX_COUNT ((int64_t)1 << 24)
-
-static PyObject *bytes_of(const void *data, int64_t count, size_t item)
-{
-    if (count <= 0) return PyByteArray_FromStringAndSize(NULL, 0);
-    return PyByteArray_FromStringAndSize((const char *)data, (Py_ssize_t)((size_t)count * item));
-}
 
 #define SOLVE_NARGS 26 /* and an optional 27th, jacobian_seed */
 
@@ -209,7 +61,7 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
                      SOLVE_NARGS + 1, nargs);
         return NULL;
     }
-    uintptr_t a_rhs, a_guards, a_reset, a_jac, a_ctx;
+    wk_functions fn;
     wk_problem pb;
     memset(&pb, 0, sizeof pb);
     Py_buffer v_dir, v_x0, v_p, v_st, v_seed;
@@ -217,21 +69,14 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
     PyObject *result = NULL;
     int64_t method, output;
 
-    if (arg_address(args[0], "rhs", 0, &a_rhs) || arg_address(args[1], "guards", 1, &a_guards) ||
-        arg_address(args[2], "reset", 1, &a_reset) || arg_address(args[3], "jac", 1, &a_jac) ||
-        arg_address(args[4], "ctx", 1, &a_ctx))
-        return NULL;
-    if (arg_int(args[6], "n_x", &pb.n_x) || arg_int(args[7], "n_guards", &pb.n_guards) ||
-        arg_int(args[8], "n_impulse", &pb.n_impulse) || arg_int(args[11], "phase0", &pb.phase0) ||
-        arg_double(args[12], "t0", &pb.t0) || arg_double(args[13], "t_max", &pb.t_max) ||
-        arg_int(args[14], "n_strides", &pb.n_strides) || arg_int(args[15], "method", &method) ||
-        arg_bool(args[16], "adaptive", &pb.adaptive) || arg_double(args[17], "rtol", &pb.rtol) ||
-        arg_double(args[18], "atol", &pb.atol) ||
-        arg_double(args[19], "first_step", &pb.first_step) ||
-        arg_double(args[20], "max_step", &pb.max_step) ||
-        arg_int(args[21], "max_steps", &pb.max_steps) || arg_int(args[22], "output", &output) ||
-        arg_bool(args[24], "want_jac", &pb.want_jac) ||
-        arg_int(args[25], "n_interior", &pb.n_interior))
+    if (wkpy_arg_system(args, &fn, &pb) || wkpy_arg_int(args[11], "phase0", &pb.phase0) ||
+        wkpy_arg_double(args[12], "t0", &pb.t0) || wkpy_arg_double(args[13], "t_max", &pb.t_max) ||
+        wkpy_arg_int(args[14], "n_strides", &pb.n_strides) ||
+        wkpy_arg_solver(args + 15, &method, &pb) ||
+        wkpy_arg_int(args[21], "max_steps", &pb.max_steps) ||
+        wkpy_arg_int(args[22], "output", &output) ||
+        wkpy_arg_bool(args[24], "want_jac", &pb.want_jac) ||
+        wkpy_arg_int(args[25], "n_interior", &pb.n_interior))
         return NULL;
 
 #define FAIL(exc, ...)                          \
@@ -248,9 +93,9 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
     if (pb.n_impulse < 1 || pb.n_impulse > MAX_COUNT)
         FAIL(PyExc_ValueError, "`n_impulse` must be in [1, 2**24], got %lld",
              (long long)pb.n_impulse);
-    if (pb.n_guards > 0 && (a_guards == 0 || a_reset == 0))
+    if (pb.n_guards > 0 && (fn.guards == NULL || fn.reset == NULL))
         FAIL(PyExc_ValueError, "`%s` must be a non-zero function address when n_guards > 0",
-             a_guards == 0 ? "guards" : "reset");
+             fn.guards == NULL ? "guards" : "reset");
     if (method < WK_METHOD_EULER || method > WK_METHOD_DOP853)
         FAIL(PyExc_ValueError, "`method` must be a code in [0, 3], got %lld", (long long)method);
     pb.method = (int)method;
@@ -275,10 +120,10 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
     if (pb.max_steps < 1) FAIL(PyExc_ValueError, "`max_steps` must be >= 1");
     if (pb.n_interior < 0 || pb.n_interior > MAX_COUNT)
         FAIL(PyExc_ValueError, "`n_interior` must be in [0, 2**24]");
-    if (pb.want_jac && a_jac == 0)
+    if (pb.want_jac && fn.jac == NULL)
         FAIL(PyExc_ValueError, "`want_jac` needs a Jacobian (`jac` is 0)");
 
-    if (arg_buffer(args[5], "directions", 'q', 2, &v_dir)) goto out;
+    if (wkpy_arg_buffer(args[5], "directions", 'q', 2, &v_dir)) goto out;
     have_dir = 1;
     if (v_dir.shape[1] != pb.n_guards)
         FAIL(PyExc_ValueError, "`directions` must have n_guards = %lld columns, got %zd",
@@ -293,27 +138,27 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
         FAIL(PyExc_ValueError, "`phase0` must be in [0, n_phases = %lld), got %lld",
              (long long)pb.n_phases, (long long)pb.phase0);
 
-    if (arg_buffer(args[9], "x0", 'd', 1, &v_x0)) goto out;
+    if (wkpy_arg_buffer(args[9], "x0", 'd', 1, &v_x0)) goto out;
     have_x0 = 1;
     if (v_x0.shape[0] != pb.n_x)
         FAIL(PyExc_ValueError, "`x0` must have length n_x = %lld, got %zd", (long long)pb.n_x,
              v_x0.shape[0]);
     pb.x0 = (const double *)v_x0.buf;
-    if (!all_finite(pb.x0, v_x0.shape[0]))
+    if (!wkpy_all_finite(pb.x0, v_x0.shape[0]))
         FAIL(PyExc_ValueError, "All components of the initial state `x0` must be finite.");
 
-    if (arg_buffer(args[10], "p", 'd', 1, &v_p)) goto out;
+    if (wkpy_arg_buffer(args[10], "p", 'd', 1, &v_p)) goto out;
     have_p = 1;
     pb.p = (const double *)v_p.buf;
-    if (!all_finite(pb.p, v_p.shape[0]))
+    if (!wkpy_all_finite(pb.p, v_p.shape[0]))
         FAIL(PyExc_ValueError, "All parameters `p` must be finite.");
 
-    if (arg_buffer(args[23], "sample_times", 'd', 1, &v_st)) goto out;
+    if (wkpy_arg_buffer(args[23], "sample_times", 'd', 1, &v_st)) goto out;
     have_st = 1;
     pb.sample_times = (const double *)v_st.buf;
     pb.n_samples = v_st.shape[0];
     if (pb.output == WK_OUTPUT_SAMPLES && pb.n_samples > 0) {
-        if (!all_finite(pb.sample_times, v_st.shape[0]))
+        if (!wkpy_all_finite(pb.sample_times, v_st.shape[0]))
             FAIL(PyExc_ValueError, "`sample_times` must be finite");
         for (int64_t i = 1; i < pb.n_samples; i++)
             if (pb.sample_times[i] < pb.sample_times[i - 1])
@@ -322,26 +167,19 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
 
     if (nargs > SOLVE_NARGS && args[SOLVE_NARGS] != Py_None) {
         if (!pb.want_jac) FAIL(PyExc_ValueError, "`jacobian_seed` needs `want_jac`");
-        if (arg_buffer(args[SOLVE_NARGS], "jacobian_seed", 'd', 2, &v_seed)) goto out;
+        if (wkpy_arg_buffer(args[SOLVE_NARGS], "jacobian_seed", 'd', 2, &v_seed)) goto out;
         have_seed = 1;
         if (v_seed.shape[0] != pb.n_x || v_seed.shape[1] < 1 || v_seed.shape[1] > pb.n_x)
             FAIL(PyExc_ValueError,
                  "`jacobian_seed` must have shape (n_x = %lld, m) with 1 <= m <= n_x, got "
                  "(%zd, %zd)",
                  (long long)pb.n_x, v_seed.shape[0], v_seed.shape[1]);
-        if (!all_finite((const double *)v_seed.buf, v_seed.shape[0] * v_seed.shape[1]))
+        if (!wkpy_all_finite((const double *)v_seed.buf, v_seed.shape[0] * v_seed.shape[1]))
             FAIL(PyExc_ValueError, "`jacobian_seed` must be finite");
         pb.jac_seed = (const double *)v_seed.buf;
         pb.n_seed = v_seed.shape[1];
     }
 #undef FAIL
-
-    wk_functions fn;
-    fn.rhs = (wk_rhs_fn)a_rhs;
-    fn.guards = (wk_guards_fn)a_guards;
-    fn.reset = (wk_reset_fn)a_reset;
-    fn.jac = (wk_jac_fn)a_jac;
-    fn.ctx = (void *)a_ctx;
 
     wk_result res;
     int rc;
@@ -367,14 +205,17 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
         if (counters != NULL) {
             result = Py_BuildValue(
                 "(LdNLNdNNNNNNNNNNNNNNO)", (long long)res.status, res.t,
-                bytes_of(res.x, n_x, d), (long long)res.phase, counters, res.err_sum,
-                bytes_of(res.ev_t, n_log, d), bytes_of(res.ev_guard, n_log, q),
-                bytes_of(res.ev_phase_before, n_log, q), bytes_of(res.ev_phase_after, n_log, q),
-                bytes_of(res.ev_x_pre, n_log * n_x, d), bytes_of(res.ev_x_post, n_log * n_x, d),
-                bytes_of(res.ev_impulse, n_log * n_imp, d), bytes_of(res.s_x, n_samp * n_x, d),
-                bytes_of(res.s_phase, n_samp, q), bytes_of(res.r_t, n_rec, d),
-                bytes_of(res.r_x, n_rec * n_x, d), bytes_of(res.r_phase, n_rec, q),
-                bytes_of(res.jac, n_x * n_c, d), bytes_of(res.dt_dx0, n_c, d),
+                wkpy_bytes_of(res.x, n_x, d), (long long)res.phase, counters, res.err_sum,
+                wkpy_bytes_of(res.ev_t, n_log, d), wkpy_bytes_of(res.ev_guard, n_log, q),
+                wkpy_bytes_of(res.ev_phase_before, n_log, q),
+                wkpy_bytes_of(res.ev_phase_after, n_log, q),
+                wkpy_bytes_of(res.ev_x_pre, n_log * n_x, d),
+                wkpy_bytes_of(res.ev_x_post, n_log * n_x, d),
+                wkpy_bytes_of(res.ev_impulse, n_log * n_imp, d),
+                wkpy_bytes_of(res.s_x, n_samp * n_x, d), wkpy_bytes_of(res.s_phase, n_samp, q),
+                wkpy_bytes_of(res.r_t, n_rec, d),
+                wkpy_bytes_of(res.r_x, n_rec * n_x, d), wkpy_bytes_of(res.r_phase, n_rec, q),
+                wkpy_bytes_of(res.jac, n_x * n_c, d), wkpy_bytes_of(res.dt_dx0, n_c, d),
                 res.has_dt ? Py_True : Py_False);
         }
     }
@@ -486,8 +327,9 @@ static PyObject *py_call_state_fn(PyObject *self, PyObject *const *args, Py_ssiz
     }
     uintptr_t address, ctx = 0;
     int64_t n_out;
-    if (arg_address(args[0], "address", 0, &address) || arg_int(args[3], "n_out", &n_out) ||
-        (nargs == 5 && arg_address(args[4], "ctx", 1, &ctx)))
+    if (wkpy_arg_address(args[0], "address", 0, &address) ||
+        wkpy_arg_int(args[3], "n_out", &n_out) ||
+        (nargs == 5 && wkpy_arg_address(args[4], "ctx", 1, &ctx)))
         return NULL;
     if (n_out < 0 || n_out > MAX_COUNT) {
         PyErr_Format(PyExc_ValueError, "`n_out` must be in [0, 2**24], got %lld",
@@ -495,8 +337,8 @@ static PyObject *py_call_state_fn(PyObject *self, PyObject *const *args, Py_ssiz
         return NULL;
     }
     Py_buffer vx, vp;
-    if (arg_buffer(args[1], "x", 'd', 1, &vx)) return NULL;
-    if (arg_buffer(args[2], "p", 'd', 1, &vp)) {
+    if (wkpy_arg_buffer(args[1], "x", 'd', 1, &vx)) return NULL;
+    if (wkpy_arg_buffer(args[2], "p", 'd', 1, &vp)) {
         PyBuffer_Release(&vx);
         return NULL;
     }
@@ -545,7 +387,8 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
                      BASIN_NARGS, nargs);
         return NULL;
     }
-    uintptr_t a_rhs, a_guards, a_reset, a_jac, a_ctx, a_energy, a_start;
+    uintptr_t a_energy, a_start;
+    wk_functions fn;
     wk_problem pb;
     memset(&pb, 0, sizeof pb);
     wk_section sec;
@@ -557,24 +400,18 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
     int64_t method, n_strides, period;
     double tol;
 
-    if (arg_address(args[0], "rhs", 0, &a_rhs) || arg_address(args[1], "guards", 1, &a_guards) ||
-        arg_address(args[2], "reset", 1, &a_reset) || arg_address(args[3], "jac", 1, &a_jac) ||
-        arg_address(args[4], "ctx", 1, &a_ctx) || arg_int(args[6], "n_x", &pb.n_x) ||
-        arg_int(args[7], "n_guards", &pb.n_guards) ||
-        arg_int(args[8], "n_impulse", &pb.n_impulse) || arg_int(args[10], "method", &method) ||
-        arg_bool(args[11], "adaptive", &pb.adaptive) || arg_double(args[12], "rtol", &pb.rtol) ||
-        arg_double(args[13], "atol", &pb.atol) ||
-        arg_double(args[14], "first_step", &pb.first_step) ||
-        arg_double(args[15], "max_step", &pb.max_step) ||
-        arg_int(args[16], "max_steps", &sec.max_steps) ||
-        arg_int(args[17], "n_interior", &pb.n_interior) ||
-        arg_double(args[21], "offset", &sec.offset) ||
-        arg_double(args[22], "fall_angle", &sec.fall_angle) || arg_int(args[23], "n_q", &sec.n_q) ||
-        arg_double(args[24], "wound", &sec.wound) || arg_address(args[25], "energy", 1, &a_energy) ||
-        arg_double(args[26], "kinetic_limit", &sec.kinetic_limit) ||
-        arg_address(args[27], "start_phase", 1, &a_start) ||
-        arg_double(args[28], "t_max", &sec.t_max) || arg_double(args[31], "tol", &tol) ||
-        arg_int(args[32], "n_strides", &n_strides) || arg_int(args[33], "period", &period))
+    if (wkpy_arg_system(args, &fn, &pb) || wkpy_arg_solver(args + 10, &method, &pb) ||
+        wkpy_arg_int(args[16], "max_steps", &sec.max_steps) ||
+        wkpy_arg_int(args[17], "n_interior", &pb.n_interior) ||
+        wkpy_arg_double(args[21], "offset", &sec.offset) ||
+        wkpy_arg_double(args[22], "fall_angle", &sec.fall_angle) ||
+        wkpy_arg_int(args[23], "n_q", &sec.n_q) || wkpy_arg_double(args[24], "wound", &sec.wound) ||
+        wkpy_arg_address(args[25], "energy", 1, &a_energy) ||
+        wkpy_arg_double(args[26], "kinetic_limit", &sec.kinetic_limit) ||
+        wkpy_arg_address(args[27], "start_phase", 1, &a_start) ||
+        wkpy_arg_double(args[28], "t_max", &sec.t_max) || wkpy_arg_double(args[31], "tol", &tol) ||
+        wkpy_arg_int(args[32], "n_strides", &n_strides) ||
+        wkpy_arg_int(args[33], "period", &period))
         return NULL;
 
 #define FAIL(exc, ...)                          \
@@ -585,7 +422,7 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
 
     if (pb.n_x < 1 || pb.n_x > MAX_N_X)
         FAIL(PyExc_ValueError, "`n_x` must be in [1, %d], got %lld", MAX_N_X, (long long)pb.n_x);
-    if (pb.n_guards < 1 || pb.n_guards > MAX_COUNT || a_guards == 0 || a_reset == 0)
+    if (pb.n_guards < 1 || pb.n_guards > MAX_COUNT || fn.guards == NULL || fn.reset == NULL)
         FAIL(PyExc_ValueError, "a walker needs guards and a reset (`n_guards` >= 1)");
     if (pb.n_impulse < 1 || pb.n_impulse > MAX_COUNT)
         FAIL(PyExc_ValueError, "`n_impulse` must be in [1, 2**24]");
@@ -612,7 +449,7 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
     if (n_strides < 0) FAIL(PyExc_ValueError, "`n_strides` must be >= 0");
     if (period < 1) FAIL(PyExc_ValueError, "`period` must be >= 1");
 
-    if (arg_buffer(args[5], "directions", 'q', 2, &v_dir)) goto out;
+    if (wkpy_arg_buffer(args[5], "directions", 'q', 2, &v_dir)) goto out;
     have_dir = 1;
     if (v_dir.shape[1] != pb.n_guards || v_dir.shape[0] < 1)
         FAIL(PyExc_ValueError, "`directions` must have n_guards columns and at least one row");
@@ -622,35 +459,36 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
         if (pb.directions[i] < -1 || pb.directions[i] > 1)
             FAIL(PyExc_ValueError, "`directions` values must be -1, 0 or +1");
 
-    if (arg_buffer(args[9], "p", 'd', 1, &v_p)) goto out;
+    if (wkpy_arg_buffer(args[9], "p", 'd', 1, &v_p)) goto out;
     have_p = 1;
     pb.p = (const double *)v_p.buf;
-    if (!all_finite(pb.p, v_p.shape[0])) FAIL(PyExc_ValueError, "All parameters `p` must be finite.");
+    if (!wkpy_all_finite(pb.p, v_p.shape[0]))
+        FAIL(PyExc_ValueError, "All parameters `p` must be finite.");
 
-    if (arg_buffer(args[29], "z0", 'd', 2, &v_z0)) goto out;
+    if (wkpy_arg_buffer(args[29], "z0", 'd', 2, &v_z0)) goto out;
     have_z0 = 1;
     sec.n_z = v_z0.shape[1];
     if (sec.n_z < 1 || sec.n_z > pb.n_x)
         FAIL(PyExc_ValueError, "`z0` must have n_z in [1, n_x] columns, got %zd", v_z0.shape[1]);
-    if (!all_finite((const double *)v_z0.buf, v_z0.shape[0] * v_z0.shape[1]))
+    if (!wkpy_all_finite((const double *)v_z0.buf, v_z0.shape[0] * v_z0.shape[1]))
         FAIL(PyExc_ValueError, "All section points `z0` must be finite.");
-    if (arg_buffer(args[18], "lift_a", 'd', 2, &v_a)) goto out;
+    if (wkpy_arg_buffer(args[18], "lift_a", 'd', 2, &v_a)) goto out;
     have_a = 1;
     if (v_a.shape[0] != pb.n_x || v_a.shape[1] != sec.n_z)
         FAIL(PyExc_ValueError, "`lift_a` must have shape (n_x, n_z)");
-    if (arg_buffer(args[19], "lift_b", 'd', 1, &v_b)) goto out;
+    if (wkpy_arg_buffer(args[19], "lift_b", 'd', 1, &v_b)) goto out;
     have_b = 1;
     if (v_b.shape[0] != pb.n_x) FAIL(PyExc_ValueError, "`lift_b` must have length n_x");
-    if (!all_finite((const double *)v_a.buf, v_a.shape[0] * v_a.shape[1]) ||
-        !all_finite((const double *)v_b.buf, v_b.shape[0]))
+    if (!wkpy_all_finite((const double *)v_a.buf, v_a.shape[0] * v_a.shape[1]) ||
+        !wkpy_all_finite((const double *)v_b.buf, v_b.shape[0]))
         FAIL(PyExc_ValueError, "`lift_a` and `lift_b` must be finite");
-    if (arg_buffer(args[20], "proj", 'q', 1, &v_proj)) goto out;
+    if (wkpy_arg_buffer(args[20], "proj", 'q', 1, &v_proj)) goto out;
     have_proj = 1;
     if (v_proj.shape[0] != sec.n_z) FAIL(PyExc_ValueError, "`proj` must have length n_z");
     for (int64_t i = 0; i < sec.n_z; i++)
         if (((const int64_t *)v_proj.buf)[i] < 0 || ((const int64_t *)v_proj.buf)[i] >= pb.n_x)
             FAIL(PyExc_ValueError, "`proj` indices must be in [0, n_x)");
-    if (arg_buffer(args[30], "target", 'd', 1, &v_target)) goto out;
+    if (wkpy_arg_buffer(args[30], "target", 'd', 1, &v_target)) goto out;
     have_target = 1;
     if (v_target.shape[0] != sec.n_z) FAIL(PyExc_ValueError, "`target` must have length n_z");
 #undef FAIL
@@ -660,13 +498,6 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
     sec.proj = (const int64_t *)v_proj.buf;
     sec.energy = (wk_state_fn)a_energy;
     sec.start_phase = (wk_state_fn)a_start;
-
-    wk_functions fn;
-    fn.rhs = (wk_rhs_fn)a_rhs;
-    fn.guards = (wk_guards_fn)a_guards;
-    fn.reset = (wk_reset_fn)a_reset;
-    fn.jac = (wk_jac_fn)a_jac;
-    fn.ctx = (void *)a_ctx;
 
     const int64_t m = v_z0.shape[0];
     int64_t *buf = PyMem_Calloc((size_t)(2 * m + 1), sizeof(int64_t));
@@ -684,8 +515,8 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
     } else if (rc == WK_ERR_BAD_PHASE) {
         PyErr_SetString(PyExc_ValueError, "`reset` returned a next phase outside the phases");
     } else {
-        result = Py_BuildValue("(NN)", bytes_of(buf, m, sizeof(int64_t)),
-                               bytes_of(buf + m, m, sizeof(int64_t)));
+        result = Py_BuildValue("(NN)", wkpy_bytes_of(buf, m, sizeof(int64_t)),
+                               wkpy_bytes_of(buf + m, m, sizeof(int64_t)));
     }
     PyMem_Free(buf);
 

@@ -1,0 +1,194 @@
+/* walker._hybrid's argument conversion: Python objects in, C values out, and the C arrays
+ * of a result out as bytearrays.
+ *
+ * Every error names the argument and the rule, as walker/integrate.py's checks do.  Arrays
+ * come in through the buffer protocol (C-contiguous float64 or int64) and go out as
+ * bytearrays of native float64 / int64 that walker/integrate.py views with
+ * numpy.frombuffer.  Declared in _hybridbinding.h; used by _hybridmodule.c and
+ * _hybridresult.c.
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "_hybridbinding.h"
+
+/* An int (not a bool) that fits in int64. */
+int wkpy_arg_int(PyObject *o, const char *name, int64_t *out)
+{
+    if (PyBool_Check(o) || !PyIndex_Check(o)) {
+        PyErr_Format(PyExc_TypeError, "`%s` must be an int, got %.200s", name,
+                     Py_TYPE(o)->tp_name);
+        return -1;
+    }
+    PyObject *index = PyNumber_Index(o);
+    if (index == NULL) return -1;
+    long long v = PyLong_AsLongLong(index);
+    Py_DECREF(index);
+    if (v == -1 && PyErr_Occurred()) {
+        PyErr_Format(PyExc_OverflowError, "`%s` does not fit in a 64-bit integer", name);
+        return -1;
+    }
+    *out = (int64_t)v;
+    return 0;
+}
+
+/* A real number (int or float, not a bool). */
+int wkpy_arg_double(PyObject *o, const char *name, double *out)
+{
+    if (PyFloat_CheckExact(o)) {
+        *out = PyFloat_AS_DOUBLE(o);
+        return 0;
+    }
+    if (PyBool_Check(o) || !(PyFloat_Check(o) || PyIndex_Check(o) ||
+                             (Py_TYPE(o)->tp_as_number && Py_TYPE(o)->tp_as_number->nb_float))) {
+        PyErr_Format(PyExc_TypeError, "`%s` must be a real number, got %.200s", name,
+                     Py_TYPE(o)->tp_name);
+        return -1;
+    }
+    double v = PyFloat_AsDouble(o);
+    if (v == -1.0 && PyErr_Occurred()) {
+        PyErr_Clear();
+        PyErr_Format(PyExc_TypeError, "`%s` must be a real number, got %.200s", name,
+                     Py_TYPE(o)->tp_name);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+/* A bool (or an int used as one). */
+int wkpy_arg_bool(PyObject *o, const char *name, int *out)
+{
+    if (!PyLong_Check(o)) {
+        PyErr_Format(PyExc_TypeError, "`%s` must be a bool, got %.200s", name,
+                     Py_TYPE(o)->tp_name);
+        return -1;
+    }
+    int v = PyObject_IsTrue(o);
+    if (v < 0) return -1;
+    *out = v;
+    return 0;
+}
+
+/* The address of a C function: a non-negative int (0 = NULL, allowed when ``nullable``). */
+int wkpy_arg_address(PyObject *o, const char *name, int nullable, uintptr_t *out)
+{
+    if (PyBool_Check(o) || !PyLong_Check(o)) {
+        PyErr_Format(PyExc_TypeError, "`%s` must be an int address, got %.200s", name,
+                     Py_TYPE(o)->tp_name);
+        return -1;
+    }
+    unsigned long long v = PyLong_AsUnsignedLongLong(o);
+    if (v == (unsigned long long)-1 && PyErr_Occurred()) {
+        PyErr_Clear();
+        PyErr_Format(PyExc_ValueError, "`%s` must be a non-negative address below 2**64",
+                     name);
+        return -1;
+    }
+    if (v == 0 && !nullable) {
+        PyErr_Format(PyExc_ValueError, "`%s` must be a non-zero function address", name);
+        return -1;
+    }
+    if ((unsigned long long)(uintptr_t)v != v) {
+        PyErr_Format(PyExc_ValueError, "`%s` does not fit in a pointer", name);
+        return -1;
+    }
+    *out = (uintptr_t)v;
+    return 0;
+}
+
+static int little_endian(void)
+{
+    const uint16_t one = 1;
+    unsigned char first;
+    memcpy(&first, &one, 1);
+    return first == 1;
+}
+
+/* Does a struct-module format describe one native 8-byte float ('d') or int ('q')? */
+static int format_is(const char *format, char kind)
+{
+    if (format == NULL) return 0;
+    if (*format == '@' || *format == '=' || (*format == '<' && little_endian())) format++;
+    if (format[1] != '\0') return 0;
+    if (kind == 'd') return format[0] == 'd';
+    return format[0] == 'q' || (format[0] == 'l' && sizeof(long) == 8);
+}
+
+/* A C-contiguous buffer of float64 (kind 'd') or int64 (kind 'q') with ``ndim``
+ * dimensions.  On success the caller releases ``view``. */
+int wkpy_arg_buffer(PyObject *o, const char *name, char kind, int ndim, Py_buffer *view)
+{
+    const char *what = kind == 'd' ? "float64" : "int64";
+    if (PyObject_GetBuffer(o, view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0) {
+        PyErr_Clear();
+        PyErr_Format(PyExc_TypeError, "`%s` must be a C-contiguous %s array, got %.200s",
+                     name, what, Py_TYPE(o)->tp_name);
+        return -1;
+    }
+    if (view->itemsize != 8 || !format_is(view->format, kind)) {
+        PyErr_Format(PyExc_TypeError, "`%s` must be a C-contiguous %s array, got format '%s'",
+                     name, what, view->format ? view->format : "B");
+        PyBuffer_Release(view);
+        return -1;
+    }
+    if (view->ndim != ndim) {
+        PyErr_Format(PyExc_ValueError, "`%s` must be %d-D, got %d-D", name, ndim, view->ndim);
+        PyBuffer_Release(view);
+        return -1;
+    }
+    return 0;
+}
+
+/* Are all n values finite? */
+int wkpy_all_finite(const double *v, Py_ssize_t n)
+{
+    for (Py_ssize_t i = 0; i < n; i++)
+        if (!isfinite(v[i])) return 0;
+    return 1;
+}
+
+/* A new bytearray holding ``count`` items of ``item`` bytes from ``data`` (empty when
+ * count <= 0). */
+PyObject *wkpy_bytes_of(const void *data, int64_t count, size_t item)
+{
+    if (count <= 0) return PyByteArray_FromStringAndSize(NULL, 0);
+    return PyByteArray_FromStringAndSize((const char *)data, (Py_ssize_t)((size_t)count * item));
+}
+
+/* The model functions and sizes, args[0..4] and args[6..8] of solve() and basin_points(). */
+int wkpy_arg_system(PyObject *const *args, wk_functions *fn, wk_problem *pb)
+{
+    uintptr_t rhs, guards, reset, jac, ctx;
+    if (wkpy_arg_address(args[0], "rhs", 0, &rhs) ||
+        wkpy_arg_address(args[1], "guards", 1, &guards) ||
+        wkpy_arg_address(args[2], "reset", 1, &reset) ||
+        wkpy_arg_address(args[3], "jac", 1, &jac) || wkpy_arg_address(args[4], "ctx", 1, &ctx) ||
+        wkpy_arg_int(args[6], "n_x", &pb->n_x) ||
+        wkpy_arg_int(args[7], "n_guards", &pb->n_guards) ||
+        wkpy_arg_int(args[8], "n_impulse", &pb->n_impulse))
+        return -1;
+    fn->rhs = (wk_rhs_fn)rhs;
+    fn->guards = (wk_guards_fn)guards;
+    fn->reset = (wk_reset_fn)reset;
+    fn->jac = (wk_jac_fn)jac;
+    fn->ctx = (void *)ctx;
+    return 0;
+}
+
+/* The solver settings, six arguments in a row in solve() and basin_points(). */
+int wkpy_arg_solver(PyObject *const *args, int64_t *method, wk_problem *pb)
+{
+    if (wkpy_arg_int(args[0], "method", method) ||
+        wkpy_arg_bool(args[1], "adaptive", &pb->adaptive) ||
+        wkpy_arg_double(args[2], "rtol", &pb->rtol) ||
+        wkpy_arg_double(args[3], "atol", &pb->atol) ||
+        wkpy_arg_double(args[4], "first_step", &pb->first_step) ||
+        wkpy_arg_double(args[5], "max_step", &pb->max_step))
+        return -1;
+    return 0;
+}

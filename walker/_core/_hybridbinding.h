@@ -1,0 +1,59 @@
+/* Internal to walker._hybrid, the CPython binding: what its translation units share.
+ *
+ *   _hybridmodule.c  the methods (solve, models, kernels, call_state_fn, basin_points) and
+ *                    the module's init;
+ *   _hybridargs.c    argument conversion (every error names the argument) and result
+ *                    arrays out as bytearrays.
+ *
+ * Nothing here is part of the extension's interface: the functions are prefixed wkpy_ and
+ * called only by these files.  Include after <Python.h>.
+ */
+#ifndef WK_HYBRID_BINDING_H
+#define WK_HYBRID_BINDING_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "hybrid.h"
+#include "wk_system.h"
+
+/* Largest sizes accepted (far above any walker; they keep the work-array sizes in range). */
+#define MAX_N_X 4096
+#define MAX_COUNT ((int64_t)1 << 24)
+
+/* Each converter returns 0, or -1 with a Python exception set that names ``name``. */
+
+/* An int (not a bool) that fits in int64. */
+int wkpy_arg_int(PyObject *o, const char *name, int64_t *out);
+
+/* A real number (int or float, not a bool). */
+int wkpy_arg_double(PyObject *o, const char *name, double *out);
+
+/* A bool (or an int used as one). */
+int wkpy_arg_bool(PyObject *o, const char *name, int *out);
+
+/* The address of a C function: a non-negative int (0 = NULL, allowed when ``nullable``). */
+int wkpy_arg_address(PyObject *o, const char *name, int nullable, uintptr_t *out);
+
+/* A C-contiguous buffer of float64 (kind 'd') or int64 (kind 'q') with ``ndim``
+ * dimensions.  On success the caller releases ``view``. */
+int wkpy_arg_buffer(PyObject *o, const char *name, char kind, int ndim, Py_buffer *view);
+
+/* The head that solve() and basin_points() share: args[0..4] the function addresses rhs,
+ * guards, reset, jac, ctx into ``fn`` (rhs non-zero, the others 0 for NULL), args[6..8]
+ * n_x, n_guards, n_impulse into ``pb`` (their ranges are the caller's to check). */
+int wkpy_arg_system(PyObject *const *args, wk_functions *fn, wk_problem *pb);
+
+/* The solver settings, six arguments in a row in solve() and basin_points(): args[0..5]
+ * method (into ``method``, the caller checks the code), adaptive, rtol, atol, first_step,
+ * max_step (into ``pb``). */
+int wkpy_arg_solver(PyObject *const *args, int64_t *method, wk_problem *pb);
+
+/* 1 when all n values are finite, else 0. */
+int wkpy_all_finite(const double *v, Py_ssize_t n);
+
+/* A new bytearray of ``count`` items of ``item`` bytes copied from ``data`` (empty when
+ * count <= 0); NULL with an exception set when out of memory. */
+PyObject *wkpy_bytes_of(const void *data, int64_t count, size_t item);
+
+#endif
