@@ -14,9 +14,18 @@ import numpy as np
 import pytest
 from numba import carray, cfunc, types
 
-from walker import _hybrid
+from walker import _hybrid, load_scene
+from walker.hybrid_system import _compiled
 from walker.integrate import HybridSystem, hybrid_solve
-from walker.status import EVENT_CONTINUE, EVENT_STRIDE, EVENT_TERMINAL, Status
+from walker.models import get_model
+from walker.status import (
+    EVENT_CONTINUE,
+    EVENT_STRIDE,
+    EVENT_TERMINAL,
+    METHOD_DOP853,
+    OUTPUT_FULL,
+    Status,
+)
 
 # ---------------------------------------------------------------------------------------------
 # Bouncing ball as numba cfuncs: x = (height, velocity), p = (gravity, restitution).
@@ -297,8 +306,8 @@ def test_binding_rejects_bad_arguments_naming_them():
         False,
         4,
     ]
-    status, t, x, *_ = _hybrid.solve(*args)
-    assert status == 0 and t == 1.0 and len(x) == 16
+    sol = _hybrid.solve(*args)
+    assert sol.status == 0 and sol.t == 1.0 and len(sol.x) == 16
 
     def bad(i, value, exc, match):
         with pytest.raises(exc, match=match):
@@ -314,6 +323,84 @@ def test_binding_rejects_bad_arguments_naming_them():
     bad(11, 2, ValueError, "`phase0` must be in")
     bad(15, 7, ValueError, "`method` must be a code")
     bad(24, True, ValueError, "`want_jac` needs a Jacobian")
+
+
+SOLVE_RESULT_FIELDS = (
+    "status",
+    "t",
+    "x",
+    "phase",
+    "n_steps",
+    "n_rejected",
+    "n_rhs",
+    "n_events",
+    "n_strides",
+    "n_logged",
+    "n_samples",
+    "n_recorded",
+    "error_estimate",
+    "event_t",
+    "event_guard",
+    "event_phase_before",
+    "event_phase_after",
+    "event_x_pre",
+    "event_x_post",
+    "event_impulse",
+    "sample_x",
+    "sample_phase",
+    "record_t",
+    "record_x",
+    "record_phase",
+    "jac",
+    "dt_dx0",
+    "has_dt_dx0",
+)
+
+
+def test_solve_returns_a_named_record_whose_fields_are_its_positions():
+    """``_hybrid.solve`` returns a ``SolveResult``: a tuple whose every field, read by name,
+    is the entry at its position; one kneed stride read through the names is the stride
+    ``hybrid_solve`` returns, bit for bit."""
+    scene = load_scene("gaits/kneed_hsu.toml")
+    p = scene.params.as_array()
+    system = get_model("kneed").system_for(p)
+    x0 = np.asarray(scene.reference["state"], dtype=float)
+    n_x = system.n_x
+    rhs, guards, reset, jac, ctx, _ = _compiled(system)
+    sol = _hybrid.solve(
+        rhs, guards, reset, jac, ctx, system.directions, n_x, system.n_guards,
+        system.n_impulse, x0, p, 0, 0.0, 5.0, 1, METHOD_DOP853, True, 1e-11, 1e-11, 0.0,
+        math.inf, 1_000_000, OUTPUT_FULL, np.empty(0), True, 4,
+    )  # fmt: skip
+    assert type(sol) is _hybrid.SolveResult and isinstance(sol, tuple)
+    assert _hybrid.SolveResult.__match_args__ == SOLVE_RESULT_FIELDS
+    assert len(sol) == len(SOLVE_RESULT_FIELDS)
+    for i, name in enumerate(SOLVE_RESULT_FIELDS):
+        assert getattr(sol, name) is sol[i], name
+
+    ref = hybrid_solve(
+        system, x0, p, t_max=5.0, rtol=1e-11, atol=1e-11, output="full", jacobian=True
+    )
+    assert sol.status == ref.status == Status.COMPLETED
+    assert (sol.t, sol.phase, sol.error_estimate) == (ref.t, ref.phase, ref.error_estimate)
+    counters = (sol.n_steps, sol.n_rejected, sol.n_rhs, sol.n_events, sol.n_strides)
+    assert counters == (ref.n_steps, ref.n_rejected, ref.n_rhs, ref.n_events, 1)
+    assert (sol.n_logged, sol.n_samples, sol.n_recorded) == (
+        len(ref.events),
+        0,
+        len(ref.record.t),
+    )
+
+    def floats(buf, *shape):
+        return np.frombuffer(buf, dtype=np.float64).reshape(shape or (-1,))
+
+    assert np.array_equal(floats(sol.x), ref.x)
+    assert np.array_equal(floats(sol.jac, n_x, n_x), ref.jac)
+    assert sol.has_dt_dx0 and np.array_equal(floats(sol.dt_dx0), ref.dt_dx0)
+    assert np.array_equal(floats(sol.event_x_post, -1, n_x), ref.events.x_post)
+    assert np.array_equal(np.frombuffer(sol.event_guard, dtype=np.int64), ref.events.guard)
+    assert np.array_equal(floats(sol.record_x, -1, n_x), ref.record.x)
+    assert sol.sample_x == sol.sample_phase == bytearray()
 
 
 @cfunc(_RESET_SIG, cache=True)

@@ -23,7 +23,9 @@ The pipeline, from a scene file to pictures::
                                      wk_friction.c (dry joint friction: stick/slip modes),
                                      wk_control.c (virtual-constraint controller)
                      _core/_hybrid*  the Python binding: the methods and the module's init
-                                     (_hybridmodule.c), argument conversion (_hybridargs.c)
+                                     (_hybridmodule.c), argument conversion (_hybridargs.c),
+                                     SolveResult, the named record solve returns
+                                     (_hybridresult.c)
     (run time)   ──► models/         per walker: names, phases, guards, section lift/project;
                                      WalkerModel.system_for(p) picks the compiled variant once
                  ──► integrate.py    hybrid_solve, PreparedRun -> Solution; the C contract

@@ -292,10 +292,11 @@ class PreparedRun:
             self._n_interior,
             jacobian_seed,
         )
+        # r: a walker._hybrid.SolveResult, read by field (see _solve)
         if not jacobian:
-            return r[0], r[1], _floats(r[2]), None
+            return r.status, r.t, _floats(r.x), None
         m = self._head[6] if jacobian_seed is None else jacobian_seed.shape[1]
-        return r[0], r[1], _floats(r[2]), _floats(r[18], m)
+        return r.status, r.t, _floats(r.x), _floats(r.jac, m)
 
 
 def hybrid_solve(
@@ -550,65 +551,51 @@ def _solve(
         n_interior,
         jacobian_seed,
     )
-    (
-        status,
-        t,
-        x,
-        phase,
-        counters,
-        err_sum,
-        ev_t,
-        ev_g,
-        ev_pb,
-        ev_pa,
-        ev_xm,
-        ev_xp,
-        ev_imp,
-        s_x,
-        s_ph,
-        r_t,
-        r_x,
-        r_ph,
-        jac_out,
-        dt_dx0,
-        has_dt,
-    ) = res
-    status = _STATUSES.get(status) or Status(status)
+    # res is a walker._hybrid.SolveResult (walker/_core/_hybridresult.c), a tuple read by
+    # field: status (int), t (float), x, phase; the counters n_steps, n_rejected, n_rhs,
+    # n_events, n_strides and the row counts n_logged, n_samples, n_recorded (ints);
+    # error_estimate (float); the event log event_t, event_guard, event_phase_before,
+    # event_phase_after, event_x_pre, event_x_post, event_impulse (output "events" or
+    # richer); sample_x, sample_phase ("samples"); record_t, record_x, record_phase ("full");
+    # jac (n_x, n_c), dt_dx0 (n_c,) and has_dt_dx0 (with `jacobian`).  Arrays come as
+    # bytearrays of native float64 / int64, row-major, viewed here without a copy.
+    status = _STATUSES.get(res.status) or Status(res.status)
     events = samples = record = None
     if out_code >= OUTPUT_EVENTS:
-        n_imp = system.n_impulse
         events = EventLog(
-            _floats(ev_t),
-            _ints(ev_g),
-            _ints(ev_pb),
-            _ints(ev_pa),
-            _floats(ev_xm, n_x),
-            _floats(ev_xp, n_x),
-            _floats(ev_imp, n_imp),
+            _floats(res.event_t),
+            _ints(res.event_guard),
+            _ints(res.event_phase_before),
+            _ints(res.event_phase_after),
+            _floats(res.event_x_pre, n_x),
+            _floats(res.event_x_post, n_x),
+            _floats(res.event_impulse, system.n_impulse),
         )
     if out_code == OUTPUT_SAMPLES:
-        s_x = _floats(s_x, n_x)
-        samples = Trajectory(st[: s_x.shape[0]].copy(), s_x, _ints(s_ph))
+        s_x = _floats(res.sample_x, n_x)
+        samples = Trajectory(st[: s_x.shape[0]].copy(), s_x, _ints(res.sample_phase))
     if out_code == OUTPUT_FULL:
-        record = Trajectory(_floats(r_t), _floats(r_x, n_x), _ints(r_ph))
+        record = Trajectory(
+            _floats(res.record_t), _floats(res.record_x, n_x), _ints(res.record_phase)
+        )
     return Solution(
         status=status,
         message=status.message,
         success=status == Status.COMPLETED,
-        t=t,
-        x=_floats(x),
-        phase=int(phase),
-        n_steps=int(counters[0]),
-        n_rejected=int(counters[1]),
-        n_rhs=int(counters[2]),
-        n_events=int(counters[3]),
-        n_strides=int(counters[4]),
+        t=res.t,
+        x=_floats(res.x),
+        phase=res.phase,
+        n_steps=res.n_steps,
+        n_rejected=res.n_rejected,
+        n_rhs=res.n_rhs,
+        n_events=res.n_events,
+        n_strides=res.n_strides,
         events=events,
         samples=samples,
         record=record,
-        jac=_floats(jac_out, n_c) if jacobian else None,
-        dt_dx0=_floats(dt_dx0) if (jacobian and has_dt) else None,
-        error_estimate=float(err_sum),
+        jac=_floats(res.jac, n_c) if jacobian else None,
+        dt_dx0=_floats(res.dt_dx0) if (jacobian and res.has_dt_dx0) else None,
+        error_estimate=res.error_estimate,
         phase_names=system.phase_names,
         guard_names=system.guard_names,
     )

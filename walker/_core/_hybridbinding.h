@@ -3,7 +3,8 @@
  *   _hybridmodule.c  the methods (solve, models, kernels, call_state_fn, basin_points) and
  *                    the module's init;
  *   _hybridargs.c    argument conversion (every error names the argument) and result
- *                    arrays out as bytearrays.
+ *                    arrays out as bytearrays;
+ *   _hybridresult.c  the named record solve() returns (walker._hybrid.SolveResult).
  *
  * Nothing here is part of the extension's interface: the functions are prefixed wkpy_ and
  * called only by these files.  Include after <Python.h>.
@@ -55,5 +56,12 @@ int wkpy_all_finite(const double *v, Py_ssize_t n);
 /* A new bytearray of ``count`` items of ``item`` bytes copied from ``data`` (empty when
  * count <= 0); NULL with an exception set when out of memory. */
 PyObject *wkpy_bytes_of(const void *data, int64_t count, size_t item);
+
+/* Makes the SolveResult type (once) and adds it to ``module``; 0, or -1 with an exception. */
+int wkpy_add_solve_result(PyObject *module);
+
+/* A new SolveResult holding a run's result ``res`` of the problem ``pb`` (which gives the
+ * array sizes); NULL with an exception set when out of memory. */
+PyObject *wkpy_solve_result(const wk_result *res, const wk_problem *pb);
 
 #endif

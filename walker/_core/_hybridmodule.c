@@ -1,6 +1,7 @@
 /* walker._hybrid: the CPython binding of walker's compiled core.
  *
- * solve(...)          one run of the hybrid integrator (hybrid.c), without the GIL;
+ * solve(...)          one run of the hybrid integrator (hybrid.c), without the GIL, as a
+ *                     SolveResult record (_hybridresult.c);
  * models()            walker's compiled models (wk_model_table) as integer addresses;
  * kernels()           the generated kernels (wk_kernel_table) as (signature, address);
  * call_state_fn(...)  calls a model's energy / points / start_phase function;
@@ -9,7 +10,8 @@
  * Plain C API, no numpy: arrays come in through the buffer protocol (C-contiguous float64
  * or int64) and go out as bytearrays that walker/integrate.py views with numpy.frombuffer.
  * Model functions are passed as integer addresses of C functions with the signatures of
- * wk_system.h.  The argument converters are in _hybridargs.c (see _hybridbinding.h).
+ * wk_system.h.  The argument converters are in _hybridargs.c, the record solve() returns in
+ * _hybridresult.c (both declared in _hybridbinding.h).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -47,11 +49,15 @@ PyDoc_STRVAR(solve_doc,
              "walker.status.  jacobian_seed (with want_jac): None or a float64 (n_x, m) array S,\n"
              "1 <= m <= n_x; the run then propagates (d x / d x0) S, and jac and dt_dx0 hold\n"
              "m columns.  The GIL is released while integrating.\n\n"
-             "Returns (status, t, x, phase, counters, err_sum, ev_t, ev_guard, ev_phase_before,\n"
-             "ev_phase_after, ev_x_pre, ev_x_post, ev_impulse, s_x, s_phase, r_t, r_x, r_phase,\n"
-             "jac, dt_dx0, has_dt): counters a tuple of 8 ints (steps, rejected, rhs calls,\n"
-             "events, strides, logged events, samples, record rows), arrays as bytearrays of\n"
-             "native float64 / int64, row-major.");
+             "Returns a SolveResult, a named tuple read by field: status (a walker.status\n"
+             "value), t, x (the final time, state, phase); the counters n_steps, n_rejected,\n"
+             "n_rhs, n_events, n_strides and the row counts n_logged, n_samples, n_recorded;\n"
+             "error_estimate; the event log event_t, event_guard, event_phase_before,\n"
+             "event_phase_after, event_x_pre, event_x_post, event_impulse (output events or\n"
+             "richer); sample_x, sample_phase (samples); record_t, record_x, record_phase\n"
+             "(full); jac (n_x, m), dt_dx0 (m,) and has_dt_dx0 (with want_jac; m = n_x\n"
+             "without a seed).  Arrays are bytearrays of native float64 / int64, row-major;\n"
+             "help(SolveResult) describes each field.");
 
 static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -194,30 +200,7 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
                      "`reset` returned next phase %lld, outside [0, n_phases = %lld)",
                      (long long)res.phase, (long long)pb.n_phases);
     } else {
-        const int64_t *c = res.counters;
-        const int64_t n_x = pb.n_x, n_imp = pb.n_impulse;
-        const int64_t n_c = pb.jac_seed != NULL ? pb.n_seed : n_x;
-        const int64_t n_log = c[WK_N_LOG], n_samp = c[WK_N_SAMPLES], n_rec = c[WK_N_RECORD];
-        const size_t d = sizeof(double), q = sizeof(int64_t);
-        PyObject *counters = Py_BuildValue("(LLLLLLLL)", (long long)c[0], (long long)c[1],
-                                           (long long)c[2], (long long)c[3], (long long)c[4],
-                                           (long long)c[5], (long long)c[6], (long long)c[7]);
-        if (counters != NULL) {
-            result = Py_BuildValue(
-                "(LdNLNdNNNNNNNNNNNNNNO)", (long long)res.status, res.t,
-                wkpy_bytes_of(res.x, n_x, d), (long long)res.phase, counters, res.err_sum,
-                wkpy_bytes_of(res.ev_t, n_log, d), wkpy_bytes_of(res.ev_guard, n_log, q),
-                wkpy_bytes_of(res.ev_phase_before, n_log, q),
-                wkpy_bytes_of(res.ev_phase_after, n_log, q),
-                wkpy_bytes_of(res.ev_x_pre, n_log * n_x, d),
-                wkpy_bytes_of(res.ev_x_post, n_log * n_x, d),
-                wkpy_bytes_of(res.ev_impulse, n_log * n_imp, d),
-                wkpy_bytes_of(res.s_x, n_samp * n_x, d), wkpy_bytes_of(res.s_phase, n_samp, q),
-                wkpy_bytes_of(res.r_t, n_rec, d),
-                wkpy_bytes_of(res.r_x, n_rec * n_x, d), wkpy_bytes_of(res.r_phase, n_rec, q),
-                wkpy_bytes_of(res.jac, n_x * n_c, d), wkpy_bytes_of(res.dt_dx0, n_c, d),
-                res.has_dt ? Py_True : Py_False);
-        }
+        result = wkpy_solve_result(&res, &pb);
     }
     wk_result_free(&res);
 
@@ -571,6 +554,11 @@ PyMODINIT_FUNC PyInit__hybrid(void)
         return NULL;
     }
     Py_DECREF(tol);
+    /* The record solve() returns. */
+    if (wkpy_add_solve_result(m) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
     /* Fingerprint of the sources this was built from (setup.py, walker/_build.py). */
     if (PyModule_AddStringConstant(m, "SOURCE_HASH", WK_SOURCE_HASH) < 0) {
         Py_DECREF(m);
