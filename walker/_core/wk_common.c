@@ -2,7 +2,9 @@
 #include <math.h>
 #include "wk_common.h"
 
-int wk_solve_inplace(double *A, double *b, int n)
+/* walker._linalg.solve_inplace for nc right-hand sides (declared in wk_friction.h, whose
+ * Jacobians use it). */
+int wk_solve_columns(double *A, double *B, int n, int nc)
 {
     double scale = 0.0;
     for (int i = 0; i < n; i++) {
@@ -29,28 +31,38 @@ int wk_solve_inplace(double *A, double *b, int n)
                 A[k * n + j] = A[p * n + j];
                 A[p * n + j] = tmp;
             }
-            double tmp = b[k];
-            b[k] = b[p];
-            b[p] = tmp;
+            for (int j = 0; j < nc; j++) {
+                double tmp = B[k * nc + j];
+                B[k * nc + j] = B[p * nc + j];
+                B[p * nc + j] = tmp;
+            }
         }
         double piv = A[k * n + k];
         for (int i = k + 1; i < n; i++) {
             double f = A[i * n + k] / piv;
             if (f != 0.0) {
                 for (int j = k + 1; j < n; j++) A[i * n + j] -= f * A[k * n + j];
-                b[i] -= f * b[k];
+                for (int j = 0; j < nc; j++) B[i * nc + j] -= f * B[k * nc + j];
             }
         }
     }
     for (int k = n - 1; k >= 0; k--) {
-        double s = b[k];
-        for (int j = k + 1; j < n; j++) s -= A[k * n + j] * b[j];
-        b[k] = s / A[k * n + k];
+        for (int c = 0; c < nc; c++) {
+            double s = B[k * nc + c];
+            for (int j = k + 1; j < n; j++) s -= A[k * n + j] * B[j * nc + c];
+            B[k * nc + c] = s / A[k * n + k];
+        }
     }
-    for (int i = 0; i < n; i++) {
-        if (!isfinite(b[i])) return 0;
+    for (int i = 0; i < n * nc; i++) {
+        if (!isfinite(B[i])) return 0;
     }
     return 1;
+}
+
+/* The one-column case of wk_solve_columns: the same operations. */
+int wk_solve_inplace(double *A, double *b, int n)
+{
+    return wk_solve_columns(A, b, n, 1);
 }
 
 int wk_impact(const double *M, const double *J, const double *qd_minus, double *qd_plus,

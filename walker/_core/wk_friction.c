@@ -9,64 +9,6 @@ static int sizes_ok(int n, int m)
     return n >= 0 && m >= 0 && n <= WK_FRICTION_MAX_N && m <= WK_FRICTION_MAX_JOINTS;
 }
 
-/* walker._linalg.solve_inplace for nc right-hand sides: A (n x n) destroyed, B (n x nc)
- * row-major overwritten with the solution; the same operations per column as
- * wk_solve_inplace. */
-static int solve_columns(double *A, double *B, int n, int nc)
-{
-    double scale = 0.0;
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) {
-            double v = fabs(A[i * n + j]);
-            if (v > scale) scale = v;
-        }
-    }
-    double tiny = scale > 0 ? scale * 1e-300 : 1e-300;
-    for (int k = 0; k < n; k++) {
-        int p = k;
-        double big = fabs(A[k * n + k]);
-        for (int i = k + 1; i < n; i++) {
-            double v = fabs(A[i * n + k]);
-            if (v > big) {
-                big = v;
-                p = i;
-            }
-        }
-        if (!(big > tiny)) return 0;
-        if (p != k) {
-            for (int j = 0; j < n; j++) {
-                double tmp = A[k * n + j];
-                A[k * n + j] = A[p * n + j];
-                A[p * n + j] = tmp;
-            }
-            for (int j = 0; j < nc; j++) {
-                double tmp = B[k * nc + j];
-                B[k * nc + j] = B[p * nc + j];
-                B[p * nc + j] = tmp;
-            }
-        }
-        double piv = A[k * n + k];
-        for (int i = k + 1; i < n; i++) {
-            double f = A[i * n + k] / piv;
-            if (f != 0.0) {
-                for (int j = k + 1; j < n; j++) A[i * n + j] -= f * A[k * n + j];
-                for (int j = 0; j < nc; j++) B[i * nc + j] -= f * B[k * nc + j];
-            }
-        }
-    }
-    for (int k = n - 1; k >= 0; k--) {
-        for (int c = 0; c < nc; c++) {
-            double s = B[k * nc + c];
-            for (int j = k + 1; j < n; j++) s -= A[k * n + j] * B[j * nc + c];
-            B[k * nc + c] = s / A[k * n + k];
-        }
-    }
-    for (int i = 0; i < n * nc; i++) {
-        if (!isfinite(B[i])) return 0;
-    }
-    return 1;
-}
-
 int64_t wk_friction_encode(const int64_t *modes, int m)
 {
     int64_t code = 0;
@@ -188,7 +130,7 @@ int wk_friction_accelerations_jacobian(const double *D, const double *dD, const 
             R[i * nc + n + k] = df_dqd[i * n + k];
         }
     }
-    int ok = solve_columns(A, R, N, nc);
+    int ok = wk_solve_columns(A, R, N, nc);
     for (int i = 0; i < n; i++) {
         for (int c = 0; c < nc; c++) out[i * nc + c] = R[i * nc + c];
     }
