@@ -60,6 +60,11 @@ functions are inlined into the caller by numba (``inline="always"``): a kernel p
 through a call that LLVM does not inline becomes a pointer to a Python object in the machine
 code, which numba cannot cache.
 
+Over these, :func:`phase_rhs`, :func:`phase_jac`, :func:`phase_torques`, :func:`phase_start`
+and :func:`phase_reset` are a model's ``rhs``, ``jac``, ``joint_torques``, mode choice and
+friction-event reset in one base phase, so that a model's own functions only bind its kernels
+(:func:`joints` decodes a phase's modes).
+
 References
 ----------
 .. [1] F. Pfeiffer, C. Glocker, *Multibody Dynamics with Unilateral Contacts*, Wiley, 1996
@@ -74,6 +79,7 @@ import numpy as np
 from numba import njit
 
 from walker._linalg import solve_inplace
+from walker.status import EVENT_CONTINUE, EVENT_TERMINAL, Status
 
 __all__ = [
     "SLIP_POSITIVE",
@@ -105,6 +111,12 @@ __all__ = [
     "phase_switch",
     "first_order",
     "first_order_jacobian",
+    "joints",
+    "phase_rhs",
+    "phase_jac",
+    "phase_torques",
+    "phase_start",
+    "phase_reset",
 ]
 
 SLIP_POSITIVE, SLIP_NEGATIVE, STICK = 0, 1, 2
@@ -112,6 +124,7 @@ N_MODES = 3
 MODE_LABELS = ("slip+", "slip-", "stick")
 W_TOL = 1e-12
 """|w| [rad/s] at or below which a joint rate counts as zero when modes are chosen."""
+_LINEAR_SOLVE_FAILED = int(Status.LINEAR_SOLVE_FAILED)
 
 
 @njit(cache=True, error_model="numpy")
@@ -605,6 +618,74 @@ def first_order_jacobian(a, n, J):
         J[i, n + i] = 1.0
         for c in range(2 * n):
             J[n + i, c] = a[i, c]
+
+
+# ---------------------------------------------------------------------------------------------
+# A model's rhs, jac, joint_torques, mode choice and friction reset over the phase functions
+# above: each model's own functions bind its kernels and call these (inlined likewise).
+
+
+@njit(cache=True, error_model="numpy")
+def joints(code, p, i_coulomb, m):
+    """``(modes, F)``: the modes (m,) of mode code ``code`` and the dry frictions
+    ``p[i_coulomb:i_coulomb + m]`` [N m] (a view of ``p``)."""
+    modes = np.empty(m, dtype=np.int64)
+    decode(code, modes)
+    return modes, p[i_coulomb : i_coulomb + m]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def phase_rhs(dynamics, mass_matrix, accel, S, F, modes, x, p, dx):
+    """The vector field ``dx = (qd, qdd)`` (:func:`phase_accelerations`,
+    :func:`first_order`) of a model whose state is ``x = (q, qd)``, ``n = S.shape[1]``
+    coordinates."""
+    n = S.shape[1]
+    qdd = np.empty(n)
+    phase_accelerations(dynamics, mass_matrix, accel, S, F, modes, x, n, p, qdd)
+    first_order(x, qdd, n, dx)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def phase_jac(dynamics, forcing, dmass, dbias_dq, dbias_dqd, S, F, modes, x, p, J):
+    """The Jacobian ``J`` (2 n, 2 n) of :func:`phase_rhs` (:func:`phase_jacobian`,
+    :func:`first_order_jacobian`)."""
+    n = S.shape[1]
+    a = np.empty((n, 2 * n))
+    phase_jacobian(dynamics, forcing, dmass, dbias_dq, dbias_dqd, S, F, modes, x, p, a)
+    first_order_jacobian(a, n, J)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def phase_torques(dynamics, S, F, modes, x, p):
+    """The friction torque (m,) at each joint [N m] (:func:`phase_solve`): ``-+F`` while
+    slipping, the holding torque while stuck."""
+    m, n = S.shape
+    qdd = np.empty(n)
+    lam = np.empty(m)
+    phase_solve(dynamics, S, F, modes, x, p, qdd, lam)
+    return lam
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def phase_start(dynamics, S, F, modes, offset, x, v0, p):
+    """Choose every joint's mode at state ``x`` (:func:`phase_settle`: ``modes[:m]`` in
+    place, the rates projected in place) and return the phase ``offset + encode(modes[:m])``
+    (``offset`` the first phase of the model's base phase); -1 if a system is singular."""
+    m = S.shape[0]
+    if not phase_settle(dynamics, S, F, modes, x, v0, p):
+        return -1
+    return offset + encode(modes[:m])
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def phase_reset(dynamics, S, F, modes, phase, offset, k, x, v0, p, x_new):
+    """The reset ``(action, next phase, status)`` of friction guard ``k`` in ``phase``
+    (:func:`phase_switch`; ``modes`` the phase's, changed in place): continue in ``offset +
+    encode(modes[:m])``; a singular system ends the run (``LINEAR_SOLVE_FAILED``)."""
+    m = S.shape[0]
+    if not phase_switch(dynamics, S, F, modes, k, x, v0, p, x_new):
+        return EVENT_TERMINAL, phase, _LINEAR_SOLVE_FAILED
+    return EVENT_CONTINUE, offset + encode(modes[:m]), 0
 
 
 def directions(code: int, n_joints: int) -> list[int]:

@@ -55,7 +55,7 @@ from walker import friction as fr
 from walker._generated import compass as K
 from walker._generated import indices as ix
 from walker.models import compass as _compass
-from walker.models._common import LINEAR_SOLVE_FAILED, after_base_reset
+from walker.models._common import after_base_reset
 from walker.models.compass import (
     LIFT_AFFINE,
     SECTION_NAMES,
@@ -68,7 +68,6 @@ from walker.models.compass import (
     swing_foot,
 )
 from walker.params import MODELS
-from walker.status import EVENT_CONTINUE, EVENT_TERMINAL
 
 __all__ = [
     "N_X",
@@ -141,33 +140,21 @@ def _matrices(x, p):
 
 
 @njit(cache=True, error_model="numpy")
-def _joints(phase, p):
-    """(modes, F): the joint modes of ``phase`` and the dry frictions."""
-    modes = np.empty(N_JOINTS, dtype=np.int64)
-    fr.decode(phase, modes)
-    return modes, p[I_COULOMB : I_COULOMB + N_JOINTS]
-
-
-@njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
-    modes, F = _joints(phase, p)
-    qdd = np.empty(2)
-    fr.phase_accelerations(_dynamics, K.mass_matrix, K.accel, _S, F, modes, x, 2, p, qdd)
-    fr.first_order(x, qdd, 2, dx)
+    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
+    fr.phase_rhs(_dynamics, K.mass_matrix, K.accel, _S, F, modes, x, p, dx)
 
 
 @njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
-    modes, F = _joints(phase, p)
-    a = np.empty((2, 4))
-    fr.phase_jacobian(_dynamics, K.forcing, K.dmass, K.dbias_dq, K.dbias_dqd, _S, F, modes, x, p, a)
-    fr.first_order_jacobian(a, 2, J)
+    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
+    fr.phase_jac(_dynamics, K.forcing, K.dmass, K.dbias_dq, K.dbias_dqd, _S, F, modes, x, p, J)
 
 
 @njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
     _compass.guards(0, t, x, p, g)
-    modes, F = _joints(phase, p)
+    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
     fr.phase_guards(_dynamics, _S, F, modes, x, 2, p, g[N_BASE_GUARDS:])
 
 
@@ -176,10 +163,8 @@ def _start(base, x, p):
     """Choose both joints' modes for state ``x`` (velocities projected in place onto the
     stuck joints) and return the phase; -1 if a solve is singular.  (One base phase:
     ``base`` is unused.)"""
-    modes, F = _joints(0, p)
-    if not fr.phase_settle(_dynamics, _S, F, modes, x, 2, p):
-        return -1
-    return fr.encode(modes)
+    modes, F = fr.joints(0, p, I_COULOMB, N_JOINTS)
+    return fr.phase_start(_dynamics, _S, F, modes, 0, x, 2, p)
 
 
 @njit(cache=True, error_model="numpy")
@@ -187,10 +172,8 @@ def reset(phase, k, t, x, p, x_new, impulse):
     if k < N_BASE_GUARDS:
         action, _, status = _compass.reset(0, k, t, x, p, x_new, impulse)
         return after_base_reset(_start, phase, action, 0, status, x_new, p)
-    modes, F = _joints(phase, p)
-    if not fr.phase_switch(_dynamics, _S, F, modes, k - N_BASE_GUARDS, x, 2, p, x_new):
-        return EVENT_TERMINAL, phase, LINEAR_SOLVE_FAILED
-    return EVENT_CONTINUE, fr.encode(modes), 0
+    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
+    return fr.phase_reset(_dynamics, _S, F, modes, phase, 0, k - N_BASE_GUARDS, x, 2, p, x_new)
 
 
 @njit(cache=True, error_model="numpy")
@@ -198,11 +181,8 @@ def joint_torques(phase, x, p):
     """Friction torque at each joint (ankle, hip) [N m]: ``-+F_s`` while slipping, the
     holding torque while stuck.  The hip's acts on the swing leg (its opposite on the
     stance leg)."""
-    modes, F = _joints(phase, p)
-    qdd = np.empty(2)
-    lam = np.empty(N_JOINTS)
-    fr.phase_solve(_dynamics, _S, F, modes, x, p, qdd, lam)
-    return lam
+    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
+    return fr.phase_torques(_dynamics, _S, F, modes, x, p)
 
 
 @njit(cache=True, error_model="numpy")

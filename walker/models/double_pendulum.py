@@ -62,9 +62,7 @@ from numba import njit
 from walker import friction as fr
 from walker._generated import double_pendulum as K
 from walker._generated import indices as ix
-from walker.models._common import LINEAR_SOLVE_FAILED
 from walker.params import MODELS
-from walker.status import EVENT_CONTINUE, EVENT_TERMINAL
 
 __all__ = [
     "N_X",
@@ -126,32 +124,20 @@ def _matrices(x, p):
 
 
 @njit(cache=True, error_model="numpy")
-def _joints(phase, p):
-    """(modes, F): the joint modes of ``phase`` and the dry frictions."""
-    modes = np.empty(N_JOINTS, dtype=np.int64)
-    fr.decode(phase, modes)
-    return modes, p[I_COULOMB : I_COULOMB + N_JOINTS]
-
-
-@njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
-    modes, F = _joints(phase, p)
-    qdd = np.empty(2)
-    fr.phase_accelerations(_dynamics, K.mass_matrix, K.accel, _S, F, modes, x, 2, p, qdd)
-    fr.first_order(x, qdd, 2, dx)
+    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
+    fr.phase_rhs(_dynamics, K.mass_matrix, K.accel, _S, F, modes, x, p, dx)
 
 
 @njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
-    modes, F = _joints(phase, p)
-    a = np.empty((2, 4))
-    fr.phase_jacobian(_dynamics, K.forcing, K.dmass, K.dbias_dq, K.dbias_dqd, _S, F, modes, x, p, a)
-    fr.first_order_jacobian(a, 2, J)
+    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
+    fr.phase_jac(_dynamics, K.forcing, K.dmass, K.dbias_dq, K.dbias_dqd, _S, F, modes, x, p, J)
 
 
 @njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
-    modes, F = _joints(phase, p)
+    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
     fr.phase_guards(_dynamics, _S, F, modes, x, 2, p, g)
 
 
@@ -160,10 +146,8 @@ def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
     impulse[0] = 0.0
-    modes, F = _joints(phase, p)
-    if not fr.phase_switch(_dynamics, _S, F, modes, k, x, 2, p, x_new):
-        return EVENT_TERMINAL, phase, LINEAR_SOLVE_FAILED
-    return EVENT_CONTINUE, fr.encode(modes), 0
+    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
+    return fr.phase_reset(_dynamics, _S, F, modes, phase, 0, k, x, 2, p, x_new)
 
 
 @njit(cache=True, error_model="numpy")
@@ -171,22 +155,16 @@ def joint_torques(phase, x, p):
     """Dry-friction torque at each joint (joint_1, joint_2) [N m]: ``-+F_s`` while slipping,
     the holding torque while stuck.  Each acts on the distal link (its opposite on the
     proximal one)."""
-    modes, F = _joints(phase, p)
-    qdd = np.empty(2)
-    lam = np.empty(N_JOINTS)
-    fr.phase_solve(_dynamics, _S, F, modes, x, p, qdd, lam)
-    return lam
+    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
+    return fr.phase_torques(_dynamics, _S, F, modes, x, p)
 
 
 @njit(cache=True, error_model="numpy")
 def start_phase(x, p):
     """The phase consistent with state ``x`` (joint modes from the rates, and for the joints
     at rest from the friction; see :func:`walker.friction.choose_modes`)."""
-    modes, F = _joints(0, p)
-    y = x.copy()
-    if not fr.phase_settle(_dynamics, _S, F, modes, y, 2, p):
-        return -1
-    return fr.encode(modes)
+    modes, F = fr.joints(0, p, I_COULOMB, N_JOINTS)
+    return fr.phase_start(_dynamics, _S, F, modes, 0, x.copy(), 2, p)
 
 
 def phase_of(**modes: str) -> int:

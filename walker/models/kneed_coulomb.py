@@ -46,7 +46,7 @@ from walker import friction as fr
 from walker._generated import indices as ix
 from walker._generated import kneed as K
 from walker.models import kneed as _kneed
-from walker.models._common import LINEAR_SOLVE_FAILED, after_base_reset
+from walker.models._common import after_base_reset
 from walker.models.kneed import (
     LIFT_AFFINE,
     SECTION_NAMES,
@@ -59,7 +59,7 @@ from walker.models.kneed import (
     swing_foot,
 )
 from walker.params import MODELS
-from walker.status import EVENT_CONTINUE, EVENT_TERMINAL
+from walker.status import EVENT_CONTINUE
 
 __all__ = [
     "N_X",
@@ -135,13 +135,6 @@ def _split(phase, modes):
 
 
 @njit(cache=True, error_model="numpy")
-def _join(base, modes):
-    if base == UNLOCKED:
-        return fr.encode(modes)
-    return N_UNLOCKED + fr.encode(modes[:2])
-
-
-@njit(cache=True, error_model="numpy")
 def _dry(base, p):
     """Dry frictions of the base phase's joints [N m]."""
     return p[I_COULOMB : I_COULOMB + (3 if base == UNLOCKED else 2)]
@@ -170,24 +163,16 @@ def _matrices(base, x, p):
 
 
 @njit(cache=True, error_model="numpy")
-def _solve(base, modes, x, p, qdd, lam):
-    if base == UNLOCKED:
-        return fr.phase_solve(_unlocked, _S_UNLOCKED, _dry(base, p), modes, x, p, qdd, lam)
-    return fr.phase_solve(_locked, _S_LOCKED, _dry(base, p), modes, x, p, qdd, lam)
-
-
-@njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
     modes = np.empty(3, dtype=np.int64)
     base = _split(phase, modes)
     F = _dry(base, p)
-    qdd = np.empty(3)
     if base == UNLOCKED:
-        fr.phase_accelerations(
-            _unlocked, K.unlocked_mass_matrix, K.unlocked_accel, _S_UNLOCKED, F, modes, x, 3, p, qdd
+        fr.phase_rhs(
+            _unlocked, K.unlocked_mass_matrix, K.unlocked_accel, _S_UNLOCKED, F, modes, x, p, dx
         )
-        fr.first_order(x, qdd, 3, dx)
         return
+    qdd = np.empty(2)
     fr.phase_accelerations(
         _locked, K.locked_mass_matrix, K.locked_accel, _S_LOCKED, F, modes, x, 3, p, qdd
     )
@@ -205,8 +190,7 @@ def jac(phase, t, x, p, J):
     base = _split(phase, modes)
     F = _dry(base, p)
     if base == UNLOCKED:
-        a = np.empty((3, 6))
-        fr.phase_jacobian(
+        fr.phase_jac(
             _unlocked,
             K.unlocked_forcing,
             K.unlocked_dmass,
@@ -217,9 +201,8 @@ def jac(phase, t, x, p, J):
             modes,
             x,
             p,
-            a,
+            J,
         )
-        fr.first_order_jacobian(a, 3, J)
         return
     a = np.empty((2, 4))
     fr.phase_jacobian(
@@ -269,13 +252,11 @@ def _start(base, x, p):
     modes = np.zeros(3, dtype=np.int64)
     modes[2] = fr.STICK  # the locked knee (unused while unlocked: chosen below)
     if base == UNLOCKED:
-        if not fr.phase_settle(_unlocked, _S_UNLOCKED, _dry(base, p), modes, x, 3, p):
-            return -1
-        return _join(base, modes)
-    if not fr.phase_settle(_locked, _S_LOCKED, _dry(base, p), modes, x, 3, p):
-        return -1
-    x[5] = x[4]
-    return _join(base, modes)
+        return fr.phase_start(_unlocked, _S_UNLOCKED, _dry(base, p), modes, 0, x, 3, p)
+    new_phase = fr.phase_start(_locked, _S_LOCKED, _dry(base, p), modes, N_UNLOCKED, x, 3, p)
+    if new_phase >= 0:
+        x[5] = x[4]
+    return new_phase
 
 
 @njit(cache=True, error_model="numpy")
@@ -287,14 +268,13 @@ def reset(phase, k, t, x, p, x_new, impulse):
         return after_base_reset(_start, phase, action, new_base, status, x_new, p)
     F = _dry(base, p)
     if base == UNLOCKED:
-        ok = fr.phase_switch(_unlocked, _S_UNLOCKED, F, modes, k - 4, x, 3, p, x_new)
-    else:
-        ok = fr.phase_switch(_locked, _S_LOCKED, F, modes, k - 4, x, 3, p, x_new)
-    if not ok:
-        return EVENT_TERMINAL, phase, LINEAR_SOLVE_FAILED
-    if base == LOCKED:
+        return fr.phase_reset(_unlocked, _S_UNLOCKED, F, modes, phase, 0, k - 4, x, 3, p, x_new)
+    action, new_phase, status = fr.phase_reset(
+        _locked, _S_LOCKED, F, modes, phase, N_UNLOCKED, k - 4, x, 3, p, x_new
+    )
+    if action == EVENT_CONTINUE:
         x_new[5] = x_new[4]
-    return EVENT_CONTINUE, _join(base, modes), 0
+    return action, new_phase, status
 
 
 @njit(cache=True, error_model="numpy")
@@ -303,11 +283,10 @@ def joint_torques(phase, x, p):
     holding torque while stuck (0 for the locked knee)."""
     modes = np.empty(3, dtype=np.int64)
     base = _split(phase, modes)
-    qdd = np.empty(3)
+    if base == UNLOCKED:
+        return fr.phase_torques(_unlocked, _S_UNLOCKED, _dry(base, p), modes, x, p)
     lam = np.zeros(3)
-    _solve(base, modes, x, p, qdd, lam)
-    if base == LOCKED:
-        lam[2] = 0.0
+    lam[:2] = fr.phase_torques(_locked, _S_LOCKED, _dry(base, p), modes, x, p)
     return lam
 
 
