@@ -24,29 +24,8 @@ static const wk_friction_kernels KERNELS = {
     wk_compass_dmass, wk_compass_dbias_dq, wk_compass_dbias_dqd,
 };
 
-static void rhs(int64_t phase, double t, const double *x, const double *p, double *dx,
-                void *ctx)
-{
-    (void)t;
-    (void)ctx;
-    int64_t modes[N_JOINTS];
-    double qdd[2];
-    wk_friction_decode(phase, modes, N_JOINTS);
-    wk_friction_phase_accelerations(&KERNELS, p + I_COULOMB, modes, x, p, qdd);
-    wk_friction_first_order(x, qdd, 2, dx);
-}
-
-static void jac(int64_t phase, double t, const double *x, const double *p, double *J,
-                void *ctx)
-{
-    (void)t;
-    (void)ctx;
-    int64_t modes[N_JOINTS];
-    double a[2 * 4];
-    wk_friction_decode(phase, modes, N_JOINTS);
-    wk_friction_phase_jacobian(&KERNELS, p + I_COULOMB, modes, x, p, a);
-    wk_friction_first_order_jacobian(a, 2, J);
-}
+/* rhs and jac (wk_friction.h). */
+WK_FRICTION_ONE_BASE_FIELD(KERNELS, I_COULOMB)
 
 static void guards(int64_t phase, double t, const double *x, const double *p, double *g,
                    void *ctx)
@@ -64,8 +43,7 @@ static int64_t start(int64_t base, double *x, const double *p)
 {
     (void)base;
     int64_t modes[N_JOINTS] = {0, 0};
-    if (!wk_friction_phase_settle(&KERNELS, p + I_COULOMB, modes, x, p)) return -1;
-    return wk_friction_encode(modes, N_JOINTS);
+    return wk_friction_phase_start(&KERNELS, p + I_COULOMB, modes, 0, x, p);
 }
 
 static void reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
@@ -78,12 +56,8 @@ static void reset(int64_t phase, int64_t k, double t, const double *x, const dou
     }
     int64_t modes[N_JOINTS];
     wk_friction_decode(phase, modes, N_JOINTS);
-    if (!wk_friction_phase_switch(&KERNELS, p + I_COULOMB, modes, k - N_BASE_GUARDS, x, p,
-                                  x_new)) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_LINEAR_SOLVE_FAILED);
-        return;
-    }
-    wk_reset_out(out, WK_EVENT_CONTINUE, wk_friction_encode(modes, N_JOINTS), 0);
+    wk_friction_phase_reset(&KERNELS, p + I_COULOMB, modes, phase, 0, k - N_BASE_GUARDS, x, p,
+                            x_new, out);
 }
 
 /* The phase consistent with state x (walker.models.compass_coulomb.start_phase). */

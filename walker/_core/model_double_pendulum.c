@@ -23,29 +23,8 @@ static const wk_friction_kernels KERNELS = {
     wk_double_pendulum_dbias_dqd,
 };
 
-static void rhs(int64_t phase, double t, const double *x, const double *p, double *dx,
-                void *ctx)
-{
-    (void)t;
-    (void)ctx;
-    int64_t modes[N_JOINTS];
-    double qdd[2];
-    wk_friction_decode(phase, modes, N_JOINTS);
-    wk_friction_phase_accelerations(&KERNELS, p + I_COULOMB, modes, x, p, qdd);
-    wk_friction_first_order(x, qdd, 2, dx);
-}
-
-static void jac(int64_t phase, double t, const double *x, const double *p, double *J,
-                void *ctx)
-{
-    (void)t;
-    (void)ctx;
-    int64_t modes[N_JOINTS];
-    double a[2 * 4];
-    wk_friction_decode(phase, modes, N_JOINTS);
-    wk_friction_phase_jacobian(&KERNELS, p + I_COULOMB, modes, x, p, a);
-    wk_friction_first_order_jacobian(a, 2, J);
-}
+/* rhs and jac (wk_friction.h). */
+WK_FRICTION_ONE_BASE_FIELD(KERNELS, I_COULOMB)
 
 static void guards(int64_t phase, double t, const double *x, const double *p, double *g,
                    void *ctx)
@@ -66,11 +45,7 @@ static void reset(int64_t phase, int64_t k, double t, const double *x, const dou
     impulse[0] = 0.0;
     int64_t modes[N_JOINTS];
     wk_friction_decode(phase, modes, N_JOINTS);
-    if (!wk_friction_phase_switch(&KERNELS, p + I_COULOMB, modes, k, x, p, x_new)) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_LINEAR_SOLVE_FAILED);
-        return;
-    }
-    wk_reset_out(out, WK_EVENT_CONTINUE, wk_friction_encode(modes, N_JOINTS), 0);
+    wk_friction_phase_reset(&KERNELS, p + I_COULOMB, modes, phase, 0, k, x, p, x_new, out);
 }
 
 /* The phase consistent with state x (walker.models.double_pendulum.start_phase). */
@@ -79,10 +54,7 @@ static void start_phase(const double *x, const double *p, double *out, void *ctx
     (void)ctx;
     double y[4] = {x[0], x[1], x[2], x[3]};
     int64_t modes[N_JOINTS] = {0, 0};
-    if (!wk_friction_phase_settle(&KERNELS, p + I_COULOMB, modes, y, p))
-        out[0] = -1.0;
-    else
-        out[0] = (double)wk_friction_encode(modes, N_JOINTS);
+    out[0] = (double)wk_friction_phase_start(&KERNELS, p + I_COULOMB, modes, 0, y, p);
 }
 
 /* (kinetic, potential) [J]. */

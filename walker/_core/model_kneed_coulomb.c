@@ -46,12 +46,6 @@ static int split(int64_t phase, int64_t *modes)
     return LOCKED;
 }
 
-static int64_t join(int base, const int64_t *modes)
-{
-    if (base == UNLOCKED) return wk_friction_encode(modes, 3);
-    return N_UNLOCKED + wk_friction_encode(modes, 2);
-}
-
 static void rhs(int64_t phase, double t, const double *x, const double *p, double *dx,
                 void *ctx)
 {
@@ -59,12 +53,12 @@ static void rhs(int64_t phase, double t, const double *x, const double *p, doubl
     (void)ctx;
     int64_t modes[3];
     int base = split(phase, modes);
-    double qdd[3];
-    wk_friction_phase_accelerations(&KERNELS[base], p + I_COULOMB, modes, x, p, qdd);
     if (base == UNLOCKED) {
-        wk_friction_first_order(x, qdd, 3, dx);
+        wk_friction_phase_rhs(&KERNELS[base], p + I_COULOMB, phase, x, p, dx);
         return;
     }
+    double qdd[2];
+    wk_friction_phase_accelerations(&KERNELS[base], p + I_COULOMB, modes, x, p, qdd);
     dx[0] = x[3];
     dx[1] = x[4];
     dx[2] = x[4];
@@ -80,12 +74,12 @@ static void jac(int64_t phase, double t, const double *x, const double *p, doubl
     (void)ctx;
     int64_t modes[3];
     int base = split(phase, modes);
-    double a[3 * 6];
-    wk_friction_phase_jacobian(&KERNELS[base], p + I_COULOMB, modes, x, p, a);
     if (base == UNLOCKED) {
-        wk_friction_first_order_jacobian(a, 3, J);
+        wk_friction_phase_jac(&KERNELS[base], p + I_COULOMB, phase, x, p, J);
         return;
     }
+    double a[2 * 4];
+    wk_friction_phase_jacobian(&KERNELS[base], p + I_COULOMB, modes, x, p, a);
     /* Locked: (q1, q2, qd1, qd2) map to state columns 0, 1, 3, 4; q3, qd3 copy q2, qd2. */
     for (int i = 0; i < 36; i++) J[i] = 0.0;
     J[0 * 6 + 3] = 1.0;
@@ -116,9 +110,10 @@ static void guards(int64_t phase, double t, const double *x, const double *p, do
 static int64_t start(int64_t base, double *x, const double *p)
 {
     int64_t modes[3] = {0, 0, WK_STICK}; /* the locked knee (chosen below while unlocked) */
-    if (!wk_friction_phase_settle(&KERNELS[base], p + I_COULOMB, modes, x, p)) return -1;
-    if (base == LOCKED) x[5] = x[4];
-    return join((int)base, modes);
+    int64_t offset = base == LOCKED ? N_UNLOCKED : 0;
+    int64_t new_phase = wk_friction_phase_start(&KERNELS[base], p + I_COULOMB, modes, offset, x, p);
+    if (base == LOCKED && new_phase >= 0) x[5] = x[4];
+    return new_phase;
 }
 
 static void reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
@@ -131,13 +126,11 @@ static void reset(int64_t phase, int64_t k, double t, const double *x, const dou
         wk_friction_after_base_reset(start, phase, x_new, p, out);
         return;
     }
-    if (!wk_friction_phase_switch(&KERNELS[base], p + I_COULOMB, modes, k - N_BASE_GUARDS, x,
-                                  p, x_new)) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_LINEAR_SOLVE_FAILED);
-        return;
-    }
-    if (base == LOCKED) x_new[5] = x_new[4];
-    wk_reset_out(out, WK_EVENT_CONTINUE, join(base, modes), 0);
+    int64_t offset = base == LOCKED ? N_UNLOCKED : 0;
+    if (wk_friction_phase_reset(&KERNELS[base], p + I_COULOMB, modes, phase, offset,
+                                k - N_BASE_GUARDS, x, p, x_new, out) &&
+        base == LOCKED)
+        x_new[5] = x_new[4];
 }
 
 /* The unlocked phase consistent with state x (walker.models.kneed_coulomb.start_phase). */

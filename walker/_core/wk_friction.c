@@ -421,6 +421,47 @@ void wk_friction_first_order_jacobian(const double *a, int n, double *J)
     }
 }
 
+void wk_friction_phase_rhs(const wk_friction_kernels *K, const double *F, int64_t code,
+                           const double *x, const double *p, double *dx)
+{
+    int64_t modes[WK_FRICTION_MAX_JOINTS];
+    double qdd[WK_FRICTION_MAX_N];
+    if (!sizes_ok(K->n, K->m)) return;
+    wk_friction_decode(code, modes, K->m);
+    wk_friction_phase_accelerations(K, F, modes, x, p, qdd);
+    wk_friction_first_order(x, qdd, K->n, dx);
+}
+
+void wk_friction_phase_jac(const wk_friction_kernels *K, const double *F, int64_t code,
+                           const double *x, const double *p, double *J)
+{
+    int64_t modes[WK_FRICTION_MAX_JOINTS];
+    double a[WK_FRICTION_MAX_N * 2 * WK_FRICTION_MAX_N];
+    if (!sizes_ok(K->n, K->m)) return;
+    wk_friction_decode(code, modes, K->m);
+    wk_friction_phase_jacobian(K, F, modes, x, p, a);
+    wk_friction_first_order_jacobian(a, K->n, J);
+}
+
+int64_t wk_friction_phase_start(const wk_friction_kernels *K, const double *F, int64_t *modes,
+                                int64_t offset, double *x, const double *p)
+{
+    if (!wk_friction_phase_settle(K, F, modes, x, p)) return -1;
+    return offset + wk_friction_encode(modes, K->m);
+}
+
+int wk_friction_phase_reset(const wk_friction_kernels *K, const double *F, int64_t *modes,
+                            int64_t phase, int64_t offset, int64_t k, const double *x,
+                            const double *p, double *x_new, int64_t *out)
+{
+    if (!wk_friction_phase_switch(K, F, modes, k, x, p, x_new)) {
+        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_LINEAR_SOLVE_FAILED);
+        return 0;
+    }
+    wk_reset_out(out, WK_EVENT_CONTINUE, offset + wk_friction_encode(modes, K->m), 0);
+    return 1;
+}
+
 void wk_friction_after_base_reset(wk_friction_start_fn start, int64_t phase, double *x_new,
                                   const double *p, int64_t *out)
 {

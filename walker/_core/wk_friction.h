@@ -175,6 +175,49 @@ int wk_friction_phase_switch(const wk_friction_kernels *K, const double *F, int6
 void wk_friction_first_order(const double *x, const double *qdd, int n, double *dx);
 void wk_friction_first_order_jacobian(const double *a, int n, double *J);
 
+/* A model's rhs, jac, mode choice and friction reset over the phase functions above:
+ * C port of walker.friction's phase_rhs, phase_jac, phase_start and phase_reset.
+ * phase_rhs: dx = (qd, qdd) for a state x = (q, qd) of n coordinates (v0 = n) in the joint
+ * modes of mode code code (the numba function takes the decoded modes); phase_jac: its
+ * Jacobian J (2n x 2n).  Nothing is written if n or m exceed the maxima. */
+void wk_friction_phase_rhs(const wk_friction_kernels *K, const double *F, int64_t code,
+                           const double *x, const double *p, double *dx);
+void wk_friction_phase_jac(const wk_friction_kernels *K, const double *F, int64_t code,
+                           const double *x, const double *p, double *J);
+
+/* Defines the static rhs and jac (wk_functions signatures) of a friction model with one base
+ * phase, whose phase is the joint-mode code (model_compass_coulomb.c,
+ * model_double_pendulum.c): wk_friction_phase_rhs and wk_friction_phase_jac over its kernel
+ * table KT, with the dry frictions at p + I_COULOMB. */
+#define WK_FRICTION_ONE_BASE_FIELD(KT, I_COULOMB)                                              \
+    static void rhs(int64_t phase, double t, const double *x, const double *p, double *dx,   \
+                    void *ctx)                                                                \
+    {                                                                                         \
+        (void)t;                                                                              \
+        (void)ctx;                                                                            \
+        wk_friction_phase_rhs(&(KT), p + (I_COULOMB), phase, x, p, dx);                       \
+    }                                                                                         \
+    static void jac(int64_t phase, double t, const double *x, const double *p, double *J,    \
+                    void *ctx)                                                                \
+    {                                                                                         \
+        (void)t;                                                                              \
+        (void)ctx;                                                                            \
+        wk_friction_phase_jac(&(KT), p + (I_COULOMB), phase, x, p, J);                        \
+    }
+
+/* phase_start: every joint's mode chosen at state x (modes in place, the rates projected in
+ * place, wk_friction_phase_settle); returns the phase offset + encode(modes) (offset the
+ * first phase of the model's base phase), -1 if a system is singular. */
+int64_t wk_friction_phase_start(const wk_friction_kernels *K, const double *F, int64_t *modes,
+                                int64_t offset, double *x, const double *p);
+
+/* phase_reset: the reset of friction guard k in phase (modes the phase's, changed in place;
+ * wk_friction_phase_switch) into out: continue in offset + encode(modes), or end the run
+ * with WK_LINEAR_SOLVE_FAILED if a system is singular (then 0 is returned, else 1). */
+int wk_friction_phase_reset(const wk_friction_kernels *K, const double *F, int64_t *modes,
+                            int64_t phase, int64_t offset, int64_t k, const double *x,
+                            const double *p, double *x_new, int64_t *out);
+
 /* walker.models._common.after_base_reset: out holds a base model's reset (action, new base,
  * status) at x_new; after a real event every joint's mode is chosen afresh by
  * start(new_base, x_new, p) (the new phase, rates projected in place; -1 if singular).
