@@ -8,8 +8,9 @@ import math
 import numpy as np
 from numba import njit
 
+from walker import friction as fr
 from walker._linalg import solve_inplace
-from walker.status import EVENT_IGNORE, EVENT_TERMINAL, Status
+from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
 
 # The walker.status.Status values a reset map returns, as plain integers for compiled code.
 FELL_BACKWARD = int(Status.FELL_BACKWARD)
@@ -168,3 +169,204 @@ def after_base_reset(start, phase, action, new_base, status, x_new, p):
     if new_phase < 0:
         return EVENT_TERMINAL, phase, LINEAR_SOLVE_FAILED
     return action, new_phase, status
+
+
+# ---------------------------------------------------------------------------------------------
+# The actuated walkers with joint friction (three_link, five_link), written once over the
+# model's ``forces(x, p, D, f, u)`` (mass matrix D (n, n), generalized force without dry
+# friction f (n,) and controller torque u (m,) at state ``x``; returns True when the torque
+# saturated), its joint rows ``S`` (m, n) (``S = B^T``: the joints are the actuated ones, so
+# there are as many torques as joints) and the joints' dry-friction magnitudes ``F`` (m,).
+# The coordinates are ``x[:n]``, the rates ``x[n:2 n]``.  model_three_link.c and
+# model_five_link.c call their C ports in walker/_core/wk_actuated.c.
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def central_difference_jac(rhs, phase, t, x, p, J, rel_step):
+    """``df/dx`` of ``rhs(phase, t, x, p, dx)`` in ``phase`` by central differences, step
+    ``rel_step * max(1, |x_j|)``, into ``J`` (n, n)."""
+    n = x.shape[0]
+    xp = x.copy()
+    fp = np.empty(n)
+    fm = np.empty(n)
+    for j in range(n):
+        hstep = rel_step * max(1.0, abs(x[j]))
+        xp[j] = x[j] + hstep
+        rhs(phase, t, xp, p, fp)
+        xp[j] = x[j] - hstep
+        rhs(phase, t, xp, p, fm)
+        xp[j] = x[j]
+        for i in range(n):
+            J[i, j] = (fp[i] - fm[i]) / (2.0 * hstep)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def actuated_closed_loop(forces, S, F, phase, x, p, qdd, u, lam):
+    """Closed-loop accelerations ``qdd`` (n,), torques ``u`` (m,) and dry-friction torques
+    ``lam`` (m,) at ``x`` in ``phase`` (the joint-mode code); returns True when the controller
+    saturated."""
+    n = S.shape[1]
+    D = np.empty((n, n))
+    f = np.empty(n)
+    sat = forces(x, p, D, f, u)
+    modes = np.empty(S.shape[0], dtype=np.int64)
+    fr.decode(phase, modes)
+    fr.accelerations(D, f, S, F, modes, qdd, lam)
+    return sat
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def actuated_torques(forces, S, x, p):
+    """The controller's torques (m,) at ``x`` (the controller does not see the friction)."""
+    n = S.shape[1]
+    D = np.empty((n, n))
+    f = np.empty(n)
+    u = np.empty(S.shape[0])
+    forces(x, p, D, f, u)
+    return u
+
+
+@njit(cache=True, error_model="numpy")
+def slope_frame(v, slope):
+    """(along the slope, normal to it) components of a world vector ``v`` (2,)."""
+    return (
+        v[0] * math.cos(slope) - v[1] * math.sin(slope),
+        v[0] * math.sin(slope) + v[1] * math.cos(slope),
+    )
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def slope_frame_force(ground_reaction, x, p, qdd, slope):
+    """Ground force on the stance foot ``(F_t, F_n)`` [N] for the accelerations ``qdd`` (n,),
+    from the generated ``ground_reaction(q, qd, qdd, p, F)`` (world frame)."""
+    n = qdd.shape[0]
+    F = np.empty(2)
+    ground_reaction(x[:n], x[n : 2 * n], qdd, p, F)
+    return slope_frame(F, slope)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def actuated_ground_reaction(forces, ground_reaction, S, F, phase, x, p, slope):
+    """Ground force on the stance foot ``(F_t, F_n)`` [N] in ``phase``."""
+    qdd = np.empty(S.shape[1])
+    u = np.empty(S.shape[0])
+    lam = np.empty(S.shape[0])
+    actuated_closed_loop(forces, S, F, phase, x, p, qdd, u, lam)
+    return slope_frame_force(ground_reaction, x, p, qdd, slope)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def actuated_force_guards(
+    forces, ground_reaction, S, F, phase, x, p, mu, slope, g_contact, g_joints
+):
+    """The guards on forces in ``phase``: ``g_contact`` (3,) = ``(mu F_n - F_t, mu F_n + F_t,
+    F_n)`` (slip forward, slip backward, lift-off) from the ground reaction on the stance foot
+    for the closed-loop accelerations, ``g_joints`` (2 m,) the joints' friction guards
+    (:func:`walker.friction.guards`)."""
+    n = S.shape[1]
+    qdd = np.empty(n)
+    u = np.empty(S.shape[0])
+    lam = np.empty(S.shape[0])
+    actuated_closed_loop(forces, S, F, phase, x, p, qdd, u, lam)
+    ft, fn = slope_frame_force(ground_reaction, x, p, qdd, slope)
+    g_contact[0] = mu * fn - ft
+    g_contact[1] = mu * fn + ft
+    g_contact[2] = fn
+    modes = np.empty(S.shape[0], dtype=np.int64)
+    fr.decode(phase, modes)
+    fr.guards(S, F, modes, x[n : 2 * n], lam, g_joints)
+
+
+@njit(cache=True, error_model="numpy")
+def impact_status(impulse, lift, mu):
+    """The judgement of a heel strike on a floor with friction coefficient ``mu``: 0 when the
+    normal impulse ``impulse[1]`` is positive, the impulse inside the friction cone
+    ``|impulse[0]| <= mu impulse[1]`` and the trailing foot lifts off (``lift > 0``),
+    ``NONPHYSICAL_IMPACT`` otherwise."""
+    if not (impulse[1] > 0.0) or not (abs(impulse[0]) <= mu * impulse[1]) or not (lift > 0.0):
+        return NONPHYSICAL_IMPACT
+    return 0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def actuated_settle(forces, S, F, modes, free, x, p):
+    """Choose the modes of the ``free`` joints at state ``x`` (in place), project the
+    velocities of the stuck joints (in ``x``; :func:`walker.friction.settle`) and return the
+    phase; -1 if singular."""
+    n = S.shape[1]
+    D = np.empty((n, n))
+    f = np.empty(n)
+    u = np.empty(S.shape[0])
+    forces(x, p, D, f, u)
+    qd_new = np.empty(n)
+    if not fr.settle(D, f, S, F, x[n : 2 * n].copy(), free, modes, qd_new):
+        return -1
+    for i in range(n):
+        x[n + i] = qd_new[i]
+    return fr.encode(modes)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def actuated_after_heel_strike(forces, S, F, phase, status, x_new, p):
+    """The reset's ``(action, next phase, status)`` after a heel strike that returned
+    ``status`` with the post-impact state ``x_new``: every joint's mode afresh there (rates
+    projected in place), the stride ends; the run ends on a nonzero status or a singular
+    system."""
+    if status != 0:
+        return EVENT_TERMINAL, phase, status
+    m = S.shape[0]
+    new_phase = actuated_settle(
+        forces, S, F, np.zeros(m, dtype=np.int64), np.ones(m, dtype=np.bool_), x_new, p
+    )
+    if new_phase < 0:
+        return EVENT_TERMINAL, phase, LINEAR_SOLVE_FAILED
+    return EVENT_STRIDE, new_phase, 0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def actuated_joint_event(forces, S, F, phase, event, x, p, x_new):
+    """The reset of joint friction event ``event`` = ``2 j`` (joint j's slip_stops: plastic
+    lock, then every joint's mode chosen again) or ``2 j + 1`` (its stick_breaks: it slips
+    against its holding torque, the others chosen again) (:func:`walker.friction.switch`):
+    writes the rates into ``x_new`` and returns ``(action, next phase, status)``."""
+    n = S.shape[1]
+    modes = np.empty(S.shape[0], dtype=np.int64)
+    fr.decode(phase, modes)
+    D = np.empty((n, n))
+    f = np.empty(n)
+    u = np.empty(S.shape[0])
+    forces(x, p, D, f, u)
+    qd_new = np.empty(n)
+    j = event // 2
+    breaks = event % 2 == 1
+    if not fr.switch(D, f, S, F, x[n : 2 * n].copy(), j, breaks, modes, qd_new):
+        return EVENT_TERMINAL, phase, LINEAR_SOLVE_FAILED
+    for i in range(n):
+        x_new[n + i] = qd_new[i]
+    return EVENT_CONTINUE, fr.encode(modes), 0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def actuated_start_phase(forces, S, F, x, p):
+    """The phase consistent with state ``x``: the joints that move slip with the sign of
+    their rate, the joints at rest stick or slip as the forces decide
+    (:func:`walker.friction.choose_modes`)."""
+    n = S.shape[1]
+    D = np.empty((n, n))
+    f = np.empty(n)
+    u = np.empty(S.shape[0])
+    forces(x, p, D, f, u)
+    modes = np.zeros(S.shape[0], dtype=np.int64)
+    fr.choose_modes(D, f, S, F, x[n : 2 * n].copy(), np.ones(S.shape[0], dtype=np.bool_), modes)
+    return fr.encode(modes)
+
+
+def ground_reaction_at(ground_reaction_in_phase, start_phase, x, p, phase):
+    """The public ``ground_reaction(x, p, phase=None)`` of an actuated walker over its
+    compiled ``ground_reaction_in_phase(phase, x, p)``: ``phase`` None is the phase consistent
+    with ``x`` (``start_phase(x, p)``)."""
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    p = np.ascontiguousarray(p, dtype=np.float64)
+    if phase is None:
+        phase = start_phase(x, p)
+    return ground_reaction_in_phase(int(phase), x, p)

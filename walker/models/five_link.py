@@ -77,9 +77,28 @@ from walker import friction as fr
 from walker._generated import five_link as K
 from walker._generated import indices as ix
 from walker.control import controller_torque
-from walker.models._common import FALL_ANGLE, floating_base_heel_strike
+from walker.models._common import (
+    FALL_ANGLE,
+    FELL_BACKWARD,
+    FELL_FORWARD,
+    LINEAR_SOLVE_FAILED,
+    NONPHYSICAL_IMPACT,
+    TRIPPED,
+    actuated_after_heel_strike,
+    actuated_closed_loop,
+    actuated_force_guards,
+    actuated_ground_reaction,
+    actuated_joint_event,
+    actuated_start_phase,
+    actuated_torques,
+    central_difference_jac,
+    floating_base_heel_strike,
+    ground_reaction_at,
+    impact_status,
+    slope_frame,
+)
 from walker.params import MODELS
-from walker.status import EVENT_CONTINUE, EVENT_STRIDE, EVENT_TERMINAL, Status
+from walker.status import EVENT_TERMINAL
 
 N_X = 12
 N_Q = 5
@@ -165,12 +184,6 @@ become the stance ones, and the other way round)."""
 JAC_STEP = 1e-6
 """Relative step of the central differences that give the vector field's Jacobian."""
 
-_NONPHYSICAL = int(Status.NONPHYSICAL_IMPACT)
-_FELL_FORWARD = int(Status.FELL_FORWARD)
-_FELL_BACKWARD = int(Status.FELL_BACKWARD)
-_TRIPPED = int(Status.TRIPPED)
-_SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
-
 
 @njit(cache=True, error_model="numpy")
 def _forces(x, p, D, f, u):
@@ -228,13 +241,7 @@ def closed_loop(phase, x, p, qdd, u, lam):
     lam : ndarray, shape (4,)   (output) dry-friction torque of each joint [N m]: ``-+F_s``
         while slipping, the holding torque while stuck
     """
-    D = np.empty((5, 5))
-    f = np.empty(5)
-    sat = _forces(x, p, D, f, u)
-    modes = np.empty(N_JOINTS, dtype=np.int64)
-    fr.decode(phase, modes)
-    fr.accelerations(D, f, S_MATRIX, _dry(p), modes, qdd, lam)
-    return sat
+    return actuated_closed_loop(_forces, S_MATRIX, _dry(p), phase, x, p, qdd, u, lam)
 
 
 @njit(cache=True, error_model="numpy")
@@ -256,40 +263,14 @@ def rhs(phase, t, x, p, dx):
 @njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
     """df/dx by central differences (step ``JAC_STEP * max(1, |x_j|)``) in ``phase``."""
-    n = x.shape[0]
-    xp = x.copy()
-    fp = np.empty(n)
-    fm = np.empty(n)
-    for j in range(n):
-        hstep = JAC_STEP * max(1.0, abs(x[j]))
-        xp[j] = x[j] + hstep
-        rhs(phase, t, xp, p, fp)
-        xp[j] = x[j] - hstep
-        rhs(phase, t, xp, p, fm)
-        xp[j] = x[j]
-        for i in range(n):
-            J[i, j] = (fp[i] - fm[i]) / (2.0 * hstep)
-
-
-@njit(cache=True, error_model="numpy")
-def _slope_frame_force(x, p, qdd):
-    """Ground force on the stance foot ``(F_t, F_n)`` for the accelerations ``qdd`` [N]."""
-    F = np.empty(2)
-    K.ground_reaction(x[:5], x[5:10], qdd, p, F)
-    slope = p[I_SLOPE]
-    return (
-        F[0] * math.cos(slope) - F[1] * math.sin(slope),
-        F[0] * math.sin(slope) + F[1] * math.cos(slope),
-    )
+    central_difference_jac(rhs, phase, t, x, p, J, JAC_STEP)
 
 
 @njit(cache=True, error_model="numpy")
 def _ground_reaction(phase, x, p):
-    qdd = np.empty(5)
-    u = np.empty(4)
-    lam = np.empty(N_JOINTS)
-    closed_loop(phase, x, p, qdd, u, lam)
-    return _slope_frame_force(x, p, qdd)
+    return actuated_ground_reaction(
+        _forces, K.ground_reaction, S_MATRIX, _dry(p), phase, x, p, p[I_SLOPE]
+    )
 
 
 def ground_reaction(x, p, phase=None):
@@ -303,20 +284,7 @@ def ground_reaction(x, p, phase=None):
     phase : int, optional
         joint-mode phase; default the phase consistent with ``x`` (:func:`start_phase`).
     """
-    x = np.ascontiguousarray(x, dtype=np.float64)
-    p = np.ascontiguousarray(p, dtype=np.float64)
-    if phase is None:
-        phase = start_phase(x, p)
-    return _ground_reaction(int(phase), x, p)
-
-
-@njit(cache=True, error_model="numpy")
-def _slope_frame(v, slope):
-    """(along the slope, normal to it) components of a world vector."""
-    return (
-        v[0] * math.cos(slope) - v[1] * math.sin(slope),
-        v[0] * math.sin(slope) + v[1] * math.cos(slope),
-    )
+    return ground_reaction_at(_ground_reaction, start_phase, x, p, phase)
 
 
 @njit(cache=True, error_model="numpy")
@@ -324,7 +292,7 @@ def swing_foot(x, p):
     """(height above the slope, distance ahead of the stance foot along the slope) [m]."""
     pts = np.empty((6, 2))
     K.points(x[:5], p, pts)
-    t, n = _slope_frame(pts[4], p[I_SLOPE])
+    t, n = slope_frame(pts[4], p[I_SLOPE])
     return n, t
 
 
@@ -333,25 +301,25 @@ def guards(phase, t, x, p, g):
     pts = np.empty((6, 2))
     K.points(x[:5], p, pts)
     slope = p[I_SLOPE]
-    g[ix.FIVE_LINK_GUARD_HEEL_STRIKE] = _slope_frame(pts[4], slope)[1]
-    ht, hn = _slope_frame(pts[2], slope)
+    g[ix.FIVE_LINK_GUARD_HEEL_STRIKE] = slope_frame(pts[4], slope)[1]
+    ht, hn = slope_frame(pts[2], slope)
     psi = math.atan2(-ht, hn)  # stance foot -> hip, from the slope normal
     g[ix.FIVE_LINK_GUARD_FALL_FORWARD] = psi + FALL_ANGLE
     g[ix.FIVE_LINK_GUARD_FALL_BACKWARD] = psi - FALL_ANGLE
-    qdd = np.empty(5)
-    u = np.empty(4)
-    lam = np.empty(N_JOINTS)
-    closed_loop(phase, x, p, qdd, u, lam)
-    ft, fn = _slope_frame_force(x, p, qdd)
-    mu = p[I_FRICTION]
-    g[ix.FIVE_LINK_GUARD_SLIP_FORWARD] = mu * fn - ft
-    g[ix.FIVE_LINK_GUARD_SLIP_BACKWARD] = mu * fn + ft
-    g[ix.FIVE_LINK_GUARD_LIFT_OFF] = fn
     g[ix.FIVE_LINK_GUARD_HIP_DOWN] = hn
-    modes = np.empty(N_JOINTS, dtype=np.int64)
-    fr.decode(phase, modes)
-    F = _dry(p)
-    fr.guards(S_MATRIX, F, modes, x[5:10], lam, g[N_BASE_GUARDS : N_BASE_GUARDS + 2 * N_JOINTS])
+    actuated_force_guards(
+        _forces,
+        K.ground_reaction,
+        S_MATRIX,
+        _dry(p),
+        phase,
+        x,
+        p,
+        p[I_FRICTION],
+        slope,
+        g[ix.FIVE_LINK_GUARD_SLIP_FORWARD : ix.FIVE_LINK_GUARD_LIFT_OFF + 1],
+        g[N_BASE_GUARDS : N_BASE_GUARDS + 2 * N_JOINTS],
+    )
 
 
 @njit(cache=True, error_model="numpy")
@@ -378,7 +346,7 @@ def heel_strike(x, p, x_new, impulse):
         impulse,
     )
     if not ok:
-        return _SINGULAR
+        return LINEAR_SOLVE_FAILED
     for i in range(5):
         sq = 0.0
         sv = 0.0
@@ -387,27 +355,7 @@ def heel_strike(x, p, x_new, impulse):
             sv += RELABEL[i, j] * qdf_plus[j]
         x_new[i] = sq
         x_new[5 + i] = sv
-    mu = p[I_FRICTION]
-    if not (impulse[1] > 0.0) or not (abs(impulse[0]) <= mu * impulse[1]) or not (lift > 0.0):
-        return _NONPHYSICAL
-    return 0
-
-
-@njit(cache=True, error_model="numpy")
-def _settle(modes, free, x, p):
-    """Choose the modes of the ``free`` joints at state ``x`` (in place), project the
-    velocities of the stuck joints (in ``x``; :func:`walker.friction.settle`) and return the
-    phase; -1 if singular."""
-    D = np.empty((5, 5))
-    f = np.empty(5)
-    u = np.empty(4)
-    _forces(x, p, D, f, u)
-    qd_new = np.empty(5)
-    if not fr.settle(D, f, S_MATRIX, _dry(p), x[5:10].copy(), free, modes, qd_new):
-        return -1
-    for i in range(5):
-        x[5 + i] = qd_new[i]
-    return fr.encode(modes)
+    return impact_status(impulse, lift, p[I_FRICTION])
 
 
 @njit(cache=True, error_model="numpy")
@@ -416,39 +364,18 @@ def reset(phase, k, t, x, p, x_new, impulse):
         x_new[i] = x[i]
     if k == 0:
         if swing_foot(x, p)[1] <= MIN_STEP * (p[I_LENGTH_FEMUR] + p[I_LENGTH_TIBIA]):
-            return EVENT_TERMINAL, phase, _TRIPPED
+            return EVENT_TERMINAL, phase, TRIPPED
         status = heel_strike(x, p, x_new, impulse)
-        if status != 0:
-            return EVENT_TERMINAL, phase, status
         # every joint's mode afresh for the post-impact state
-        new_phase = _settle(
-            np.zeros(N_JOINTS, dtype=np.int64), np.ones(N_JOINTS, dtype=np.bool_), x_new, p
-        )
-        if new_phase < 0:
-            return EVENT_TERMINAL, phase, _SINGULAR
-        return EVENT_STRIDE, new_phase, 0
+        return actuated_after_heel_strike(_forces, S_MATRIX, _dry(p), phase, status, x_new, p)
     if k == 1:
-        return EVENT_TERMINAL, phase, _FELL_FORWARD
+        return EVENT_TERMINAL, phase, FELL_FORWARD
     if k == 2 or k == 6:
-        return EVENT_TERMINAL, phase, _FELL_BACKWARD
+        return EVENT_TERMINAL, phase, FELL_BACKWARD
     if k < N_BASE_GUARDS:
-        return EVENT_TERMINAL, phase, _NONPHYSICAL
-    # joint j's slip_stops (plastic lock, then every joint's mode chosen again) or
-    # stick_breaks (it slips against its holding torque, the others chosen again)
-    modes = np.empty(N_JOINTS, dtype=np.int64)
-    fr.decode(phase, modes)
-    D = np.empty((5, 5))
-    f = np.empty(5)
-    u = np.empty(4)
-    _forces(x, p, D, f, u)
-    qd_new = np.empty(5)
-    j = (k - N_BASE_GUARDS) // 2
-    breaks = (k - N_BASE_GUARDS) % 2 == 1
-    if not fr.switch(D, f, S_MATRIX, _dry(p), x[5:10].copy(), j, breaks, modes, qd_new):
-        return EVENT_TERMINAL, phase, _SINGULAR
-    for i in range(5):
-        x_new[5 + i] = qd_new[i]
-    return EVENT_CONTINUE, fr.encode(modes), 0
+        return EVENT_TERMINAL, phase, NONPHYSICAL_IMPACT
+    # joint j's slip_stops or stick_breaks
+    return actuated_joint_event(_forces, S_MATRIX, _dry(p), phase, k - N_BASE_GUARDS, x, p, x_new)
 
 
 @njit(cache=True, error_model="numpy")
@@ -456,15 +383,7 @@ def start_phase(x, p):
     """The phase consistent with state ``x``: the joints that move slip with the sign of
     their rate, the joints at rest stick or slip as the forces decide
     (:func:`walker.friction.choose_modes`)."""
-    D = np.empty((5, 5))
-    f = np.empty(5)
-    u = np.empty(4)
-    _forces(x, p, D, f, u)
-    modes = np.zeros(N_JOINTS, dtype=np.int64)
-    fr.choose_modes(
-        D, f, S_MATRIX, _dry(p), x[5:10].copy(), np.ones(N_JOINTS, dtype=np.bool_), modes
-    )
-    return fr.encode(modes)
+    return actuated_start_phase(_forces, S_MATRIX, _dry(p), x, p)
 
 
 @njit(cache=True, error_model="numpy")
@@ -478,11 +397,7 @@ def torques(x, p):
     """Torques ``(hip stance, hip swing, knee stance, knee swing)`` [N m] the controller
     applies at ``x`` (the controller does not see the friction, so they do not depend on
     the joint modes)."""
-    D = np.empty((5, 5))
-    f = np.empty(5)
-    u = np.empty(4)
-    _forces(x, p, D, f, u)
-    return u
+    return actuated_torques(_forces, S_MATRIX, x, p)
 
 
 @njit(cache=True, error_model="numpy")

@@ -52,7 +52,12 @@ from walker._generated import indices as ix
 from walker._generated import kneed as K
 from walker.models._common import (
     FALL_ANGLE,
+    FELL_BACKWARD,
+    FELL_FORWARD,
+    LINEAR_SOLVE_FAILED,
     MIN_STEP,
+    NONPHYSICAL_IMPACT,
+    TRIPPED,
     floating_base_heel_strike,
     impact,
 )
@@ -62,7 +67,6 @@ from walker.status import (
     EVENT_IGNORE,
     EVENT_STRIDE,
     EVENT_TERMINAL,
-    Status,
 )
 
 N_X = 6
@@ -94,11 +98,6 @@ _I_R, _I_SLOPE = ix.KNEED_P_FOOT_RADIUS, ix.KNEED_P_SLOPE
 # |q3 - q2| [rad] below which a foot contact with the knee unlocked counts as simultaneous
 # with knee lock rather than as a trip.
 _KNEE_TOL = 1e-6
-_NONPHYSICAL = int(Status.NONPHYSICAL_IMPACT)
-_FELL_FORWARD = int(Status.FELL_FORWARD)
-_FELL_BACKWARD = int(Status.FELL_BACKWARD)
-_TRIPPED = int(Status.TRIPPED)
-_SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
 
 
 @njit(cache=True, error_model="numpy")
@@ -202,7 +201,7 @@ def knee_lock(x, p, x_new, impulse):
     qd_plus = np.empty(3)
     lam = np.empty(1)
     if not impact(M, J, x[3:], qd_plus, lam):
-        return _SINGULAR
+        return LINEAR_SOLVE_FAILED
     x_new[0] = x[0]
     x_new[1] = x[1]
     x_new[2] = x[1]
@@ -236,7 +235,7 @@ def heel_strike(x, p, x_new, impulse):
         impulse,
     )
     if not ok:
-        return _SINGULAR
+        return LINEAR_SOLVE_FAILED
     x_new[0] = x[1]
     x_new[1] = x[0]
     x_new[2] = x[0]
@@ -244,7 +243,7 @@ def heel_strike(x, p, x_new, impulse):
     x_new[4] = qdf_plus[0]
     x_new[5] = qdf_plus[0]
     if not (impulse[1] > 0.0) or not (lift > 0.0):
-        return _NONPHYSICAL
+        return NONPHYSICAL_IMPACT
     return 0
 
 
@@ -289,7 +288,7 @@ def _reset(phase, k, x, p, x_new, impulse, ignore_scuff):
             if ignore_scuff:
                 # swing_scuff = "ignore": the bent-knee swing foot passes through the ground.
                 return EVENT_IGNORE, phase, 0
-            return EVENT_TERMINAL, phase, _TRIPPED
+            return EVENT_TERMINAL, phase, TRIPPED
         if swing_foot(x, p)[1] <= _min_step(p):
             return EVENT_IGNORE, phase, 0
         status = heel_strike(x, p, x_new, impulse)
@@ -297,8 +296,8 @@ def _reset(phase, k, x, p, x_new, impulse, ignore_scuff):
             return EVENT_TERMINAL, phase, status
         return EVENT_STRIDE, 0, 0
     if k == 2:
-        return EVENT_TERMINAL, phase, _FELL_FORWARD
-    return EVENT_TERMINAL, phase, _FELL_BACKWARD
+        return EVENT_TERMINAL, phase, FELL_FORWARD
+    return EVENT_TERMINAL, phase, FELL_BACKWARD
 
 
 @njit(cache=True, error_model="numpy")

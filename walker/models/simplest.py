@@ -37,9 +37,9 @@ from numba import njit
 
 from walker._generated import indices as ix
 from walker._generated import simplest as K
-from walker.models._common import FALL_ANGLE
+from walker.models._common import FALL_ANGLE, FELL_BACKWARD, FELL_FORWARD
 from walker.params import MODELS
-from walker.status import EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
+from walker.status import EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL
 
 N_X = 4
 N_IMPULSE = 1
@@ -48,9 +48,6 @@ GUARD_NAMES = ("heel_strike", "fall_forward", "fall_backward")
 DIRECTIONS = np.array([[1, -1, 1]], dtype=np.int64)
 STATE_NAMES = MODELS["simplest"].state_names  # the model registry (walker.params)
 SECTION_NAMES = ("theta", "theta_dot")
-
-_FELL_FORWARD = int(Status.FELL_FORWARD)
-_FELL_BACKWARD = int(Status.FELL_BACKWARD)
 
 
 @njit(cache=True, error_model="numpy")
@@ -97,8 +94,8 @@ def reset(phase, k, t, x, p, x_new, impulse):
         x_new[3] = c * (1.0 - c) * x[2]
         return EVENT_STRIDE, 0, 0
     if k == 1:
-        return EVENT_TERMINAL, phase, _FELL_FORWARD
-    return EVENT_TERMINAL, phase, _FELL_BACKWARD
+        return EVENT_TERMINAL, phase, FELL_FORWARD
+    return EVENT_TERMINAL, phase, FELL_BACKWARD
 
 
 @njit(cache=True, error_model="numpy")
