@@ -42,12 +42,11 @@ static int torque(void *ctx, const double *q, const double *qd, const double *D,
                   const double *h, const double *p, double *u)
 {
     const wk_controller *ctl = (const wk_controller *)ctx;
-    if (ctl != NULL && ctl->torque != NULL)
-        return ctl->torque(q, qd, D, h, B_MATRIX, p, u, ctl->user) != 0;
-    if ((int64_t)p[CONTROL_OFFSET + WK_CONTROL_I_MODE] == WK_CONTROL_MODE_FINITE_TIME)
+    if ((ctl == NULL || ctl->torque == NULL) &&
+        (int64_t)p[CONTROL_OFFSET + WK_CONTROL_I_MODE] == WK_CONTROL_MODE_FINITE_TIME)
         return wk_control_finite_time_torque(q, qd, D, h, B_MATRIX, p + CONTROL_OFFSET,
                                              p + I_FT, u, N_Q);
-    return wk_control_controller_torque(q, qd, D, h, B_MATRIX, p + CONTROL_OFFSET, u, N_Q);
+    return wk_actuated_torque(ctx, q, qd, D, h, B_MATRIX, p, CONTROL_OFFSET, u, N_Q);
 }
 
 /* Mass matrix D, generalized force without dry friction f = B u - h - F_v S^T S qd and
@@ -81,18 +80,15 @@ static void dry(const double *p, double *F)
     F[1] = p[I_COULOMB_HIP];
 }
 
+static const wk_actuated_model MODEL = {N_Q, N_JOINTS, S_MATRIX, forces, dry,
+                                        wk_three_link_ground_reaction};
+
 /* Closed-loop accelerations, torques and dry-friction torques in ``phase``; returns 1 when
  * the controller saturated. */
 static int closed_loop(int64_t phase, const double *x, const double *p, double *qdd,
                        double *u, double *lam, void *ctx)
 {
-    double D[N_Q * N_Q], f[N_Q], F[N_JOINTS];
-    int64_t modes[N_JOINTS];
-    int sat = forces(x, p, D, f, u, ctx);
-    wk_friction_decode(phase, modes, N_JOINTS);
-    dry(p, F);
-    wk_friction_accelerations(D, f, S_MATRIX, F, modes, N_Q, N_JOINTS, qdd, lam);
-    return sat;
+    return wk_actuated_closed_loop(&MODEL, phase, x, p, qdd, u, lam, ctx);
 }
 
 void wk_model_three_link_rhs(int64_t phase, double t, const double *x, const double *p,
@@ -127,7 +123,6 @@ static int ft_linearized_torque(const double *q, const double *qd, const double 
 void wk_model_three_link_jac(int64_t phase, double t, const double *x, const double *p,
                              double *J, void *ctx)
 {
-    double xp[N_X], fp[N_X], fm[N_X];
     const wk_controller *ctl = (const wk_controller *)ctx;
     ft_linearized L;
     wk_controller lin_ctl;
@@ -141,28 +136,7 @@ void wk_model_three_link_jac(int64_t phase, double t, const double *x, const dou
         ctx = &lin_ctl;
         rel_step = JAC_STEP_FT;
     }
-    for (int i = 0; i < N_X; i++) xp[i] = x[i];
-    for (int j = 0; j < N_X; j++) {
-        double ax = fabs(x[j]);
-        double hstep = rel_step * (ax > 1.0 ? ax : 1.0);
-        xp[j] = x[j] + hstep;
-        wk_model_three_link_rhs(phase, t, xp, p, fp, ctx);
-        xp[j] = x[j] - hstep;
-        wk_model_three_link_rhs(phase, t, xp, p, fm, ctx);
-        xp[j] = x[j];
-        for (int i = 0; i < N_X; i++) J[i * N_X + j] = (fp[i] - fm[i]) / (2.0 * hstep);
-    }
-}
-
-/* Ground force on the stance foot (F_t, F_n) for the accelerations qdd [N]. */
-static void slope_frame_force(const double *x, const double *p, const double *qdd,
-                              double *ft, double *fn)
-{
-    double F[2];
-    wk_three_link_ground_reaction(x, x + 3, qdd, p, F);
-    double slope = p[I_SLOPE];
-    *ft = F[0] * cos(slope) - F[1] * sin(slope);
-    *fn = F[0] * sin(slope) + F[1] * cos(slope);
+    wk_actuated_jac(wk_model_three_link_rhs, phase, t, x, p, J, ctx, N_X, rel_step);
 }
 
 /* (height above the slope, distance ahead of the stance foot along the slope) [m]. */
@@ -187,19 +161,8 @@ void wk_model_three_link_guards(int64_t phase, double t, const double *x, const 
     g[WK_THREE_LINK_GUARD_HEEL_STRIKE] = p[I_STEP_EVENT] == 1.0 ? x[0] - p[I_THETA_MINUS] : height;
     g[WK_THREE_LINK_GUARD_FALL_FORWARD] = psi1 + WK_FALL_ANGLE;
     g[WK_THREE_LINK_GUARD_FALL_BACKWARD] = psi1 - WK_FALL_ANGLE;
-    double qdd[N_Q], u[N_U], lam[N_JOINTS];
-    closed_loop(phase, x, p, qdd, u, lam, ctx);
-    double ft, fn;
-    slope_frame_force(x, p, qdd, &ft, &fn);
-    double mu = p[I_FRICTION];
-    g[WK_THREE_LINK_GUARD_SLIP_FORWARD] = mu * fn - ft;
-    g[WK_THREE_LINK_GUARD_SLIP_BACKWARD] = mu * fn + ft;
-    g[WK_THREE_LINK_GUARD_LIFT_OFF] = fn;
-    int64_t modes[N_JOINTS];
-    double F[N_JOINTS];
-    wk_friction_decode(phase, modes, N_JOINTS);
-    dry(p, F);
-    wk_friction_guards(S_MATRIX, F, modes, x + 3, lam, N_Q, N_JOINTS, g + N_BASE_GUARDS);
+    wk_actuated_force_guards(&MODEL, phase, x, p, p[I_FRICTION], p[I_SLOPE],
+                             g + WK_THREE_LINK_GUARD_SLIP_FORWARD, g + N_BASE_GUARDS, ctx);
 }
 
 /* Floating-base heel-strike impact and leg swap; returns a status (0 for a physical
@@ -220,25 +183,7 @@ static int64_t heel_strike(const double *x, const double *p, double *x_new, doub
     x_new[3] = qdf_plus[1];
     x_new[4] = qdf_plus[0];
     x_new[5] = qdf_plus[2];
-    double mu = p[I_FRICTION];
-    if (!(impulse[1] > 0.0) || !(fabs(impulse[0]) <= mu * impulse[1]) || !(lift > 0.0))
-        return WK_NONPHYSICAL_IMPACT;
-    return 0;
-}
-
-/* Chooses the modes of the free joints at state x (in place), projects the velocities of
- * the stuck joints (in x) and returns the phase; -1 if singular. */
-static int64_t settle(int64_t *modes, const bool *free_joints, double *x, const double *p,
-                      void *ctx)
-{
-    double D[N_Q * N_Q], f[N_Q], u[N_U], F[N_JOINTS], qd[N_Q], qd_new[N_Q];
-    forces(x, p, D, f, u, ctx);
-    dry(p, F);
-    for (int i = 0; i < N_Q; i++) qd[i] = x[3 + i];
-    if (!wk_friction_settle(D, f, S_MATRIX, F, qd, free_joints, N_Q, N_JOINTS, modes, qd_new))
-        return -1;
-    for (int i = 0; i < 3; i++) x[3 + i] = qd_new[i];
-    return wk_friction_encode(modes, N_JOINTS);
+    return wk_impact_status(impulse, lift, p[I_FRICTION]);
 }
 
 void wk_model_three_link_reset(int64_t phase, int64_t k, double t, const double *x,
@@ -255,19 +200,8 @@ void wk_model_three_link_reset(int64_t phase, int64_t k, double t, const double 
             return;
         }
         int64_t status = heel_strike(x, p, x_new, impulse);
-        if (status != 0) {
-            wk_reset_out(out, WK_EVENT_TERMINAL, phase, status);
-            return;
-        }
         /* every joint's mode afresh for the post-impact state */
-        int64_t modes[N_JOINTS] = {0, 0};
-        const bool free_joints[N_JOINTS] = {true, true};
-        int64_t new_phase = settle(modes, free_joints, x_new, p, ctx);
-        if (new_phase < 0) {
-            wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_LINEAR_SOLVE_FAILED);
-            return;
-        }
-        wk_reset_out(out, WK_EVENT_STRIDE, new_phase, 0);
+        wk_actuated_after_heel_strike(&MODEL, phase, status, x_new, p, out, ctx);
         return;
     }
     if (k == 1) {
@@ -282,36 +216,14 @@ void wk_model_three_link_reset(int64_t phase, int64_t k, double t, const double 
         wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_NONPHYSICAL_IMPACT);
         return;
     }
-    /* joint j's slip_stops (plastic lock, then every joint's mode chosen again) or
-     * stick_breaks (it slips against its holding torque, the others chosen again) */
-    int64_t modes[N_JOINTS];
-    double D[N_Q * N_Q], f[N_Q], u[N_U], F[N_JOINTS], qd[N_Q], qd_new[N_Q];
-    wk_friction_decode(phase, modes, N_JOINTS);
-    forces(x, p, D, f, u, ctx);
-    dry(p, F);
-    for (int i = 0; i < N_Q; i++) qd[i] = x[3 + i];
-    int64_t j = (k - N_BASE_GUARDS) / 2;
-    bool breaks = (k - N_BASE_GUARDS) % 2 == 1;
-    if (!wk_friction_switch(D, f, S_MATRIX, F, qd, j, breaks, N_Q, N_JOINTS, modes,
-                            qd_new)) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_LINEAR_SOLVE_FAILED);
-        return;
-    }
-    for (int i = 0; i < 3; i++) x_new[3 + i] = qd_new[i];
-    wk_reset_out(out, WK_EVENT_CONTINUE, wk_friction_encode(modes, N_JOINTS), 0);
+    /* joint j's slip_stops or stick_breaks */
+    wk_actuated_joint_event(&MODEL, phase, k - N_BASE_GUARDS, x, p, x_new, out, ctx);
 }
 
 void wk_model_three_link_start_phase(const double *x, const double *p, double *out,
                                      void *ctx)
 {
-    double D[N_Q * N_Q], f[N_Q], u[N_U], F[N_JOINTS], qd[N_Q];
-    int64_t modes[N_JOINTS] = {0, 0};
-    const bool free_joints[N_JOINTS] = {true, true};
-    forces(x, p, D, f, u, ctx);
-    dry(p, F);
-    for (int i = 0; i < N_Q; i++) qd[i] = x[3 + i];
-    wk_friction_choose_modes(D, f, S_MATRIX, F, qd, free_joints, N_Q, N_JOINTS, modes);
-    out[0] = (double)wk_friction_encode(modes, N_JOINTS);
+    out[0] = (double)wk_actuated_start_phase(&MODEL, x, p, ctx);
 }
 
 void wk_model_three_link_energy(const double *x, const double *p, double *out, void *ctx)
