@@ -41,6 +41,7 @@ import sympy as sp
 
 from walker.symbolic.codegen import Kernel
 from walker.symbolic.mechanics import Body, LagrangianModel, derive
+from walker.symbolic.models import _coords, _u
 
 __all__ = [
     "THREE_LINK_PARAMS",
@@ -48,6 +49,7 @@ __all__ = [
     "three_link_extended",
     "three_link_kernels",
     "three_link_extra",
+    "actuated_kernels",
 ]
 
 THREE_LINK_PARAMS = (
@@ -67,16 +69,6 @@ THREE_LINK_PARAMS = (
 
 def _symbols():
     return tuple(sp.Symbol(n, real=True) for n in THREE_LINK_PARAMS)
-
-
-def _u(angle):
-    return sp.Matrix([-sp.sin(angle), sp.cos(angle)])
-
-
-def _coords(names):
-    q = sp.symbols(" ".join(names), real=True)
-    qd = sp.symbols(" ".join(f"{n}_dot" for n in names), real=True)
-    return tuple(q), tuple(qd)
 
 
 def _bodies(q1, q2, q3, hip, params):
@@ -176,12 +168,20 @@ def three_link_kernels() -> list[Kernel]:
     ``dmass``, ...), ``hip_jac``, ``ground_reaction(q, qd, qdd, p)``; floating base:
     ``ext_mass_matrix``, ``ext_swing_contact_jac``, ``ext_stance_contact_jac``.
     """
+    qdd = sp.symbols("q_stance_ddot q_swing_ddot q_torso_ddot", real=True)
+    return actuated_kernels(three_link(), three_link_extended(), qdd)
+
+
+def actuated_kernels(m: LagrangianModel, ext: LagrangianModel, qdd) -> list[Kernel]:
+    """The kernels of an actuated walker's generated module from its pinned model ``m``, its
+    floating-base model ``ext`` and the symbols ``qdd`` of the accelerations: the dynamics
+    kernels of the passive walkers (``mass_matrix``, ``bias``, ``dmass``, ...), ``hip_jac``,
+    ``ground_reaction(q, qd, qdd, p)``, ``ext_mass_matrix``, ``ext_swing_contact_jac`` and
+    ``ext_stance_contact_jac``."""
     from walker.symbolic.dynamics import dynamics_kernels, hip_jacobian
 
-    m = three_link()
-    ext = three_link_extended()
-    qdd = sp.symbols("q_stance_ddot q_swing_ddot q_torso_ddot", real=True)
     q, p = ("q", ext.q), ("p", ext.params)
+    n = len(ext.q)
     return dynamics_kernels(m, "") + [
         hip_jacobian(m, ""),
         Kernel(
@@ -190,18 +190,18 @@ def three_link_kernels() -> list[Kernel]:
             ground_reaction(m, qdd),
             "World-frame ground force on the stance foot (F_x, F_y) [N], out (2,).",
         ),
-        Kernel("ext_mass_matrix", (q, p), ext.D, "Floating-base mass matrix, out (5, 5)."),
+        Kernel("ext_mass_matrix", (q, p), ext.D, f"Floating-base mass matrix, out ({n}, {n})."),
         Kernel(
             "ext_swing_contact_jac",
             (q, p),
             ext.point_jacobian("swing_contact"),
-            "Jacobian of the swing foot position, out (2, 5).",
+            f"Jacobian of the swing foot position, out (2, {n}).",
         ),
         Kernel(
             "ext_stance_contact_jac",
             (q, p),
             ext.point_jacobian("stance_contact"),
-            "Jacobian of the stance foot position, out (2, 5).",
+            f"Jacobian of the stance foot position, out (2, {n}).",
         ),
     ]
 

@@ -50,6 +50,7 @@ import sympy as sp
 
 from walker.symbolic.codegen import Kernel
 from walker.symbolic.mechanics import Body, LagrangianModel, derive
+from walker.symbolic.models import _coords, _u
 
 __all__ = [
     "FIVE_LINK_PARAMS",
@@ -94,16 +95,6 @@ B_MATRIX = _RELATIVE.T
 
 def _symbols():
     return tuple(sp.Symbol(n, real=True) for n in FIVE_LINK_PARAMS)
-
-
-def _u(angle):
-    return sp.Matrix([-sp.sin(angle), sp.cos(angle)])
-
-
-def _coords(names):
-    q = sp.symbols(" ".join(names), real=True)
-    qd = sp.symbols(" ".join(f"{n}_dot" for n in names), real=True)
-    return tuple(q), tuple(qd)
 
 
 def _absolute(q):
@@ -175,35 +166,10 @@ def five_link_kernels() -> list[Kernel]:
     ``dmass``, ...), ``hip_jac``, ``ground_reaction(q, qd, qdd, p)``; floating base:
     ``ext_mass_matrix``, ``ext_swing_contact_jac``, ``ext_stance_contact_jac``.
     """
-    from walker.symbolic.actuated import ground_reaction
-    from walker.symbolic.dynamics import dynamics_kernels, hip_jacobian
+    from walker.symbolic.actuated import actuated_kernels
 
-    m = five_link()
-    ext = five_link_extended()
     qdd = sp.symbols(" ".join(f"{n}_ddot" for n in COORDINATES), real=True)
-    q, p = ("q", ext.q), ("p", ext.params)
-    return dynamics_kernels(m, "") + [
-        hip_jacobian(m, ""),
-        Kernel(
-            "ground_reaction",
-            (("q", m.q), ("qd", m.qd), ("qdd", qdd), ("p", m.params)),
-            ground_reaction(m, qdd),
-            "World-frame ground force on the stance foot (F_x, F_y) [N], out (2,).",
-        ),
-        Kernel("ext_mass_matrix", (q, p), ext.D, "Floating-base mass matrix, out (7, 7)."),
-        Kernel(
-            "ext_swing_contact_jac",
-            (q, p),
-            ext.point_jacobian("swing_contact"),
-            "Jacobian of the swing foot position, out (2, 7).",
-        ),
-        Kernel(
-            "ext_stance_contact_jac",
-            (q, p),
-            ext.point_jacobian("stance_contact"),
-            "Jacobian of the stance foot position, out (2, 7).",
-        ),
-    ]
+    return actuated_kernels(five_link(), five_link_extended(), qdd)
 
 
 def five_link_extra() -> str:

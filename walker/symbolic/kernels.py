@@ -11,6 +11,8 @@ from dataclasses import replace
 
 import sympy as sp
 
+from walker.models import compass as compass_model
+from walker.models import kneed as kneed_model
 from walker.symbolic import models
 from walker.symbolic.codegen import AccelJacobianKernel, AccelKernel, Kernel
 from walker.symbolic.dynamics import dynamics_kernels, hip_jacobian
@@ -141,24 +143,11 @@ C_MODULES = ("simplest", "compass", "kneed", "double_pendulum", "three_link", "f
 """Modules also printed in C (``walker/_generated/<name>.c``/``.h``), compiled into
 ``walker._hybrid``."""
 
-C_VARIANTS = {
-    "compass": {"plain": ("foot_radius", "inertia_leg", "damping_hip", "damping_ankle")},
-    "kneed": {
-        "plain": (
-            "inertia_thigh",
-            "inertia_shank",
-            "offset_thigh",
-            "offset_shank",
-            "foot_radius",
-            "damping_hip",
-            "damping_knee",
-            "damping_ankle",
-        )
-    },
-}
+C_VARIANTS = {"compass": compass_model.VARIANTS, "kneed": kneed_model.VARIANTS}
 """Structural variants printed in C as ``<name>_<variant>`` (functions
 ``wk_<name>_<variant>_<kernel>``, registry names ``"<name>/<variant>.<kernel>"``): the listed
-parameters are exactly 0 (the same sets as ``VARIANTS`` of walker.models.<name>)."""
+parameters are exactly 0: the sets ``VARIANTS`` of walker.models.<name>, read from there (the
+run-time model picks a variant by them)."""
 
 VARIANT_KERNELS = (
     "accel",

@@ -143,6 +143,21 @@ def _coords(names):
     return tuple(q), tuple(qd)
 
 
+def _floating_foot_points(hip, q_stance, q_swing, L, R, n):
+    """Named points of a floating-base walker whose straight legs of length ``L`` (at
+    ``q_stance``, ``q_swing`` from the hip at ``hip``) end in foot arcs of radius ``R``: the
+    arcs' centres, their lowest points along the slope normal ``n``, and the hip."""
+    stance_center = hip - (L - R) * _u(q_stance)
+    swing_center = hip - (L - R) * _u(q_swing)
+    return {
+        "stance_center": stance_center,
+        "swing_center": swing_center,
+        "stance_contact": stance_center - R * n,
+        "swing_contact": swing_center - R * n,
+        "hip": hip,
+    }
+
+
 # --------------------------------------------------------------------------- simplest walker
 @cache
 def simplest() -> dict:
@@ -292,16 +307,8 @@ def compass_extended() -> LagrangianModel:
     s, n = _slope_frame(slope)
     L = a + b
     hip = sp.Matrix([xh, yh])
-    stance_center = hip - (L - R) * _u(q1)
-    swing_center = hip - (L - R) * _u(q2)
-    points = {
-        "stance_center": stance_center,
-        "swing_center": swing_center,
-        "stance_contact": stance_center - R * n,
-        "swing_contact": swing_center - R * n,
-        "hip": hip,
-    }
-    bodies = _compass_bodies(q1, q2, hip, params, stance_center)
+    points = _floating_foot_points(hip, q1, q2, L, R, n)
+    bodies = _compass_bodies(q1, q2, hip, params, points["stance_center"])
     return derive(
         "compass_extended",
         (q1, q2, xh, yh),
@@ -443,16 +450,8 @@ def kneed_extended() -> LagrangianModel:
     s, n = _slope_frame(slope)
     l_s, l_t, L = _kneed_geometry(params)
     hip = sp.Matrix([xh, yh])
-    stance_center = hip - (L - R) * _u(q1)
-    bodies, knee = _kneed_bodies(q1, q2, q2, hip, params, stance_center)
-    swing_center = hip - (L - R) * _u(q2)
-    points = {
-        "stance_center": stance_center,
-        "swing_center": swing_center,
-        "stance_contact": stance_center - R * n,
-        "swing_contact": swing_center - R * n,
-        "hip": hip,
-    }
+    points = _floating_foot_points(hip, q1, q2, L, R, n)
+    bodies, knee = _kneed_bodies(q1, q2, q2, hip, params, points["stance_center"])
     return derive(
         "kneed_extended",
         (q1, q2, xh, yh),
