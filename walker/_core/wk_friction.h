@@ -34,12 +34,6 @@
 #define WK_FRICTION_MAX_JOINTS 4
 #define WK_FRICTION_MAX_SYSTEM (WK_FRICTION_MAX_N + WK_FRICTION_MAX_JOINTS)
 
-/* walker._linalg.solve_inplace for nc right-hand sides: solves A X = B (A n x n, row-major,
- * destroyed; B n x nc, row-major, overwritten with X) by Gaussian elimination with partial
- * pivoting; returns 0 when a pivot is zero or not finite, or X is not finite.  Defined in
- * wk_common.c, whose wk_solve_inplace is its case nc = 1. */
-int wk_solve_columns(double *A, double *B, int n, int nc);
-
 /* encode: the mode code sum_j modes[j] 3**j. */
 int64_t wk_friction_encode(const int64_t *modes, int m);
 
