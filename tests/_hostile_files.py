@@ -1,4 +1,4 @@
-"""Damaged and hostile walker files for ``tests/test_storage_hostile.py``.
+"""Damaged and hostile walker files for the ``tests/test_storage_*`` tests of damaged files.
 
 Files are made with h5py directly: in the layout of schema version 1 (what walker wrote
 before checksums: contiguous datasets, no ``checksum`` attribute, no chunk SHA-256), or by
@@ -144,3 +144,31 @@ def basin_v1(path, basin, *, tol, period, chunk_size, provenance, done=()) -> Pa
         flags[list(done)] = True
         k.create_dataset("done", data=flags)
     return Path(path)
+
+
+def chunk_offset(path, dataset, index=0):
+    """Byte offset and size of HDF5 chunk ``index`` of ``dataset`` (of row ``index`` when
+    the dataset is contiguous, as in files written before checksums)."""
+    with h5py.File(path, "r") as f:
+        ds = f[dataset]
+        if ds.chunks is None:
+            row = ds.dtype.itemsize * int(np.prod(ds.shape[1:]))
+            return ds.id.get_offset() + index * row, row
+        infos = []
+        ds.id.chunk_iter(infos.append)
+    info = sorted(infos, key=lambda x: x.chunk_offset)[index]
+    return info.byte_offset, info.size
+
+
+def poke(path, offset, new: bytes):
+    """Overwrite the bytes of the file ``path`` from ``offset`` with ``new``."""
+    data = bytearray(Path(path).read_bytes())
+    data[offset : offset + len(new)] = new
+    Path(path).write_bytes(bytes(data))
+
+
+def one_line(exc_info):
+    """The message of a refused file, checked to be one line that starts with "cannot "."""
+    text = str(exc_info.value)
+    assert "\n" not in text and text.startswith("cannot ")
+    return text

@@ -16,6 +16,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+from _checkpoints import COLUMNS, chunk_values, sweep_points, sweep_store
 
 from walker import storage
 from walker.results import (
@@ -33,7 +34,7 @@ from walker.results import (
     Trajectory,
 )
 from walker.status import Status
-from walker.storage import SCHEMA_VERSION, StorageError, SweepStore, read, write
+from walker.storage import SCHEMA_VERSION, StorageError, read, write
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -464,38 +465,10 @@ def test_read_missing_dataset(tmp_path):
 # --------------------------------------------------------------------------------------------
 # Sweep checkpoints
 
-COLUMNS = {"value": ("f8", ()), "status": ("i8", ()), "mult": ("c16", (2,)), "ok": ("?", ())}
-
-
-def _points(n=10):
-    return np.stack([np.linspace(0.001, 0.010, n), np.full(n, 2.0)], axis=1)
-
-
-def _chunk_values(points, sl):
-    p = points[sl, 0]
-    return {
-        "value": 1000 * p,
-        "status": np.arange(sl.start, sl.stop),
-        "mult": np.stack([p + 1j * p, p - 1j * p], axis=1),
-        "ok": np.ones(len(p), bool),
-    }
-
-
-def _store(path, **changes):
-    kw = dict(
-        parameter_names=("slope", "mass_ratio"),
-        points=_points(),
-        columns=COLUMNS,
-        chunk_size=3,
-        provenance={"model": "compass"},
-    )
-    kw.update(changes)
-    return SweepStore.create_or_open(path, **kw)
-
 
 def test_sweep_store_create_write_reopen(tmp_path):
     path = tmp_path / "sweep.h5"
-    store = _store(path)
+    store = sweep_store(path)
     assert store.n_chunks == 4
     assert store.pending_chunks() == [0, 1, 2, 3]
     assert store.chunk_slice(3) == slice(9, 10)
@@ -503,23 +476,23 @@ def test_sweep_store_create_write_reopen(tmp_path):
     assert np.isnan(table.columns["value"]).all() and (table.columns["status"] == -1).all()
     assert np.isnan(table.columns["mult"].real).all() and not table.columns["ok"].any()
     for i in (0, 2):
-        store.write_chunk(i, _chunk_values(store.points, store.chunk_slice(i)))
-    store.write_chunk(2, _chunk_values(store.points, store.chunk_slice(2)))  # idempotent
+        store.write_chunk(i, chunk_values(store.points, store.chunk_slice(i)))
+    store.write_chunk(2, chunk_values(store.points, store.chunk_slice(2)))  # idempotent
 
-    again = _store(path)
+    again = sweep_store(path)
     assert again.pending_chunks() == [1, 3]
     table, prov = read(path)
     assert prov["kind"] == "sweep" and prov["model"] == "compass"
     assert table.parameter_names == ("slope", "mass_ratio")
-    np.testing.assert_array_equal(table.points, _points())
+    np.testing.assert_array_equal(table.points, sweep_points())
     rows = np.r_[0:3, 6:9]
-    expected = _chunk_values(_points(), slice(0, 10))
+    expected = chunk_values(sweep_points(), slice(0, 10))
     for name, col in table.columns.items():
         assert col.dtype == np.dtype(COLUMNS[name][0])
         np.testing.assert_array_equal(col[rows], expected[name][rows])
     assert (table.columns["status"][np.r_[3:6, 9]] == -1).all()
     for i in again.pending_chunks():
-        again.write_chunk(i, _chunk_values(again.points, again.chunk_slice(i)))
+        again.write_chunk(i, chunk_values(again.points, again.chunk_slice(i)))
     assert again.complete
     for name, col in again.table().columns.items():
         np.testing.assert_array_equal(col, expected[name])
@@ -529,8 +502,8 @@ def test_sweep_store_create_write_reopen(tmp_path):
     ("change", "message"),
     [
         ({"parameter_names": ("slope", "mass")}, "parameter_names"),
-        ({"points": _points() * 1.5}, "10 of the points differ"),
-        ({"points": _points(11)}, "points shape"),
+        ({"points": sweep_points() * 1.5}, "10 of the points differ"),
+        ({"points": sweep_points(11)}, "points shape"),
         ({"columns": dict(COLUMNS, value=("f4", ()))}, "columns"),
         ({"columns": {"value": ("f8", ())}}, "columns"),
         ({"chunk_size": 4}, "chunk_size 3 != 4"),
@@ -539,33 +512,33 @@ def test_sweep_store_create_write_reopen(tmp_path):
 )
 def test_sweep_store_mismatch(tmp_path, change, message):
     path = tmp_path / "sweep.h5"
-    _store(path)
+    sweep_store(path)
     with pytest.raises(StorageError, match=f"cannot resume '.*sweep.h5'.*{message}"):
-        _store(path, **change)
+        sweep_store(path, **change)
 
 
 def test_sweep_store_refuses_other_kinds_and_bad_input(tmp_path):
     path = write(tmp_path / "b.h5", _basin(), provenance={})
     with pytest.raises(StorageError, match="holds a 'basin' result, not a sweep checkpoint"):
-        _store(path)
+        sweep_store(path)
     with pytest.raises(FileNotFoundError, match="nope"):
-        _store(tmp_path / "nope" / "s.h5")
+        sweep_store(tmp_path / "nope" / "s.h5")
     with pytest.raises(ValueError, match=r"`points` must have shape \(n, 2\)"):
-        _store(tmp_path / "s.h5", points=np.zeros((4, 3)))
+        sweep_store(tmp_path / "s.h5", points=np.zeros((4, 3)))
     with pytest.raises(ValueError, match="`chunk_size` must be >= 1"):
-        _store(tmp_path / "s.h5", chunk_size=0)
+        sweep_store(tmp_path / "s.h5", chunk_size=0)
     with pytest.raises(ValueError, match=r"`columns\['s'\]` must have a float"):
-        _store(tmp_path / "s.h5", columns={"s": ("U4", ())})
+        sweep_store(tmp_path / "s.h5", columns={"s": ("U4", ())})
     assert not (tmp_path / "s.h5").exists()
-    store = _store(tmp_path / "s.h5")
+    store = sweep_store(tmp_path / "s.h5")
     with pytest.raises(ValueError, match=r"chunk index `i` must be in \[0, 4\)"):
         store.write_chunk(4, {})
     with pytest.raises(ValueError, match=r"missing \['ok'\]"):
-        vals = _chunk_values(store.points, store.chunk_slice(0))
+        vals = chunk_values(store.points, store.chunk_slice(0))
         del vals["ok"]
         store.write_chunk(0, vals)
     with pytest.raises(ValueError, match=r"`values\['value'\]` must have shape \(1,\)"):
-        store.write_chunk(3, _chunk_values(store.points, store.chunk_slice(0)))
+        store.write_chunk(3, chunk_values(store.points, store.chunk_slice(0)))
     assert store.pending_chunks() == [0, 1, 2, 3]
 
 
