@@ -1,16 +1,20 @@
-"""A small sweep checkpoint and basin checkpoint for the storage tests
-(``tests/test_storage.py`` and the ``tests/test_storage_*`` files on damaged files).
+"""Small walker files and checkpoints, and a bit-for-bit comparison of HDF5 files, for the
+storage, checkpoint and interrupt tests.
 
 A sweep of ten points over (``slope``, ``mass_ratio``) in four chunks of three rows, with
-one column of each kind walker stores (float, integer, complex with a shape, boolean), and
-a 3 x 5 basin checkpoint in chunks of two rows.
+one column of each kind walker stores (float, integer, complex with a shape, boolean), a
+3 x 5 basin checkpoint in chunks of two rows, and a finished 3 x 2 basin file.
 """
 
 from __future__ import annotations
 
+from pathlib import Path
+
+import h5py
 import numpy as np
 
-from walker.storage import SweepStore
+from walker.results import BasinMap
+from walker.storage import SweepStore, write
 
 COLUMNS = {"value": ("f8", ()), "status": ("i8", ()), "mult": ("c16", (2,)), "ok": ("?", ())}
 
@@ -67,3 +71,53 @@ def basin_kw():
         provenance={"model": "toy"},
         chunk_size=2,
     )
+
+
+def small_basin_file(path):
+    """A finished 3 x 2 basin result (``walker.storage.write``, no checkpoint) at ``path``."""
+    bm = BasinMap(
+        ("a", "b"),
+        np.linspace(0, 1, 3),
+        np.linspace(0, 1, 2),
+        np.full((2, 3), -1),
+        np.zeros((2, 3), dtype=np.int64),
+        np.zeros(2),
+        np.zeros(2),
+        5,
+    )
+    return write(path, bm, provenance={"model": "toy"})
+
+
+def hdf5_items(path: Path) -> dict[str, object]:
+    """Every attribute and dataset of an HDF5 file, as comparable values (raw bytes for
+    datasets), except the root attributes ``created`` (the time of writing) and
+    ``checksum``."""
+    items: dict[str, object] = {}
+    with h5py.File(path, "r") as f:
+
+        def attrs(name, obj):
+            for key, value in obj.attrs.items():
+                if name == "/" and key in ("created", "checksum"):
+                    continue
+                v = np.asarray(value)
+                items[f"{name}@{key}"] = (v.dtype.str, v.shape, v.tobytes())
+
+        attrs("/", f)
+
+        def visit(name, obj):
+            attrs(name, obj)
+            if isinstance(obj, h5py.Dataset):
+                data = np.asarray(obj[()])
+                items[name] = (obj.dtype.str, obj.shape, data.tobytes())
+
+        f.visititems(visit)
+    return items
+
+
+def assert_same_file(a: Path, b: Path) -> None:
+    """Raise AssertionError naming the items in which the HDF5 files ``a`` and ``b``
+    differ (see :func:`hdf5_items`)."""
+    ia, ib = hdf5_items(a), hdf5_items(b)
+    assert sorted(ia) == sorted(ib)
+    differ = [k for k in ia if ia[k] != ib[k]]
+    assert not differ, f"{a} and {b} differ in {differ}"

@@ -218,3 +218,14 @@ class CubicBasinMap:
         return MapResult(
             Status.COMPLETED, out, jac if jacobian else None, float(n_strides), out.copy()
         )
+
+
+def cubic_basin_toy(center):
+    """A :class:`CubicBasinMap` about ``center`` and its fixed point, found from
+    ``center + 0.1`` (checked to converge)."""
+    from walker.fixedpoint import find_fixed_point
+
+    m = CubicBasinMap(center=tuple(center))
+    fp = find_fixed_point(m, np.asarray(center) + 0.1)
+    assert fp.success
+    return m, fp

@@ -10,7 +10,7 @@ import concurrent.futures as cf
 
 import numpy as np
 import pytest
-from _toy_maps import CubicBasinMap, HenonMap, henon_fixed_points
+from _toy_maps import HenonMap, cubic_basin_toy, henon_fixed_points
 
 from walker.basin import basin_chunk, basin_map
 from walker.fixedpoint import find_fixed_point
@@ -27,10 +27,7 @@ N = (30, 30)
 
 @pytest.fixture(scope="module")
 def toy():
-    m = CubicBasinMap(center=tuple(CENTER))
-    fp = find_fixed_point(m, CENTER + 0.1)
-    assert fp.success
-    return m, fp
+    return cubic_basin_toy(CENTER)
 
 
 def expected_outcome(x, y, n_strides, tol):
