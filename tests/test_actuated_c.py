@@ -23,17 +23,21 @@ import functools
 
 import numpy as np
 import pytest
+from _cmodel import (
+    CModel,
+    assert_bits,
+    assert_same_run,
+    c_system,
+    numba_reset,
+    registry,
+    solve_with_events,
+)
 
 from walker import load_scene
 from walker.models import five_link, get_model, three_link
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
 
 _vp = ctypes.c_void_p
-_i64 = ctypes.c_int64
-_f64 = ctypes.c_double
-_RHS = ctypes.CFUNCTYPE(None, _i64, _f64, _vp, _vp, _vp, _vp)
-_RESET = ctypes.CFUNCTYPE(None, _i64, _i64, _f64, _vp, _vp, _vp, _vp, _vp, _vp)
-_STATE = ctypes.CFUNCTYPE(None, _vp, _vp, _vp, _vp)
 
 
 class Controller(ctypes.Structure):
@@ -43,89 +47,9 @@ class Controller(ctypes.Structure):
 
 
 def _registry():
-    from walker import _hybrid
-
-    registry = _hybrid.models()
-    assert "three_link" in registry and "five_link" in registry
-    return registry
-
-
-def _ptr(a):
-    return a.ctypes.data
-
-
-class CModel:
-    """The functions of one registry entry, called through ctypes on numpy arrays; ``ctx``
-    an int address (0: NULL) passed to every call."""
-
-    def __init__(self, entry, module, n_points, ctx=0):
-        self.entry = entry
-        self.n_x = module.N_X
-        self.n_guards = len(module.GUARD_NAMES)
-        self.n_impulse = module.N_IMPULSE
-        self.n_points = n_points
-        self.ctx = ctx or None
-        self._rhs = _RHS(entry["rhs"])
-        self._guards = _RHS(entry["guards"])
-        self._jac = _RHS(entry["jac"])
-        self._reset = _RESET(entry["reset"])
-        self._energy = _STATE(entry["energy"])
-        self._points = _STATE(entry["points"])
-        self._start_phase = _STATE(entry["start_phase"])
-
-    def rhs(self, phase, t, x, p):
-        dx = np.full(self.n_x, np.nan)
-        self._rhs(phase, t, _ptr(x), _ptr(p), _ptr(dx), self.ctx)
-        return dx
-
-    def guards(self, phase, t, x, p):
-        g = np.full(self.n_guards, np.nan)
-        self._guards(phase, t, _ptr(x), _ptr(p), _ptr(g), self.ctx)
-        return g
-
-    def jac(self, phase, t, x, p):
-        J = np.full((self.n_x, self.n_x), np.nan)
-        self._jac(phase, t, _ptr(x), _ptr(p), _ptr(J), self.ctx)
-        return J
-
-    def reset(self, phase, k, t, x, p):
-        x_new = x.copy()
-        impulse = np.zeros(self.n_impulse)
-        out = np.full(3, -1, dtype=np.int64)
-        self._reset(phase, k, t, _ptr(x), _ptr(p), _ptr(x_new), _ptr(impulse), _ptr(out), self.ctx)
-        return tuple(int(v) for v in out), x_new, impulse
-
-    def energy(self, x, p):
-        out = np.full(2, np.nan)
-        self._energy(_ptr(x), _ptr(p), _ptr(out), self.ctx)
-        return out
-
-    def points(self, x, p):
-        out = np.full((self.n_points, 2), np.nan)
-        self._points(_ptr(x), _ptr(p), _ptr(out), self.ctx)
-        return out
-
-    def start_phase(self, x, p):
-        out = np.full(1, np.nan)
-        self._start_phase(_ptr(x), _ptr(p), _ptr(out), self.ctx)
-        return out[0]
-
-
-def _numba_reset(module, phase, k, t, x, p):
-    x_new = x.copy()
-    impulse = np.zeros(module.N_IMPULSE)
-    action, next_phase, status = module.reset(phase, k, t, x, p, x_new, impulse)
-    return (int(action), int(next_phase), int(status)), x_new, impulse
-
-
-def _assert_bits(c, ref, what):
-    """Same float64 bit patterns (any NaN matches any NaN)."""
-    c = np.asarray(c, dtype=np.float64)
-    ref = np.asarray(ref, dtype=np.float64)
-    assert c.shape == ref.shape, what
-    nan_c, nan_r = np.isnan(c), np.isnan(ref)
-    same = (c.view(np.uint64) == ref.view(np.uint64)) | (nan_c & nan_r)
-    assert same.all(), f"{what}: C {c[~same]} vs numba {ref[~same]}"
+    models = registry()
+    assert "three_link" in models and "five_link" in models
+    return models
 
 
 # --------------------------------------------------------------------------------------
@@ -228,9 +152,9 @@ IDS = [c.name for c in CASES]
 
 
 def test_registry_lists_the_actuated_models():
-    registry = _registry()
+    models = _registry()
     for case in CASES:
-        entry = registry[case.name]
+        entry = models[case.name]
         for key in ("rhs", "guards", "reset", "jac", "energy", "points", "start_phase"):
             assert isinstance(entry[key], int) and entry[key] != 0, (case.name, key)
         assert not entry["ctx"], case.name  # the built-in controller
@@ -272,16 +196,16 @@ def test_continuous_functions_agree(case):
             what = f"{case.name} trial {trial} phase {phase}"
             dx = np.full(n_x, np.nan)
             m.rhs(phase, t, x, p, dx)
-            _assert_bits(c.rhs(phase, t, x, p), dx, f"rhs {what}")
+            assert_bits(c.rhs(phase, t, x, p), dx, f"rhs {what}")
             saturated += dx[-1] == 1.0
             g = np.full(len(m.GUARD_NAMES), np.nan)
             m.guards(phase, t, x, p, g)
-            _assert_bits(c.guards(phase, t, x, p), g, f"guards {what}")
+            assert_bits(c.guards(phase, t, x, p), g, f"guards {what}")
             J = np.full((n_x, n_x), np.nan)
             m.jac(phase, t, x, p, J)
-            _assert_bits(c.jac(phase, t, x, p), J, f"jac {what}")
-        _assert_bits(c.energy(x, p), np.array(m.energy(x, p)), f"energy {case.name} {trial}")
-        _assert_bits(c.points(x, p), m.points(x, p), f"points {case.name} {trial}")
+            assert_bits(c.jac(phase, t, x, p), J, f"jac {what}")
+        assert_bits(c.energy(x, p), np.array(m.energy(x, p)), f"energy {case.name} {trial}")
+        assert_bits(c.points(x, p), m.points(x, p), f"points {case.name} {trial}")
         assert c.start_phase(x, p) == float(m.start_phase(x, p)), f"{case.name} {trial}"
     assert saturated > 0  # the saturation branch was reached
 
@@ -434,11 +358,11 @@ def test_reset_agrees_on_every_branch(case):
     seen = set()
     for phase, k, x, p in _reset_states(case, rng, 1000):
         what = f"{case.name} reset phase {phase} k {k} x {x.tolist()}"
-        ref_out, ref_x, ref_imp = _numba_reset(m, phase, k, 0.3, x, p)
+        ref_out, ref_x, ref_imp = numba_reset(m, phase, k, 0.3, x, p)
         out, x_new, impulse = c.reset(phase, k, 0.3, x, p)
         assert out == ref_out, what
-        _assert_bits(x_new, ref_x, what)
-        _assert_bits(impulse, ref_imp, what)
+        assert_bits(x_new, ref_x, what)
+        assert_bits(impulse, ref_imp, what)
         seen.add(_outcome(m, k, ref_out))
     missing = REQUIRED[m] - seen
     assert not missing, f"{case.name}: branches not reached {sorted(missing, key=str)}"
@@ -529,13 +453,13 @@ def test_user_controller_reproduces_the_builtin_one():
         for model in (user, fallback):
             for phase in range(case.n_phases):
                 what = f"trial {trial} phase {phase}"
-                _assert_bits(model.rhs(phase, 0.0, x, p), builtin.rhs(phase, 0.0, x, p), what)
-                _assert_bits(model.guards(phase, 0.0, x, p), builtin.guards(phase, 0.0, x, p), what)
-                _assert_bits(model.jac(phase, 0.0, x, p), builtin.jac(phase, 0.0, x, p), what)
+                assert_bits(model.rhs(phase, 0.0, x, p), builtin.rhs(phase, 0.0, x, p), what)
+                assert_bits(model.guards(phase, 0.0, x, p), builtin.guards(phase, 0.0, x, p), what)
+                assert_bits(model.jac(phase, 0.0, x, p), builtin.jac(phase, 0.0, x, p), what)
                 for k in range(m.N_BASE_GUARDS, len(m.GUARD_NAMES)):
                     a, b = model.reset(phase, k, 0.0, x, p), builtin.reset(phase, k, 0.0, x, p)
                     assert a[0] == b[0], what
-                    _assert_bits(a[1], b[1], what)
+                    assert_bits(a[1], b[1], what)
             assert model.start_phase(x, p) == builtin.start_phase(x, p)
 
 
@@ -573,51 +497,17 @@ def test_user_controller_offset_acts_on_the_dynamics():
 
 def _c_system(name, ctx=0):
     """The model's HybridSystem with the C functions of its registry entry."""
-    entry = _registry()[name]
-    return dataclasses.replace(
-        get_model(name).system,
-        rhs=entry["rhs"],
-        guards=entry["guards"],
-        reset=entry["reset"],
-        jac=entry["jac"],
-        ctx=ctx,
-    )
+    _registry()
+    return c_system(name, ctx=ctx)
 
 
 def _stride(system, scene, name, check=True):
-    from walker.integrate import hybrid_solve
-
-    c = scene.compute
+    """One stride from the phase the numba model's ``start_phase`` gives."""
     p = scene.params.as_array()
-    sol = hybrid_solve(
-        system,
-        scene.state,
-        p,
-        phase0=int(get_model(name).module.start_phase(scene.state, p)),
-        t_max=c.t_max,
-        n_strides=1,
-        method=c.method,
-        rtol=c.rtol,
-        atol=c.atol,
-        output="events",
-        jacobian=True,
+    phase0 = int(get_model(name).module.start_phase(scene.state, p))
+    return solve_with_events(
+        system, scene, phase0=phase0, status=Status.COMPLETED if check else None
     )
-    if check:
-        assert sol.status == Status.COMPLETED, sol.status
-    return sol
-
-
-def _assert_same_stride(sol, ref, what):
-    assert len(sol.events) == len(ref.events) >= 1, what
-    np.testing.assert_array_equal(sol.events.guard, ref.events.guard)
-    np.testing.assert_array_equal(sol.events.phase_after, ref.events.phase_after)
-    _assert_bits(sol.x, ref.x, f"{what} final state")
-    _assert_bits(sol.t, ref.t, f"{what} final time")
-    _assert_bits(sol.events.t, ref.events.t, f"{what} event times")
-    _assert_bits(sol.events.x_post, ref.events.x_post, f"{what} post-event states")
-    _assert_bits(sol.events.impulse, ref.events.impulse, f"{what} impulses")
-    _assert_bits(sol.jac, ref.jac, f"{what} stride Jacobian")
-    _assert_bits(sol.dt_dx0, ref.dt_dx0, f"{what} dt/dx0")
 
 
 def _needs_int_addresses():
@@ -632,7 +522,7 @@ def test_stride_with_c_model_matches_numba(name):
     scene = _scene(name)
     ref = _stride(get_model(name).system, scene, name)
     sol = _stride(_c_system(name), scene, name)
-    _assert_same_stride(sol, ref, name)
+    assert_same_run(sol, ref, name)
 
 
 def test_stride_with_user_controller():
@@ -645,7 +535,7 @@ def test_stride_with_user_controller():
     ref = _stride(get_model("three_link").system, scene, "three_link")
     ctl = UserController(same)
     sol = _stride(_c_system("three_link", ctl.address), scene, "three_link")
-    _assert_same_stride(sol, ref, "three_link, user controller")
+    assert_same_run(sol, ref, "three_link, user controller")
     other = UserController(offset, OFFSET)
     sol = _stride(_c_system("three_link", other.address), scene, "three_link", check=False)
     assert sol.status == Status.COMPLETED, sol.status

@@ -25,104 +25,26 @@ final state and time, every event (time, guard, phases, post-event state, impuls
 Jacobian and dt/dx0, bit for bit.
 """
 
-import ctypes
 import dataclasses
 
 import numpy as np
 import pytest
+from _cmodel import (
+    CModel,
+    assert_bits,
+    assert_same_run,
+    c_system,
+    numba_reset,
+    registry,
+    solve_with_events,
+)
 
-from walker import _hybrid, load_scene
 from walker import friction as fr
+from walker import load_scene
 from walker.models import compass_coulomb, double_pendulum, get_model, kneed_coulomb
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
 
-_vp = ctypes.c_void_p
-_i64 = ctypes.c_int64
-_f64 = ctypes.c_double
-_RHS = ctypes.CFUNCTYPE(None, _i64, _f64, _vp, _vp, _vp, _vp)
-_RESET = ctypes.CFUNCTYPE(None, _i64, _i64, _f64, _vp, _vp, _vp, _vp, _vp, _vp)
-_STATE = ctypes.CFUNCTYPE(None, _vp, _vp, _vp, _vp)
-
 _SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
-
-
-def _registry():
-    return _hybrid.models()
-
-
-def _ptr(a):
-    return a.ctypes.data
-
-
-class CModel:
-    """The functions of one registry entry, called through ctypes on numpy arrays."""
-
-    def __init__(self, entry, module, n_points):
-        self.n_x = module.N_X
-        self.n_guards = len(module.GUARD_NAMES)
-        self.n_impulse = module.N_IMPULSE
-        self.n_points = n_points
-        self._rhs = _RHS(entry["rhs"])
-        self._guards = _RHS(entry["guards"])
-        self._jac = _RHS(entry["jac"])
-        self._reset = _RESET(entry["reset"])
-        self._energy = _STATE(entry["energy"])
-        self._points = _STATE(entry["points"])
-        self._start_phase = _STATE(entry["start_phase"])
-
-    def rhs(self, phase, t, x, p):
-        dx = np.full(self.n_x, np.nan)
-        self._rhs(phase, t, _ptr(x), _ptr(p), _ptr(dx), None)
-        return dx
-
-    def guards(self, phase, t, x, p):
-        g = np.full(self.n_guards, np.nan)
-        self._guards(phase, t, _ptr(x), _ptr(p), _ptr(g), None)
-        return g
-
-    def jac(self, phase, t, x, p):
-        J = np.full((self.n_x, self.n_x), np.nan)
-        self._jac(phase, t, _ptr(x), _ptr(p), _ptr(J), None)
-        return J
-
-    def reset(self, phase, k, t, x, p):
-        x_new = x.copy()
-        impulse = np.zeros(self.n_impulse)
-        out = np.full(3, -1, dtype=np.int64)
-        self._reset(phase, k, t, _ptr(x), _ptr(p), _ptr(x_new), _ptr(impulse), _ptr(out), None)
-        return tuple(int(v) for v in out), x_new, impulse
-
-    def energy(self, x, p):
-        out = np.full(2, np.nan)
-        self._energy(_ptr(x), _ptr(p), _ptr(out), None)
-        return out
-
-    def points(self, x, p):
-        out = np.full((self.n_points, 2), np.nan)
-        self._points(_ptr(x), _ptr(p), _ptr(out), None)
-        return out
-
-    def start_phase(self, x, p):
-        out = np.full(1, np.nan)
-        self._start_phase(_ptr(x), _ptr(p), _ptr(out), None)
-        return out[0]
-
-
-def _numba_reset(module, phase, k, t, x, p):
-    x_new = x.copy()
-    impulse = np.zeros(module.N_IMPULSE)
-    action, next_phase, status = module.reset(phase, k, t, x, p, x_new, impulse)
-    return (int(action), int(next_phase), int(status)), x_new, impulse
-
-
-def _assert_bits(c, ref, what):
-    """Same float64 bit patterns (any NaN matches any NaN)."""
-    c = np.asarray(c, dtype=np.float64)
-    ref = np.asarray(ref, dtype=np.float64)
-    assert c.shape == ref.shape, what
-    nan_c, nan_r = np.isnan(c), np.isnan(ref)
-    same = (c.view(np.uint64) == ref.view(np.uint64)) | (nan_c & nan_r)
-    assert same.all(), f"{what}: C {c[~same]} vs numba {ref[~same]}"
 
 
 # --------------------------------------------------------------------------------------
@@ -220,9 +142,9 @@ class Case:
         return len(self.module.GUARD_NAMES) - 2 * len(self.module.JOINTS)
 
     def c_model(self):
-        registry = _registry()
-        assert self.name in registry, sorted(registry)
-        return CModel(registry[self.name], self.module, self.n_points)
+        models = registry()
+        assert self.name in models, sorted(models)
+        return CModel(models[self.name], self.module, self.n_points)
 
     def split(self, phase):
         """(base, S, modes of the base's joints) of a phase."""
@@ -291,10 +213,10 @@ def _random_state(case, rng, trial):
 
 
 def test_registry_lists_the_friction_models():
-    registry = _registry()
+    models = registry()
     for case in CASES:
-        assert case.name in registry, sorted(registry)
-        entry = registry[case.name]
+        assert case.name in models, sorted(models)
+        entry = models[case.name]
         for key in ("rhs", "guards", "reset", "jac", "energy", "points", "start_phase"):
             assert isinstance(entry[key], int) and entry[key] != 0, (case.name, key)
         assert not entry["ctx"], case.name
@@ -324,18 +246,18 @@ def test_continuous_functions_agree(case):
             what = f"{case.name} trial {trial} phase {phase}"
             dx = np.full(n_x, np.nan)
             m.rhs(phase, t, x, p, dx)
-            _assert_bits(c.rhs(phase, t, x, p), dx, f"rhs {what}")
+            assert_bits(c.rhs(phase, t, x, p), dx, f"rhs {what}")
             g = np.full(len(m.GUARD_NAMES), np.nan)
             m.guards(phase, t, x, p, g)
-            _assert_bits(c.guards(phase, t, x, p), g, f"guards {what}")
+            assert_bits(c.guards(phase, t, x, p), g, f"guards {what}")
             J = np.full((n_x, n_x), np.nan)
             m.jac(phase, t, x, p, J)
-            _assert_bits(c.jac(phase, t, x, p), J, f"jac {what}")
+            assert_bits(c.jac(phase, t, x, p), J, f"jac {what}")
             _, S, modes = case.split(phase)
             F = p[m.I_COULOMB : m.I_COULOMB + S.shape[0]].copy()
             kinds.add(int(fr.slip_force(S, F, modes, np.empty(S.shape[1]))))
-        _assert_bits(c.energy(x, p), np.array(m.energy(x, p)), f"energy {case.name} {trial}")
-        _assert_bits(c.points(x, p), m.points(x, p), f"points {case.name} {trial}")
+        assert_bits(c.energy(x, p), np.array(m.energy(x, p)), f"energy {case.name} {trial}")
+        assert_bits(c.points(x, p), m.points(x, p), f"points {case.name} {trial}")
     assert kinds == {0, 1, -1}
 
 
@@ -404,7 +326,7 @@ def test_start_phase_agrees(case):
         ref = m.start_phase(x, p)
         got = c.start_phase(x, p)
         assert got == float(ref), f"{case.name} start_phase x {x.tolist()} p {p.tolist()}"
-        _assert_bits(x, x_before, "start_phase must not write its input")
+        assert_bits(x, x_before, "start_phase must not write its input")
         seen.add(_choose_branch(case, x, p))
         phases.add(int(ref))
     required = {"moving", "strict", "strict stick", "tie stick", "none consistent"}
@@ -552,11 +474,11 @@ def test_reset_agrees_on_every_branch(case):
     seen = set()
     for phase, k, x, p in _reset_cases(case, rng, 3000):
         what = f"{case.name} reset phase {phase} k {k} x {x.tolist()} p {p.tolist()}"
-        ref_out, ref_x, ref_imp = _numba_reset(m, phase, k, 0.3, x, p)
+        ref_out, ref_x, ref_imp = numba_reset(m, phase, k, 0.3, x, p)
         out, x_new, impulse = c.reset(phase, k, 0.3, x, p)
         assert out == ref_out, what
-        _assert_bits(x_new, ref_x, what)
-        _assert_bits(impulse, ref_imp, what)
+        assert_bits(x_new, ref_x, what)
+        assert_bits(impulse, ref_imp, what)
         if ref_out[0] != EVENT_IGNORE:
             seen.add(_outcome(case, phase, k, ref_out))
     missing = REQUIRED[case.name] - seen
@@ -591,39 +513,6 @@ RUNS = {
 }
 
 
-def _c_system(name):
-    """The model's HybridSystem with the C functions of its registry entry."""
-    entry = _registry()[name]
-    return dataclasses.replace(
-        get_model(name).system,
-        rhs=entry["rhs"],
-        guards=entry["guards"],
-        reset=entry["reset"],
-        jac=entry["jac"],
-    )
-
-
-def _run(system, scene, phase0, n_strides, status):
-    from walker.integrate import hybrid_solve
-
-    c = scene.compute
-    sol = hybrid_solve(
-        system,
-        scene.state,
-        scene.params.as_array(),
-        phase0=phase0,
-        t_max=c.t_max,
-        n_strides=n_strides,
-        method=c.method,
-        rtol=c.rtol,
-        atol=c.atol,
-        output="events",
-        jacobian=True,
-    )
-    assert sol.status == status, sol.status
-    return sol
-
-
 @pytest.mark.parametrize("run", list(RUNS))
 def test_run_with_c_model_matches_numba(run):
     """The scene's stride (walkers) or run to t_max (the pendulum) with the C model, bit for
@@ -636,21 +525,13 @@ def test_run_with_c_model_matches_numba(run):
     x0 = np.ascontiguousarray(scene.state, dtype=np.float64)
     p = scene.params.as_array()
     phase0 = model.start_phase(x0, p)
-    c = CModel(_registry()[name], model.module, 1)
+    c = CModel(registry()[name], model.module, 1)
     assert c.start_phase(x0, p) == float(phase0)
-    ref = _run(model.system, scene, phase0, n_strides, status)
-    sol = _run(_c_system(name), scene, phase0, n_strides, status)
-    assert len(sol.events) == len(ref.events) >= min_events
-    np.testing.assert_array_equal(sol.events.guard, ref.events.guard)
+    run_kw = dict(phase0=phase0, n_strides=n_strides, status=status)
+    ref = solve_with_events(model.system, scene, **run_kw)
+    sol = solve_with_events(c_system(name), scene, **run_kw)
+    assert_same_run(sol, ref, run, min_events=min_events, jacobian="Jacobian")
     np.testing.assert_array_equal(sol.events.phase_before, ref.events.phase_before)
-    np.testing.assert_array_equal(sol.events.phase_after, ref.events.phase_after)
     if run.endswith(("/stick", "/friction")):
         modes = [model.module.modes_of(int(ph)) for ph in ref.events.phase_after]
         assert any("stick" in m.values() for m in modes), "the run must reach a stuck joint"
-    _assert_bits(sol.x, ref.x, f"{run} final state")
-    _assert_bits(sol.t, ref.t, f"{run} final time")
-    _assert_bits(sol.events.t, ref.events.t, f"{run} event times")
-    _assert_bits(sol.events.x_post, ref.events.x_post, f"{run} post-event states")
-    _assert_bits(sol.events.impulse, ref.events.impulse, f"{run} impulses")
-    _assert_bits(sol.jac, ref.jac, f"{run} Jacobian")
-    _assert_bits(sol.dt_dx0, ref.dt_dx0, f"{run} dt/dx0")

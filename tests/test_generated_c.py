@@ -34,6 +34,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _cmodel import assert_bits
 from test_generated import PARAM_RANGES
 
 from walker.symbolic.kernels import C_MODULES, C_VARIANTS, is_variant_kernel
@@ -109,16 +110,6 @@ def _sample(order, zeros, rng):
     return args
 
 
-def _assert_bits(c, ref, what):
-    """Same float64 bit patterns (any NaN matches any NaN)."""
-    c = np.asarray(c, dtype=np.float64)
-    ref = np.asarray(ref, dtype=np.float64)
-    assert c.shape == ref.shape, what
-    nan_c, nan_r = np.isnan(c), np.isnan(ref)
-    same = (c.view(np.uint64) == ref.view(np.uint64)) | (nan_c & nan_r)
-    assert same.all(), f"{what}: C {c[~same]} vs numba {ref[~same]}"
-
-
 def _assert_close(c, ref, what, rtol):
     c = np.asarray(c, dtype=np.float64)
     ref = np.asarray(ref, dtype=np.float64)
@@ -189,7 +180,7 @@ def test_c_kernel_agrees_with_numba(registry_name):
         if zeros:
             _assert_close(got, ref, what, PLAIN_RTOL)
         else:
-            _assert_bits(got, ref, what)
+            assert_bits(got, ref, what)
 
 
 def _shape(module, kernel, args):

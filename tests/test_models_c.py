@@ -21,13 +21,21 @@ addresses agree with the numba model's stride bit for bit (general entries) or t
 round-off (plain entries); see the last tests.
 """
 
-import ctypes
 import dataclasses
 
 import numpy as np
 import pytest
+from _cmodel import (
+    CModel,
+    assert_bits,
+    assert_same_run,
+    c_system,
+    numba_reset,
+    registry,
+    solve_with_events,
+)
 
-from walker import _hybrid, load_scene
+from walker import load_scene
 from walker.models import compass, get_model, kneed, simplest
 from walker.status import (
     EVENT_CONTINUE,
@@ -38,88 +46,6 @@ from walker.status import (
 )
 
 PLAIN_RTOL = 1e-12
-
-_vp = ctypes.c_void_p
-_i64 = ctypes.c_int64
-_f64 = ctypes.c_double
-_RHS = ctypes.CFUNCTYPE(None, _i64, _f64, _vp, _vp, _vp, _vp)
-_RESET = ctypes.CFUNCTYPE(None, _i64, _i64, _f64, _vp, _vp, _vp, _vp, _vp, _vp)
-_STATE = ctypes.CFUNCTYPE(None, _vp, _vp, _vp, _vp)
-
-
-def _registry():
-    return _hybrid.models()
-
-
-def _ptr(a):
-    return a.ctypes.data
-
-
-class CModel:
-    """The functions of one registry entry, called through ctypes on numpy arrays."""
-
-    def __init__(self, entry, n_x, n_guards, n_impulse, n_points):
-        self.entry = entry
-        self.n_x = n_x
-        self.n_guards = n_guards
-        self.n_impulse = n_impulse
-        self.n_points = n_points
-        self._rhs = _RHS(entry["rhs"])
-        self._guards = _RHS(entry["guards"])
-        self._jac = _RHS(entry["jac"])
-        self._reset = _RESET(entry["reset"])
-        self._energy = _STATE(entry["energy"])
-        self._points = _STATE(entry["points"])
-
-    def rhs(self, phase, t, x, p):
-        dx = np.full(self.n_x, np.nan)
-        self._rhs(phase, t, _ptr(x), _ptr(p), _ptr(dx), None)
-        return dx
-
-    def guards(self, phase, t, x, p):
-        g = np.full(self.n_guards, np.nan)
-        self._guards(phase, t, _ptr(x), _ptr(p), _ptr(g), None)
-        return g
-
-    def jac(self, phase, t, x, p):
-        J = np.full((self.n_x, self.n_x), np.nan)
-        self._jac(phase, t, _ptr(x), _ptr(p), _ptr(J), None)
-        return J
-
-    def reset(self, phase, k, t, x, p):
-        x_new = x.copy()
-        impulse = np.zeros(self.n_impulse)
-        out = np.full(3, -1, dtype=np.int64)
-        self._reset(phase, k, t, _ptr(x), _ptr(p), _ptr(x_new), _ptr(impulse), _ptr(out), None)
-        return tuple(int(v) for v in out), x_new, impulse
-
-    def energy(self, x, p):
-        out = np.full(2, np.nan)
-        self._energy(_ptr(x), _ptr(p), _ptr(out), None)
-        return out
-
-    def points(self, x, p):
-        out = np.full((self.n_points, 2), np.nan)
-        self._points(_ptr(x), _ptr(p), _ptr(out), None)
-        return out
-
-
-def _numba_reset(module, phase, k, t, x, p, ignore_scuff=False):
-    x_new = x.copy()
-    impulse = np.zeros(module.N_IMPULSE)
-    reset = module.reset_ignore_scuff if ignore_scuff else module.reset
-    action, next_phase, status = reset(phase, k, t, x, p, x_new, impulse)
-    return (int(action), int(next_phase), int(status)), x_new, impulse
-
-
-def _assert_bits(c, ref, what):
-    """Same float64 bit patterns (any NaN matches any NaN)."""
-    c = np.asarray(c, dtype=np.float64)
-    ref = np.asarray(ref, dtype=np.float64)
-    assert c.shape == ref.shape, what
-    nan_c, nan_r = np.isnan(c), np.isnan(ref)
-    same = (c.view(np.uint64) == ref.view(np.uint64)) | (nan_c & nan_r)
-    assert same.all(), f"{what}: C {c[~same]} vs numba {ref[~same]}"
 
 
 def _assert_close(c, ref, what, rtol=PLAIN_RTOL):
@@ -226,10 +152,9 @@ class Case:
         return len(self.module.PHASE_NAMES)
 
     def c_model(self):
-        registry = _registry()
-        assert self.name in registry, sorted(registry)
-        m = self.module
-        return CModel(registry[self.name], m.N_X, len(m.GUARD_NAMES), m.N_IMPULSE, self.n_points)
+        models = registry()
+        assert self.name in models, sorted(models)
+        return CModel(models[self.name], self.module, self.n_points)
 
 
 CASES = [
@@ -245,7 +170,7 @@ IDS = [c.name for c in CASES]
 
 
 def _compare(case):
-    return _assert_close if case.plain else _assert_bits
+    return _assert_close if case.plain else assert_bits
 
 
 # --------------------------------------------------------------------------------------
@@ -254,9 +179,9 @@ def _compare(case):
 
 
 def test_registry_lists_the_models():
-    registry = _registry()
+    models = registry()
     for case in CASES:
-        entry = registry[case.name]
+        entry = models[case.name]
         for key in ("rhs", "guards", "reset", "jac", "energy", "points"):
             assert isinstance(entry[key], int) and entry[key] != 0, (case.name, key)
         assert not entry["start_phase"], case.name  # these models start in phase 0
@@ -289,7 +214,7 @@ def test_continuous_functions_agree(case):
             same(c.rhs(phase, t, x, p), dx, f"rhs {what}")
             g = np.full(len(m.GUARD_NAMES), np.nan)
             m.guards(phase, t, x, p, g)
-            _assert_bits(c.guards(phase, t, x, p), g, f"guards {what}")
+            assert_bits(c.guards(phase, t, x, p), g, f"guards {what}")
             J = np.full((n_x, n_x), np.nan)
             m.jac(phase, t, x, p, J)
             same(c.jac(phase, t, x, p), J, f"jac {what}")
@@ -404,7 +329,7 @@ def test_reset_agrees_on_every_branch(case):
     seen = set()
     for phase, k, x, p in _reset_states(case, rng, 600):
         what = f"{case.name} reset phase {phase} k {k} x {x.tolist()}"
-        ref_out, ref_x, ref_imp = _numba_reset(m, phase, k, 0.3, x, p, case.ignore_scuff)
+        ref_out, ref_x, ref_imp = numba_reset(m, phase, k, 0.3, x, p, case.ignore_scuff)
         out, x_new, impulse = c.reset(phase, k, 0.3, x, p)
         assert out == ref_out, what
         same(x_new, ref_x, what)
@@ -426,56 +351,14 @@ SCENES = {
 }
 
 
-def _c_system(name, entry_name):
-    """The model's HybridSystem with the C functions of registry entry ``entry_name``."""
-    entry = _registry()[entry_name]
-    return dataclasses.replace(
-        get_model(name).system,
-        rhs=entry["rhs"],
-        guards=entry["guards"],
-        reset=entry["reset"],
-        jac=entry["jac"],
-    )
-
-
-def _stride(system, scene):
-    from walker.integrate import hybrid_solve
-
-    c = scene.compute
-    sol = hybrid_solve(
-        system,
-        scene.state,
-        scene.params.as_array(),
-        phase0=0,
-        t_max=c.t_max,
-        n_strides=1,
-        method=c.method,
-        rtol=c.rtol,
-        atol=c.atol,
-        output="events",
-        jacobian=True,
-    )
-    assert sol.status == Status.COMPLETED, sol.status
-    return sol
-
-
 @pytest.mark.parametrize("name", list(SCENES))
 def test_stride_with_c_model_matches_numba(name):
     """One stride of the scene's gait, bit for bit: final state and time, every event
     (time, guard, post-event state, impulse), the stride's Jacobian and dt/dx0."""
     scene = load_scene(SCENES[name])
-    ref = _stride(get_model(name).system, scene)
-    sol = _stride(_c_system(name, name), scene)
-    assert len(sol.events) == len(ref.events) >= 1
-    np.testing.assert_array_equal(sol.events.guard, ref.events.guard)
-    np.testing.assert_array_equal(sol.events.phase_after, ref.events.phase_after)
-    _assert_bits(sol.x, ref.x, f"{name} final state")
-    _assert_bits(sol.t, ref.t, f"{name} final time")
-    _assert_bits(sol.events.t, ref.events.t, f"{name} event times")
-    _assert_bits(sol.events.x_post, ref.events.x_post, f"{name} post-event states")
-    _assert_bits(sol.events.impulse, ref.events.impulse, f"{name} impulses")
-    _assert_bits(sol.jac, ref.jac, f"{name} stride Jacobian")
-    _assert_bits(sol.dt_dx0, ref.dt_dx0, f"{name} dt/dx0")
+    ref = solve_with_events(get_model(name).system, scene)
+    sol = solve_with_events(c_system(name), scene)
+    assert_same_run(sol, ref, name)
 
 
 @pytest.mark.parametrize("name", ["compass", "kneed"])
@@ -488,8 +371,8 @@ def test_stride_with_plain_c_model_matches_numba(name):
     scene = load_scene(SCENES[name])
     p = scene.params.as_array()
     assert not p[list(_plain_zero(name))].any()
-    ref = _stride(get_model(name).system, scene)
-    sol = _stride(_c_system(name, name + "/plain"), scene)
+    ref = solve_with_events(get_model(name).system, scene)
+    sol = solve_with_events(c_system(name, name + "/plain"), scene)
     assert len(sol.events) == len(ref.events) >= 1
     np.testing.assert_array_equal(sol.events.guard, ref.events.guard)
     np.testing.assert_allclose(sol.x, ref.x, rtol=0, atol=1e-13)
