@@ -16,14 +16,7 @@ import re
 import h5py
 import numpy as np
 import pytest
-from _checkpoints import (
-    COLUMNS,
-    basin_kw,
-    chunk_values,
-    half_done_sweep,
-    sweep_points,
-    sweep_store,
-)
+from _checkpoints import COLUMNS, basin_kw, chunk_values, half_done_sweep, sweep_points, sweep_store
 from _hostile_files import (
     chunk_offset,
     flip,
@@ -39,13 +32,7 @@ from _hostile_files import (
 from test_storage import PROVENANCE, RESULTS, assert_same
 
 from walker import storage
-from walker.storage import (
-    BasinStore,
-    CheckpointMismatch,
-    StorageError,
-    read,
-    write,
-)
+from walker.storage import BasinStore, CheckpointMismatch, StorageError, read, write
 
 # --------------------------------------------------------------------------------------------
 # 1. Checksums

@@ -18,30 +18,12 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
-from _checkpoints import (
-    basin_kw,
-    chunk_values,
-    half_done_sweep,
-    sweep_points,
-    sweep_store,
-)
-from _hostile_files import (
-    basin_v1,
-    flip,
-    one_line,
-    truncate,
-    write_v1,
-)
+from _checkpoints import basin_kw, chunk_values, half_done_sweep, sweep_points, sweep_store
+from _hostile_files import basin_v1, flip, one_line, truncate, write_v1
 from test_storage import PROVENANCE, RESULTS, assert_same
 
 from walker import storage
-from walker.storage import (
-    BasinStore,
-    CheckpointMismatch,
-    StorageError,
-    read,
-    write,
-)
+from walker.storage import BasinStore, CheckpointMismatch, StorageError, read, write
 
 REPO = Path(__file__).resolve().parents[1]
 COMPASS = REPO / "gaits" / "compass_goswami.toml"

@@ -22,23 +22,12 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
-from _checkpoints import (
-    chunk_values,
-    half_done_sweep,
-    sweep_store,
-)
-from _hostile_files import (
-    one_line,
-)
+from _checkpoints import chunk_values, half_done_sweep, sweep_store
+from _hostile_files import one_line
 from test_storage import RESULTS
 
 from walker import storage
-from walker.storage import (
-    StorageError,
-    SweepStore,
-    read,
-    write,
-)
+from walker.storage import StorageError, SweepStore, read, write
 
 REPO = Path(__file__).resolve().parents[1]
 COMPASS = REPO / "gaits" / "compass_goswami.toml"
