@@ -171,3 +171,37 @@ def assert_same_run(sol, ref, what, *, min_events=1, jacobian="stride Jacobian")
     assert_bits(sol.events.impulse, ref.events.impulse, f"{what} impulses")
     assert_bits(sol.jac, ref.jac, f"{what} {jacobian}")
     assert_bits(sol.dt_dx0, ref.dt_dx0, f"{what} dt/dx0")
+
+
+def assert_phase_functions_agree(c, m, phase, t, x, p, what, same=assert_bits):
+    """The C model ``c`` and the numba module ``m`` agree on rhs and Jacobian (compared
+    with ``same``) and on the guards (bit for bit) in ``phase``; return the numba rhs."""
+    n_x = m.N_X
+    dx = np.full(n_x, np.nan)
+    m.rhs(phase, t, x, p, dx)
+    same(c.rhs(phase, t, x, p), dx, f"rhs {what}")
+    g = np.full(len(m.GUARD_NAMES), np.nan)
+    m.guards(phase, t, x, p, g)
+    assert_bits(c.guards(phase, t, x, p), g, f"guards {what}")
+    J = np.full((n_x, n_x), np.nan)
+    m.jac(phase, t, x, p, J)
+    same(c.jac(phase, t, x, p), J, f"jac {what}")
+    return dx
+
+
+def assert_state_functions_agree(c, m, x, p, what, same=assert_bits):
+    """The C model ``c`` and the numba module ``m`` agree on energy and points."""
+    same(c.energy(x, p), np.array(m.energy(x, p)), f"energy {what}")
+    same(c.points(x, p), m.points(x, p), f"points {what}")
+
+
+def assert_reset_agrees(c, m, phase, k, x, p, what, same=assert_bits, ignore_scuff=False):
+    """The C and numba resets at t = 0.3 give the same outcome ``(action, next phase,
+    status)`` and the same post-reset state and impulse (compared with ``same``); return
+    the outcome."""
+    ref_out, ref_x, ref_imp = numba_reset(m, phase, k, 0.3, x, p, ignore_scuff)
+    out, x_new, impulse = c.reset(phase, k, 0.3, x, p)
+    assert out == ref_out, what
+    same(x_new, ref_x, what)
+    same(impulse, ref_imp, what)
+    return ref_out

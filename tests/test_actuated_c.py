@@ -26,9 +26,11 @@ import pytest
 from _cmodel import (
     CModel,
     assert_bits,
+    assert_phase_functions_agree,
+    assert_reset_agrees,
     assert_same_run,
+    assert_state_functions_agree,
     c_system,
-    numba_reset,
     registry,
     solve_with_events,
 )
@@ -186,7 +188,6 @@ def test_continuous_functions_agree(case):
     c = case.c_model()
     m = case.module
     rng = np.random.default_rng(20240612)
-    n_x = m.N_X
     saturated = 0
     for trial in range(case.trials):
         p = _params(case.name, rng)
@@ -194,18 +195,9 @@ def test_continuous_functions_agree(case):
         t = rng.uniform(0.0, 2.0)
         for phase in range(case.n_phases):
             what = f"{case.name} trial {trial} phase {phase}"
-            dx = np.full(n_x, np.nan)
-            m.rhs(phase, t, x, p, dx)
-            assert_bits(c.rhs(phase, t, x, p), dx, f"rhs {what}")
+            dx = assert_phase_functions_agree(c, m, phase, t, x, p, what)
             saturated += dx[-1] == 1.0
-            g = np.full(len(m.GUARD_NAMES), np.nan)
-            m.guards(phase, t, x, p, g)
-            assert_bits(c.guards(phase, t, x, p), g, f"guards {what}")
-            J = np.full((n_x, n_x), np.nan)
-            m.jac(phase, t, x, p, J)
-            assert_bits(c.jac(phase, t, x, p), J, f"jac {what}")
-        assert_bits(c.energy(x, p), np.array(m.energy(x, p)), f"energy {case.name} {trial}")
-        assert_bits(c.points(x, p), m.points(x, p), f"points {case.name} {trial}")
+        assert_state_functions_agree(c, m, x, p, f"{case.name} {trial}")
         assert c.start_phase(x, p) == float(m.start_phase(x, p)), f"{case.name} {trial}"
     assert saturated > 0  # the saturation branch was reached
 
@@ -358,11 +350,7 @@ def test_reset_agrees_on_every_branch(case):
     seen = set()
     for phase, k, x, p in _reset_states(case, rng, 1000):
         what = f"{case.name} reset phase {phase} k {k} x {x.tolist()}"
-        ref_out, ref_x, ref_imp = numba_reset(m, phase, k, 0.3, x, p)
-        out, x_new, impulse = c.reset(phase, k, 0.3, x, p)
-        assert out == ref_out, what
-        assert_bits(x_new, ref_x, what)
-        assert_bits(impulse, ref_imp, what)
+        ref_out = assert_reset_agrees(c, m, phase, k, x, p, what)
         seen.add(_outcome(m, k, ref_out))
     missing = REQUIRED[m] - seen
     assert not missing, f"{case.name}: branches not reached {sorted(missing, key=str)}"

@@ -32,9 +32,11 @@ import pytest
 from _cmodel import (
     CModel,
     assert_bits,
+    assert_phase_functions_agree,
+    assert_reset_agrees,
     assert_same_run,
+    assert_state_functions_agree,
     c_system,
-    numba_reset,
     registry,
     solve_with_events,
 )
@@ -232,7 +234,6 @@ def test_continuous_functions_agree(case):
     c = case.c_model()
     m = case.module
     rng = np.random.default_rng(20240612)
-    n_x = m.N_X
     kinds = set()  # slip_force outcomes reached: 0 (a joint sticks), 1, -1
     for trial in range(150):
         p = case.params(rng)
@@ -244,20 +245,11 @@ def test_continuous_functions_agree(case):
         t = rng.uniform(0.0, 2.0)
         for phase in range(case.n_phases):
             what = f"{case.name} trial {trial} phase {phase}"
-            dx = np.full(n_x, np.nan)
-            m.rhs(phase, t, x, p, dx)
-            assert_bits(c.rhs(phase, t, x, p), dx, f"rhs {what}")
-            g = np.full(len(m.GUARD_NAMES), np.nan)
-            m.guards(phase, t, x, p, g)
-            assert_bits(c.guards(phase, t, x, p), g, f"guards {what}")
-            J = np.full((n_x, n_x), np.nan)
-            m.jac(phase, t, x, p, J)
-            assert_bits(c.jac(phase, t, x, p), J, f"jac {what}")
+            assert_phase_functions_agree(c, m, phase, t, x, p, what)
             _, S, modes = case.split(phase)
             F = p[m.I_COULOMB : m.I_COULOMB + S.shape[0]].copy()
             kinds.add(int(fr.slip_force(S, F, modes, np.empty(S.shape[1]))))
-        assert_bits(c.energy(x, p), np.array(m.energy(x, p)), f"energy {case.name} {trial}")
-        assert_bits(c.points(x, p), m.points(x, p), f"points {case.name} {trial}")
+        assert_state_functions_agree(c, m, x, p, f"{case.name} {trial}")
     assert kinds == {0, 1, -1}
 
 
@@ -474,11 +466,7 @@ def test_reset_agrees_on_every_branch(case):
     seen = set()
     for phase, k, x, p in _reset_cases(case, rng, 3000):
         what = f"{case.name} reset phase {phase} k {k} x {x.tolist()} p {p.tolist()}"
-        ref_out, ref_x, ref_imp = numba_reset(m, phase, k, 0.3, x, p)
-        out, x_new, impulse = c.reset(phase, k, 0.3, x, p)
-        assert out == ref_out, what
-        assert_bits(x_new, ref_x, what)
-        assert_bits(impulse, ref_imp, what)
+        ref_out = assert_reset_agrees(c, m, phase, k, x, p, what)
         if ref_out[0] != EVENT_IGNORE:
             seen.add(_outcome(case, phase, k, ref_out))
     missing = REQUIRED[case.name] - seen

@@ -28,22 +28,18 @@ import pytest
 from _cmodel import (
     CModel,
     assert_bits,
+    assert_phase_functions_agree,
+    assert_reset_agrees,
     assert_same_run,
+    assert_state_functions_agree,
     c_system,
-    numba_reset,
     registry,
     solve_with_events,
 )
 
 from walker import load_scene
 from walker.models import compass, get_model, kneed, simplest
-from walker.status import (
-    EVENT_CONTINUE,
-    EVENT_IGNORE,
-    EVENT_STRIDE,
-    EVENT_TERMINAL,
-    Status,
-)
+from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
 
 PLAIN_RTOL = 1e-12
 
@@ -209,17 +205,8 @@ def test_continuous_functions_agree(case):
         t = rng.uniform(0.0, 2.0)
         for phase in range(case.n_phases):
             what = f"{case.name} trial {trial} phase {phase}"
-            dx = np.full(n_x, np.nan)
-            m.rhs(phase, t, x, p, dx)
-            same(c.rhs(phase, t, x, p), dx, f"rhs {what}")
-            g = np.full(len(m.GUARD_NAMES), np.nan)
-            m.guards(phase, t, x, p, g)
-            assert_bits(c.guards(phase, t, x, p), g, f"guards {what}")
-            J = np.full((n_x, n_x), np.nan)
-            m.jac(phase, t, x, p, J)
-            same(c.jac(phase, t, x, p), J, f"jac {what}")
-        same(c.energy(x, p), np.array(m.energy(x, p)), f"energy {case.name} {trial}")
-        same(c.points(x, p), m.points(x, p), f"points {case.name} {trial}")
+            assert_phase_functions_agree(c, m, phase, t, x, p, what, same)
+        assert_state_functions_agree(c, m, x, p, f"{case.name} {trial}", same)
 
 
 # --------------------------------------------------------------------------------------
@@ -329,11 +316,7 @@ def test_reset_agrees_on_every_branch(case):
     seen = set()
     for phase, k, x, p in _reset_states(case, rng, 600):
         what = f"{case.name} reset phase {phase} k {k} x {x.tolist()}"
-        ref_out, ref_x, ref_imp = numba_reset(m, phase, k, 0.3, x, p, case.ignore_scuff)
-        out, x_new, impulse = c.reset(phase, k, 0.3, x, p)
-        assert out == ref_out, what
-        same(x_new, ref_x, what)
-        same(impulse, ref_imp, what)
+        ref_out = assert_reset_agrees(c, m, phase, k, x, p, what, same, case.ignore_scuff)
         seen.add((k, phase, *ref_out))
     required = REQUIRED_IGNORE_SCUFF if case.ignore_scuff else REQUIRED[m]
     missing = required - seen
