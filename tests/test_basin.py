@@ -55,19 +55,24 @@ def expected_map(b, n_strides, tol):
     return out, strides
 
 
-def test_basin_matches_closed_form(toy):
-    m, fp = toy
-    b = basin_map(
+def _serial_basin(m, fp, n_strides):
+    """The toy's basin on the N grid over RANGES, serially, to tol 1e-6."""
+    return basin_map(
         m,
         fp,
         axes=AXES,
         ranges=RANGES,
         n=N,
-        n_strides=20,
+        n_strides=n_strides,
         tol=1e-6,
         executor="serial",
         progress=False,
     )
+
+
+def test_basin_matches_closed_form(toy):
+    m, fp = toy
+    b = _serial_basin(m, fp, n_strides=20)
     assert b.outcome.shape == (30, 30) and b.strides.shape == (30, 30)
     assert b.axis_names == ("u", "w") and b.n_strides == 20
     np.testing.assert_allclose(b.x, np.linspace(*RANGES[0], 30), rtol=0, atol=0)
@@ -85,17 +90,7 @@ def test_basin_matches_closed_form(toy):
 
 def test_undecided_with_few_strides(toy):
     m, fp = toy
-    b = basin_map(
-        m,
-        fp,
-        axes=AXES,
-        ranges=RANGES,
-        n=N,
-        n_strides=2,
-        tol=1e-6,
-        executor="serial",
-        progress=False,
-    )
+    b = _serial_basin(m, fp, n_strides=2)
     out, strides = expected_map(b, 2, 1e-6)
     np.testing.assert_array_equal(b.outcome, out)
     np.testing.assert_array_equal(b.strides, strides)
@@ -216,21 +211,12 @@ _AFFINE_SCENES = {
 
 
 def _walker_map(path):
+    """The scene, and its stride map as ``walker basin`` builds it."""
     from walker import load_scene
-    from walker.stride import StrideMap
+    from walker.cli._common import _stride_map
 
     scene = load_scene(path)
-    c = scene.compute
-    P = StrideMap(
-        scene.model,
-        scene.params,
-        method=c.method,
-        rtol=c.rtol,
-        atol=c.atol,
-        t_max=c.t_max,
-        first_step=c.first_step,
-    )
-    return scene, P
+    return scene, _stride_map(scene)
 
 
 class _PythonLoop:

@@ -72,18 +72,10 @@ class Counting:
 
 def scene_map(path, **overrides):
     """The scene, and its stride map as ``walker find`` builds it."""
+    from walker.cli._common import _stride_map
+
     scene = load_scene(path, overrides=overrides)
-    c = scene.compute
-    P = StrideMap(
-        scene.model,
-        scene.params,
-        method=c.method,
-        rtol=c.rtol,
-        atol=c.atol,
-        t_max=c.t_max,
-        first_step=c.first_step,
-    )
-    return scene, P
+    return scene, _stride_map(scene)
 
 
 # ------------------------------------------------------------------------- statuses
