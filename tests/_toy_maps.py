@@ -21,8 +21,20 @@ def _fail(n_z: int, status: Status, n_done: int) -> MapResult:
     return MapResult(status, nan, None, float(n_done), np.full(n_z + 1, np.nan))
 
 
+class _Continued:
+    """The continuation part of :class:`walker.fixedpoint.SectionMap` for a frozen dataclass
+    whose field named ``parameter_name`` is the continuation parameter."""
+
+    @property
+    def parameter_value(self) -> float:
+        return getattr(self, self.parameter_name)
+
+    def with_parameter(self, value: float):
+        return replace(self, **{self.parameter_name: float(value)})
+
+
 @dataclass(frozen=True)
-class HenonMap:
+class HenonMap(_Continued):
     """Hénon map ``(x, y) -> (1 - a x^2 + y, b x)`` with continuation parameter ``a``.
 
     ``fall_radius``: a stride that starts with ``max|z| > fall_radius`` "falls forward".
@@ -34,13 +46,6 @@ class HenonMap:
     n_z: int = 2
     section_names: tuple[str, ...] = ("x", "y")
     parameter_name: str = "a"
-
-    @property
-    def parameter_value(self) -> float:
-        return self.a
-
-    def with_parameter(self, value: float) -> HenonMap:
-        return replace(self, a=float(value))
 
     def lift(self, z):
         return np.append(np.asarray(z, dtype=float), 0.0)
@@ -92,20 +97,13 @@ def henon_two_cycle(a: float, b: float) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class LogisticMap:
+class LogisticMap(_Continued):
     """Logistic map ``z -> r z (1 - z)`` (1-D), parameter ``r``; falls when z leaves [0, 1]."""
 
     r: float = 2.5
     n_z: int = 1
     section_names: tuple[str, ...] = ("z",)
     parameter_name: str = "r"
-
-    @property
-    def parameter_value(self) -> float:
-        return self.r
-
-    def with_parameter(self, value: float) -> LogisticMap:
-        return replace(self, r=float(value))
 
     def lift(self, z):
         return np.append(np.asarray(z, dtype=float), 0.0)
@@ -132,7 +130,7 @@ class LogisticMap:
 
 
 @dataclass(frozen=True)
-class ShiftMap:
+class ShiftMap(_Continued):
     """``z -> z + shift + wiggle sin(z)`` (1-D): no fixed point when ``|shift| > |wiggle|``."""
 
     shift: float = 1.0
@@ -140,13 +138,6 @@ class ShiftMap:
     n_z: int = 1
     section_names: tuple[str, ...] = ("z",)
     parameter_name: str = "shift"
-
-    @property
-    def parameter_value(self) -> float:
-        return self.shift
-
-    def with_parameter(self, value: float) -> ShiftMap:
-        return replace(self, shift=float(value))
 
     def lift(self, z):
         return np.asarray(z, dtype=float).copy()
@@ -169,7 +160,7 @@ class ShiftMap:
 
 
 @dataclass(frozen=True)
-class CubicBasinMap:
+class CubicBasinMap(_Continued):
     """``z -> c + (z - c) |z - c|^2`` in ``n_z`` dimensions, centre ``c = center``.
 
     The centre is a superattracting fixed point whose basin is exactly the open unit ball
@@ -188,13 +179,6 @@ class CubicBasinMap:
     @property
     def n_z(self) -> int:
         return len(self.center)
-
-    @property
-    def parameter_value(self) -> float:
-        return self.fall_radius
-
-    def with_parameter(self, value: float) -> CubicBasinMap:
-        return replace(self, fall_radius=float(value))
 
     def lift(self, z):
         return np.asarray(z, dtype=float).copy()
