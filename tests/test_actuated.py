@@ -6,6 +6,7 @@ from functools import cache
 
 import numpy as np
 import pytest
+from _chains import three_link_chain_torques, three_link_chains
 from numpy.testing import assert_allclose
 
 from walker import hzd
@@ -18,7 +19,6 @@ from walker.params import CompassParams, ThreeLinkParams
 from walker.scene import load_scene
 from walker.status import Status
 from walker.stride import StrideMap, simulate
-from walker.symbolic.newton_euler import PlanarChain, inverse_dynamics
 
 RNG = np.random.default_rng(20260308)
 PERTURBATION = np.array([0.0, 0.02, 0.05, -0.05, 0.1])
@@ -341,32 +341,14 @@ def test_newton_euler_reproduces_applied_torques():
         output="samples",
         sample_times=times,
     )
-    a, b, r, L = P.com_from_foot, P.com_to_hip, P.leg_length, P.torso_length
-    m_st, c_st = P.mass_leg + P.mass_hip, (P.mass_leg * a + P.mass_hip * r)
-    c_st /= m_st
-    I_st = P.mass_leg * (a - c_st) ** 2 + P.mass_hip * (r - c_st) ** 2
-    eps = 1e-3  # a stance link of (almost) no mass for the torso branch, subtracted below
-    chain_a = PlanarChain([r, b], [[c_st, 0], [b, 0]], [m_st, P.mass_leg], [I_st, 0.0])
-    chain_b = PlanarChain([r, L], [[a, 0], [L, 0]], [eps, P.mass_torso], [0.0, 0.0])
-    chain_c = PlanarChain([r], [[a, 0]], [eps], [0.0])
+    chains = three_link_chains(P)
     gravity = (0.0, -P.g)
     n_checked = 0
     for x in sol.samples.x:
         dx = np.empty(8)
         TL.rhs(0, 0.0, x, p, dx)
-        q, qd, qdd = x[:3], x[3:6], dx[3:6]
         u = TL.torques(x, p)
-        # relative joint angles of the two serial chains (link axes along foot->hip,
-        # hip->swing foot, hip->torso)
-        phi_a = [q[0] + math.pi / 2, q[1] - q[0] - math.pi]
-        phi_b = [q[0] + math.pi / 2, q[2] - q[0]]
-        tau_a = inverse_dynamics(
-            chain_a, phi_a, [qd[0], qd[1] - qd[0]], [qdd[0], qdd[1] - qdd[0]], gravity=gravity
-        )
-        tau_b = inverse_dynamics(
-            chain_b, phi_b, [qd[0], qd[2] - qd[0]], [qdd[0], qdd[2] - qdd[0]], gravity=gravity
-        )
-        tau_c = inverse_dynamics(chain_c, phi_b[:1], qd[:1], qdd[:1], gravity=gravity)
+        tau_a, tau_b, tau_c = three_link_chain_torques(chains, x, dx, gravity)
         assert_allclose(tau_a[1], u[1], rtol=0, atol=1e-10)
         assert_allclose(tau_b[1], -u[0] - u[1], rtol=0, atol=1e-10)
         assert_allclose(tau_a[0] + tau_b[0] - tau_c[0], 0.0, rtol=0, atol=1e-10)

@@ -32,6 +32,12 @@ from functools import cache
 
 import numpy as np
 import pytest
+from _chains import (
+    five_link_chain_torques,
+    five_link_chains,
+    three_link_chain_torques,
+    three_link_chains,
+)
 from numba import njit
 from numpy.testing import assert_allclose
 
@@ -49,7 +55,6 @@ from walker.params import FiveLinkParams, ThreeLinkParams
 from walker.scene import load_scene
 from walker.status import EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
 from walker.stride import StrideMap, simulate
-from walker.symbolic.newton_euler import PlanarChain, inverse_dynamics
 
 TIGHT = dict(rtol=1e-12, atol=1e-12)
 RNG = np.random.default_rng(20260412)
@@ -502,39 +507,17 @@ def test_hip_at_rest_sticks_until_its_holding_torque_reaches_f(controller, coulo
 
 
 # --------------------------------------------------------------------------- Newton–Euler
-def _three_link_chains(P):
-    a, b, r, L = P.com_from_foot, P.com_to_hip, P.leg_length, P.torso_length
-    m_st, c_st = P.mass_leg + P.mass_hip, (P.mass_leg * a + P.mass_hip * r)
-    c_st /= m_st
-    I_st = P.mass_leg * (a - c_st) ** 2 + P.mass_hip * (r - c_st) ** 2
-    eps = 1e-3  # a stance link of (almost) no mass for the torso branch, subtracted below
-    return (
-        PlanarChain([r, b], [[c_st, 0], [b, 0]], [m_st, P.mass_leg], [I_st, 0.0]),
-        PlanarChain([r, L], [[a, 0], [L, 0]], [eps, P.mass_torso], [0.0, 0.0]),
-        PlanarChain([r], [[a, 0]], [eps], [0.0]),
-    )
-
-
 def _check_three_link_newton_euler(P, samples):
     """tests/test_actuated.py::test_newton_euler_reproduces_applied_torques with the joint
     torques u + friction: swing hip tau_2, torso joint -tau_1 - tau_2, stance foot 0."""
     p = P.as_array()
-    chain_a, chain_b, chain_c = _three_link_chains(P)
+    chains = three_link_chains(P)
     gravity = (0.0, -P.g)
     for x, phase in zip(samples.x, samples.phase, strict=True):
         dx = np.empty(8)
         TL.rhs(int(phase), 0.0, x, p, dx)
-        q, qd, qdd = x[:3], x[3:6], dx[3:6]
         tau = TL.torques(x, p) + TL.joint_torques(int(phase), x, p)
-        phi_a = [q[0] + math.pi / 2, q[1] - q[0] - math.pi]
-        phi_b = [q[0] + math.pi / 2, q[2] - q[0]]
-        tau_a = inverse_dynamics(
-            chain_a, phi_a, [qd[0], qd[1] - qd[0]], [qdd[0], qdd[1] - qdd[0]], gravity=gravity
-        )
-        tau_b = inverse_dynamics(
-            chain_b, phi_b, [qd[0], qd[2] - qd[0]], [qdd[0], qdd[2] - qdd[0]], gravity=gravity
-        )
-        tau_c = inverse_dynamics(chain_c, phi_b[:1], qd[:1], qdd[:1], gravity=gravity)
+        tau_a, tau_b, tau_c = three_link_chain_torques(chains, x, dx, gravity)
         assert_allclose(tau_a[1], tau[1], rtol=0, atol=1e-10)
         assert_allclose(tau_b[1], -tau[0] - tau[1], rtol=0, atol=1e-10)
         assert_allclose(tau_a[0] + tau_b[0] - tau_c[0], 0.0, rtol=0, atol=1e-10)
@@ -578,44 +561,13 @@ def test_newton_euler_five_link_with_friction():
         "five_link", P, scene.state, output="samples", sample_times=times, **TIGHT
     ).samples
     assert any("stick" in FL.modes_of(int(ph)).values() for ph in samples.phase)
-    lt, lf = P.length_tibia, P.length_femur
-    mt, mf, it, i_f = P.mass_tibia, P.mass_femur, P.inertia_tibia, P.inertia_femur
-    eps = 1e-3
-    chain_a = PlanarChain(
-        [lt, lf, lf, lt],
-        [[lt - P.com_tibia, 0], [lf - P.com_femur, 0], [P.com_femur, 0], [P.com_tibia, 0]],
-        [mt, mf, mf, mt],
-        [it, i_f, i_f, it],
-    )
-    chain_b = PlanarChain(
-        [lt, lf, P.com_torso],
-        [[lt / 2, 0], [lf / 2, 0], [P.com_torso, 0]],
-        [eps, eps, P.mass_torso],
-        [0.0, 0.0, P.inertia_torso],
-    )
-    chain_c = PlanarChain([lt, lf], [[lt / 2, 0], [lf / 2, 0]], [eps, eps], [0.0, 0.0])
+    chains = five_link_chains(P)
     gravity = (0.0, -P.g)
-    T = np.array(
-        [[1, -0.5, 0, 0, 0], [1, 0.5, 0, 0, 0], [0, 0, 1, 0, 0], [0, 0, 0, 1, 0], [0, 0, 0, 0, 1]]
-    )
-    rel_a = np.array([[1, 0, 0, 0, 0], [-1, 1, 0, 0, 0], [0, -1, 0, 1, 0], [0, 0, 0, -1, 1]])
-    rel_b = np.array([[1, 0, 0, 0, 0], [-1, 1, 0, 0, 0], [0, -1, 1, 0, 0]])
-    off_a = np.array([math.pi / 2, 0.0, math.pi, 0.0])
-    off_b = np.array([math.pi / 2, 0.0, 0.0])
     for x, phase in zip(samples.x, samples.phase, strict=True):
         dx = np.empty(12)
         FL.rhs(int(phase), 0.0, x, p, dx)
         tau = FL.torques(x, p) + FL.joint_torques(int(phase), x, p)
-        a, ad, add = T @ x[:5], T @ x[5:10], T @ dx[5:10]
-        tau_a = inverse_dynamics(
-            chain_a, rel_a @ a + off_a, rel_a @ ad, rel_a @ add, gravity=gravity
-        )
-        tau_b = inverse_dynamics(
-            chain_b, rel_b @ a + off_b, rel_b @ ad, rel_b @ add, gravity=gravity
-        )
-        tau_c = inverse_dynamics(
-            chain_c, (rel_b @ a + off_b)[:2], (rel_b @ ad)[:2], (rel_b @ add)[:2], gravity=gravity
-        )
+        tau_a, tau_b, tau_c = five_link_chain_torques(chains, x, dx, gravity)
         assert_allclose(tau_a[3], tau[3], rtol=0, atol=1e-10)
         assert_allclose(tau_a[2], tau[1], rtol=0, atol=1e-10)
         assert_allclose(tau_b[2], -tau[0] - tau[1], rtol=0, atol=1e-10)

@@ -6,6 +6,7 @@ from functools import cache
 
 import numpy as np
 import pytest
+from _chains import five_link_chain_torques, five_link_chains
 from numpy.testing import assert_allclose
 
 from walker import hzd
@@ -16,7 +17,6 @@ from walker.params import FiveLinkParams
 from walker.scene import load_scene
 from walker.status import Status
 from walker.stride import StrideMap, simulate
-from walker.symbolic.newton_euler import PlanarChain, inverse_dynamics
 
 RNG = np.random.default_rng(20260311)
 # section coordinates: q_leg, q_knee, q_torso, q_femur_sw, then the five rates
@@ -271,48 +271,14 @@ def test_newton_euler_reproduces_applied_torques():
     times = np.linspace(0.0, full_orbit().step_time * 0.999, 7)
     x0 = full_orbit().state + np.r_[0, 0, 0.02, 0, 0, 0.05, 0, 0, 0, 0, 0, 0]
     sol = simulate("five_link", P, x0, n_strides=1, output="samples", sample_times=times)
-    lt, lf = P.length_tibia, P.length_femur
-    mt, mf, it, i_f = P.mass_tibia, P.mass_femur, P.inertia_tibia, P.inertia_femur
-    eps = 1e-3
-    chain_a = PlanarChain(
-        [lt, lf, lf, lt],
-        [[lt - P.com_tibia, 0], [lf - P.com_femur, 0], [P.com_femur, 0], [P.com_tibia, 0]],
-        [mt, mf, mf, mt],
-        [it, i_f, i_f, it],
-    )
-    chain_b = PlanarChain(
-        [lt, lf, P.com_torso],
-        [[lt / 2, 0], [lf / 2, 0], [P.com_torso, 0]],
-        [eps, eps, P.mass_torso],
-        [0.0, 0.0, P.inertia_torso],
-    )
-    chain_c = PlanarChain([lt, lf], [[lt / 2, 0], [lf / 2, 0]], [eps, eps], [0.0, 0.0])
+    chains = five_link_chains(P)
     gravity = (0.0, -P.g)
     assert sol.samples.x.shape[0] == len(times)
     for x in sol.samples.x:
         dx = np.empty(12)
         FL.rhs(0, 0.0, x, p, dx)
         u = FL.torques(x, p)
-        # absolute angles (stance tibia, stance femur, torso, swing femur, swing tibia) and
-        # their rates and accelerations
-        T = np.array([[1, -0.5, 0, 0, 0], [1, 0.5, 0, 0, 0], [0, 0, 1, 0, 0]])
-        T = np.vstack([T, [[0, 0, 0, 1, 0], [0, 0, 0, 0, 1]]])
-        a, ad, add = T @ x[:5], T @ x[5:10], T @ dx[5:10]
-        # relative joint angles of the chains (link axes: foot -> knee -> hip -> knee ->
-        # foot; hip -> torso)
-        rel_a = np.array([[1, 0, 0, 0, 0], [-1, 1, 0, 0, 0], [0, -1, 0, 1, 0], [0, 0, 0, -1, 1]])
-        rel_b = np.array([[1, 0, 0, 0, 0], [-1, 1, 0, 0, 0], [0, -1, 1, 0, 0]])
-        off_a = np.array([math.pi / 2, 0.0, math.pi, 0.0])
-        off_b = np.array([math.pi / 2, 0.0, 0.0])
-        tau_a = inverse_dynamics(
-            chain_a, rel_a @ a + off_a, rel_a @ ad, rel_a @ add, gravity=gravity
-        )
-        tau_b = inverse_dynamics(
-            chain_b, rel_b @ a + off_b, rel_b @ ad, rel_b @ add, gravity=gravity
-        )
-        tau_c = inverse_dynamics(
-            chain_c, (rel_b @ a + off_b)[:2], (rel_b @ ad)[:2], (rel_b @ add)[:2], gravity=gravity
-        )
+        tau_a, tau_b, tau_c = five_link_chain_torques(chains, x, dx, gravity)
         assert_allclose(tau_a[3], u[3], rtol=0, atol=1e-10)
         assert_allclose(tau_a[2], u[1], rtol=0, atol=1e-10)
         assert_allclose(tau_b[2], -u[0] - u[1], rtol=0, atol=1e-10)
