@@ -39,17 +39,18 @@ def test_garcia_gaits_to_1e9_and_multipliers_within_2e3():
     )
 
 
+# the passive-walker scenes with a [reference] table (walker's own digits)
+REFERENCE_SCENES = [
+    "simplest_garcia",
+    "compass_goswami",
+    "kneed_hsu",
+    "kneed_coulomb_hsu",
+    "compass_coulomb_goswami",
+]
+
+
 @pytest.mark.regression_pin
-@pytest.mark.parametrize(
-    "name",
-    [
-        "simplest_garcia",
-        "compass_goswami",
-        "kneed_hsu",
-        "kneed_coulomb_hsu",
-        "compass_coulomb_goswami",
-    ],
-)
+@pytest.mark.parametrize("name", REFERENCE_SCENES)
 def test_scene_reference_digits_regression_pin(name):
     """REGRESSION PIN: the scenes' [reference] state, multipliers and step time are walker's own
     (scripts/reference_values.py); the published digits are checked by the Garcia test above
@@ -79,16 +80,7 @@ def test_kneed_thesis_point_comes_back_with_euler_at_1e3():
     assert np.abs(fp_exact.state - scene.state).max() > 1e-2
 
 
-@pytest.mark.parametrize(
-    "name",
-    [
-        "simplest_garcia",
-        "compass_goswami",
-        "kneed_hsu",
-        "kneed_coulomb_hsu",
-        "compass_coulomb_goswami",
-    ],
-)
+@pytest.mark.parametrize("name", REFERENCE_SCENES)
 def test_exact_jacobian_matches_finite_differences(name):
     scene, P, fp = _fixed_point(name, rtol=1e-13, atol=1e-13)
     exact = P(fp.section, jacobian=True).jac
@@ -107,16 +99,7 @@ def test_exact_jacobian_matches_finite_differences(name):
     assert_allclose(exact, fd, atol=1e-7, rtol=0)
 
 
-@pytest.mark.parametrize(
-    "name",
-    [
-        "simplest_garcia",
-        "compass_goswami",
-        "kneed_hsu",
-        "kneed_coulomb_hsu",
-        "compass_coulomb_goswami",
-    ],
-)
+@pytest.mark.parametrize("name", REFERENCE_SCENES)
 def test_multipliers_stable_as_tolerance_tightens(name):
     """Measured spread against rtol = atol = 3e-14: at 1e-10 it is 1.7e-9 (simplest: its
     4-time-unit stride on an inverted pendulum amplifies local errors), 1.0e-10 (compass),

@@ -4,6 +4,7 @@ the compass gait's fixed point along a slope sweep."""
 from __future__ import annotations
 
 import concurrent.futures as cf
+import functools
 import os
 import shutil
 import signal
@@ -234,24 +235,11 @@ def test_serial_and_process_pool_give_identical_tables(pool):
     stride_map, z0 = _compass_map()
     ranges = ["slope=0.01:0.12:11", "mass_hip=5,10,20"]
     for kind, chunk in (("outcome", 4), ("fixed_point", 5)):
-        serial = sweep(
-            stride_map,
-            ranges,
-            kind=kind,
-            z0=z0,
-            executor="serial",
-            chunk_size=chunk,
-            progress=False,
+        run = functools.partial(
+            sweep, stride_map, ranges, kind=kind, z0=z0, chunk_size=chunk, progress=False
         )
-        pooled = sweep(
-            stride_map,
-            ranges,
-            kind=kind,
-            z0=z0,
-            executor=pool,
-            chunk_size=chunk,
-            progress=False,
-        )
+        serial = run(executor="serial")
+        pooled = run(executor=pool)
         _assert_tables_equal(serial, pooled)
     # the fixed-point sweep has failures, so NaN positions were compared too
     assert np.isnan(serial.columns["section"]).any() and (serial.columns["status"] == 0).any()
@@ -460,22 +448,9 @@ def test_dask_local_cluster_matches_process_pool(pool):
         distributed.Client(cluster) as client,
     ):
         for kind, chunk in (("outcome", 4), ("fixed_point", 5)):
-            on_dask = sweep(
-                stride_map,
-                ranges,
-                kind=kind,
-                z0=z0,
-                executor=client,
-                chunk_size=chunk,
-                progress=False,
+            run = functools.partial(
+                sweep, stride_map, ranges, kind=kind, z0=z0, chunk_size=chunk, progress=False
             )
-            pooled = sweep(
-                stride_map,
-                ranges,
-                kind=kind,
-                z0=z0,
-                executor=pool,
-                chunk_size=chunk,
-                progress=False,
-            )
+            on_dask = run(executor=client)
+            pooled = run(executor=pool)
             _assert_tables_equal(on_dask, pooled)
