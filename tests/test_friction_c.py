@@ -417,37 +417,28 @@ def _outcome(case, phase, k, out):
 
 
 _STICK, _SP, _SM = "stick", "slip+", "slip-"
+# every model with dry friction: each slip stops (to stick, or reverses), each stick breaks
+# either way, and a friction event at a singular mass matrix is terminal
+_FRICTION_EVENTS = {
+    ("slip_stops", _STICK, _SP),
+    ("slip_stops", _STICK, _SM),
+    ("slip_stops", _SP, _SM),
+    ("slip_stops", _SM, _SP),
+    ("stick_breaks", _SP, _STICK),
+    ("stick_breaks", _SM, _STICK),
+    ("terminal", False, _SINGULAR),
+}
 REQUIRED = {
     "compass_coulomb": {
-        ("slip_stops", _STICK, _SP),
-        ("slip_stops", _STICK, _SM),
-        ("slip_stops", _SP, _SM),
-        ("slip_stops", _SM, _SP),
-        ("stick_breaks", _SP, _STICK),
-        ("stick_breaks", _SM, _STICK),
-        ("terminal", False, _SINGULAR),
+        *_FRICTION_EVENTS,
         ("impact", EVENT_STRIDE, 0, False),
         ("terminal", True, _SINGULAR),
         ("terminal", True, int(Status.NONPHYSICAL_IMPACT)),
         ("terminal", True, int(Status.FELL_FORWARD)),
     },
-    "double_pendulum": {
-        ("slip_stops", _STICK, _SP),
-        ("slip_stops", _STICK, _SM),
-        ("slip_stops", _SP, _SM),
-        ("slip_stops", _SM, _SP),
-        ("stick_breaks", _SP, _STICK),
-        ("stick_breaks", _SM, _STICK),
-        ("terminal", False, _SINGULAR),
-    },
+    "double_pendulum": _FRICTION_EVENTS,
     "kneed_coulomb": {
-        ("slip_stops", _STICK, _SP),
-        ("slip_stops", _STICK, _SM),
-        ("slip_stops", _SP, _SM),
-        ("slip_stops", _SM, _SP),
-        ("stick_breaks", _SP, _STICK),
-        ("stick_breaks", _SM, _STICK),
-        ("terminal", False, _SINGULAR),
+        *_FRICTION_EVENTS,
         ("impact", EVENT_STRIDE, 0, True),  # the new swing knee, at rest, sticks
         ("impact", EVENT_STRIDE, 0, False),
         ("impact", EVENT_CONTINUE, 1, False),  # knee lock
