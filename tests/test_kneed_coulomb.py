@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _fd import rhs_jacobian_fd
 from numpy.testing import assert_allclose
 
 from walker import StrideMap, find_fixed_point, simulate
@@ -110,16 +111,7 @@ def test_jac_matches_differences(base, modes):
             x[2], x[5] = x[1], x[4]
         J = np.empty((6, 6))
         KC.jac(phase, 0.0, x, pa, J)
-        fd = np.empty((6, 6))
-        for k in range(6):
-            h = 1e-6
-            xp, xm = x.copy(), x.copy()
-            xp[k] += h
-            xm[k] -= h
-            fp_, fm_ = np.empty(6), np.empty(6)
-            KC.rhs(phase, 0.0, xp, pa, fp_)
-            KC.rhs(phase, 0.0, xm, pa, fm_)
-            fd[:, k] = (fp_ - fm_) / (2 * h)
+        fd = rhs_jacobian_fd(KC.rhs, phase, x, pa)
         if base == "locked":
             fd[:, 2] = fd[:, 5] = 0.0  # the locked model ignores q3, qd3
         assert_allclose(J, fd, rtol=1e-6, atol=1e-6)
@@ -261,21 +253,11 @@ def _reset_action(system, phase, k, x, p):
     import ctypes
 
     from walker.integrate import _compiled
+    from walker.models import _RESET_TYPE
 
     dbl = ctypes.POINTER(ctypes.c_double)
     i64 = ctypes.POINTER(ctypes.c_int64)
-    fn = ctypes.CFUNCTYPE(
-        None,
-        ctypes.c_int64,
-        ctypes.c_int64,
-        ctypes.c_double,
-        dbl,
-        dbl,
-        dbl,
-        dbl,
-        i64,
-        ctypes.c_void_p,
-    )(_compiled(system)[2])
+    fn = _RESET_TYPE(_compiled(system)[2])  # the reset signature of wk_system.h
     x = np.ascontiguousarray(x, dtype=float)
     p = np.ascontiguousarray(p, dtype=float)
     x_new = x.copy()
