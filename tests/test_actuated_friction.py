@@ -40,6 +40,7 @@ from _chains import (
 )
 from numba import njit
 from numpy.testing import assert_allclose
+from test_params import BOUND_CASES
 
 from walker import friction as fr
 from walker import hzd
@@ -576,13 +577,11 @@ def test_newton_euler_five_link_with_friction():
 
 
 # ------------------------------------------------------------------------------ bad input
+# test_params's bound cases of the joint dampers and frictions; here also through from_dict
 BAD_FRICTION = [
-    (ThreeLinkParams, "damping_hip", -0.5, r"`damping_hip` must be >= 0 \[N m s/rad\], got -0.5"),
-    (ThreeLinkParams, "coulomb_hip", -1.0, r"`coulomb_hip` must be >= 0 \[N m\], got -1.0"),
-    (FiveLinkParams, "damping_hip", -0.5, r"`damping_hip` must be >= 0 \[N m s/rad\], got -0.5"),
-    (FiveLinkParams, "damping_knee", -0.1, r"`damping_knee` must be >= 0 \[N m s/rad\]"),
-    (FiveLinkParams, "coulomb_hip", -1.0, r"`coulomb_hip` must be >= 0 \[N m\], got -1.0"),
-    (FiveLinkParams, "coulomb_knee", -2.0, r"`coulomb_knee` must be >= 0 \[N m\], got -2.0"),
+    (cls, field, value, message)
+    for cls, field, value, message in BOUND_CASES
+    if cls in (ThreeLinkParams, FiveLinkParams) and field.startswith(("damping_", "coulomb_"))
 ]
 
 
