@@ -160,22 +160,15 @@ def test_basin_store_reopens_and_refuses_other_files(tmp_path):
     from walker.storage import SweepStore
 
     sweep_file = tmp_path / "s.h5"
-    SweepStore.create_or_open(
-        sweep_file,
+    one_column = dict(
         parameter_names=("a",),
         points=np.zeros((2, 1)),
         columns={"status": ("i8", ())},
         chunk_size=1,
         provenance={},
     )
+    SweepStore.create_or_open(sweep_file, **one_column)
     with pytest.raises(CheckpointMismatch, match="holds a 'sweep' result"):
         _toy_store(sweep_file)
     with pytest.raises(CheckpointMismatch, match="holds a 'basin' result, not a sweep"):
-        SweepStore.create_or_open(
-            path,
-            parameter_names=("a",),
-            points=np.zeros((2, 1)),
-            columns={"status": ("i8", ())},
-            chunk_size=1,
-            provenance={},
-        )
+        SweepStore.create_or_open(path, **one_column)
