@@ -244,37 +244,9 @@ def test_swing_leg_through_the_stance_leg_is_not_a_step(name):
         y[1] += tiny
         if name != "compass":
             y[2] = y[1]
-        action = _reset_action(model.system, phase, 1 if name != "compass" else 0, y, p)
+        # the reset the integrator runs (whatever its backend)
+        action, *_ = model.apply_reset(phase, 1 if name != "compass" else 0, y, p)
         assert action == 0  # EVENT_IGNORE
-
-
-def _reset_action(system, phase, k, x, p):
-    """The action of the reset the integrator runs (whatever its backend), via ctypes."""
-    import ctypes
-
-    from walker.integrate import _compiled
-    from walker.models import _RESET_TYPE
-
-    dbl = ctypes.POINTER(ctypes.c_double)
-    i64 = ctypes.POINTER(ctypes.c_int64)
-    fn = _RESET_TYPE(_compiled(system)[2])  # the reset signature of wk_system.h
-    x = np.ascontiguousarray(x, dtype=float)
-    p = np.ascontiguousarray(p, dtype=float)
-    x_new = x.copy()
-    impulse = np.zeros(system.n_impulse)
-    out = np.zeros(3, dtype=np.int64)
-    fn(
-        phase,
-        k,
-        0.0,
-        x.ctypes.data_as(dbl),
-        p.ctypes.data_as(dbl),
-        x_new.ctypes.data_as(dbl),
-        impulse.ctypes.data_as(dbl),
-        out.ctypes.data_as(i64),
-        None,
-    )
-    return int(out[0])
 
 
 def test_stuck_knee_trips():
