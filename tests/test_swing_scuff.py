@@ -6,6 +6,7 @@ kneed-walker codes.  The C reset of both conventions is checked against its numb
 every branch in tests/test_models_c.py.
 """
 
+import functools
 import json
 import math
 import subprocess
@@ -88,26 +89,14 @@ def test_the_same_state_trips_under_trip_where_the_foot_meets_the_ground():
 def test_deepest_penetration_reports_what_ignore_let_pass():
     scene = _scene()
     p = scene.params.as_array()
-    sol = simulate(
-        scene.walker_model,
-        scene.params,
-        scene.reference["state"],
-        n_strides=1,
-        output="full",
-        **TOL,
+    run = functools.partial(
+        simulate, scene.walker_model, scene.params, scene.reference["state"], n_strides=1, **TOL
     )
+    sol = run(output="full")
     pen = deepest_penetration(sol, scene.params)
     # Independent check: the foot height on a dense sample of the same run.
     times = np.linspace(0.0, sol.t, 20001)[1:-1]
-    dense = simulate(
-        scene.walker_model,
-        scene.params,
-        scene.reference["state"],
-        n_strides=1,
-        output="samples",
-        sample_times=times,
-        **TOL,
-    )
+    dense = run(output="samples", sample_times=times)
     heights = np.array([swing_foot(x, p)[0] for x in dense.samples.x])
     j = int(np.argmin(heights))
     # the cubic Hermite interpolant between DOP853's long steps: about 1e-7 m
