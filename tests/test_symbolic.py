@@ -176,16 +176,23 @@ def numeric(name: str) -> Numeric:
     return Numeric(MODEL_FACTORIES[name]())
 
 
+def _random_points(num, name, offset):
+    """N_STATES random ``(p, q, qd)`` of model ``name`` (numeric model ``num``), drawn from
+    the seed ``offset + _seed(name)``."""
+    rng = np.random.default_rng(offset + _seed(name))
+    for _ in range(N_STATES):
+        p = random_params(FAMILY[name], rng)
+        q, qd = random_state(num.model, rng)
+        yield p, q, qd
+
+
 # -------------------------------------------------------------------------- structure
 @pytest.mark.parametrize("name", list(MODEL_FACTORIES))
 def test_Ddot_minus_2C_is_skew_symmetric(name):
     """``N = D_dot - 2 C`` with ``D_dot = sum_i dD/dq_i qd_i`` is skew-symmetric (Spong et al.,
     Robot Modeling and Control, property 7.1) — true only for the Christoffel form of C."""
     num = numeric(name)
-    rng = np.random.default_rng(_seed(name))
-    for _ in range(N_STATES):
-        p = random_params(FAMILY[name], rng)
-        q, qd = random_state(num.model, rng)
+    for p, q, qd in _random_points(num, name, 0):
         Ddot = np.tensordot(qd, num.dD(q, qd, p), axes=1)
         C = num.C(q, qd, p)
         N = Ddot - 2.0 * C
@@ -198,10 +205,7 @@ def test_mass_matrix_is_hessian_of_kinetic_energy(name):
     """``D = d^2 K / d qd^2``; numerically at random states (K is evaluated independently
     of D through ``sp.hessian``), plus D symmetric positive definite."""
     num = numeric(name)
-    rng = np.random.default_rng(1 + _seed(name))
-    for _ in range(N_STATES):
-        p = random_params(FAMILY[name], rng)
-        q, qd = random_state(num.model, rng)
+    for p, q, qd in _random_points(num, name, 1):
         D = num.D(q, qd, p)
         assert_allclose(D, num.hessian_K(q, qd, p), rtol=TOL, atol=TOL * np.abs(D).max())
         assert_allclose(D, D.T, rtol=0, atol=0)
@@ -212,10 +216,7 @@ def test_mass_matrix_is_hessian_of_kinetic_energy(name):
 def test_energy_is_conserved_along_the_passive_field(name):
     """``dE/dt = dE/dx . f(x)`` with ``f = [qd; D^-1 (-C qd - g)]`` vanishes."""
     num = numeric(name)
-    rng = np.random.default_rng(2 + _seed(name))
-    for _ in range(N_STATES):
-        p = random_params(FAMILY[name], rng)
-        q, qd = random_state(num.model, rng)
+    for p, q, qd in _random_points(num, name, 2):
         qdd = num.passive_accel(q, qd, p)
         rate, scale = num.energy_rate(q, qd, qdd, p)
         assert abs(rate) <= TOL * scale, (rate, scale)
