@@ -202,15 +202,7 @@ def run_before(cases) -> dict:
             overrides[key] = float(value)
         scene = load_scene(path, overrides=overrides)
         c = scene.compute
-        P = old_stride.StrideMap(
-            scene.model,
-            scene.params,
-            method=c.method,
-            rtol=c.rtol,
-            atol=c.atol,
-            t_max=c.t_max,
-            first_step=c.first_step,
-        )
+        P = old_stride.StrideMap(scene.model, scene.params, **ws.solver_settings(c))
         with counting(old_stride.StrideMap) as count:
             t = time.perf_counter()
             fp = old_fp.find_fixed_point(P, P.project(scene.state), period=max(1, c.strides))

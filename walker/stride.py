@@ -22,7 +22,27 @@ from walker.models import WalkerModel, get_model
 from walker.results import MapResult, Solution, too_large
 from walker.status import Status
 
-__all__ = ["StrideMap", "simulate"]
+__all__ = ["SOLVER_SETTINGS", "StrideMap", "simulate", "solver_settings"]
+
+#: The solver settings a run takes, as ``[compute]`` (:class:`walker.scene.ComputeSettings`)
+#: and :class:`StrideMap` both name them.
+SOLVER_SETTINGS = ("method", "rtol", "atol", "t_max", "first_step")
+
+
+def solver_settings(source) -> dict:
+    """The solver settings of ``source`` as keyword arguments: ``method``, ``rtol``, ``atol``,
+    ``t_max`` and ``first_step`` (:data:`SOLVER_SETTINGS`).
+
+    ``source`` is anything with those attributes: a scene's ``compute``
+    (:class:`walker.scene.ComputeSettings`) or a :class:`StrideMap`.
+
+    Examples
+    --------
+    >>> from walker import load_scene
+    >>> solver_settings(load_scene("gaits/simplest_garcia.toml").compute)["method"]
+    'DOP853'
+    """
+    return {name: getattr(source, name) for name in SOLVER_SETTINGS}
 
 
 def _resolve(model, params):
@@ -258,6 +278,25 @@ class StrideMap:
         p = self.params.as_array()
         proj = np.array([model.project(e, p) for e in np.eye(model.n_x)]).T
         object.__setattr__(self, "_proj", proj)
+
+    @classmethod
+    def from_scene(cls, scene, parameter_name: str = "slope") -> StrideMap:
+        """The stride map of a scene: its model under its conventions
+        (``scene.walker_model``), its parameters and its ``[compute]`` solver settings.
+
+        Examples
+        --------
+        >>> from walker import StrideMap, load_scene
+        >>> P = StrideMap.from_scene(load_scene("gaits/simplest_garcia.toml"))
+        >>> P.model.name, P.method
+        ('simplest', 'DOP853')
+        """
+        return cls(
+            scene.walker_model,
+            scene.params,
+            parameter_name=parameter_name,
+            **solver_settings(scene.compute),
+        )
 
     # --- the compiled run, prepared once per parameter set and process ---------------------
     def _prepared(self, n_strides: int = 1):
@@ -587,42 +626,10 @@ class StrideMap:
             sample_rate = _positive_rate(sample_rate)
         p = self.params.as_array()
         x0 = self.model.lift(z, p)
+        run = {**solver_settings(self), "t_max": self.t_max * n_strides, "n_strides": n_strides}
         if sample_rate is None:
-            return simulate(
-                self.model,
-                self.params,
-                x0,
-                n_strides=n_strides,
-                t_max=self.t_max * n_strides,
-                method=self.method,
-                rtol=self.rtol,
-                atol=self.atol,
-                first_step=self.first_step,
-                output="full",
-            )
-        first = simulate(
-            self.model,
-            self.params,
-            x0,
-            n_strides=n_strides,
-            t_max=self.t_max * n_strides,
-            method=self.method,
-            rtol=self.rtol,
-            atol=self.atol,
-            first_step=self.first_step,
-        )
+            return simulate(self.model, self.params, x0, output="full", **run)
+        first = simulate(self.model, self.params, x0, **run)
         check_sample_count(first.t, sample_rate, self.model.n_x, "`sample_rate`")
         times = np.arange(0.0, first.t, 1.0 / sample_rate)
-        return simulate(
-            self.model,
-            self.params,
-            x0,
-            n_strides=n_strides,
-            t_max=self.t_max * n_strides,
-            method=self.method,
-            rtol=self.rtol,
-            atol=self.atol,
-            first_step=self.first_step,
-            output="samples",
-            sample_times=times,
-        )
+        return simulate(self.model, self.params, x0, output="samples", sample_times=times, **run)

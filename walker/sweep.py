@@ -60,7 +60,7 @@ from walker._checks import as_vector as _as_vector
 from walker._executors import die_with_parent, progress_bar, run_chunks, worker_pool
 from walker.fixedpoint import find_fixed_point
 from walker.results import SweepTable
-from walker.stride import StrideMap
+from walker.stride import StrideMap, solver_settings
 from walker.sweep_grid import (
     DEFAULT_CHUNK_POINTS,
     KINDS,
@@ -302,17 +302,8 @@ def _sweep_provenance(stride_map: StrideMap, kind, z0, n_strides, tol, provenanc
     if kind == "fixed_point":
         auto["tol"] = tol
     if isinstance(stride_map, StrideMap):
-        auto.update(
-            solver_provenance(
-                stride_map.model,
-                stride_map.params,
-                method=stride_map.method,
-                rtol=stride_map.rtol,
-                atol=stride_map.atol,
-                t_max=stride_map.t_max,
-                first_step=stride_map.first_step,
-            )
-        )
+        settings = solver_settings(stride_map)
+        auto.update(solver_provenance(stride_map.model, stride_map.params, **settings))
     if provenance is None:
         return auto
     if not isinstance(provenance, dict):

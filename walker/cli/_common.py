@@ -176,17 +176,7 @@ def _load(args):
 def _stride_map(scene, parameter_name="slope"):
     from walker.stride import StrideMap
 
-    c = scene.compute
-    return StrideMap(
-        scene.walker_model,
-        scene.params,
-        method=c.method,
-        rtol=c.rtol,
-        atol=c.atol,
-        t_max=c.t_max,
-        first_step=c.first_step,
-        parameter_name=parameter_name,
-    )
+    return StrideMap.from_scene(scene, parameter_name=parameter_name)
 
 
 def provenance(scene, extra: dict | None = None, *, out=None) -> dict:

@@ -152,21 +152,14 @@ def scene_provenance(
     >>> prov["scene"], prov["model"], prov["swing_scuff"], prov["status"]
     ('gaits/kneed_hsu.toml', 'kneed', 'trip', 'COMPLETED')
     """
-    c = scene.compute
+    from walker.stride import solver_settings
+
     where = str(scene.path)
     if relative_to is not None:
         where = os.path.relpath(os.path.abspath(scene.path), os.path.abspath(relative_to))
     prov = {
         "scene": where,
-        **solver_provenance(
-            scene.walker_model,
-            scene.params,
-            method=c.method,
-            rtol=c.rtol,
-            atol=c.atol,
-            t_max=c.t_max,
-            first_step=c.first_step,
-        ),
+        **solver_provenance(scene.walker_model, scene.params, **solver_settings(scene.compute)),
     }
     prov.update(extra)
     return prov
