@@ -25,7 +25,7 @@ Measured for each grid:
    --span S --out <tmp>``; its default ``--jobs``: os.cpu_count() threads), once;
 3. per grid point, serially on the same random sample of grid points, walker's ``StrideMap``
    against a ``scipy.integrate.solve_ivp`` DOP853 stride on walker's compiled compass vector
-   field (scripts/_bench.py ``CompiledSimple``), with the iteration rule of
+   field (scripts/_contenders.py ``CompiledSimple``), with the iteration rule of
    ``walker.basin.basin_chunk``, interleaved round-robin.
 
 Writes results/bench/basin.csv, basin.md and README.md.
@@ -50,6 +50,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _bench as B  # noqa: E402
+import _contenders as C  # noqa: E402
 
 from walker import load_scene  # noqa: E402
 from walker.basin import basin_map  # noqa: E402
@@ -161,7 +162,7 @@ def main(argv=None):
     fp = find_fixed_point(P, P.project(scene.state))
     model = get_model("compass")
     p = scene.params.as_array()
-    ivp = B.CompiledSimple("compass", scene.params)
+    ivp = C.CompiledSimple("compass", scene.params)
 
     def walker_stride(z):
         r = P(z)

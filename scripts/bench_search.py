@@ -15,7 +15,7 @@ Contenders:
   ``walker find`` runs): Newton with the exact Jacobian from the variational equations, the
   multipliers from the Jacobian at the solution; also with ``jacobian="fd"``;
 * ``scipy.optimize.root(method="hybr")`` on ``F(z) = P(z) - z`` with ``P`` a ``solve_ivp``
-  DOP853 stride (kneed: the hand-written numpy model of scripts/_bench.py; compass and
+  DOP853 stride (kneed: the hand-written numpy model of scripts/_contenders.py; compass and
   simplest: walker's compiled vector field called from Python), then the multipliers as the
   eigenvalues of a central-difference Jacobian of ``P`` at the root.
 
@@ -36,6 +36,7 @@ from scipy.optimize import root
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _bench as B  # noqa: E402
+import _contenders as C  # noqa: E402
 
 from walker import load_scene  # noqa: E402
 from walker.fixedpoint import find_fixed_point  # noqa: E402
@@ -130,12 +131,12 @@ def job(name, scene_file, reps, batch):
     )
     z0 = model.project(scene.state, p)
     if scene.model == "kneed":
-        stride_obj = B.NumpyKneed(scene.params)
+        stride_obj = C.NumpyKneed(scene.params)
         ivp_label = "hand-written numpy model"
     else:
-        stride_obj = B.CompiledSimple(scene.model, scene.params)
+        stride_obj = C.CompiledSimple(scene.model, scene.params)
         ivp_label = "walker's compiled rhs"
-    Pi = B.section_map(scene.model, stride_obj, scene.params)
+    Pi = C.section_map(scene.model, stride_obj, scene.params)
     z_ref = m_ref = None
     if scene.reference is not None:
         z_ref = model.project(scene.reference["state"], p)
@@ -157,7 +158,7 @@ def job(name, scene_file, reps, batch):
         # heyoka's Taylor integrator for the same stride (runtime parameters): the fastest
         # single stride in bench_stride.py, so the strongest map to hand to hybr.
         t = time.perf_counter()
-        hk = B.HeyokaKneed(scene.params, HEYOKA_TOL, runtime_pars=True)
+        hk = C.HeyokaKneed(scene.params, HEYOKA_TOL, runtime_pars=True)
         compile_s = time.perf_counter() - t
 
         class _HyStride:
@@ -165,7 +166,7 @@ def job(name, scene_file, reps, batch):
                 x, t_step = hk.stride(x0)
                 return x, t_step, 0
 
-        Ph = B.section_map(scene.model, _HyStride(), scene.params)
+        Ph = C.section_map(scene.model, _HyStride(), scene.params)
         k = "scipy root(hybr) + heyoka Taylor stride"
         contenders[k] = lambda: scipy_pipeline(Ph, z0)
         notes[k] = (
@@ -321,12 +322,12 @@ def main(argv=None):
             lines.append(f"- {r['job']}, **{r['contender']}**: {r['note']}.")
     lines += [
         "",
-        "The kneed scipy stride is the hand-written model of scripts/_bench.py (scalar "
+        "The kneed scipy stride is the hand-written model of scripts/_contenders.py (scalar "
         "Python from the Lagrangian, closed-form solve, terminal events for knee lock and "
         "heel strike, walker's impact maps). Compass: the swing foot's height falling "
         "through zero, walker's reset telling heel strike from scuff; simplest: Garcia's "
         "phi - 2 theta rising through zero with theta < 0; both with walker's compiled rhs "
-        "and impact map and a terminal fall event (scripts/_bench.py `CompiledSimple`).",
+        "and impact map and a terminal fall event (scripts/_contenders.py `CompiledSimple`).",
         "",
     ]
     B.write_atomic(B.OUT / "search.md", "\n".join(lines))

@@ -5,7 +5,7 @@ Kneed walker (gaits/kneed_hsu.toml at its reference fixed point, ``[reference] s
 
 * walker ``simulate`` (DOP853) as a user calls it, and the ``StrideMap`` call the fixed-point
   search makes (``P(z)``);
-* scipy ``solve_ivp`` DOP853 and RK45 on a hand-written numpy model (scripts/_bench.py:
+* scipy ``solve_ivp`` DOP853 and RK45 on a hand-written numpy model (scripts/_contenders.py:
   derived from the Lagrangian with sympy at start-up, printed as scalar Python with the
   3x3 / 2x2 solve in closed form), terminal events for knee lock and heel strike;
 * ``solve_ivp`` DOP853 on walker's compiled vector field (the model module's ``rhs`` and
@@ -49,6 +49,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _bench as B  # noqa: E402
+import _contenders as C  # noqa: E402
 
 from walker import load_scene  # noqa: E402
 from walker.fixedpoint import find_fixed_point  # noqa: E402
@@ -186,7 +187,7 @@ class Contender:
 def kneed_contenders(params, x0, have_heyoka, ck):
     model = get_model("kneed")
     p = params.as_array()
-    nk = B.NumpyKneed(params)
+    nk = C.NumpyKneed(params)
     z0 = model.project(x0, p)
     out = []
 
@@ -249,7 +250,7 @@ def kneed_contenders(params, x0, have_heyoka, ck):
 
         def hy_prep(runtime_pars):
             def prep(tol):
-                h = B.HeyokaKneed(params, tol, runtime_pars)
+                h = C.HeyokaKneed(params, tol, runtime_pars)
                 compile_log.setdefault(runtime_pars, []).append(h.compile_seconds)
                 return lambda: h.stride(x0)[0]
 
@@ -547,11 +548,11 @@ def main(argv=None):
     x0 = np.array(scene.reference["state"], dtype=float)
     ref_sol = simulate("kneed", params, x0, rtol=REF_RTOL, atol=REF_ATOL)
     ref = ref_sol.x.copy()
-    nk = B.NumpyKneed(params)
+    nk = C.NumpyKneed(params)
     chk, t_chk, _ = nk.stride(x0, "DOP853", 1e-13, 1e-13)
     ref_check = float(np.max(np.abs(chk - ref)))
     try:
-        ck = B.CompiledKneed(params)
+        ck = C.CompiledKneed(params)
         chk2, _, _ = ck.stride(x0, "DOP853", 1e-13, 1e-13)
         ref_check2 = float(np.max(np.abs(chk2 - ref)))
     except (AttributeError, TypeError) as exc:  # the model module's functions changed
@@ -743,7 +744,7 @@ def main(argv=None):
     md += [
         "",
         "The numpy model is the kneed walker's Lagrangian derived with sympy once at start-up "
-        "and printed as scalar Python (scripts/_bench.py `kneed_source`): parameter-only "
+        "and printed as scalar Python (scripts/_contenders.py `kneed_source`): parameter-only "
         "coefficients computed once, 6 trig calls per unlocked evaluation, the 3x3 (2x2 "
         "locked) solve by cofactors, no numpy.linalg; it matches walker's compiled vector "
         "field to round-off and costs about half a walker-rhs call from Python.",
