@@ -83,6 +83,11 @@ def fmt_time(seconds: float) -> str:
     return f"{seconds:.3g} s"
 
 
+def speed_ratio(f: float) -> str:
+    """``"2.0x faster than"`` for ``f = t_other / t_walker >= 1``, else ``"2.0x slower than"``."""
+    return f"{f:.1f}x faster than" if f >= 1 else f"{1 / f:.1f}x slower than"
+
+
 # ------------------------------------------------------------------------------ timing
 def _batch(fn, inner: int) -> float:
     """Seconds per call of ``fn`` over ``inner`` back-to-back calls (GC off, as timeit)."""
@@ -203,6 +208,15 @@ def update_readme() -> None:
             lines += ["", "![work-precision](work_precision.png)"]
         lines.append("")
     write_atomic(OUT / "README.md", "\n".join(lines))
+
+
+def publish(name: str, lines) -> None:
+    """Write the markdown ``lines`` to results/bench/``name``, regenerate results/bench/README.md
+    and print them."""
+    text = "\n".join(lines)
+    write_atomic(OUT / name, text)
+    update_readme()
+    print(text)
 
 
 def command_line(script: str, argv) -> str:

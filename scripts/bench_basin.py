@@ -445,9 +445,7 @@ def main(argv=None):
         "disagreement examined while writing this script was of that kind).",
         "",
     ]
-    B.write_atomic(B.OUT / "basin.md", "\n".join(md))
-    B.update_readme()
-    print("\n".join(md))
+    B.publish("basin.md", md)
 
 
 if __name__ == "__main__":

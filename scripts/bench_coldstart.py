@@ -391,9 +391,7 @@ def main(argv=None):
             "environment, not timed here), and is in neither column above.",
             "",
         ]
-    B.write_atomic(B.OUT / "coldstart.md", "\n".join(md))
-    B.update_readme()
-    print("\n".join(md))
+    B.publish("coldstart.md", md)
 
 
 if __name__ == "__main__":

@@ -273,8 +273,7 @@ def main(argv=None):
             sentences.append(f"- {jobname}: no alternative reached residual {TOL:g}.")
             continue
         s = min(alts, key=lambda r: r["t_median"])
-        f = s["t_median"] / w["t_median"]
-        rel = f"{f:.1f}x faster than" if f >= 1 else f"{1 / f:.1f}x slower than"
+        rel = B.speed_ratio(s["t_median"] / w["t_median"])
         sentences.append(
             f"- {jobname}: walker `find_fixed_point` {B.fmt_time(w['t_median'])} (median; min "
             f"{B.fmt_time(w['t_min'])}), residual {w['residual']:.1e}, {rel} the fastest "
@@ -330,9 +329,7 @@ def main(argv=None):
         "and impact map and a terminal fall event (scripts/_contenders.py `CompiledSimple`).",
         "",
     ]
-    B.write_atomic(B.OUT / "search.md", "\n".join(lines))
-    B.update_readme()
-    print("\n".join(lines))
+    B.publish("search.md", lines)
 
 
 if __name__ == "__main__":

@@ -50,6 +50,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _bench as B  # noqa: E402
 import _contenders as C  # noqa: E402
+import _drake  # noqa: E402
 
 from walker import load_scene  # noqa: E402
 from walker.fixedpoint import find_fixed_point  # noqa: E402
@@ -60,116 +61,6 @@ from walker.stride import StrideMap, simulate  # noqa: E402
 TARGETS = (1e-6, 1e-8, 1e-10)
 REF_RTOL, REF_ATOL = 3e-14, 1e-15
 T_PAST = 1e-3  # [s] the compass fixed-time problem ends this long after the heel strike
-
-
-# ------------------------------------------------------------------------------- Drake
-def drake_params():
-    """Drake's CompassGaitParams defaults, read from pydrake, and walker's CompassParams
-    for the same walker (Drake: leg length l, centre of mass ``center_of_mass_leg`` below
-    the hip; walker: ``com_from_foot`` = a = l - that, ``com_to_hip`` = b = that)."""
-    from pydrake.examples import CompassGaitParams
-
-    d = CompassGaitParams()
-    dp = {
-        "mass_hip": d.mass_hip(),
-        "mass_leg": d.mass_leg(),
-        "length_leg": d.length_leg(),
-        "center_of_mass_leg": d.center_of_mass_leg(),
-        "gravity": d.gravity(),
-        "slope": d.slope(),
-    }
-    wp = CompassParams(
-        mass_hip=dp["mass_hip"],
-        mass_leg=dp["mass_leg"],
-        com_from_foot=dp["length_leg"] - dp["center_of_mass_leg"],
-        com_to_hip=dp["center_of_mass_leg"],
-        inertia_leg=0.0,
-        foot_radius=0.0,
-        slope=dp["slope"],
-        g=dp["gravity"],
-        damping_hip=0.0,
-        damping_ankle=0.0,
-    )
-    return dp, wp
-
-
-class DrakeCompass:
-    """One compass-gait stride in Drake's Simulator.
-
-    State conventions: Drake's ``(stance, swing, stancedot, swingdot)`` are angles from the
-    vertical measured clockwise (hip at ``x = l sin(stance)``, walking toward +x downhill);
-    walker's are counterclockwise, so ``x_drake = -x_walker`` component by component.
-
-    A stride: set the post-impact state at t = 0, ``AdvanceTo`` with a monitor that ends the
-    run at the step where Drake's foot-collision witness has fired (its isolation step ends
-    on the zero crossing), then ``AdvanceTo`` the same time, which applies Drake's own
-    collision update (impact + leg swap) and integrates nothing.
-    """
-
-    def __init__(self, max_step):
-        from pydrake.examples import CompassGait
-        from pydrake.systems.analysis import Simulator
-        from pydrake.systems.framework import EventStatus
-
-        self.cg = CompassGait()
-        self.sim = Simulator(self.cg)
-        self.ctx = self.sim.get_mutable_context()
-        self.max_step = max_step
-        slope2 = 2.0 * self.ctx.get_numeric_parameter(0).CopyToVector()[5]
-        nothing = EventStatus.DidNothing()
-        stop = EventStatus.ReachedTermination(self.cg, "foot collision")
-
-        def monitor(c):
-            # Pre-impact (toe not yet moved) and past the collision surface.
-            if c.get_discrete_state_vector().GetAtIndex(0) != 0.0:
-                return nothing
-            v = c.get_continuous_state_vector()
-            st, sw = v.GetAtIndex(0), v.GetAtIndex(1)
-            if max(slope2 - st - sw, sw - st) <= 0.0:
-                return stop
-            return nothing
-
-        self._monitor = monitor
-        self.tol = None
-
-    def set_accuracy(self, tol):
-        from pydrake.systems.analysis import ResetIntegratorFromFlags
-
-        integ = ResetIntegratorFromFlags(self.sim, "runge_kutta5", self.max_step)
-        integ.set_target_accuracy(tol)
-        self.ctx.SetAccuracy(tol)
-        self.integ = integ
-        self.tol = tol
-
-    def _start(self, x_walker):
-        ctx = self.ctx
-        ctx.SetTime(0.0)
-        ctx.SetContinuousState(-np.asarray(x_walker, dtype=float))
-        ctx.SetDiscreteState(np.zeros(1))
-        self.sim.Initialize()
-
-    def stride(self, x_walker, t_span=5.0):
-        """One stride: (post-impact state in walker's convention, impact time)."""
-        ctx, sim = self.ctx, self.sim
-        self._start(x_walker)
-        sim.set_monitor(self._monitor)
-        try:
-            sim.AdvanceTo(t_span)
-        finally:
-            sim.clear_monitor()
-        t = ctx.get_time()
-        if t >= t_span:
-            return None, math.nan
-        sim.AdvanceTo(t)  # the collision update
-        if ctx.get_discrete_state_vector().GetAtIndex(0) == 0.0:
-            return None, t
-        return -ctx.get_continuous_state_vector().CopyToVector(), t
-
-    def advance(self, x_walker, t_end):
-        """The state at ``t_end`` in walker's convention, through whatever impacts occur."""
-        self._start(x_walker)
-        self.sim.AdvanceTo(t_end)
-        return -self.ctx.get_continuous_state_vector().CopyToVector()
 
 
 # ------------------------------------------------------------------------- contenders
@@ -184,24 +75,29 @@ class Contender:
         self.ref, self.base = ref, base
 
 
+def walker_preps(name, params, x0):
+    """walker's contenders on one stride of model ``name`` from ``x0``, each as
+    ``tol -> a call``: ``simulate``, the ``StrideMap`` call ``P(z)`` and ``P(z,
+    jacobian=True)``."""
+    z0 = get_model(name).project(x0, params.as_array())
+
+    def sim(tol):
+        return lambda: simulate(name, params, x0, rtol=tol, atol=tol).x
+
+    def stride_map(jacobian):
+        def prep(tol):
+            P = StrideMap(name, params, rtol=tol, atol=tol)
+            return lambda: P(z0, jacobian=jacobian).state
+
+        return prep
+
+    return sim, stride_map(False), stride_map(True)
+
+
 def kneed_contenders(params, x0, have_heyoka, ck):
-    model = get_model("kneed")
-    p = params.as_array()
     nk = C.NumpyKneed(params)
-    z0 = model.project(x0, p)
+    walker_sim, walker_map, walker_map_jac = walker_preps("kneed", params, x0)
     out = []
-
-    def walker_sim(tol):
-        return lambda: simulate("kneed", params, x0, rtol=tol, atol=tol).x
-
-    def walker_map(tol):
-        P = StrideMap("kneed", params, rtol=tol, atol=tol)
-        return lambda: P(z0).state
-
-    def walker_map_jac(tol):
-        P = StrideMap("kneed", params, rtol=tol, atol=tol)
-        return lambda: P(z0, jacobian=True).state
-
     out.append(Contender("walker simulate", walker_sim, "DOP853, rtol = atol = tol", True))
     out.append(Contender("walker StrideMap", walker_map, "P(z), DOP853, rtol = atol = tol", True))
     out.append(
@@ -268,15 +164,7 @@ def compass_contenders(wparams, x0, drake, t_end, ref_end):
     """Two problems: one stride (stop at the heel strike) and a fixed-time run from the same
     state to ``t_end`` (just past the heel strike), the latter so that Drake needs no Python
     callback to stop."""
-    model = get_model("compass")
-    z0 = model.project(x0, wparams.as_array())
-
-    def walker_sim(tol):
-        return lambda: simulate("compass", wparams, x0, rtol=tol, atol=tol).x
-
-    def walker_map(tol):
-        P = StrideMap("compass", wparams, rtol=tol, atol=tol)
-        return lambda: P(z0).state
+    walker_sim, walker_map, _ = walker_preps("compass", wparams, x0)
 
     def walker_to_t(tol):
         return lambda: (
@@ -464,8 +352,7 @@ def table(contenders, target_rows, pairs):
                 sentences.append(f"- error {target:.0e}: no alternative to {wname} reached it.")
                 continue
             best = min(others, key=lambda r: r["t_median"])
-            f = best["t_median"] / w["t_median"]
-            rel = f"{f:.1f}x faster than" if f >= 1 else f"{1 / f:.1f}x slower than"
+            rel = B.speed_ratio(best["t_median"] / w["t_median"])
             which = "the fastest alternative, " if len(alts) > 1 else ""
             sentences.append(
                 f"- error {target:.0e}: {wname} {B.fmt_time(w['t_median'])} (median; min "
@@ -474,6 +361,22 @@ def table(contenders, target_rows, pairs):
                 f"{B.fmt_time(best['t_min'])})."
             )
     return lines, sentences
+
+
+def csv_row(problem, kind, target, r):
+    """One row of stride.csv: a contender at one tolerance (``kind`` "sweep") or at an
+    error target (``kind`` "target", ``target`` its text)."""
+    return [
+        problem,
+        kind,
+        target,
+        r["contender"],
+        f"{r['tolerance']:.3e}",
+        f"{r['error']:.4e}",
+        f"{r['t_min']:.4e}",
+        f"{r['t_median']:.4e}",
+        r["reps"],
+    ]
 
 
 def plot(panels, path):
@@ -579,7 +482,7 @@ def main(argv=None):
     # ------------------------------------------------------------------ compass vs Drake
     c_rows, c_target, cc, drake_info = [], [], None, None
     if have_drake:
-        dp, wp = drake_params()
+        dp, wp = _drake.drake_params()
         same_as_preset = wp == CompassParams.drake()
         cscene = load_scene(B.GAITS / "compass_goswami.toml")
         P = StrideMap("compass", wp, rtol=1e-13, atol=1e-13)
@@ -591,7 +494,7 @@ def main(argv=None):
         cref_end = simulate(
             "compass", wp, xc, n_strides=0, t_max=t_end, rtol=REF_RTOL, atol=REF_ATOL
         ).x.copy()
-        drake = DrakeCompass(max_step=1.0)
+        drake = _drake.DrakeCompass(max_step=1.0)
         drake.set_accuracy(1e-12)
         xd, td = drake.stride(xc)
         xd_end = drake.advance(xc, t_end)
@@ -643,34 +546,8 @@ def main(argv=None):
     ]
     csv_rows = []
     for problem, rows, trows in (("kneed", k_rows, k_target), ("compass", c_rows, c_target)):
-        for r in rows:
-            csv_rows.append(
-                [
-                    problem,
-                    "sweep",
-                    "",
-                    r["contender"],
-                    f"{r['tolerance']:.3e}",
-                    f"{r['error']:.4e}",
-                    f"{r['t_min']:.4e}",
-                    f"{r['t_median']:.4e}",
-                    r["reps"],
-                ]
-            )
-        for r in trows:
-            csv_rows.append(
-                [
-                    problem,
-                    "target",
-                    f"{r['target']:.0e}",
-                    r["contender"],
-                    f"{r['tolerance']:.3e}",
-                    f"{r['error']:.4e}",
-                    f"{r['t_min']:.4e}",
-                    f"{r['t_median']:.4e}",
-                    r["reps"],
-                ]
-            )
+        csv_rows += [csv_row(problem, "sweep", "", r) for r in rows]
+        csv_rows += [csv_row(problem, "target", f"{r['target']:.0e}", r) for r in trows]
     B.write_csv_atomic(B.OUT / "stride.csv", header, csv_rows)
 
     panels = [
@@ -800,9 +677,7 @@ def main(argv=None):
     if notes:
         md += ["## Notes", "", *[f"- {n}" for n in notes], ""]
     md += ["![work-precision](work_precision.png)", ""]
-    B.write_atomic(B.OUT / "stride.md", "\n".join(md))
-    B.update_readme()
-    print("\n".join(md))
+    B.publish("stride.md", md)
 
 
 if __name__ == "__main__":
