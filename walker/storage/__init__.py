@@ -47,7 +47,7 @@ The package, by layer (each module imports only those above it):
 ``encode``          dataclass -> tree -> HDF5 group, root attributes, :func:`write`
 ``isolated``        the load in a child process with a time and memory budget
 ``decode``          tree -> dataclass with types, shapes and checksums checked, :func:`read`
-``checkpoint``      chunk writes with ``os.pwrite``, chunk states, ``/checkpoint``
+``checkpoint``      the stores' chunks, writes with ``os.pwrite``, chunk states, ``/checkpoint``
 ``sweep_store``     :class:`SweepStore`
 ``basin_store``     :class:`BasinStore`
 ==================  ==========================================================================

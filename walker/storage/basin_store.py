@@ -15,7 +15,7 @@ from walker.results import BasinMap
 from walker.storage.checkpoint import (
     _check_checkpoint_size,
     _checkpoint_group,
-    _checkpoint_state,
+    _ChunkedStore,
     _ChunkWriter,
     _unreadable,
 )
@@ -63,7 +63,7 @@ def _positive(value: Any, name: str) -> int:
     return int(value)
 
 
-class BasinStore:
+class BasinStore(_ChunkedStore):
     """Chunked, resumable storage of a basin map in one HDF5 file: chunk ``i`` is the grid
     rows ``i*chunk_size : min((i+1)*chunk_size, ny)`` (points ``y[rows] x x``).
 
@@ -106,12 +106,8 @@ class BasinStore:
 
     def __init__(self, path: Path, ny: int, nx: int, chunk_size: int, fsync: bool = True):
         """Use :meth:`create_or_open`."""
-        self.path = path
+        super().__init__(path, ny, chunk_size, fsync)
         self.shape = (int(ny), int(nx))
-        self.chunk_size = int(chunk_size)
-        self.fsync = fsync
-        self.n_chunks = -(-self.shape[0] // self.chunk_size)
-        self._writer: _ChunkWriter | None = None
 
     # -- construction ---------------------------------------------------------------------
 
@@ -352,33 +348,6 @@ class BasinStore:
         self._writer = _ChunkWriter(self.path, tree, "basin", SCHEMA_VERSION)
 
     # -- use --------------------------------------------------------------------------------
-
-    def _check_chunk(self, i: Any) -> int:
-        if isinstance(i, bool) or not isinstance(i, numbers.Integral):
-            raise TypeError(f"chunk index `i` must be an int, got {i!r}")
-        if not 0 <= i < self.n_chunks:
-            raise ValueError(f"chunk index `i` must be in [0, {self.n_chunks}), got {i}")
-        return int(i)
-
-    def chunk_slice(self, i: int) -> slice:
-        """Grid rows of chunk ``i``."""
-        i = self._check_chunk(i)
-        return slice(i * self.chunk_size, min((i + 1) * self.chunk_size, self.shape[0]))
-
-    @property
-    def done(self) -> np.ndarray:
-        """ndarray of bool, shape (n_chunks,): which chunks are stored (read from the file;
-        a chunk whose checksum fails is not done)."""
-        return _checkpoint_state(self.path) == 1
-
-    def pending_chunks(self) -> list[int]:
-        """Indices of the chunks not yet written, ascending."""
-        return [int(i) for i in np.flatnonzero(~self.done)]
-
-    @property
-    def complete(self) -> bool:
-        """True when every chunk is written."""
-        return bool(np.all(self.done))
 
     def write_chunk(self, i: int, outcome: Any, strides: Any) -> None:
         """Write the rows of chunk ``i`` (``outcome`` and ``strides``, integer arrays of shape

@@ -1,14 +1,17 @@
-"""What sweep and basin checkpoints share: chunk writes with ``os.pwrite`` at the byte offsets
-the file's layout gives (:class:`_ChunkWriter`), the chunk states, the size check of a new
-checkpoint and its ``/checkpoint`` group.
+"""What sweep and basin checkpoints share: the chunk bookkeeping of a store
+(:class:`_ChunkedStore`), chunk writes with ``os.pwrite`` at the byte offsets the file's
+layout gives (:class:`_ChunkWriter`), the chunk states, the size check of a new checkpoint
+and its ``/checkpoint`` group.
 """
 
 from __future__ import annotations
 
 import math
+import numbers
 import os
 import time
 from pathlib import Path
+from typing import Any
 
 import h5py
 import numpy as np
@@ -133,6 +136,48 @@ class _ChunkWriter:
                 os.fsync(fd)
         finally:
             os.close(fd)
+
+
+class _ChunkedStore:
+    """The chunks of a checkpointed store (:class:`~walker.storage.SweepStore`,
+    :class:`~walker.storage.BasinStore`): ``n_rows`` rows (sweep points, basin grid rows) cut
+    into ``n_chunks`` chunks of ``chunk_size`` consecutive rows, the last one shorter; which
+    are done is read from the file at ``path``."""
+
+    def __init__(self, path: Path, n_rows: int, chunk_size: int, fsync: bool) -> None:
+        self.path = path
+        self.chunk_size = int(chunk_size)
+        self.fsync = fsync
+        self._n_rows = int(n_rows)
+        self.n_chunks = -(-self._n_rows // self.chunk_size)
+        self._writer: _ChunkWriter | None = None
+
+    def _check_chunk(self, i: Any) -> int:
+        if isinstance(i, bool) or not isinstance(i, numbers.Integral):
+            raise TypeError(f"chunk index `i` must be an int, got {i!r}")
+        if not 0 <= i < self.n_chunks:
+            raise ValueError(f"chunk index `i` must be in [0, {self.n_chunks}), got {i}")
+        return int(i)
+
+    def chunk_slice(self, i: int) -> slice:
+        """Rows of chunk ``i``: ``slice(i * chunk_size, min((i + 1) * chunk_size, n_rows))``."""
+        i = self._check_chunk(i)
+        return slice(i * self.chunk_size, min((i + 1) * self.chunk_size, self._n_rows))
+
+    @property
+    def done(self) -> np.ndarray:
+        """ndarray of bool, shape (n_chunks,): which chunks are stored (read from the file;
+        a chunk whose checksum fails is not done)."""
+        return _checkpoint_state(self.path) == 1
+
+    def pending_chunks(self) -> list[int]:
+        """Indices of the chunks not yet written, ascending."""
+        return [int(i) for i in np.flatnonzero(~self.done)]
+
+    @property
+    def complete(self) -> bool:
+        """True when every chunk is written."""
+        return bool(np.all(self.done))
 
 
 def _checkpoint_state(path: Path) -> np.ndarray:

@@ -16,7 +16,7 @@ from walker.results import SweepTable
 from walker.storage.checkpoint import (
     _check_checkpoint_size,
     _checkpoint_group,
-    _checkpoint_state,
+    _ChunkedStore,
     _ChunkWriter,
     _unreadable,
 )
@@ -34,7 +34,7 @@ from walker.storage.schema import (
 )
 
 
-class SweepStore:
+class SweepStore(_ChunkedStore):
     """Chunked, resumable storage of a parameter sweep in one HDF5 file.
 
     The file has the layout of a ``"sweep"`` result (so :func:`read` returns its
@@ -108,15 +108,11 @@ class SweepStore:
         fsync: bool = True,
     ) -> None:
         """Use :meth:`create_or_open`."""
-        self.path = path
+        super().__init__(path, points.shape[0], chunk_size, fsync)
         self.parameter_names = parameter_names
         self.points = points
         self.columns = columns
-        self.chunk_size = chunk_size
-        self.fsync = fsync
         self.n_points = int(points.shape[0])
-        self.n_chunks = -(-self.n_points // chunk_size)
-        self._writer: _ChunkWriter | None = None
 
     # -- construction ---------------------------------------------------------------------
 
@@ -291,33 +287,6 @@ class SweepStore:
         self._writer = _ChunkWriter(path, loaded.root, "sweep", loaded.version)
 
     # -- use --------------------------------------------------------------------------------
-
-    def _check_chunk(self, i: Any) -> int:
-        if isinstance(i, bool) or not isinstance(i, numbers.Integral):
-            raise TypeError(f"chunk index `i` must be an int, got {i!r}")
-        if not 0 <= i < self.n_chunks:
-            raise ValueError(f"chunk index `i` must be in [0, {self.n_chunks}), got {i}")
-        return int(i)
-
-    def chunk_slice(self, i: int) -> slice:
-        """Rows of chunk ``i``: ``slice(i * chunk_size, min((i + 1) * chunk_size, n))``."""
-        i = self._check_chunk(i)
-        return slice(i * self.chunk_size, min((i + 1) * self.chunk_size, self.n_points))
-
-    @property
-    def done(self) -> np.ndarray:
-        """ndarray of bool, shape (n_chunks,): which chunks are stored (read from the file;
-        a chunk whose checksum fails is not done)."""
-        return _checkpoint_state(self.path) == 1
-
-    def pending_chunks(self) -> list[int]:
-        """Indices of the chunks not yet written, ascending."""
-        return [int(i) for i in np.flatnonzero(~self.done)]
-
-    @property
-    def complete(self) -> bool:
-        """True when every chunk is written."""
-        return bool(np.all(self.done))
 
     def write_chunk(self, i: int, values: dict[str, np.ndarray]) -> None:
         """Write the rows of chunk ``i`` for every column, then mark the chunk done.
