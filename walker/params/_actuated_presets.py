@@ -77,14 +77,11 @@ example code, ``walker_main.m``: ``a = [0.512 0.073 0.035 -0.819 -2.27 3.26 3.11
 
 _BOOK_DEFAULTS: dict[str, float] = {
     **_GRIZZLE_DEFAULTS,
-    # the book's controller and event (control_params_three_link.m: th1d = pi/8,
-    # alpha = 0.9, epsilon = 0.1); the poly_* coefficients come from _BOOK_A
+    # the book's controller and event; its step angle and finite-time settings
+    # (control_params_three_link.m: th1d = pi/8, alpha = 0.9, epsilon = 0.1) are those of
+    # _GRIZZLE_DEFAULTS; the poly_* coefficients come from _BOOK_A
     "controller": 3.0,
     "step_event": 1.0,
-    "theta_plus": math.pi / 8,
-    "theta_minus": -math.pi / 8,
-    "ft_alpha": 0.9,
-    "ft_epsilon": 0.1,
     # the book's code has no torque limit and does not check the ground reaction: a limit
     # the gait never reaches, and walker's friction cone mu = 0.8 (which the gait satisfies)
     "torque_limit": 1000.0,

@@ -10,7 +10,7 @@ import dataclasses
 import math
 from typing import ClassVar
 
-from walker.params._base import _coulomb_field, _damping_field, _param, _Params, _slope_field
+from walker.params._base import _coulomb_field, _param
 from walker.params.passive import CompassParams, KneedParams
 
 __all__ = ["CompassCoulombParams", "KneedCoulombParams"]
@@ -18,7 +18,7 @@ __all__ = ["CompassCoulombParams", "KneedCoulombParams"]
 
 # ------------------------------------------------------------------------------------------
 @dataclasses.dataclass(frozen=True)
-class CompassCoulombParams(_Params):
+class CompassCoulombParams(CompassParams):
     """Compass-gait walker with Coulomb (dry) friction at the stance ankle and the hip (model
     ``compass_coulomb``).
 
@@ -51,21 +51,6 @@ damping_hip, damping_ankle : float
     MODEL: ClassVar[str] = "compass_coulomb"
     PRESETS: ClassVar[tuple[str, ...]] = ("goswami",)
 
-    mass_hip: float = _param("kg", "point mass at the hip", 0.0, lo_open=True)
-    mass_leg: float = _param("kg", "mass of each leg", 0.0, lo_open=True)
-    com_from_foot: float = _param("m", "a: foot to the leg's centre of mass", 0.0)
-    com_to_hip: float = _param("m", "b: leg's centre of mass to the hip", 0.0)
-    inertia_leg: float = _param("kg m^2", "leg inertia about its centre of mass", 0.0)
-    foot_radius: float = _param("m", "radius of the arc foot (0: point foot)", 0.0)
-    slope: float = _slope_field()
-    g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
-    damping_hip: float = _damping_field("hip", "qd_swing - qd_stance")
-    damping_ankle: float = _param(
-        "N m s/rad",
-        "viscous damping of the stance ankle (slope to stance leg), torque -b qd_stance on "
-        "the stance leg",
-        0.0,
-    )
     coulomb_ankle: float = _param(
         "N m",
         "Coulomb friction torque of the stance ankle, -F_s sgn(qd_stance) on the stance leg",
@@ -76,11 +61,6 @@ damping_hip, damping_ankle : float
         "Coulomb friction torque of the hip joint, -F_s sgn(qd_swing - qd_stance) on the swing leg",
         0.0,
     )
-
-    leg_length = CompassParams.leg_length
-
-    def _check_relations(self) -> None:
-        CompassParams._check_relations(self)  # type: ignore[arg-type]
 
     @classmethod
     def goswami(
@@ -101,6 +81,13 @@ damping_hip, damping_ankle : float
             coulomb_ankle=coulomb_ankle,
             coulomb_hip=coulomb_hip,
         )
+
+    @classmethod
+    def drake(cls, coulomb_hip: float = 0.0, coulomb_ankle: float = 0.0) -> CompassCoulombParams:
+        """:meth:`CompassParams.drake` with dry friction at the hip and the stance ankle [N m]
+        (default 0); not one of ``PRESETS``: no scene of this model starts from it."""
+        friction = {"coulomb_ankle": coulomb_ankle, "coulomb_hip": coulomb_hip}
+        return cls(**CompassParams.drake().to_dict(), **friction)
 
 
 # ------------------------------------------------------------------------------------------
