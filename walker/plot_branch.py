@@ -58,7 +58,7 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -234,21 +234,14 @@ def branch_measures(
         slope = param if name == "slope" else np.full(param.size, float(params.slope))
         cot = np.sin(slope)
         notes = []
-    return BranchMeasures(
-        parameter_name=name,
-        parameter_unit=units[name],
-        parameter=param,
+    measures = BranchMeasures.from_arrays(
+        branch,
         step_time=times,
         step_length=lengths,
-        speed=lengths.sum(axis=1) / times.sum(axis=1),
+        parameter_unit=units[name],
         cost_of_transport=cot,
-        max_multiplier=_max_modulus(branch.multipliers, param.size),
-        stable=np.asarray(branch.stable, dtype=bool),
-        period=period,
-        time_unit="s",
-        length_unit=units.get("leg_length", "m"),
-        notes=notes,
     )
+    return replace(measures, length_unit=units.get("leg_length", "m"), notes=notes)
 
 
 def plot_branch(

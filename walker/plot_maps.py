@@ -5,6 +5,7 @@ not computed yet of a checkpoint; re-exported by :mod:`walker.plotting`.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -281,63 +282,55 @@ def plot_sweep(
     units = list(parameter_units) if parameter_units is not None else [None] * k
     if len(units) != k:
         raise ValueError(f"`parameter_units` must have {k} entries, got {len(units)}")
-    time_label = "step time [s]" if n_strides == 1 else f"time of {n_strides} strides [s]"
     codes = np.unique(status)
-    colors = _status_colors(codes)
-    labels = [_status_label(int(c), fixed_point) for c in codes]
-    summary = _sweep_summary(status, fixed_point)
+    found = _SweepFound(
+        status=status,
+        codes=codes,
+        colors=_status_colors(codes),
+        labels=[_status_label(int(c), fixed_point) for c in codes],
+        step=step,
+        largest=largest,
+        time_label="step time [s]" if n_strides == 1 else f"time of {n_strides} strides [s]",
+        summary=_sweep_summary(status, fixed_point),
+    )
     if k == 1:
         sec = np.asarray(cols["section"], dtype=float).reshape(n, -1) if "section" in cols else None
         return _plot_sweep_1d(
             points[:, 0],
             with_unit(names[0], units[0]),
-            status,
-            codes,
-            colors,
-            labels,
-            step,
-            largest,
+            found,
             stable & (status == 0),
             sec,
             section_names,
             section_units,
             fixed_point,
             n_strides,
-            time_label,
-            summary,
         )
-    return _plot_sweep_2d(
-        points,
-        (with_unit(names[0], units[0]), with_unit(names[1], units[1])),
-        status,
-        codes,
-        colors,
-        labels,
-        step,
-        largest,
-        time_label,
-        summary,
-    )
+    labels_xy = (with_unit(names[0], units[0]), with_unit(names[1], units[1]))
+    return _plot_sweep_2d(points, labels_xy, found)
+
+
+@dataclasses.dataclass(frozen=True)
+class _SweepFound:
+    """What both sweep figures draw: each point's status, its categories (``codes``, sorted,
+    with their ``colors`` and ``labels``), the step time, the largest multiplier modulus
+    (None: not a fixed-point sweep), the time axis' label and the title."""
+
+    status: np.ndarray
+    codes: np.ndarray
+    colors: list[str]
+    labels: list[str]
+    step: np.ndarray
+    largest: np.ndarray | None
+    time_label: str
+    summary: str
 
 
 def _plot_sweep_1d(
-    x,
-    xlabel,
-    status,
-    codes,
-    colors,
-    labels,
-    step,
-    largest,
-    stable,
-    sec,
-    section_names,
-    section_units,
-    fixed_point,
-    n_strides,
-    time_label,
-    summary,
+    x, xlabel, found, stable, sec, section_names, section_units, fixed_point, n_strides
 ) -> Figure:
+    status, codes, colors, labels = found.status, found.codes, found.colors, found.labels
+    step, largest, time_label, summary = found.step, found.largest, found.time_label, found.summary
     n_z = 0 if sec is None else sec.shape[1]
     sec_names = (
         list(section_names) if section_names is not None else [f"section[{j}]" for j in range(n_z)]
@@ -413,9 +406,9 @@ def _plot_sweep_1d(
     return fig
 
 
-def _plot_sweep_2d(
-    points, labels_xy, status, codes, colors, labels, step, largest, time_label, summary
-) -> Figure:
+def _plot_sweep_2d(points, labels_xy, found) -> Figure:
+    status, codes, colors, labels = found.status, found.codes, found.colors, found.labels
+    step, largest, time_label, summary = found.step, found.largest, found.time_label, found.summary
     u1, i1 = np.unique(points[:, 0], return_inverse=True)
     u2, i2 = np.unique(points[:, 1], return_inverse=True)
     cells = i2 * u1.size + i1
