@@ -76,7 +76,26 @@ class Kernel:
 
 
 @dataclass(frozen=True)
-class AccelKernel:
+class _FusedSolveKernel:
+    """A kernel fused around the solve with the mass matrix: ``D`` (n, n) and ``h`` (n, 1) of
+    ``D(q) qdd + h = 0``, solved with one unrolled Cholesky factorization (``D`` is never
+    inverted symbolically); :class:`AccelKernel` gives ``qdd``, :class:`AccelJacobianKernel`
+    its Jacobian."""
+
+    name: str
+    args: tuple
+    D: sp.Matrix
+    h: sp.Matrix
+    doc: str = ""
+
+    @property
+    def expr(self):
+        """``(D, h)``: what the kernel solves (for hashing and staleness checks)."""
+        return [self.D, self.h]
+
+
+@dataclass(frozen=True)
+class AccelKernel(_FusedSolveKernel):
     """Accelerations ``qdd = -D^{-1} h`` of a Lagrangian model, fused into one function.
 
     The entries of the symmetric positive-definite ``D`` and of ``h`` share one
@@ -94,36 +113,15 @@ class AccelKernel:
     doc : str
     """
 
-    name: str
-    args: tuple
-    D: sp.Matrix
-    h: sp.Matrix
-    doc: str = ""
-
-    @property
-    def expr(self):
-        """``(D, h)``: what the kernel solves (for hashing and staleness checks)."""
-        return [self.D, self.h]
-
 
 @dataclass(frozen=True)
-class AccelJacobianKernel:
+class AccelJacobianKernel(_FusedSolveKernel):
     """Jacobian of ``qdd = -D^{-1} h`` with respect to ``(q, qd)``, fused like
     :class:`AccelKernel`: ``d qdd/d q_k = -D^{-1} (dh/dq_k + dD/dq_k qdd)`` and
     ``d qdd/d qd_k = -D^{-1} dh/dqd_k``, with one cse pass over ``D``, ``h`` and their
     derivatives and one unrolled Cholesky factorization.  Signature
     ``name(q, qd, p, out)``; ``out[:n, :2n]`` receives the Jacobian.
     """
-
-    name: str
-    args: tuple
-    D: sp.Matrix
-    h: sp.Matrix
-    doc: str = ""
-
-    @property
-    def expr(self):
-        return [self.D, self.h]
 
 
 # ----------------------------------------------------------------------------- lowering
@@ -363,15 +361,22 @@ class _Printer(PythonCodePrinter):
         return f"({float(expr.p)!r}/{float(expr.q)!r})"
 
     def _print_Pow(self, expr, rational=False):
-        base, e = expr.as_base_exp()
-        if e.is_Integer and 1 < int(e) <= 4:
-            b = self._print(base)
-            if not (base.is_Symbol or base.is_Function):
-                b = f"({b})"
-            return "*".join([b] * int(e))
-        if e == -1:
-            return f"1.0/({self._print(base)})"
-        return super()._print_Pow(expr, rational=rational)
+        return _small_power(self, expr) or super()._print_Pow(expr, rational=rational)
+
+
+def _small_power(printer, expr) -> str | None:
+    """``b*b``, ``b*b*b``, ``b*b*b*b`` for the integer powers 2 to 4 of ``b`` and
+    ``1.0/(b)`` for the power -1, as the numba and the C printers both spell them (the same
+    operations in the same order); None for any other power."""
+    base, e = expr.as_base_exp()
+    if e.is_Integer and 1 < int(e) <= 4:
+        b = printer._print(base)
+        if not (base.is_Symbol or base.is_Function):
+            b = f"({b})"
+        return "*".join([b] * int(e))
+    if e == -1:
+        return f"1.0/({printer._print(base)})"
+    return None
 
 
 # ----------------------------------------------------------------------- Python (numba)

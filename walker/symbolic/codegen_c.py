@@ -24,6 +24,7 @@ from walker.symbolic.codegen import (
     _argument_order,
     _Printer,
     _shape,
+    _small_power,
     lower,
     symbolic_hash,
 )
@@ -54,14 +55,10 @@ class _CPrinter(C99CodePrinter):
         return super()._print_Mul(expr, **kwargs)
 
     def _print_Pow(self, expr, rational=False):
+        text = _small_power(self, expr)
+        if text is not None:
+            return text
         base, e = expr.as_base_exp()
-        if e.is_Integer and 1 < int(e) <= 4:
-            b = self._print(base)
-            if not (base.is_Symbol or base.is_Function):
-                b = f"({b})"
-            return "*".join([b] * int(e))
-        if e == -1:
-            return f"1.0/({self._print(base)})"
         if e == sp.S.Half:
             return f"sqrt({self._print(base)})"
         raise NotImplementedError(f"C printer: power {expr}")
