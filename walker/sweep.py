@@ -47,7 +47,6 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import dataclasses
-import math
 import numbers
 import os
 import warnings
@@ -60,6 +59,7 @@ from walker._checks import as_vector as _as_vector
 from walker._executors import die_with_parent, progress_bar, run_chunks, worker_pool
 from walker.fixedpoint import find_fixed_point
 from walker.results import SweepTable
+from walker.sectionmap import validate_positive
 from walker.stride import StrideMap, solver_settings
 from walker.sweep_grid import (
     DEFAULT_CHUNK_POINTS,
@@ -267,7 +267,7 @@ def _chunk_arguments(base, names, points, z0, n_strides, tol):
             f"dtype {z0.dtype}"
         )
     n_strides = _positive_int(n_strides, "n_strides")
-    return names, points, z0.astype(np.float64), n_strides, _positive_float(tol, "tol")
+    return names, points, z0.astype(np.float64), n_strides, validate_positive(tol, "tol")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -279,20 +279,6 @@ def _positive_int(value: Any, name: str) -> int:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
         raise ValueError(f"`{name}` must be an integer >= 1, got {value!r}")
     return int(value)
-
-
-def _positive_float(value: Any, name: str) -> float:
-    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
-        raise TypeError(f"`{name}` must be a real number, got {type(value).__name__} {value!r}")
-    try:
-        number = float(value)
-    except OverflowError:
-        raise ValueError(
-            f"`{name}` must be positive and finite, got an integer too large for a float"
-        ) from None
-    if not (math.isfinite(number) and number > 0):
-        raise ValueError(f"`{name}` must be positive and finite, got {value!r}")
-    return number
 
 
 def _sweep_provenance(stride_map: StrideMap, kind, z0, n_strides, tol, provenance) -> dict:
@@ -336,7 +322,7 @@ def _validate(stride_map, ranges, kind, z0, n_strides, chunk_size, jobs, tol):
         chunk_size = _positive_int(chunk_size, "chunk_size")
     if jobs is not None:
         jobs = _positive_int(jobs, "jobs")
-    tol = _positive_float(tol, "tol")
+    tol = validate_positive(tol, "tol")
     names, points = grid_points(ranges)
     check_names(stride_map, names, "`ranges`")
     n_points = points.shape[0]
