@@ -16,6 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ._help import HelpFormatter
+
 EXIT_OK, EXIT_OUTCOME, EXIT_USAGE = 0, 1, 2
 EXIT_INTERNAL = 3
 """Exit status of an internal error (a bug in walker: an exception it did not expect)."""
@@ -189,6 +191,14 @@ def provenance(scene, extra: dict | None = None, *, out=None) -> dict:
     return scene_provenance(scene, relative_to=where, **(extra or {}))
 
 
+def write_result(out, result, scene, args, extra: dict | None = None) -> None:
+    """Store ``result`` in ``out`` with :func:`provenance` of ``scene`` and ``extra``,
+    replacing an existing file when ``args.overwrite``."""
+    from walker.storage import write
+
+    write(out, result, provenance=provenance(scene, extra, out=out), overwrite=args.overwrite)
+
+
 def _complex_pairs(values) -> list:
     return [[float(np.real(v)), float(np.imag(v))] for v in values]
 
@@ -233,9 +243,8 @@ def _check_out(
     return out
 
 
-def _check_out_path(out: Path, path, overwrite: bool, resumable: bool) -> Path:
-    if out.is_dir():
-        raise UsageError(f"--out {path} is a directory; give a file name")
+def _check_parent_dir(out: Path, path) -> None:
+    """The directory ``--out`` goes in exists and is writable."""
     parent = out.parent if str(out.parent) else Path(".")
     if not parent.is_dir():
         raise UsageError(f"--out {path}: directory '{parent}' does not exist; create it first")
@@ -243,6 +252,12 @@ def _check_out_path(out: Path, path, overwrite: bool, resumable: bool) -> Path:
         raise UsageError(
             f"--out {path}: directory '{parent}' is not writable; choose another --out"
         )
+
+
+def _check_out_path(out: Path, path, overwrite: bool, resumable: bool) -> Path:
+    if out.is_dir():
+        raise UsageError(f"--out {path} is a directory; give a file name")
+    _check_parent_dir(out, path)
     if out.exists() or out.is_symlink():
         if not out.is_file():
             raise UsageError(f"--out {path} exists and is not a regular file; choose another --out")
@@ -271,13 +286,7 @@ def _check_figure_path(out: Path, path) -> Path:
         if not _writable_dir(out):
             raise UsageError(f"--out {path}: directory is not writable; choose another --out")
         return out
-    parent = out.parent if str(out.parent) else Path(".")
-    if not parent.is_dir():
-        raise UsageError(f"--out {path}: directory '{parent}' does not exist; create it first")
-    if not _writable_dir(parent):
-        raise UsageError(
-            f"--out {path}: directory '{parent}' is not writable; choose another --out"
-        )
+    _check_parent_dir(out, path)
     return out
 
 
@@ -286,9 +295,17 @@ def _resume_hint(exc, flag: str = "--out") -> UsageError:
     return UsageError(f"{flag} {exc.path} exists and {exc.reason}; pass --overwrite to replace it")
 
 
+def resumable_options(p) -> None:
+    """``--quiet`` and ``--overwrite`` of a command whose ``--out`` checkpoint resumes."""
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument(
+        "--overwrite", action="store_true", help="replace an existing --out instead of resuming"
+    )
+
+
 def scene_cmd(sub, name: str, help_: str) -> argparse.ArgumentParser:
     """A subcommand that takes a scene file and ``--set NAME=VALUE`` overrides."""
-    p = sub.add_parser(name, help=help_)
+    p = sub.add_parser(name, help=help_, formatter_class=HelpFormatter)
     p.add_argument("scene", help="scene file (gaits/*.toml)")
     p.add_argument(
         "--set", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable)"

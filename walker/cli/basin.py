@@ -17,9 +17,9 @@ from ._common import (
     _resume_hint,
     _stride_map,
     provenance,
+    resumable_options,
     scene_cmd,
 )
-from ._help import HelpFormatter
 
 
 def cmd_basin(args) -> int:
@@ -115,7 +115,6 @@ def cmd_basin(args) -> int:
 
 def register(sub) -> None:
     p = scene_cmd(sub, "basin", "map the basin of attraction on a 2-D slice of the section")
-    p.formatter_class = HelpFormatter
     p.add_argument(
         "--out",
         metavar="FILE",
@@ -152,8 +151,5 @@ def register(sub) -> None:
         default=None,
         help="worker threads (the compiled strides run in parallel); default: CPU count",
     )
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.add_argument(
-        "--overwrite", action="store_true", help="replace an existing --out instead of resuming"
-    )
+    resumable_options(p)
     p.set_defaults(func=cmd_basin)

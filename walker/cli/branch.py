@@ -27,8 +27,8 @@ from ._common import (
     _stride_map,
     provenance,
     scene_cmd,
+    write_result,
 )
-from ._help import HelpFormatter
 
 
 def parse_range(text: str, flag: str = "--range") -> tuple[float, float]:
@@ -316,7 +316,7 @@ def cmd_continue(args) -> int:
             )
             record["period_doubled"]["out"] = str(out2)
             extra["switched_branch"] = out2.name
-        write(out, branch, provenance=provenance(scene, extra, out=out), overwrite=args.overwrite)
+        write_result(out, branch, scene, args, extra)
         record["out"] = str(out)
     if args.json:
         print(_json(record))
@@ -389,7 +389,6 @@ def _switch(P, branch, bounds, options, period, mu0, name):
 
 def register(sub) -> None:
     p = scene_cmd(sub, "continue", "follow the gait as a parameter changes")
-    p.formatter_class = HelpFormatter
     p.add_argument(
         "--param", default="slope", help="parameter to vary (`walker params MODEL` lists them)"
     )

@@ -12,10 +12,9 @@ from ._common import (
     _load,
     _positive_flag,
     _stride_map,
-    provenance,
     scene_cmd,
+    write_result,
 )
-from ._help import HelpFormatter
 
 
 def cmd_find(args) -> int:
@@ -56,14 +55,7 @@ def cmd_find(args) -> int:
         "parameters": scene.params.to_dict(),
     }
     if out is not None:
-        from walker.storage import write
-
-        write(
-            out,
-            fp,
-            provenance=provenance(scene, {"status": fp.status.name}, out=out),
-            overwrite=args.overwrite,
-        )
+        write_result(out, fp, scene, args, {"status": fp.status.name})
     if args.json:
         print(_json(record))
     else:
@@ -91,7 +83,6 @@ def _print_fixed_point(scene, P, fp) -> None:
 
 def register(sub) -> None:
     p = scene_cmd(sub, "find", "find the periodic gait (fixed point of the stride map)")
-    p.formatter_class = HelpFormatter
     p.add_argument(
         "--json",
         action="store_true",

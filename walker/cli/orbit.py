@@ -25,10 +25,9 @@ from ._common import (
     _load,
     _positive_flag,
     _stride_map,
-    provenance,
     scene_cmd,
+    write_result,
 )
-from ._help import HelpFormatter
 from .branch import check_param, check_walker, parse_range
 
 PERIOD_TOL = 1e-8
@@ -148,9 +147,7 @@ def cmd_orbit_diagram(args) -> int:
         "start_gait": bool(fp.success),
         "warm_start": True,
     }
-    from walker.storage import write
-
-    write(out, diagram, provenance=provenance(scene, write_prov, out=out), overwrite=args.overwrite)
+    write_result(out, diagram, scene, args, write_prov)
     record = {
         "status": status,
         "parameter": args.param,
@@ -186,7 +183,6 @@ def cmd_orbit_diagram(args) -> int:
 
 def register(sub) -> None:
     p = scene_cmd(sub, "orbit-diagram", "where the walker settles as a parameter changes")
-    p.formatter_class = HelpFormatter
     p.add_argument("--param", default="slope", help="parameter to vary (default: slope)")
     p.add_argument(
         "--range",

@@ -9,7 +9,7 @@ from ._common import (
     UsageError,
     _check_figure_dir,
 )
-from ._help import HelpFormatter
+from ._help import add_parser
 
 
 def cmd_plot(args) -> int:
@@ -39,12 +39,7 @@ def cmd_plot(args) -> int:
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "plot",
-        help="draw the figures of a stored result",
-        description="draw the figures of a stored result",
-        formatter_class=HelpFormatter,
-    )
+    p = add_parser(sub, "plot", "draw the figures of a stored result")
     p.add_argument("file", help="HDF5 result of find, run, continue, orbit-diagram, basin or sweep")
     p.add_argument("--out", default=".", metavar="DIR", help="directory for the figures (created)")
     p.add_argument(

@@ -13,14 +13,12 @@ from ._common import (
     UsageError,
     _check_out,
     _load,
-    provenance,
     scene_cmd,
+    write_result,
 )
-from ._help import HelpFormatter
 
 
 def cmd_run(args) -> int:
-    from walker.storage import write
     from walker.stride import check_sample_count, simulate
 
     if args.strides is not None and args.strides < 0:
@@ -68,12 +66,7 @@ def cmd_run(args) -> int:
     )
     _print_penetration(scene, sol)
     if out is not None:
-        write(
-            out,
-            sol,
-            provenance=provenance(scene, {"status": sol.status.name}, out=out),
-            overwrite=args.overwrite,
-        )
+        write_result(out, sol, scene, args, {"status": sol.status.name})
         print(f"wrote {out}")
     return EXIT_OK if sol.success else EXIT_OUTCOME
 
@@ -105,7 +98,6 @@ def _print_penetration(scene, sol) -> None:
 
 def register(sub) -> None:
     p = scene_cmd(sub, "run", "simulate strides and store the trajectory")
-    p.formatter_class = HelpFormatter
     p.add_argument(
         "--strides",
         type=int,

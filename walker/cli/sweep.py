@@ -20,8 +20,9 @@ from ._common import (
     _positive_flag,
     _resume_hint,
     _stride_map,
+    resumable_options,
 )
-from ._help import HelpFormatter
+from ._help import add_parser
 
 if TYPE_CHECKING:
     from walker.results import SweepTable
@@ -295,12 +296,7 @@ def _ask_identity(scheduler: str) -> Any:
 
 
 def register(sub) -> None:
-    p = sub.add_parser(
-        "sweep",
-        help="resumable parameter sweep",
-        description="resumable parameter sweep",
-        formatter_class=HelpFormatter,
-    )
+    p = add_parser(sub, "sweep", "resumable parameter sweep")
     p.add_argument("scene", help="scene file (gaits/*.toml)")
     p.add_argument(
         "--param",
@@ -355,8 +351,5 @@ def register(sub) -> None:
         required=True,
         help="HDF5 checkpoint; rerunning the same command resumes it (required)",
     )
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.add_argument(
-        "--overwrite", action="store_true", help="replace an existing --out instead of resuming"
-    )
+    resumable_options(p)
     p.set_defaults(func=cmd_sweep)
