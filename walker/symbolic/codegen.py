@@ -233,7 +233,9 @@ def _lower_kernel(kernel: Kernel, rewrite=None) -> Lowered:
     )
 
 
-def _lower_accel(kernel: AccelKernel, rewrite=None) -> Lowered:
+def _solve_entries(kernel: _FusedSolveKernel) -> tuple[list[str], list]:
+    """The names ``d{i}{j}`` (lower triangle of ``D``, row by row) and ``h{i}`` and their
+    expressions: what a fused kernel's solve reads."""
     n = kernel.D.rows
     names, entries = [], []
     for i in range(n):
@@ -243,6 +245,12 @@ def _lower_accel(kernel: AccelKernel, rewrite=None) -> Lowered:
     for i in range(n):
         names.append(f"h{i}")
         entries.append(kernel.h[i])
+    return names, entries
+
+
+def _lower_accel(kernel: AccelKernel, rewrite=None) -> Lowered:
+    n = kernel.D.rows
+    names, entries = _solve_entries(kernel)
     loads, assigns, reduced = _check_and_cse(kernel, entries, rewrite)
     assigns += list(zip(names, reduced, strict=True))
     # Cholesky D = L L^T, unrolled; then L L^T qdd = -h.
@@ -256,14 +264,7 @@ def _lower_accel_jacobian(kernel: AccelJacobianKernel, rewrite=None) -> Lowered:
     n = kernel.D.rows
     q = [s for name, syms in kernel.args if name == "q" for s in syms]
     qd = [s for name, syms in kernel.args if name == "qd" for s in syms]
-    names, entries = [], []
-    for i in range(n):
-        for j in range(i + 1):
-            names.append(f"d{i}{j}")
-            entries.append(kernel.D[i, j])
-    for i in range(n):
-        names.append(f"h{i}")
-        entries.append(kernel.h[i])
+    names, entries = _solve_entries(kernel)
     for k in range(n):
         dD = kernel.D.diff(q[k])
         for i in range(n):
