@@ -543,19 +543,23 @@ class CompiledSimple:
     def stride(self, x0, method="DOP853", rtol=1e-10, atol=1e-10, t_span=20.0):
         from scipy.integrate import solve_ivp
 
-        x = np.asarray(x0, dtype=float)
-        t, nfev = 0.0, 0
-        x_new = np.empty(self.n)
-        for _ in range(6):
-            sol = solve_ivp(
+        def until(event, t0, x):
+            """The run from ``(t0, x)`` to the first ``event`` (terminal) or fall."""
+            return solve_ivp(
                 self.f,
-                (t, t_span),
+                (t0, t_span),
                 x,
                 method=method,
                 rtol=rtol,
                 atol=atol,
-                events=[self.heel, self.fall],
+                events=[event, self.fall],
             )
+
+        x = np.asarray(x0, dtype=float)
+        t, nfev = 0.0, 0
+        x_new = np.empty(self.n)
+        for _ in range(6):
+            sol = until(self.heel, t, x)
             nfev += sol.nfev
             if sol.status != 1 or len(sol.t_events[1]) or not len(sol.t_events[0]):
                 return None, np.nan, nfev  # fell, or no heel strike in t_span
@@ -566,15 +570,7 @@ class CompiledSimple:
             if action != 0 or self.up is None:
                 return None, te, nfev  # a nonphysical impact
             # A scuff: go on to the height's next rise through zero, then watch again.
-            sol = solve_ivp(
-                self.f,
-                (te, t_span),
-                xe,
-                method=method,
-                rtol=rtol,
-                atol=atol,
-                events=[self.up, self.fall],
-            )
+            sol = until(self.up, te, xe)
             nfev += sol.nfev
             if sol.status != 1 or len(sol.t_events[1]) or not len(sol.t_events[0]):
                 return None, np.nan, nfev
