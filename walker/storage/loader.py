@@ -300,15 +300,9 @@ class _Loader:
             layout = self.layout(version, cs, n_rows, data, want_paths)
             state = self.raw_chunks(root, layout, cs, n_chunks, data)
         else:
-            state = np.zeros(n_chunks, dtype=np.int8)
-            done, bad = self.chunk_rows(done_path, 1, n_chunks, np.arange(n_chunks))
-            state[done.astype(bool)] = 1
-            state[bad] = 2
+            state, done = self.done_flags(done_path, n_chunks)
             self.put(root, done_path, done)
-            for p in data:
-                values, bad = self.chunk_rows(p, cs, n_chunks, np.flatnonzero(state == 1))
-                state[bad] = 2
-                self.put(root, p, values)
+            self.done_rows(root, data, cs, n_chunks, state)
             layout = self.layout(version, cs, n_rows, data, want_paths)
         root["extra"]["state"] = state
         root["extra"]["layout"] = layout
@@ -323,12 +317,10 @@ class _Loader:
         chunk found at the wrong place fails its SHA-256 later).  Returns the chunk states."""
         done_path = f"/{_CHECKPOINT_GROUP}/done"
         sha_path = f"/{_CHECKPOINT_GROUP}/{_CHUNK_SHA}"
-        state = np.zeros(n_chunks, dtype=np.int8)
         if self.raw is None:  # a file being created, in memory: read through HDF5
-            done, bad = self.chunk_rows(done_path, 1, n_chunks, np.arange(n_chunks))
-            state[done.astype(bool)] = 1
-            state[bad] = 2
+            state, _ = self.done_flags(done_path, n_chunks)
         else:
+            state = np.zeros(n_chunks, dtype=np.int8)
             flags = self.raw_rows(layout[done_path], 5, np.arange(n_chunks))
             is_true = (flags == _DONE_TRUE).all(axis=1)
             state[is_true] = 1
@@ -337,11 +329,25 @@ class _Loader:
         sha, bad = self.chunk_rows(sha_path, 1, n_chunks, np.flatnonzero(state == 1))
         state[bad] = 2
         self.put(root, sha_path, sha)
+        self.done_rows(root, data, cs, n_chunks, state)
+        return state
+
+    def done_flags(self, done_path: str, n_chunks: int) -> tuple[np.ndarray, np.ndarray]:
+        """The done flags read through HDF5, and the chunk states they give: 1 done, 0
+        pending, 2 a flag that could not be read."""
+        state = np.zeros(n_chunks, dtype=np.int8)
+        done, bad = self.chunk_rows(done_path, 1, n_chunks, np.arange(n_chunks))
+        state[done.astype(bool)] = 1
+        state[bad] = 2
+        return state, done
+
+    def done_rows(self, root: dict, data: list[str], cs: int, n_chunks: int, state) -> None:
+        """The rows of the done chunks of each data path into ``root``; a chunk whose rows
+        cannot be read becomes 2 in ``state``."""
         for p in data:
             values, bad = self.chunk_rows(p, cs, n_chunks, np.flatnonzero(state == 1))
             state[bad] = 2
             self.put(root, p, values)
-        return state
 
     def raw_rows(self, offsets: np.ndarray, size: int, wanted: np.ndarray) -> np.ndarray:
         """uint8 array (len(wanted), size): the bytes at ``offsets[wanted]``."""
