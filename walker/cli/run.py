@@ -19,7 +19,7 @@ from ._common import (
 
 
 def cmd_run(args) -> int:
-    from walker.stride import check_sample_count, simulate
+    from walker.stride import check_sample_count, simulate, solver_settings
 
     if args.strides is not None and args.strides < 0:
         raise UsageError(f"--strides must be >= 0, got {args.strides}")
@@ -33,15 +33,12 @@ def cmd_run(args) -> int:
     out = _check_out(args.out, overwrite=args.overwrite)
     c = scene.compute
     strides = c.strides if args.strides is None else args.strides
-    common = dict(
-        n_strides=strides,
-        phase0=scene.phase,
-        method=c.method,
-        rtol=c.rtol,
-        atol=c.atol,
-        first_step=c.first_step,
-        t_max=c.t_max * max(1, strides),
-    )
+    common = {
+        **solver_settings(c),
+        "t_max": c.t_max * max(1, strides),
+        "n_strides": strides,
+        "phase0": scene.phase,
+    }
     if args.sample_rate is None:
         sol = simulate(scene.walker_model, scene.params, scene.state, output="full", **common)
     else:
