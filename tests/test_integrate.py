@@ -324,7 +324,11 @@ def test_sample_at_event_time_takes_pre_event_state():
         (dict(rtol=1e-16), ValueError, r"`rtol` must be >= 100 \* eps"),
         (dict(atol=0.0), ValueError, "`atol` must be positive"),
         (dict(t_max=0.0), ValueError, "`t_max` must be greater than `t0`"),
-        (dict(method="rk45"), ValueError, r"`method` must be one of \['DOP853', 'Euler'"),
+        (
+            dict(method="rk45"),
+            ValueError,
+            r"`method` must be one of DOP853, RK45, RK4, Euler, got 'rk45'$",
+        ),
         (dict(n_strides=-1), ValueError, "`n_strides` must be >= 0"),
         (dict(n_strides=1.5), TypeError, "`n_strides` must be an int"),
         (dict(output="all"), ValueError, "`output` must be one of"),

@@ -504,8 +504,14 @@ COMPUTE_CASES = [
     ("atol = -1e-9", r"`atol` must be a finite number > 0, got -1e-09$"),
     ('rtol = "1e-9"', r"`rtol` must be a finite number > 0, got '1e-9'$"),
     ("t_max = inf", r"`t_max` must be a finite number > 0, got inf$"),
-    ('method = "Euler"', r"`first_step` is required with method Euler \(its fixed step\)$"),
-    ('method = "RK4"', r"`first_step` is required with method RK4"),
+    (
+        'method = "Euler"',
+        r"`first_step` must be given \(a positive fixed step\) for method 'Euler'$",
+    ),
+    ('method = "RK4"', r"`first_step` must be given \(a positive fixed step\) for method 'RK4'$"),
+    # the integrator's floor, refused with the file and key (it was accepted, then refused
+    # by the run without either)
+    ("rtol = 1e-15", r"`rtol` must be >= 100 \* eps = 2.22e-14, got 1e-15$"),
     ("first_step = -0.1", r"`first_step` must be a finite number > 0, got -0.1$"),
     (
         "tmax = 3",
@@ -523,7 +529,7 @@ def test_compute_errors(tmp_path, body, message):
 def test_compute_settings_direct_errors():
     with pytest.raises(ValueError, match=r"^`rtol` must be a finite number > 0, got nan$"):
         ComputeSettings(rtol=math.nan)
-    with pytest.raises(ValueError, match=r"^`first_step` is required with method RK4"):
+    with pytest.raises(ValueError, match=r"^`first_step` must be given .* for method 'RK4'$"):
         ComputeSettings(method="RK4")
 
 

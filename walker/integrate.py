@@ -183,7 +183,7 @@ def check_solver_settings(method, rtol, atol, first_step, *, fixed_step=False):
     (adaptive methods choose their own).
     """
     if method not in METHODS:
-        raise ValueError(f"`method` must be one of {sorted(METHODS)}, got {method!r}")
+        raise ValueError(f"`method` must be one of {', '.join(METHODS)}, got {method!r}")
     code = METHODS[method]
     rtol = _check_positive_float("rtol", rtol)
     atol = _check_positive_float("atol", atol)

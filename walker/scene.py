@@ -77,18 +77,13 @@ from typing import Any
 
 import numpy as np
 
+from walker.integrate import METHODS, check_solver_settings
 from walker.params import HAS_STRIDES, PARAMS, STATE_NAMES
-from walker.status import METHOD_DOP853, METHOD_DP5, METHOD_EULER, METHOD_RK4
 
 __all__ = ["TASKS", "METHODS", "STATE_NAMES", "ComputeSettings", "Scene", "load_scene"]
 
 TASKS = ("fixed_point", "simulate")
 """Valid values of ``[compute].task``."""
-
-METHODS = {"DOP853": METHOD_DOP853, "RK45": METHOD_DP5, "RK4": METHOD_RK4, "Euler": METHOD_EULER}
-"""Valid values of ``[compute].method`` -> integer code of :mod:`walker.status`."""
-
-FIXED_STEP_METHODS = ("RK4", "Euler")
 
 MAX_STRIDES = 1_000_000
 """Largest ``[compute].strides``."""
@@ -173,23 +168,21 @@ class ComputeSettings:
             raise ValueError(f"`strides` must be >= 0, got {self.strides}")
         if self.strides > MAX_STRIDES:
             raise ValueError(f"`strides` must be <= {MAX_STRIDES:,}, got {self.strides}")
-        if self.method not in METHODS:
-            raise ValueError(f"`method` must be one of {', '.join(METHODS)}, got {self.method!r}")
+        if self.method not in METHODS:  # before the numbers: the message lists the methods
+            check_solver_settings(self.method, 1.0, 1.0, 1.0)
         for name in ("rtol", "atol", "t_max", "tol"):
             value = getattr(self, name)
             if not _is_real(value) or not math.isfinite(value) or value <= 0:
                 raise ValueError(f"`{name}` must be a finite number > 0, got {value!r}")
             object.__setattr__(self, name, float(value))
-        if self.first_step is None:
-            if self.method in FIXED_STEP_METHODS:
-                raise ValueError(
-                    f"`first_step` is required with method {self.method} (its fixed step)"
-                )
-        else:
+        if self.first_step is not None:
             v = self.first_step
             if not _is_real(v) or not math.isfinite(v) or v <= 0:
                 raise ValueError(f"`first_step` must be a finite number > 0, got {v!r}")
             object.__setattr__(self, "first_step", float(v))
+        # The solver's own rules (rtol >= 100 eps, a fixed step for RK4 and Euler) are the
+        # integrator's, written once there: a scene is refused by the rule a run would apply.
+        check_solver_settings(self.method, self.rtol, self.atol, self.first_step)
 
     @property
     def method_code(self) -> int:
