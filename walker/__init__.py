@@ -44,9 +44,10 @@ The pipeline, from a scene file to pictures::
     cli/ sits on top (``walker find|run|continue|basin|sweep|plot``, one module per command)
     and only orchestrates.
 
-The numba versions of the models (walker/models/<name>.py, walker/friction.py,
-walker/control.py) are the reference the C ports are tested against bit for bit, and what the
-HZD analysis tools (hzd.py) and the actuated walkers' torque plots still call.
+The numba versions of the models (walker/models/<name>.py, walker/friction.py and
+walker/friction_phases.py, walker/control.py) are the reference the C ports are tested
+against bit for bit, and what the HZD analysis tools (hzd.py) and the actuated walkers'
+torque plots still call.
 
 Only ``symbolic`` imports sympy; a simulation derives nothing.
 """

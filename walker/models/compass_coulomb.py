@@ -52,6 +52,7 @@ import numpy as np
 from numba import njit
 
 from walker import friction as fr
+from walker import friction_phases as frp
 from walker._generated import compass as K
 from walker._generated import indices as ix
 from walker.models import compass as _compass
@@ -128,8 +129,8 @@ KERNEL_HASH = K.KERNEL_HASH
 
 @njit(cache=True, error_model="numpy")
 def _dynamics(x, p):
-    """(D, f, qd): ``f = Q_viscous - C qd - g`` (:func:`walker.friction.dynamics`)."""
-    return fr.dynamics(K.mass_matrix, K.bias, K.forcing, x, 2, p, 2)
+    """(D, f, qd): ``f = Q_viscous - C qd - g`` (:func:`walker.friction_phases.dynamics`)."""
+    return frp.dynamics(K.mass_matrix, K.bias, K.forcing, x, 2, p, 2)
 
 
 @njit(cache=True, error_model="numpy")
@@ -141,21 +142,21 @@ def _matrices(x, p):
 
 @njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
-    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
-    fr.phase_rhs(_dynamics, K.mass_matrix, K.accel, _S, F, modes, x, p, dx)
+    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
+    frp.phase_rhs(_dynamics, K.mass_matrix, K.accel, _S, F, modes, x, p, dx)
 
 
 @njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
-    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
-    fr.phase_jac(_dynamics, K.forcing, K.dmass, K.dbias_dq, K.dbias_dqd, _S, F, modes, x, p, J)
+    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
+    frp.phase_jac(_dynamics, K.forcing, K.dmass, K.dbias_dq, K.dbias_dqd, _S, F, modes, x, p, J)
 
 
 @njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
     _compass.guards(0, t, x, p, g)
-    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
-    fr.phase_guards(_dynamics, _S, F, modes, x, 2, p, g[N_BASE_GUARDS:])
+    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
+    frp.phase_guards(_dynamics, _S, F, modes, x, 2, p, g[N_BASE_GUARDS:])
 
 
 @njit(cache=True, error_model="numpy")
@@ -163,8 +164,8 @@ def _start(base, x, p):
     """Choose both joints' modes for state ``x`` (velocities projected in place onto the
     stuck joints) and return the phase; -1 if a solve is singular.  (One base phase:
     ``base`` is unused.)"""
-    modes, F = fr.joints(0, p, I_COULOMB, N_JOINTS)
-    return fr.phase_start(_dynamics, _S, F, modes, 0, x, 2, p)
+    modes, F = frp.joints(0, p, I_COULOMB, N_JOINTS)
+    return frp.phase_start(_dynamics, _S, F, modes, 0, x, 2, p)
 
 
 @njit(cache=True, error_model="numpy")
@@ -172,8 +173,8 @@ def reset(phase, k, t, x, p, x_new, impulse):
     if k < N_BASE_GUARDS:
         action, _, status = _compass.reset(0, k, t, x, p, x_new, impulse)
         return after_base_reset(_start, phase, action, 0, status, x_new, p)
-    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
-    return fr.phase_reset(_dynamics, _S, F, modes, phase, 0, k - N_BASE_GUARDS, x, 2, p, x_new)
+    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
+    return frp.phase_reset(_dynamics, _S, F, modes, phase, 0, k - N_BASE_GUARDS, x, 2, p, x_new)
 
 
 @njit(cache=True, error_model="numpy")
@@ -181,8 +182,8 @@ def joint_torques(phase, x, p):
     """Friction torque at each joint (ankle, hip) [N m]: ``-+F_s`` while slipping, the
     holding torque while stuck.  The hip's acts on the swing leg (its opposite on the
     stance leg)."""
-    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
-    return fr.phase_torques(_dynamics, _S, F, modes, x, p)
+    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
+    return frp.phase_torques(_dynamics, _S, F, modes, x, p)
 
 
 @njit(cache=True, error_model="numpy")

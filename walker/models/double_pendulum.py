@@ -60,6 +60,7 @@ import numpy as np
 from numba import njit
 
 from walker import friction as fr
+from walker import friction_phases as frp
 from walker._generated import double_pendulum as K
 from walker._generated import indices as ix
 from walker.params import MODELS
@@ -112,8 +113,8 @@ _S = np.array([[1.0, 0.0], [0.0, 1.0]])
 
 @njit(cache=True, error_model="numpy")
 def _dynamics(x, p):
-    """(D, f, qd): ``f = Q_viscous - C qd - g`` (:func:`walker.friction.dynamics`)."""
-    return fr.dynamics(K.mass_matrix, K.bias, K.forcing, x, 2, p, 2)
+    """(D, f, qd): ``f = Q_viscous - C qd - g`` (:func:`walker.friction_phases.dynamics`)."""
+    return frp.dynamics(K.mass_matrix, K.bias, K.forcing, x, 2, p, 2)
 
 
 @njit(cache=True, error_model="numpy")
@@ -125,20 +126,20 @@ def _matrices(x, p):
 
 @njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
-    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
-    fr.phase_rhs(_dynamics, K.mass_matrix, K.accel, _S, F, modes, x, p, dx)
+    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
+    frp.phase_rhs(_dynamics, K.mass_matrix, K.accel, _S, F, modes, x, p, dx)
 
 
 @njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
-    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
-    fr.phase_jac(_dynamics, K.forcing, K.dmass, K.dbias_dq, K.dbias_dqd, _S, F, modes, x, p, J)
+    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
+    frp.phase_jac(_dynamics, K.forcing, K.dmass, K.dbias_dq, K.dbias_dqd, _S, F, modes, x, p, J)
 
 
 @njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
-    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
-    fr.phase_guards(_dynamics, _S, F, modes, x, 2, p, g)
+    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
+    frp.phase_guards(_dynamics, _S, F, modes, x, 2, p, g)
 
 
 @njit(cache=True, error_model="numpy")
@@ -146,8 +147,8 @@ def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
     impulse[0] = 0.0
-    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
-    return fr.phase_reset(_dynamics, _S, F, modes, phase, 0, k, x, 2, p, x_new)
+    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
+    return frp.phase_reset(_dynamics, _S, F, modes, phase, 0, k, x, 2, p, x_new)
 
 
 @njit(cache=True, error_model="numpy")
@@ -155,16 +156,16 @@ def joint_torques(phase, x, p):
     """Dry-friction torque at each joint (joint_1, joint_2) [N m]: ``-+F_s`` while slipping,
     the holding torque while stuck.  Each acts on the distal link (its opposite on the
     proximal one)."""
-    modes, F = fr.joints(phase, p, I_COULOMB, N_JOINTS)
-    return fr.phase_torques(_dynamics, _S, F, modes, x, p)
+    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
+    return frp.phase_torques(_dynamics, _S, F, modes, x, p)
 
 
 @njit(cache=True, error_model="numpy")
 def start_phase(x, p):
     """The phase consistent with state ``x`` (joint modes from the rates, and for the joints
     at rest from the friction; see :func:`walker.friction.choose_modes`)."""
-    modes, F = fr.joints(0, p, I_COULOMB, N_JOINTS)
-    return fr.phase_start(_dynamics, _S, F, modes, 0, x.copy(), 2, p)
+    modes, F = frp.joints(0, p, I_COULOMB, N_JOINTS)
+    return frp.phase_start(_dynamics, _S, F, modes, 0, x.copy(), 2, p)
 
 
 def phase_of(**modes: str) -> int:

@@ -43,6 +43,7 @@ import numpy as np
 from numba import njit
 
 from walker import friction as fr
+from walker import friction_phases as frp
 from walker._generated import indices as ix
 from walker._generated import kneed as K
 from walker.models import kneed as _kneed
@@ -142,14 +143,14 @@ def _dry(base, p):
 
 @njit(cache=True, error_model="numpy")
 def _unlocked(x, p):
-    """(D, f, qd) of the unlocked walker (:func:`walker.friction.dynamics`)."""
-    return fr.dynamics(K.unlocked_mass_matrix, K.unlocked_bias, K.unlocked_forcing, x, 3, p, 3)
+    """(D, f, qd) of the unlocked walker (:func:`walker.friction_phases.dynamics`)."""
+    return frp.dynamics(K.unlocked_mass_matrix, K.unlocked_bias, K.unlocked_forcing, x, 3, p, 3)
 
 
 @njit(cache=True, error_model="numpy")
 def _locked(x, p):
     """(D, f, qd) of the locked walker (coordinates q1, q2)."""
-    return fr.dynamics(K.locked_mass_matrix, K.locked_bias, K.locked_forcing, x, 3, p, 2)
+    return frp.dynamics(K.locked_mass_matrix, K.locked_bias, K.locked_forcing, x, 3, p, 2)
 
 
 @njit(cache=True, error_model="numpy")
@@ -168,12 +169,12 @@ def rhs(phase, t, x, p, dx):
     base = _split(phase, modes)
     F = _dry(base, p)
     if base == UNLOCKED:
-        fr.phase_rhs(
+        frp.phase_rhs(
             _unlocked, K.unlocked_mass_matrix, K.unlocked_accel, _S_UNLOCKED, F, modes, x, p, dx
         )
         return
     qdd = np.empty(2)
-    fr.phase_accelerations(
+    frp.phase_accelerations(
         _locked, K.locked_mass_matrix, K.locked_accel, _S_LOCKED, F, modes, x, 3, p, qdd
     )
     dx[0] = x[3]
@@ -190,7 +191,7 @@ def jac(phase, t, x, p, J):
     base = _split(phase, modes)
     F = _dry(base, p)
     if base == UNLOCKED:
-        fr.phase_jac(
+        frp.phase_jac(
             _unlocked,
             K.unlocked_forcing,
             K.unlocked_dmass,
@@ -205,7 +206,7 @@ def jac(phase, t, x, p, J):
         )
         return
     a = np.empty((2, 4))
-    fr.phase_jacobian(
+    frp.phase_jacobian(
         _locked,
         K.locked_forcing,
         K.locked_dmass,
@@ -238,9 +239,9 @@ def guards(phase, t, x, p, g):
     _kneed.guards(base, t, x, p, g)
     F = _dry(base, p)
     if base == UNLOCKED:
-        fr.phase_guards(_unlocked, _S_UNLOCKED, F, modes, x, 3, p, g[4:10])
+        frp.phase_guards(_unlocked, _S_UNLOCKED, F, modes, x, 3, p, g[4:10])
         return
-    fr.phase_guards(_locked, _S_LOCKED, F, modes, x, 3, p, g[4:8])
+    frp.phase_guards(_locked, _S_LOCKED, F, modes, x, 3, p, g[4:8])
     g[ix.KNEED_COULOMB_GUARD_KNEE_SLIP_STOPS] = 1.0
     g[ix.KNEED_COULOMB_GUARD_KNEE_STICK_BREAKS] = 1.0
 
@@ -252,8 +253,8 @@ def _start(base, x, p):
     modes = np.zeros(3, dtype=np.int64)
     modes[2] = fr.STICK  # the locked knee (unused while unlocked: chosen below)
     if base == UNLOCKED:
-        return fr.phase_start(_unlocked, _S_UNLOCKED, _dry(base, p), modes, 0, x, 3, p)
-    new_phase = fr.phase_start(_locked, _S_LOCKED, _dry(base, p), modes, N_UNLOCKED, x, 3, p)
+        return frp.phase_start(_unlocked, _S_UNLOCKED, _dry(base, p), modes, 0, x, 3, p)
+    new_phase = frp.phase_start(_locked, _S_LOCKED, _dry(base, p), modes, N_UNLOCKED, x, 3, p)
     if new_phase >= 0:
         x[5] = x[4]
     return new_phase
@@ -268,8 +269,8 @@ def reset(phase, k, t, x, p, x_new, impulse):
         return after_base_reset(_start, phase, action, new_base, status, x_new, p)
     F = _dry(base, p)
     if base == UNLOCKED:
-        return fr.phase_reset(_unlocked, _S_UNLOCKED, F, modes, phase, 0, k - 4, x, 3, p, x_new)
-    action, new_phase, status = fr.phase_reset(
+        return frp.phase_reset(_unlocked, _S_UNLOCKED, F, modes, phase, 0, k - 4, x, 3, p, x_new)
+    action, new_phase, status = frp.phase_reset(
         _locked, _S_LOCKED, F, modes, phase, N_UNLOCKED, k - 4, x, 3, p, x_new
     )
     if action == EVENT_CONTINUE:
@@ -284,9 +285,9 @@ def joint_torques(phase, x, p):
     modes = np.empty(3, dtype=np.int64)
     base = _split(phase, modes)
     if base == UNLOCKED:
-        return fr.phase_torques(_unlocked, _S_UNLOCKED, _dry(base, p), modes, x, p)
+        return frp.phase_torques(_unlocked, _S_UNLOCKED, _dry(base, p), modes, x, p)
     lam = np.zeros(3)
-    lam[:2] = fr.phase_torques(_locked, _S_LOCKED, _dry(base, p), modes, x, p)
+    lam[:2] = frp.phase_torques(_locked, _S_LOCKED, _dry(base, p), modes, x, p)
     return lam
 
 
