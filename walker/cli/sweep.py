@@ -7,7 +7,7 @@ import concurrent.futures as cf
 import os
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -17,6 +17,7 @@ from ._common import (
     EXIT_OK,
     UsageError,
     _check_out,
+    _parse_set,
     _positive_flag,
     _resume_hint,
     _stride_map,
@@ -42,7 +43,8 @@ def cmd_sweep(args) -> int:
         if value is not None and value < 1:
             raise UsageError(f"{flag} must be an integer >= 1, got {value}")
     _positive_flag(args.strides, "--strides", minimum=1, integer=True)
-    scene = load_scene(args.scene)
+    overrides = _parse_set(args.set)
+    scene = load_scene(args.scene, overrides=overrides)
     # The grid's size before anything is allocated for it, in the flag's words.
     lengths = []
     for text in args.param:
@@ -50,6 +52,10 @@ def cmd_sweep(args) -> int:
             lengths.append(len(parse_range(text)[1]))
         except ValueError as exc:
             raise UsageError(f"--param: {exc}") from None
+    swept = {text.partition("=")[0].strip() for text in args.param}
+    both = sorted(swept & set(overrides))
+    if both:
+        raise UsageError(f"--set {both[0]}: the parameter is swept by --param; set it in one only")
     n_z = get_model(scene.model).n_z
     try:
         check_grid_size(lengths, "--param", _bytes_per_point(args.kind, n_z, len(lengths)))
@@ -76,6 +82,7 @@ def cmd_sweep(args) -> int:
             chunk_size=args.chunk_size,
             overwrite=args.overwrite,
             processes=getattr(args, "processes", False),
+            overrides=overrides,
         )
     except CheckpointMismatch as exc:
         raise _resume_hint(exc) from None
@@ -108,6 +115,7 @@ def run_sweep_command(
     chunk_size: int | None = None,
     overwrite: bool = False,
     processes: bool = False,
+    overrides: Mapping[str, float] | None = None,
 ) -> SweepTable:
     """``walker sweep SCENE --param NAME=START:STOP:COUNT ... --out FILE.h5``.
 
@@ -146,6 +154,10 @@ def run_sweep_command(
     processes : bool
         run on ``jobs`` worker processes (``executor="processes"`` of
         :func:`~walker.sweep.sweep`) instead of threads.
+    overrides : mapping of str to float, optional
+        parameters set for the whole sweep (``--set NAME=VALUE``), as in
+        :func:`walker.scene.load_scene`; the provenance records them among the base
+        parameters.
 
     Returns
     -------
@@ -173,7 +185,7 @@ def run_sweep_command(
         )
     if scheduler is not None and not isinstance(scheduler, str):
         raise TypeError(f"`scheduler` must be an address str, got {type(scheduler).__name__}")
-    scene = load_scene(scene_path)
+    scene = load_scene(scene_path, overrides=overrides)
     if strides is None:
         strides = max(1, scene.compute.strides)
     stride_map = _stride_map(scene)
@@ -298,6 +310,12 @@ def _ask_identity(scheduler: str) -> Any:
 def register(sub) -> None:
     p = add_parser(sub, "sweep", "resumable parameter sweep")
     p.add_argument("scene", help="scene file (gaits/*.toml)")
+    p.add_argument(
+        "--set",
+        action="append",
+        metavar="NAME=VALUE",
+        help="override a parameter for the whole sweep (repeatable; not one that --param sweeps)",
+    )
     p.add_argument(
         "--param",
         action="append",
