@@ -180,7 +180,17 @@ def test_every_parameter_has_a_sampling_range(name):
         assert lo < hi, n
 
 
-@pytest.mark.parametrize("name", sorted(GENERATED_MODULES))
+# the two largest derivations (15-20 s each) run with the slow tests
+_SLOW_DERIVATIONS = ("five_link", "kneed")
+
+
+@pytest.mark.parametrize(
+    "name",
+    [
+        pytest.param(n, marks=pytest.mark.slow) if n in _SLOW_DERIVATIONS else n
+        for n in sorted(GENERATED_MODULES)
+    ],
+)
 def test_generated_kernels_equal_fresh_derivation(name):
     """Every kernel of every generated module equals a fresh lambdify of its expression at
     100 random (state, parameter) samples: rtol 1e-12, atol 1e-12 times the largest entry

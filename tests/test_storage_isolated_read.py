@@ -200,7 +200,15 @@ def _check_mutant(path, reference, timeout):
     return "same"
 
 
-@pytest.mark.parametrize("how", ["flip", "byte", "truncate"])
+# "flip" runs in the default suite; the other two kinds (about 30 s each) with the slow tests
+@pytest.mark.parametrize(
+    "how",
+    [
+        "flip",
+        pytest.param("byte", marks=pytest.mark.slow),
+        pytest.param("truncate", marks=pytest.mark.slow),
+    ],
+)
 def test_deterministic_damage_of_every_kind(tmp_path, file_kinds, how):
     """A handful of fixed bit flips, byte overwrites and truncations of each file kind:
     each ends in a StorageError or reads back unchanged, within the time limit."""

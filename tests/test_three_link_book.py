@@ -243,6 +243,7 @@ def test_one_stride_matches_the_independent_code():
     assert ev.guard[0] == 0  # the step_event = 1 surface, guard 0
 
 
+@pytest.mark.slow  # about 35 s: the independent code's fixed point; one stride is checked above
 def test_fixed_point_and_multiplier_match_the_independent_code():
     fp = _walker_gait()
     omega, x_plus, T, lam, x_minus = _book_gait()
