@@ -412,7 +412,7 @@ class KneedParams(_Params):
 # ------------------------------------------------------------------------------------------
 @dataclasses.dataclass(frozen=True)
 class DoublePendulumParams(_Params):
-    """Planar double pendulum (the course's elbow manipulator); link 1 hinged at the origin.
+    """Planar double pendulum (the elbow manipulator of [1]_); link 1 hinged at the origin.
 
     Attributes
     ----------
@@ -436,11 +436,13 @@ class DoublePendulumParams(_Params):
         slip are phases and events (:mod:`walker.models.double_pendulum`), not a smooth
         approximation of ``sgn``.
 
-    All four zero (the course's preset) is the conservative double pendulum.
+    All four zero (the ``course`` preset: the classic energy-check exercise) is the
+    conservative double pendulum.
 
     References
     ----------
-    .. [1] The course's double-pendulum exercise (point masses on massless links, energy check).
+    .. [1] M. W. Spong, S. Hutchinson, M. Vidyasagar, *Robot Modeling and Control*, Wiley,
+       2006, ch. 7 (the planar elbow manipulator).
     """
 
     MODEL: ClassVar[str] = "double_pendulum"
@@ -472,12 +474,11 @@ class DoublePendulumParams(_Params):
 
     @classmethod
     def course(cls) -> DoublePendulumParams:
-        """The course's energy-check pendulum [1]_: m = 1, I = 0.5, l = 1, a = 0.5, g = 10;
-        frictionless joints (``damping_* = coulomb_* = 0``).
-
-        References
-        ----------
-        .. [1] The course's double-pendulum exercise (point masses on massless links, energy check).
+        """The classic energy-check pendulum (the name is the preset's, kept for stored
+        files and scenes): m = 1, I = 0.5, l = 1, a = 0.5, g = 10; frictionless joints
+        (``damping_* = coulomb_* = 0``), so its total energy is conserved, the check the
+        exercise makes (the elbow-manipulator dynamics of Spong, Hutchinson and Vidyasagar,
+        *Robot Modeling and Control*, 2006, ch. 7).
         """
         return cls(
             mass_1=1.0,
