@@ -125,20 +125,22 @@ class KneedCoulombParams(KneedParams):
         cls, coulomb_ankle: float = 0.0, coulomb_hip: float = 0.0, coulomb_knee: float = 0.0
     ) -> KneedCoulombParams:
         """:meth:`KneedParams.hsu_chen` with the given dry frictions [N m] (default 0)."""
-        return cls(
-            **KneedParams.hsu_chen().to_dict(),
-            coulomb_ankle=coulomb_ankle,
-            coulomb_hip=coulomb_hip,
-            coulomb_knee=coulomb_knee,
-        )
+        return cls._rubbing(KneedParams.hsu_chen(), coulomb_ankle, coulomb_hip, coulomb_knee)
 
     @classmethod
     def mcgeer(
         cls, coulomb_ankle: float = 0.0, coulomb_hip: float = 0.0, coulomb_knee: float = 0.0
     ) -> KneedCoulombParams:
         """:meth:`KneedParams.mcgeer` with the given dry frictions [N m] (default 0)."""
+        return cls._rubbing(KneedParams.mcgeer(), coulomb_ankle, coulomb_hip, coulomb_knee)
+
+    @classmethod
+    def _rubbing(
+        cls, base: KneedParams, coulomb_ankle: float, coulomb_hip: float, coulomb_knee: float
+    ) -> KneedCoulombParams:
+        """``base`` with the given dry frictions [N m]."""
         return cls(
-            **KneedParams.mcgeer().to_dict(),
+            **base.to_dict(),
             coulomb_ankle=coulomb_ankle,
             coulomb_hip=coulomb_hip,
             coulomb_knee=coulomb_knee,
