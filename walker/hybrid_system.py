@@ -231,6 +231,11 @@ class HybridSystem:
     ctx : int
         address handed unchanged to every C call as ``ctx`` (0: NULL); bridged ``@njit``
         functions ignore it.
+    autonomous_guards : bool
+        True declares that ``guards`` does not read ``t`` (the built-in models'): the
+        integrator may then skip a step's interior guard samples when every guard stays
+        far from zero over the step, judged from its values and rates at the step's ends
+        (see walker.integrate, section Events).  False (the default) samples every step.
     """
 
     name: str
@@ -247,6 +252,7 @@ class HybridSystem:
     guard_names: tuple[str, ...]
     n_params: int | None = None
     ctx: int = 0
+    autonomous_guards: bool = False
 
     def __post_init__(self):
         for name, low in (("n_x", 1), ("n_phases", 1), ("n_guards", 0), ("n_impulse", 1)):
@@ -267,6 +273,11 @@ class HybridSystem:
         if not 0 <= int(self.ctx) < 2**64:
             raise ValueError(f"`ctx` must be an address in [0, 2**64), got {int(self.ctx)}")
         object.__setattr__(self, "ctx", int(self.ctx))
+        if not isinstance(self.autonomous_guards, bool | np.bool_):
+            raise TypeError(
+                f"`autonomous_guards` must be a bool, got {type(self.autonomous_guards).__name__}"
+            )
+        object.__setattr__(self, "autonomous_guards", bool(self.autonomous_guards))
         d = np.asarray(self.directions)
         if d.shape != (self.n_phases, self.n_guards):
             raise ValueError(

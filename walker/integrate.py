@@ -43,7 +43,16 @@ phase segment (at ``t0`` and after each applied event) is chosen by Hairer's rul
 Events
 ------
 After each accepted step the guards are evaluated at ``n_interior`` equally spaced interior
-points of the dense output and at the step end.  A tangency check adds one more point: an
+points of the dense output and at the step end.  For a system with ``autonomous_guards``
+(guards that do not read ``t``: every built-in model) the interior points are skipped in a
+step where no guard can come near zero: every guard keeps one strict sign at both ends and
+exceeds there, in magnitude, four times the bound ``max(|h r_a - D|, |h r_b - D|) / 4`` on
+how far its cubic Hermite interpolant strays from the chord (``r_a``, ``r_b`` its rates along
+the vector field at the ends, ``D`` its change over the step; the factor four is the
+margin for the interpolant's own error).  A step with a sign change, or with a guard near
+zero, keeps its points, so the bracket an event is located in is unchanged; what is saved
+is the dense output the points need (three right-hand-side evaluations per DOP853 step)
+and their guard calls.  A tangency check adds one more point: an
 armed guard that is on its pre-fire side at both ends of the step, with its rate (probed
 along the vector field) pointing toward firing at the start and away at the end, has an
 extremum inside; it is found on the dense output by golden-section search, and when the
@@ -166,6 +175,13 @@ def _check_positive_float(name, value, allow_inf=False):
     return value
 
 
+def _interior_code(system: HybridSystem, n_interior: int) -> int:
+    """The ``n_interior`` argument of the compiled solver: ``n_interior`` guard samples in
+    every step, or, for a system with ``autonomous_guards``, ``-n_interior``: the samples
+    are skipped in a step where every guard stays far from zero (section Events)."""
+    return -n_interior if system.autonomous_guards else n_interior
+
+
 def _check_int(name, value, low):
     if isinstance(value, bool) or not isinstance(value, int | np.integer):
         raise TypeError(f"`{name}` must be an int, got {type(value).__name__}")
@@ -212,6 +228,7 @@ class PreparedRun:
     build one per process.
     """
 
+    # _n_interior: the compiled solver's code (_interior_code), negative when screened
     __slots__ = ("system", "_head", "_settings", "_n_interior")
 
     def __init__(
@@ -247,7 +264,7 @@ class PreparedRun:
             system.n_impulse,
         )
         self._settings = (code, adaptive, rtol, atol, first_step, max_step, max_steps)
-        self._n_interior = _check_int("n_interior", n_interior, 0)
+        self._n_interior = _interior_code(system, _check_int("n_interior", n_interior, 0))
 
     def __reduce__(self):
         raise TypeError("a PreparedRun holds process-local addresses: build one per process")
@@ -366,7 +383,9 @@ def hybrid_solve(
         the final state with respect to ``x0``, with saltation matrices [5]_ at every
         applied event) and, when the run ends on an event, ``Solution.dt_dx0``.
     n_interior : int
-        number of interior dense-output points per step where guards are checked (>= 0).
+        number of interior dense-output points per step where guards are checked (>= 0);
+        skipped in a step where every guard stays far from zero when the system declares
+        ``autonomous_guards`` (module docstring, section Events).
 
     Returns
     -------
@@ -548,7 +567,7 @@ def _solve(
         out_code,
         st,
         jacobian,
-        n_interior,
+        _interior_code(system, n_interior),
         jacobian_seed,
     )
     # res is a walker._hybrid.SolveResult (walker/_core/_hybridresult.c), a tuple read by

@@ -180,6 +180,18 @@ int wkpy_arg_system(PyObject *const *args, wk_functions *fn, wk_problem *pb)
     return 0;
 }
 
+/* The interior guard samples: n >= 0 samples in every step, or -n samples screened
+ * (wk_problem.screen_interior), as walker.integrate passes them. */
+int wkpy_arg_interior(PyObject *arg, wk_problem *pb)
+{
+    int64_t code;
+    if (wkpy_arg_int(arg, "n_interior", &code)) return -1;
+    pb->screen_interior = code < 0;
+    /* a code below -2**24 stays negative, for the caller's range check */
+    pb->n_interior = code < -MAX_COUNT ? code : (code < 0 ? -code : code);
+    return 0;
+}
+
 /* The solver settings, six arguments in a row in solve() and basin_points(). */
 int wkpy_arg_solver(PyObject *const *args, int64_t *method, wk_problem *pb)
 {

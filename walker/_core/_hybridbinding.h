@@ -49,6 +49,7 @@ int wkpy_arg_system(PyObject *const *args, wk_functions *fn, wk_problem *pb);
  * method (into ``method``, the caller checks the code), adaptive, rtol, atol, first_step,
  * max_step (into ``pb``). */
 int wkpy_arg_solver(PyObject *const *args, int64_t *method, wk_problem *pb);
+int wkpy_arg_interior(PyObject *arg, wk_problem *pb);
 
 /* 1 when all n values are finite, else 0. */
 int wkpy_all_finite(const double *v, Py_ssize_t n);

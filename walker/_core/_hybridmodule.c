@@ -46,7 +46,9 @@ PyDoc_STRVAR(solve_doc,
              "input and is the way to call this).  rhs, guards, reset, jac, ctx: int addresses\n"
              "(wk_system.h; jac = 0: none, ctx = 0: NULL).  directions: int64 (n_phases,\n"
              "n_guards); x0, p, sample_times: float64 1-D; method and output: the codes of\n"
-             "walker.status.  jacobian_seed (with want_jac): None or a float64 (n_x, m) array S,\n"
+             "walker.status; n_interior: n >= 0 guard samples inside every step, or -n samples\n"
+             "kept only in a step where a guard may come near zero (guards without explicit t).\n"
+             "jacobian_seed (with want_jac): None or a float64 (n_x, m) array S,\n"
              "1 <= m <= n_x; the run then propagates (d x / d x0) S, and jac and dt_dx0 hold\n"
              "m columns.  The GIL is released while integrating.\n\n"
              "Returns a SolveResult, a named tuple read by field: status (a walker.status\n"
@@ -82,7 +84,7 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
         wkpy_arg_int(args[21], "max_steps", &pb.max_steps) ||
         wkpy_arg_int(args[22], "output", &output) ||
         wkpy_arg_bool(args[24], "want_jac", &pb.want_jac) ||
-        wkpy_arg_int(args[25], "n_interior", &pb.n_interior))
+        wkpy_arg_interior(args[25], &pb))
         return NULL;
 
 #define FAIL(exc, ...)                          \
@@ -385,7 +387,7 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
 
     if (wkpy_arg_system(args, &fn, &pb) || wkpy_arg_solver(args + 10, &method, &pb) ||
         wkpy_arg_int(args[16], "max_steps", &sec.max_steps) ||
-        wkpy_arg_int(args[17], "n_interior", &pb.n_interior) ||
+        wkpy_arg_interior(args[17], &pb) ||
         wkpy_arg_double(args[21], "offset", &sec.offset) ||
         wkpy_arg_double(args[22], "fall_angle", &sec.fall_angle) ||
         wkpy_arg_int(args[23], "n_q", &sec.n_q) || wkpy_arg_double(args[24], "wound", &sec.wound) ||

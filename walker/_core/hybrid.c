@@ -349,6 +349,12 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
              * instant too. */
             fn->guards(phase, t_new, y_new, pb->p, g_end, fn->ctx);
             wk_guard_rates(m, phase, t_new, y_new, K_end, g_end, rate_b, xbuf);
+            /* interior samples only where a guard may come near zero */
+            if (pb->screen_interior && n_frac > 1 &&
+                wk_guards_far(m, h, ga, g_end, rate_a, rate_b)) {
+                frac[0] = 1.0;
+                n_frac = 1;
+            }
             double theta_dip = 2.0;
             const int64_t *dir = pb->directions + phase * n_guards;
             for (int64_t i = 0; i < n_guards; i++) {

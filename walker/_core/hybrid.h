@@ -59,6 +59,9 @@ typedef struct {
     int64_t n_samples;
     int want_jac;
     int64_t n_interior;
+    /* 1: a step keeps its interior guard samples only when a guard may come near zero in
+     * it (wk_guards_far); for guards that do not depend on t explicitly.  0: always. */
+    int screen_interior;
     /* With want_jac: the seed S (n_x, n_seed) row-major of the sensitivities, so the run
      * propagates Phi = (d x / d x0) S, n_seed columns, through the flow, the saltation
      * matrices and the resets (a stride map needs only (d x / d x0) times its lift's

@@ -131,6 +131,27 @@ void wk_arm_segment(const model_t *m, int64_t phase, double t, const double *x,
     wk_guard_rates(m, phase, t, x, f, g, rate, xbuf);
 }
 
+/* The cubic Hermite interpolant of a guard over a step, in the step fraction s, is the
+ * chord plus s (1 - s) [(1 - s) (D0 - Delta) - s (D1 - Delta)], with Delta = g_end - ga and
+ * D0, D1 the end slopes (h times the rates); its distance from the chord is at most
+ * max(|D0 - Delta|, |D1 - Delta|) / 4.  A guard is far when both end values exceed four
+ * times that bound in magnitude (a margin for the interpolant's own error and the probed
+ * rates' rounding). */
+int wk_guards_far(const model_t *m, double h, const double *ga, const double *g_end,
+                  const double *rate_a, const double *rate_b)
+{
+    const double scale = h / RATE_EPS;
+    for (int64_t i = 0; i < m->n_guards; i++) {
+        const double a = ga[i], b = g_end[i];
+        if (!(a > 0.0 && b > 0.0) && !(a < 0.0 && b < 0.0)) return 0;
+        const double delta = b - a;
+        const double bend =
+            max2(fabs(scale * rate_a[i] - delta), fabs(scale * rate_b[i] - delta));
+        if (!(min2(fabs(a), fabs(b)) > bend)) return 0;
+    }
+    return 1;
+}
+
 /* ------------------------------------------------------------------------------------------
  * Extremum inside a step (tangency)
  * ------------------------------------------------------------------------------------------ */

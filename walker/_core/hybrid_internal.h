@@ -251,6 +251,14 @@ void wk_arm_segment(const model_t *m, int64_t phase, double t, const double *x,
 void wk_guard_rates(const model_t *m, int64_t phase, double t, const double *x,
                     const double *f, const double *g, double *rate, double *xbuf);
 
+/* 1 when no guard can reach zero inside the step (t, t + h), so the step's interior guard
+ * samples can be skipped: every guard has the same strict sign at both ends and its value
+ * there exceeds four times the bound on how far the cubic Hermite interpolant of the guard
+ * (from its values ga, g_end and rates rate_a, rate_b at the ends) strays from the chord.
+ * A step where any guard is near zero, or changes sign, keeps its samples. */
+int wk_guards_far(const model_t *m, double h, const double *ga, const double *g_end,
+                  const double *rate_a, const double *rate_b);
+
 /* Chattering (Zeno) test of guard k applied at absolute time t_ev; per-guard state in
  * ``zeno`` (4 n_guards doubles, see hybrid_events.c).  Returns 1 when the run must stop. */
 int wk_chattering(double *zeno, int64_t n_guards, int64_t k, double t_ev);

@@ -151,6 +151,7 @@ class WalkerModel:
                 phase_names=m.PHASE_NAMES,
                 guard_names=m.GUARD_NAMES,
                 n_params=len(self.params_class.names()),
+                autonomous_guards=True,  # no model's guards read t
                 **fns,
             )
         return cache[variant]
