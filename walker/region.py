@@ -121,6 +121,14 @@ class WalkingRegion:
         kinetic, potential = self.model.energy(x, self.p)
         return float(kinetic), float(potential)
 
+    def _lift(self, z) -> np.ndarray:
+        """The full state at the section point ``z`` (a float vector of the section's length,
+        as :meth:`outside` receives it): the model module's own lift, without the
+        conversions of :meth:`WalkerModel.lift`, as a C-contiguous float64 array."""
+        if z.__class__ is not np.ndarray or z.dtype != np.float64:
+            return np.ascontiguousarray(self.model.lift(z, self.p), dtype=np.float64)
+        return np.ascontiguousarray(self.model.module.lift(z, self.p), dtype=np.float64)
+
     def with_guess(self, z0) -> WalkingRegion:
         """Set the search's energy bound from the guess ``z0`` (see the class docstring)."""
         try:
@@ -142,13 +150,14 @@ class WalkingRegion:
                     f"angle {self.fall_angle:.4g} rad"
                 )
         try:
-            x = self.model.lift(z, self.p)
+            x = self._lift(z)
         except (ValueError, ArithmeticError) as exc:
             return f"it has no full state ({exc})"
-        if not np.all(np.isfinite(x)):
+        xs = x.tolist()
+        if not all(map(math.isfinite, xs)):
             return "its full state is not finite"
-        q = np.abs(x[: self.n_q])
-        i = int(np.argmax(q))
+        q = [abs(v) for v in xs[: self.n_q]]
+        i = q.index(max(q))
         if q[i] > self.wound_limit:
             name = self.model.state_names[i]
             return f"the angle {name} = {x[i]:.4g} rad is wound beyond pi from the slope normal"
