@@ -25,7 +25,8 @@ The pipeline, from a scene file to pictures::
                      _core/_hybrid*  the Python binding: the methods and the module's init
                                      (_hybridmodule.c), argument conversion (_hybridargs.c),
                                      SolveResult, the named record solve returns
-                                     (_hybridresult.c)
+                                     (_hybridresult.c), PreparedMap, one stride-map call
+                                     (_hybridmap.c; lift, start checks, run in batch.c)
     (run time)   ──► models/         per walker: names, phases, guards, section lift/project;
                                      WalkerModel.system_for(p) picks the compiled variant once
                  ──► integrate.py    hybrid_solve, PreparedRun -> Solution; the C contract

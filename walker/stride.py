@@ -17,10 +17,12 @@ import numpy as np
 
 from walker._checks import as_vector as _as_vector
 from walker._checks import time_scale as _time_scale
-from walker.integrate import PreparedRun, _solve, check_solver_settings
+from walker.integrate import _STATUSES, PreparedRun, _solve, check_solver_settings
 from walker.models import WalkerModel, get_model
 from walker.results import MapResult, Solution, too_large
 from walker.status import Status
+
+_frombuffer = np.frombuffer  # a float64 array on a bytearray of walker._hybrid, no copy
 
 __all__ = ["SOLVER_SETTINGS", "StrideMap", "simulate", "solver_settings"]
 
@@ -310,7 +312,9 @@ class StrideMap:
         guard ``((offset, fall_angle), n_q, wound_limit, energy_fn, energy_address,
         kinetic_limit)`` stops a start state whose stance leg lies past the fall angle, an
         angle wound beyond pi from the slope normal or a kinetic energy far above the
-        scene's (:class:`walker.fixedpoint.WalkingRegion`)."""
+        scene's (:class:`walker.fixedpoint.WalkingRegion`).  Built with them, when
+        :meth:`_compiled_call_fits`: ``walker._hybrid.PreparedMap(...).map``, the whole of
+        :meth:`__call__` in one compiled call (``_run[6]``, else None)."""
         cached = self.__dict__.get("_run")
         if cached is None:
             from walker import _hybrid
@@ -333,13 +337,62 @@ class StrideMap:
                 address,
                 region.kinetic_limit,
             )
-            cached = ({}, p, guard, per_stride, self.model.system_for(p), self._fast_parts(p))
+            fast = self._fast_parts(p)
+            cached = [{}, p, guard, per_stride, self.model.system_for(p), fast, None]
+            run = self._new_run(cached, n_strides)
+            if self._compiled_call_fits(fast):
+                # the whole call in C: lift, start checks, stride(s), projection
+                cached[6] = _hybrid.PreparedMap(*self._section_args(cached, run)).map
+            cached = tuple(cached)
             object.__setattr__(self, "_run", cached)
         runs = cached[0]
         run = runs.get(n_strides)
         if run is None:
             run = self._new_run(cached, n_strides)
         return run, cached[1], cached[2]
+
+    def _compiled_call_fits(self, fast) -> bool:
+        """Can one compiled call (``walker._hybrid.PreparedMap``) do what :meth:`__call__`
+        does, with the same operations?  It can for a model whose lift is affine and whose
+        projection selects components (``fast``, :meth:`_fast_parts`), whose start phase,
+        if any, is compiled, and a ``t_max`` that a double times ``n_strides`` gives as the
+        Python product does (a float, or an int below 2**53)."""
+        model, t_max = self.model, self.t_max
+        return (
+            fast[1] is not None
+            and (
+                model._state_fn("start_phase") is not None
+                or not hasattr(model.module, "start_phase")
+            )
+            and (isinstance(t_max, float) or (type(t_max) is int and abs(t_max) < 2**53))
+        )
+
+    def _section_args(self, cached, run) -> tuple:
+        """The settings of the compiled stride map that ``walker._hybrid.basin_points`` and
+        ``walker._hybrid.PreparedMap`` take first: the system and solver settings of
+        ``run`` (a PreparedRun of this map), the per-stride step budget, the affine lift
+        ``x = lift_a z + lift_b``, the projection's indices, the start checks' guard, the
+        compiled start phase and the per-stride ``t_max``."""
+        model, p = self.model, cached[1]
+        (offset, fall_angle), n_q, wound, _, energy_address, kinetic_limit = cached[2]
+        n_z, n_x = model.n_z, model.n_x
+        lift_a = np.ascontiguousarray(model.lift_jacobian(np.zeros(n_z), p), dtype=np.float64)
+        lift_b = np.ascontiguousarray(model.lift(np.zeros(n_z), p), dtype=np.float64)
+        proj = model.project(np.arange(n_x, dtype=np.float64), p).astype(np.int64)
+        solver = (*run._settings[:6], cached[3], run._n_interior)  # max_steps per stride
+        checks = (float(offset), float(fall_angle), int(n_q), float(wound))
+        checks += (energy_address or 0, float(kinetic_limit))
+        return (
+            *run._head,
+            p,
+            *solver,
+            lift_a,
+            lift_b,
+            proj,
+            *checks,
+            model._state_fn("start_phase") or 0,
+            float(self.t_max),
+        )
 
     def _fast_parts(self, p):
         """What a call needs of the model besides the run, resolved once: ``(lift, project,
@@ -401,38 +454,8 @@ class StrideMap:
             return None
         if model._state_fn("start_phase") is None and hasattr(model.module, "start_phase"):
             return None
-        run, p, guard = self._prepared(period)
-        (offset, fall_angle), n_q, wound, _, energy_address, kinetic_limit = guard
-        n_z, n_x = model.n_z, model.n_x
-        lift_a = np.ascontiguousarray(model.lift_jacobian(np.zeros(n_z), p), dtype=np.float64)
-        lift_b = np.ascontiguousarray(model.lift(np.zeros(n_z), p), dtype=np.float64)
-        proj = model.project(np.arange(n_x, dtype=np.float64), p).astype(np.int64)
-        head, settings, n_interior = run._head, run._settings, run._n_interior
-        code, adaptive, rtol, atol, first_step, max_step, _ = settings
-        per_stride = self.__dict__["_run"][3]
-        args = (
-            *head,
-            p,
-            code,
-            adaptive,
-            rtol,
-            atol,
-            first_step,
-            max_step,
-            per_stride,
-            n_interior,
-            lift_a,
-            lift_b,
-            proj,
-            float(offset),
-            float(fall_angle),
-            int(n_q),
-            float(wound),
-            energy_address or 0,
-            float(kinetic_limit),
-            model._state_fn("start_phase") or 0,
-            float(self.t_max),
-        )
+        run, _, _ = self._prepared(period)
+        args = self._section_args(self.__dict__["_run"], run)
 
         def points(z0, target, tol, n_strides):
             z0 = np.ascontiguousarray(z0, dtype=np.float64)
@@ -518,6 +541,10 @@ class StrideMap:
         ``KINETIC_LIMIT`` times the walker's standing potential energy
         ``OUTSIDE_WALKING_REGION`` (:class:`walker.fixedpoint.WalkingRegion`).
 
+        For a model whose lift is affine (``LIFT_AFFINE``) the call is one compiled call,
+        with the operations of the Python path (:meth:`_checked_call`): the same results
+        bit for bit.
+
         Returns
         -------
         MapResult
@@ -525,6 +552,27 @@ class StrideMap:
         """
         if parameter is not None and parameter != self.parameter_value:
             return self.with_parameter(parameter)(z, jacobian=jacobian, n_strides=n_strides)
+        cached = self.__dict__.get("_run")
+        if cached is None:
+            self._prepared()
+            cached = self.__dict__["_run"]
+        call = cached[6]
+        # One compiled call when the model allows it (_compiled_call_fits) and the input is
+        # plain (a finite float64 vector, an int, a bool); else, or to say what is wrong
+        # with the input, the checked path.
+        out = None if call is None else call(z, n_strides, jacobian)
+        if out is None:
+            return self._checked_call(z, jacobian, n_strides)
+        status, t, z_new, x, jac = out  # z_new NaN unless completed; jac only then
+        z_new = _frombuffer(z_new)
+        if jac is not None:
+            jac = _frombuffer(jac).reshape(z_new.shape[0], -1)
+        return MapResult(_STATUSES[status], z_new, jac, t, _frombuffer(x))
+
+    def _checked_call(self, z, jacobian, n_strides) -> MapResult:
+        """:meth:`__call__` in Python around the compiled run (the reference of the compiled
+        call, and the path of every model and input it does not take): the input checks,
+        the model's lift, the start checks, :meth:`PreparedRun.map` and the projection."""
         if z.__class__ is not np.ndarray or z.dtype != np.float64:
             z = _as_vector(z, "z")
         model = self.model

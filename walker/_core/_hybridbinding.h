@@ -4,7 +4,9 @@
  *                    the module's init;
  *   _hybridargs.c    argument conversion (every error names the argument) and result
  *                    arrays out as bytearrays;
- *   _hybridresult.c  the named record solve() returns (walker._hybrid.SolveResult).
+ *   _hybridresult.c  the named record solve() returns (walker._hybrid.SolveResult);
+ *   _hybridmap.c     a walker's section settings (what basin_points and PreparedMap share)
+ *                    and walker._hybrid.PreparedMap, one stride-map call.
  *
  * Nothing here is part of the extension's interface: the functions are prefixed wkpy_ and
  * called only by these files.  Include after <Python.h>.
@@ -15,6 +17,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "batch.h"
 #include "hybrid.h"
 #include "wk_system.h"
 
@@ -64,5 +67,26 @@ int wkpy_add_solve_result(PyObject *module);
 /* A new SolveResult holding a run's result ``res`` of the problem ``pb`` (which gives the
  * array sizes); NULL with an exception set when out of memory. */
 PyObject *wkpy_solve_result(const wk_result *res, const wk_problem *pb);
+
+/* The settings of a walker's section that basin_points and PreparedMap take as their
+ * first WKPY_SECTION_NARGS arguments: rhs, guards, reset, jac, ctx, directions, n_x,
+ * n_guards, n_impulse, p, method, adaptive, rtol, atol, first_step, max_step, max_steps
+ * (per stride), n_interior, lift_a, lift_b, proj, offset, fall_angle, n_q, wound, energy,
+ * kinetic_limit, start_phase, t_max (per stride); the arrays copied into ``block``. */
+#define WKPY_SECTION_NARGS 29
+typedef struct {
+    wk_functions fn;
+    wk_problem pb; /* the template: sizes, p, solver settings */
+    wk_section sec;
+    void *block; /* owns directions, p, lift_a, lift_b, proj */
+} wkpy_section;
+
+/* Reads args[0 .. WKPY_SECTION_NARGS) into ``s``; 0, or -1 with an exception naming the
+ * argument (``s`` then owns nothing).  wkpy_section_free releases it. */
+int wkpy_section_parse(PyObject *const *args, wkpy_section *s);
+void wkpy_section_free(wkpy_section *s);
+
+/* Makes the PreparedMap type ready and adds it to ``module``; 0, or -1 with an exception. */
+int wkpy_add_prepared_map(PyObject *module);
 
 #endif

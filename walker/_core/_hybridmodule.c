@@ -5,13 +5,16 @@
  * models()            walker's compiled models (wk_model_table) as integer addresses;
  * kernels()           the generated kernels (wk_kernel_table) as (signature, address);
  * call_state_fn(...)  calls a model's energy / points / start_phase function;
- * basin_points(...)   many starts of a walker's stride map (batch.c), without the GIL.
+ * basin_points(...)   many starts of a walker's stride map (batch.c), without the GIL;
+ * PreparedMap(...)    one start of a walker's stride map per map() call, its settings
+ *                     parsed once (_hybridmap.c).
  *
  * Plain C API, no numpy: arrays come in through the buffer protocol (C-contiguous float64
  * or int64) and go out as bytearrays that walker/integrate.py views with numpy.frombuffer.
  * Model functions are passed as integer addresses of C functions with the signatures of
  * wk_system.h.  The argument converters are in _hybridargs.c, the record solve() returns in
- * _hybridresult.c (both declared in _hybridbinding.h).
+ * _hybridresult.c, the section settings and PreparedMap in _hybridmap.c (all declared in
+ * _hybridbinding.h).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -372,32 +375,17 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
                      BASIN_NARGS, nargs);
         return NULL;
     }
-    uintptr_t a_energy, a_start;
-    wk_functions fn;
-    wk_problem pb;
-    memset(&pb, 0, sizeof pb);
-    wk_section sec;
-    memset(&sec, 0, sizeof sec);
-    Py_buffer v_dir, v_p, v_a, v_b, v_proj, v_z0, v_target;
-    int have_dir = 0, have_p = 0, have_a = 0, have_b = 0, have_proj = 0, have_z0 = 0,
-        have_target = 0;
+    wkpy_section s;
+    if (wkpy_section_parse(args, &s)) return NULL;
+    Py_buffer v_z0, v_target;
+    int have_z0 = 0, have_target = 0;
     PyObject *result = NULL;
-    int64_t method, n_strides, period;
+    int64_t n_strides, period;
     double tol;
-
-    if (wkpy_arg_system(args, &fn, &pb) || wkpy_arg_solver(args + 10, &method, &pb) ||
-        wkpy_arg_int(args[16], "max_steps", &sec.max_steps) ||
-        wkpy_arg_interior(args[17], &pb) ||
-        wkpy_arg_double(args[21], "offset", &sec.offset) ||
-        wkpy_arg_double(args[22], "fall_angle", &sec.fall_angle) ||
-        wkpy_arg_int(args[23], "n_q", &sec.n_q) || wkpy_arg_double(args[24], "wound", &sec.wound) ||
-        wkpy_arg_address(args[25], "energy", 1, &a_energy) ||
-        wkpy_arg_double(args[26], "kinetic_limit", &sec.kinetic_limit) ||
-        wkpy_arg_address(args[27], "start_phase", 1, &a_start) ||
-        wkpy_arg_double(args[28], "t_max", &sec.t_max) || wkpy_arg_double(args[31], "tol", &tol) ||
+    if (wkpy_arg_double(args[31], "tol", &tol) ||
         wkpy_arg_int(args[32], "n_strides", &n_strides) ||
         wkpy_arg_int(args[33], "period", &period))
-        return NULL;
+        goto out;
 
 #define FAIL(exc, ...)                          \
     do {                                        \
@@ -405,84 +393,20 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
         goto out;                               \
     } while (0)
 
-    if (pb.n_x < 1 || pb.n_x > MAX_N_X)
-        FAIL(PyExc_ValueError, "`n_x` must be in [1, %d], got %lld", MAX_N_X, (long long)pb.n_x);
-    if (pb.n_guards < 1 || pb.n_guards > MAX_COUNT || fn.guards == NULL || fn.reset == NULL)
-        FAIL(PyExc_ValueError, "a walker needs guards and a reset (`n_guards` >= 1)");
-    if (pb.n_impulse < 1 || pb.n_impulse > MAX_COUNT)
-        FAIL(PyExc_ValueError, "`n_impulse` must be in [1, 2**24]");
-    if (method != WK_METHOD_DOP853 && method != WK_METHOD_DP5 && method != WK_METHOD_RK4 &&
-        method != WK_METHOD_EULER)
-        FAIL(PyExc_ValueError, "`method` must be a code in [0, 3], got %lld", (long long)method);
-    pb.method = (int)method;
-    if (pb.adaptive && pb.method != WK_METHOD_DOP853 && pb.method != WK_METHOD_DP5)
-        FAIL(PyExc_ValueError, "`adaptive` needs method DOP853 or RK45");
-    if (!(pb.rtol > 0.0 && isfinite(pb.rtol)) || !(pb.atol > 0.0 && isfinite(pb.atol)))
-        FAIL(PyExc_ValueError, "`rtol` and `atol` must be positive and finite");
-    if (!(pb.first_step >= 0.0 && isfinite(pb.first_step)) ||
-        (!pb.adaptive && !(pb.first_step > 0.0)))
-        FAIL(PyExc_ValueError, "`first_step` must be finite and positive (0: automatic)");
-    if (!(pb.max_step > 0.0)) FAIL(PyExc_ValueError, "`max_step` must be positive");
-    if (sec.max_steps < 1) FAIL(PyExc_ValueError, "`max_steps` must be >= 1");
-    if (pb.n_interior < 0 || pb.n_interior > MAX_COUNT)
-        FAIL(PyExc_ValueError, "`n_interior` must be in [0, 2**24]");
-    if (sec.n_q < 0 || sec.n_q > pb.n_x)
-        FAIL(PyExc_ValueError, "`n_q` must be in [0, n_x]");
-    if (!(sec.t_max > 0.0 && isfinite(sec.t_max)))
-        FAIL(PyExc_ValueError, "`t_max` must be positive and finite");
     if (!(tol >= 0.0)) FAIL(PyExc_ValueError, "`tol` must be >= 0");
     if (n_strides < 0) FAIL(PyExc_ValueError, "`n_strides` must be >= 0");
     if (period < 1) FAIL(PyExc_ValueError, "`period` must be >= 1");
-
-    if (wkpy_arg_buffer(args[5], "directions", 'q', 2, &v_dir)) goto out;
-    have_dir = 1;
-    if (v_dir.shape[1] != pb.n_guards || v_dir.shape[0] < 1)
-        FAIL(PyExc_ValueError, "`directions` must have n_guards columns and at least one row");
-    pb.n_phases = v_dir.shape[0];
-    pb.directions = (const int64_t *)v_dir.buf;
-    for (int64_t i = 0; i < pb.n_phases * pb.n_guards; i++)
-        if (pb.directions[i] < -1 || pb.directions[i] > 1)
-            FAIL(PyExc_ValueError, "`directions` values must be -1, 0 or +1");
-
-    if (wkpy_arg_buffer(args[9], "p", 'd', 1, &v_p)) goto out;
-    have_p = 1;
-    pb.p = (const double *)v_p.buf;
-    if (!wkpy_all_finite(pb.p, v_p.shape[0]))
-        FAIL(PyExc_ValueError, "All parameters `p` must be finite.");
-
     if (wkpy_arg_buffer(args[29], "z0", 'd', 2, &v_z0)) goto out;
     have_z0 = 1;
-    sec.n_z = v_z0.shape[1];
-    if (sec.n_z < 1 || sec.n_z > pb.n_x)
-        FAIL(PyExc_ValueError, "`z0` must have n_z in [1, n_x] columns, got %zd", v_z0.shape[1]);
+    if (v_z0.shape[1] != s.sec.n_z)
+        FAIL(PyExc_ValueError, "`z0` must have n_z = %lld columns, got %zd",
+             (long long)s.sec.n_z, v_z0.shape[1]);
     if (!wkpy_all_finite((const double *)v_z0.buf, v_z0.shape[0] * v_z0.shape[1]))
         FAIL(PyExc_ValueError, "All section points `z0` must be finite.");
-    if (wkpy_arg_buffer(args[18], "lift_a", 'd', 2, &v_a)) goto out;
-    have_a = 1;
-    if (v_a.shape[0] != pb.n_x || v_a.shape[1] != sec.n_z)
-        FAIL(PyExc_ValueError, "`lift_a` must have shape (n_x, n_z)");
-    if (wkpy_arg_buffer(args[19], "lift_b", 'd', 1, &v_b)) goto out;
-    have_b = 1;
-    if (v_b.shape[0] != pb.n_x) FAIL(PyExc_ValueError, "`lift_b` must have length n_x");
-    if (!wkpy_all_finite((const double *)v_a.buf, v_a.shape[0] * v_a.shape[1]) ||
-        !wkpy_all_finite((const double *)v_b.buf, v_b.shape[0]))
-        FAIL(PyExc_ValueError, "`lift_a` and `lift_b` must be finite");
-    if (wkpy_arg_buffer(args[20], "proj", 'q', 1, &v_proj)) goto out;
-    have_proj = 1;
-    if (v_proj.shape[0] != sec.n_z) FAIL(PyExc_ValueError, "`proj` must have length n_z");
-    for (int64_t i = 0; i < sec.n_z; i++)
-        if (((const int64_t *)v_proj.buf)[i] < 0 || ((const int64_t *)v_proj.buf)[i] >= pb.n_x)
-            FAIL(PyExc_ValueError, "`proj` indices must be in [0, n_x)");
     if (wkpy_arg_buffer(args[30], "target", 'd', 1, &v_target)) goto out;
     have_target = 1;
-    if (v_target.shape[0] != sec.n_z) FAIL(PyExc_ValueError, "`target` must have length n_z");
+    if (v_target.shape[0] != s.sec.n_z) FAIL(PyExc_ValueError, "`target` must have length n_z");
 #undef FAIL
-
-    sec.lift_a = (const double *)v_a.buf;
-    sec.lift_b = (const double *)v_b.buf;
-    sec.proj = (const int64_t *)v_proj.buf;
-    sec.energy = (wk_state_fn)a_energy;
-    sec.start_phase = (wk_state_fn)a_start;
 
     const int64_t m = v_z0.shape[0];
     int64_t *buf = PyMem_Calloc((size_t)(2 * m + 1), sizeof(int64_t));
@@ -492,7 +416,7 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
     }
     int rc;
     Py_BEGIN_ALLOW_THREADS
-    rc = wk_basin_points(&fn, &pb, &sec, m, (const double *)v_z0.buf,
+    rc = wk_basin_points(&s.fn, &s.pb, &s.sec, m, (const double *)v_z0.buf,
                          (const double *)v_target.buf, tol, n_strides, period, buf, buf + m);
     Py_END_ALLOW_THREADS
     if (rc == WK_ERR_NOMEM) {
@@ -506,13 +430,9 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
     PyMem_Free(buf);
 
 out:
-    if (have_dir) PyBuffer_Release(&v_dir);
-    if (have_p) PyBuffer_Release(&v_p);
-    if (have_a) PyBuffer_Release(&v_a);
-    if (have_b) PyBuffer_Release(&v_b);
-    if (have_proj) PyBuffer_Release(&v_proj);
     if (have_z0) PyBuffer_Release(&v_z0);
     if (have_target) PyBuffer_Release(&v_target);
+    wkpy_section_free(&s);
     return result;
 }
 
@@ -558,6 +478,11 @@ PyMODINIT_FUNC PyInit__hybrid(void)
     Py_DECREF(tol);
     /* The record solve() returns. */
     if (wkpy_add_solve_result(m) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    /* The compiled stride-map call (_hybridmap.c). */
+    if (wkpy_add_prepared_map(m) < 0) {
         Py_DECREF(m);
         return NULL;
     }

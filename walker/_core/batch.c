@@ -1,4 +1,4 @@
-/* Many starts of a walker's stride map in one compiled call: see batch.h. */
+/* A walker's stride map in C, one call and many starts: see batch.h. */
 #include "batch.h"
 
 #include <math.h>
@@ -43,13 +43,10 @@ static int converged(const double *z, const double *target, int64_t n, double to
     return worst <= tol;
 }
 
-/* One call of the stride map from section point z (StrideMap.__call__ with n_strides =
- * period): returns the status (0: completed, z overwritten with the new section point). */
-static int64_t map_once(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
-                        int64_t period, double *z, double *x0, int *rc)
+int64_t wk_section_start(const wk_problem *tmpl, const wk_section *sec, const double *z,
+                         double *x0, int64_t *phase0)
 {
-    const int64_t n_x = tmpl->n_x;
-    lift(sec, n_x, z, x0);
+    lift(sec, tmpl->n_x, z, x0);
     const double psi = z[0] + sec->offset;
     if (!(fabs(psi) < sec->fall_angle)) return psi < 0.0 ? B_FELL_FORWARD : B_FELL_BACKWARD;
     for (int64_t i = 0; i < sec->n_q; i++)
@@ -59,13 +56,20 @@ static int64_t map_once(const wk_functions *fn, const wk_problem *tmpl, const wk
         sec->energy(x0, tmpl->p, out, NULL);
         if (!(out[0] <= sec->kinetic_limit)) return B_OUTSIDE_WALKING_REGION;
     }
-    int64_t phase0 = 0;
+    *phase0 = 0;
     if (sec->start_phase != NULL) {
         out[0] = 0.0;
         sec->start_phase(x0, tmpl->p, out, NULL);
-        phase0 = (int64_t)out[0];
-        if (phase0 < 0) return B_LINEAR_SOLVE_FAILED;
+        *phase0 = (int64_t)out[0];
+        if (*phase0 < 0) return B_LINEAR_SOLVE_FAILED;
     }
+    return 0;
+}
+
+int wk_section_run(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
+                   int64_t period, int want_jac, const double *x0, int64_t phase0,
+                   wk_result *res)
+{
     wk_problem pb = *tmpl;
     pb.x0 = x0;
     pb.phase0 = phase0;
@@ -74,12 +78,25 @@ static int64_t map_once(const wk_functions *fn, const wk_problem *tmpl, const wk
     pb.n_strides = period;
     pb.max_steps = sec->max_steps * period;
     pb.output = WK_OUTPUT_MAP;
-    pb.want_jac = 0;
+    pb.want_jac = want_jac;
+    pb.jac_seed = want_jac ? sec->lift_a : NULL;
+    pb.n_seed = want_jac ? sec->n_z : 0;
     pb.sample_times = NULL;
     pb.n_samples = 0;
+    return wk_hybrid_solve(fn, &pb, res);
+}
+
+/* One call of the stride map from section point z (StrideMap.__call__ with n_strides =
+ * period): returns the status (0: completed, z overwritten with the new section point). */
+static int64_t map_once(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
+                        int64_t period, double *z, double *x0, int *rc)
+{
+    int64_t phase0 = 0;
+    int64_t status = wk_section_start(tmpl, sec, z, x0, &phase0);
+    if (status != 0) return status;
     wk_result res;
-    *rc = wk_hybrid_solve(fn, &pb, &res);
-    int64_t status = res.status;
+    *rc = wk_section_run(fn, tmpl, sec, period, 0, x0, phase0, &res);
+    status = res.status;
     if (*rc == WK_OK && status == 0)
         for (int64_t i = 0; i < sec->n_z; i++) z[i] = res.x[sec->proj[i]];
     wk_result_free(&res);

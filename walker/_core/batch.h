@@ -1,9 +1,12 @@
-/* Many starts of a walker's stride map in one compiled call (basins of attraction).
+/* A walker's stride map in C: one call (walker._hybrid.PreparedMap) and many starts in one
+ * compiled call (basins of attraction).
  *
- * The loop of walker.basin.basin_chunk for one batch of section points, with the start
- * checks of walker.stride.StrideMap.__call__, for models whose lift from section
- * coordinates to the full state is affine and whose projection selects state components:
- * the same floating-point operations as the Python path, so the outcomes are identical.
+ * wk_section_start and wk_section_run are one call of walker.stride.StrideMap.__call__ (the
+ * lift, the start checks, the run); wk_basin_points is the loop of
+ * walker.basin.basin_chunk for one batch of section points on them.  For models whose lift
+ * from section coordinates to the full state is affine and whose projection selects state
+ * components: the same floating-point operations as the Python path, so the outcomes are
+ * identical.
  */
 #ifndef WK_BATCH_H
 #define WK_BATCH_H
@@ -29,6 +32,22 @@ typedef struct {
     double t_max;          /* per stride */
     int64_t max_steps;     /* per stride */
 } wk_section;
+
+/* The start of one stride-map call from section point z (n_z,): x0 (n_x,) receives the
+ * lift, then the start checks run in StrideMap.__call__'s order.  Returns 0 when the run
+ * may start, in *phase0 (the model's start phase, or 0), else the status of a start that is
+ * not integrated: FELL_FORWARD / FELL_BACKWARD, OUTSIDE_WALKING_REGION, or
+ * LINEAR_SOLVE_FAILED for a start phase that could not be chosen. */
+int64_t wk_section_start(const wk_problem *tmpl, const wk_section *sec, const double *z,
+                         double *x0, int64_t *phase0);
+
+/* The run of one stride-map call: `period` strides from (t0 = 0, x0, phase0) with the
+ * per-stride budgets of `sec`, output map only; with want_jac the sensitivities are seeded
+ * with the lift's constant Jacobian lift_a (n_z columns).  Returns wk_hybrid_solve's code;
+ * the caller frees `res` (wk_result_free) in every case. */
+int wk_section_run(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
+                   int64_t period, int want_jac, const double *x0, int64_t phase0,
+                   wk_result *res);
 
 /* Iterate each of the m section points z0 (m, n_z): converged when max|z - target| <= tol
  * (outcome -1), else up to n_strides strides, `period` per map call (outcome -2 when the
