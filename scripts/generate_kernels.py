@@ -54,7 +54,9 @@ def variant_notes(name: str, variant: str) -> list[str]:
         "  " + ", ".join(zeros) + ";",
         f"entries simplified ({VARIANT_SIMPLIFICATION});",
         "sin and cos of each angle (coordinates, slope) are computed once per call and",
-        "sines and cosines of their sums are expanded by the angle-sum identities.",
+        "sines and cosines of their sums are expanded by the angle-sum identities;",
+        "accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)",
+        "from its cofactors (one division), not by Cholesky.",
     ]
 
 

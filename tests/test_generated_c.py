@@ -14,14 +14,15 @@ Tolerances:
   contract without fastmath).
 - structural variants ("compass/plain.accel", ...) are printed from expressions simplified
   with their zero parameters substituted (walker.symbolic.kernels.variant_kernels) and with
-  sines and cosines of angle sums expanded, so they differ from the general kernel by
-  round-off only.  They are compared with the numba general kernel at parameter vectors
+  sines and cosines of angle sums expanded, and their accel and accel_jac solve with the
+  adjugate over the determinant instead of Cholesky, so they differ from the general kernel
+  by round-off only.  They are compared with the numba general kernel at parameter vectors
   whose zeroed entries are 0, to ``PLAIN_RTOL`` = 1e-13 times the largest entry of that
   sample's output.  The difference grows with the condition number of the mass matrix
   (at most ~5e-16 cond(D) seen): over these 50 samples it is at most 2e-14 (kneed's
-  unlocked accel_jac; at most 6e-15 elsewhere), over 5000 samples at most 1e-13 (condition
+  unlocked accel_jac; at most 8e-15 elsewhere), over 5000 samples at most 1e-13 (condition
   numbers up to 3e5 with the sampled light shanks).  Against 40-digit references the
-  variants and the general kernels are equally accurate (median ~6e-16 relative).
+  variants and the general kernels are equally accurate (median ~5e-16 relative).
 """
 
 from __future__ import annotations

@@ -1,12 +1,14 @@
 /* generated, do not edit: walker C kernels for `compass_plain`
- * input hash: sha256:dec20111c70b5954b8b1e34c1d727a852cd22349ee5b5cc0d0a4f2d56258f446
+ * input hash: sha256:419480e935e9f2bf57bf70ea6e9a1f9f756097d95f478f6f2862d0b11e02944a
  * sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
  * structural variant `plain` of `compass`: these parameters are exactly 0 and
  * never read (the arguments are those of the general kernels):
  *   foot_radius, inertia_leg, damping_hip, damping_ankle;
  * entries simplified (trigsimp; polynomial in sin/cos and qd with factored coefficients);
  * sin and cos of each angle (coordinates, slope) are computed once per call and
- * sines and cosines of their sums are expanded by the angle-sum identities.
+ * sines and cosines of their sums are expanded by the angle-sum identities;
+ * accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)
+ * from its cofactors (one division), not by Cholesky.
  * argument order:
  *   q = [q_stance, q_swing]
  *   qd = [q_stance_dot, q_swing_dot]
@@ -26,7 +28,7 @@
 
 #include "compass_plain.h"
 
-/* Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,). */
+/* Accelerations qdd = -D^-1 h (h including any forcing) as -adj(D) h / det(D), cofactors and one division, out (>= n,). */
 void wk_compass_plain_accel(const double *q, const double *qd, const double *p, double *out)
 {
     const double q_stance = q[0];
@@ -55,18 +57,18 @@ void wk_compass_plain_accel(const double *q, const double *qd, const double *p, 
     const double d11 = x2;
     const double h0 = -g*sin_q_stance*(com_from_foot*x5 + com_to_hip*mass_hip + x3 + x4) - q_swing_dot*q_swing_dot*x7;
     const double h1 = g*sin_q_swing*x4 + q_stance_dot*q_stance_dot*x7;
-    const double l00 = sqrt(d00);
-    const double l10 = (d10)/l00;
-    const double l11 = sqrt(d11 - l10*l10);
-    const double z0_y = (-h0)/l00;
-    const double z1_y = (-h1 - l10*z0_y)/l11;
-    const double z1 = (z1_y)/l11;
-    const double z0 = (z0_y - l10*z1)/l00;
+    const double c00 = d11;
+    const double c10 = -d10;
+    const double c11 = d00;
+    const double det = d00*c00 + d10*c10;
+    const double inv_det = 1.0/det;
+    const double z0 = -(c00*h0 + c10*h1)*inv_det;
+    const double z1 = -(c10*h0 + c11*h1)*inv_det;
     out[0] = z0;
     out[1] = z1;
 }
 
-/* d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve. */
+/* d qdd / d (q, qd), out (n, 2n), fused with the solve: D^-1 = adj(D) / det(D) (one division) applied to every column. */
 void wk_compass_plain_accel_jac(const double *q, const double *qd, const double *p, double *out)
 {
     const double q_stance = q[0];
@@ -120,29 +122,28 @@ void wk_compass_plain_accel_jac(const double *q, const double *qd, const double 
     const double hv0_1 = -q_swing_dot*x18;
     const double hq1_1 = cos_q_swing*x14 - x17;
     const double hv1_1 = 0.0;
-    const double l00 = sqrt(d00);
-    const double l10 = (d10)/l00;
-    const double l11 = sqrt(d11 - l10*l10);
-    const double a0_y = (-h0)/l00;
-    const double a1_y = (-h1 - l10*a0_y)/l11;
-    const double a1 = (a1_y)/l11;
-    const double a0 = (a0_y - l10*a1)/l00;
-    const double jq0_0_y = (-(hq0_0 + dD0_00*a0 + dD0_10*a1))/l00;
-    const double jq1_0_y = (-(hq1_0 + dD0_10*a0 + dD0_11*a1) - l10*jq0_0_y)/l11;
-    const double jq1_0 = (jq1_0_y)/l11;
-    const double jq0_0 = (jq0_0_y - l10*jq1_0)/l00;
-    const double jv0_0_y = (-hv0_0)/l00;
-    const double jv1_0_y = (-hv1_0 - l10*jv0_0_y)/l11;
-    const double jv1_0 = (jv1_0_y)/l11;
-    const double jv0_0 = (jv0_0_y - l10*jv1_0)/l00;
-    const double jq0_1_y = (-(hq0_1 + dD1_00*a0 + dD1_10*a1))/l00;
-    const double jq1_1_y = (-(hq1_1 + dD1_10*a0 + dD1_11*a1) - l10*jq0_1_y)/l11;
-    const double jq1_1 = (jq1_1_y)/l11;
-    const double jq0_1 = (jq0_1_y - l10*jq1_1)/l00;
-    const double jv0_1_y = (-hv0_1)/l00;
-    const double jv1_1_y = (-hv1_1 - l10*jv0_1_y)/l11;
-    const double jv1_1 = (jv1_1_y)/l11;
-    const double jv0_1 = (jv0_1_y - l10*jv1_1)/l00;
+    const double c00 = d11;
+    const double c10 = -d10;
+    const double c11 = d00;
+    const double det = d00*c00 + d10*c10;
+    const double inv_det = 1.0/det;
+    const double m00 = c00*inv_det;
+    const double m10 = c10*inv_det;
+    const double m11 = c11*inv_det;
+    const double a0 = -(m00*h0 + m10*h1);
+    const double a1 = -(m10*h0 + m11*h1);
+    const double r0_0 = hq0_0 + dD0_00*a0 + dD0_10*a1;
+    const double r1_0 = hq1_0 + dD0_10*a0 + dD0_11*a1;
+    const double jq0_0 = -(m00*r0_0 + m10*r1_0);
+    const double jq1_0 = -(m10*r0_0 + m11*r1_0);
+    const double jv0_0 = -(m00*hv0_0 + m10*hv1_0);
+    const double jv1_0 = -(m10*hv0_0 + m11*hv1_0);
+    const double r0_1 = hq0_1 + dD1_00*a0 + dD1_10*a1;
+    const double r1_1 = hq1_1 + dD1_10*a0 + dD1_11*a1;
+    const double jq0_1 = -(m00*r0_1 + m10*r1_1);
+    const double jq1_1 = -(m10*r0_1 + m11*r1_1);
+    const double jv0_1 = -(m00*hv0_1 + m10*hv1_1);
+    const double jv1_1 = -(m10*hv0_1 + m11*hv1_1);
     out[0] = jq0_0;
     out[2] = jv0_0;
     out[1] = jq0_1;

@@ -1,12 +1,14 @@
 /* generated, do not edit: walker C kernels for `compass_plain`
- * input hash: sha256:dec20111c70b5954b8b1e34c1d727a852cd22349ee5b5cc0d0a4f2d56258f446
+ * input hash: sha256:419480e935e9f2bf57bf70ea6e9a1f9f756097d95f478f6f2862d0b11e02944a
  * sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
  * structural variant `plain` of `compass`: these parameters are exactly 0 and
  * never read (the arguments are those of the general kernels):
  *   foot_radius, inertia_leg, damping_hip, damping_ankle;
  * entries simplified (trigsimp; polynomial in sin/cos and qd with factored coefficients);
  * sin and cos of each angle (coordinates, slope) are computed once per call and
- * sines and cosines of their sums are expanded by the angle-sum identities.
+ * sines and cosines of their sums are expanded by the angle-sum identities;
+ * accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)
+ * from its cofactors (one division), not by Cholesky.
  * argument order:
  *   q = [q_stance, q_swing]
  *   qd = [q_stance_dot, q_swing_dot]
@@ -26,11 +28,11 @@
 #define WK_GENERATED_COMPASS_PLAIN_H
 
 /* Compass gait: single-support dynamics and the floating-base heel-strike model. */
-#define WK_COMPASS_PLAIN_KERNEL_HASH "dec20111c70b5954b8b1e34c1d727a852cd22349ee5b5cc0d0a4f2d56258f446"
+#define WK_COMPASS_PLAIN_KERNEL_HASH "419480e935e9f2bf57bf70ea6e9a1f9f756097d95f478f6f2862d0b11e02944a"
 
-/* Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,). [out[2]] */
+/* Accelerations qdd = -D^-1 h (h including any forcing) as -adj(D) h / det(D), cofactors and one division, out (>= n,). [out[2]] */
 void wk_compass_plain_accel(const double *q, const double *qd, const double *p, double *out);
-/* d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve. [out[2][4] row-major] */
+/* d qdd / d (q, qd), out (n, 2n), fused with the solve: D^-1 = adj(D) / det(D) (one division) applied to every column. [out[2][4] row-major] */
 void wk_compass_plain_accel_jac(const double *q, const double *qd, const double *p, double *out);
 /* Mass matrix D(q), out (n, n). [out[2][2] row-major] */
 void wk_compass_plain_mass_matrix(const double *q, const double *p, double *out);

@@ -1,12 +1,14 @@
 /* generated, do not edit: walker C kernels for `kneed_plain`
- * input hash: sha256:3412d9aa674327a0d06a210b120c218000bf8f59075f04d698a42b7e1860b922
+ * input hash: sha256:343aaedeb9f7c172c35d9d71000eb8f94d63c9110e76b54056bb11cb14f90f44
  * sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
  * structural variant `plain` of `kneed`: these parameters are exactly 0 and
  * never read (the arguments are those of the general kernels):
  *   inertia_thigh, inertia_shank, offset_thigh, offset_shank, foot_radius, damping_hip, damping_knee, damping_ankle;
  * entries simplified (trigsimp; polynomial in sin/cos and qd with factored coefficients);
  * sin and cos of each angle (coordinates, slope) are computed once per call and
- * sines and cosines of their sums are expanded by the angle-sum identities.
+ * sines and cosines of their sums are expanded by the angle-sum identities;
+ * accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)
+ * from its cofactors (one division), not by Cholesky.
  * argument order:
  *   q = [q1, q2, q3]
  *   qd = [q1_dot, q2_dot, q3_dot]
@@ -32,7 +34,7 @@
 
 #include "kneed_plain.h"
 
-/* Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,). */
+/* Accelerations qdd = -D^-1 h (h including any forcing) as -adj(D) h / det(D), cofactors and one division, out (>= n,). */
 void wk_kneed_plain_unlocked_accel(const double *q, const double *qd, const double *p, double *out)
 {
     const double q1 = q[0];
@@ -97,24 +99,23 @@ void wk_kneed_plain_unlocked_accel(const double *q, const double *qd, const doub
     const double h0 = -g*sin_q1*(mass_hip*thigh_com_to_hip + mass_shank*x14 + shank_com_from_foot*x6 + shank_com_to_knee*x6 + thigh_com_from_knee*x6 + x11 + x13 + x21 + x7 + x9) - x27*x28 - x29*x30;
     const double h1 = g*sin_q2*x21 + x27*x31 + x30*x32;
     const double h2 = g*sin_q3*x13 + x28*x32 - x29*x31;
-    const double l00 = sqrt(d00);
-    const double l10 = (d10)/l00;
-    const double l20 = (d20)/l00;
-    const double l11 = sqrt(d11 - l10*l10);
-    const double l21 = (d21 - l20*l10)/l11;
-    const double l22 = sqrt(d22 - l20*l20 - l21*l21);
-    const double z0_y = (-h0)/l00;
-    const double z1_y = (-h1 - l10*z0_y)/l11;
-    const double z2_y = (-h2 - l20*z0_y - l21*z1_y)/l22;
-    const double z2 = (z2_y)/l22;
-    const double z1 = (z1_y - l21*z2)/l11;
-    const double z0 = (z0_y - l10*z1 - l20*z2)/l00;
+    const double c00 = d11*d22 - d21*d21;
+    const double c10 = d21*d20 - d22*d10;
+    const double c11 = d22*d00 - d20*d20;
+    const double c20 = d10*d21 - d20*d11;
+    const double c21 = d20*d10 - d00*d21;
+    const double c22 = d00*d11 - d10*d10;
+    const double det = d00*c00 + d10*c10 + d20*c20;
+    const double inv_det = 1.0/det;
+    const double z0 = -(c00*h0 + c10*h1 + c20*h2)*inv_det;
+    const double z1 = -(c10*h0 + c11*h1 + c21*h2)*inv_det;
+    const double z2 = -(c20*h0 + c21*h1 + c22*h2)*inv_det;
     out[0] = z0;
     out[1] = z1;
     out[2] = z2;
 }
 
-/* d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve. */
+/* d qdd / d (q, qd), out (n, 2n), fused with the solve: D^-1 = adj(D) / det(D) (one division) applied to every column. */
 void wk_kneed_plain_unlocked_accel_jac(const double *q, const double *qd, const double *p, double *out)
 {
     const double q1 = q[0];
@@ -230,54 +231,50 @@ void wk_kneed_plain_unlocked_accel_jac(const double *q, const double *qd, const 
     const double hv1_2 = q3_dot*x47;
     const double hq2_2 = cos_q3*x38 - x43 + x46;
     const double hv2_2 = 0.0;
-    const double l00 = sqrt(d00);
-    const double l10 = (d10)/l00;
-    const double l20 = (d20)/l00;
-    const double l11 = sqrt(d11 - l10*l10);
-    const double l21 = (d21 - l20*l10)/l11;
-    const double l22 = sqrt(d22 - l20*l20 - l21*l21);
-    const double a0_y = (-h0)/l00;
-    const double a1_y = (-h1 - l10*a0_y)/l11;
-    const double a2_y = (-h2 - l20*a0_y - l21*a1_y)/l22;
-    const double a2 = (a2_y)/l22;
-    const double a1 = (a1_y - l21*a2)/l11;
-    const double a0 = (a0_y - l10*a1 - l20*a2)/l00;
-    const double jq0_0_y = (-(hq0_0 + dD0_00*a0 + dD0_10*a1 + dD0_20*a2))/l00;
-    const double jq1_0_y = (-(hq1_0 + dD0_10*a0 + dD0_11*a1 + dD0_21*a2) - l10*jq0_0_y)/l11;
-    const double jq2_0_y = (-(hq2_0 + dD0_20*a0 + dD0_21*a1 + dD0_22*a2) - l20*jq0_0_y - l21*jq1_0_y)/l22;
-    const double jq2_0 = (jq2_0_y)/l22;
-    const double jq1_0 = (jq1_0_y - l21*jq2_0)/l11;
-    const double jq0_0 = (jq0_0_y - l10*jq1_0 - l20*jq2_0)/l00;
-    const double jv0_0_y = (-hv0_0)/l00;
-    const double jv1_0_y = (-hv1_0 - l10*jv0_0_y)/l11;
-    const double jv2_0_y = (-hv2_0 - l20*jv0_0_y - l21*jv1_0_y)/l22;
-    const double jv2_0 = (jv2_0_y)/l22;
-    const double jv1_0 = (jv1_0_y - l21*jv2_0)/l11;
-    const double jv0_0 = (jv0_0_y - l10*jv1_0 - l20*jv2_0)/l00;
-    const double jq0_1_y = (-(hq0_1 + dD1_00*a0 + dD1_10*a1 + dD1_20*a2))/l00;
-    const double jq1_1_y = (-(hq1_1 + dD1_10*a0 + dD1_11*a1 + dD1_21*a2) - l10*jq0_1_y)/l11;
-    const double jq2_1_y = (-(hq2_1 + dD1_20*a0 + dD1_21*a1 + dD1_22*a2) - l20*jq0_1_y - l21*jq1_1_y)/l22;
-    const double jq2_1 = (jq2_1_y)/l22;
-    const double jq1_1 = (jq1_1_y - l21*jq2_1)/l11;
-    const double jq0_1 = (jq0_1_y - l10*jq1_1 - l20*jq2_1)/l00;
-    const double jv0_1_y = (-hv0_1)/l00;
-    const double jv1_1_y = (-hv1_1 - l10*jv0_1_y)/l11;
-    const double jv2_1_y = (-hv2_1 - l20*jv0_1_y - l21*jv1_1_y)/l22;
-    const double jv2_1 = (jv2_1_y)/l22;
-    const double jv1_1 = (jv1_1_y - l21*jv2_1)/l11;
-    const double jv0_1 = (jv0_1_y - l10*jv1_1 - l20*jv2_1)/l00;
-    const double jq0_2_y = (-(hq0_2 + dD2_00*a0 + dD2_10*a1 + dD2_20*a2))/l00;
-    const double jq1_2_y = (-(hq1_2 + dD2_10*a0 + dD2_11*a1 + dD2_21*a2) - l10*jq0_2_y)/l11;
-    const double jq2_2_y = (-(hq2_2 + dD2_20*a0 + dD2_21*a1 + dD2_22*a2) - l20*jq0_2_y - l21*jq1_2_y)/l22;
-    const double jq2_2 = (jq2_2_y)/l22;
-    const double jq1_2 = (jq1_2_y - l21*jq2_2)/l11;
-    const double jq0_2 = (jq0_2_y - l10*jq1_2 - l20*jq2_2)/l00;
-    const double jv0_2_y = (-hv0_2)/l00;
-    const double jv1_2_y = (-hv1_2 - l10*jv0_2_y)/l11;
-    const double jv2_2_y = (-hv2_2 - l20*jv0_2_y - l21*jv1_2_y)/l22;
-    const double jv2_2 = (jv2_2_y)/l22;
-    const double jv1_2 = (jv1_2_y - l21*jv2_2)/l11;
-    const double jv0_2 = (jv0_2_y - l10*jv1_2 - l20*jv2_2)/l00;
+    const double c00 = d11*d22 - d21*d21;
+    const double c10 = d21*d20 - d22*d10;
+    const double c11 = d22*d00 - d20*d20;
+    const double c20 = d10*d21 - d20*d11;
+    const double c21 = d20*d10 - d00*d21;
+    const double c22 = d00*d11 - d10*d10;
+    const double det = d00*c00 + d10*c10 + d20*c20;
+    const double inv_det = 1.0/det;
+    const double m00 = c00*inv_det;
+    const double m10 = c10*inv_det;
+    const double m11 = c11*inv_det;
+    const double m20 = c20*inv_det;
+    const double m21 = c21*inv_det;
+    const double m22 = c22*inv_det;
+    const double a0 = -(m00*h0 + m10*h1 + m20*h2);
+    const double a1 = -(m10*h0 + m11*h1 + m21*h2);
+    const double a2 = -(m20*h0 + m21*h1 + m22*h2);
+    const double r0_0 = hq0_0 + dD0_00*a0 + dD0_10*a1 + dD0_20*a2;
+    const double r1_0 = hq1_0 + dD0_10*a0 + dD0_11*a1 + dD0_21*a2;
+    const double r2_0 = hq2_0 + dD0_20*a0 + dD0_21*a1 + dD0_22*a2;
+    const double jq0_0 = -(m00*r0_0 + m10*r1_0 + m20*r2_0);
+    const double jq1_0 = -(m10*r0_0 + m11*r1_0 + m21*r2_0);
+    const double jq2_0 = -(m20*r0_0 + m21*r1_0 + m22*r2_0);
+    const double jv0_0 = -(m00*hv0_0 + m10*hv1_0 + m20*hv2_0);
+    const double jv1_0 = -(m10*hv0_0 + m11*hv1_0 + m21*hv2_0);
+    const double jv2_0 = -(m20*hv0_0 + m21*hv1_0 + m22*hv2_0);
+    const double r0_1 = hq0_1 + dD1_00*a0 + dD1_10*a1 + dD1_20*a2;
+    const double r1_1 = hq1_1 + dD1_10*a0 + dD1_11*a1 + dD1_21*a2;
+    const double r2_1 = hq2_1 + dD1_20*a0 + dD1_21*a1 + dD1_22*a2;
+    const double jq0_1 = -(m00*r0_1 + m10*r1_1 + m20*r2_1);
+    const double jq1_1 = -(m10*r0_1 + m11*r1_1 + m21*r2_1);
+    const double jq2_1 = -(m20*r0_1 + m21*r1_1 + m22*r2_1);
+    const double jv0_1 = -(m00*hv0_1 + m10*hv1_1 + m20*hv2_1);
+    const double jv1_1 = -(m10*hv0_1 + m11*hv1_1 + m21*hv2_1);
+    const double jv2_1 = -(m20*hv0_1 + m21*hv1_1 + m22*hv2_1);
+    const double r0_2 = hq0_2 + dD2_00*a0 + dD2_10*a1 + dD2_20*a2;
+    const double r1_2 = hq1_2 + dD2_10*a0 + dD2_11*a1 + dD2_21*a2;
+    const double r2_2 = hq2_2 + dD2_20*a0 + dD2_21*a1 + dD2_22*a2;
+    const double jq0_2 = -(m00*r0_2 + m10*r1_2 + m20*r2_2);
+    const double jq1_2 = -(m10*r0_2 + m11*r1_2 + m21*r2_2);
+    const double jq2_2 = -(m20*r0_2 + m21*r1_2 + m22*r2_2);
+    const double jv0_2 = -(m00*hv0_2 + m10*hv1_2 + m20*hv2_2);
+    const double jv1_2 = -(m10*hv0_2 + m11*hv1_2 + m21*hv2_2);
+    const double jv2_2 = -(m20*hv0_2 + m21*hv1_2 + m22*hv2_2);
     out[0] = jq0_0;
     out[3] = jv0_0;
     out[1] = jq0_1;
@@ -390,7 +387,7 @@ void wk_kneed_plain_unlocked_points(const double *q, const double *p, double *ou
     out[9] = x8;
 }
 
-/* Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,). */
+/* Accelerations qdd = -D^-1 h (h including any forcing) as -adj(D) h / det(D), cofactors and one division, out (>= n,). */
 void wk_kneed_plain_locked_accel(const double *q, const double *qd, const double *p, double *out)
 {
     const double q1 = q[0];
@@ -437,18 +434,18 @@ void wk_kneed_plain_locked_accel(const double *q, const double *qd, const double
     const double d11 = x19;
     const double h0 = -g*sin_q1*(mass_hip*thigh_com_to_hip + mass_shank*x13 + shank_com_from_foot*x5 + shank_com_to_knee*x5 + thigh_com_from_knee*x5 + x10 + x20 + x6 + x8) - q2_dot*q2_dot*x22;
     const double h1 = g*sin_q2*x20 + q1_dot*q1_dot*x22;
-    const double l00 = sqrt(d00);
-    const double l10 = (d10)/l00;
-    const double l11 = sqrt(d11 - l10*l10);
-    const double z0_y = (-h0)/l00;
-    const double z1_y = (-h1 - l10*z0_y)/l11;
-    const double z1 = (z1_y)/l11;
-    const double z0 = (z0_y - l10*z1)/l00;
+    const double c00 = d11;
+    const double c10 = -d10;
+    const double c11 = d00;
+    const double det = d00*c00 + d10*c10;
+    const double inv_det = 1.0/det;
+    const double z0 = -(c00*h0 + c10*h1)*inv_det;
+    const double z1 = -(c10*h0 + c11*h1)*inv_det;
     out[0] = z0;
     out[1] = z1;
 }
 
-/* d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve. */
+/* d qdd / d (q, qd), out (n, 2n), fused with the solve: D^-1 = adj(D) / det(D) (one division) applied to every column. */
 void wk_kneed_plain_locked_accel_jac(const double *q, const double *qd, const double *p, double *out)
 {
     const double q1 = q[0];
@@ -517,29 +514,28 @@ void wk_kneed_plain_locked_accel_jac(const double *q, const double *qd, const do
     const double hv0_1 = -q2_dot*x30;
     const double hq1_1 = cos_q2*x26 - x29;
     const double hv1_1 = 0.0;
-    const double l00 = sqrt(d00);
-    const double l10 = (d10)/l00;
-    const double l11 = sqrt(d11 - l10*l10);
-    const double a0_y = (-h0)/l00;
-    const double a1_y = (-h1 - l10*a0_y)/l11;
-    const double a1 = (a1_y)/l11;
-    const double a0 = (a0_y - l10*a1)/l00;
-    const double jq0_0_y = (-(hq0_0 + dD0_00*a0 + dD0_10*a1))/l00;
-    const double jq1_0_y = (-(hq1_0 + dD0_10*a0 + dD0_11*a1) - l10*jq0_0_y)/l11;
-    const double jq1_0 = (jq1_0_y)/l11;
-    const double jq0_0 = (jq0_0_y - l10*jq1_0)/l00;
-    const double jv0_0_y = (-hv0_0)/l00;
-    const double jv1_0_y = (-hv1_0 - l10*jv0_0_y)/l11;
-    const double jv1_0 = (jv1_0_y)/l11;
-    const double jv0_0 = (jv0_0_y - l10*jv1_0)/l00;
-    const double jq0_1_y = (-(hq0_1 + dD1_00*a0 + dD1_10*a1))/l00;
-    const double jq1_1_y = (-(hq1_1 + dD1_10*a0 + dD1_11*a1) - l10*jq0_1_y)/l11;
-    const double jq1_1 = (jq1_1_y)/l11;
-    const double jq0_1 = (jq0_1_y - l10*jq1_1)/l00;
-    const double jv0_1_y = (-hv0_1)/l00;
-    const double jv1_1_y = (-hv1_1 - l10*jv0_1_y)/l11;
-    const double jv1_1 = (jv1_1_y)/l11;
-    const double jv0_1 = (jv0_1_y - l10*jv1_1)/l00;
+    const double c00 = d11;
+    const double c10 = -d10;
+    const double c11 = d00;
+    const double det = d00*c00 + d10*c10;
+    const double inv_det = 1.0/det;
+    const double m00 = c00*inv_det;
+    const double m10 = c10*inv_det;
+    const double m11 = c11*inv_det;
+    const double a0 = -(m00*h0 + m10*h1);
+    const double a1 = -(m10*h0 + m11*h1);
+    const double r0_0 = hq0_0 + dD0_00*a0 + dD0_10*a1;
+    const double r1_0 = hq1_0 + dD0_10*a0 + dD0_11*a1;
+    const double jq0_0 = -(m00*r0_0 + m10*r1_0);
+    const double jq1_0 = -(m10*r0_0 + m11*r1_0);
+    const double jv0_0 = -(m00*hv0_0 + m10*hv1_0);
+    const double jv1_0 = -(m10*hv0_0 + m11*hv1_0);
+    const double r0_1 = hq0_1 + dD1_00*a0 + dD1_10*a1;
+    const double r1_1 = hq1_1 + dD1_10*a0 + dD1_11*a1;
+    const double jq0_1 = -(m00*r0_1 + m10*r1_1);
+    const double jq1_1 = -(m10*r0_1 + m11*r1_1);
+    const double jv0_1 = -(m00*hv0_1 + m10*hv1_1);
+    const double jv1_1 = -(m10*hv0_1 + m11*hv1_1);
     out[0] = jq0_0;
     out[2] = jv0_0;
     out[1] = jq0_1;

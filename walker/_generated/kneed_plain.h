@@ -1,12 +1,14 @@
 /* generated, do not edit: walker C kernels for `kneed_plain`
- * input hash: sha256:3412d9aa674327a0d06a210b120c218000bf8f59075f04d698a42b7e1860b922
+ * input hash: sha256:343aaedeb9f7c172c35d9d71000eb8f94d63c9110e76b54056bb11cb14f90f44
  * sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
  * structural variant `plain` of `kneed`: these parameters are exactly 0 and
  * never read (the arguments are those of the general kernels):
  *   inertia_thigh, inertia_shank, offset_thigh, offset_shank, foot_radius, damping_hip, damping_knee, damping_ankle;
  * entries simplified (trigsimp; polynomial in sin/cos and qd with factored coefficients);
  * sin and cos of each angle (coordinates, slope) are computed once per call and
- * sines and cosines of their sums are expanded by the angle-sum identities.
+ * sines and cosines of their sums are expanded by the angle-sum identities;
+ * accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)
+ * from its cofactors (one division), not by Cholesky.
  * argument order:
  *   q = [q1, q2, q3]
  *   qd = [q1_dot, q2_dot, q3_dot]
@@ -32,19 +34,19 @@
 #define WK_GENERATED_KNEED_PLAIN_H
 
 /* Kneed walker: knee-free (3-DOF) and knee-locked (2-DOF) swing, floating base. */
-#define WK_KNEED_PLAIN_KERNEL_HASH "3412d9aa674327a0d06a210b120c218000bf8f59075f04d698a42b7e1860b922"
+#define WK_KNEED_PLAIN_KERNEL_HASH "343aaedeb9f7c172c35d9d71000eb8f94d63c9110e76b54056bb11cb14f90f44"
 
-/* Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,). [out[3]] */
+/* Accelerations qdd = -D^-1 h (h including any forcing) as -adj(D) h / det(D), cofactors and one division, out (>= n,). [out[3]] */
 void wk_kneed_plain_unlocked_accel(const double *q, const double *qd, const double *p, double *out);
-/* d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve. [out[3][6] row-major] */
+/* d qdd / d (q, qd), out (n, 2n), fused with the solve: D^-1 = adj(D) / det(D) (one division) applied to every column. [out[3][6] row-major] */
 void wk_kneed_plain_unlocked_accel_jac(const double *q, const double *qd, const double *p, double *out);
 /* Mass matrix D(q), out (n, n). [out[3][3] row-major] */
 void wk_kneed_plain_unlocked_mass_matrix(const double *q, const double *p, double *out);
 /* Named points in the world frame, out (n_points, 2); names in UNLOCKED_POINTS. [out[5][2] row-major] */
 void wk_kneed_plain_unlocked_points(const double *q, const double *p, double *out);
-/* Accelerations qdd = -D^-1 (h - Q), Q the joint-damping forcing, by unrolled Cholesky, out (>= n,). [out[2]] */
+/* Accelerations qdd = -D^-1 h (h including any forcing) as -adj(D) h / det(D), cofactors and one division, out (>= n,). [out[2]] */
 void wk_kneed_plain_locked_accel(const double *q, const double *qd, const double *p, double *out);
-/* d qdd / d (q, qd), out (n, 2n), fused with the Cholesky solve. [out[2][4] row-major] */
+/* d qdd / d (q, qd), out (n, 2n), fused with the solve: D^-1 = adj(D) / det(D) (one division) applied to every column. [out[2][4] row-major] */
 void wk_kneed_plain_locked_accel_jac(const double *q, const double *qd, const double *p, double *out);
 /* Mass matrix D(q), out (n, n). [out[2][2] row-major] */
 void wk_kneed_plain_locked_mass_matrix(const double *q, const double *p, double *out);

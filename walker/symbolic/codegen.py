@@ -19,7 +19,11 @@ every expression differ only in spelling (the C printing is in
 A structural variant (e.g. ``compass_plain``) is printed only in C, from kernels whose zero
 parameters were substituted before the common-subexpression pass; with ``share_trig`` the
 sines and cosines of the angles are computed once per call and every sine or cosine of a
-sum of them is expanded by the angle-sum identities (:func:`share_trig`).
+sum of them is expanded by the angle-sum identities (:func:`share_trig`).  Its fused
+kernels solve with the mass matrix in closed form (``solve="adjugate"``,
+:data:`VARIANT_SOLVE`): ``D^{-1} = adj(D) / det(D)`` from the cofactors of the numerical
+entries, one division per call instead of a Cholesky factorization's chain of square roots
+and divisions.
 
 Kernels use IEEE semantics (numba's numpy error model): a singular or indefinite mass
 matrix gives NaN (reported by the integrator as a status), never an exception.
@@ -39,6 +43,8 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 __all__ = [
+    "SOLVES",
+    "VARIANT_SOLVE",
     "AccelJacobianKernel",
     "AccelKernel",
     "Kernel",
@@ -50,6 +56,15 @@ __all__ = [
 ]
 
 REGENERATE = "python scripts/generate_kernels.py"
+
+SOLVES = ("cholesky", "adjugate")
+"""How a fused kernel solves with its mass matrix ``D`` (n, n), on the numerical entries:
+``"cholesky"``, an unrolled factorization ``D = L L^T`` and two triangular solves (any n);
+``"adjugate"``, ``D^{-1} = adj(D) / det(D)`` from the cofactors, one division (n = 2, 3)."""
+
+VARIANT_SOLVE = "adjugate"
+"""The solve of a structural variant's fused kernels (part of its input hash,
+:func:`variant_hash`)."""
 
 
 @dataclass(frozen=True)
@@ -78,15 +93,26 @@ class Kernel:
 @dataclass(frozen=True)
 class _FusedSolveKernel:
     """A kernel fused around the solve with the mass matrix: ``D`` (n, n) and ``h`` (n, 1) of
-    ``D(q) qdd + h = 0``, solved with one unrolled Cholesky factorization (``D`` is never
-    inverted symbolically); :class:`AccelKernel` gives ``qdd``, :class:`AccelJacobianKernel`
-    its Jacobian."""
+    ``D(q) qdd + h = 0``, solved on the numerical entries of ``D`` as ``solve`` (one of
+    :data:`SOLVES`) says: one unrolled Cholesky factorization (the default), or the
+    adjugate over the determinant (``D`` is never inverted symbolically);
+    :class:`AccelKernel` gives ``qdd``, :class:`AccelJacobianKernel` its Jacobian."""
 
     name: str
     args: tuple
     D: sp.Matrix
     h: sp.Matrix
     doc: str = ""
+    solve: str = "cholesky"
+
+    def __post_init__(self):
+        if self.solve not in SOLVES:
+            raise ValueError(f"`solve` must be one of {SOLVES}, got {self.solve!r}")
+        if self.solve == "adjugate" and self.D.rows not in (2, 3):
+            raise ValueError(
+                f"kernel `{self.name}`: `solve` 'adjugate' is printed for 2x2 and 3x3 mass "
+                f"matrices, got {self.D.rows}x{self.D.rows}"
+            )
 
     @property
     def expr(self):
@@ -99,9 +125,10 @@ class AccelKernel(_FusedSolveKernel):
     """Accelerations ``qdd = -D^{-1} h`` of a Lagrangian model, fused into one function.
 
     The entries of the symmetric positive-definite ``D`` and of ``h`` share one
-    common-subexpression pass, and the solve is an unrolled Cholesky factorization, so the
-    hot path allocates nothing and evaluates each sine and cosine once.  ``D`` is never
-    inverted symbolically.  Signature ``name(q, qd, p, out)``; ``out[:n]`` receives ``qdd``.
+    common-subexpression pass, and the solve is an unrolled Cholesky factorization (or, with
+    ``solve="adjugate"``, ``qdd = -adj(D) h / det(D)``), so the hot path allocates nothing
+    and evaluates each sine and cosine once.  ``D`` is never inverted symbolically.
+    Signature ``name(q, qd, p, out)``; ``out[:n]`` receives ``qdd``.
 
     Parameters
     ----------
@@ -111,6 +138,8 @@ class AccelKernel(_FusedSolveKernel):
     D : Matrix (n, n)
     h : Matrix (n, 1)
     doc : str
+    solve : str
+        one of :data:`SOLVES`; default ``"cholesky"``.
     """
 
 
@@ -119,7 +148,8 @@ class AccelJacobianKernel(_FusedSolveKernel):
     """Jacobian of ``qdd = -D^{-1} h`` with respect to ``(q, qd)``, fused like
     :class:`AccelKernel`: ``d qdd/d q_k = -D^{-1} (dh/dq_k + dD/dq_k qdd)`` and
     ``d qdd/d qd_k = -D^{-1} dh/dqd_k``, with one cse pass over ``D``, ``h`` and their
-    derivatives and one unrolled Cholesky factorization.  Signature
+    derivatives and one unrolled Cholesky factorization (or, with ``solve="adjugate"``, one
+    inverse ``adj(D) / det(D)`` applied to every column).  Signature
     ``name(q, qd, p, out)``; ``out[:n, :2n]`` receives the Jacobian.
     """
 
@@ -140,7 +170,8 @@ class Lowered:
         temporaries: shared sines and cosines (variants only), the cse replacements, then
         named entries (``d00``, ``h0``, ... of the fused kernels), in order.
     steps : list of (str, str, bool)
-        ``(name, arithmetic on names, is a square root)``: the unrolled Cholesky solves.
+        ``(name, arithmetic on names, is a square root)``: the unrolled solves (Cholesky
+        or adjugate, :data:`SOLVES`).
     outputs : list of (tuple of int, Expr or str)
         ``out[index] = value`` (a str value is a name from ``steps``); a scalar kernel has
         one output with index ``()``.
@@ -224,6 +255,42 @@ def _solve_steps(n, rhs, out):
     return steps
 
 
+def _d(i, j):
+    """Name of entry ``(i, j)`` of the symmetric ``D``: its lower-triangle ``d{i}{j}``."""
+    return f"d{max(i, j)}{min(i, j)}"
+
+
+def _adjugate_steps(n):
+    """Steps of the cofactors ``c{i}{j}`` (lower triangle; ``adj(D)`` of the symmetric
+    ``D``, n = 2 or 3), ``det`` (expanded along row 0) and ``inv_det = 1.0/det``.
+
+    A 3x3 cofactor is ``d[i+1][j+1]*d[i+2][j+2] - d[i+1][j+2]*d[i+2][j+1]`` (indices mod 3,
+    the sign included), so a diagonal one is the product of two diagonal entries minus a
+    square: when ``D``'s diagonal is constant (the plain kneed walker) its variable part is
+    one product."""
+    if n == 2:
+        steps = [("c00", "d11", False), ("c10", "-d10", False), ("c11", "d00", False)]
+    else:
+        steps = []
+        for i in range(n):
+            for j in range(i + 1):
+                a, b, c, d = (i + 1) % 3, (j + 1) % 3, (i + 2) % 3, (j + 2) % 3
+                steps.append((f"c{i}{j}", f"{_d(a, b)}*{_d(c, d)} - {_d(a, d)}*{_d(c, b)}", False))
+    det = " + ".join(f"d{j}0*c{j}0" for j in range(n))
+    return steps + [("det", det, False), ("inv_det", "1.0/det", False)]
+
+
+def _inverse_product_steps(n, inverse, rhs, out, scale=""):
+    """Steps ``out = -M rhs`` (names per row), ``M`` the symmetric matrix of names
+    ``<inverse>{i}{j}`` (lower triangle), each row's sum times ``scale`` (e.g.
+    ``"*inv_det"``) if given."""
+    steps = []
+    for i in range(n):
+        terms = " + ".join(f"{inverse}{max(i, j)}{min(i, j)}*{rhs[j]}" for j in range(n))
+        steps.append((out[i], f"-({terms}){scale}", False))
+    return steps
+
+
 def _lower_kernel(kernel: Kernel, rewrite=None) -> Lowered:
     entries = _entries(kernel)
     loads, assigns, reduced = _check_and_cse(kernel, [e for _, e in entries], rewrite)
@@ -253,9 +320,15 @@ def _lower_accel(kernel: AccelKernel, rewrite=None) -> Lowered:
     names, entries = _solve_entries(kernel)
     loads, assigns, reduced = _check_and_cse(kernel, entries, rewrite)
     assigns += list(zip(names, reduced, strict=True))
-    # Cholesky D = L L^T, unrolled; then L L^T qdd = -h.
-    steps = _cholesky_steps(n)
-    steps += _solve_steps(n, [f"-h{i}" for i in range(n)], [f"z{i}" for i in range(n)])
+    z = [f"z{i}" for i in range(n)]
+    if kernel.solve == "adjugate":
+        # qdd = -adj(D) h / det(D): the division overlaps the products with h.
+        steps = _adjugate_steps(n)
+        steps += _inverse_product_steps(n, "c", [f"h{i}" for i in range(n)], z, "*inv_det")
+    else:
+        # Cholesky D = L L^T, unrolled; then L L^T qdd = -h.
+        steps = _cholesky_steps(n)
+        steps += _solve_steps(n, [f"-h{i}" for i in range(n)], z)
     outputs = [((i,), f"z{i}") for i in range(n)]
     return Lowered(kernel.name, kernel.doc, kernel.args, (n,), loads, assigns, steps, outputs)
 
@@ -279,27 +352,53 @@ def _lower_accel_jacobian(kernel: AccelJacobianKernel, rewrite=None) -> Lowered:
             entries.append(sp.diff(kernel.h[i], qd[k]))
     loads, assigns, reduced = _check_and_cse(kernel, entries, rewrite)
     assigns += list(zip(names, reduced, strict=True))
-    steps = _cholesky_steps(n)
-    steps += _solve_steps(n, [f"-h{i}" for i in range(n)], [f"a{i}" for i in range(n)])
 
     def dd(k, i, j):
         return f"dD{k}_{i}{j}" if j <= i else f"dD{k}_{j}{i}"
 
-    for k in range(n):
-        rhs = []
-        for i in range(n):
-            terms = " + ".join(f"{dd(k, i, j)}*a{j}" for j in range(n))
-            rhs.append(f"-(hq{i}_{k} + {terms})")
-        steps += _solve_steps(n, rhs, [f"jq{i}_{k}" for i in range(n)])
-        steps += _solve_steps(
-            n, [f"-hv{i}_{k}" for i in range(n)], [f"jv{i}_{k}" for i in range(n)]
-        )
+    if kernel.solve == "adjugate":
+        steps = _adjugate_jacobian_steps(n, dd)
+    else:
+        steps = _cholesky_steps(n)
+        steps += _solve_steps(n, [f"-h{i}" for i in range(n)], [f"a{i}" for i in range(n)])
+        for k in range(n):
+            rhs = []
+            for i in range(n):
+                terms = " + ".join(f"{dd(k, i, j)}*a{j}" for j in range(n))
+                rhs.append(f"-(hq{i}_{k} + {terms})")
+            steps += _solve_steps(n, rhs, [f"jq{i}_{k}" for i in range(n)])
+            steps += _solve_steps(
+                n, [f"-hv{i}_{k}" for i in range(n)], [f"jv{i}_{k}" for i in range(n)]
+            )
     outputs = []
     for i in range(n):
         for k in range(n):
             outputs.append(((i, k), f"jq{i}_{k}"))
             outputs.append(((i, n + k), f"jv{i}_{k}"))
     return Lowered(kernel.name, kernel.doc, kernel.args, (n, 2 * n), loads, assigns, steps, outputs)
+
+
+def _adjugate_jacobian_steps(n, dd):
+    """The solves of :func:`_lower_accel_jacobian` with ``solve="adjugate"``: the inverse
+    ``m{i}{j} = c{i}{j}*inv_det`` once, then ``a = -M h``, ``jq_k = -M (hq_k + dD_k a)``
+    and ``jv_k = -M hv_k`` for every ``k`` (``dd(k, i, j)`` names entry ``(i, j)`` of
+    ``dD/dq_k``)."""
+    steps = _adjugate_steps(n)
+    steps += [(f"m{i}{j}", f"c{i}{j}*inv_det", False) for i in range(n) for j in range(i + 1)]
+    steps += _inverse_product_steps(
+        n, "m", [f"h{i}" for i in range(n)], [f"a{i}" for i in range(n)]
+    )
+    for k in range(n):
+        for i in range(n):
+            terms = " + ".join(f"{dd(k, i, j)}*a{j}" for j in range(n))
+            steps.append((f"r{i}_{k}", f"hq{i}_{k} + {terms}", False))
+        steps += _inverse_product_steps(
+            n, "m", [f"r{i}_{k}" for i in range(n)], [f"jq{i}_{k}" for i in range(n)]
+        )
+        steps += _inverse_product_steps(
+            n, "m", [f"hv{i}_{k}" for i in range(n)], [f"jv{i}_{k}" for i in range(n)]
+        )
+    return steps
 
 
 def lower(kernel, rewrite=None) -> Lowered:
@@ -427,21 +526,23 @@ def symbolic_hash(kernels) -> str:
             h.update(",".join(str(s) for s in syms).encode())
         h.update(sp.srepr(k.expr).encode())
         if isinstance(k, AccelKernel):
-            h.update(b"accel-cholesky")
+            h.update(f"accel-{k.solve}".encode())
         if isinstance(k, AccelJacobianKernel):
-            h.update(b"accel-jacobian-cholesky")
+            h.update(f"accel-jacobian-{k.solve}".encode())
     return h.hexdigest()
 
 
 def variant_hash(digest: str, variant: str, zeros, kernel_names, simplification: str = "") -> str:
     """Input hash of a structural variant: the general kernels' ``symbolic_hash``, the
-    variant's name, its zero parameters, the kernels it keeps, how they are simplified and
-    the trigonometric rewrite (everything a variant's expressions are derived from)."""
+    variant's name, its zero parameters, the kernels it keeps, how they are simplified, the
+    trigonometric rewrite and the solve of its fused kernels (:data:`VARIANT_SOLVE`):
+    everything a variant's expressions are derived from."""
     h = hashlib.sha256()
     h.update(digest.encode())
     h.update(f"variant {variant}; zeros {','.join(zeros)}; ".encode())
     h.update(f"kernels {','.join(kernel_names)}; ".encode())
     h.update(f"simplification {simplification}; share-trig angle-sum".encode())
+    h.update(f"; solve {VARIANT_SOLVE}".encode())
     return h.hexdigest()
 
 

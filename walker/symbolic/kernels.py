@@ -14,7 +14,7 @@ import sympy as sp
 from walker.models import compass as compass_model
 from walker.models import kneed as kneed_model
 from walker.symbolic import models
-from walker.symbolic.codegen import AccelJacobianKernel, AccelKernel, Kernel
+from walker.symbolic.codegen import VARIANT_SOLVE, AccelJacobianKernel, AccelKernel, Kernel
 from walker.symbolic.dynamics import dynamics_kernels, hip_jacobian
 from walker.symbolic.mechanics import LagrangianModel
 
@@ -24,6 +24,7 @@ __all__ = [
     "GENERATED_MODULES",
     "VARIANT_KERNELS",
     "VARIANT_SIMPLIFICATION",
+    "VARIANT_SOLVE_DOCS",
     "is_variant_kernel",
     "kernels_for",
     "module_extra",
@@ -175,6 +176,20 @@ VARIANT_SIMPLIFICATION = "trigsimp; polynomial in sin/cos and qd with factored c
 """How :func:`variant_kernels` simplifies (part of a variant's input hash)."""
 
 
+VARIANT_SOLVE_DOCS = {
+    AccelKernel: (
+        "Accelerations qdd = -D^-1 h (h including any forcing) as -adj(D) h / det(D), "
+        "cofactors and one division, out (>= n,)."
+    ),
+    AccelJacobianKernel: (
+        "d qdd / d (q, qd), out (n, 2n), fused with the solve: D^-1 = adj(D) / det(D) "
+        "(one division) applied to every column."
+    ),
+}
+"""Docs of a structural variant's fused kernels, which solve as :data:`VARIANT_SOLVE` says
+(the general kernels' docs name their Cholesky solve)."""
+
+
 def _compact(e, rates):
     """``e`` with ``sin^2 + cos^2 = 1`` and the like applied (``sympy.trigsimp``), then
     written as a polynomial in its sines, cosines and the rates ``rates``, whose
@@ -201,9 +216,10 @@ def variant_kernels(name: str, variant: str, kernels=None, *, simplify: bool = T
     :data:`VARIANT_KERNELS` from ``kernels`` (default :func:`kernels_for`), with the
     variant's parameters replaced by exact zeros (before any differentiation or cse, so
     they contribute no arithmetic) and, with ``simplify``, every entry (of ``D`` and ``h``
-    for the fused kernels, before differentiation) simplified by :func:`_compact`.
-    Arguments are unchanged: the full parameter vector, whose zeroed entries are never
-    read."""
+    for the fused kernels, before differentiation) simplified by :func:`_compact`.  The
+    fused kernels solve in closed form (:data:`walker.symbolic.codegen.VARIANT_SOLVE`, one
+    division; their docs :data:`VARIANT_SOLVE_DOCS`).  Arguments are unchanged: the full
+    parameter vector, whose zeroed entries are never read."""
     zeros = set(C_VARIANTS[name][variant])
     kernels = kernels_for(name) if kernels is None else kernels
     out = []
@@ -219,7 +235,15 @@ def variant_kernels(name: str, variant: str, kernels=None, *, simplify: bool = T
             return _compact(e, rates) if simplify else e
 
         if isinstance(k, (AccelKernel, AccelJacobianKernel)):
-            out.append(replace(k, D=k.D.applyfunc(f), h=k.h.applyfunc(f)))
+            out.append(
+                replace(
+                    k,
+                    D=k.D.applyfunc(f),
+                    h=k.h.applyfunc(f),
+                    doc=VARIANT_SOLVE_DOCS[type(k)],
+                    solve=VARIANT_SOLVE,
+                )
+            )
         elif isinstance(k.expr, (list, tuple)):
             out.append(replace(k, expr=[m.applyfunc(f) for m in k.expr]))
         elif isinstance(k.expr, sp.MatrixBase):
