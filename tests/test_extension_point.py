@@ -16,7 +16,7 @@ from numba import carray, cfunc, types
 
 from walker import _hybrid, load_scene
 from walker.hybrid_system import _compiled
-from walker.integrate import HybridSystem, hybrid_solve
+from walker.integrate import HybridSystem, _interior_code, hybrid_solve
 from walker.models import get_model
 from walker.status import (
     EVENT_CONTINUE,
@@ -370,7 +370,7 @@ def test_solve_returns_a_named_record_whose_fields_are_its_positions():
     sol = _hybrid.solve(
         rhs, guards, reset, jac, ctx, system.directions, n_x, system.n_guards,
         system.n_impulse, x0, p, 0, 0.0, 5.0, 1, METHOD_DOP853, True, 1e-11, 1e-11, 0.0,
-        math.inf, 1_000_000, OUTPUT_FULL, np.empty(0), True, 4,
+        math.inf, 1_000_000, OUTPUT_FULL, np.empty(0), True, _interior_code(system, 4),
     )  # fmt: skip
     assert type(sol) is _hybrid.SolveResult and isinstance(sol, tuple)
     assert _hybrid.SolveResult.__match_args__ == SOLVE_RESULT_FIELDS
