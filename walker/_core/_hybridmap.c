@@ -236,8 +236,9 @@ PyDoc_STRVAR(prepared_map_map_doc,
              "value; t: the step time [s] (0.0 for a start that is not integrated); x: the\n"
              "final state (the lifted start when not integrated); z_new (n_z,), NaN unless\n"
              "status is 0; jac (n_z, n_z) row-major with jacobian when status is 0, else\n"
-             "None.  The arrays are bytearrays of float64.  None when the call is not one it answers (z not a C-contiguous finite\n"
-             "float64 vector of length n_z, n_strides not an int >= 1, jacobian not a bool,\n"
+             "None.  The arrays are bytearrays of float64.  None when the call is not one\n"
+             "it answers (z not a C-contiguous finite float64 vector of length n_z,\n"
+             "n_strides not an int >= 1, jacobian not a bool,\n"
              "jacobian without the model's Jacobian, a start phase out of range, a lifted\n"
              "state that is not finite): the caller then takes its checked path, which says\n"
              "why.");
