@@ -15,6 +15,7 @@ walking region (see :mod:`walker.fixedpoint` for the statuses).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -119,9 +120,21 @@ def _residual(section_map, z, period, parameter, with_jacobian=False):
         res = section_map(z, jacobian=True, n_strides=period, parameter=parameter)
     else:
         res = map_value(section_map, z, period, parameter)
-    if not res.success or not np.all(np.isfinite(res.z)):
+    if not res.success or not np.isfinite(res.z).all():
         return None, res
     return res.z - z, res
+
+
+def _max_abs(v) -> float:
+    """``max|v_i|`` of a float vector, as ``float(np.max(np.abs(v)))`` (the same number,
+    without the function-wrapper overhead)."""
+    return float(np.abs(v).max())
+
+
+def _norm2(v) -> float:
+    """The 2-norm of a real vector as ``np.linalg.norm`` computes it (``sqrt(v . v)``, the
+    same number), without its general-purpose overhead."""
+    return math.sqrt(float(v.dot(v)))
 
 
 def _cond2(a) -> float:
@@ -137,7 +150,7 @@ def _usable_jacobian(res):
     if jac is None:
         return None
     jac = np.asarray(jac, dtype=float)
-    return jac if np.all(np.isfinite(jac)) else None
+    return jac if np.isfinite(jac).all() else None
 
 
 class _OutOfBudget(Exception):
@@ -263,7 +276,7 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
         )
         return NewtonResult(res.status, msg, z, [], 0, None)
     history = state["history"]
-    history.append(float(np.max(np.abs(f))))
+    history.append(_max_abs(f))
     lm = LM_START
     radius = TR_START
     poor = []  # per accepted step: did it gain little (see STALL_RATIO, STALL_ALPHA)?
@@ -288,7 +301,7 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
             )
             return NewtonResult(st, msg, z, history, it, None)
         a = jac_map - eye
-        merit = float(np.linalg.norm(f))
+        merit = _norm2(f)
         accepted = False
         shortened = False
         alpha = 1.0
@@ -301,7 +314,7 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
         full_step_status = Status.COMPLETED
         if np.isfinite(cond) and cond < COND_MAX:
             dz = np.linalg.solve(a, -f)
-            length = float(np.max(np.abs(dz) / scale))
+            length = _max_abs(dz / scale)
             if length > radius:
                 dz *= radius / length
             alpha = 1.0
@@ -322,7 +335,7 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
                         full_step_status = res_try.status
                 else:
                     walked += 1
-                    merit_try = float(np.linalg.norm(f_try))
+                    merit_try = _norm2(f_try)
                     if merit_try <= (1 - ARMIJO * alpha) * merit:
                         accepted = True
                         shortened = alpha < 1.0
@@ -386,14 +399,14 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
                 )
                 return NewtonResult(full_step_status, msg, z, history, it, None)
             return _stalled(ev, z, history, it, gait, fallback, "no_descent")
-        step = float(np.max(np.abs(z_try - z) / scale))
+        step = _max_abs((z_try - z) / scale)
         radius = step if shortened else min(TR_MAX, max(radius, 2.0 * step))
         z = z_try
         state["z"] = z
         f = f_try
         jac_here = _usable_jacobian(res_try) if exact else None
         res_here = res_try
-        history.append(float(np.max(np.abs(f))))
+        history.append(_max_abs(f))
         poor.append(history[-1] > STALL_RATIO * history[-2] or (shortened and alpha <= STALL_ALPHA))
     msg = (
         f"Newton did not reach max|P^{period}(z) - z| <= {tol:.3g} in {max_iter} iterations "
