@@ -56,7 +56,8 @@ def variant_notes(name: str, variant: str) -> list[str]:
         "sin and cos of each angle (coordinates, slope) are computed once per call and",
         "sines and cosines of their sums are expanded by the angle-sum identities;",
         "accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)",
-        "from its cofactors (one division), not by Cholesky.",
+        "from its cofactors (one division), not by Cholesky; accel_and_jac is accel_jac",
+        "with the accelerations its solve computes as one more column.",
     ]
 
 

@@ -23,6 +23,11 @@ Tolerances:
   unlocked accel_jac; at most 8e-15 elsewhere), over 5000 samples at most 1e-13 (condition
   numbers up to 3e5 with the sampled light shanks).  Against 40-digit references the
   variants and the general kernels are equally accurate (median ~5e-16 relative).
+- a variant's fused kernels ("kneed/plain.unlocked_accel_and_jac", ...; no numba twin, see
+  walker.symbolic.kernels.fused_name) are its accel_jac with the accelerations as one more
+  column, from the same lowering: the Jacobian columns must be the variant's own accel_jac
+  to the bit, the last column the numba general accel to ``PLAIN_RTOL`` (as the variant's
+  accel is: it solves with the same adjugate, in other steps).
 """
 
 from __future__ import annotations
@@ -38,7 +43,7 @@ import pytest
 from _cmodel import assert_bits
 from test_generated import PARAM_RANGES
 
-from walker.symbolic.kernels import C_MODULES, C_VARIANTS, is_variant_kernel
+from walker.symbolic.kernels import C_MODULES, C_VARIANTS, fused_name, is_variant_kernel
 
 N_SAMPLES = 50
 PLAIN_RTOL = 1e-13
@@ -132,12 +137,31 @@ def test_every_c_module_is_generated(cname):
     model, _, zeros = _c_modules()[cname]
     module = importlib.import_module(f"walker._generated.{model}")
     expected = [k for k in module.ARGUMENT_ORDER if not zeros or is_variant_kernel(k)]
+    if zeros:  # each accel_jac followed by its fused kernel
+        expected = [f for k in expected for f in (k, *_fused_of(k))]
     got = [kernel for _, c, kernel in _header_kernels().values() if c == cname]
     assert got == expected
     for registry_name, (sig, c, kernel) in _header_kernels().items():
         if c == cname:
-            args = "".join(module.ARGUMENT_ORDER[kernel])
+            args = "".join(module.ARGUMENT_ORDER[_twin(kernel)])
             assert sig.startswith(args + "_"), registry_name
+
+
+def _fused_of(kernel):
+    """``(fused_name(kernel),)`` for an accel_jac kernel, else ``()``."""
+    return (fused_name(kernel),) if kernel.endswith("accel_jac") else ()
+
+
+def _twin(kernel):
+    """The numba kernel whose arguments C kernel ``kernel`` takes: itself, or for a fused
+    kernel the accel_jac it extends."""
+    if kernel.endswith("accel_and_jac"):
+        return kernel[: -len("accel_and_jac")] + "accel_jac"
+    return kernel
+
+
+def _is_fused(registry_name):
+    return registry_name.endswith("accel_and_jac")
 
 
 def test_registry_lists_every_c_kernel():
@@ -149,11 +173,14 @@ def test_registry_lists_every_c_kernel():
     assert all(isinstance(address, int) and address for _, address in registry.values())
 
 
-@pytest.mark.parametrize("registry_name", sorted(_header_kernels()))
+@pytest.mark.parametrize(
+    "registry_name", sorted(n for n in _header_kernels() if not _is_fused(n))
+)
 def test_c_kernel_agrees_with_numba(registry_name):
     """The C kernel at 50 random (state, parameter) samples against the numba kernel: to the
     bit for a general kernel, to ``PLAIN_RTOL`` for a structural variant (whose zeroed
-    parameters are 0 in the samples)."""
+    parameters are 0 in the samples).  The fused kernels, which have no numba twin, are
+    checked by :func:`test_fused_kernel_is_accel_jac_and_accel`."""
     registry = _registry()
     assert registry_name in registry, f"{registry_name} missing from walker._hybrid.kernels()"
     sig, address = registry[registry_name]
@@ -184,10 +211,49 @@ def test_c_kernel_agrees_with_numba(registry_name):
             assert_bits(got, ref, what)
 
 
+@pytest.mark.parametrize("registry_name", sorted(n for n in _header_kernels() if _is_fused(n)))
+def test_fused_kernel_is_accel_jac_and_accel(registry_name):
+    """A variant's fused kernel at 50 random samples: shape (n, 2n + 1); its first 2n
+    columns the variant's own accel_jac to the bit (the same lowering), its last the numba
+    general accel to ``PLAIN_RTOL``."""
+    registry = _registry()
+    assert registry_name in registry, f"{registry_name} missing from walker._hybrid.kernels()"
+    sig, address = registry[registry_name]
+    assert sig == "qqdp_v", registry_name
+    _, cname, kernel = _header_kernels()[registry_name]
+    model, prefix, zeros = _c_modules()[cname]
+    jac_name = _twin(kernel)
+    accel_name = jac_name[: -len("_jac")]
+    jac_sig, jac_address = registry[f"{prefix}.{jac_name}"]
+    fused_fun, jac_fun = _CTYPES[sig](address), _CTYPES[jac_sig](jac_address)
+    module = importlib.import_module(f"walker._generated.{model}")
+    numba_accel = getattr(module, accel_name)
+    order = module.ARGUMENT_ORDER[jac_name]
+    n = len(order["q"])
+    assert _shape_in(cname, kernel) == (n, 2 * n + 1)
+    assert _shape_in(cname, jac_name) == (n, 2 * n)
+    rng = np.random.default_rng(sum(map(ord, registry_name)))
+    for k in range(N_SAMPLES):
+        args = _sample(order, zeros, rng)
+        got = np.full((n, 2 * n + 1), np.nan)
+        fused_fun(*map(_ptr, args), _ptr(got))
+        jac = np.full((n, 2 * n), np.nan)
+        jac_fun(*map(_ptr, args), _ptr(jac))
+        accel = np.full(n, np.nan)
+        numba_accel(*args, accel)
+        what = f"{registry_name} at sample {k}"
+        assert_bits(got[:, : 2 * n], jac, f"{what}: Jacobian columns vs {jac_name}")
+        _assert_close(got[:, 2 * n], accel, f"{what}: qdd column vs {accel_name}", PLAIN_RTOL)
+
+
 def _shape(module, kernel, args):
     """Output shape of an array kernel, as the generated header states it in the comment
     above the prototype (``[out[r][c] row-major]``)."""
-    cname = module.__name__.rsplit(".", 1)[1]
+    return _shape_in(module.__name__.rsplit(".", 1)[1], kernel)
+
+
+def _shape_in(cname, kernel):
+    """Output shape of array kernel ``kernel`` as header ``<cname>.h`` states it."""
     text = (GENERATED_DIR / f"{cname}.h").read_text()
     m = re.search(
         r"\[out((?:\[\d+\])+)[^\]]*\] \*/\nvoid wk_" + re.escape(f"{cname}_{kernel}") + r"\(",

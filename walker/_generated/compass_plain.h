@@ -1,5 +1,5 @@
 /* generated, do not edit: walker C kernels for `compass_plain`
- * input hash: sha256:419480e935e9f2bf57bf70ea6e9a1f9f756097d95f478f6f2862d0b11e02944a
+ * input hash: sha256:811c41dfceee04839ad8be75ac78a0c217e42181fceeaf19ad31cc365cbab24b
  * sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
  * structural variant `plain` of `compass`: these parameters are exactly 0 and
  * never read (the arguments are those of the general kernels):
@@ -8,7 +8,8 @@
  * sin and cos of each angle (coordinates, slope) are computed once per call and
  * sines and cosines of their sums are expanded by the angle-sum identities;
  * accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)
- * from its cofactors (one division), not by Cholesky.
+ * from its cofactors (one division), not by Cholesky; accel_and_jac is accel_jac
+ * with the accelerations its solve computes as one more column.
  * argument order:
  *   q = [q_stance, q_swing]
  *   qd = [q_stance_dot, q_swing_dot]
@@ -17,6 +18,7 @@
  * kernels:
  *   wk_compass_plain_accel(q, qd, p, out)
  *   wk_compass_plain_accel_jac(q, qd, p, out)
+ *   wk_compass_plain_accel_and_jac(q, qd, p, out)
  *   wk_compass_plain_mass_matrix(q, p, out)
  *   wk_compass_plain_points(q, p, out)
  *   wk_compass_plain_hip_jac(q, p, out)
@@ -28,12 +30,14 @@
 #define WK_GENERATED_COMPASS_PLAIN_H
 
 /* Compass gait: single-support dynamics and the floating-base heel-strike model. */
-#define WK_COMPASS_PLAIN_KERNEL_HASH "419480e935e9f2bf57bf70ea6e9a1f9f756097d95f478f6f2862d0b11e02944a"
+#define WK_COMPASS_PLAIN_KERNEL_HASH "811c41dfceee04839ad8be75ac78a0c217e42181fceeaf19ad31cc365cbab24b"
 
 /* Accelerations qdd = -D^-1 h (h including any forcing) as -adj(D) h / det(D), cofactors and one division, out (>= n,). [out[2]] */
 void wk_compass_plain_accel(const double *q, const double *qd, const double *p, double *out);
 /* d qdd / d (q, qd), out (n, 2n), fused with the solve: D^-1 = adj(D) / det(D) (one division) applied to every column. [out[2][4] row-major] */
 void wk_compass_plain_accel_jac(const double *q, const double *qd, const double *p, double *out);
+/* accel_jac and the accelerations in one call, out (n, 2n+1): columns 0..2n-1 d qdd / d (q, qd), bit for bit those of accel_jac (the same lowering), column 2n qdd = -D^-1 h as the Jacobian's solve computes it (accel's to round-off). [out[2][5] row-major] */
+void wk_compass_plain_accel_and_jac(const double *q, const double *qd, const double *p, double *out);
 /* Mass matrix D(q), out (n, n). [out[2][2] row-major] */
 void wk_compass_plain_mass_matrix(const double *q, const double *p, double *out);
 /* Named points in the world frame, out (n_points, 2); names in POINTS. [out[4][2] row-major] */

@@ -45,6 +45,7 @@ from sympy.printing.pycode import PythonCodePrinter
 __all__ = [
     "SOLVES",
     "VARIANT_SOLVE",
+    "AccelAndJacobianKernel",
     "AccelJacobianKernel",
     "AccelKernel",
     "Kernel",
@@ -151,6 +152,17 @@ class AccelJacobianKernel(_FusedSolveKernel):
     derivatives and one unrolled Cholesky factorization (or, with ``solve="adjugate"``, one
     inverse ``adj(D) / det(D)`` applied to every column).  Signature
     ``name(q, qd, p, out)``; ``out[:n, :2n]`` receives the Jacobian.
+    """
+
+
+@dataclass(frozen=True)
+class AccelAndJacobianKernel(AccelJacobianKernel):
+    """:class:`AccelJacobianKernel` that also outputs the accelerations it solves for on the
+    way: the same lowering (the same cse pass, the same solve steps), one more column.
+    Signature ``name(q, qd, p, out)``; ``out`` (n, 2n + 1) row-major, ``out[:, :2n]`` the
+    Jacobian (bit for bit that of the :class:`AccelJacobianKernel` of the same ``D``, ``h``
+    and ``solve``) and ``out[:, 2n]`` ``qdd`` (equal to :class:`AccelKernel`'s up to
+    round-off: its solve's steps differ).
     """
 
 
@@ -370,12 +382,17 @@ def _lower_accel_jacobian(kernel: AccelJacobianKernel, rewrite=None) -> Lowered:
             steps += _solve_steps(
                 n, [f"-hv{i}_{k}" for i in range(n)], [f"jv{i}_{k}" for i in range(n)]
             )
+    # the fused kernel: the accelerations a{i} the solve computed, in one more column
+    fused = isinstance(kernel, AccelAndJacobianKernel)
     outputs = []
     for i in range(n):
         for k in range(n):
             outputs.append(((i, k), f"jq{i}_{k}"))
             outputs.append(((i, n + k), f"jv{i}_{k}"))
-    return Lowered(kernel.name, kernel.doc, kernel.args, (n, 2 * n), loads, assigns, steps, outputs)
+        if fused:
+            outputs.append(((i, 2 * n), f"a{i}"))
+    shape = (n, 2 * n + 1) if fused else (n, 2 * n)
+    return Lowered(kernel.name, kernel.doc, kernel.args, shape, loads, assigns, steps, outputs)
 
 
 def _adjugate_jacobian_steps(n, dd):
@@ -529,6 +546,8 @@ def symbolic_hash(kernels) -> str:
             h.update(f"accel-{k.solve}".encode())
         if isinstance(k, AccelJacobianKernel):
             h.update(f"accel-jacobian-{k.solve}".encode())
+        if isinstance(k, AccelAndJacobianKernel):
+            h.update(b"and-accel")
     return h.hexdigest()
 
 

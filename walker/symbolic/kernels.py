@@ -14,7 +14,13 @@ import sympy as sp
 from walker.models import compass as compass_model
 from walker.models import kneed as kneed_model
 from walker.symbolic import models
-from walker.symbolic.codegen import VARIANT_SOLVE, AccelJacobianKernel, AccelKernel, Kernel
+from walker.symbolic.codegen import (
+    VARIANT_SOLVE,
+    AccelAndJacobianKernel,
+    AccelJacobianKernel,
+    AccelKernel,
+    Kernel,
+)
 from walker.symbolic.dynamics import dynamics_kernels, hip_jacobian
 from walker.symbolic.mechanics import LagrangianModel
 
@@ -25,6 +31,7 @@ __all__ = [
     "VARIANT_KERNELS",
     "VARIANT_SIMPLIFICATION",
     "VARIANT_SOLVE_DOCS",
+    "fused_name",
     "is_variant_kernel",
     "kernels_for",
     "module_extra",
@@ -172,6 +179,15 @@ def is_variant_kernel(name: str) -> bool:
     return name in VARIANT_KERNELS
 
 
+def fused_name(name: str) -> str:
+    """Name of the fused kernel a structural variant prints beside its ``accel_jac`` kernel
+    ``name`` (``unlocked_accel_jac`` -> ``unlocked_accel_and_jac``; see
+    :func:`variant_kernels`)."""
+    if not name.endswith("accel_jac"):
+        raise ValueError(f"`name` must name an accel_jac kernel, got {name!r}")
+    return name[: -len("accel_jac")] + "accel_and_jac"
+
+
 VARIANT_SIMPLIFICATION = "trigsimp; polynomial in sin/cos and qd with factored coefficients"
 """How :func:`variant_kernels` simplifies (part of a variant's input hash)."""
 
@@ -184,6 +200,11 @@ VARIANT_SOLVE_DOCS = {
     AccelJacobianKernel: (
         "d qdd / d (q, qd), out (n, 2n), fused with the solve: D^-1 = adj(D) / det(D) "
         "(one division) applied to every column."
+    ),
+    AccelAndJacobianKernel: (
+        "accel_jac and the accelerations in one call, out (n, 2n+1): columns 0..2n-1 "
+        "d qdd / d (q, qd), bit for bit those of accel_jac (the same lowering), column 2n "
+        "qdd = -D^-1 h as the Jacobian's solve computes it (accel's to round-off)."
     ),
 }
 """Docs of a structural variant's fused kernels, which solve as :data:`VARIANT_SOLVE` says
@@ -218,8 +239,11 @@ def variant_kernels(name: str, variant: str, kernels=None, *, simplify: bool = T
     they contribute no arithmetic) and, with ``simplify``, every entry (of ``D`` and ``h``
     for the fused kernels, before differentiation) simplified by :func:`_compact`.  The
     fused kernels solve in closed form (:data:`walker.symbolic.codegen.VARIANT_SOLVE`, one
-    division; their docs :data:`VARIANT_SOLVE_DOCS`).  Arguments are unchanged: the full
-    parameter vector, whose zeroed entries are never read."""
+    division; their docs :data:`VARIANT_SOLVE_DOCS`).  Each ``accel_jac`` kernel is
+    followed by an :class:`~walker.symbolic.codegen.AccelAndJacobianKernel` of the same
+    ``D`` and ``h``, named :func:`fused_name` (no numba twin: the integrator's rhs and
+    Jacobian in one call).  Arguments are unchanged: the full parameter vector, whose
+    zeroed entries are never read."""
     zeros = set(C_VARIANTS[name][variant])
     kernels = kernels_for(name) if kernels is None else kernels
     out = []
@@ -235,15 +259,25 @@ def variant_kernels(name: str, variant: str, kernels=None, *, simplify: bool = T
             return _compact(e, rates) if simplify else e
 
         if isinstance(k, (AccelKernel, AccelJacobianKernel)):
-            out.append(
-                replace(
-                    k,
-                    D=k.D.applyfunc(f),
-                    h=k.h.applyfunc(f),
-                    doc=VARIANT_SOLVE_DOCS[type(k)],
-                    solve=VARIANT_SOLVE,
-                )
+            v = replace(
+                k,
+                D=k.D.applyfunc(f),
+                h=k.h.applyfunc(f),
+                doc=VARIANT_SOLVE_DOCS[type(k)],
+                solve=VARIANT_SOLVE,
             )
+            out.append(v)
+            if isinstance(k, AccelJacobianKernel):
+                out.append(
+                    AccelAndJacobianKernel(
+                        name=fused_name(k.name),
+                        args=v.args,
+                        D=v.D,
+                        h=v.h,
+                        doc=VARIANT_SOLVE_DOCS[AccelAndJacobianKernel],
+                        solve=v.solve,
+                    )
+                )
         elif isinstance(k.expr, (list, tuple)):
             out.append(replace(k, expr=[m.applyfunc(f) for m in k.expr]))
         elif isinstance(k.expr, sp.MatrixBase):
