@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "_hybridbinding.h"
+#include "wk_models.h"
 
 /* An int (not a bool) that fits in int64. */
 int wkpy_arg_int(PyObject *o, const char *name, int64_t *out)
@@ -177,6 +178,8 @@ int wkpy_arg_system(PyObject *const *args, wk_functions *fn, wk_problem *pb)
     fn->reset = (wk_reset_fn)reset;
     fn->jac = (wk_jac_fn)jac;
     fn->ctx = (void *)ctx;
+    /* a built-in model's fused rhs and Jacobian (NULL for any other system) */
+    fn->rhs_jac = wk_model_rhs_jac(fn->rhs, fn->jac);
     return 0;
 }
 

@@ -18,7 +18,8 @@
  * the state's alone (the variational equations do not feed back), so DENSE_STATE computes
  * just those (rhs calls, no Jacobians), and DENSE_FULL -- needed only in a step with an
  * event -- adds the sensitivities' (Jacobian calls at the same stage points).  Every number
- * is computed by the same expression as in one pass, so the result is bit-identical. */
+ * is computed by the same expression as in one pass (which calls rhs and jac too,
+ * wk_fun_unfused, never a fused rhs_jac), so the result is bit-identical. */
 int64_t wk_dense_prepare(int kind, const model_t *m, int64_t phase, double t,
                          const double *y_old, const double *y_new, double h, double *K,
                          double *Q, double *tmp, int have, int want)
@@ -38,7 +39,7 @@ int64_t wk_dense_prepare(int kind, const model_t *m, int64_t phase, double t,
             else if (have == DENSE_STATE)
                 wk_fun_var(m, phase, ts, tmp, K + s * n);
             else
-                wk_fun(m, phase, ts, tmp, K + s * n);
+                wk_fun_unfused(m, phase, ts, tmp, K + s * n);
         }
         for (int64_t i = lo; i < hi; i++) {
             const double dy = y_new[i] - y_old[i];

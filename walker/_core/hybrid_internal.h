@@ -135,8 +135,15 @@ typedef struct {
 const wk_method *wk_method_of(int method);
 
 /* Augmented vector field: dz[:n_x] = f(x) and, with want_jac, dPhi = J(x) Phi, Phi (n_x, n_c)
- * stored row-major in z[n_x:]. */
+ * stored row-major in z[n_x:].  With want_jac and fn.rhs_jac set (a built-in model's fused
+ * function, see wk_system.h) f and J come from one rhs_jac call: J bit for bit jac's, f
+ * rhs's to round-off. */
 void wk_fun(const model_t *m, int64_t phase, double t, const double *z, double *dz);
+
+/* wk_fun from rhs, and with want_jac jac, always (never rhs_jac): the dense output's extra
+ * stages, so that they are the same numbers computed in one pass or in two (the state
+ * first by rhs, then wk_fun_var; see wk_dense_prepare). */
+void wk_fun_unfused(const model_t *m, int64_t phase, double t, const double *z, double *dz);
 
 /* The variational part alone: dz[n_x:] = J(x) Phi (want_jac only). */
 void wk_fun_var(const model_t *m, int64_t phase, double t, const double *z, double *dz);

@@ -15,7 +15,7 @@
 #define SEED_COLUMN_FLOOR 0.01 /* see wk_error_scale */
 
 /* Rows of the dense matrix-vector product J Phi beyond which a non-finite row is not
- * recomputed over J's nonzeros (see wk_fun_var). */
+ * recomputed over J's nonzeros (see jac_times_phi). */
 #define SPARSE_JAC_MAX 32
 
 /* ------------------------------------------------------------------------------------------
@@ -49,13 +49,13 @@ const wk_method *wk_method_of(int method)
  * The vector field
  * ------------------------------------------------------------------------------------------ */
 
-void wk_fun_var(const model_t *m, int64_t phase, double t, const double *z, double *dz)
+/* dz[n_x:] = J Phi for the Jacobian J = m->J (filled by the caller) and Phi = z[n_x:]. */
+static void jac_times_phi(const model_t *m, const double *z, double *dz)
 {
     const int64_t n = m->n_x;
     const int64_t nc = m->n_c;
     const double *Phi = z + n;
-    double *J = m->J;
-    m->fn.jac(phase, t, z, m->p, J, m->fn.ctx);
+    const double *J = m->J;
     /* dPhi = J Phi: each entry the sum over k in increasing order, from 0.0, of J[i][k]
      * Phi[k][j], two columns at a time (each in its own accumulator: the same sums). */
     for (int64_t i = 0; i < n; i++) {
@@ -94,10 +94,27 @@ void wk_fun_var(const model_t *m, int64_t phase, double t, const double *z, doub
     }
 }
 
-void wk_fun(const model_t *m, int64_t phase, double t, const double *z, double *dz)
+void wk_fun_var(const model_t *m, int64_t phase, double t, const double *z, double *dz)
+{
+    m->fn.jac(phase, t, z, m->p, m->J, m->fn.ctx);
+    jac_times_phi(m, z, dz);
+}
+
+void wk_fun_unfused(const model_t *m, int64_t phase, double t, const double *z, double *dz)
 {
     m->fn.rhs(phase, t, z, m->p, dz, m->fn.ctx);
     if (m->want_jac) wk_fun_var(m, phase, t, z, dz);
+}
+
+void wk_fun(const model_t *m, int64_t phase, double t, const double *z, double *dz)
+{
+    if (m->want_jac && m->fn.rhs_jac != NULL) {
+        /* a built-in model's fused rhs and Jacobian: one call, J as jac fills it */
+        m->fn.rhs_jac(phase, t, z, m->p, dz, m->J, m->fn.ctx);
+        jac_times_phi(m, z, dz);
+        return;
+    }
+    wk_fun_unfused(m, phase, t, z, dz);
 }
 
 int wk_all_finite(const double *v, int64_t n)

@@ -5,8 +5,10 @@
  * The glue is written once over a table of kernels and instantiated twice: "compass" on the
  * general kernels wk_compass_* and "compass/plain" on wk_compass_plain_* (point feet, no
  * leg inertia, no dampers; walker/_generated/compass_plain.h) where a plain kernel exists,
- * the general one elsewhere (energies). */
+ * the general one elsewhere (energies).  The plain instance also has a fused rhs and
+ * Jacobian (rhs_jac, the accel_and_jac kernel; WK_MODEL_FUSED). */
 #include <math.h>
+#include <stddef.h>
 #include "wk_common.h"
 #include "compass.h"
 #include "compass_plain.h"
@@ -24,6 +26,9 @@ typedef struct {
     wk_qp_v ext_mass_matrix;
     wk_qp_v ext_swing_contact_jac;
     wk_qp_v ext_stance_contact_jac;
+    /* the plain variant's fused accel_and_jac (NULL for the general kernels): (2, 5),
+     * accel_jac's Jacobian and the accelerations in the last column */
+    wk_qqdp_v accel_and_jac;
 } compass_kernels;
 
 static void rhs(const compass_kernels *K, int64_t phase, const double *x, const double *p,
@@ -43,6 +48,25 @@ static void jac(const compass_kernels *K, int64_t phase, const double *x, const 
     J[0 * 4 + 2] = 1.0;
     J[1 * 4 + 3] = 1.0;
     K->accel_jac(x, x + 2, p, J + 2 * 4); /* rows 2, 3 */
+}
+
+/* rhs and jac in one call of the fused kernel (the plain variant): J as jac fills it, bit
+ * for bit; the accelerations in dx those the Jacobian's solve computes, rhs's to round-off. */
+static void rhs_jac(const compass_kernels *K, int64_t phase, const double *x, const double *p,
+                    double *dx, double *J)
+{
+    (void)phase;
+    double a[2 * 5];
+    K->accel_and_jac(x, x + 2, p, a);
+    for (int i = 0; i < 16; i++) J[i] = 0.0;
+    J[0 * 4 + 2] = 1.0;
+    J[1 * 4 + 3] = 1.0;
+    dx[0] = x[2];
+    dx[1] = x[3];
+    for (int i = 0; i < 2; i++) {
+        for (int j = 0; j < 4; j++) J[(2 + i) * 4 + j] = a[i * 5 + j];
+        dx[2 + i] = a[i * 5 + 4];
+    }
 }
 
 /* (height above the slope, distance ahead of the stance foot along the slope) [m]. */
@@ -140,7 +164,7 @@ static const compass_kernels GENERAL = {
     wk_compass_kinetic,         wk_compass_potential,
     wk_compass_points,          wk_compass_hip_jac,
     wk_compass_ext_mass_matrix, wk_compass_ext_swing_contact_jac,
-    wk_compass_ext_stance_contact_jac,
+    wk_compass_ext_stance_contact_jac, NULL,
 };
 
 static const compass_kernels PLAIN = {
@@ -148,8 +172,9 @@ static const compass_kernels PLAIN = {
     wk_compass_kinetic,               wk_compass_potential,
     wk_compass_plain_points,          wk_compass_plain_hip_jac,
     wk_compass_plain_ext_mass_matrix, wk_compass_plain_ext_swing_contact_jac,
-    wk_compass_plain_ext_stance_contact_jac,
+    wk_compass_plain_ext_stance_contact_jac, wk_compass_plain_accel_and_jac,
 };
 
 WK_MODEL_VARIANT(compass, GENERAL)
 WK_MODEL_VARIANT(compass_plain, PLAIN)
+WK_MODEL_FUSED(compass_plain, PLAIN)

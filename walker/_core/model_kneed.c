@@ -9,8 +9,10 @@
  * kernel exists, the general one elsewhere (energies); and each again as
  * "kneed/ignore_scuff", "kneed/plain/ignore_scuff" for the swing-foot scuffing convention
  * swing_scuff = "ignore" (a bent-knee swing foot passes through the ground; the table's
- * ignore_scuff flag is read only when that contact guard fires). */
+ * ignore_scuff flag is read only when that contact guard fires).  The plain instances also
+ * have a fused rhs and Jacobian (rhs_jac, the accel_and_jac kernels; WK_MODEL_FUSED). */
 #include <math.h>
+#include <stddef.h>
 #include "wk_common.h"
 #include "kneed.h"
 #include "kneed_plain.h"
@@ -36,6 +38,10 @@ typedef struct {
     wk_qp_v ext_swing_contact_jac;
     wk_qp_v ext_stance_contact_jac;
     int ignore_scuff; /* swing_scuff = "ignore" (1) or "trip" (0) */
+    /* the plain variant's fused accel_and_jac (NULL for the general kernels, which have
+     * none): (n, 2n + 1), accel_jac's Jacobian and the accelerations in the last column */
+    wk_qqdp_v unlocked_accel_and_jac;
+    wk_qqdp_v locked_accel_and_jac;
 } kneed_kernels;
 
 static void lengths(const double *p, double *shank, double *thigh)
@@ -92,6 +98,48 @@ static void jac(const kneed_kernels *K, int64_t phase, const double *x, const do
             J[(3 + i) * 6 + 3] = a[i * 4 + 2];
             J[(3 + i) * 6 + 4] = a[i * 4 + 3];
         }
+        for (int j = 0; j < 6; j++) J[5 * 6 + j] = J[4 * 6 + j];
+    }
+}
+
+/* rhs and jac in one call of the fused kernels (the plain variants): J as jac fills it, bit
+ * for bit (the same lowering as accel_jac); the accelerations in dx those the Jacobian's
+ * solve computes, rhs's to round-off. */
+static void rhs_jac(const kneed_kernels *K, int64_t phase, const double *x, const double *p,
+                    double *dx, double *J)
+{
+    for (int i = 0; i < 36; i++) J[i] = 0.0;
+    if (phase == WK_KNEED_PHASE_UNLOCKED) {
+        double a[3 * 7];
+        K->unlocked_accel_and_jac(x, x + 3, p, a);
+        dx[0] = x[3];
+        dx[1] = x[4];
+        dx[2] = x[5];
+        J[0 * 6 + 3] = 1.0;
+        J[1 * 6 + 4] = 1.0;
+        J[2 * 6 + 5] = 1.0;
+        for (int i = 0; i < 3; i++) {
+            for (int j = 0; j < 6; j++) J[(3 + i) * 6 + j] = a[i * 7 + j];
+            dx[3 + i] = a[i * 7 + 6];
+        }
+    } else {
+        /* Locked, as in rhs and jac: q3, qd3 copy q2, qd2. */
+        double a[2 * 5];
+        K->locked_accel_and_jac(x, x + 3, p, a);
+        dx[0] = x[3];
+        dx[1] = x[4];
+        dx[2] = x[4];
+        J[0 * 6 + 3] = 1.0;
+        J[1 * 6 + 4] = 1.0;
+        J[2 * 6 + 4] = 1.0;
+        for (int i = 0; i < 2; i++) {
+            J[(3 + i) * 6 + 0] = a[i * 5 + 0];
+            J[(3 + i) * 6 + 1] = a[i * 5 + 1];
+            J[(3 + i) * 6 + 3] = a[i * 5 + 2];
+            J[(3 + i) * 6 + 4] = a[i * 5 + 3];
+            dx[3 + i] = a[i * 5 + 4];
+        }
+        dx[5] = dx[4];
         for (int j = 0; j < 6; j++) J[5 * 6 + j] = J[4 * 6 + j];
     }
 }
@@ -290,12 +338,16 @@ static void points(const kneed_kernels *K, const double *x, const double *p, dou
         wk_kneed_plain_ext_mass_matrix, wk_kneed_plain_ext_swing_contact_jac,                 \
         wk_kneed_plain_ext_stance_contact_jac
 
-static const kneed_kernels GENERAL = {GENERAL_KERNELS, 0};
-static const kneed_kernels PLAIN = {PLAIN_KERNELS, 0};
-static const kneed_kernels GENERAL_IGNORE_SCUFF = {GENERAL_KERNELS, 1};
-static const kneed_kernels PLAIN_IGNORE_SCUFF = {PLAIN_KERNELS, 1};
+#define PLAIN_FUSED wk_kneed_plain_unlocked_accel_and_jac, wk_kneed_plain_locked_accel_and_jac
+
+static const kneed_kernels GENERAL = {GENERAL_KERNELS, 0, NULL, NULL};
+static const kneed_kernels PLAIN = {PLAIN_KERNELS, 0, PLAIN_FUSED};
+static const kneed_kernels GENERAL_IGNORE_SCUFF = {GENERAL_KERNELS, 1, NULL, NULL};
+static const kneed_kernels PLAIN_IGNORE_SCUFF = {PLAIN_KERNELS, 1, PLAIN_FUSED};
 
 WK_MODEL_VARIANT(kneed, GENERAL)
 WK_MODEL_VARIANT(kneed_plain, PLAIN)
 WK_MODEL_VARIANT(kneed_ignore_scuff, GENERAL_IGNORE_SCUFF)
 WK_MODEL_VARIANT(kneed_plain_ignore_scuff, PLAIN_IGNORE_SCUFF)
+WK_MODEL_FUSED(kneed_plain, PLAIN)
+WK_MODEL_FUSED(kneed_plain_ignore_scuff, PLAIN_IGNORE_SCUFF)

@@ -158,6 +158,23 @@ int wk_floating_base_heel_strike(wk_qp_v points, wk_qp_v hip_jac, wk_qp_v ext_ma
         points(&KT, x, p, out);                                                             \
     }
 
+/* A model variant's fused rhs and Jacobian, wk_model_<name>_rhs_jac (wk_rhs_jac_fn, see
+ * wk_system.h): declared for the variants whose registry entry has one (models.c). */
+#define WK_DECLARE_FUSED(name)                                                              \
+    void wk_model_##name##_rhs_jac(int64_t phase, double t, const double *x,                \
+                                   const double *p, double *dx, double *J, void *ctx);
+
+/* Defines wk_model_<name>_rhs_jac of model variant ``name`` over the static
+ * rhs_jac(K, phase, x, p, dx, J) of a model file (see WK_MODEL_VARIANT), K = &KT. */
+#define WK_MODEL_FUSED(name, KT)                                                            \
+    void wk_model_##name##_rhs_jac(int64_t phase, double t, const double *x,                \
+                                   const double *p, double *dx, double *J, void *ctx)       \
+    {                                                                                       \
+        (void)t;                                                                            \
+        (void)ctx;                                                                          \
+        rhs_jac(&KT, phase, x, p, dx, J);                                                   \
+    }
+
 WK_DECLARE_MODEL(simplest)
 WK_DECLARE_MODEL(compass)
 WK_DECLARE_MODEL(compass_plain)
@@ -165,5 +182,8 @@ WK_DECLARE_MODEL(kneed)
 WK_DECLARE_MODEL(kneed_plain)
 WK_DECLARE_MODEL(kneed_ignore_scuff)
 WK_DECLARE_MODEL(kneed_plain_ignore_scuff)
+WK_DECLARE_FUSED(compass_plain)
+WK_DECLARE_FUSED(kneed_plain)
+WK_DECLARE_FUSED(kneed_plain_ignore_scuff)
 
 #endif

@@ -40,4 +40,9 @@ typedef struct {
 const wk_model_entry *const *wk_model_table(int64_t *count);
 const wk_kernel_entry *wk_kernel_table(int64_t *count);
 
+/* The fused rhs and Jacobian of the registry entry whose fn has this (rhs, jac) pair; NULL
+ * when no entry has it (a user system) or the entry has none.  What the binding sets
+ * wk_functions.rhs_jac to when a run is set up. */
+wk_rhs_jac_fn wk_model_rhs_jac(wk_rhs_fn rhs, wk_jac_fn jac);
+
 #endif

@@ -20,6 +20,12 @@
  * jac(phase, t, x, p, J, ctx)   (may be NULL)
  *     fills J[n_x * n_x] (row-major) with df/dx; needed for variational equations.
  *
+ * wk_functions also has a member rhs_jac(phase, t, x, p, dx, J, ctx), rhs and jac in one
+ * call, that is filled internally, never by a user: the binding sets it when (rhs, jac) is
+ * the pair of a built-in model with a fused function (walker/_core/models.c), NULL
+ * otherwise.  It comes after ctx, so an initializer {rhs, guards, reset, jac, ctx} leaves
+ * it NULL.
+ *
  * ``t`` is the local time since the last applied event (see walker/integrate.py).
  */
 #ifndef WK_SYSTEM_H
@@ -37,12 +43,18 @@ typedef void (*wk_reset_fn)(int64_t phase, int64_t k, double t, const double *x,
 typedef void (*wk_jac_fn)(int64_t phase, double t, const double *x, const double *p,
                           double *J, void *ctx);
 
+/* dx[n_x] = f(x) and J[n_x * n_x] = df/dx, as rhs and jac fill them (J bit for bit; dx to
+ * round-off), in one call. */
+typedef void (*wk_rhs_jac_fn)(int64_t phase, double t, const double *x, const double *p,
+                              double *dx, double *J, void *ctx);
+
 typedef struct {
     wk_rhs_fn rhs;
     wk_guards_fn guards;
     wk_reset_fn reset;
     wk_jac_fn jac; /* NULL: no Jacobian */
     void *ctx;
+    wk_rhs_jac_fn rhs_jac; /* filled internally (wk_model_rhs_jac), NULL for user systems */
 } wk_functions;
 
 /* Event actions returned by reset in out[0]; the values of walker.status. */
