@@ -173,9 +173,7 @@ def test_registry_lists_every_c_kernel():
     assert all(isinstance(address, int) and address for _, address in registry.values())
 
 
-@pytest.mark.parametrize(
-    "registry_name", sorted(n for n in _header_kernels() if not _is_fused(n))
-)
+@pytest.mark.parametrize("registry_name", sorted(n for n in _header_kernels() if not _is_fused(n)))
 def test_c_kernel_agrees_with_numba(registry_name):
     """The C kernel at 50 random (state, parameter) samples against the numba kernel: to the
     bit for a general kernel, to ``PLAIN_RTOL`` for a structural variant (whose zeroed
