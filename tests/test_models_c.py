@@ -21,6 +21,7 @@ addresses agree with the numba model's stride bit for bit (general entries) or t
 round-off (plain entries); see the last tests.
 """
 
+import ctypes
 import dataclasses
 
 import numpy as np
@@ -207,6 +208,48 @@ def test_continuous_functions_agree(case):
             what = f"{case.name} trial {trial} phase {phase}"
             assert_phase_functions_agree(c, m, phase, t, x, p, what, same)
         assert_state_functions_agree(c, m, x, p, f"{case.name} {trial}", same)
+
+
+_RHS_JAC = ctypes.CFUNCTYPE(
+    None, ctypes.c_int64, ctypes.c_double, *([ctypes.c_void_p] * 5)
+)  # (phase, t, x, p, dx, J, ctx)
+
+
+def test_only_plain_entries_have_a_fused_rhs_jac():
+    """Only the "/plain" entries have a fused rhs and Jacobian (``rhs_jac``, which the
+    integrator calls for their (rhs, jac) pair when a run wants the Jacobian)."""
+    for name, entry in registry().items():
+        assert isinstance(entry["rhs_jac"], int), name
+        assert bool(entry["rhs_jac"]) == ("/plain" in name), name
+
+
+@pytest.mark.parametrize("case", [c for c in CASES if c.plain], ids=lambda c: c.name)
+def test_fused_rhs_jac_is_rhs_and_jac(case):
+    """A "/plain" entry's rhs_jac at 200 random states in each phase: J the entry's jac to
+    the bit (the accel_and_jac kernels are accel_jac's lowering), dx its rhs to
+    ``PLAIN_RTOL`` (the accelerations the Jacobian's solve computes, not accel's) and the
+    rates exactly."""
+    c = case.c_model()
+    m = case.module
+    fused = _RHS_JAC(registry()[case.name]["rhs_jac"])
+    rng = np.random.default_rng(20260611)
+    n_x = m.N_X
+    for trial in range(200):
+        p = case.params(rng, True)
+        x = rng.uniform(-1.4, 1.4, n_x)
+        x[n_x // 2 :] *= 3.0
+        if trial % 5 == 0 and m is kneed:
+            x[2], x[5] = x[1], x[4]  # locked-knee state
+        t = rng.uniform(0.0, 2.0)
+        for phase in range(case.n_phases):
+            what = f"{case.name} trial {trial} phase {phase}"
+            dx = np.full(n_x, np.nan)
+            J = np.full((n_x, n_x), np.nan)
+            fused(phase, t, x.ctypes.data, p.ctypes.data, dx.ctypes.data, J.ctypes.data, None)
+            assert_bits(J, c.jac(phase, t, x, p), f"{what}: J")
+            rhs = c.rhs(phase, t, x, p)
+            assert_bits(dx[: n_x // 2], rhs[: n_x // 2], f"{what}: rates")
+            _assert_close(dx, rhs, f"{what}: dx")
 
 
 # --------------------------------------------------------------------------------------

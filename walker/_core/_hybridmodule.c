@@ -237,7 +237,9 @@ static int set_item(PyObject *dict, const char *key, PyObject *value)
 PyDoc_STRVAR(models_doc,
              "models()\n--\n\n"
              "walker's compiled models: dict name -> dict of int addresses {'rhs', 'guards',\n"
-             "'reset', 'jac', 'ctx', 'energy', 'points', 'start_phase'} (0 for NULL).");
+             "'reset', 'jac', 'ctx', 'energy', 'points', 'start_phase', 'rhs_jac'} (0 for\n"
+             "NULL; 'rhs_jac', the fused rhs and Jacobian the integrator uses by itself for\n"
+             "this (rhs, jac) pair, is informational).");
 
 static PyObject *py_models(PyObject *self, PyObject *unused)
 {
@@ -259,6 +261,7 @@ static PyObject *py_models(PyObject *self, PyObject *unused)
             set_item(entry, "energy", ADDRESS(e->energy)) ||
             set_item(entry, "points", ADDRESS(e->points)) ||
             set_item(entry, "start_phase", ADDRESS(e->start_phase)) ||
+            set_item(entry, "rhs_jac", ADDRESS(e->fn.rhs_jac)) ||
             PyDict_SetItemString(out, e->name, entry)) {
             Py_DECREF(entry);
             goto fail;
