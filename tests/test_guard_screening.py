@@ -23,9 +23,7 @@ from walker.status import EVENT_TERMINAL, Status
 
 GAITS = Path(__file__).resolve().parents[1] / "gaits"
 WALKER_SCENES = sorted(
-    path.name
-    for path in GAITS.glob("*.toml")
-    if load_scene(path).walker_model.is_walker
+    path.name for path in GAITS.glob("*.toml") if load_scene(path).walker_model.is_walker
 )
 
 
