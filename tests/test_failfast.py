@@ -160,6 +160,29 @@ def test_walking_region_comes_from_the_model():
     assert WalkingRegion.of(object()) is None
 
 
+def test_walking_region_of_a_stride_map_is_a_fresh_copy_each_time():
+    """WalkingRegion.of keeps one region per (immutable) stride map and parameter value and
+    hands out copies: a guess set on one search's region does not reach the next, and a
+    copy equals a region built anew."""
+    scene, P = scene_map(KNEED)
+    z0 = P.project(scene.state)
+    a = WalkingRegion.of(P).with_guess(z0)
+    b = WalkingRegion.of(P)
+    assert b is not a and b.kinetic_max == b.kinetic_limit > a.kinetic_max
+    fresh = WalkingRegion(P.model, P.params)
+    assert vars(b).keys() == vars(fresh).keys()
+    for name, value in vars(fresh).items():
+        if isinstance(value, np.ndarray):
+            np.testing.assert_array_equal(getattr(b, name), value)
+        elif isinstance(value, float) and math.isnan(value):
+            assert math.isnan(getattr(b, name))
+        else:
+            assert getattr(b, name) == value, name
+    steeper = WalkingRegion.of(P, parameter=scene.params.slope * 1.5)
+    assert steeper.slope == pytest.approx(scene.params.slope * 1.5)
+    assert WalkingRegion.of(P).slope == scene.params.slope
+
+
 def test_a_guess_outside_the_region_is_not_integrated():
     _, P = scene_map(KNEED)
     m = Counting(P)

@@ -10,7 +10,10 @@ of one stride of a :class:`walker.stride.StrideMap`.  Both are re-exported by
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import math
+import weakref
 
 import numpy as np
 
@@ -27,6 +30,12 @@ KINETIC_LIMIT = 50.0
 # unit sqrt(l / g) of the stride map's t_max, and never fewer than STRIDE_MIN_STEPS.
 STEPS_PER_TIME_UNIT = 60
 STRIDE_MIN_STEPS = 1000
+
+# The regions built for an immutable map (a frozen dataclass, as StrideMap is), per value of
+# its continuation parameter (None: its own), at most _CACHE_PER_MAP per map: a search from
+# the same map starts from a copy instead of evaluating the walker's energies again.
+_CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_CACHE_PER_MAP = 8
 
 # Section coordinate 0 is the stance-leg angle of every shipped walker: name -> coefficient of
 # the slope in its angle from the slope normal (Garcia's theta is measured from the normal;
@@ -94,7 +103,21 @@ class WalkingRegion:
     @classmethod
     def of(cls, section_map, parameter: float | None = None) -> WalkingRegion | None:
         """The region of a walker's stride map (at ``parameter`` of its continuation
-        parameter when given), or None for a map without a walker model."""
+        parameter when given), or None for a map without a walker model.  A new object
+        each call (:meth:`with_guess` changes it); for an immutable map (a frozen
+        dataclass, such as :class:`walker.stride.StrideMap`) a copy of one kept per map and
+        parameter value."""
+        per_map = _cache_of(section_map)
+        key = None if parameter is None else float(parameter)
+        if per_map is not None and key in per_map:
+            return copy.copy(per_map[key])
+        region = cls._build(section_map, parameter)
+        if per_map is not None and region is not None and len(per_map) < _CACHE_PER_MAP:
+            per_map[key] = copy.copy(region)
+        return region
+
+    @classmethod
+    def _build(cls, section_map, parameter: float | None) -> WalkingRegion | None:
         from walker.models import WalkerModel
 
         model = getattr(section_map, "model", None)
@@ -167,6 +190,19 @@ class WalkingRegion:
                 f"its kinetic energy {kinetic:.4g} J exceeds the bound {self.kinetic_max:.4g} J "
                 "(rates far beyond any gait's)"
             )
+        return None
+
+
+def _cache_of(section_map) -> dict | None:
+    """The region cache of an immutable map (a frozen dataclass that can be weakly
+    referenced and hashed), or None."""
+    if not dataclasses.is_dataclass(section_map) or not getattr(
+        type(section_map).__dataclass_params__, "frozen", False
+    ):
+        return None
+    try:
+        return _CACHE.setdefault(section_map, {})
+    except TypeError:  # no weak reference or no hash
         return None
 
 

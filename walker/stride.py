@@ -519,13 +519,18 @@ class StrideMap:
         new.__dict__.pop("_run", None)
         return new
 
+    def _p(self) -> np.ndarray:
+        """The parameter vector: the prepared run's once there is one, else built."""
+        cached = self.__dict__.get("_run")
+        return self.params.as_array() if cached is None else cached[1]
+
     def lift(self, z) -> np.ndarray:
         """The full state, shape ``(n_x,)``, at the section point ``z``, shape ``(n_z,)``."""
-        return self.model.lift(_as_vector(z, "z", self.model.n_z), self.params)
+        return self.model.lift(_as_vector(z, "z", self.model.n_z), self._p())
 
     def project(self, x) -> np.ndarray:
         """The section point, shape ``(n_z,)``, of the full state ``x``, shape ``(n_x,)``."""
-        return self.model.project(_as_vector(x, "x", self.model.n_x), self.params)
+        return self.model.project(_as_vector(x, "x", self.model.n_x), self._p())
 
     def __call__(
         self, z, *, jacobian: bool = False, n_strides: int = 1, parameter: float | None = None
