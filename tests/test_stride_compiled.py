@@ -110,6 +110,8 @@ def test_the_checked_path_serves_models_without_an_affine_lift():
         (None, 0, False, ValueError, r"`n_strides` must be >= 1, got 0"),
         (None, 1.0, False, TypeError, "`n_strides` must be an int, got float"),
         (None, True, False, TypeError, "`n_strides` must be an int, got bool"),
+        (None, 1, "yes", TypeError, "`jacobian` must be a bool, got str"),
+        (None, 1, None, TypeError, "`jacobian` must be a bool, got NoneType"),
     ],
 )
 def test_input_the_compiled_call_declines_gets_the_checked_errors(
@@ -131,6 +133,7 @@ def test_plain_input_of_other_kinds_takes_the_checked_path_with_the_same_numbers
         (np.repeat(z, 2)[::2], 1, True),  # a strided view: not C-contiguous
         (z, np.int64(1), True),  # a numpy int
         (z, 1, 1),  # an int as a bool
+        (z, 1, np.True_),  # numpy's bool
     ):
         _same(P(other, jacobian=jacobian, n_strides=n_strides), ref)
 

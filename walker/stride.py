@@ -591,6 +591,10 @@ class StrideMap:
             raise TypeError(f"`n_strides` must be an int, got {type(n_strides).__name__}")
         if n_strides < 1:
             raise ValueError(f"`n_strides` must be >= 1, got {n_strides}")
+        if jacobian.__class__ is not bool:  # numpy's bool and ints count as bools
+            if not isinstance(jacobian, int | np.integer | np.bool_):
+                raise TypeError(f"`jacobian` must be a bool, got {type(jacobian).__name__}")
+            jacobian = bool(jacobian)
         cached = self.__dict__.get("_run")
         if cached is not None and n_strides in cached[0]:
             run, p, guard = cached[0][n_strides], cached[1], cached[2]
