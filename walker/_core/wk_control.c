@@ -190,7 +190,8 @@ static int ft_torque(const double *q, const double *qd, const double *D, const d
     const double alpha = f[WK_CONTROL_FT_I_ALPHA];
     const double eps = f[WK_CONTROL_FT_I_EPSILON];
     double H[WK_CONTROL_MAX_N * WK_CONTROL_MAX_N];
-    double y[WK_CONTROL_MAX_N], yd[WK_CONTROL_MAX_N], v[WK_CONTROL_MAX_N];
+    double y[WK_CONTROL_MAX_N], yd[WK_CONTROL_MAX_N];
+    double v[WK_CONTROL_MAX_N] = {0.0}; /* entries [0, m) set below */
     double cterm[WK_CONTROL_MAX_N];
     ft_outputs(q, qd, f, y, yd, H, cterm, n);
     for (int i = 0; i < m; i++) {
