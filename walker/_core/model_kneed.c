@@ -76,6 +76,23 @@ static void rhs(const kneed_kernels *K, int64_t phase, const double *x, const do
     }
 }
 
+/* The locked phase's J (zeroed by the caller) from a, the accelerations' Jacobian with
+ * respect to (q1, q2, qd1, qd2) in 2 rows of `stride` entries: the rows of q3 and qd3 copy
+ * those of q2 and qd2, the columns of q3 and qd3 are 0. */
+static void locked_jac(const double *a, int stride, double *J)
+{
+    J[0 * 6 + 3] = 1.0;
+    J[1 * 6 + 4] = 1.0;
+    J[2 * 6 + 4] = 1.0;
+    for (int i = 0; i < 2; i++) {
+        J[(3 + i) * 6 + 0] = a[i * stride + 0];
+        J[(3 + i) * 6 + 1] = a[i * stride + 1];
+        J[(3 + i) * 6 + 3] = a[i * stride + 2];
+        J[(3 + i) * 6 + 4] = a[i * stride + 3];
+    }
+    for (int j = 0; j < 6; j++) J[5 * 6 + j] = J[4 * 6 + j];
+}
+
 static void jac(const kneed_kernels *K, int64_t phase, const double *x, const double *p,
                 double *J)
 {
@@ -86,19 +103,9 @@ static void jac(const kneed_kernels *K, int64_t phase, const double *x, const do
         J[2 * 6 + 5] = 1.0;
         K->unlocked_accel_jac(x, x + 3, p, J + 3 * 6); /* rows 3..5 */
     } else {
-        /* Locked: rows of q3 and qd3 copy those of q2 and qd2; columns of q3, qd3 are 0. */
         double a[2 * 4];
         K->locked_accel_jac(x, x + 3, p, a);
-        J[0 * 6 + 3] = 1.0;
-        J[1 * 6 + 4] = 1.0;
-        J[2 * 6 + 4] = 1.0;
-        for (int i = 0; i < 2; i++) {
-            J[(3 + i) * 6 + 0] = a[i * 4 + 0];
-            J[(3 + i) * 6 + 1] = a[i * 4 + 1];
-            J[(3 + i) * 6 + 3] = a[i * 4 + 2];
-            J[(3 + i) * 6 + 4] = a[i * 4 + 3];
-        }
-        for (int j = 0; j < 6; j++) J[5 * 6 + j] = J[4 * 6 + j];
+        locked_jac(a, 4, J);
     }
 }
 
@@ -129,18 +136,10 @@ static void rhs_jac(const kneed_kernels *K, int64_t phase, const double *x, cons
         dx[0] = x[3];
         dx[1] = x[4];
         dx[2] = x[4];
-        J[0 * 6 + 3] = 1.0;
-        J[1 * 6 + 4] = 1.0;
-        J[2 * 6 + 4] = 1.0;
-        for (int i = 0; i < 2; i++) {
-            J[(3 + i) * 6 + 0] = a[i * 5 + 0];
-            J[(3 + i) * 6 + 1] = a[i * 5 + 1];
-            J[(3 + i) * 6 + 3] = a[i * 5 + 2];
-            J[(3 + i) * 6 + 4] = a[i * 5 + 3];
-            dx[3 + i] = a[i * 5 + 4];
-        }
+        locked_jac(a, 5, J);
+        dx[3] = a[0 * 5 + 4];
+        dx[4] = a[1 * 5 + 4];
         dx[5] = dx[4];
-        for (int j = 0; j < 6; j++) J[5 * 6 + j] = J[4 * 6 + j];
     }
 }
 
