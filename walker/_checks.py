@@ -1,13 +1,16 @@
 """Checks and scales shared by the simulation and analysis layers (walker.stride,
 walker.fixedpoint, walker.sweep): an argument as a float vector with an error naming it, a
-value's short repr for one-line messages, and a walker's natural time unit.  Imports nothing
-of walker, so every layer may use it."""
+value's short repr for one-line messages, a sample rate, and a walker's natural time unit.
+Imports nothing of walker, so every layer may use it."""
 
 from __future__ import annotations
 
+import math
+import numbers
+
 import numpy as np
 
-__all__ = ["as_vector", "short_repr", "time_scale"]
+__all__ = ["as_vector", "sample_rate", "short_repr", "time_scale"]
 
 
 def as_vector(value, name: str, length: int | None = None) -> np.ndarray:
@@ -59,3 +62,19 @@ def time_scale(params) -> float:
     if length is None:
         length = getattr(params, "length_1", 1.0) + getattr(params, "length_2", 0.0)
     return float(np.sqrt(length / params.g))
+
+
+def sample_rate(value) -> float:
+    """``sample_rate`` as a float, or an error naming it."""
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
+        raise TypeError(f"`sample_rate` must be a real number [Hz], got {type(value).__name__}")
+    try:
+        rate = float(value)
+    except OverflowError:
+        raise ValueError(
+            "`sample_rate` must be a positive finite number [Hz], got an integer too large "
+            "for a float"
+        ) from None
+    if not (math.isfinite(rate) and rate > 0):
+        raise ValueError(f"`sample_rate` must be a positive finite number [Hz], got {value!r}")
+    return rate

@@ -45,6 +45,19 @@ LM_MAX = 1e12
 LM_TRIES = 8
 # A Newton matrix whose condition number exceeds this is treated as singular.
 COND_MAX = 1e14
+# Coarse early strides (inexact Newton, find_fixed_point only): far from the fixed point a
+# stride need not be integrated to the map's own rtol.  A point whose residual is expected
+# to be r is evaluated at the coarsest power-of-ten rtol <= COARSE_RHO * r**2 (and <=
+# COARSEST_RTOL): DOP853's stride error at rtol t is about 0.05 t on the walkers (kneed:
+# 7.6e-8 at 1e-6, 3e-10 at 1e-8, 4e-11 at 1e-9), so what it adds to the next Newton iterate
+# stays far below that iterate's own error, about r**2.  A coarse evaluation is kept only when
+# its residual r' > tol and its rtol <= COARSE_KEEP * r'**2; else the point is evaluated
+# again (counted) at the rtol for r', or the map's own.  A converged solution is always one
+# evaluated at the map's own tolerance.  From the kneed scene's guess (max|F| 1.7e-2) the
+# first two of the four Jacobian strides run at 1e-6 and 1e-9 instead of 1e-12.
+COARSEST_RTOL = 1e-6
+COARSE_RHO = 0.1
+COARSE_KEEP = 1.0
 
 # --- Failing fast ----------------------------------------------------------------------------
 # Evaluation budget: stride-map calls a search may make (any n_strides; the Jacobian at a
@@ -157,25 +170,83 @@ class _OutOfBudget(Exception):
     """The search's evaluation budget is spent (internal)."""
 
 
+def _coarse_levels(section_map):
+    """``(rtol, atol)`` of a map whose strides the search may integrate more coarsely (a
+    DOP853 map with ``with_tolerance`` and an rtol finer than ``COARSEST_RTOL``), else None."""
+    # with_tolerance defined by the map's class (a wrapper forwarding attributes to a
+    # StrideMap is not bypassed)
+    if getattr(section_map, "method", None) != "DOP853" or not hasattr(
+        type(section_map), "with_tolerance"
+    ):
+        return None
+    rtol, atol = float(section_map.rtol), float(section_map.atol)
+    return (rtol, atol) if 10.0 * rtol <= COARSEST_RTOL else None
+
+
 class _Evaluator:
-    """Counts the search's stride-map evaluations against its budget."""
+    """Counts the search's stride-map evaluations against its budget, and picks the
+    tolerance of each (``COARSE_RHO``)."""
 
-    __slots__ = ("section_map", "period", "parameter", "max_evals", "n_evals")
+    __slots__ = ("section_map", "period", "parameter", "max_evals", "n_evals", "tol", "own", "maps")
 
-    def __init__(self, section_map, period, parameter, max_evals):
+    def __init__(self, section_map, period, parameter, max_evals, tol=0.0, coarse=False):
         self.section_map = section_map
         self.period = period
         self.parameter = parameter
         self.max_evals = max_evals
         self.n_evals = 0
+        self.tol = tol
+        self.own = _coarse_levels(section_map) if coarse else None
+        self.maps = {}  # the coarse maps by rtol
 
     def _spend(self, n):
         if self.n_evals + n > self.max_evals:
             raise _OutOfBudget
         self.n_evals += n
 
-    def residual(self, z, with_jacobian=False):
+    def _coarse_map(self, expect):
+        """The map at the coarsest rtol allowed for a residual ``expect`` (None: the map's
+        own tolerance is needed)."""
+        if self.own is None or expect is None or not expect > 0.0:
+            return None
+        want = min(COARSE_RHO * expect * expect, COARSEST_RTOL)
+        rtol, atol = self.own
+        level = 10.0 ** math.floor(math.log10(want)) if want > rtol else 0.0
+        if not level > rtol:
+            return None
+        coarse = self.maps.get(level)
+        if coarse is None:
+            coarse = self.section_map.with_tolerance(level, min(atol * level / rtol, level))
+            self.maps[level] = coarse
+        return coarse
+
+    def glance(self, z):
+        """``max|F(z)|`` from one stride at ``COARSEST_RTOL`` without the Jacobian (not
+        counted against the budget; None when that stride fails or no coarse map exists):
+        what the guess's first evaluation needs to pick its tolerance."""
+        coarse = self._coarse_map(1.0)
+        if coarse is None:
+            return None
+        f, _ = _residual(coarse, z, self.period, self.parameter)
+        return None if f is None else _max_abs(f)
+
+    def residual(self, z, with_jacobian=False, expect=None):
+        """``F(z)`` and the map result, at the tolerance chosen for the residual ``expect``
+        expected at ``z`` (None: the map's own)."""
         self._spend(1)
+        coarse = self._coarse_map(expect)
+        if coarse is not None:
+            f, res = _residual(coarse, z, self.period, self.parameter, with_jacobian)
+            if f is not None:
+                r = _max_abs(f)
+                if r > self.tol and coarse.rtol <= COARSE_KEEP * r * r:
+                    return f, res
+                self._spend(1)
+                coarse = self._coarse_map(r)
+                if coarse is not None and r > self.tol:
+                    return _residual(coarse, z, self.period, self.parameter, with_jacobian)
+            else:
+                self._spend(1)  # a coarse stride that fails: the map's own says for sure
         return _residual(self.section_map, z, self.period, self.parameter, with_jacobian)
 
     def jacobian(self, z, mode, fd_step):
@@ -215,6 +286,7 @@ def solve_fixed_point(
     fallback,
     max_evals=None,
     region=None,
+    coarse=False,
 ) -> NewtonResult:
     """Damped Newton + LM on ``P^k(z) - z`` at a fixed parameter, in a trust region.
 
@@ -223,6 +295,8 @@ def solve_fixed_point(
     :data:`~walker.sectionmap.JACOBIAN_MODES`.  ``max_evals`` bounds the stride-map
     evaluations (None: :func:`default_max_evals`); ``region`` is the walking region (None:
     :meth:`WalkingRegion.of` the map, which is None for a map without a walker model).
+    With ``coarse`` and the exact Jacobian, strides far from the solution are integrated
+    more coarsely (``COARSE_RHO``).
     """
     if region is None:
         region = WalkingRegion.of(section_map, parameter)
@@ -230,7 +304,7 @@ def solve_fixed_point(
             region.with_guess(z0)
     if max_evals is None:
         max_evals = default_max_evals(z0.shape[0], mode)
-    ev = _Evaluator(section_map, period, parameter, int(max_evals))
+    ev = _Evaluator(section_map, period, parameter, int(max_evals), tol, coarse and mode == "exact")
     state = {"z": z0.copy(), "history": [], "it": 0}
     try:
         return _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback)
@@ -266,7 +340,7 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
                 "the scene's `[initial] state`, from Python `z0`."
             )
             return NewtonResult(Status.OUTSIDE_WALKING_REGION, msg, z, [], 0, None)
-    f, res = ev.residual(z, with_jacobian=exact)
+    f, res = ev.residual(z, with_jacobian=exact, expect=ev.glance(z))
     jac_here = _usable_jacobian(res) if exact else None
     res_here = res
     if f is None:
@@ -328,7 +402,9 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
                         full_step_status = Status.OUTSIDE_WALKING_REGION
                     alpha *= 0.5
                     continue
-                f_try, res_try = ev.residual(z_try, with_jacobian=exact and alpha == 1.0)
+                # a full step should square the residual; a shortened one, less
+                expect = history[-1] ** 2 if alpha == 1.0 else history[-1]
+                f_try, res_try = ev.residual(z_try, exact and alpha == 1.0, expect)
                 if f_try is None:
                     failed += 1
                     if alpha == 1.0:

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from walker._checks import as_vector as _as_vector
+from walker._checks import sample_rate as _sample_rate
 from walker._checks import time_scale as _time_scale
 from walker.integrate import _STATUSES, PreparedRun, _solve, check_solver_settings
 from walker.models import WalkerModel, get_model
@@ -184,22 +185,6 @@ def _setup(model, params):
         _SETUP.clear()
     _SETUP[key] = (params, model, value)
     return value
-
-
-def _positive_rate(value) -> float:
-    """``sample_rate`` as a float, or an error naming it."""
-    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
-        raise TypeError(f"`sample_rate` must be a real number [Hz], got {type(value).__name__}")
-    try:
-        rate = float(value)
-    except OverflowError:
-        raise ValueError(
-            "`sample_rate` must be a positive finite number [Hz], got an integer too large "
-            "for a float"
-        ) from None
-    if not (math.isfinite(rate) and rate > 0):
-        raise ValueError(f"`sample_rate` must be a positive finite number [Hz], got {value!r}")
-    return rate
 
 
 def check_sample_count(duration: float, sample_rate: float, n_x: int, what: str) -> int:
@@ -473,6 +458,7 @@ class StrideMap:
     def __getstate__(self):
         state = dict(self.__dict__)
         state.pop("_run", None)  # process-local addresses: rebuilt where it lands
+        state.pop("_tolerances", None)
         return state
 
     def __setstate__(self, state):
@@ -514,9 +500,29 @@ class StrideMap:
             raise TypeError(
                 f"`params` must be a {type(self.params).__name__}, got {type(params).__name__}"
             )
+        return self._copy_with(params=params)
+
+    def with_tolerance(self, rtol: float, atol: float) -> StrideMap:
+        """A copy with other ``rtol`` and ``atol`` (validated), kept per map (at most 8):
+        asking again for the same pair returns the same copy, its compiled run prepared once
+        (the gait search's coarse early strides, :mod:`walker.newton`)."""
+        check_solver_settings(self.method, rtol, atol, self.first_step)
+        kept = self.__dict__.setdefault("_tolerances", {})
+        key = (float(rtol), float(atol))
+        new = kept.get(key)
+        if new is None:
+            new = self._copy_with(rtol=key[0], atol=key[1])
+            if len(kept) < 8:
+                kept[key] = new
+        return new
+
+    def _copy_with(self, **fields) -> StrideMap:
+        """A copy with ``fields`` replaced (taken as valid), without the prepared run."""
         new = copy.copy(self)
-        object.__setattr__(new, "params", params)
+        for name, value in fields.items():
+            object.__setattr__(new, name, value)
         new.__dict__.pop("_run", None)
+        new.__dict__.pop("_tolerances", None)
         return new
 
     def _p(self) -> np.ndarray:
@@ -680,7 +686,7 @@ class StrideMap:
         if n_strides < 1:
             raise ValueError(f"`n_strides` must be >= 1, got {n_strides}")
         if sample_rate is not None:
-            sample_rate = _positive_rate(sample_rate)
+            sample_rate = _sample_rate(sample_rate)
         p = self.params.as_array()
         x0 = self.model.lift(z, p)
         run = {**solver_settings(self), "t_max": self.t_max * n_strides, "n_strides": n_strides}

@@ -1,0 +1,184 @@
+"""Coarse early strides in the gait search (``walker.newton``, ``COARSE_RHO``).
+
+``find_fixed_point`` integrates the strides of iterates far from the fixed point at a looser
+rtol than the map's own (``StrideMap.with_tolerance``), chosen from the residual expected
+there.  Checked here: which tolerances a search uses (observed on the map class, never timed);
+that the solution, its residual and its multipliers come from strides at the map's own
+tolerance and agree with a search that never coarsens; that a guess already near the
+solution, a map of another method and a wrapper map are never coarsened; and the
+``with_tolerance`` copy itself.
+"""
+
+from __future__ import annotations
+
+import pickle
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import walker.newton as newton
+from walker import load_scene
+from walker.fixedpoint import find_fixed_point
+from walker.stride import StrideMap
+
+GAITS = Path(__file__).resolve().parents[1] / "gaits"
+
+
+def _scene_map(name, **settings):
+    scene = load_scene(GAITS / name)
+    P = StrideMap.from_scene(scene)
+    if settings:
+        keep = {"rtol": P.rtol, "atol": P.atol, "t_max": P.t_max, **settings}
+        P = StrideMap(P.model, P.params, **keep)
+    return P, P.project(scene.state)
+
+
+@pytest.fixture
+def rtols(monkeypatch):
+    """The (rtol, jacobian) of every StrideMap call, in order."""
+    seen = []
+    call = StrideMap.__call__
+
+    def spy(self, z, **kwargs):
+        seen.append((self.rtol, bool(kwargs.get("jacobian", False))))
+        return call(self, z, **kwargs)
+
+    monkeypatch.setattr(StrideMap, "__call__", spy)
+    return seen
+
+
+def _never_coarse(monkeypatch, P, z0):
+    monkeypatch.setattr(newton, "COARSEST_RTOL", 0.0)
+    try:
+        return find_fixed_point(P, z0)
+    finally:
+        monkeypatch.undo()
+
+
+@pytest.mark.parametrize("name", ["kneed_hsu.toml", "compass_goswami.toml"])
+def test_far_guess_coarse_then_own_tolerance(name, rtols, monkeypatch):
+    P, z0 = _scene_map(name)
+    fp = find_fixed_point(P, z0)
+    assert fp.success
+    used = list(rtols)
+    # a glance at the coarsest level, then the guess's Jacobian stride below the map's rtol
+    assert used[0] == (newton.COARSEST_RTOL, False)
+    assert used[1][0] > P.rtol and used[1][1]
+    # the last evaluation, whose residual and Jacobian the result reports, at the map's own
+    assert used[-1] == (P.rtol, True)
+    # every rtol is a power of ten between the map's and the coarsest
+    assert all(P.rtol <= r <= newton.COARSEST_RTOL for r, _ in used)
+    rtols.clear()
+    plain = _never_coarse(monkeypatch, P, z0)
+    assert plain.success and all(r == P.rtol for r, _ in rtols)
+    # the same gait to the stride's own error, the same multipliers to its derivative's
+    assert np.max(np.abs(fp.section - plain.section)) < 1e-13
+    lam, lam0 = np.sort_complex(fp.multipliers), np.sort_complex(plain.multipliers)
+    assert np.max(np.abs(lam - lam0)) < 1e-9
+    assert fp.residual <= 1e-12 and np.max(np.abs(P(fp.section).z - fp.section)) < 1e-11
+
+
+def test_kneed_levels_follow_the_residual(rtols):
+    """From the scene's guess (max|F| = 1.7e-2): 1e-6 for the guess, 1e-9 for the first
+    iterate (expected residual 2.9e-4 -> 0.1 * 2.9e-4**2 = 8.4e-9), then the map's 1e-12."""
+    P, z0 = _scene_map("kneed_hsu.toml")
+    fp = find_fixed_point(P, z0)
+    assert fp.success and fp.n_iter == 3
+    assert rtols == [(1e-6, False), (1e-6, True), (1e-9, True), (1e-12, True), (1e-12, True)]
+
+
+def test_guess_at_the_solution_uses_the_own_tolerance(rtols):
+    P, z0 = _scene_map("kneed_hsu.toml")
+    fp = find_fixed_point(P, z0)
+    rtols.clear()
+    again = find_fixed_point(P, fp.section)
+    assert again.success and again.n_iter == 0
+    # the glance shows a residual far too small for a coarse Jacobian stride
+    assert rtols == [(1e-6, False), (1e-12, True)]
+
+
+def test_coarse_evaluation_too_coarse_for_its_residual_is_redone(monkeypatch, rtols):
+    """A residual smaller than predicted: the coarse result is not kept, the point is
+    evaluated again at the rtol for the residual found, and the count includes both."""
+    P, z0 = _scene_map("kneed_hsu.toml")
+    ev = newton._Evaluator(P, 1, None, 10, 1e-12, True)
+    fp = find_fixed_point(P, z0)
+    rtols.clear()
+    f, res = ev.residual(fp.section + 1e-5, True, expect=1.0)  # expects 1, finds ~1e-5
+    assert ev.n_evals == 2
+    r = float(np.max(np.abs(f)))
+    assert 1e-7 < r < 1e-4
+    assert rtols[0] == (1e-6, True) and rtols[1][0] < 1e-6 and rtols[1][0] <= r * r
+    assert res.jac is not None
+
+
+def test_other_methods_and_wrappers_are_never_coarsened(rtols):
+    P, z0 = _scene_map("compass_goswami.toml", method="RK45")
+    assert find_fixed_point(P, z0).success
+    assert {r for r, _ in rtols} == {P.rtol}
+    rtols.clear()
+
+    class Wrapper:  # forwards everything, with_tolerance included, to the StrideMap
+        def __init__(self, inner):
+            self.inner = inner
+
+        def __getattr__(self, name):
+            return getattr(self.inner, name)
+
+        def __call__(self, z, **kwargs):
+            return self.inner(z, **kwargs)
+
+    Q, z0 = _scene_map("compass_goswami.toml")
+    assert find_fixed_point(Wrapper(Q), z0).success
+    assert {r for r, _ in rtols} == {Q.rtol}
+
+
+def test_fd_jacobian_search_is_not_coarsened(rtols):
+    P, z0 = _scene_map("compass_goswami.toml")
+    assert find_fixed_point(P, z0, jacobian="fd").success
+    assert {r for r, _ in rtols} == {P.rtol}
+
+
+def test_with_tolerance_copy():
+    P, _ = _scene_map("compass_goswami.toml")
+    Q = P.with_tolerance(1e-8, 1e-9)
+    assert (Q.rtol, Q.atol) == (1e-8, 1e-9) and (P.rtol, P.atol) == (1e-12, 1e-12)
+    assert Q.params is P.params and Q.model is P.model and Q.method == P.method
+    assert P.with_tolerance(1e-8, 1e-9) is Q  # kept: its compiled run is prepared once
+    z = P.project(load_scene(GAITS / "compass_goswami.toml").state)
+    same = StrideMap(P.model, P.params, rtol=1e-8, atol=1e-9, t_max=P.t_max)
+    np.testing.assert_array_equal(Q(z).z, same(z).z)
+    with pytest.raises(ValueError, match="`rtol` must be"):
+        P.with_tolerance(1e-20, 1e-12)
+    with pytest.raises(ValueError, match="`atol` must be"):
+        P.with_tolerance(1e-8, -1.0)
+    # a copy at other parameters, or a pickled map, keeps no tolerance copies of this one
+    assert "_tolerances" not in P.with_parameter(0.01).__dict__
+    assert "_tolerances" not in pickle.loads(pickle.dumps(P)).__dict__
+
+
+def test_failing_coarse_stride_is_redone_at_the_own_tolerance(monkeypatch):
+    """A coarse stride that fails decides nothing: the map's own tolerance says for sure."""
+    from walker.results import MapResult
+    from walker.status import Status
+
+    P, z0 = _scene_map("kneed_hsu.toml")
+    call = StrideMap.__call__
+    seen = []
+
+    def coarse_falls(self, z, **kwargs):
+        seen.append(self.rtol)
+        if self.rtol != P.rtol:
+            nan = np.full(3, np.nan)
+            return MapResult(Status.FELL_FORWARD, nan, None, 0.0, np.full(6, np.nan))
+        return call(self, z, **kwargs)
+
+    monkeypatch.setattr(StrideMap, "__call__", coarse_falls)
+    ev = newton._Evaluator(P, 1, None, 10, 1e-12, True)
+    assert ev.glance(z0) is None  # no coarse look: the guess gets the map's own tolerance
+    f, res = ev.residual(z0, True, expect=1.0)
+    assert res.success and f is not None and ev.n_evals == 2
+    assert seen == [1e-6, 1e-6, P.rtol]
+    fp = find_fixed_point(P, z0)
+    assert fp.success and fp.residual <= 1e-12
