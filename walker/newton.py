@@ -20,12 +20,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from walker import _hybrid
 from walker.region import WalkingRegion
 from walker.results import MapResult
 from walker.sectionmap import map_jacobian, map_value
 from walker.status import Status
 
 __all__ = ["NewtonResult", "default_max_evals", "solve_fixed_point"]
+
+_frombuffer = np.frombuffer  # a float64 array on a bytearray of walker._hybrid, no copy
 
 # Line search: accept a step when the 2-norm of F drops by this fraction of the step length
 # (Armijo condition on the merit ||F||), halving the step at most MAX_HALVINGS times (down to
@@ -43,7 +46,8 @@ LM_GROW = 10.0
 LM_SHRINK = 0.3
 LM_MAX = 1e12
 LM_TRIES = 8
-# A Newton matrix whose condition number exceeds this is treated as singular.
+# A Newton matrix whose condition number (Frobenius, _newton_step) exceeds this is treated
+# as singular.
 COND_MAX = 1e14
 # Coarse early strides (inexact Newton, find_fixed_point only): far from the fixed point a
 # stride need not be integrated to the map's own rtol.  A point whose residual is expected
@@ -150,12 +154,13 @@ def _norm2(v) -> float:
     return math.sqrt(float(v.dot(v)))
 
 
-def _cond2(a) -> float:
-    """The 2-norm condition number of the finite matrix ``a``, as ``np.linalg.cond(a)``
-    computes it (the ratio of its extreme singular values; inf for a singular matrix),
-    without that function's general-purpose overhead (about half its time on a 3 x 3)."""
-    s = np.linalg.svd(a, compute_uv=False)
-    return float(s[0] / s[-1]) if s[-1] > 0.0 else float("inf")
+def _newton_step(a, f):
+    """``(cond, dz)``: ``dz`` solving ``a dz = -f`` by Gaussian elimination with partial
+    pivoting and the Frobenius condition number ``||a||_F ||a^-1||_F`` of the finite matrix
+    ``a`` (at least its 2-norm condition number, at most ``n`` times it), in one compiled
+    call (``walker._hybrid.newton_step``); ``(inf, None)`` for a singular ``a``."""
+    cond, dz = _hybrid.newton_step(a, f)
+    return cond, (None if dz is None else _frombuffer(dz))
 
 
 def _usable_jacobian(res):
@@ -384,10 +389,9 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
         walked = 0  # trial strides that completed
         why_refused = ""
         # --- Newton step, cut to the trust region, with backtracking on ||F||_2 ----------
-        cond = _cond2(a)
+        cond, dz = _newton_step(a, f)
         full_step_status = Status.COMPLETED
-        if np.isfinite(cond) and cond < COND_MAX:
-            dz = np.linalg.solve(a, -f)
+        if cond < COND_MAX:
             length = _max_abs(dz / scale)
             if length > radius:
                 dz *= radius / length

@@ -7,7 +7,8 @@
  * call_state_fn(...)  calls a model's energy / points / start_phase function;
  * basin_points(...)   many starts of a walker's stride map (batch.c), without the GIL;
  * PreparedMap(...)    one start of a walker's stride map per map() call, its settings
- *                     parsed once (_hybridmap.c).
+ *                     parsed once (_hybridmap.c);
+ * newton_step(a, f)   the gait search's Newton step and condition number (walker/newton.py).
  *
  * Plain C API, no numpy: arrays come in through the buffer protocol (C-contiguous float64
  * or int64) and go out as bytearrays that walker/integrate.py views with numpy.frombuffer.
@@ -30,6 +31,7 @@
 #ifndef WK_SOURCE_HASH
 #define WK_SOURCE_HASH "unknown"
 #endif
+#include "wk_common.h"
 #include "wk_models.h"
 #include "wk_system.h"
 
@@ -357,6 +359,73 @@ static PyObject *py_call_state_fn(PyObject *self, PyObject *const *args, Py_ssiz
 }
 
 /* ------------------------------------------------------------------------------------------
+ * newton_step
+ * ------------------------------------------------------------------------------------------ */
+
+PyDoc_STRVAR(newton_step_doc,
+             "newton_step(a, f) -> (cond, dz)\n--\n\n"
+             "The Newton step of walker/newton.py: dz solving a dz = -f (a: C-contiguous\n"
+             "float64 (n, n), f: (n,)) by Gaussian elimination with partial pivoting\n"
+             "(wk_solve_columns), as a bytearray of n float64, and the Frobenius condition\n"
+             "number ||a||_F ||a^-1||_F (>= the 2-norm one, <= n times it), from the inverse\n"
+             "solved with dz.  (inf, None) when a pivot is zero or the solution not finite.");
+
+static PyObject *py_newton_step(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (nargs != 2) {
+        PyErr_Format(PyExc_TypeError, "newton_step() takes 2 arguments, got %zd", nargs);
+        return NULL;
+    }
+    Py_buffer va, vf;
+    if (wkpy_arg_buffer(args[0], "a", 'd', 2, &va)) return NULL;
+    if (wkpy_arg_buffer(args[1], "f", 'd', 1, &vf)) {
+        PyBuffer_Release(&va);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    const Py_ssize_t n = vf.shape[0];
+    if (va.shape[0] != n || va.shape[1] != n || n < 1 || n > 4096) {
+        PyErr_Format(PyExc_ValueError, "`a` must be (n, n) and `f` (n,) with 1 <= n <= 4096");
+        goto out;
+    }
+    const Py_ssize_t nc = n + 1; /* columns of B: -f, then the identity */
+    double *A = PyMem_Malloc((size_t)(n * n + n * nc) * sizeof(double));
+    if (A == NULL) {
+        PyErr_NoMemory();
+        goto out;
+    }
+    double *B = A + n * n;
+    const double *a = (const double *)va.buf, *f = (const double *)vf.buf;
+    double norm_a = 0.0;
+    for (Py_ssize_t i = 0; i < n; i++) {
+        for (Py_ssize_t j = 0; j < n; j++) {
+            A[i * n + j] = a[i * n + j];
+            norm_a += a[i * n + j] * a[i * n + j];
+            B[i * nc + 1 + j] = i == j ? 1.0 : 0.0;
+        }
+        B[i * nc] = -f[i];
+    }
+    if (!wk_solve_columns(A, B, (int)n, (int)nc)) {
+        result = Py_BuildValue("(dO)", (double)INFINITY, Py_None);
+    } else {
+        double norm_inv = 0.0;
+        for (Py_ssize_t i = 0; i < n; i++) {
+            for (Py_ssize_t j = 1; j < nc; j++) norm_inv += B[i * nc + j] * B[i * nc + j];
+            A[i] = B[i * nc]; /* dz, gathered from B's first column */
+        }
+        double cond = sqrt(norm_a) * sqrt(norm_inv);
+        result = Py_BuildValue("(dN)", isfinite(cond) ? cond : (double)INFINITY,
+                               wkpy_bytes_of(A, n, sizeof(double)));
+    }
+    PyMem_Free(A);
+out:
+    PyBuffer_Release(&va);
+    PyBuffer_Release(&vf);
+    return result;
+}
+
+/* ------------------------------------------------------------------------------------------
  * Batches
  * ------------------------------------------------------------------------------------------ */
 
@@ -451,6 +520,8 @@ static PyMethodDef methods[] = {
      basin_points_doc},
     {"call_state_fn", (PyCFunction)(void (*)(void))py_call_state_fn, METH_FASTCALL,
      call_state_fn_doc},
+    {"newton_step", (PyCFunction)(void (*)(void))py_newton_step, METH_FASTCALL,
+     newton_step_doc},
     {NULL, NULL, 0, NULL},
 };
 
