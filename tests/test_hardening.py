@@ -359,7 +359,7 @@ def test_sample_rate_too_high(tmp_path, capsys, compass):
     with pytest.raises(ValueError, match=r"`sample_rate` 1e\+12 Hz .* more than the limit"):
         P.trajectory(z0, sample_rate=1e12)
     for bad in (0, -1.0, float("nan"), float("inf")):
-        with pytest.raises(ValueError, match=r"`sample_rate` must be a positive finite number"):
+        with pytest.raises(ValueError, match=r"`sample_rate` must be positive and finite \[Hz\]"):
             P.trajectory(z0, sample_rate=bad)
     with pytest.raises(TypeError, match=r"`sample_rate` must be a real number"):
         P.trajectory(z0, sample_rate="100")

@@ -1,7 +1,7 @@
 """Checks and scales shared by the simulation and analysis layers (walker.stride,
 walker.fixedpoint, walker.sweep): an argument as a float vector with an error naming it, a
-value's short repr for one-line messages, a sample rate, and a walker's natural time unit.
-Imports nothing of walker, so every layer may use it."""
+value's short repr for one-line messages, a positive number, and a walker's natural time
+unit.  Imports nothing of walker, so every layer may use it."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import numbers
 
 import numpy as np
 
-__all__ = ["as_vector", "sample_rate", "short_repr", "time_scale"]
+__all__ = ["as_vector", "positive", "sample_rate", "short_repr", "time_scale"]
 
 
 def as_vector(value, name: str, length: int | None = None) -> np.ndarray:
@@ -64,17 +64,25 @@ def time_scale(params) -> float:
     return float(np.sqrt(length / params.g))
 
 
-def sample_rate(value) -> float:
-    """``sample_rate`` as a float, or an error naming it."""
+def positive(value, name: str, unit: str = "") -> float:
+    """``value`` as a positive finite float, or an error naming ``name``: a TypeError for what
+    is not a real number, a ValueError otherwise (``unit``, e.g. ``" [Hz]"``, follows the
+    rule in the message)."""
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
-        raise TypeError(f"`sample_rate` must be a real number [Hz], got {type(value).__name__}")
+        raise TypeError(
+            f"`{name}` must be a real number{unit}, got {type(value).__name__} {value!r}"
+        )
     try:
-        rate = float(value)
+        out = float(value)
     except OverflowError:
         raise ValueError(
-            "`sample_rate` must be a positive finite number [Hz], got an integer too large "
-            "for a float"
+            f"`{name}` must be positive and finite{unit}, got an integer too large for a float"
         ) from None
-    if not (math.isfinite(rate) and rate > 0):
-        raise ValueError(f"`sample_rate` must be a positive finite number [Hz], got {value!r}")
-    return rate
+    if not (math.isfinite(out) and out > 0):
+        raise ValueError(f"`{name}` must be positive and finite{unit}, got {out}")
+    return out
+
+
+def sample_rate(value) -> float:
+    """``sample_rate`` [Hz] as a positive finite float, or an error naming it."""
+    return positive(value, "sample_rate", " [Hz]")

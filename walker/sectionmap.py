@@ -13,12 +13,12 @@
 
 from __future__ import annotations
 
-import numbers
 from typing import Protocol, runtime_checkable
 
 import numpy as np
 
 from walker._checks import as_vector
+from walker._checks import positive as validate_positive
 from walker.results import MapResult
 from walker.status import Status
 
@@ -133,21 +133,6 @@ def validate_max_evals(max_evals) -> int | None:
     if isinstance(max_evals, bool) or not isinstance(max_evals, int | np.integer) or max_evals < 1:
         raise ValueError(f"`max_evals` must be None or an integer >= 1, got {max_evals!r}")
     return int(max_evals)
-
-
-def validate_positive(value, name: str) -> float:
-    """``value`` as a positive finite float (a TypeError for a non-real)."""
-    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
-        raise TypeError(f"`{name}` must be a real number, got {type(value).__name__} {value!r}")
-    try:
-        value = float(value)
-    except OverflowError:
-        raise ValueError(
-            f"`{name}` must be positive and finite, got an integer too large for a float"
-        ) from None
-    if not (np.isfinite(value) and value > 0):
-        raise ValueError(f"`{name}` must be positive and finite, got {value}")
-    return value
 
 
 def validate_int(value, name: str, minimum: int) -> int:

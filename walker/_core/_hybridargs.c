@@ -207,3 +207,14 @@ int wkpy_arg_solver(PyObject *const *args, int64_t *method, wk_problem *pb)
         return -1;
     return 0;
 }
+
+int wkpy_arg_buffer_pair(PyObject *const *args, const char *name0, int ndim0, const char *name1,
+                         int ndim1, Py_buffer *view0, Py_buffer *view1)
+{
+    if (wkpy_arg_buffer(args[0], name0, 'd', ndim0, view0)) return -1;
+    if (wkpy_arg_buffer(args[1], name1, 'd', ndim1, view1)) {
+        PyBuffer_Release(view0);
+        return -1;
+    }
+    return 0;
+}

@@ -43,6 +43,11 @@ int wkpy_arg_address(PyObject *o, const char *name, int nullable, uintptr_t *out
  * dimensions.  On success the caller releases ``view``. */
 int wkpy_arg_buffer(PyObject *o, const char *name, char kind, int ndim, Py_buffer *view);
 
+/* Two float64 buffers in a row (as wkpy_arg_buffer, with ``ndim0`` and ``ndim1``
+ * dimensions).  On success the caller releases both; on failure neither is held. */
+int wkpy_arg_buffer_pair(PyObject *const *args, const char *name0, int ndim0, const char *name1,
+                         int ndim1, Py_buffer *view0, Py_buffer *view1);
+
 /* The head that solve() and basin_points() share: args[0..4] the function addresses rhs,
  * guards, reset, jac, ctx into ``fn`` (rhs non-zero, the others 0 for NULL), args[6..8]
  * n_x, n_guards, n_impulse into ``pb`` (their ranges are the caller's to check). */

@@ -330,11 +330,7 @@ static PyObject *py_call_state_fn(PyObject *self, PyObject *const *args, Py_ssiz
         return NULL;
     }
     Py_buffer vx, vp;
-    if (wkpy_arg_buffer(args[1], "x", 'd', 1, &vx)) return NULL;
-    if (wkpy_arg_buffer(args[2], "p", 'd', 1, &vp)) {
-        PyBuffer_Release(&vx);
-        return NULL;
-    }
+    if (wkpy_arg_buffer_pair(args + 1, "x", 1, "p", 1, &vx, &vp)) return NULL;
     PyObject *list = NULL;
     double *out = PyMem_Calloc((size_t)n_out + 1, sizeof(double));
     if (out == NULL) {
@@ -378,11 +374,7 @@ static PyObject *py_newton_step(PyObject *self, PyObject *const *args, Py_ssize_
         return NULL;
     }
     Py_buffer va, vf;
-    if (wkpy_arg_buffer(args[0], "a", 'd', 2, &va)) return NULL;
-    if (wkpy_arg_buffer(args[1], "f", 'd', 1, &vf)) {
-        PyBuffer_Release(&va);
-        return NULL;
-    }
+    if (wkpy_arg_buffer_pair(args, "a", 2, "f", 1, &va, &vf)) return NULL;
     PyObject *result = NULL;
     const Py_ssize_t n = vf.shape[0];
     if (va.shape[0] != n || va.shape[1] != n || n < 1 || n > 4096) {
