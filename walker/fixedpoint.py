@@ -145,7 +145,7 @@ def _finish(section_map, solved: NewtonResult, *, period, parameter, mode, fd_st
         n_iter=solved.n_iter,
         history=np.asarray(solved.history, dtype=float),
         period=period,
-        stable=bool(np.all(np.abs(lam) < 1.0)),
+        stable=bool((np.abs(lam) < 1.0).all()),
         parameters=parameters,
         conventions=conventions,
     )

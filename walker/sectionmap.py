@@ -184,4 +184,6 @@ def eig_sorted(jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Eigenvalues (complex) sorted by decreasing modulus and the matching eigenvector columns."""
     lam, vec = np.linalg.eig(jac)
     order = np.argsort(-np.abs(lam), kind="stable")
-    return lam[order].astype(complex), vec[:, order].astype(complex)
+    if lam.dtype != np.complex128:  # real eigenvalues: numpy returns real arrays
+        lam, vec = lam.astype(complex), vec.astype(complex)
+    return lam[order], vec[:, order]
