@@ -10,7 +10,8 @@ The stress set (each a ``walker find ... --json``):
   ``1 + U(-0.5, 0.5)`` (numpy default_rng, seed ``SEED``), written as the ``[initial] state``
   of a copy of the scene in a temporary directory (some of them converge, to this gait or
   to another one);
-* the reference: ``walker find gaits/kneed_hsu.toml`` (succeeds in 4 evaluations).
+* the reference: ``walker find gaits/kneed_hsu.toml`` (succeeds in 5 evaluations: a coarse
+  stride at the guess, then 4 with the Jacobian).
 
 Measured per case: stride-map evaluations (``StrideMap.__call__`` calls, counted by a
 wrapper), the wall time of ``walker.cli.main`` in this process (interleaved round-robin with

@@ -177,8 +177,24 @@ def test_failing_coarse_stride_is_redone_at_the_own_tolerance(monkeypatch):
     monkeypatch.setattr(StrideMap, "__call__", coarse_falls)
     ev = newton._Evaluator(P, 1, None, 10, 1e-12, True)
     assert ev.glance(z0) is None  # no coarse look: the guess gets the map's own tolerance
+    assert ev.n_evals == 1  # the glance counts
     f, res = ev.residual(z0, True, expect=1.0)
-    assert res.success and f is not None and ev.n_evals == 2
+    assert res.success and f is not None and ev.n_evals == 3
     assert seen == [1e-6, 1e-6, P.rtol]
     fp = find_fixed_point(P, z0)
     assert fp.success and fp.residual <= 1e-12
+
+
+def test_glance_counts_and_is_skipped_on_a_tight_budget(rtols):
+    """The glance at the guess is one evaluation of the budget, and is left out when the
+    budget could not also pay for the guess's own evaluation."""
+    P, z0 = _scene_map("kneed_hsu.toml")
+    ev = newton._Evaluator(P, 1, None, 2, 1e-12, True)
+    assert ev.glance(z0) is not None and ev.n_evals == 1
+    ev = newton._Evaluator(P, 1, None, 1, 1e-12, True)
+    assert ev.glance(z0) is None and ev.n_evals == 0
+    rtols.clear()
+    fp = find_fixed_point(P, z0, max_evals=5)  # the glance and four Jacobian strides
+    assert fp.success and len(rtols) == 5
+    fp = find_fixed_point(P, z0, max_evals=4)
+    assert not fp.success and fp.status.name == "BUDGET_EXHAUSTED"

@@ -192,7 +192,7 @@ def find_fixed_point(
     With the exact Jacobian, a DOP853 :class:`walker.stride.StrideMap` integrates the
     strides of iterates far from the solution at a looser rtol (inexact Newton,
     :data:`walker.newton.COARSE_RHO`): one stride at ``rtol = 1e-6`` without the Jacobian
-    (not counted in ``max_evals``) sizes the guess's residual ``r``, and each point is
+    (counted in ``max_evals``) sizes the guess's residual ``r``, and each point is
     evaluated at the coarsest power-of-ten rtol below ``0.1 r**2`` for the residual ``r``
     expected there, so the stride error stays far below the next iterate's.  The solution,
     its residual and its multipliers always come from strides at the map's own tolerance.
