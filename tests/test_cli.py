@@ -184,3 +184,24 @@ def test_basin_axes_by_name_or_index(tmp_path, capsys):
     code, _, err = _run(capsys, [*base, "--axes", "q,2", "--out", str(tmp_path / "b.h5")])
     assert code == 2
     assert "by index or name (0 q_stance, 1 qd_stance, 2 qd_swing)" in err
+
+
+def test_basin_rtol_sets_the_strides_tolerance_and_is_stored(tmp_path, capsys):
+    base = ["basin", "gaits/compass_goswami.toml", "--n", "4", "--strides", "5", "--quiet"]
+    base += ["--jobs", "1"]
+    code, _, _ = _run(capsys, [*base, "--rtol", "1e-9", "--out", str(tmp_path / "a.h5")])
+    assert code == 0
+    coarse, prov = read(tmp_path / "a.h5")
+    assert prov["basin_rtol"] == 1e-9 and prov["basin_atol"] == 1e-9
+    assert prov["rtol"] == 1e-12  # the scene's, at which the gait was found
+    code, _, _ = _run(capsys, [*base, "--out", str(tmp_path / "b.h5")])
+    fine, prov_fine = read(tmp_path / "b.h5")
+    assert code == 0 and "basin_rtol" not in prov_fine
+    np.testing.assert_array_equal(coarse.outcome, fine.outcome)
+    # resuming with another --rtol is refused (the checkpoint's provenance differs)
+    code, _, err = _run(capsys, [*base, "--rtol", "1e-8", "--out", str(tmp_path / "a.h5")])
+    assert code == 2 and "basin_rtol" in err
+    for bad in ("0", "-1e-9", "nan", "1e-20"):
+        code, _, err = _run(capsys, [*base, f"--rtol={bad}", "--out", str(tmp_path / "c.h5")])
+        assert code == 2 and "--rtol" in err, (bad, err)
+        assert not (tmp_path / "c.h5").exists()
