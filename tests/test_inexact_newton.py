@@ -198,3 +198,21 @@ def test_glance_counts_and_is_skipped_on_a_tight_budget(rtols):
     assert fp.success and len(rtols) == 5
     fp = find_fixed_point(P, z0, max_evals=4)
     assert not fp.success and fp.status.name == "BUDGET_EXHAUSTED"
+
+
+@pytest.mark.parametrize("name", ["kneed_hsu.toml", "compass_goswami.toml"])
+def test_guesses_far_from_the_gait_end_as_without_coarse_strides(name, monkeypatch):
+    """On 40 seeded guesses within +-50 % of the gait, coarse early strides change no status
+    and no gait found (the same fixed point to the stride's own error)."""
+    P, z0 = _scene_map(name)
+    ref = find_fixed_point(P, z0).section
+    rng = np.random.default_rng(1)
+    guesses = [ref * (1 + rng.uniform(-0.5, 0.5, ref.shape)) for _ in range(40)]
+    coarse = [find_fixed_point(P, z) for z in guesses]
+    monkeypatch.setattr(newton, "COARSEST_RTOL", 0.0)
+    fine = [find_fixed_point(P, z) for z in guesses]
+    assert [c.status for c in coarse] == [f.status for f in fine]
+    assert sum(c.success for c in coarse) >= 10  # the set exercises converging searches
+    for c, f in zip(coarse, fine, strict=True):
+        if c.success:
+            assert np.max(np.abs(c.section - f.section)) < 1e-12
