@@ -73,8 +73,9 @@ MAX_EVALS = 60
 # With finite-difference Jacobians each Jacobian costs 2 n_z evaluations more: room for ten.
 FD_EXTRA_JACOBIANS = 10
 # Budget of each search at a sweep point (walker.sweep.sweep_chunk: the warm start, and the
-# retry from the sweep's guess): about 2-3x what a gait needs from a warm start (4-6 on the
-# kneed slope sweep), so a point without a gait costs a few tens of strides at most.
+# retry from the sweep's guess): about 2x what a gait needs from a warm start (5-7 on the
+# kneed slope sweep, the coarse glance included), so a point without a gait costs a few tens
+# of strides at most.
 POINT_MAX_EVALS = 12
 # Natural-continuation correctors (walker.continuation): CORRECTOR_EVALS_PER_ITER
 # evaluations per allowed corrector iteration (a Newton step and one halving).
