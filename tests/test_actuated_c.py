@@ -145,7 +145,13 @@ class Case:
 
 
 CASES = [Case("three_link", three_link, 4, 1000), Case("five_link", five_link, 6, 150)]
-IDS = [c.name for c in CASES]
+# The five_link cases run with the slow tests: their numba reference functions take most of
+# this file's time to compile on a machine without numba's cache (about half of it here), and
+# the other cases check the same compiled glue.
+CASE_PARAMS = [
+    pytest.param(c, id=c.name, marks=pytest.mark.slow if c.name == "five_link" else ())
+    for c in CASES
+]
 
 
 # --------------------------------------------------------------------------------------
@@ -183,7 +189,7 @@ def test_sizes_match_the_modules():
 # --------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("case", CASES, ids=IDS)
+@pytest.mark.parametrize("case", CASE_PARAMS)
 def test_continuous_functions_agree(case):
     c = case.c_model()
     m = case.module
@@ -202,7 +208,7 @@ def test_continuous_functions_agree(case):
     assert saturated > 0  # the saturation branch was reached
 
 
-@pytest.mark.parametrize("case", CASES, ids=IDS)
+@pytest.mark.parametrize("case", CASE_PARAMS)
 def test_start_phase_agrees_at_rest(case):
     """States with joints at rest, where ``start_phase`` chooses stick or slip from the
     forces: the C choice equals numba's, and sticking and slipping from rest both occur."""
@@ -342,7 +348,7 @@ REQUIRED = {
 }
 
 
-@pytest.mark.parametrize("case", CASES, ids=IDS)
+@pytest.mark.parametrize("case", CASE_PARAMS)
 def test_reset_agrees_on_every_branch(case):
     c = case.c_model()
     m = case.module
@@ -502,7 +508,10 @@ def _needs_int_addresses():
     _c_system("three_link")  # HybridSystem takes C addresses
 
 
-@pytest.mark.parametrize("name", list(SCENES))
+@pytest.mark.parametrize(
+    "name",
+    [pytest.param(n, marks=pytest.mark.slow if n == "five_link" else ()) for n in SCENES],
+)
 def test_stride_with_c_model_matches_numba(name):
     """One stride of the scene's gait, bit for bit: final state and time, every event
     (time, guard, post-event state and phase, impulse), the stride's Jacobian and dt/dx0."""

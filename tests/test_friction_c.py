@@ -177,7 +177,13 @@ CASES = [
     Case("double_pendulum", double_pendulum, _double_pendulum_params, (0, 1, 2, 3), None, 3),
     Case("kneed_coulomb", kneed_coulomb, _kneed_params, (0, 1, 2, 7, 8), 12, 4),
 ]
-IDS = [c.name for c in CASES]
+# The kneed_coulomb cases run with the slow tests: their numba reference functions take most of
+# this file's time to compile on a machine without numba's cache (about half of it here), and
+# the other cases check the same compiled glue.
+CASE_PARAMS = [
+    pytest.param(c, id=c.name, marks=pytest.mark.slow if c.name == "kneed_coulomb" else ())
+    for c in CASES
+]
 
 
 def _rest(case, x, rest, rng, base=0):
@@ -229,7 +235,7 @@ def test_registry_lists_the_friction_models():
 # --------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("case", CASES, ids=IDS)
+@pytest.mark.parametrize("case", CASE_PARAMS)
 def test_continuous_functions_agree(case):
     c = case.c_model()
     m = case.module
@@ -294,7 +300,7 @@ def _tie(case, x, p):
     return p
 
 
-@pytest.mark.parametrize("case", CASES, ids=IDS)
+@pytest.mark.parametrize("case", CASE_PARAMS)
 def test_start_phase_agrees(case):
     c = case.c_model()
     m = case.module
@@ -449,7 +455,7 @@ REQUIRED = {
 }
 
 
-@pytest.mark.parametrize("case", CASES, ids=IDS)
+@pytest.mark.parametrize("case", CASE_PARAMS)
 def test_reset_agrees_on_every_branch(case):
     c = case.c_model()
     m = case.module
@@ -492,7 +498,10 @@ RUNS = {
 }
 
 
-@pytest.mark.parametrize("run", list(RUNS))
+@pytest.mark.parametrize(
+    "run",
+    [pytest.param(r, marks=pytest.mark.slow if r == "kneed_coulomb" else ()) for r in RUNS],
+)
 def test_run_with_c_model_matches_numba(run):
     """The scene's stride (walkers) or run to t_max (the pendulum) with the C model, bit for
     bit: final state and time, every event (time, guard, phases, post-event state,
