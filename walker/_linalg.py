@@ -6,7 +6,8 @@ a LAPACK call by its overhead alone.
 """
 
 import numpy as np
-from numba import njit
+
+from walker._jit import njit
 
 
 @njit(cache=True, error_model="numpy")

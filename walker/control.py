@@ -38,8 +38,8 @@ References
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from walker._jit import njit
 from walker._linalg import solve_inplace
 
 __all__ = [

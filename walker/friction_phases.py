@@ -25,8 +25,8 @@ friction-event reset in one base phase, so that a model's own functions only bin
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from walker._jit import njit
 from walker._linalg import solve_inplace
 from walker.friction import (
     STICK,

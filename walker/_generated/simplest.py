@@ -15,7 +15,7 @@ Garcia's simplest walker (limit of the point-mass compass gait).
 
 import math  # noqa: F401
 
-from numba import njit
+from walker._jit import njit
 
 KERNEL_HASH = "780618c2198beadffb0d97746b9f5afe921c180e70d4079c1175e643c2b74945"
 ARGUMENT_ORDER = {'accel': {'q': ('theta', 'phi'), 'qd': ('theta_dot', 'phi_dot'), 'p': ('slope', 'g', 'leg_length', 'damping_ankle')}, 'daccel_dx': {'q': ('theta', 'phi'), 'qd': ('theta_dot', 'phi_dot'), 'p': ('slope', 'g', 'leg_length', 'damping_ankle')}}

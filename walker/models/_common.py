@@ -6,9 +6,9 @@ are generated kernels: ``accel`` and ``accel_jac`` in walker/_generated.)"""
 import math
 
 import numpy as np
-from numba import njit
 
 from walker import friction as fr
+from walker._jit import njit
 from walker._linalg import solve_inplace
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
 

@@ -19,10 +19,10 @@ priority order:
 import math
 
 import numpy as np
-from numba import njit
 
 from walker._generated import compass as K
 from walker._generated import indices as ix
+from walker._jit import njit
 from walker.models._common import (
     FALL_ANGLE,
     FELL_BACKWARD,

@@ -49,12 +49,12 @@ References
 """
 
 import numpy as np
-from numba import njit
 
 from walker import friction as fr
 from walker import friction_phases as frp
 from walker._generated import compass as K
 from walker._generated import indices as ix
+from walker._jit import njit
 from walker.models import compass as _compass
 from walker.models._common import after_base_reset
 from walker.models.compass import (

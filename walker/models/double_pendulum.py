@@ -57,12 +57,12 @@ References
 """
 
 import numpy as np
-from numba import njit
 
 from walker import friction as fr
 from walker import friction_phases as frp
 from walker._generated import double_pendulum as K
 from walker._generated import indices as ix
+from walker._jit import njit
 from walker.params import MODELS
 
 __all__ = [

@@ -71,11 +71,11 @@ its knee (``lift``); ``lift`` sets both accumulators to zero.
 import math
 
 import numpy as np
-from numba import njit
 
 from walker import friction as fr
 from walker._generated import five_link as K
 from walker._generated import indices as ix
+from walker._jit import njit
 from walker.control import controller_torque
 from walker.models._common import (
     FALL_ANGLE,

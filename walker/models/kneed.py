@@ -46,10 +46,10 @@ import dataclasses
 import math
 
 import numpy as np
-from numba import njit
 
 from walker._generated import indices as ix
 from walker._generated import kneed as K
+from walker._jit import njit
 from walker.models._common import (
     FALL_ANGLE,
     FELL_BACKWARD,

@@ -40,12 +40,12 @@ the generated ``dmass``, ``dbias_dq``, ``dbias_dqd`` and the linear viscous forc
 """
 
 import numpy as np
-from numba import njit
 
 from walker import friction as fr
 from walker import friction_phases as frp
 from walker._generated import indices as ix
 from walker._generated import kneed as K
+from walker._jit import njit
 from walker.models import kneed as _kneed
 from walker.models._common import after_base_reset
 from walker.models.kneed import (

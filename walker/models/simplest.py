@@ -33,10 +33,10 @@ Guards, in priority order:
 import math
 
 import numpy as np
-from numba import njit
 
 from walker._generated import indices as ix
 from walker._generated import simplest as K
+from walker._jit import njit
 from walker.models._common import FALL_ANGLE, FELL_BACKWARD, FELL_FORWARD
 from walker.params import MODELS
 from walker.status import EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL

@@ -74,11 +74,11 @@ the numba functions here (``torques``, ``ground_reaction``, ...) return NaN torq
 import math
 
 import numpy as np
-from numba import njit
 
 from walker import friction as fr
 from walker._generated import indices as ix
 from walker._generated import three_link as K
+from walker._jit import njit
 from walker.control import controller_torque
 from walker.models._common import (
     FALL_ANGLE,

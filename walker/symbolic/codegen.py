@@ -609,7 +609,7 @@ def render_module(name: str, kernels, *, doc: str = "", extra: str = "") -> str:
         "",
         "import math  # noqa: F401",
         "",
-        "from numba import njit",
+        "from walker._jit import njit",
         "",
         f'KERNEL_HASH = "{digest}"',
         f"ARGUMENT_ORDER = {seen!r}",

@@ -1,0 +1,128 @@
+"""walker._jit: numba's njit applied on first use, so that importing walker and running the
+compiled path (walker find, walker basin) does not import numba.
+
+The checks that depend on numba not having been imported yet run in a new interpreter
+(``_fresh``): in this process other tests may already have called a numba function.
+"""
+
+import pickle
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from walker import _jit
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _fresh(code: str) -> str:
+    """Run ``code`` in a new interpreter from the repository root; its stdout."""
+    proc = subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        timeout=600,
+    )
+    assert proc.returncode == 0, proc.stderr
+    return proc.stdout
+
+
+def test_find_and_basin_do_not_import_numba():
+    """The compiled path end to end: a kneed fixed point and a small compass basin, through
+    the public API, with numba never imported."""
+    out = _fresh(
+        """
+        import sys
+        from walker import load_scene
+        from walker.basin import basin_map
+        from walker.fixedpoint import find_fixed_point
+        from walker.stride import StrideMap
+
+        for name in ("kneed_hsu", "compass_goswami"):
+            s = load_scene(f"gaits/{name}.toml")
+            c = s.compute
+            P = StrideMap(s.model, s.params, method=c.method, rtol=c.rtol, atol=c.atol,
+                          t_max=c.t_max)
+            fp = find_fixed_point(P, P.project(s.state))
+            assert fp.success, fp.status
+        z = fp.section
+        ranges = tuple((z[a] - 0.01, z[a] + 0.01) for a in (0, 1))
+        bm = basin_map(P, fp, ranges=ranges, n=(3, 3), n_strides=3, progress=False,
+                       executor="serial")
+        assert bm.outcome.shape == (3, 3)
+        print("numba" in sys.modules)
+        """
+    )
+    assert out.strip() == "False"
+
+
+def test_first_call_turns_every_lazy_function_into_a_dispatcher():
+    """Before a call the model functions are LazyJits; the first call (a model rhs whose
+    body calls generated kernels through module globals) compiles, and then the globals of
+    the loaded modules, this script's included, hold numba dispatchers."""
+    out = _fresh(
+        """
+        import sys
+        import numpy as np
+        from walker import _jit
+        from walker.models import compass
+        from walker._generated import compass as K
+        from walker.models.compass import rhs as imported_rhs
+
+        assert type(compass.rhs) is _jit.LazyJit and not _jit.is_live()
+        assert "numba" not in sys.modules
+        x = np.array([0.2, -0.2, -1.0, -0.3])
+        p = np.array([10.0, 5.0, 0.5, 0.5, 0.0, 0.0, 0.0525, 9.81, 0.0, 0.0])
+        dx = np.empty(4)
+        imported_rhs(0, 0.0, x, p, dx)
+        from numba.core.dispatcher import Dispatcher
+        assert _jit.is_live()
+        for fn in (compass.rhs, compass.swing_foot, K.accel, imported_rhs):
+            assert isinstance(fn, Dispatcher), type(fn)
+        ref = np.empty(2)
+        K.accel.py_func(x[:2], x[2:], p, ref)
+        assert np.array_equal(dx[:2], x[2:]) and np.allclose(dx[2:], ref, rtol=1e-14)
+        print("ok")
+        """
+    )
+    assert out.strip() == "ok"
+
+
+def test_lazy_function_calls_and_reads_like_its_dispatcher():
+    """Whether or not numba is in use in this process: a LazyJit kept aside calls through,
+    reads the dispatcher's attributes and pickles by reference."""
+    from walker._generated import compass as K
+
+    kept = [K.mass_matrix]  # kept in a list: not swapped when numba goes live
+    q = np.array([0.2, -0.2])
+    p = np.array([10.0, 5.0, 0.5, 0.5, 0.0, 0.0, 0.0525, 9.81, 0.0, 0.0])
+    out, ref = np.empty((2, 2)), np.empty((2, 2))
+    kept[0](q, p, out)
+    _jit.dispatcher(kept[0]).py_func(q, p, ref)
+    np.testing.assert_array_equal(out, ref)
+    assert kept[0].py_func is _jit.dispatcher(kept[0]).py_func
+    assert kept[0].__name__ == "mass_matrix"
+    assert len(kept[0].signatures) >= 1
+    assert pickle.loads(pickle.dumps(kept[0])) is K.mass_matrix
+
+
+def test_njit_defined_after_first_use_is_a_dispatcher_and_bad_use_is_refused():
+    from numba.core.dispatcher import Dispatcher
+
+    from walker.models import compass
+
+    compass.swing_foot(np.zeros(4), np.zeros(10))  # numba is in use from here on
+
+    @_jit.njit(cache=False)
+    def twice(x):
+        return 2.0 * x
+
+    assert isinstance(twice, Dispatcher) and twice(1.5) == 3.0
+    assert _jit.dispatcher(twice) is twice
+    with pytest.raises(TypeError, match="njit takes a function or keyword options only"):
+        _jit.njit(twice, cache=True)

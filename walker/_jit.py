@@ -1,0 +1,129 @@
+"""numba's ``njit``, applied on first call: importing walker does not import numba.
+
+walker's runtime path is compiled C (:mod:`walker._hybrid`).  The ``@njit`` functions in the
+model modules and in ``walker/_generated/*.py`` are the references the C ports are tested
+against, the bridge for a model without a C port, and a few helpers that some commands call
+(the kneed walker's swing-foot height when a run is stored).  Importing numba takes about
+half a second, which every command and every worker process paid whether or not it called
+one of them; `walker find` and `walker basin` call none.
+
+``njit(**options)(fn)`` returns a :class:`LazyJit` while numba is not in use.  The first call
+of any of them (or the first read of a dispatcher attribute such as ``signatures``) imports
+numba and turns *every* LazyJit made so far into its numba dispatcher, in the order they
+were made, then replaces each LazyJit found in the globals of the loaded modules by its
+dispatcher, before numba compiles anything: numba resolves a jitted function's globals when
+it compiles it and must find dispatchers there.  From then on ``njit`` returns numba's
+dispatcher directly.  numba's options (``cache=True`` and the rest) and its disk cache are
+the same as with ``numba.njit`` at import time.
+"""
+
+from __future__ import annotations
+
+import functools
+import sys
+import threading
+
+__all__ = ["LazyJit", "njit", "dispatcher", "is_live"]
+
+_LOCK = threading.RLock()
+_PENDING: list[LazyJit] = []  # every LazyJit not yet turned into a dispatcher, in order
+_LIVE = False  # numba imported and every LazyJit made so far turned into its dispatcher
+
+
+class LazyJit:
+    """A function to be compiled by ``numba.njit(**options)`` when first used.
+
+    Calls go to the numba dispatcher; so does every attribute the LazyJit itself does not
+    have (``signatures``, ``inspect_types``, ...).  ``py_func`` is the Python function.
+    """
+
+    def __init__(self, fn, options: dict):
+        functools.update_wrapper(self, fn)
+        self.py_func = fn
+        self.options = dict(options)
+        self._dispatcher = None
+
+    def __call__(self, *args, **kwargs):
+        return dispatcher(self)(*args, **kwargs)
+
+    def __getattr__(self, name):
+        if name.startswith("__") or name in ("py_func", "options", "_dispatcher"):
+            raise AttributeError(name)
+        return getattr(dispatcher(self), name)
+
+    def __reduce__(self):
+        # pickled by reference, as a module-level function is (whatever the name then holds)
+        return (_by_name, (self.py_func.__module__, self.py_func.__qualname__))
+
+    def __repr__(self):
+        return f"<LazyJit {self.py_func.__module__}.{self.py_func.__qualname__}>"
+
+
+def _by_name(module: str, qualname: str):
+    import importlib
+
+    obj = importlib.import_module(module)
+    for part in qualname.split("."):
+        obj = getattr(obj, part)
+    return obj
+
+
+def is_live() -> bool:
+    """Whether numba has been imported for walker's functions (by a first call)."""
+    return _LIVE
+
+
+def dispatcher(fn):
+    """The numba dispatcher of ``fn`` (numba imported and every LazyJit compiled-on-call
+    first, if that has not happened yet); anything that is not a LazyJit is returned as
+    it is."""
+    if not isinstance(fn, LazyJit):
+        return fn
+    if fn._dispatcher is None:
+        _go_live()
+    return fn._dispatcher
+
+
+def _go_live() -> None:
+    global _LIVE
+    with _LOCK:
+        if _LIVE:
+            return
+        import numba
+
+        made = list(_PENDING)
+        for lazy in made:
+            lazy._dispatcher = numba.njit(**lazy.options)(lazy.py_func)
+        # Module globals: the functions' own modules, the modules that imported them by
+        # name (tests included).  A LazyJit kept elsewhere (a list, a closure) still calls
+        # through; only numba's typing of globals needs the dispatchers themselves.
+        for module in list(sys.modules.values()):
+            namespace = getattr(module, "__dict__", None)
+            if not isinstance(namespace, dict):
+                continue
+            for key, value in list(namespace.items()):
+                if type(value) is LazyJit and value._dispatcher is not None:
+                    namespace[key] = value._dispatcher
+        _PENDING.clear()
+        _LIVE = True
+
+
+def njit(*args, **options):
+    """``numba.njit`` applied when the function is first used (see the module docstring);
+    ``@njit`` and ``@njit(**options)`` as with numba."""
+    if args:
+        if len(args) != 1 or not callable(args[0]) or options:
+            raise TypeError("njit takes a function or keyword options only")
+        return njit()(args[0])
+
+    def decorate(fn):
+        with _LOCK:
+            if _LIVE:
+                import numba
+
+                return numba.njit(**options)(fn)
+            lazy = LazyJit(fn, options)
+            _PENDING.append(lazy)
+            return lazy
+
+    return decorate
