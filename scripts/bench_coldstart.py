@@ -6,8 +6,10 @@ For every scene in gaits/: ``walker find SCENE`` when its ``[compute] task`` is
 ``fixed_point`` (and the model has strides), ``walker run SCENE`` otherwise.
 
 walker's compiled core is a C extension (``walker._hybrid``) built when the package is
-installed.  numba is still imported by the model modules (the ``@njit`` versions of the
-models and of a few helpers); the method shows any numba function a command still compiles at
+installed.  The ``@njit`` versions of the models and of a few helpers are compiled by numba on
+their first call (walker/_jit.py), and numba is imported only then: one more untimed run per
+scene under ``python -X importtime`` tells whether the command imported numba at all.  The
+method also shows any numba function a command still compiles at
 run time, by name: every run gets ``NUMBA_CACHE_DIR`` set
 to a new empty directory (one per scene); with it set, numba reads and writes compiled
 functions only there and ignores the ``__pycache__/*.nbi|*.nbc`` files next to walker's sources
@@ -81,6 +83,18 @@ def timed_run(argv, env, cwd):
     line = next((ln for ln in out if ln.startswith("status")), "")
     status = line.split(None, 1)[1].split(":")[0].strip() if " " in line else "?"
     return wall, proc.returncode, status
+
+
+def imports_numba(exe, sub, env, cwd) -> bool:
+    """Whether the command imports numba: one untimed run under ``python -X importtime``
+    (whose report names every module imported, one per stderr line ending ``| <module>``)."""
+    head = [sys.executable, "-X", "importtime"]
+    argv = head + (exe[1:] if exe[0] == sys.executable else exe) + sub
+    proc = subprocess.run(argv, env=env, cwd=cwd, capture_output=True, text=True)
+    return any(
+        ln.startswith("import time:") and ln.rsplit("|", 1)[-1].strip() == "numba"
+        for ln in proc.stderr.splitlines()
+    )
 
 
 def delete_numba_caches(pkg_dir: Path) -> int:
@@ -190,6 +204,7 @@ def main(argv=None):
                 w, rc, _ = timed_run(exe + sub, env, tmp)
                 warm.append(w)
                 rc_warm = rc_warm or rc
+            numba_in = imports_numba(exe, sub, env, tmp)
             n_files = sum(1 for _ in cache.rglob("*.nbc"))
             # index files are named <module>.<function>-<line>.py<ver>.nbi
             compiled = sorted({f.name.split("-")[0] for f in cache.rglob("*.nbi")})
@@ -205,13 +220,14 @@ def main(argv=None):
                     "status": status,
                     "cache_files": n_files,
                     "compiled": compiled,
+                    "numba": numba_in,
                 }
             )
             r = rows[-1]
             print(
                 f"{r['command']}: cold {cold:.2f} s, warm {r['warm_median']:.2f} s "
                 f"({cold / r['warm_median']:.2f}x), exit {r['rc']}, {status}, "
-                f"{n_files} numba functions cached {compiled}",
+                f"numba imported: {numba_in}, {n_files} numba functions cached {compiled}",
                 flush=True,
             )
     builds, n_c, cc, build_rc = time_build(n_builds, base_env) if n_builds else ([], 0, "", 0)
@@ -228,6 +244,7 @@ def main(argv=None):
         "cold_over_warm",
         "exit_cold_warm",
         "status",
+        "numba_imported",
         "numba_cache_files",
         "numba_functions",
     ]
@@ -242,6 +259,7 @@ def main(argv=None):
             f"{r['cold'] / r['warm_median']:.2f}",
             r["rc"],
             r["status"],
+            int(r["numba"]),
             r["cache_files"],
             ";".join(r["compiled"]),
         ]
@@ -260,6 +278,7 @@ def main(argv=None):
             "",
             "",
             "",
+            "",
         ]
     )
     for k, b in enumerate(builds):
@@ -273,6 +292,7 @@ def main(argv=None):
                 "",
                 "",
                 build_rc if k == len(builds) - 1 else 0,
+                "",
                 "",
                 "",
                 "",
@@ -295,6 +315,13 @@ def main(argv=None):
         )
     else:
         jit_txt = f"no numba function is compiled in any of the {len(rows)} scene(s)"
+    with_numba = [r["scene"] for r in rows if r["numba"]]
+    numba_txt = (
+        f"numba is imported by {len(with_numba)} of {len(rows)} command(s) "
+        f"({', '.join(with_numba)})"
+        if with_numba
+        else f"none of the {len(rows)} commands imports numba"
+    )
     ratios = [r["cold"] / r["warm_median"] for r in rows]
     build_txt = (
         f" Install-time cost, separately: building the C extension (`python setup.py "
@@ -307,7 +334,7 @@ def main(argv=None):
         f"{head['cold']:.2f} s wall, {head['cold'] / head['warm_median']:.2f}x the warm run "
         f"({head['warm_median']:.2f} s; the interpreter + `import walker.cli` alone: "
         f"{np.median(floor):.2f} s); cold/warm {min(ratios):.2f}-{max(ratios):.2f} over "
-        f"{len(rows)} scene(s); {jit_txt}." + build_txt
+        f"{len(rows)} scene(s); {numba_txt}; {jit_txt}." + build_txt
     )
     how = (
         "every numba cache file under walker's package directory "
@@ -336,9 +363,11 @@ def main(argv=None):
         summary,
         "",
         "walker's compiled core is the C extension `walker._hybrid`, built when the package "
-        "is installed. numba is still imported by the model modules (the `@njit` versions of "
-        "the models and of a few helpers); the method below shows, by name, any numba "
-        "function a command still compiles at run time (last column).",
+        "is installed. The `@njit` versions of the models and of a few helpers are compiled "
+        "by numba on their first call (`walker/_jit.py`), and numba is imported only then: "
+        "the column *numba imported* comes from one more untimed run of each command under "
+        "`python -X importtime`. The method below also shows, by name, any numba function a "
+        "command still compiles at run time (last column).",
         "",
         "Each command runs in a new subprocess (wall time, from a scratch working "
         "directory). **Cold**: the first run with `NUMBA_CACHE_DIR` set to a new, empty "
@@ -353,21 +382,21 @@ def main(argv=None):
         "read by the runs before; one untimed command runs before the first row). " + pyc + ".",
         "",
         "| command | cold | warm, min | warm, median | cold / warm | exit (cold/warm) | "
-        "outcome | numba functions compiled |",
-        "|---|---|---|---|---|---|---|---|",
+        "outcome | numba imported | numba functions compiled |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         md.append(
             f"| `{r['command']}` | {r['cold']:.2f} s | {r['warm_min']:.2f} s | "
             f"{r['warm_median']:.2f} s | {r['cold'] / r['warm_median']:.2f} | {r['rc']} | "
-            f"{r['status']} | {r['cache_files']}"
+            f"{r['status']} | {'yes' if r['numba'] else 'no'} | {r['cache_files']}"
             + (f" ({', '.join(f'`{n}`' for n in r['compiled'])})" if r["compiled"] else "")
             + " |"
         )
     md += [
         "",
         f'The floor, `python -c "import walker.cli"` (interpreter start and the CLI module '
-        "with numpy; numba, scipy and the extension are imported by the commands, not by "
+        "with numpy; scipy and the extension are imported by the commands, not by "
         f"it): min {np.min(floor):.2f} s, median {np.median(floor):.2f} s over "
         f"{len(floor)} runs. Exit status 1 is an expected outcome (e.g. a fall), 0 success "
         "(walker/cli/).",
