@@ -348,6 +348,24 @@ class Penetration:
     phase: int
 
 
+def _swing_foot_rows(x, p):
+    """:func:`swing_foot` and its rate over the rows of ``x`` (n, 6), in numpy (the same
+    formulas, so that ``walker run`` checks a stored run without importing numba):
+    (height, ahead, d height / dt), each (n,)."""
+    shank = p[ix.KNEED_P_SHANK_COM_FROM_FOOT] + p[ix.KNEED_P_SHANK_COM_TO_KNEE]
+    thigh = p[ix.KNEED_P_THIGH_COM_FROM_KNEE] + p[ix.KNEED_P_THIGH_COM_TO_HIP]
+    R = p[_I_R]
+    L = shank + thigh
+    psi = x[:, :3] + p[_I_SLOPE]
+    c, s = np.cos(psi), np.sin(psi)
+    height = (L - R) * c[:, 0] - thigh * c[:, 1] - (shank - R) * c[:, 2]
+    ahead = -(L - R) * s[:, 0] + thigh * s[:, 1] + (shank - R) * s[:, 2]
+    rate = (
+        -(L - R) * s[:, 0] * x[:, 3] + thigh * s[:, 1] * x[:, 4] + (shank - R) * s[:, 2] * x[:, 5]
+    )
+    return height, ahead, rate
+
+
 def deepest_penetration(solution, p) -> Penetration:
     """How deep the swing foot went below the slope along a stored trajectory: what the
     ``"ignore"`` scuffing convention let pass (and, under ``"trip"``, the locked-knee scuffs
@@ -385,13 +403,8 @@ def deepest_penetration(solution, p) -> Penetration:
             "`solution` must hold stored states: simulate with output='full' or 'samples'"
         )
     pa = p.as_array() if hasattr(p, "as_array") else np.ascontiguousarray(p, dtype=np.float64)
-    x = np.ascontiguousarray(traj.x, dtype=np.float64)
-    height = np.empty(len(traj))
-    rate = np.empty(len(traj))
-    ahead = np.empty(len(traj))
-    for i in range(len(traj)):
-        height[i], ahead[i] = swing_foot(x[i], pa)
-        rate[i] = _swing_foot_rate(x[i], pa)
+    x = np.asarray(traj.x, dtype=np.float64)
+    height, ahead, rate = _swing_foot_rows(x, pa)
     best = Penetration(0.0, math.nan, math.nan, math.nan, -1)
     s = np.linspace(0.0, 1.0, 65)
     h00, h10 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s
