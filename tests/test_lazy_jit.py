@@ -126,3 +126,38 @@ def test_njit_defined_after_first_use_is_a_dispatcher_and_bad_use_is_refused():
     assert _jit.dispatcher(twice) is twice
     with pytest.raises(TypeError, match="njit takes a function or keyword options only"):
         _jit.njit(twice, cache=True)
+
+
+def test_without_numba_the_compiled_path_runs_and_a_numba_function_names_the_extra(tmp_path):
+    """numba is optional: with its import blocked, a fixed point and a stored run of the
+    three-link walker work; its torque plot (numba twins) exits 2 with one line naming the
+    function and the extra; a numba function called from the API raises NumbaMissing."""
+    run_file, png = tmp_path / "run.h5", tmp_path / "run.png"
+    out = _fresh(
+        f"""
+        import contextlib, io, sys
+        sys.modules["numba"] = None  # `import numba` raises ImportError
+        from walker import _jit
+        from walker.cli import main
+        from walker.models import compass
+
+        assert main(["find", "gaits/compass_goswami.toml"]) == 0
+        assert main(["run", "gaits/three_link_grizzle.toml", "--out", {str(run_file)!r}]) == 0
+        err = io.StringIO()
+        with contextlib.redirect_stderr(err):
+            code = main(["plot", {str(run_file)!r}, "--out", {str(png)!r}])
+        print("plot", code, err.getvalue().strip().replace("\\n", " | "))
+        try:
+            compass.swing_foot([0.1, -0.1, 0.0, 0.0], [0.0] * 10)
+        except _jit.NumbaMissing as exc:
+            print("api", exc)
+        """
+    )
+    lines = out.strip().splitlines()
+    plot = next(ln for ln in lines if ln.startswith("plot "))
+    api = next(ln for ln in lines if ln.startswith("api "))
+    assert plot.startswith("plot 2 walker: error: "), plot
+    assert "is compiled by numba, which is not installed" in plot and "|" not in plot
+    assert "walker-hybrid[numba]" in plot
+    assert "walker.models.compass.swing_foot is compiled by numba" in api
+    assert "python -m pip install 'walker-hybrid[numba]'" in api

@@ -48,8 +48,9 @@ The pipeline, from a scene file to pictures::
 The numba versions of the models (walker/models/<name>.py, walker/friction.py and
 walker/friction_phases.py, walker/control.py) are the reference the C ports are tested
 against bit for bit, and what the HZD analysis tools (hzd.py) and the actuated walkers'
-torque plots still call.  numba compiles them on their first call (``walker/_jit.py``), so
-the compiled path (``walker find``, ``walker basin``, worker processes) never imports it.
+torque plots still call.  numba, an optional dependency, compiles them on their first call
+(``walker/_jit.py``), so the compiled path (``walker find``, ``walker basin``, worker
+processes) never imports it.
 
 Only ``symbolic`` imports sympy; a simulation derives nothing.
 """

@@ -15,6 +15,10 @@ dispatcher, before numba compiles anything: numba resolves a jitted function's g
 it compiles it and must find dispatchers there.  From then on ``njit`` returns numba's
 dispatcher directly.  numba's options (``cache=True`` and the rest) and its disk cache are
 the same as with ``numba.njit`` at import time.
+
+numba is an optional dependency (the ``numba`` extra; the ``test`` extra brings it too).
+Without it the first call raises :class:`NumbaMissing`, an ImportError that names the
+function and the command that installs numba; ``walker`` commands print it as one line.
 """
 
 from __future__ import annotations
@@ -23,7 +27,15 @@ import functools
 import sys
 import threading
 
-__all__ = ["LazyJit", "njit", "dispatcher", "is_live"]
+__all__ = ["LazyJit", "NumbaMissing", "njit", "dispatcher", "is_live"]
+
+NUMBA_EXTRA = "python -m pip install 'walker-hybrid[numba]'"
+
+
+class NumbaMissing(ImportError):
+    """A numba function was called and numba is not installed (an optional dependency:
+    walker's compiled path never needs it)."""
+
 
 _LOCK = threading.RLock()
 _PENDING: list[LazyJit] = []  # every LazyJit not yet turned into a dispatcher, in order
@@ -80,16 +92,23 @@ def dispatcher(fn):
     if not isinstance(fn, LazyJit):
         return fn
     if fn._dispatcher is None:
-        _go_live()
+        _go_live(fn)
     return fn._dispatcher
 
 
-def _go_live() -> None:
+def _go_live(first: LazyJit) -> None:
     global _LIVE
     with _LOCK:
         if _LIVE:
             return
-        import numba
+        try:
+            import numba
+        except ImportError as exc:
+            name = f"{first.py_func.__module__}.{first.py_func.__qualname__}"
+            raise NumbaMissing(
+                f"{name} is compiled by numba, which is not installed: walker's compiled "
+                f"path does not need it, this function does ({NUMBA_EXTRA})"
+            ) from exc
 
         made = list(_PENDING)
         for lazy in made:
@@ -119,7 +138,7 @@ def njit(*args, **options):
     def decorate(fn):
         with _LOCK:
             if _LIVE:
-                import numba
+                import numba  # imported already: _LIVE
 
                 return numba.njit(**options)(fn)
             lazy = LazyJit(fn, options)
