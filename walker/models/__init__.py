@@ -59,8 +59,8 @@ class WalkerModel:
     swing_scuff: str = "trip"
 
     def __reduce__(self):
-        # Pickle by name and convention: the compiled functions are rebuilt (from numba's
-        # disk cache) in the receiving process, so models and stride maps travel to worker
+        # Pickle by name and convention: the receiving process looks the model up again (its
+        # compiled functions are the extension's), so models and stride maps travel to worker
         # processes.
         return (get_model, (self.name, self.swing_scuff))
 
