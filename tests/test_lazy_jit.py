@@ -161,3 +161,44 @@ def test_without_numba_the_compiled_path_runs_and_a_numba_function_names_the_ext
     assert "walker-hybrid[numba]" in plot
     assert "walker.models.compass.swing_foot is compiled by numba" in api
     assert "python -m pip install 'walker-hybrid[numba]'" in api
+
+
+def test_a_hybrid_system_of_numba_twins_not_yet_compiled_is_bridged():
+    """A HybridSystem made of a model module's functions while they are still LazyJits
+    (numba not yet in use) is bridged to the C integrator like numba dispatchers: one
+    compass stride bit for bit as the compiled general entry (its C port, tests/
+    test_models_c.py)."""
+    out = _fresh(
+        """
+        import numpy as np
+        from walker import _jit, load_scene
+        from walker.integrate import HybridSystem, hybrid_solve
+        from walker.models import compass, get_model
+
+        assert type(compass.rhs) is _jit.LazyJit and not _jit.is_live()
+        compiled = get_model("compass").system
+        twins = HybridSystem(
+            name="compass twins", n_x=4, n_phases=1, n_guards=3, n_impulse=2,
+            directions=compass.DIRECTIONS, phase_names=compass.PHASE_NAMES,
+            guard_names=compass.GUARD_NAMES, n_params=10,
+            rhs=compass.rhs, guards=compass.guards, reset=compass.reset, jac=compass.jac,
+        )
+        s = load_scene("gaits/compass_goswami.toml")
+        p = s.params.as_array()
+        a = hybrid_solve(compiled, s.state, p, rtol=1e-12, atol=1e-12, jacobian=True)
+        b = hybrid_solve(twins, s.state, p, rtol=1e-12, atol=1e-12, jacobian=True)
+        assert a.status == b.status and a.n_strides == b.n_strides == 1
+        assert np.array_equal(a.x, b.x) and a.t == b.t and np.array_equal(a.jac, b.jac)
+        print(_jit.is_live())
+        """
+    )
+    assert out.strip() == "True"
+
+
+def test_a_lazy_function_made_directly_after_numba_is_live_compiles_alone():
+    from walker.models import compass
+
+    compass.swing_foot(np.zeros(4), np.zeros(10))  # numba is in use from here on
+    lazy = _jit.LazyJit(lambda x: x + 1.0, {"cache": False})
+    assert lazy(1.0) == 2.0
+    assert _jit.dispatcher(lazy) is lazy._dispatcher is not None

@@ -93,6 +93,12 @@ def dispatcher(fn):
         return fn
     if fn._dispatcher is None:
         _go_live(fn)
+    if fn._dispatcher is None:  # a LazyJit made directly, not by njit, once numba is live
+        with _LOCK:
+            if fn._dispatcher is None:
+                import numba  # imported already: _go_live
+
+                fn._dispatcher = numba.njit(**fn.options)(fn.py_func)
     return fn._dispatcher
 
 

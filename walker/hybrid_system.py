@@ -35,6 +35,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from walker import _jit
+
 __all__ = ["HybridSystem"]
 
 _FUNCTIONS = ("rhs", "guards", "reset", "jac")
@@ -67,6 +69,8 @@ def _kind_of(fn, name):
         return "int"
     if isinstance(fn, ctypes._CFuncPtr):
         return "ctypes"
+    if isinstance(fn, _jit.LazyJit):  # a walker numba twin, compiled when first bridged
+        return "dispatcher"
     dispatcher = _numba_class("numba.core.dispatcher", "Dispatcher")
     if dispatcher is not None and isinstance(fn, dispatcher):
         return "dispatcher"
@@ -152,7 +156,8 @@ def _compiled(system):
         addresses = []
         keep = []
         for name in _FUNCTIONS:
-            fn = getattr(system, name)
+            # a walker numba twin not yet compiled (walker._jit): its numba dispatcher
+            fn = _jit.dispatcher(getattr(system, name))
             if fn is None:
                 addresses.append(0)
                 continue
