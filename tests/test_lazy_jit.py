@@ -202,3 +202,39 @@ def test_a_lazy_function_made_directly_after_numba_is_live_compiles_alone():
     lazy = _jit.LazyJit(lambda x: x + 1.0, {"cache": False})
     assert lazy(1.0) == 2.0
     assert _jit.dispatcher(lazy) is lazy._dispatcher is not None
+
+
+def test_first_calls_from_two_threads_at_once():
+    """Two threads make the process's first numba calls at the same moment (different
+    models, each calling generated kernels through module globals): both get numba's
+    result."""
+    out = _fresh(
+        """
+        import threading
+        import numpy as np
+        from walker.models import compass, kneed
+
+        start = threading.Barrier(2)
+        results = {}
+
+        def call(name, fn, x, p):
+            start.wait()
+            dx = np.empty(len(x))
+            fn(0, 0.0, x, p, dx)
+            results[name] = bool(np.isfinite(dx).all())
+
+        from walker import load_scene
+
+        jobs = []
+        for name, fn in (("compass", compass.rhs), ("kneed", kneed.rhs)):
+            scene = load_scene(f"gaits/{name}_{'goswami' if name == 'compass' else 'hsu'}.toml")
+            jobs.append((name, fn, np.asarray(scene.state, float), scene.params.as_array()))
+        threads = [threading.Thread(target=call, args=job) for job in jobs]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        print(sorted(results.items()))
+        """
+    )
+    assert out.strip() == "[('compass', True), ('kneed', True)]"

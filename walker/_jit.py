@@ -116,9 +116,8 @@ def _go_live(first: LazyJit) -> None:
                 f"path does not need it, this function does ({NUMBA_EXTRA})"
             ) from exc
 
-        made = list(_PENDING)
-        for lazy in made:
-            lazy._dispatcher = numba.njit(**lazy.options)(lazy.py_func)
+        pending = list(_PENDING)
+        made = {id(lazy): numba.njit(**lazy.options)(lazy.py_func) for lazy in pending}
         # Module globals: the functions' own modules, the modules that imported them by
         # name (tests included).  A LazyJit kept elsewhere (a list, a closure) still calls
         # through; only numba's typing of globals needs the dispatchers themselves.
@@ -127,8 +126,13 @@ def _go_live(first: LazyJit) -> None:
             if not isinstance(namespace, dict):
                 continue
             for key, value in list(namespace.items()):
-                if type(value) is LazyJit and value._dispatcher is not None:
-                    namespace[key] = value._dispatcher
+                if type(value) is LazyJit and id(value) in made:
+                    namespace[key] = made[id(value)]
+        # Only now does a LazyJit hand out its dispatcher (read without the lock by
+        # `dispatcher`): a call from another thread meanwhile waits here, so numba never
+        # compiles a function while a global it reads is still a LazyJit.
+        for lazy in pending:
+            lazy._dispatcher = made[id(lazy)]
         _PENDING.clear()
         _LIVE = True
 
