@@ -2,10 +2,10 @@
 
 walker's runtime path is compiled C (:mod:`walker._hybrid`).  The ``@njit`` functions in the
 model modules and in ``walker/_generated/*.py`` are the references the C ports are tested
-against, the bridge for a model without a C port, and a few helpers that some commands call
-(the kneed walker's swing-foot height when a run is stored).  Importing numba takes about
-half a second, which every command and every worker process paid whether or not it called
-one of them; `walker find` and `walker basin` call none.
+against, the bridge for a model without a C port, and what the HZD tools and the actuated
+walkers' torque figures call.  Importing numba takes about half a second, which every
+command and every worker process paid whether or not it called one of them; finding gaits,
+runs, basins, sweeps and continuation call none.
 
 ``njit(**options)(fn)`` returns a :class:`LazyJit` while numba is not in use.  The first call
 of any of them (or the first read of a dispatcher attribute such as ``signatures``) imports
