@@ -104,7 +104,7 @@ class MapSpec:
     A ``StrideMap`` holds its model's compiled kernels and module, which do not pickle; this
     holds the model name and the map's other fields (parameters dataclass, method,
     tolerances, ...), and :meth:`build` makes the map again in a worker.  Workers keep the
-    last map they built, so a worker rebuilds (and loads numba's on-disk cache) once, not
+    last map they built, so a worker rebuilds it (and prepares its compiled run) once, not
     once per chunk.
 
     Attributes
