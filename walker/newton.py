@@ -263,6 +263,106 @@ class _Evaluator:
         return map_jacobian(self.section_map, z, self.period, self.parameter, mode, fd_step)
 
 
+# The search's ends as walker/_core/newton.h numbers them (WK_SEARCH_*).
+(
+    _C_CONVERGED,
+    _C_OUTSIDE_GUESS,
+    _C_START_FAILS,
+    _C_BUDGET,
+    _C_STALL,
+    _C_NO_DESCENT,
+    _C_DIVERGED,
+    _C_JACOBIAN_FAILED,
+    _C_SINGULAR,
+    _C_MAX_ITER,
+) = range(10)
+
+
+def _compiled_settings(ev, max_iter, fallback) -> tuple:
+    """The search's settings and this module's constants as walker/_core/newton.h's
+    ``wk_search_settings`` reads them."""
+    own = ev.own
+    return (
+        ev.period,
+        float(ev.tol),
+        max_iter,
+        int(bool(fallback)),
+        ev.max_evals,
+        int(own is not None),
+        own[0] if own is not None else 1.0,
+        own[1] if own is not None else 1.0,
+        ARMIJO,
+        LINE_FLAT,
+        COND_MAX,
+        MAX_HALVINGS,
+        LM_START,
+        LM_GROW,
+        LM_SHRINK,
+        LM_MAX,
+        LM_TRIES,
+        TR_START,
+        TR_MAX,
+        STALL_WINDOW,
+        STALL_RATIO,
+        STALL_ALPHA,
+        COARSEST_RTOL,
+        COARSE_RHO,
+        COARSE_KEEP,
+    )
+
+
+def _compiled_search(ev, z0, region, max_iter, fallback) -> NewtonResult | None:
+    """:func:`_search` with the exact Jacobian in one compiled call
+    (``walker._hybrid.PreparedMap.search``, walker/_core/newton.h), for a
+    :class:`~walker.stride.StrideMap` with a compiled call and a region whose energy is
+    compiled; None when it does not apply (the caller then runs :func:`_search`).  The
+    same search: the same decisions, strides, statuses and messages."""
+    section_map, parameter = ev.section_map, ev.parameter
+    finder = getattr(type(section_map), "_compiled_search", None)
+    if finder is None:
+        return None
+    if parameter is not None and parameter != section_map.parameter_value:
+        section_map = section_map.with_parameter(parameter)
+    search = finder(section_map)
+    compiled_region = region.compiled()
+    if search is None or compiled_region is None:
+        return None
+    out = search(z0, region.scale, compiled_region, _compiled_settings(ev, int(max_iter), fallback))
+    if out is None:
+        return None
+    end, status, it, n_evals, refused, why, why_value, why_index, cond, z, history, known = out
+    ev.n_evals = n_evals
+    z = _frombuffer(z)
+    history = _frombuffer(history).tolist()
+    status = Status(status)
+    period = ev.period
+    if end == _C_CONVERGED:
+        if known is not None:
+            t, z_new, x, jac = known
+            n = z.shape[0]
+            jac = _frombuffer(jac).reshape(n, n)
+            known = MapResult(Status.COMPLETED, _frombuffer(z_new), jac, t, _frombuffer(x))
+        return _converged(ev.tol, z, history, it, known)
+    if end == _C_OUTSIDE_GUESS:
+        return _outside_guess(z, region.describe(why, why_value, why_index))
+    if end == _C_START_FAILS:
+        return _start_fails(period, status, z)
+    if end == _C_BUDGET:
+        return _out_of_budget(ev, z, history, it)
+    if end == _C_STALL:
+        return _stalled(ev, z, history, it, True, fallback, "stall")
+    if end == _C_NO_DESCENT:
+        return _stalled(ev, z, history, it, True, fallback, "no_descent")
+    if end == _C_DIVERGED:
+        why_refused = region.describe(why, why_value, why_index) if why else ""
+        return _diverged(ev, z, history, it, status, why_refused, refused)
+    if end == _C_JACOBIAN_FAILED:
+        return _jacobian_failed(status, z, history, it)
+    if end == _C_SINGULAR:
+        return _singular(period, cond, z, history, it)
+    return _not_converged(period, ev.tol, z, history, max_iter)
+
+
 def default_max_evals(n_z: int, mode: str) -> int:
     """The default evaluation budget: ``MAX_EVALS`` with the exact Jacobian, plus room for
     ``FD_EXTRA_JACOBIANS`` central-difference Jacobians (``2 n_z`` evaluations each) with
@@ -314,22 +414,15 @@ def solve_fixed_point(
     if max_evals is None:
         max_evals = default_max_evals(z0.shape[0], mode)
     ev = _Evaluator(section_map, period, parameter, int(max_evals), tol, coarse and mode == "exact")
+    if mode == "exact" and region is not None:
+        solved = _compiled_search(ev, z0, region, max_iter, fallback)
+        if solved is not None:
+            return solved
     state = {"z": z0.copy(), "history": [], "it": 0}
     try:
         return _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback)
     except _OutOfBudget:
-        history = state["history"]
-        last = (
-            f"max|F| = {history[-1]:.3g} at the last accepted iterate"
-            if history
-            else "before the first stride was evaluated"
-        )
-        msg = (
-            f"No period-{period} orbit within the budget of {ev.max_evals} stride-map "
-            f"evaluations (`max_evals`): {last}, iterate {state['it']}. "
-            + _hint(section_map, parameter, budget=True)
-        )
-        return NewtonResult(Status.BUDGET_EXHAUSTED, msg, state["z"], history, state["it"], None)
+        return _out_of_budget(ev, state["z"], state["history"], state["it"])
 
 
 def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
@@ -343,21 +436,12 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
     if gait:
         why = region.outside(z)
         if why is not None:
-            msg = (
-                f"The initial guess lies outside the region where the walker can walk: {why}. "
-                "It was not integrated. Start from a state near a gait: on the command line "
-                "the scene's `[initial] state`, from Python `z0`."
-            )
-            return NewtonResult(Status.OUTSIDE_WALKING_REGION, msg, z, [], 0, None)
+            return _outside_guess(z, why)
     f, res = ev.residual(z, with_jacobian=exact, expect=ev.glance(z))
     jac_here = _usable_jacobian(res) if exact else None
     res_here = res
     if f is None:
-        msg = (
-            f"The starting point fails within {period} stride(s): {res.status.message} "
-            "Start from a state that walks."
-        )
-        return NewtonResult(res.status, msg, z, [], 0, None)
+        return _start_fails(period, res.status, z)
     history = state["history"]
     history.append(_max_abs(f))
     lm = LM_START
@@ -367,8 +451,7 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
         state["it"] = it
         if history[-1] <= tol:
             known = res_here if jac_here is not None else None
-            msg = _converged_message(tol, it, history)
-            return NewtonResult(Status.COMPLETED, msg, z, history, it, known)
+            return _converged(tol, z, history, it, known)
         if it == max_iter:
             break
         if len(poor) >= STALL_WINDOW and all(poor[-STALL_WINDOW:]):
@@ -378,11 +461,7 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
         else:
             _, jac_map, st = ev.jacobian(z, mode, fd_step)
         if jac_map is None:
-            msg = (
-                f"Computing the Jacobian at iterate {it} failed ({st.name}): {st.message} "
-                "Try `jacobian='exact'` or a better initial guess."
-            )
-            return NewtonResult(st, msg, z, history, it, None)
+            return _jacobian_failed(st, z, history, it)
         a = jac_map - eye
         merit = _norm2(f)
         accepted = False
@@ -428,12 +507,7 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
                         break  # flat along the Newton direction: a local minimum of ||F||
                 alpha *= 0.5
         elif not fallback:
-            msg = (
-                f"The Newton matrix DP^{period} - I is singular (condition number {cond:.3g}) "
-                f"at iterate {it}; the orbit may sit at a fold or the map may have no fixed "
-                "point here. Try `fallback=True`, another initial guess, or continuation."
-            )
-            return NewtonResult(Status.LINEAR_SOLVE_FAILED, msg, z, history, it, None)
+            return _singular(period, cond, z, history, it)
         # --- Levenberg–Marquardt fallback when Newton stalls, in the same trust region ----
         if not accepted and fallback:
             jtj = a.T @ a
@@ -492,12 +566,7 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
         res_here = res_try
         history.append(_max_abs(f))
         poor.append(history[-1] > STALL_RATIO * history[-2] or (shortened and alpha <= STALL_ALPHA))
-    msg = (
-        f"Newton did not reach max|P^{period}(z) - z| <= {tol:.3g} in {max_iter} iterations "
-        f"(last residual {history[-1]:.3g}). Try more `max_iter`, a looser `tol`, or a better "
-        "initial guess."
-    )
-    return NewtonResult(Status.NOT_CONVERGED, msg, z, history, max_iter, None)
+    return _not_converged(period, tol, z, history, max_iter)
 
 
 def _stalled(ev, z, history, it, gait, fallback, why):
@@ -543,8 +612,69 @@ def _diverged(ev, z, history, it, full_step_status, why_refused, refused):
     return NewtonResult(Status.DIVERGED, msg, z, history, it, None)
 
 
-def _converged_message(tol, n_iter, history):
-    return (
+# --- How a search ends: the results and messages of both searches ---------------------------
+
+
+def _converged(tol, z, history, it, known) -> NewtonResult:
+    msg = (
         f"Converged: max|P^k(z) - z| = {history[-1]:.3g} <= tol = {tol:.3g} (absolute, section "
-        f"units) after {n_iter} iteration(s)."
+        f"units) after {it} iteration(s)."
     )
+    return NewtonResult(Status.COMPLETED, msg, z, history, it, known)
+
+
+def _out_of_budget(ev, z, history, it) -> NewtonResult:
+    last = (
+        f"max|F| = {history[-1]:.3g} at the last accepted iterate"
+        if history
+        else "before the first stride was evaluated"
+    )
+    msg = (
+        f"No period-{ev.period} orbit within the budget of {ev.max_evals} stride-map "
+        f"evaluations (`max_evals`): {last}, iterate {it}. "
+        + _hint(ev.section_map, ev.parameter, budget=True)
+    )
+    return NewtonResult(Status.BUDGET_EXHAUSTED, msg, z, history, it, None)
+
+
+def _outside_guess(z, why) -> NewtonResult:
+    msg = (
+        f"The initial guess lies outside the region where the walker can walk: {why}. "
+        "It was not integrated. Start from a state near a gait: on the command line "
+        "the scene's `[initial] state`, from Python `z0`."
+    )
+    return NewtonResult(Status.OUTSIDE_WALKING_REGION, msg, z, [], 0, None)
+
+
+def _start_fails(period, status, z) -> NewtonResult:
+    msg = (
+        f"The starting point fails within {period} stride(s): {status.message} "
+        "Start from a state that walks."
+    )
+    return NewtonResult(status, msg, z, [], 0, None)
+
+
+def _jacobian_failed(st, z, history, it) -> NewtonResult:
+    msg = (
+        f"Computing the Jacobian at iterate {it} failed ({st.name}): {st.message} "
+        "Try `jacobian='exact'` or a better initial guess."
+    )
+    return NewtonResult(st, msg, z, history, it, None)
+
+
+def _singular(period, cond, z, history, it) -> NewtonResult:
+    msg = (
+        f"The Newton matrix DP^{period} - I is singular (condition number {cond:.3g}) "
+        f"at iterate {it}; the orbit may sit at a fold or the map may have no fixed "
+        "point here. Try `fallback=True`, another initial guess, or continuation."
+    )
+    return NewtonResult(Status.LINEAR_SOLVE_FAILED, msg, z, history, it, None)
+
+
+def _not_converged(period, tol, z, history, max_iter) -> NewtonResult:
+    msg = (
+        f"Newton did not reach max|P^{period}(z) - z| <= {tol:.3g} in {max_iter} iterations "
+        f"(last residual {history[-1]:.3g}). Try more `max_iter`, a looser `tol`, or a better "
+        "initial guess."
+    )
+    return NewtonResult(Status.NOT_CONVERGED, msg, z, history, max_iter, None)

@@ -37,6 +37,10 @@ STRIDE_MIN_STEPS = 1000
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 _CACHE_PER_MAP = 8
 
+# Why a point lies outside the walking region (WalkingRegion.describe; the codes of
+# walker/_core/newton.h).
+OUT_FALL, OUT_NONFINITE, OUT_WOUND, OUT_ENERGY = 1, 2, 3, 4
+
 # Section coordinate 0 is the stance-leg angle of every shipped walker: name -> coefficient of
 # the slope in its angle from the slope normal (Garcia's theta is measured from the normal;
 # the others from the vertical, counterclockwise, so psi = q + slope).
@@ -168,29 +172,59 @@ class WalkingRegion:
         if self.stance is not None:
             psi = float(z[0]) + self.stance * self.slope
             if not abs(psi) < self.fall_angle:
-                return (
-                    f"the stance leg is {psi:.4g} rad from the slope normal, beyond the fall "
-                    f"angle {self.fall_angle:.4g} rad"
-                )
+                return self.describe(OUT_FALL, psi)
         try:
             x = self._lift(z)
         except (ValueError, ArithmeticError) as exc:
             return f"it has no full state ({exc})"
         xs = x.tolist()
         if not all(map(math.isfinite, xs)):
-            return "its full state is not finite"
+            return self.describe(OUT_NONFINITE)
         q = [abs(v) for v in xs[: self.n_q]]
         i = q.index(max(q))
         if q[i] > self.wound_limit:
-            name = self.model.state_names[i]
-            return f"the angle {name} = {x[i]:.4g} rad is wound beyond pi from the slope normal"
+            return self.describe(OUT_WOUND, xs[i], i)
         kinetic = self.kinetic_potential(x)[0]
         if not kinetic <= self.kinetic_max:
-            return (
-                f"its kinetic energy {kinetic:.4g} J exceeds the bound {self.kinetic_max:.4g} J "
-                "(rates far beyond any gait's)"
-            )
+            return self.describe(OUT_ENERGY, kinetic)
         return None
+
+    def describe(self, why: int, value: float = 0.0, index: int = 0) -> str:
+        """The reason :meth:`outside` gives for the test ``why`` (``OUT_*``) that failed with
+        ``value`` (the stance angle, the wound angle at state ``index``, the kinetic energy):
+        also the words of the compiled gait search's refusals (walker/_core/newton.h)."""
+        if why == OUT_FALL:
+            return (
+                f"the stance leg is {value:.4g} rad from the slope normal, beyond the fall "
+                f"angle {self.fall_angle:.4g} rad"
+            )
+        if why == OUT_NONFINITE:
+            return "its full state is not finite"
+        if why == OUT_WOUND:
+            name = self.model.state_names[index]
+            return f"the angle {name} = {value:.4g} rad is wound beyond pi from the slope normal"
+        return (
+            f"its kinetic energy {value:.4g} J exceeds the bound {self.kinetic_max:.4g} J "
+            "(rates far beyond any gait's)"
+        )
+
+    def compiled(self) -> tuple | None:
+        """The region as walker/_core/newton.h's ``wk_region`` reads it (``(has_stance,
+        stance_offset, fall_angle, n_q, wound_limit, energy address, kinetic_max)``), or None
+        when the kinetic energy has no compiled function."""
+        if self.energy_address is None or self.n_q < 1:
+            return None
+        stance = self.stance is not None
+        offset = self.stance * self.slope if stance else 0.0
+        return (
+            int(stance),
+            float(offset),
+            float(self.fall_angle),
+            self.n_q,
+            float(self.wound_limit),
+            int(self.energy_address),
+            float(self.kinetic_max),
+        )
 
 
 def _cache_of(section_map) -> dict | None:

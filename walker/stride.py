@@ -516,6 +516,20 @@ class StrideMap:
                 kept[key] = new
         return new
 
+    def _compiled_search(self):
+        """``walker._hybrid.PreparedMap.search`` of this map's compiled call (the gait search
+        of :mod:`walker.newton` in one compiled call), or None when the map has no compiled
+        call, or when :meth:`__call__` is not this class's own (a subclass's, or a spy set on
+        the class: the search must then see its strides)."""
+        if type(self).__call__ is not _OWN_CALL:
+            return None
+        cached = self.__dict__.get("_run")
+        if cached is None:
+            self._prepared()
+            cached = self.__dict__["_run"]
+        call = cached[6]
+        return None if call is None else call.__self__.search
+
     def _copy_with(self, **fields) -> StrideMap:
         """A copy with ``fields`` replaced (taken as valid), without the prepared run."""
         new = copy.copy(self)
@@ -696,3 +710,8 @@ class StrideMap:
         check_sample_count(first.t, sample_rate, self.model.n_x, "`sample_rate`")
         times = np.arange(0.0, first.t, 1.0 / sample_rate)
         return simulate(self.model, self.params, x0, output="samples", sample_times=times, **run)
+
+
+# StrideMap.__call__ as defined above: the compiled gait search stands in for it only while
+# it is the class's own (StrideMap._compiled_search).
+_OWN_CALL = StrideMap.__call__

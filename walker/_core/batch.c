@@ -11,9 +11,7 @@
 #define B_LINEAR_SOLVE_FAILED 10
 #define B_OUTSIDE_WALKING_REGION 15
 
-/* x = lift_b + lift_a z with the operations of the models' Python lift: a row's non-zero
- * terms in column order, then the constant added in front (b - z for b + (-1) z). */
-static void lift(const wk_section *sec, int64_t n_x, const double *z, double *x)
+void wk_section_lift(const wk_section *sec, int64_t n_x, const double *z, double *x)
 {
     const int64_t n_z = sec->n_z;
     for (int64_t r = 0; r < n_x; r++) {
@@ -46,7 +44,7 @@ static int converged(const double *z, const double *target, int64_t n, double to
 int64_t wk_section_start(const wk_problem *tmpl, const wk_section *sec, const double *z,
                          double *x0, int64_t *phase0)
 {
-    lift(sec, tmpl->n_x, z, x0);
+    wk_section_lift(sec, tmpl->n_x, z, x0);
     const double psi = z[0] + sec->offset;
     if (!(fabs(psi) < sec->fall_angle)) return psi < 0.0 ? B_FELL_FORWARD : B_FELL_BACKWARD;
     for (int64_t i = 0; i < sec->n_q; i++)

@@ -33,6 +33,10 @@ typedef struct {
     int64_t max_steps;     /* per stride */
 } wk_section;
 
+/* x (n_x,) = lift_b + lift_a z with the operations of the models' Python lift: a row's
+ * non-zero terms in column order, then the constant added in front (b - z for b + (-1) z). */
+void wk_section_lift(const wk_section *sec, int64_t n_x, const double *z, double *x);
+
 /* The start of one stride-map call from section point z (n_z,): x0 (n_x,) receives the
  * lift, then the start checks run in StrideMap.__call__'s order.  Returns 0 when the run
  * may start, in *phase0 (the model's start phase, or 0), else the status of a start that is

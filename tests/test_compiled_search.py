@@ -1,0 +1,169 @@
+"""The gait search in one compiled call (``walker._hybrid.PreparedMap.search``,
+walker/_core/newton.h) against the Python search of :mod:`walker.newton` it stands in for.
+
+For a :class:`~walker.stride.StrideMap` with a compiled call, ``find_fixed_point`` with the
+exact Jacobian runs the whole search in C.  The Python search stays the reference: it runs
+for every other map, and here it is forced by making the compiled search decline.  Both must
+end the same way from the same guess: the same status, message, iterations, history and
+solution (to the last bits, but for the order of a few sums that only the line search's
+comparisons read), and the same multipliers.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import walker.newton as newton
+from walker import load_scene
+from walker.fixedpoint import find_fixed_point
+from walker.status import Status
+from walker.stride import StrideMap
+
+GAITS = Path(__file__).resolve().parents[1] / "gaits"
+
+
+def _scene_map(name):
+    scene = load_scene(GAITS / name)
+    P = StrideMap.from_scene(scene)
+    return P, P.project(scene.state)
+
+
+def _both(monkeypatch, P, z, **kwargs):
+    """(compiled, python) results of find_fixed_point from z."""
+    compiled = find_fixed_point(P, z, **kwargs)
+    with monkeypatch.context() as m:
+        m.setattr(newton, "_compiled_search", lambda *a, **k: None)
+        python = find_fixed_point(P, z, **kwargs)
+    return compiled, python
+
+
+def _assert_same(a, b):
+    assert a.status == b.status
+    assert a.n_iter == b.n_iter
+    np.testing.assert_allclose(a.section, b.section, rtol=0, atol=1e-13)
+    assert len(a.history) == len(b.history)
+    # the last residual of a converged search is rounding noise: compare the others
+    np.testing.assert_allclose(a.history[:-1], b.history[:-1], rtol=1e-9, atol=1e-15)
+    if a.success:
+        np.testing.assert_allclose(a.multipliers, b.multipliers, rtol=0, atol=1e-11)
+        assert a.step_time == pytest.approx(b.step_time, rel=1e-13)
+    else:
+        assert a.message == b.message
+        assert np.isnan(a.multipliers).all() and np.isnan(b.multipliers).all()
+
+
+def test_the_compiled_search_runs_for_a_scene_map():
+    P, z0 = _scene_map("kneed_hsu.toml")
+    assert P._compiled_search() is not None
+    ev = newton._Evaluator(P, 1, None, 60, 1e-12, True)
+    region = newton.WalkingRegion.of(P)
+    region.with_guess(z0)
+    solved = newton._compiled_search(ev, z0, region, 50, True)
+    assert solved is not None and solved.success
+    assert ev.n_evals == 5  # the coarse glance and four Jacobian strides (test_inexact_newton)
+    assert solved.known is not None and solved.known.jac.shape == (3, 3)
+
+
+@pytest.mark.parametrize(
+    "name, kinds",
+    [
+        # statuses the 40 guesses reach: convergence, falls, a trip, the budget
+        ("kneed_hsu.toml", {"COMPLETED", "TRIPPED", "FELL_BACKWARD", "BUDGET_EXHAUSTED"}),
+        ("compass_goswami.toml", {"COMPLETED", "FELL_FORWARD", "FELL_BACKWARD"}),
+    ],
+)
+def test_random_guesses_end_as_the_python_search_does(name, kinds, monkeypatch):
+    P, z0 = _scene_map(name)
+    gait = find_fixed_point(P, z0).section
+    rng = np.random.default_rng(1)
+    guesses = [z0] + [gait * (1 + rng.uniform(-0.5, 0.5, gait.shape)) for _ in range(40)]
+    seen = set()
+    for z in guesses:
+        for kwargs in ({}, {"fallback": False}, {"max_evals": 7}, {"max_iter": 2}):
+            a, b = _both(monkeypatch, P, z, **kwargs)
+            _assert_same(a, b)
+            seen.add(a.status.name)
+    assert kinds <= seen
+
+
+def test_a_guess_outside_the_region_is_refused_by_both(monkeypatch):
+    P, z0 = _scene_map("kneed_hsu.toml")
+    past_fall = z0.copy()
+    past_fall[0] = -1.5  # the stance leg beyond 70 degrees from the slope normal
+    fast = z0.copy()
+    fast[1:] *= 40.0  # rates far beyond any gait's
+    for z, words in [(past_fall, "fall angle"), (fast, "kinetic energy")]:
+        a, b = _both(monkeypatch, P, z)
+        assert a.status == Status.OUTSIDE_WALKING_REGION
+        assert words in a.message
+        _assert_same(a, b)
+
+
+def test_a_search_at_another_parameter_value(monkeypatch):
+    P, z0 = _scene_map("compass_goswami.toml")
+    slope = P.parameter_value * 1.05
+    a, b = _both(monkeypatch, P, z0, parameter=slope)
+    assert a.success
+    _assert_same(a, b)
+    assert a.parameters[P.parameter_name] == slope
+
+
+def test_a_subclass_or_a_spy_on_the_map_gets_the_python_search(monkeypatch):
+    P, z0 = _scene_map("compass_goswami.toml")
+
+    class Counted(StrideMap):
+        calls = 0
+
+        def __call__(self, z, **kwargs):
+            type(self).calls += 1
+            return super().__call__(z, **kwargs)
+
+    counted = Counted(P.model, P.params, rtol=P.rtol, atol=P.atol, t_max=P.t_max)
+    assert counted._compiled_search() is None
+    assert find_fixed_point(counted, z0).success
+    assert Counted.calls > 0
+
+    seen = []
+    call = StrideMap.__call__
+
+    def spy(self, z, **kwargs):
+        seen.append(z)
+        return call(self, z, **kwargs)
+
+    monkeypatch.setattr(StrideMap, "__call__", spy)
+    assert P._compiled_search() is None
+    assert find_fixed_point(P, z0).success
+    assert seen
+
+
+@pytest.mark.parametrize(
+    "name, z, status",
+    [
+        # guesses 105 and 49 of the 200 within +-50 % of the compass gait (numpy seed 1), 82
+        # of the kneed gait's: a Newton step leading out of the walking region, and a
+        # residual stalling at a positive value
+        (
+            "compass_goswami.toml",
+            [0.3164151067628023, -1.2543459016842904, -0.4092292603909765],
+            "DIVERGED",
+        ),
+        (
+            "compass_goswami.toml",
+            [0.27744080194216353, -1.1198096746094885, -0.2448089449334543],
+            "NO_GAIT_NEAR_GUESS",
+        ),
+        (
+            "kneed_hsu.toml",
+            [0.14833625116026924, -0.6628351593526126, -0.07162461674751226],
+            "NO_GAIT_NEAR_GUESS",
+        ),
+    ],
+)
+def test_searches_that_find_no_gait_end_as_the_python_search_does(name, z, status, monkeypatch):
+    P, _ = _scene_map(name)
+    a, b = _both(monkeypatch, P, np.array(z))
+    assert a.status.name == status
+    _assert_same(a, b)

@@ -1,0 +1,480 @@
+/* The gait search in one compiled call: see newton.h.  Each function names the part of
+ * walker/newton.py (or walker/region.py) it follows. */
+#include "newton.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "wk_common.h"
+
+#define S_COMPLETED 0
+#define S_NONFINITE 7
+#define S_OUTSIDE_WALKING_REGION 15
+
+/* One evaluation of the map: status, step time, new section point, final state, Jacobian. */
+typedef struct {
+    int64_t status;
+    double t;
+    double *z;   /* (n_z,) */
+    double *x;   /* (n_x,) */
+    double *jac; /* (n_z, n_z) */
+    int has_jac; /* a finite Jacobian came with it */
+} evaluation;
+
+typedef struct {
+    const wk_functions *fn;
+    const wk_problem *tmpl;
+    const wk_section *sec;
+    const wk_region *reg;
+    const wk_search_settings *set;
+    int64_t n_z, n_x, n_evals;
+    double *x;       /* (n_x,) scratch: a lifted state */
+} search;
+
+/* Return codes of the evaluator besides 0. */
+#define OUT_OF_BUDGET 1
+#define DECLINED 2
+
+static double max_abs(const double *v, int64_t n)
+{
+    double m = fabs(v[0]);
+    for (int64_t i = 1; i < n; i++)
+        if (fabs(v[i]) > m) m = fabs(v[i]);
+    return m;
+}
+
+/* max |v_i| / scale_i, NaN when any term is (numpy's max). */
+static double max_abs_scaled(const double *v, const double *scale, int64_t n)
+{
+    double m = fabs(v[0]) / scale[0];
+    for (int64_t i = 0; i < n; i++) {
+        const double a = fabs(v[i]) / scale[i];
+        if (isnan(a)) return a;
+        if (a > m) m = a;
+    }
+    return m;
+}
+
+static double norm2(const double *v, int64_t n)
+{
+    double s = 0.0;
+    for (int64_t i = 0; i < n; i++) s += v[i] * v[i];
+    return sqrt(s);
+}
+
+static int all_finite(const double *v, int64_t n)
+{
+    for (int64_t i = 0; i < n; i++)
+        if (!isfinite(v[i])) return 0;
+    return 1;
+}
+
+/* WalkingRegion.outside: WK_INSIDE, or why z lies outside (value, index for the message). */
+static int outside(search *s, const double *z, double *value, int64_t *index)
+{
+    const wk_region *reg = s->reg;
+    if (reg->has_stance) {
+        const double psi = z[0] + reg->stance_offset;
+        if (!(fabs(psi) < reg->fall_angle)) {
+            *value = psi;
+            return WK_OUT_FALL;
+        }
+    }
+    double *x = s->x;
+    wk_section_lift(s->sec, s->n_x, z, x);
+    if (!all_finite(x, s->n_x)) return WK_OUT_NONFINITE;
+    int64_t at = 0;
+    double most = fabs(x[0]);
+    for (int64_t i = 1; i < reg->n_q; i++)
+        if (fabs(x[i]) > most) {
+            most = fabs(x[i]);
+            at = i;
+        }
+    if (most > reg->wound_limit) {
+        *value = x[at];
+        *index = at;
+        return WK_OUT_WOUND;
+    }
+    double out[4] = {0.0, 0.0, 0.0, 0.0};
+    reg->energy(x, s->tmpl->p, out, NULL);
+    if (!(out[0] <= reg->kinetic_max)) {
+        *value = out[0];
+        return WK_OUT_ENERGY;
+    }
+    return WK_INSIDE;
+}
+
+/* StrideMap.__call__ at rtol `level` (0: the map's own tolerances) into *e. */
+static int evaluate(search *s, const double *z, double level, int want_jac, evaluation *e)
+{
+    const wk_search_settings *set = s->set;
+    wk_problem pb = *s->tmpl;
+    if (level > 0.0) { /* StrideMap.with_tolerance(level, min(atol * level / rtol, level)) */
+        pb.rtol = level;
+        pb.atol = fmin(set->own_atol * level / set->own_rtol, level);
+    }
+    e->has_jac = 0;
+    e->t = 0.0;
+    int64_t phase0 = 0;
+    const int64_t start = wk_section_start(&pb, s->sec, z, e->x, &phase0);
+    if (start != 0) {
+        e->status = start;
+        return 0;
+    }
+    if (phase0 >= pb.n_phases || !all_finite(e->x, s->n_x)) return DECLINED;
+    wk_result res;
+    const int rc = wk_section_run(s->fn, &pb, s->sec, set->period, want_jac, e->x, phase0, &res);
+    if (rc != WK_OK) {
+        wk_result_free(&res);
+        return DECLINED;
+    }
+    const int64_t n_z = s->n_z;
+    e->status = res.status;
+    e->t = res.t;
+    memcpy(e->x, res.x, (size_t)s->n_x * sizeof(double));
+    if (res.status == S_COMPLETED) {
+        for (int64_t i = 0; i < n_z; i++) e->z[i] = res.x[s->sec->proj[i]];
+        if (want_jac) {
+            for (int64_t i = 0; i < n_z; i++)
+                memcpy(e->jac + i * n_z, res.jac + s->sec->proj[i] * n_z,
+                       (size_t)n_z * sizeof(double));
+            e->has_jac = all_finite(e->jac, n_z * n_z);
+        }
+    }
+    wk_result_free(&res);
+    return 0;
+}
+
+/* newton._residual: F(z) = P^k(z) - z into f; *ok 0 when the stride failed. */
+static int residual_at(search *s, const double *z, double level, int want_jac, evaluation *e,
+                       double *f, int *ok)
+{
+    const int rc = evaluate(s, z, level, want_jac, e);
+    if (rc) return rc;
+    *ok = e->status == S_COMPLETED && all_finite(e->z, s->n_z);
+    if (*ok)
+        for (int64_t i = 0; i < s->n_z; i++) f[i] = e->z[i] - z[i];
+    return 0;
+}
+
+/* _Evaluator._spend */
+static int spend(search *s, int64_t n)
+{
+    if (s->n_evals + n > s->set->max_evals) return OUT_OF_BUDGET;
+    s->n_evals += n;
+    return 0;
+}
+
+/* _Evaluator._coarse_map: the rtol for a point whose residual is expected to be `expect`
+ * (have_expect 0: unknown), 0.0 for the map's own. */
+static double coarse_level(const search *s, int have_expect, double expect)
+{
+    const wk_search_settings *set = s->set;
+    if (!set->coarse || !have_expect || !(expect > 0.0)) return 0.0;
+    const double want = fmin(set->coarse_rho * expect * expect, set->coarsest_rtol);
+    const double level = want > set->own_rtol ? pow(10.0, floor(log10(want))) : 0.0;
+    return level > set->own_rtol ? level : 0.0;
+}
+
+/* _Evaluator.glance: *have 0 when there is no coarse map, no room in the budget or the
+ * stride fails. */
+static int glance(search *s, const double *z, evaluation *e, double *f, int *have, double *r)
+{
+    *have = 0;
+    const double level = coarse_level(s, 1, 1.0);
+    if (level == 0.0 || s->n_evals + 2 > s->set->max_evals) return 0;
+    int rc = spend(s, 1), ok = 0;
+    if (!rc) rc = residual_at(s, z, level, 0, e, f, &ok);
+    if (rc) return rc;
+    if (ok) {
+        *have = 1;
+        *r = max_abs(f, s->n_z);
+    }
+    return 0;
+}
+
+/* _Evaluator.residual */
+static int residual(search *s, const double *z, int want_jac, int have_expect, double expect,
+                    evaluation *e, double *f, int *ok)
+{
+    const wk_search_settings *set = s->set;
+    int rc = spend(s, 1);
+    if (rc) return rc;
+    double level = coarse_level(s, have_expect, expect);
+    if (level > 0.0) {
+        if ((rc = residual_at(s, z, level, want_jac, e, f, ok))) return rc;
+        if (*ok) {
+            const double r = max_abs(f, s->n_z);
+            if (r > set->tol && level <= set->coarse_keep * r * r) return 0;
+            if ((rc = spend(s, 1))) return rc;
+            level = coarse_level(s, 1, r);
+            if (level > 0.0 && r > set->tol) return residual_at(s, z, level, want_jac, e, f, ok);
+        } else if ((rc = spend(s, 1))) {
+            return rc;
+        }
+    }
+    return residual_at(s, z, 0.0, want_jac, e, f, ok);
+}
+
+/* newton._newton_step: dz solving a dz = -f and the Frobenius condition number; returns
+ * INFINITY for a singular a.  A: (n, n) and B: (n, n + 1) workspace. */
+static double newton_step(const double *a, const double *f, int64_t n, double *A, double *B,
+                          double *dz)
+{
+    const int64_t nc = n + 1;
+    double norm_a = 0.0;
+    for (int64_t i = 0; i < n; i++) {
+        for (int64_t j = 0; j < n; j++) {
+            A[i * n + j] = a[i * n + j];
+            norm_a += a[i * n + j] * a[i * n + j];
+            B[i * nc + 1 + j] = i == j ? 1.0 : 0.0;
+        }
+        B[i * nc] = -f[i];
+    }
+    if (!wk_solve_columns(A, B, (int)n, (int)nc)) return INFINITY;
+    double norm_inv = 0.0;
+    for (int64_t i = 0; i < n; i++) {
+        for (int64_t j = 1; j < nc; j++) norm_inv += B[i * nc + j] * B[i * nc + j];
+        dz[i] = B[i * nc];
+    }
+    const double cond = sqrt(norm_a) * sqrt(norm_inv);
+    return isfinite(cond) ? cond : INFINITY;
+}
+
+static void swap(evaluation **a, evaluation **b)
+{
+    evaluation *t = *a;
+    *a = *b;
+    *b = t;
+}
+
+/* The search proper (newton._search for a walker's map and the exact Jacobian); w is the
+ * workspace.  Returns 0, OUT_OF_BUDGET or DECLINED; out says how it ended otherwise. */
+static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search_out *out)
+{
+    const wk_search_settings *set = s->set;
+    const double *scale = s->reg->scale;
+    const int64_t n = s->n_z;
+    double *z = out->z, *z_try = w, *dz = w + n, *f = w + 2 * n, *f_try = w + 3 * n;
+    double *g = w + 4 * n, *a = w + 5 * n, *A = a + n * n, *B = A + n * n;
+    double *jtj = B + n * (n + 1);
+    evaluation *here = &ev[0], *trial = &ev[1], *spare = &ev[2];
+    double *history = out->history;
+    int rc, ok = 0;
+
+    memcpy(z, z0, (size_t)n * sizeof(double));
+    out->it = 0;
+    out->why = outside(s, z, &out->why_value, &out->why_index);
+    if (out->why != WK_INSIDE) {
+        out->end = WK_SEARCH_OUTSIDE_GUESS;
+        return 0;
+    }
+    int have_glance = 0;
+    double glanced = 0.0;
+    if ((rc = glance(s, z, here, f, &have_glance, &glanced))) return rc;
+    if ((rc = residual(s, z, 1, have_glance, glanced, here, f, &ok))) return rc;
+    if (!ok) {
+        out->end = WK_SEARCH_START_FAILS;
+        out->status = here->status;
+        return 0;
+    }
+    int jac_here = here->has_jac;
+    history[out->n_history++] = max_abs(f, n);
+    double lm = set->lm_start, radius = set->tr_start;
+    int64_t poor_run = 0; /* trailing accepted steps that gained little */
+    for (int64_t it = 0; it <= set->max_iter; it++) {
+        out->it = it;
+        const double last = history[out->n_history - 1];
+        if (last <= set->tol) {
+            out->end = WK_SEARCH_CONVERGED;
+            if (jac_here) {
+                out->known = 1;
+                out->known_t = here->t;
+                memcpy(out->known_z, here->z, (size_t)n * sizeof(double));
+                memcpy(out->known_x, here->x, (size_t)s->n_x * sizeof(double));
+                memcpy(out->known_jac, here->jac, (size_t)(n * n) * sizeof(double));
+            }
+            return 0;
+        }
+        if (it == set->max_iter) break;
+        if (poor_run >= set->stall_window) {
+            out->end = WK_SEARCH_STALL;
+            return 0;
+        }
+        const double *jac_map = here->jac;
+        if (!jac_here) { /* _Evaluator.jacobian: at the map's own tolerance */
+            if ((rc = spend(s, 1)) || (rc = evaluate(s, z, 0.0, 1, spare))) return rc;
+            if (spare->status != S_COMPLETED || !spare->has_jac) {
+                out->end = WK_SEARCH_JACOBIAN_FAILED;
+                out->status = spare->status != S_COMPLETED ? spare->status : S_NONFINITE;
+                return 0;
+            }
+            jac_map = spare->jac;
+        }
+        for (int64_t i = 0; i < n * n; i++) a[i] = jac_map[i] - (i % (n + 1) == 0 ? 1.0 : 0.0);
+        const double merit = norm2(f, n);
+        int accepted = 0, shortened = 0;
+        double alpha = 1.0;
+        int64_t refused = 0, walked = 0;
+        int64_t full_step_status = S_COMPLETED;
+        out->why = WK_INSIDE;
+        double why_value = 0.0;
+        int64_t why_index = 0;
+        /* --- Newton step, cut to the trust region, with backtracking on ||F||_2 --------- */
+        const double cond = newton_step(a, f, n, A, B, dz);
+        if (cond < set->cond_max) {
+            const double length = max_abs_scaled(dz, scale, n);
+            if (length > radius)
+                for (int64_t i = 0; i < n; i++) dz[i] *= radius / length;
+            alpha = 1.0;
+            for (int64_t h = 0; h < set->max_halvings; h++) {
+                for (int64_t i = 0; i < n; i++) z_try[i] = z[i] + alpha * dz[i];
+                const int why = outside(s, z_try, &why_value, &why_index);
+                if (why != WK_INSIDE) {
+                    refused++;
+                    if (out->why == WK_INSIDE) {
+                        out->why = why;
+                        out->why_value = why_value;
+                        out->why_index = why_index;
+                    }
+                    if (alpha == 1.0) full_step_status = S_OUTSIDE_WALKING_REGION;
+                    alpha *= 0.5;
+                    continue;
+                }
+                /* a full step should square the residual; a shortened one, less */
+                const double expect = alpha == 1.0 ? last * last : last;
+                if ((rc = residual(s, z_try, alpha == 1.0, 1, expect, trial, f_try, &ok)))
+                    return rc;
+                if (!ok) {
+                    if (alpha == 1.0) full_step_status = trial->status;
+                } else {
+                    walked++;
+                    const double merit_try = norm2(f_try, n);
+                    if (merit_try <= (1 - set->armijo * alpha) * merit) {
+                        accepted = 1;
+                        shortened = alpha < 1.0;
+                        break;
+                    }
+                    if (merit_try <= (1 + set->line_flat) * merit) break; /* flat: a minimum */
+                }
+                alpha *= 0.5;
+            }
+        } else if (!set->fallback) {
+            out->end = WK_SEARCH_SINGULAR;
+            out->cond = cond;
+            return 0;
+        }
+        /* --- Levenberg-Marquardt fallback when Newton stalls, in the same trust region --- */
+        if (!accepted && set->fallback) {
+            for (int64_t i = 0; i < n; i++) {
+                double gi = 0.0;
+                for (int64_t k = 0; k < n; k++) gi += a[k * n + i] * f[k];
+                g[i] = gi;
+                for (int64_t j = 0; j < n; j++) {
+                    double sij = 0.0;
+                    for (int64_t k = 0; k < n; k++) sij += a[k * n + i] * a[k * n + j];
+                    jtj[i * n + j] = sij;
+                }
+            }
+            int64_t tries = 0;
+            while (lm <= set->lm_max && tries < set->lm_tries) {
+                tries++;
+                for (int64_t i = 0; i < n; i++) {
+                    for (int64_t j = 0; j < n; j++) A[i * n + j] = jtj[i * n + j];
+                    A[i * n + i] = jtj[i * n + i] + lm * fmax(jtj[i * n + i], 1e-12);
+                    dz[i] = -g[i];
+                }
+                if (!wk_solve_inplace(A, dz, (int)n)) {
+                    lm *= set->lm_grow;
+                    continue;
+                }
+                const double length = max_abs_scaled(dz, scale, n);
+                if (!isfinite(length)) {
+                    lm *= set->lm_grow;
+                    continue;
+                }
+                if (length > radius)
+                    for (int64_t i = 0; i < n; i++) dz[i] *= radius / length;
+                for (int64_t i = 0; i < n; i++) z_try[i] = z[i] + dz[i];
+                const int why = outside(s, z_try, &why_value, &why_index);
+                if (why != WK_INSIDE) {
+                    refused++;
+                    if (out->why == WK_INSIDE) {
+                        out->why = why;
+                        out->why_value = why_value;
+                        out->why_index = why_index;
+                    }
+                    lm *= set->lm_grow;
+                    continue;
+                }
+                if ((rc = residual(s, z_try, 0, 0, 0.0, trial, f_try, &ok))) return rc;
+                if (ok && norm2(f_try, n) < merit) {
+                    accepted = 1;
+                    lm = fmax(lm * set->lm_shrink, 1e-12);
+                    break;
+                }
+                if (ok) walked++;
+                lm *= set->lm_grow;
+            }
+            if (!accepted && lm > set->lm_max) lm = set->lm_start;
+        }
+        if (!accepted) {
+            out->refused = refused;
+            if (full_step_status != S_COMPLETED && walked == 0) {
+                out->end = WK_SEARCH_DIVERGED;
+                out->status = full_step_status;
+            } else {
+                out->end = WK_SEARCH_NO_DESCENT;
+            }
+            return 0;
+        }
+        for (int64_t i = 0; i < n; i++) dz[i] = z_try[i] - z[i];
+        const double step = max_abs_scaled(dz, scale, n);
+        radius = shortened ? step : fmin(set->tr_max, fmax(radius, 2.0 * step));
+        memcpy(z, z_try, (size_t)n * sizeof(double));
+        memcpy(f, f_try, (size_t)n * sizeof(double));
+        swap(&here, &trial);
+        jac_here = here->has_jac;
+        history[out->n_history++] = max_abs(f, n);
+        const int poor = history[out->n_history - 1] > set->stall_ratio * last ||
+                         (shortened && alpha <= set->stall_alpha);
+        poor_run = poor ? poor_run + 1 : 0;
+    }
+    out->end = WK_SEARCH_MAX_ITER;
+    out->it = set->max_iter;
+    return 0;
+}
+
+int wk_search(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
+              const wk_region *reg, const wk_search_settings *set, const double *z0,
+              wk_search_out *out)
+{
+    const int64_t n = sec->n_z, n_x = tmpl->n_x;
+    const int64_t per_eval = n + n_x + n * n;
+    const int64_t n_work = 5 * n + 3 * n * n + n * (n + 1) + n_x + 3 * per_eval;
+    double *w = malloc((size_t)n_work * sizeof(double));
+    if (w == NULL) return WK_ERR_NOMEM;
+    search s = {fn, tmpl, sec, reg, set, n, n_x, 0, w + 5 * n + 3 * n * n + n * (n + 1)};
+    evaluation ev[3];
+    double *at = s.x + n_x;
+    for (int k = 0; k < 3; k++) {
+        ev[k].z = at;
+        ev[k].x = at + n;
+        ev[k].jac = at + n + n_x;
+        at += per_eval;
+    }
+    out->end = WK_SEARCH_DECLINED;
+    out->status = S_COMPLETED;
+    out->n_history = 0;
+    out->refused = 0;
+    out->known = 0;
+    out->why = WK_INSIDE;
+    out->cond = 0.0;
+    const int rc = run(&s, z0, w, ev, out);
+    if (rc == OUT_OF_BUDGET) out->end = WK_SEARCH_BUDGET;
+    if (rc == DECLINED) out->end = WK_SEARCH_DECLINED;
+    out->n_evals = s.n_evals;
+    free(w);
+    return WK_OK;
+}
