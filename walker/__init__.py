@@ -27,6 +27,7 @@ The pipeline, from a scene file to pictures::
                                      SolveResult, the named record solve returns
                                      (_hybridresult.c), PreparedMap, one stride-map call
                                      (_hybridmap.c; lift, start checks, run in batch.c)
+                                     and the whole gait search (newton.c)
     (run time)   ──► models/         per walker: names, phases, guards, section lift/project;
                                      WalkerModel.system_for(p) picks the compiled variant once
                  ──► integrate.py    hybrid_solve, PreparedRun -> Solution; the C contract

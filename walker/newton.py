@@ -11,6 +11,13 @@ Each step is confined to a trust region in scaled section coordinates
 walker's map is refused without integrating it, and the search stops after ``max_evals``
 map evaluations, when the residual stalls, or when the steps keep leading out of the
 walking region (see :mod:`walker.fixedpoint` for the statuses).
+
+With the exact Jacobian, on a :class:`~walker.stride.StrideMap` with a compiled call, the
+whole search runs in one compiled call (:func:`_compiled_search`,
+``walker._hybrid.PreparedMap.search``, walker/_core/newton.c) without the GIL: the same
+steps, strides, statuses and messages, the constants of this module passed in.  The
+Python search here (:func:`_search`) is its reference and runs for every other map (finite
+differences, toy maps, wrappers, a spy on ``StrideMap.__call__``).
 """
 
 from __future__ import annotations
