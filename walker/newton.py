@@ -662,11 +662,9 @@ def _start_fails(period, status, z) -> NewtonResult:
 
 
 def _jacobian_failed(st, z, history, it) -> NewtonResult:
-    msg = (
-        f"Computing the Jacobian at iterate {it} failed ({st.name}): {st.message} "
-        "Try `jacobian='exact'` or a better initial guess."
-    )
-    return NewtonResult(st, msg, z, history, it, None)
+    what = f"Computing the Jacobian at iterate {it} failed ({st.name}): {st.message}"
+    try_ = "Try `jacobian='exact'` or a better initial guess."
+    return NewtonResult(st, f"{what} {try_}", z, history, it, None)
 
 
 def _singular(period, cond, z, history, it) -> NewtonResult:
@@ -679,9 +677,7 @@ def _singular(period, cond, z, history, it) -> NewtonResult:
 
 
 def _not_converged(period, tol, z, history, max_iter) -> NewtonResult:
-    msg = (
-        f"Newton did not reach max|P^{period}(z) - z| <= {tol:.3g} in {max_iter} iterations "
-        f"(last residual {history[-1]:.3g}). Try more `max_iter`, a looser `tol`, or a better "
-        "initial guess."
-    )
-    return NewtonResult(Status.NOT_CONVERGED, msg, z, history, max_iter, None)
+    what = f"Newton did not reach max|P^{period}(z) - z| <= {tol:.3g} in {max_iter} iterations"
+    last = f"(last residual {history[-1]:.3g})"
+    try_ = "Try more `max_iter`, a looser `tol`, or a better initial guess."
+    return NewtonResult(Status.NOT_CONVERGED, f"{what} {last}. {try_}", z, history, max_iter, None)

@@ -195,6 +195,14 @@ static void prepared_map_dealloc(PreparedMap *self)
     Py_TYPE(self)->tp_free((PyObject *)self);
 }
 
+/* 1 when a method `name` got its `want` positional arguments, else 0 with a TypeError. */
+static int takes(const char *name, Py_ssize_t want, Py_ssize_t nargs)
+{
+    if (nargs == want) return 1;
+    PyErr_Format(PyExc_TypeError, "%s() takes %zd arguments, got %zd", name, want, nargs);
+    return 0;
+}
+
 /* z as n finite float64 values copied to out; 0 when z is anything else (no exception). */
 static int read_point(PyObject *o, int64_t n, double *out)
 {
@@ -246,10 +254,7 @@ PyDoc_STRVAR(prepared_map_map_doc,
 
 static PyObject *prepared_map_map(PreparedMap *self, PyObject *const *args, Py_ssize_t nargs)
 {
-    if (nargs != 3) {
-        PyErr_Format(PyExc_TypeError, "map() takes 3 arguments, got %zd", nargs);
-        return NULL;
-    }
+    if (!takes("map", 3, nargs)) return NULL;
     const wkpy_section *s = &self->s;
     const int64_t n_x = s->pb.n_x, n_z = s->sec.n_z;
     PyObject *jacobian = args[2];
@@ -414,10 +419,7 @@ PyDoc_STRVAR(prepared_map_search_doc,
 
 static PyObject *prepared_map_search(PreparedMap *self, PyObject *const *args, Py_ssize_t nargs)
 {
-    if (nargs != 4) {
-        PyErr_Format(PyExc_TypeError, "search() takes 4 arguments, got %zd", nargs);
-        return NULL;
-    }
+    if (!takes("search", 4, nargs)) return NULL;
     const wkpy_section *s = &self->s;
     const int64_t n_x = s->pb.n_x, n_z = s->sec.n_z;
     wk_region reg;

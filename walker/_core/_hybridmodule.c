@@ -27,6 +27,7 @@
 #include "_hybridbinding.h"
 #include "batch.h"
 #include "hybrid.h"
+#include "newton.h"
 
 #ifndef WK_SOURCE_HASH
 #define WK_SOURCE_HASH "unknown"
@@ -381,35 +382,17 @@ static PyObject *py_newton_step(PyObject *self, PyObject *const *args, Py_ssize_
         PyErr_Format(PyExc_ValueError, "`a` must be (n, n) and `f` (n,) with 1 <= n <= 4096");
         goto out;
     }
-    const Py_ssize_t nc = n + 1; /* columns of B: -f, then the identity */
-    double *A = PyMem_Malloc((size_t)(n * n + n * nc) * sizeof(double));
+    double *A = PyMem_Malloc((size_t)(n * n + n * (n + 1) + n) * sizeof(double));
     if (A == NULL) {
         PyErr_NoMemory();
         goto out;
     }
-    double *B = A + n * n;
-    const double *a = (const double *)va.buf, *f = (const double *)vf.buf;
-    double norm_a = 0.0;
-    for (Py_ssize_t i = 0; i < n; i++) {
-        for (Py_ssize_t j = 0; j < n; j++) {
-            A[i * n + j] = a[i * n + j];
-            norm_a += a[i * n + j] * a[i * n + j];
-            B[i * nc + 1 + j] = i == j ? 1.0 : 0.0;
-        }
-        B[i * nc] = -f[i];
-    }
-    if (!wk_solve_columns(A, B, (int)n, (int)nc)) {
-        result = Py_BuildValue("(dO)", (double)INFINITY, Py_None);
-    } else {
-        double norm_inv = 0.0;
-        for (Py_ssize_t i = 0; i < n; i++) {
-            for (Py_ssize_t j = 1; j < nc; j++) norm_inv += B[i * nc + j] * B[i * nc + j];
-            A[i] = B[i * nc]; /* dz, gathered from B's first column */
-        }
-        double cond = sqrt(norm_a) * sqrt(norm_inv);
-        result = Py_BuildValue("(dN)", isfinite(cond) ? cond : (double)INFINITY,
-                               wkpy_bytes_of(A, n, sizeof(double)));
-    }
+    double *B = A + n * n, *dz = B + n * (n + 1);
+    double cond;
+    if (!wk_newton_step((const double *)va.buf, (const double *)vf.buf, n, A, B, dz, &cond))
+        result = Py_BuildValue("(dO)", cond, Py_None);
+    else
+        result = Py_BuildValue("(dN)", cond, wkpy_bytes_of(dz, n, sizeof(double)));
     PyMem_Free(A);
 out:
     PyBuffer_Release(&va);

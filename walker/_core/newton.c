@@ -217,10 +217,8 @@ static int residual(search *s, const double *z, int want_jac, int have_expect, d
     return residual_at(s, z, 0.0, want_jac, e, f, ok);
 }
 
-/* newton._newton_step: dz solving a dz = -f and the Frobenius condition number; returns
- * INFINITY for a singular a.  A: (n, n) and B: (n, n + 1) workspace. */
-static double newton_step(const double *a, const double *f, int64_t n, double *A, double *B,
-                          double *dz)
+int wk_newton_step(const double *a, const double *f, int64_t n, double *A, double *B,
+                   double *dz, double *cond)
 {
     const int64_t nc = n + 1;
     double norm_a = 0.0;
@@ -232,14 +230,33 @@ static double newton_step(const double *a, const double *f, int64_t n, double *A
         }
         B[i * nc] = -f[i];
     }
-    if (!wk_solve_columns(A, B, (int)n, (int)nc)) return INFINITY;
+    *cond = INFINITY;
+    if (!wk_solve_columns(A, B, (int)n, (int)nc)) return 0;
     double norm_inv = 0.0;
     for (int64_t i = 0; i < n; i++) {
         for (int64_t j = 1; j < nc; j++) norm_inv += B[i * nc + j] * B[i * nc + j];
         dz[i] = B[i * nc];
     }
-    const double cond = sqrt(norm_a) * sqrt(norm_inv);
-    return isfinite(cond) ? cond : INFINITY;
+    const double c = sqrt(norm_a) * sqrt(norm_inv);
+    *cond = isfinite(c) ? c : INFINITY;
+    return 1;
+}
+
+/* A trial point outside the walking region: counted in *refused, the first reason of the
+ * iteration kept in out (why_refused); 0 when z lies inside. */
+static int refused_at(search *s, const double *z, wk_search_out *out, int64_t *refused)
+{
+    double value = 0.0;
+    int64_t index = 0;
+    const int why = outside(s, z, &value, &index);
+    if (why == WK_INSIDE) return 0;
+    ++*refused;
+    if (out->why == WK_INSIDE) {
+        out->why = why;
+        out->why_value = value;
+        out->why_index = index;
+    }
+    return 1;
 }
 
 static void swap(evaluation **a, evaluation **b)
@@ -319,10 +336,9 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
         int64_t refused = 0, walked = 0;
         int64_t full_step_status = S_COMPLETED;
         out->why = WK_INSIDE;
-        double why_value = 0.0;
-        int64_t why_index = 0;
         /* --- Newton step, cut to the trust region, with backtracking on ||F||_2 --------- */
-        const double cond = newton_step(a, f, n, A, B, dz);
+        double cond;
+        wk_newton_step(a, f, n, A, B, dz, &cond);
         if (cond < set->cond_max) {
             const double length = max_abs_scaled(dz, scale, n);
             if (length > radius)
@@ -330,14 +346,7 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
             alpha = 1.0;
             for (int64_t h = 0; h < set->max_halvings; h++) {
                 for (int64_t i = 0; i < n; i++) z_try[i] = z[i] + alpha * dz[i];
-                const int why = outside(s, z_try, &why_value, &why_index);
-                if (why != WK_INSIDE) {
-                    refused++;
-                    if (out->why == WK_INSIDE) {
-                        out->why = why;
-                        out->why_value = why_value;
-                        out->why_index = why_index;
-                    }
+                if (refused_at(s, z_try, out, &refused)) {
                     if (alpha == 1.0) full_step_status = S_OUTSIDE_WALKING_REGION;
                     alpha *= 0.5;
                     continue;
@@ -397,14 +406,7 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
                 if (length > radius)
                     for (int64_t i = 0; i < n; i++) dz[i] *= radius / length;
                 for (int64_t i = 0; i < n; i++) z_try[i] = z[i] + dz[i];
-                const int why = outside(s, z_try, &why_value, &why_index);
-                if (why != WK_INSIDE) {
-                    refused++;
-                    if (out->why == WK_INSIDE) {
-                        out->why = why;
-                        out->why_value = why_value;
-                        out->why_index = why_index;
-                    }
+                if (refused_at(s, z_try, out, &refused)) {
                     lm *= set->lm_grow;
                     continue;
                 }
