@@ -314,3 +314,25 @@ def test_seeded_jacobian_with_adaptive_steps_agrees_to_the_integration_error(sce
     assert np.max(np.abs(seeded - full)) <= 1e-9 * np.max(np.abs(full))
     assert np.max(np.abs(x_s - x)) <= 1e-11
     assert abs(t_s - t) <= 1e-11
+
+
+def test_eig_sorted_gives_the_values_of_numpy_eig(monkeypatch):
+    """eig_sorted calls numpy's eigen kernel directly for a finite float64 matrix: the same
+    eigenvalues and eigenvectors, bit for bit, as through np.linalg.eig (real and complex
+    spectra, 1 x 1 to 6 x 6), and a matrix with a NaN still raises as np.linalg.eig does."""
+    import walker.sectionmap as sectionmap
+
+    rng = np.random.default_rng(0)
+    matrices = []
+    for k in range(300):
+        a = rng.normal(size=(1 + k % 6, 1 + k % 6))
+        matrices.append(a + a.T if k % 2 else a)  # symmetric: every eigenvalue real
+    fast = [sectionmap.eig_sorted(a) for a in matrices]
+    monkeypatch.setattr(sectionmap, "_EIG", None)
+    for a, (lam, vec) in zip(matrices, fast, strict=True):
+        lam_ref, vec_ref = sectionmap.eig_sorted(a)
+        assert lam.dtype == lam_ref.dtype == np.complex128
+        assert np.array_equal(lam, lam_ref) and np.array_equal(vec, vec_ref)
+    monkeypatch.undo()
+    with pytest.raises(np.linalg.LinAlgError):
+        sectionmap.eig_sorted(np.array([[np.nan, 0.0], [0.0, 1.0]]))
