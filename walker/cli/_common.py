@@ -295,6 +295,16 @@ def _resume_hint(exc, flag: str = "--out") -> UsageError:
     return UsageError(f"{flag} {exc.path} exists and {exc.reason}; pass --overwrite to replace it")
 
 
+def jobs_option(p) -> None:
+    """``--jobs``: the worker threads of a grid command (basin, sweep)."""
+    p.add_argument(
+        "--jobs",
+        type=int,
+        default=None,
+        help="worker threads (the compiled strides run in parallel); default: CPU count",
+    )
+
+
 def resumable_options(p) -> None:
     """``--quiet`` and ``--overwrite`` of a command whose ``--out`` checkpoint resumes."""
     p.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -16,6 +16,7 @@ from ._common import (
     _positive_flag,
     _resume_hint,
     _stride_map,
+    jobs_option,
     provenance,
     resumable_options,
     scene_cmd,
@@ -155,12 +156,7 @@ def register(sub) -> None:
         "undecided (convergence to 1e-6 from the --span offsets takes about 25 strides at a "
         "largest |multiplier| of 0.6)",
     )
-    p.add_argument(
-        "--jobs",
-        type=int,
-        default=None,
-        help="worker threads (the compiled strides run in parallel); default: CPU count",
-    )
+    jobs_option(p)
     p.add_argument(
         "--rtol",
         type=float,

@@ -21,6 +21,7 @@ from ._common import (
     _positive_flag,
     _resume_hint,
     _stride_map,
+    jobs_option,
     resumable_options,
 )
 from ._help import add_parser
@@ -337,12 +338,7 @@ def register(sub) -> None:
         default=1,
         help="fixed_point: the gait's period; outcome: strides run at each point",
     )
-    p.add_argument(
-        "--jobs",
-        type=int,
-        default=None,
-        help="worker threads (the compiled strides run in parallel); default: CPU count",
-    )
+    jobs_option(p)
     p.add_argument(
         "--processes",
         action="store_true",
