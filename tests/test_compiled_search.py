@@ -82,7 +82,7 @@ def test_random_guesses_end_as_the_python_search_does(name, kinds, monkeypatch):
     guesses = [z0] + [gait * (1 + rng.uniform(-0.5, 0.5, gait.shape)) for _ in range(40)]
     seen = set()
     for z in guesses:
-        for kwargs in ({}, {"fallback": False}, {"max_evals": 7}, {"max_iter": 2}):
+        for kwargs in ({}, {"fallback": False}, {"max_evals": 7}, {"max_iter": 2}, {"period": 2}):
             a, b = _both(monkeypatch, P, z, **kwargs)
             _assert_same(a, b)
             seen.add(a.status.name)
