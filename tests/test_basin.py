@@ -203,7 +203,8 @@ def test_basin_rejects_failed_fixed_point(toy):
 
 
 # --------------------------------------------------------------- the compiled batch path
-_AFFINE_SCENES = {
+_COMPILED_SCENES = {
+    "simplest": "gaits/simplest_garcia.toml",  # its lift compiled, not affine
     "compass": "gaits/compass_goswami.toml",
     "kneed": "gaits/kneed_hsu.toml",
     "three_link": "gaits/three_link_grizzle.toml",
@@ -229,11 +230,11 @@ class _PythonLoop:
         return self._map(z, **kwargs)
 
 
-@pytest.mark.parametrize("model", sorted(_AFFINE_SCENES))
+@pytest.mark.parametrize("model", sorted(_COMPILED_SCENES))
 def test_compiled_batch_gives_the_python_loops_outcomes(model):
     # Every outcome kind of a real walker (falls, trips, converged, undecided) on a grid
     # around its gait: the compiled row loop and the Python loop agree point for point.
-    scene, P = _walker_map(_AFFINE_SCENES[model])
+    scene, P = _walker_map(_COMPILED_SCENES[model])
     fp = find_fixed_point(P, P.project(scene.state))
     assert fp.success
     assert P.basin_batch(1) is not None
@@ -277,3 +278,22 @@ def test_lift_affine_declarations_hold(module):
         )
         np.testing.assert_array_equal(got, want)
         np.testing.assert_array_equal(mod.lift_jacobian(z, p), a)
+
+
+def test_the_compiled_simplest_lift_is_the_python_lift_bit_for_bit():
+    # the simplest walker's lift is not affine: walker/_core/model_simplest.c compiles it
+    # and its Jacobian (the seed of the variational equations) with the Python operations
+    import walker.models.simplest as simplest
+    from walker import _hybrid
+    from walker.models import get_model
+
+    m = get_model("simplest")
+    lift, lift_jac = m._state_fn("lift"), m._state_fn("lift_jacobian")
+    assert lift is not None and lift_jac is not None
+    rng = np.random.default_rng(5)
+    p = np.array([0.009, 1.0, 1.0, 0.0])
+    for _ in range(200):
+        z = rng.normal(0.0, 1.5, 2)
+        assert _hybrid.call_state_fn(lift, z, p, 4) == simplest.lift(z, p).tolist()
+        want = np.asarray(simplest.lift_jacobian(z, p), dtype=np.float64).ravel().tolist()
+        assert _hybrid.call_state_fn(lift_jac, z, p, 8) == want

@@ -56,6 +56,8 @@ def _assert_same(a, b):
 
 
 def test_the_compiled_search_runs_for_a_scene_map():
+    for name in ("simplest_garcia.toml", "compass_goswami.toml"):
+        assert _scene_map(name)[0]._compiled_search() is not None
     P, z0 = _scene_map("kneed_hsu.toml")
     assert P._compiled_search() is not None
     ev = newton._Evaluator(P, 1, None, 60, 1e-12, True)
@@ -73,6 +75,8 @@ def test_the_compiled_search_runs_for_a_scene_map():
         # statuses the 40 guesses reach: convergence, falls, a trip, the budget
         ("kneed_hsu.toml", {"COMPLETED", "TRIPPED", "FELL_BACKWARD", "BUDGET_EXHAUSTED"}),
         ("compass_goswami.toml", {"COMPLETED", "FELL_FORWARD", "FELL_BACKWARD"}),
+        # a lift that is not affine, compiled (walker/_core/model_simplest.c)
+        ("simplest_garcia.toml", {"COMPLETED", "FELL_FORWARD", "FELL_BACKWARD"}),
     ],
 )
 def test_random_guesses_end_as_the_python_search_does(name, kinds, monkeypatch):

@@ -1,7 +1,8 @@
 """StrideMap.__call__ in one compiled call (issue 12, walker._hybrid.PreparedMap): for a
-model whose lift is affine the lift, the start checks, the stride(s) and the projection run
-in C with the operations of the checked Python path (StrideMap._checked_call), so every
-result is the same bit for bit: status, section point, state, step time and Jacobian.
+model whose lift is affine or compiled (the simplest walker's) the lift, the start checks,
+the stride(s) and the projection run in C with the operations of the checked Python path
+(StrideMap._checked_call), so every result is the same bit for bit: status, section point,
+state, step time and Jacobian.
 """
 
 import pickle
@@ -18,8 +19,9 @@ from walker.stride import StrideMap
 
 ROOT = Path(__file__).resolve().parent.parent
 
-# every shipped scene of a model whose lift is declared affine (LIFT_AFFINE)
+# every shipped scene of a model whose lift is declared affine (LIFT_AFFINE) or compiled
 COMPILED_SCENES = [
+    "gaits/simplest_garcia.toml",  # a lift that is not affine, compiled (models.c)
     "gaits/kneed_hsu.toml",
     "gaits/compass_goswami.toml",
     "gaits/compass_coulomb_goswami.toml",  # joint friction: the start phase from the state
@@ -92,10 +94,11 @@ def test_compiled_call_equals_the_checked_path_bit_for_bit(scene_file):
     assert statuses & {Status.FELL_FORWARD, Status.FELL_BACKWARD}
 
 
-def test_the_checked_path_serves_models_without_an_affine_lift():
-    P, z = _map_and_start("gaits/simplest_garcia.toml")
+def test_the_checked_path_serves_models_without_a_compiled_lift():
+    P, z = _map_and_start("gaits/five_link_hzd.toml")  # its lift solves for the tibia angle
     r = P(z, jacobian=True)
     assert P.__dict__["_run"][6] is None
+    assert P._compiled_search() is None and P.basin_batch() is None
     _same(r, P._checked_call(z, True, 1))
 
 

@@ -56,9 +56,10 @@ def basin_chunk(
 
     Module-level so that it pickles.  Each point ``z = base`` with ``z[axes[0]] = x[j]`` and
     ``z[axes[1]] = y_rows[i]`` is iterated with ``period`` strides per map call.  A map with
-    a compiled batch (:meth:`walker.stride.StrideMap.basin_batch`: the walkers whose lift is
-    affine) runs a row per compiled call without the GIL, with the same outcomes; any other
-    :class:`SectionMap` runs the Python loop.
+    a compiled batch (:meth:`walker.stride.StrideMap.basin_batch`: every shipped walker but
+    the five-link one, whose lift solves for its tibia angle in Python) runs a row per
+    compiled call without the GIL, with the same outcomes; any other :class:`SectionMap`
+    runs the Python loop.
 
     Parameters
     ----------

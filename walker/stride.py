@@ -336,15 +336,29 @@ class StrideMap:
             run = self._new_run(cached, n_strides)
         return run, cached[1], cached[2]
 
+    def _compiled_lift(self):
+        """``(lift, lift_jacobian)``, the addresses of the model's compiled section lift and
+        its Jacobian where the lift is not affine (the simplest walker's), else None."""
+        model = self.model
+        lift, lift_jac = model._state_fn("lift"), model._state_fn("lift_jacobian")
+        return (lift, lift_jac) if lift is not None and lift_jac is not None else None
+
     def _compiled_call_fits(self, fast) -> bool:
         """Can one compiled call (``walker._hybrid.PreparedMap``) do what :meth:`__call__`
-        does, with the same operations?  It can for a model whose lift is affine and whose
-        projection selects components (``fast``, :meth:`_fast_parts`), whose start phase,
-        if any, is compiled, and a ``t_max`` that a double times ``n_strides`` gives as the
-        Python product does (a float, or an int below 2**53)."""
+        does, with the same operations?  It can for a model whose projection selects
+        components and whose lift is affine (``fast``, :meth:`_fast_parts`) or compiled
+        (:meth:`_compiled_lift`), whose start phase, if any, is compiled, and a ``t_max``
+        that a double times ``n_strides`` gives as the Python product does (a float, or an
+        int below 2**53)."""
         model, t_max = self.model, self.t_max
         return (
-            fast[1] is not None
+            (
+                fast[1] is not None
+                or (
+                    self._compiled_lift() is not None
+                    and _selected_components(model, self._p()) is not None
+                )
+            )
             and (
                 model._state_fn("start_phase") is not None
                 or not hasattr(model.module, "start_phase")
@@ -361,8 +375,13 @@ class StrideMap:
         model, p = self.model, cached[1]
         (offset, fall_angle), n_q, wound, _, energy_address, kinetic_limit = cached[2]
         n_z, n_x = model.n_z, model.n_x
-        lift_a = np.ascontiguousarray(model.lift_jacobian(np.zeros(n_z), p), dtype=np.float64)
-        lift_b = np.ascontiguousarray(model.lift(np.zeros(n_z), p), dtype=np.float64)
+        compiled_lift = self._compiled_lift() if cached[5][1] is None else None
+        if compiled_lift is None:  # the affine lift x = lift_a z + lift_b
+            lift_a = np.ascontiguousarray(model.lift_jacobian(np.zeros(n_z), p), dtype=np.float64)
+            lift_b = np.ascontiguousarray(model.lift(np.zeros(n_z), p), dtype=np.float64)
+            compiled_lift = (0, 0)
+        else:  # the model's compiled lift; lift_a and lift_b unused
+            lift_a, lift_b = np.zeros((n_x, n_z)), np.zeros(n_x)
         proj = model.project(np.arange(n_x, dtype=np.float64), p).astype(np.int64)
         solver = (*run._settings[:6], cached[3], run._n_interior)  # max_steps per stride
         checks = (float(offset), float(fall_angle), int(n_q), float(wound))
@@ -377,6 +396,7 @@ class StrideMap:
             *checks,
             model._state_fn("start_phase") or 0,
             float(self.t_max),
+            *compiled_lift,
         )
 
     def _fast_parts(self, p):
@@ -393,15 +413,8 @@ class StrideMap:
         module = model.module
         project = lift_jac = None
         if getattr(module, "LIFT_AFFINE", False):
-            n_x = model.n_x
-            idx = model.project(np.arange(n_x, dtype=np.float64), p)
-            probe = np.linspace(-0.75, 0.5, n_x) + 0.1
-            if (
-                idx.shape == (model.n_z,)
-                and np.array_equal(idx, np.round(idx))
-                and np.array_equal(model.project(probe, p), probe[idx.astype(np.int64)])
-            ):
-                project = idx.astype(np.intp)
+            project = _selected_components(model, p)
+            if project is not None:
                 lift_jac = np.array(
                     model.lift_jacobian(np.zeros(model.n_z), p), dtype=np.float64, order="C"
                 )
@@ -429,18 +442,17 @@ class StrideMap:
         Returns ``run(z0, target, tol, n_strides) -> (outcome, strides)`` that iterates
         every row of ``z0`` (shape ``(m, n_z)``) in one compiled call without the GIL, with
         the operations of the Python loop (lift, start checks, stride, projection), so the
-        outcomes are the same.  None when the model's lift is not declared affine
-        (``LIFT_AFFINE`` in its module) or its start phase is not compiled; the caller then
-        runs the Python loop."""
+        outcomes are the same.  None when the map has no compiled call
+        (:meth:`_compiled_call_fits`: a lift neither affine nor compiled, a projection that
+        does more than select components, a start phase that is not compiled); the caller
+        then runs the Python loop."""
         from walker import _hybrid
 
-        model = self.model
-        if not getattr(model.module, "LIFT_AFFINE", False):
-            return None
-        if model._state_fn("start_phase") is None and hasattr(model.module, "start_phase"):
-            return None
         run, _, _ = self._prepared(period)
-        args = self._section_args(self.__dict__["_run"], run)
+        cached = self.__dict__["_run"]
+        if cached[6] is None:  # no compiled call (_compiled_call_fits)
+            return None
+        args = self._section_args(cached, run)
 
         def points(z0, target, tol, n_strides):
             z0 = np.ascontiguousarray(z0, dtype=np.float64)
@@ -710,6 +722,21 @@ class StrideMap:
         check_sample_count(first.t, sample_rate, self.model.n_x, "`sample_rate`")
         times = np.arange(0.0, first.t, 1.0 / sample_rate)
         return simulate(self.model, self.params, x0, output="samples", sample_times=times, **run)
+
+
+def _selected_components(model, p):
+    """The indices (intp) of the state components the model's projection selects, or None
+    when it does more than select them."""
+    n_x = model.n_x
+    idx = model.project(np.arange(n_x, dtype=np.float64), p)
+    probe = np.linspace(-0.75, 0.5, n_x) + 0.1
+    if (
+        idx.shape == (model.n_z,)
+        and np.array_equal(idx, np.round(idx))
+        and np.array_equal(model.project(probe, p), probe[idx.astype(np.int64)])
+    ):
+        return idx.astype(np.intp)
+    return None
 
 
 # StrideMap.__call__ as defined above: the compiled gait search stands in for it only while

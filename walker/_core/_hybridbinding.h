@@ -77,8 +77,10 @@ PyObject *wkpy_solve_result(const wk_result *res, const wk_problem *pb);
  * first WKPY_SECTION_NARGS arguments: rhs, guards, reset, jac, ctx, directions, n_x,
  * n_guards, n_impulse, p, method, adaptive, rtol, atol, first_step, max_step, max_steps
  * (per stride), n_interior, lift_a, lift_b, proj, offset, fall_angle, n_q, wound, energy,
- * kinetic_limit, start_phase, t_max (per stride); the arrays copied into ``block``. */
-#define WKPY_SECTION_NARGS 29
+ * kinetic_limit, start_phase, t_max (per stride), lift, lift_jacobian (the addresses of a
+ * compiled lift that is not affine, or 0 for the affine lift_a, lift_b); the arrays copied
+ * into ``block``. */
+#define WKPY_SECTION_NARGS 31
 typedef struct {
     wk_functions fn;
     wk_problem pb; /* the template: sizes, p, solver settings */

@@ -1,7 +1,7 @@
 /* walker._hybrid's stride maps: the settings of a walker's section (batch.h) read once from
  * Python, and walker._hybrid.PreparedMap, one stride-map call in one compiled call.
  *
- * wkpy_section_parse reads the 29 arguments that basin_points and PreparedMap share (the
+ * wkpy_section_parse reads the 31 arguments that basin_points and PreparedMap share (the
  * system, the solver settings, the affine lift, the projection and the start checks) into
  * a wkpy_section that owns copies of the arrays.  PreparedMap keeps one, filled when
  * walker.stride.StrideMap prepares its run, so a call parses only z, n_strides and
@@ -45,7 +45,7 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
     wk_functions *fn = &s->fn;
     wk_problem *pb = &s->pb;
     wk_section *sec = &s->sec;
-    uintptr_t a_energy, a_start;
+    uintptr_t a_energy, a_start, a_lift, a_lift_jac;
     int64_t method;
     Py_buffer v_dir, v_p, v_a, v_b, v_proj;
     int have_dir = 0, have_p = 0, have_a = 0, have_b = 0, have_proj = 0, rc = -1;
@@ -60,7 +60,9 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
         wkpy_arg_address(args[25], "energy", 1, &a_energy) ||
         wkpy_arg_double(args[26], "kinetic_limit", &sec->kinetic_limit) ||
         wkpy_arg_address(args[27], "start_phase", 1, &a_start) ||
-        wkpy_arg_double(args[28], "t_max", &sec->t_max))
+        wkpy_arg_double(args[28], "t_max", &sec->t_max) ||
+        wkpy_arg_address(args[29], "lift", 1, &a_lift) ||
+        wkpy_arg_address(args[30], "lift_jacobian", 1, &a_lift_jac))
         return -1;
 
 #define FAIL(exc, ...)                          \
@@ -94,6 +96,8 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
     if (sec->n_q < 0 || sec->n_q > pb->n_x) FAIL(PyExc_ValueError, "`n_q` must be in [0, n_x]");
     if (!(sec->t_max > 0.0 && isfinite(sec->t_max)))
         FAIL(PyExc_ValueError, "`t_max` must be positive and finite");
+    if ((a_lift == 0) != (a_lift_jac == 0))
+        FAIL(PyExc_ValueError, "`lift` and `lift_jacobian` must be given together");
 
     if (wkpy_arg_buffer(args[5], "directions", 'q', 2, &v_dir)) goto out;
     have_dir = 1;
@@ -144,6 +148,8 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
     sec->proj = take(&cursor, &v_proj, sec->n_z);
     sec->energy = (wk_state_fn)a_energy;
     sec->start_phase = (wk_state_fn)a_start;
+    sec->lift = (wk_state_fn)a_lift;
+    sec->lift_jacobian = (wk_state_fn)a_lift_jac;
     rc = 0;
 
 out:
@@ -269,10 +275,12 @@ static PyObject *prepared_map_map(PreparedMap *self, PyObject *const *args, Py_s
     const int want_jac = jacobian == Py_True;
     if (want_jac && s->fn.jac == NULL) Py_RETURN_NONE;
 
-    double small[2 * SMALL_N];
+    /* z, x0 and the seed of a lift that is not affine */
+    const int64_t need = 2 * n_x + (want_jac && s->sec.lift != NULL ? n_x * n_z : 0);
+    double small[4 * SMALL_N];
     double *z = small;
-    if (n_x > SMALL_N) {
-        z = PyMem_Malloc((size_t)(2 * n_x) * sizeof(double));
+    if (need > 4 * SMALL_N) {
+        z = PyMem_Malloc((size_t)need * sizeof(double));
         if (z == NULL) return PyErr_NoMemory();
     }
     double *x0 = z + n_x;
@@ -292,10 +300,18 @@ static PyObject *prepared_map_map(PreparedMap *self, PyObject *const *args, Py_s
         result = Py_NewRef(Py_None);
         goto out;
     }
+    const double *seed = NULL;
+    if (want_jac) {
+        seed = wk_section_seed(&s->sec, n_x, s->pb.p, z, x0 + n_x);
+        if (!wkpy_all_finite(seed, (Py_ssize_t)(n_x * n_z))) { /* the checked path's case */
+            result = Py_NewRef(Py_None);
+            goto out;
+        }
+    }
     wk_result res;
     int rc;
     Py_BEGIN_ALLOW_THREADS
-    rc = wk_section_run(&s->fn, &s->pb, &s->sec, (int64_t)period, want_jac, x0, phase0, &res);
+    rc = wk_section_run(&s->fn, &s->pb, &s->sec, (int64_t)period, seed, x0, phase0, &res);
     Py_END_ALLOW_THREADS
     if (rc == WK_ERR_NOMEM) {
         PyErr_NoMemory();
@@ -492,8 +508,8 @@ PyDoc_STRVAR(prepared_map_doc,
              "PreparedMap(rhs, guards, reset, jac, ctx, directions, n_x, n_guards, n_impulse,\n"
              "    p, method, adaptive, rtol, atol, first_step, max_step, max_steps, n_interior,\n"
              "    lift_a, lift_b, proj, offset, fall_angle, n_q, wound, energy, kinetic_limit,\n"
-             "    start_phase, t_max)\n\n"
-             "A walker's stride map with its settings parsed and copied once (the first 29\n"
+             "    start_phase, t_max, lift, lift_jacobian)\n\n"
+             "A walker's stride map with its settings parsed and copied once (the first 31\n"
              "arguments of basin_points; max_steps and t_max per stride): map() runs one\n"
              "call.  Process-local (it holds function addresses): not picklable.");
 

@@ -240,9 +240,10 @@ static int set_item(PyObject *dict, const char *key, PyObject *value)
 PyDoc_STRVAR(models_doc,
              "models()\n--\n\n"
              "walker's compiled models: dict name -> dict of int addresses {'rhs', 'guards',\n"
-             "'reset', 'jac', 'ctx', 'energy', 'points', 'start_phase', 'rhs_jac'} (0 for\n"
-             "NULL; 'rhs_jac', the fused rhs and Jacobian the integrator uses by itself for\n"
-             "this (rhs, jac) pair, is informational).");
+             "'reset', 'jac', 'ctx', 'energy', 'points', 'start_phase', 'lift',\n"
+             "'lift_jacobian', 'rhs_jac'} (0 for NULL; 'lift' and 'lift_jacobian' a section\n"
+             "lift that is not affine; 'rhs_jac', the fused rhs and Jacobian the integrator\n"
+             "uses by itself for this (rhs, jac) pair, is informational).");
 
 static PyObject *py_models(PyObject *self, PyObject *unused)
 {
@@ -264,6 +265,8 @@ static PyObject *py_models(PyObject *self, PyObject *unused)
             set_item(entry, "energy", ADDRESS(e->energy)) ||
             set_item(entry, "points", ADDRESS(e->points)) ||
             set_item(entry, "start_phase", ADDRESS(e->start_phase)) ||
+            set_item(entry, "lift", ADDRESS(e->lift)) ||
+            set_item(entry, "lift_jacobian", ADDRESS(e->lift_jacobian)) ||
             set_item(entry, "rhs_jac", ADDRESS(e->fn.rhs_jac)) ||
             PyDict_SetItemString(out, e->name, entry)) {
             Py_DECREF(entry);
@@ -408,11 +411,12 @@ PyDoc_STRVAR(basin_points_doc,
              "basin_points(rhs, guards, reset, jac, ctx, directions, n_x, n_guards, n_impulse,\n"
              "    p, method, adaptive, rtol, atol, first_step, max_step, max_steps, n_interior,\n"
              "    lift_a, lift_b, proj, offset, fall_angle, n_q, wound, energy, kinetic_limit,\n"
-             "    start_phase, t_max, z0, target, tol, n_strides, period) -> (outcome, strides)\n\n"
+             "    start_phase, t_max, lift, lift_jacobian, z0, target, tol, n_strides, period)\n"
+             "    -> (outcome, strides)\n\n"
              "Iterate the stride map from each row of z0 (m, n_z) as walker.basin.basin_chunk\n"
              "does (batch.h), without the GIL.  outcome and strides: bytearrays of m int64.");
 
-#define BASIN_NARGS 34
+#define BASIN_NARGS 36
 
 static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -429,9 +433,9 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
     PyObject *result = NULL;
     int64_t n_strides, period;
     double tol;
-    if (wkpy_arg_double(args[31], "tol", &tol) ||
-        wkpy_arg_int(args[32], "n_strides", &n_strides) ||
-        wkpy_arg_int(args[33], "period", &period))
+    if (wkpy_arg_double(args[33], "tol", &tol) ||
+        wkpy_arg_int(args[34], "n_strides", &n_strides) ||
+        wkpy_arg_int(args[35], "period", &period))
         goto out;
 
 #define FAIL(exc, ...)                          \
@@ -443,14 +447,14 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
     if (!(tol >= 0.0)) FAIL(PyExc_ValueError, "`tol` must be >= 0");
     if (n_strides < 0) FAIL(PyExc_ValueError, "`n_strides` must be >= 0");
     if (period < 1) FAIL(PyExc_ValueError, "`period` must be >= 1");
-    if (wkpy_arg_buffer(args[29], "z0", 'd', 2, &v_z0)) goto out;
+    if (wkpy_arg_buffer(args[31], "z0", 'd', 2, &v_z0)) goto out;
     have_z0 = 1;
     if (v_z0.shape[1] != s.sec.n_z)
         FAIL(PyExc_ValueError, "`z0` must have n_z = %lld columns, got %zd",
              (long long)s.sec.n_z, v_z0.shape[1]);
     if (!wkpy_all_finite((const double *)v_z0.buf, v_z0.shape[0] * v_z0.shape[1]))
         FAIL(PyExc_ValueError, "All section points `z0` must be finite.");
-    if (wkpy_arg_buffer(args[30], "target", 'd', 1, &v_target)) goto out;
+    if (wkpy_arg_buffer(args[32], "target", 'd', 1, &v_target)) goto out;
     have_target = 1;
     if (v_target.shape[0] != s.sec.n_z) FAIL(PyExc_ValueError, "`target` must have length n_z");
 #undef FAIL

@@ -11,8 +11,13 @@
 #define B_LINEAR_SOLVE_FAILED 10
 #define B_OUTSIDE_WALKING_REGION 15
 
-void wk_section_lift(const wk_section *sec, int64_t n_x, const double *z, double *x)
+void wk_section_lift(const wk_section *sec, int64_t n_x, const double *p, const double *z,
+                     double *x)
 {
+    if (sec->lift != NULL) {
+        sec->lift(z, p, x, NULL);
+        return;
+    }
     const int64_t n_z = sec->n_z;
     for (int64_t r = 0; r < n_x; r++) {
         const double *a = sec->lift_a + r * n_z;
@@ -44,7 +49,7 @@ static int converged(const double *z, const double *target, int64_t n, double to
 int64_t wk_section_start(const wk_problem *tmpl, const wk_section *sec, const double *z,
                          double *x0, int64_t *phase0)
 {
-    wk_section_lift(sec, tmpl->n_x, z, x0);
+    wk_section_lift(sec, tmpl->n_x, tmpl->p, z, x0);
     const double psi = z[0] + sec->offset;
     if (!(fabs(psi) < sec->fall_angle)) return psi < 0.0 ? B_FELL_FORWARD : B_FELL_BACKWARD;
     for (int64_t i = 0; i < sec->n_q; i++)
@@ -64,8 +69,17 @@ int64_t wk_section_start(const wk_problem *tmpl, const wk_section *sec, const do
     return 0;
 }
 
+const double *wk_section_seed(const wk_section *sec, int64_t n_x, const double *p,
+                              const double *z, double *buf)
+{
+    if (sec->lift == NULL) return sec->lift_a;
+    for (int64_t i = 0; i < n_x * sec->n_z; i++) buf[i] = 0.0;
+    sec->lift_jacobian(z, p, buf, NULL);
+    return buf;
+}
+
 int wk_section_run(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
-                   int64_t period, int want_jac, const double *x0, int64_t phase0,
+                   int64_t period, const double *seed, const double *x0, int64_t phase0,
                    wk_result *res)
 {
     wk_problem pb = *tmpl;
@@ -76,9 +90,9 @@ int wk_section_run(const wk_functions *fn, const wk_problem *tmpl, const wk_sect
     pb.n_strides = period;
     pb.max_steps = sec->max_steps * period;
     pb.output = WK_OUTPUT_MAP;
-    pb.want_jac = want_jac;
-    pb.jac_seed = want_jac ? sec->lift_a : NULL;
-    pb.n_seed = want_jac ? sec->n_z : 0;
+    pb.want_jac = seed != NULL;
+    pb.jac_seed = seed;
+    pb.n_seed = seed != NULL ? sec->n_z : 0;
     pb.sample_times = NULL;
     pb.n_samples = 0;
     return wk_hybrid_solve(fn, &pb, res);
@@ -93,7 +107,7 @@ static int64_t map_once(const wk_functions *fn, const wk_problem *tmpl, const wk
     int64_t status = wk_section_start(tmpl, sec, z, x0, &phase0);
     if (status != 0) return status;
     wk_result res;
-    *rc = wk_section_run(fn, tmpl, sec, period, 0, x0, phase0, &res);
+    *rc = wk_section_run(fn, tmpl, sec, period, NULL, x0, phase0, &res);
     status = res.status;
     if (*rc == WK_OK && status == 0)
         for (int64_t i = 0; i < sec->n_z; i++) z[i] = res.x[sec->proj[i]];

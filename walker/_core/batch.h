@@ -31,11 +31,20 @@ typedef struct {
     wk_state_fn start_phase; /* NULL: phase 0; out[0] < 0: LINEAR_SOLVE_FAILED */
     double t_max;          /* per stride */
     int64_t max_steps;     /* per stride */
+    wk_state_fn lift;      /* NULL: the affine lift above; else x = lift(z, p) */
+    wk_state_fn lift_jacobian; /* with lift: its Jacobian (n_x, n_z) at z */
 } wk_section;
 
-/* x (n_x,) = lift_b + lift_a z with the operations of the models' Python lift: a row's
- * non-zero terms in column order, then the constant added in front (b - z for b + (-1) z). */
-void wk_section_lift(const wk_section *sec, int64_t n_x, const double *z, double *x);
+/* x (n_x,): the model's compiled lift of z where it has one (sec->lift), else
+ * lift_b + lift_a z with the operations of the models' Python lift: a row's non-zero terms in
+ * column order, then the constant added in front (b - z for b + (-1) z). */
+void wk_section_lift(const wk_section *sec, int64_t n_x, const double *p, const double *z,
+                     double *x);
+
+/* The seed of the variational equations of a call from z: the lift's Jacobian (n_x, n_z),
+ * lift_a for the affine lift, else computed into buf (n_x * n_z values). */
+const double *wk_section_seed(const wk_section *sec, int64_t n_x, const double *p,
+                              const double *z, double *buf);
 
 /* The start of one stride-map call from section point z (n_z,): x0 (n_x,) receives the
  * lift, then the start checks run in StrideMap.__call__'s order.  Returns 0 when the run
@@ -46,11 +55,12 @@ int64_t wk_section_start(const wk_problem *tmpl, const wk_section *sec, const do
                          double *x0, int64_t *phase0);
 
 /* The run of one stride-map call: `period` strides from (t0 = 0, x0, phase0) with the
- * per-stride budgets of `sec`, output map only; with want_jac the sensitivities are seeded
- * with the lift's constant Jacobian lift_a (n_z columns).  Returns wk_hybrid_solve's code;
- * the caller frees `res` (wk_result_free) in every case. */
+ * per-stride budgets of `sec`, output map only; with `seed` (not NULL) the sensitivities
+ * are seeded with it, the lift's Jacobian (n_x, n_z) from wk_section_seed, and the run
+ * carries them.  Returns wk_hybrid_solve's code; the caller frees `res` (wk_result_free) in
+ * every case. */
 int wk_section_run(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
-                   int64_t period, int want_jac, const double *x0, int64_t phase0,
+                   int64_t period, const double *seed, const double *x0, int64_t phase0,
                    wk_result *res);
 
 /* Iterate each of the m section points z0 (m, n_z): converged when max|z - target| <= tol

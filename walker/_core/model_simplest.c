@@ -105,3 +105,31 @@ void wk_model_simplest_points(const double *x, const double *p, double *out, voi
         out[4 + i] = hip - l * (sa * s[i] + ca * n[i]);
     }
 }
+
+/* walker.models.simplest.lift: the section point z = (theta, theta_dot) -> the full state
+ * just after heel strike, out (4,); the same operations. */
+void wk_model_simplest_lift(const double *z, const double *p, double *out, void *ctx)
+{
+    (void)p;
+    (void)ctx;
+    out[0] = z[0];
+    out[1] = 2.0 * z[0];
+    out[2] = z[1];
+    out[3] = (1.0 - cos(2.0 * z[0])) * z[1];
+}
+
+/* walker.models.simplest.lift_jacobian at z, out (4, 2) row-major; the same operations. */
+void wk_model_simplest_lift_jacobian(const double *z, const double *p, double *out, void *ctx)
+{
+    (void)p;
+    (void)ctx;
+    const double s2 = sin(2.0 * z[0]);
+    out[0] = 1.0;
+    out[1] = 0.0;
+    out[2] = 2.0;
+    out[3] = 0.0;
+    out[4] = 0.0;
+    out[5] = 1.0;
+    out[6] = 2.0 * s2 * z[1];
+    out[7] = 1.0 - cos(2.0 * z[0]);
+}

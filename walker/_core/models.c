@@ -30,7 +30,16 @@
             wk_model_##name##_energy, wk_model_##name##_points, NULL                        \
     }
 
-static const wk_model_entry SIMPLEST = WK_ENTRY("simplest", simplest);
+static const wk_model_entry SIMPLEST = {
+    "simplest",
+    {wk_model_simplest_rhs, wk_model_simplest_guards, wk_model_simplest_reset,
+     wk_model_simplest_jac, NULL},
+    wk_model_simplest_energy,
+    wk_model_simplest_points,
+    NULL,
+    wk_model_simplest_lift,
+    wk_model_simplest_lift_jacobian,
+};
 static const wk_model_entry COMPASS = WK_ENTRY("compass", compass);
 static const wk_model_entry COMPASS_PLAIN = WK_ENTRY_FUSED("compass/plain", compass_plain);
 static const wk_model_entry KNEED = WK_ENTRY("kneed", kneed);

@@ -30,6 +30,7 @@ typedef struct {
     const wk_search_settings *set;
     int64_t n_z, n_x, n_evals;
     double *x;       /* (n_x,) scratch: a lifted state */
+    double *seed;    /* (n_x, n_z) scratch: the seed of a lift that is not affine */
 } search;
 
 /* Return codes of the evaluator besides 0. */
@@ -82,7 +83,7 @@ static int outside(search *s, const double *z, double *value, int64_t *index)
         }
     }
     double *x = s->x;
-    wk_section_lift(s->sec, s->n_x, z, x);
+    wk_section_lift(s->sec, s->n_x, s->tmpl->p, z, x);
     if (!all_finite(x, s->n_x)) return WK_OUT_NONFINITE;
     int64_t at = 0;
     double most = fabs(x[0]);
@@ -123,8 +124,13 @@ static int evaluate(search *s, const double *z, double level, int want_jac, eval
         return 0;
     }
     if (phase0 >= pb.n_phases || !all_finite(e->x, s->n_x)) return DECLINED;
+    const double *seed = NULL;
+    if (want_jac) {
+        seed = wk_section_seed(s->sec, s->n_x, pb.p, z, s->seed);
+        if (!all_finite(seed, s->n_x * s->n_z)) return DECLINED;
+    }
     wk_result res;
-    const int rc = wk_section_run(s->fn, &pb, s->sec, set->period, want_jac, e->x, phase0, &res);
+    const int rc = wk_section_run(s->fn, &pb, s->sec, set->period, seed, e->x, phase0, &res);
     if (rc != WK_OK) {
         wk_result_free(&res);
         return DECLINED;
@@ -454,12 +460,13 @@ int wk_search(const wk_functions *fn, const wk_problem *tmpl, const wk_section *
 {
     const int64_t n = sec->n_z, n_x = tmpl->n_x;
     const int64_t per_eval = n + n_x + n * n;
-    const int64_t n_work = 5 * n + 3 * n * n + n * (n + 1) + n_x + 3 * per_eval;
+    const int64_t n_work = 5 * n + 3 * n * n + n * (n + 1) + n_x + n_x * n + 3 * per_eval;
     double *w = malloc((size_t)n_work * sizeof(double));
     if (w == NULL) return WK_ERR_NOMEM;
-    search s = {fn, tmpl, sec, reg, set, n, n_x, 0, w + 5 * n + 3 * n * n + n * (n + 1)};
+    double *x = w + 5 * n + 3 * n * n + n * (n + 1);
+    search s = {fn, tmpl, sec, reg, set, n, n_x, 0, x, x + n_x};
     evaluation ev[3];
-    double *at = s.x + n_x;
+    double *at = s.seed + n_x * n;
     for (int k = 0; k < 3; k++) {
         ev[k].z = at;
         ev[k].x = at + n;

@@ -186,4 +186,9 @@ WK_DECLARE_FUSED(compass_plain)
 WK_DECLARE_FUSED(kneed_plain)
 WK_DECLARE_FUSED(kneed_plain_ignore_scuff)
 
+/* The simplest walker's section lift and its Jacobian (wk_model_entry.lift, lift_jacobian):
+ * the only shipped lift with a compiled C version that is not affine. */
+void wk_model_simplest_lift(const double *z, const double *p, double *out, void *ctx);
+void wk_model_simplest_lift_jacobian(const double *z, const double *p, double *out, void *ctx);
+
 #endif

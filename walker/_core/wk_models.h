@@ -23,6 +23,12 @@ typedef struct {
     wk_state_fn energy;      /* out[0] = kinetic, out[1] = potential [J] */
     wk_state_fn points;      /* out: (n_points, 2) row-major, joint positions for drawing */
     wk_state_fn start_phase; /* out[0] = phase as a double (NULL: phase 0) */
+    /* The section's lift where it is not affine (NULL: affine, or no compiled lift): called
+     * with the section point z (n_z,) as its first argument, out the full state (n_x,);
+     * lift_jacobian's out its Jacobian (n_x, n_z) row-major.  The operations of the model's
+     * Python lift and lift_jacobian. */
+    wk_state_fn lift;
+    wk_state_fn lift_jacobian;
 } wk_model_entry;
 
 /* Generated kernel signatures: "qqdp_v" f(q, qd, p, out); "qp_v" f(q, p, out);

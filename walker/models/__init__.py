@@ -225,8 +225,8 @@ class WalkerModel:
         return self.module.project(np.asarray(x, dtype=float), _p(p))
 
     def _state_fn(self, name: str):
-        """The compiled helper ``name`` (energy, points, start_phase) of the general entry,
-        or None when the model has no C entry or no such helper."""
+        """The compiled helper ``name`` (energy, points, start_phase, lift, lift_jacobian)
+        of the general entry, or None when the model has no C entry or no such helper."""
         address = self._compiled.get("", {}).get(name, 0)
         return address or None
 
