@@ -171,3 +171,30 @@ def test_searches_that_find_no_gait_end_as_the_python_search_does(name, z, statu
     a, b = _both(monkeypatch, P, np.array(z))
     assert a.status.name == status
     _assert_same(a, b)
+
+
+def test_searches_on_two_threads_end_as_serial_ones():
+    # the compiled search releases the GIL: two threads searching at once on one map get
+    # the results one thread gets
+    import threading
+
+    P, z0 = _scene_map("kneed_hsu.toml")
+    rng = np.random.default_rng(7)
+    guesses = [z0 * (1 + rng.uniform(-0.2, 0.2, z0.shape)) for _ in range(24)]
+    serial = [find_fixed_point(P, z) for z in guesses]
+    results = [None] * len(guesses)
+
+    def work(k0):
+        for k in range(k0, len(guesses), 2):
+            results[k] = find_fixed_point(P, guesses[k])
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in (0, 1)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for a, b in zip(results, serial, strict=True):
+        assert a.status == b.status and a.n_iter == b.n_iter
+        assert np.array_equal(a.section, b.section)
+        assert np.array_equal(a.multipliers, b.multipliers, equal_nan=True)
+    assert sum(r.success for r in serial) >= 12
