@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from walker import _section
 from walker._checks import as_vector as _as_vector
 from walker._checks import sample_rate as _sample_rate
 from walker._checks import time_scale as _time_scale
@@ -298,8 +299,8 @@ class StrideMap:
         kinetic_limit)`` stops a start state whose stance leg lies past the fall angle, an
         angle wound beyond pi from the slope normal or a kinetic energy far above the
         scene's (:class:`walker.fixedpoint.WalkingRegion`).  Built with them, when
-        :meth:`_compiled_call_fits`: ``walker._hybrid.PreparedMap(...).map``, the whole of
-        :meth:`__call__` in one compiled call (``_run[6]``, else None)."""
+        :func:`walker._section.compiled_call_fits`: ``walker._hybrid.PreparedMap(...).map``,
+        the whole of :meth:`__call__` in one compiled call (``_run[6]``, else None)."""
         cached = self.__dict__.get("_run")
         if cached is None:
             from walker import _hybrid
@@ -322,12 +323,13 @@ class StrideMap:
                 address,
                 region.kinetic_limit,
             )
-            fast = self._fast_parts(p)
+            fast = _section.fast_parts(self.model, p)
             cached = [{}, p, guard, per_stride, self.model.system_for(p), fast, None]
             run = self._new_run(cached, n_strides)
-            if self._compiled_call_fits(fast):
+            if _section.compiled_call_fits(self.model, p, self.t_max, fast):
                 # the whole call in C: lift, start checks, stride(s), projection
-                cached[6] = _hybrid.PreparedMap(*self._section_args(cached, run)).map
+                args = _section.section_args(self.model, self.t_max, cached, run)
+                cached[6] = _hybrid.PreparedMap(*args).map
             cached = tuple(cached)
             object.__setattr__(self, "_run", cached)
         runs = cached[0]
@@ -335,91 +337,6 @@ class StrideMap:
         if run is None:
             run = self._new_run(cached, n_strides)
         return run, cached[1], cached[2]
-
-    def _compiled_lift(self):
-        """``(lift, lift_jacobian)``, the addresses of the model's compiled section lift and
-        its Jacobian where the lift is not affine (the simplest walker's), else None."""
-        model = self.model
-        lift, lift_jac = model._state_fn("lift"), model._state_fn("lift_jacobian")
-        return (lift, lift_jac) if lift is not None and lift_jac is not None else None
-
-    def _compiled_call_fits(self, fast) -> bool:
-        """Can one compiled call (``walker._hybrid.PreparedMap``) do what :meth:`__call__`
-        does, with the same operations?  It can for a model whose projection selects
-        components and whose lift is affine (``fast``, :meth:`_fast_parts`) or compiled
-        (:meth:`_compiled_lift`), whose start phase, if any, is compiled, and a ``t_max``
-        that a double times ``n_strides`` gives as the Python product does (a float, or an
-        int below 2**53)."""
-        model, t_max = self.model, self.t_max
-        return (
-            (
-                fast[1] is not None
-                or (
-                    self._compiled_lift() is not None
-                    and _selected_components(model, self._p()) is not None
-                )
-            )
-            and (
-                model._state_fn("start_phase") is not None
-                or not hasattr(model.module, "start_phase")
-            )
-            and (isinstance(t_max, float) or (type(t_max) is int and abs(t_max) < 2**53))
-        )
-
-    def _section_args(self, cached, run) -> tuple:
-        """The settings of the compiled stride map that ``walker._hybrid.basin_points`` and
-        ``walker._hybrid.PreparedMap`` take first: the system and solver settings of
-        ``run`` (a PreparedRun of this map), the per-stride step budget, the affine lift
-        ``x = lift_a z + lift_b``, the projection's indices, the start checks' guard, the
-        compiled start phase and the per-stride ``t_max``."""
-        model, p = self.model, cached[1]
-        (offset, fall_angle), n_q, wound, _, energy_address, kinetic_limit = cached[2]
-        n_z, n_x = model.n_z, model.n_x
-        compiled_lift = self._compiled_lift() if cached[5][1] is None else None
-        if compiled_lift is None:  # the affine lift x = lift_a z + lift_b
-            lift_a = np.ascontiguousarray(model.lift_jacobian(np.zeros(n_z), p), dtype=np.float64)
-            lift_b = np.ascontiguousarray(model.lift(np.zeros(n_z), p), dtype=np.float64)
-            compiled_lift = (0, 0)
-        else:  # the model's compiled lift; lift_a and lift_b unused
-            lift_a, lift_b = np.zeros((n_x, n_z)), np.zeros(n_x)
-        proj = model.project(np.arange(n_x, dtype=np.float64), p).astype(np.int64)
-        solver = (*run._settings[:6], cached[3], run._n_interior)  # max_steps per stride
-        checks = (float(offset), float(fall_angle), int(n_q), float(wound))
-        checks += (energy_address or 0, float(kinetic_limit))
-        return (
-            *run._head,
-            p,
-            *solver,
-            lift_a,
-            lift_b,
-            proj,
-            *checks,
-            model._state_fn("start_phase") or 0,
-            float(self.t_max),
-            *compiled_lift,
-        )
-
-    def _fast_parts(self, p):
-        """What a call needs of the model besides the run, resolved once: ``(lift, project,
-        lift_jacobian, start_phase)``.  ``lift(z, p)`` is the model module's own function
-        (the wrapper's conversions are done: ``z`` is a float array and ``p`` the parameter
-        vector); for a model whose lift is declared affine (``LIFT_AFFINE``, as
-        :meth:`basin_batch` relies on) ``project`` is the index array of the components it
-        selects and ``lift_jacobian`` the constant Jacobian, else None (the model's own
-        functions are called); ``start_phase`` None when every state starts in phase 0.
-        The constant ``lift_jacobian`` (C-contiguous float64, ``(n_x, n_z)``) is also the seed
-        of the variational equations for ``jacobian=True``."""
-        model = self.model
-        module = model.module
-        project = lift_jac = None
-        if getattr(module, "LIFT_AFFINE", False):
-            project = _selected_components(model, p)
-            if project is not None:
-                lift_jac = np.array(
-                    model.lift_jacobian(np.zeros(model.n_z), p), dtype=np.float64, order="C"
-                )
-                lift_jac.flags.writeable = False
-        return module.lift, project, lift_jac, model.start_phase_fn()
 
     def _new_run(self, cached, n_strides):
         """A PreparedRun for ``n_strides`` strides, kept for up to 16 stride counts."""
@@ -443,16 +360,16 @@ class StrideMap:
         every row of ``z0`` (shape ``(m, n_z)``) in one compiled call without the GIL, with
         the operations of the Python loop (lift, start checks, stride, projection), so the
         outcomes are the same.  None when the map has no compiled call
-        (:meth:`_compiled_call_fits`: a lift neither affine nor compiled, a projection that
-        does more than select components, a start phase that is not compiled); the caller
-        then runs the Python loop."""
+        (:func:`walker._section.compiled_call_fits`: a lift neither affine nor compiled, a
+        projection that does more than select components, a start phase that is not
+        compiled); the caller then runs the Python loop."""
         from walker import _hybrid
 
         run, _, _ = self._prepared(period)
         cached = self.__dict__["_run"]
-        if cached[6] is None:  # no compiled call (_compiled_call_fits)
+        if cached[6] is None:  # no compiled call (walker._section.compiled_call_fits)
             return None
-        args = self._section_args(cached, run)
+        args = _section.section_args(self.model, self.t_max, cached, run)
 
         def points(z0, target, tol, n_strides):
             z0 = np.ascontiguousarray(z0, dtype=np.float64)
@@ -594,7 +511,7 @@ class StrideMap:
             self._prepared()
             cached = self.__dict__["_run"]
         call = cached[6]
-        # One compiled call when the model allows it (_compiled_call_fits) and the input is
+        # One compiled call when the model allows it (_section.compiled_call_fits) and the input is
         # plain (a finite float64 vector, an int, a bool); else, or to say what is wrong
         # with the input, the checked path.
         out = None if call is None else call(z, n_strides, jacobian)
@@ -722,21 +639,6 @@ class StrideMap:
         check_sample_count(first.t, sample_rate, self.model.n_x, "`sample_rate`")
         times = np.arange(0.0, first.t, 1.0 / sample_rate)
         return simulate(self.model, self.params, x0, output="samples", sample_times=times, **run)
-
-
-def _selected_components(model, p):
-    """The indices (intp) of the state components the model's projection selects, or None
-    when it does more than select them."""
-    n_x = model.n_x
-    idx = model.project(np.arange(n_x, dtype=np.float64), p)
-    probe = np.linspace(-0.75, 0.5, n_x) + 0.1
-    if (
-        idx.shape == (model.n_z,)
-        and np.array_equal(idx, np.round(idx))
-        and np.array_equal(model.project(probe, p), probe[idx.astype(np.int64)])
-    ):
-        return idx.astype(np.intp)
-    return None
 
 
 # StrideMap.__call__ as defined above: the compiled gait search stands in for it only while
