@@ -1,4 +1,5 @@
-"""The package's shape: its import graph has no cycles, counting imports inside functions.
+"""The package's shape: its import graph has no cycles, counting imports inside functions,
+and no hand-written module (Python or C) is longer than 700 lines.
 
 Read from the source with ``ast`` (nothing is imported): every ``import walker...`` and
 ``from walker... import`` (relative ones resolved) is an edge from the module that holds it to
@@ -109,3 +110,22 @@ def test_the_cycle_finder_finds_a_cycle():
     graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
     assert _cycles(graph) == [["a", "b", "c"]]
     assert _cycles({"a": {"b"}, "b": set()}) == []
+
+
+# The longest a hand-written module of the package may grow; generated code is exempt.
+MODULE_MAX_LINES = 700
+
+
+def test_no_hand_written_module_is_over_700_lines():
+    sources = [
+        p
+        for p in PACKAGE.rglob("*")
+        if p.suffix in (".py", ".c", ".h") and "_generated" not in p.parts
+    ]
+    assert len(sources) > 60  # the walk found the package and its C core
+    long = {
+        str(p.relative_to(PACKAGE)): n
+        for p in sources
+        if (n := len(p.read_text(encoding="utf-8").splitlines())) > MODULE_MAX_LINES
+    }
+    assert not long, long
