@@ -12,25 +12,16 @@ import h5py
 import numpy as np
 
 from walker.results import BasinMap
-from walker.storage.checkpoint import (
-    _check_checkpoint_size,
-    _checkpoint_group,
-    _ChunkedStore,
-    _ChunkWriter,
-    _unreadable,
-)
-from walker.storage.decode import _load_checked, _Loaded, _scalar_attr, read
-from walker.storage.disk import _atomic_write, _build_image
-from walker.storage.encode import _chunked_dataset, _dataset_options, _provenance_attrs
+from walker.storage.checkpoint import _ChunkedStore
+from walker.storage.decode import _Loaded, _scalar_attr, read
+from walker.storage.encode import _chunked_dataset, _dataset_options
 from walker.storage.loader import _int_attr
 from walker.storage.provenance import _check_provenance
 from walker.storage.schema import (
     _CHECKPOINT_GROUP,
     _RESULT_GROUP,
     BASIN_NOT_COMPUTED,
-    SCHEMA_VERSION,
     CheckpointMismatch,
-    StorageError,
     _Corrupt,
 )
 
@@ -104,6 +95,9 @@ class BasinStore(_ChunkedStore):
     [-1, -1, -3, -3, -3]
     """
 
+    KIND = "basin"
+    DATACLASS = "BasinMap"
+
     def __init__(self, path: Path, ny: int, nx: int, chunk_size: int, fsync: bool = True):
         """Use :meth:`create_or_open`."""
         super().__init__(path, ny, chunk_size, fsync)
@@ -160,18 +154,10 @@ class BasinStore(_ChunkedStore):
 
         Raises
         ------
-        CheckpointMismatch
-            ``path`` exists (and ``overwrite`` is False) but is not a checkpoint of this
-            basin map, or is corrupted.
-        StorageError
-            the new file would not fit in memory or on the disk, or the disk is full or
-            read-only.
-        FileNotFoundError
-            the directory of ``path`` does not exist.
+        CheckpointMismatch, StorageError, FileNotFoundError
+            as :meth:`SweepStore.create_or_open` does, for a checkpoint of this basin map.
         """
-        if not isinstance(path, str | os.PathLike):
-            raise TypeError(f"`path` must be a str or os.PathLike, got {type(path).__name__}")
-        path = Path(path)
+        path = cls._store_path(path)
         if (
             not isinstance(axis_names, tuple | list)
             or len(axis_names) != 2
@@ -213,11 +199,9 @@ class BasinStore(_ChunkedStore):
         if path.exists() and not overwrite:
             stored_chunk, loaded = cls._compare(path, want)
             store = cls(path, ny, nx, stored_chunk, fsync=bool(fsync))
-            store._writer = _ChunkWriter(path, loaded.root, "basin", loaded.version)
+            store._resume(loaded)
             return store
-        parent = path.parent if str(path.parent) else Path(".")
-        if not parent.is_dir():
-            raise FileNotFoundError(f"directory '{parent}' of `path` '{path}' does not exist")
+        cls._check_directory(path)
         if chunk_size is None:
             chunk_size = max(1, -(-ny // BASIN_DEFAULT_CHUNKS))
         store = cls(path, ny, nx, chunk_size, fsync=bool(fsync))
@@ -255,26 +239,19 @@ class BasinStore(_ChunkedStore):
             want["provenance_json"] = _check_provenance(provenance)
         cls._compare(path, {k: v for k, v in want.items() if v is not None})
 
-    @staticmethod
-    def _compare(path: Path, want: dict[str, Any]) -> tuple[int, _Loaded]:
+    @classmethod
+    def _compare(cls, path: Path, want: dict[str, Any]) -> tuple[int, _Loaded]:
         """Raise CheckpointMismatch unless ``path`` is a basin checkpoint agreeing with every
         entry of ``want``; returns its chunk size and the file as read (in a child process,
         every checksum verified)."""
-        try:
-            loaded = _load_checked(path, isolate=True)
-        except StorageError as exc:
-            raise _unreadable(exc, path) from None
+        loaded = cls._load_checkpoint(path)
         if loaded.kind != "basin" or loaded.state is None:
             what = (
                 "a finished 'basin' result without a checkpoint"
                 if loaded.kind == "basin"
                 else f"a {loaded.kind!r} result"
             )
-            raise CheckpointMismatch(
-                f"cannot resume '{path}': it holds {what}, not a basin checkpoint; use a new path",
-                path=path,
-                reason=f"holds {what}, not a basin checkpoint",
-            )
+            raise cls._refused(path, f"holds {what}, not a basin checkpoint", "use a new path")
         basin = loaded.result
         k = loaded.root["groups"][_CHECKPOINT_GROUP]
         try:
@@ -305,47 +282,34 @@ class BasinStore(_ChunkedStore):
         if want.get("chunk_size") is not None and want["chunk_size"] != stored_cs:
             diffs.append(f"chunk_size {stored_cs} != {want['chunk_size']}")
         if "provenance_json" in want:
-            stored_prov = loaded.provenance_json
-            prov = want["provenance_json"]
-            if stored_prov != prov:
-                keys = sorted(
-                    key
-                    for key in set(stored_prov) | set(prov)
-                    if stored_prov.get(key) != prov.get(key)
-                )
-                diffs.append(f"provenance differs in {keys}")
+            diffs += cls._provenance_diffs(loaded.provenance_json, want["provenance_json"])
         if diffs:
-            raise CheckpointMismatch(
-                f"cannot resume '{path}': it checkpoints a different basin map "
-                f"({'; '.join(diffs)}); use a new path or delete the file",
-                path=path,
-                reason=f"checkpoints a different basin map ({'; '.join(diffs)})",
+            raise cls._refused(
+                path,
+                f"checkpoints a different basin map ({'; '.join(diffs)})",
+                "use a new path or delete the file",
             )
         return stored_cs, loaded
 
     def _create(self, want: dict[str, Any], overwrite: bool) -> None:
-        root_attrs = _provenance_attrs(want["provenance_json"], "basin")
         ny, nx = self.shape
         cs = self.chunk_size
-        _check_checkpoint_size(self.path, 16 * ny * nx + 50 * self.n_chunks, 16 * cs * nx)
 
-        def fill(f: h5py.File) -> None:
-            f.attrs.update(root_attrs)
-            g = f.create_group(_RESULT_GROUP)
-            g.attrs["dataclass"] = "BasinMap"
+        def fill_result(g: h5py.Group) -> None:
             g.attrs["axis_names"] = json.dumps(list(want["axis_names"]))
             g.attrs["n_strides"] = np.int64(want["n_strides"])
             for name in ("x", "y", "fixed_point", "base"):
                 g.create_dataset(name, data=want[name], **_dataset_options(want[name].shape))
             for name, fillv in (("outcome", BASIN_NOT_COMPUTED), ("strides", -1)):
                 _chunked_dataset(g, name, (ny, nx), cs, np.int64, fillv)
-            k = _checkpoint_group(f, cs, self.n_chunks)
-            k.attrs["tol"] = np.float64(want["tol"])
-            k.attrs["period"] = np.int64(want["period"])
 
-        image, tree = _build_image(fill)
-        _atomic_write(self.path, image, overwrite=overwrite)
-        self._writer = _ChunkWriter(self.path, tree, "basin", SCHEMA_VERSION)
+        self._write_new(
+            want["provenance_json"],
+            (16 * ny * nx + 50 * self.n_chunks, 16 * cs * nx),
+            fill_result,
+            {"tol": np.float64(want["tol"]), "period": np.int64(want["period"])},
+            overwrite,
+        )
 
     # -- use --------------------------------------------------------------------------------
 

@@ -10,6 +10,7 @@ import math
 import numbers
 import os
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -17,21 +18,25 @@ import h5py
 import numpy as np
 
 from walker.storage.checksums import _chunk_digest, _flag_chunk, _fletcher32
-from walker.storage.decode import _dynamic_data, _load_checked
+from walker.storage.decode import _dynamic_data, _load_checked, _Loaded
 from walker.storage.disk import (
     _DISK_ERRNOS,
     _PERMANENT_ERRNOS,
+    _atomic_write,
+    _build_image,
     _check_space,
     _disk_error,
     _ram_bytes,
     _write_all,
 )
-from walker.storage.encode import _chunked_dataset
+from walker.storage.encode import _chunked_dataset, _provenance_attrs
 from walker.storage.isolated import _check_path
 from walker.storage.loader import _dynamic_fill, _first_line, _int_attr
 from walker.storage.schema import (
     _CHECKPOINT_GROUP,
     _CHUNK_SHA,
+    _RESULT_GROUP,
+    SCHEMA_VERSION,
     WRITE_ATTEMPTS,
     CheckpointMismatch,
     StorageError,
@@ -144,6 +149,11 @@ class _ChunkedStore:
     into ``n_chunks`` chunks of ``chunk_size`` consecutive rows, the last one shorter; which
     are done is read from the file at ``path``."""
 
+    KIND: str
+    """The kind of result the file holds (``"sweep"``, ``"basin"``)."""
+    DATACLASS: str
+    """The name of its result dataclass."""
+
     def __init__(self, path: Path, n_rows: int, chunk_size: int, fsync: bool) -> None:
         self.path = path
         self.chunk_size = int(chunk_size)
@@ -151,6 +161,77 @@ class _ChunkedStore:
         self._n_rows = int(n_rows)
         self.n_chunks = -(-self._n_rows // self.chunk_size)
         self._writer: _ChunkWriter | None = None
+
+    @staticmethod
+    def _refused(path: Path, reason: str, advice: str) -> CheckpointMismatch:
+        """The CheckpointMismatch of resuming ``path``, which ``reason`` (what it holds or
+        checkpoints) refuses; ``advice`` says what to do instead."""
+        return CheckpointMismatch(
+            f"cannot resume '{path}': it {reason}; {advice}", path=path, reason=reason
+        )
+
+    @staticmethod
+    def _store_path(path: Any) -> Path:
+        """The ``path`` argument of a store's ``create_or_open``, checked, as a Path."""
+        if not isinstance(path, str | os.PathLike):
+            raise TypeError(f"`path` must be a str or os.PathLike, got {type(path).__name__}")
+        return Path(path)
+
+    @staticmethod
+    def _check_directory(path: Path) -> None:
+        """A new checkpoint at ``path`` needs its directory."""
+        parent = path.parent if str(path.parent) else Path(".")
+        if not parent.is_dir():
+            raise FileNotFoundError(f"directory '{parent}' of `path` '{path}' does not exist")
+
+    @staticmethod
+    def _load_checkpoint(path: Path) -> _Loaded:
+        """``path`` read in a child process, every checksum verified, to be resumed; a file
+        that cannot be read is a CheckpointMismatch."""
+        try:
+            return _load_checked(path, isolate=True)
+        except StorageError as exc:
+            raise _unreadable(exc, path) from None
+
+    @staticmethod
+    def _provenance_diffs(stored: dict, wanted: dict) -> list[str]:
+        """What a checkpoint's stored provenance JSON differs in from the caller's (a list of
+        one line, or empty)."""
+        if stored == wanted:
+            return []
+        keys = sorted(k for k in set(stored) | set(wanted) if stored.get(k) != wanted.get(k))
+        return [f"provenance differs in {keys}"]
+
+    def _resume(self, loaded: _Loaded) -> None:
+        """Write the chunks to the existing file ``loaded`` was read from."""
+        self._writer = _ChunkWriter(self.path, loaded.root, self.KIND, loaded.version)
+
+    def _write_new(
+        self,
+        provenance_json: dict,
+        sizes: tuple[int, int],
+        fill_result: Callable[[h5py.Group], None],
+        checkpoint_attrs: dict[str, Any],
+        overwrite: bool,
+    ) -> None:
+        """Create the file, atomically: the root attributes of ``provenance_json``, the
+        result group (filled by ``fill_result``), then ``/checkpoint`` with
+        ``checkpoint_attrs``; ``sizes`` are the bytes of the file and of a chunk (checked
+        first)."""
+        root_attrs = _provenance_attrs(provenance_json, self.KIND)
+        _check_checkpoint_size(self.path, *sizes)
+
+        def fill(f: h5py.File) -> None:
+            f.attrs.update(root_attrs)
+            g = f.create_group(_RESULT_GROUP)
+            g.attrs["dataclass"] = self.DATACLASS
+            fill_result(g)
+            k = _checkpoint_group(f, self.chunk_size, self.n_chunks)
+            k.attrs.update(checkpoint_attrs)
+
+        image, tree = _build_image(fill)
+        _atomic_write(self.path, image, overwrite=overwrite)
+        self._writer = _ChunkWriter(self.path, tree, self.KIND, SCHEMA_VERSION)
 
     def _check_chunk(self, i: Any) -> int:
         if isinstance(i, bool) or not isinstance(i, numbers.Integral):

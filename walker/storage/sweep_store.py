@@ -13,25 +13,12 @@ import h5py
 import numpy as np
 
 from walker.results import SweepTable
-from walker.storage.checkpoint import (
-    _check_checkpoint_size,
-    _checkpoint_group,
-    _ChunkedStore,
-    _ChunkWriter,
-    _unreadable,
-)
-from walker.storage.decode import _load_checked, read
-from walker.storage.disk import _atomic_write, _build_image
-from walker.storage.encode import _check_name, _chunked_dataset, _dataset_options, _provenance_attrs
+from walker.storage.checkpoint import _ChunkedStore
+from walker.storage.decode import read
+from walker.storage.encode import _check_name, _chunked_dataset, _dataset_options
 from walker.storage.loader import _fill_value, _int_attr
 from walker.storage.provenance import _check_provenance
-from walker.storage.schema import (
-    _CHECKPOINT_GROUP,
-    _RESULT_GROUP,
-    SCHEMA_VERSION,
-    CheckpointMismatch,
-    StorageError,
-)
+from walker.storage.schema import _CHECKPOINT_GROUP, _RESULT_GROUP
 
 
 class SweepStore(_ChunkedStore):
@@ -98,6 +85,9 @@ class SweepStore(_ChunkedStore):
     array([ 0,  0, -1, -1, -1])
     """
 
+    KIND = "sweep"
+    DATACLASS = "SweepTable"
+
     def __init__(
         self,
         path: Path,
@@ -162,10 +152,10 @@ class SweepStore(_ChunkedStore):
         StorageError
             the new file would not fit in memory or on the disk, or the disk is full or
             read-only.
+        FileNotFoundError
+            the directory of ``path`` does not exist.
         """
-        if not isinstance(path, str | os.PathLike):
-            raise TypeError(f"`path` must be a str or os.PathLike, got {type(path).__name__}")
-        path = Path(path)
+        path = cls._store_path(path)
         if isinstance(parameter_names, str) or not all(isinstance(n, str) for n in parameter_names):
             raise TypeError(f"`parameter_names` must be a sequence of str, got {parameter_names!r}")
         names = tuple(parameter_names)
@@ -207,48 +197,36 @@ class SweepStore(_ChunkedStore):
         if path.exists() and not overwrite:
             store._check_existing(prov_json)
         else:
-            parent = path.parent if str(path.parent) else Path(".")
-            if not parent.is_dir():
-                raise FileNotFoundError(f"directory '{parent}' of `path` '{path}' does not exist")
+            cls._check_directory(path)
             store._create(prov_json, overwrite=bool(overwrite))
         return store
 
     def _create(self, prov_json: dict, overwrite: bool = False) -> None:
-        root_attrs = _provenance_attrs(prov_json, "sweep")
         n, cs = self.n_points, self.chunk_size
         row_bytes = sum(d.itemsize * math.prod(s) for d, s in self.columns.values())
-        _check_checkpoint_size(
-            self.path, n * row_bytes + self.points.nbytes + 50 * self.n_chunks, cs * row_bytes
-        )
 
-        def fill(f: h5py.File) -> None:
-            f.attrs.update(root_attrs)
-            g = f.create_group(_RESULT_GROUP)
-            g.attrs["dataclass"] = "SweepTable"
+        def fill_result(g: h5py.Group) -> None:
             g.attrs["parameter_names"] = json.dumps(list(self.parameter_names))
             g.create_dataset("points", data=self.points, **_dataset_options(self.points.shape))
             cg = g.create_group("columns")
             cg.attrs["names"] = json.dumps(list(self.columns))
             for name, (dtype, shape) in self.columns.items():
                 _chunked_dataset(cg, name, (n, *shape), cs, dtype, _fill_value(dtype))
-            _checkpoint_group(f, cs, self.n_chunks)
 
-        image, tree = _build_image(fill)
-        _atomic_write(self.path, image, overwrite=overwrite)
-        self._writer = _ChunkWriter(self.path, tree, "sweep", SCHEMA_VERSION)
+        self._write_new(
+            prov_json,
+            (n * row_bytes + self.points.nbytes + 50 * self.n_chunks, cs * row_bytes),
+            fill_result,
+            {},
+            overwrite,
+        )
 
     def _check_existing(self, prov_json: dict) -> None:
         path = self.path
-        try:
-            loaded = _load_checked(path, isolate=True)
-        except StorageError as exc:
-            raise _unreadable(exc, path) from None
+        loaded = self._load_checkpoint(path)
         if loaded.kind != "sweep" or loaded.state is None:
-            raise CheckpointMismatch(
-                f"cannot resume '{path}': it holds a {loaded.kind!r} result, not a sweep "
-                "checkpoint; use a new path",
-                path=path,
-                reason=f"holds a {loaded.kind!r} result, not a sweep checkpoint",
+            raise self._refused(
+                path, f"holds a {loaded.kind!r} result, not a sweep checkpoint", "use a new path"
             )
         table = loaded.result
         diffs = []
@@ -269,22 +247,14 @@ class SweepStore(_ChunkedStore):
         stored_cs = _int_attr(k["attrs"], "chunk_size", f"/{_CHECKPOINT_GROUP}")
         if stored_cs != self.chunk_size:
             diffs.append(f"chunk_size {stored_cs} != {self.chunk_size}")
-        stored_prov = loaded.provenance_json
-        if stored_prov != prov_json:
-            keys = sorted(
-                k
-                for k in set(stored_prov) | set(prov_json)
-                if stored_prov.get(k) != prov_json.get(k)
-            )
-            diffs.append(f"provenance differs in {keys}")
+        diffs += self._provenance_diffs(loaded.provenance_json, prov_json)
         if diffs:
-            raise CheckpointMismatch(
-                f"cannot resume '{path}': it checkpoints a different sweep ({'; '.join(diffs)});"
-                " use a new path or delete the file",
-                path=path,
-                reason=f"checkpoints a different sweep ({'; '.join(diffs)})",
+            raise self._refused(
+                path,
+                f"checkpoints a different sweep ({'; '.join(diffs)})",
+                "use a new path or delete the file",
             )
-        self._writer = _ChunkWriter(path, loaded.root, "sweep", loaded.version)
+        self._resume(loaded)
 
     # -- use --------------------------------------------------------------------------------
 
