@@ -217,6 +217,23 @@ def check_solver_settings(method, rtol, atol, first_step, *, fixed_step=False):
     return code, rtol, atol, first_step, adaptive
 
 
+def _solver_head(system: HybridSystem) -> tuple:
+    """The leading arguments of ``_hybrid.solve`` for ``system``: its compiled functions
+    and context, the guards' directions, ``n_x``, ``n_guards`` and ``n_impulse``."""
+    rhs, guards, reset, jac, ctx, _ = _compiled(system)
+    return (
+        rhs,
+        guards,
+        reset,
+        jac,
+        ctx,
+        system.directions,
+        system.n_x,
+        system.n_guards,
+        system.n_impulse,
+    )
+
+
 class PreparedRun:
     """A :class:`HybridSystem` with its solver settings checked once, for callers that run
     it many times (a stride map, a basin, a sweep): :meth:`map` goes straight to the
@@ -251,18 +268,7 @@ class PreparedRun:
         max_step = _check_positive_float("max_step", max_step, allow_inf=True)
         max_steps = _check_int("max_steps", max_steps, 1)
         self.system = system
-        rhs, guards, reset, jac, ctx, _ = _compiled(system)
-        self._head = (
-            rhs,
-            guards,
-            reset,
-            jac,
-            ctx,
-            system.directions,
-            system.n_x,
-            system.n_guards,
-            system.n_impulse,
-        )
+        self._head = _solver_head(system)
         self._settings = (code, adaptive, rtol, atol, first_step, max_step, max_steps)
         self._n_interior = _interior_code(system, _check_int("n_interior", n_interior, 0))
 
@@ -540,17 +546,8 @@ def _solve(
         if not np.isfinite(jacobian_seed).all():
             raise ValueError("`jacobian_seed` must be finite")
 
-    rhs, guards, reset, jac, ctx, _ = _compiled(system)
     res = _hybrid.solve(
-        rhs,
-        guards,
-        reset,
-        jac,
-        ctx,
-        system.directions,
-        n_x,
-        system.n_guards,
-        system.n_impulse,
+        *_solver_head(system),
         x0,
         p,
         phase0,
