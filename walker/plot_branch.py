@@ -65,7 +65,7 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
-from walker.plot_common import equal_runs, with_unit
+from walker.plot_common import check_rows, equal_runs, with_unit
 
 __all__ = [
     "BranchMeasures",
@@ -418,11 +418,7 @@ def plot_orbit_diagram(
     """
     param = np.asarray(diagram.parameter, dtype=float)
     values = np.asarray(diagram.values, dtype=float)
-    if values.ndim != 2 or values.shape[0] != param.shape[0]:
-        raise ValueError(
-            f"`diagram.values` must have shape (n, n_keep) with n = {param.shape[0]}, "
-            f"got {values.shape}"
-        )
+    check_rows("diagram.values", values, param, "n_keep")
     if ax is None:
         fig = Figure(figsize=(7.0, 4.8), layout="constrained")
         ax = fig.add_subplot()

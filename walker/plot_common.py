@@ -1,5 +1,6 @@
 """What every walker figure shares: units from a coordinate's name, ``"name [unit]"`` axis
-labels, a new axes without pyplot, and runs of equal values (phases, stability).
+labels, a new axes without pyplot, runs of equal values (phases, stability) and the check
+that an array holds one row per parameter value.
 
 Used by :mod:`walker.plotting`, :mod:`walker.plot_runs`, :mod:`walker.plot_maps` and
 :mod:`walker.plot_branch`; importing it draws nothing.
@@ -13,7 +14,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-__all__ = ["equal_runs", "new_axes", "state_unit", "with_unit"]
+__all__ = ["check_rows", "equal_runs", "new_axes", "state_unit", "with_unit"]
 
 
 def state_unit(name: str) -> str:
@@ -56,6 +57,16 @@ def new_axes(ax: Axes | None, **subplot_kw: Any) -> tuple[Figure, Axes]:
     if not isinstance(ax, Axes):
         raise TypeError(f"`ax` must be a matplotlib Axes or None, got {type(ax).__name__}")
     return ax.figure, ax
+
+
+def check_rows(name: str, values: np.ndarray, parameter: np.ndarray, columns: str) -> None:
+    """Raise ValueError unless ``values`` (``name`` in the message) is 2-D with one row per
+    entry of ``parameter``: shape ``(n, columns)``."""
+    if values.ndim != 2 or values.shape[0] != parameter.shape[0]:
+        raise ValueError(
+            f"`{name}` must have shape (n, {columns}) with n = {parameter.shape[0]}, "
+            f"got {values.shape}"
+        )
 
 
 def equal_runs(values: np.ndarray) -> list[tuple[int, int]]:

@@ -297,6 +297,14 @@ def plot_energy(
     return fig
 
 
+def _finish(fig: Figure, ax: Axes, xlabel: str, ylabel: str) -> Figure:
+    """Label the axes of a one-axes figure, add its legend, and return the figure."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.legend(loc="best")
+    return fig
+
+
 def plot_torques(
     t: np.ndarray,
     torques: np.ndarray,
@@ -342,10 +350,7 @@ def plot_torques(
             ax.axhline(sign * limit, color="0.4", linestyle="--", linewidth=0.8)
     for te in np.asarray(event_times if event_times is not None else [], dtype=float):
         ax.axvline(te, color="0.6", linestyle=":", linewidth=0.8)
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("torque [N m]")
-    ax.legend(loc="best")
-    return fig
+    return _finish(fig, ax, "time [s]", "torque [N m]")
 
 
 def plot_zero_dynamics(
@@ -397,10 +402,7 @@ def plot_zero_dynamics(
                 linewidth=1.5,
                 label=f"{name} = {value:.4g} rad ({meaning})",
             )
-    ax.set_xlabel("phase variable theta [rad]")
-    ax.set_ylabel("theta_dot [rad/s]")
-    ax.legend(loc="best")
-    return fig
+    return _finish(fig, ax, "phase variable theta [rad]", "theta_dot [rad/s]")
 
 
 def animate_walker(

@@ -40,7 +40,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from walker.plot_common import equal_runs, new_axes, state_unit, with_unit
+from walker.plot_common import check_rows, equal_runs, new_axes, state_unit, with_unit
 from walker.plot_maps import outcome_label, plot_basin, plot_sweep
 from walker.plot_runs import (
     animate_walker,
@@ -96,11 +96,7 @@ def plot_multipliers(
     """
     mult = np.asarray(branch.multipliers)
     param = np.asarray(branch.parameter, dtype=float)
-    if mult.ndim != 2 or mult.shape[0] != param.shape[0]:
-        raise ValueError(
-            f"`branch.multipliers` must have shape (n, n_z) with n = {param.shape[0]}, "
-            f"got {mult.shape}"
-        )
+    check_rows("branch.multipliers", mult, param, "n_z")
     fig, ax = new_axes(ax)
     angle = np.linspace(0.0, 2.0 * np.pi, 361)
     ax.plot(np.cos(angle), np.sin(angle), color="0.5", lw=0.8, ls="--", label="unit circle")
@@ -206,11 +202,7 @@ def plot_orbit_diagram(orbit_diagram: Any, ax: Axes | None = None) -> Figure:
     """
     param = np.asarray(orbit_diagram.parameter, dtype=float)
     values = np.asarray(orbit_diagram.values, dtype=float)
-    if values.ndim != 2 or values.shape[0] != param.shape[0]:
-        raise ValueError(
-            f"`orbit_diagram.values` must have shape (n, n_keep) with n = {param.shape[0]}, "
-            f"got {values.shape}"
-        )
+    check_rows("orbit_diagram.values", values, param, "n_keep")
     fig, ax = new_axes(ax)
     px = np.repeat(param, values.shape[1])
     py = values.ravel()
