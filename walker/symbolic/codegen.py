@@ -42,6 +42,8 @@ from dataclasses import dataclass
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
+from walker.symbolic.mechanics import stray_symbols
+
 __all__ = [
     "SOLVES",
     "VARIANT_SOLVE",
@@ -202,9 +204,7 @@ class Lowered:
 def _check_and_cse(kernel, entries, rewrite):
     """Stray-symbol check, optional rewrite, loads and one cse pass over ``entries``."""
     entries = [sp.sympify(e) for e in entries]
-    allowed = {s for _, syms in kernel.args for s in syms}
-    free = set().union(*(e.free_symbols for e in entries))
-    stray = sorted(str(s) for s in free - allowed)
+    stray = stray_symbols(entries, {s for _, syms in kernel.args for s in syms})
     if stray:
         raise ValueError(
             f"kernel `{kernel.name}`: symbols {stray} are not in its arguments "
@@ -213,7 +213,7 @@ def _check_and_cse(kernel, entries, rewrite):
     defs = []
     if rewrite is not None:
         defs, entries = rewrite(kernel, entries)
-        free = set().union(*(e.free_symbols for e in entries), *(e.free_symbols for _, e in defs))
+    free = set().union(*(e.free_symbols for e in entries), *(e.free_symbols for _, e in defs))
     loads = [(s, name, i) for name, syms in kernel.args for i, s in enumerate(syms) if s in free]
     repl, reduced = sp.cse(entries, symbols=sp.numbered_symbols("x"))
     return loads, list(defs) + list(repl), reduced

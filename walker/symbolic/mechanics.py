@@ -291,13 +291,18 @@ def derive(
     return model
 
 
+def stray_symbols(exprs, allowed: set) -> list[str]:
+    """Names of the free symbols of ``exprs`` that are not in ``allowed``, sorted."""
+    free = set().union(*(e.free_symbols for e in exprs))
+    return sorted(str(s) for s in free - allowed)
+
+
 def check_free_symbols(model: LagrangianModel) -> None:
     """Raise ``ValueError`` naming any symbol that is neither a coordinate nor a parameter."""
     allowed = set(model.q) | set(model.qd) | set(model.params)
     exprs = [model.D, model.C, model.G, model.B, model.forcing, sp.Matrix([model.K, model.P])]
     exprs += list(model.points.values())
-    free = set().union(*(e.free_symbols for e in exprs))
-    stray = sorted(str(s) for s in free - allowed)
+    stray = stray_symbols(exprs, allowed)
     if stray:
         raise ValueError(
             f"model `{model.name}`: symbols {stray} are neither coordinates nor parameters; "

@@ -158,6 +158,22 @@ def _floating_foot_points(hip, q_stance, q_swing, L, R, n):
     }
 
 
+def _floating_base(name, names, params, L, bodies_of) -> LagrangianModel:
+    """The floating-base model ``name`` for heel strike: coordinates ``names`` (stance and
+    swing leg angles, then the hip's x and y), straight legs of length ``L`` ending in the
+    feet of :func:`_floating_foot_points`, and the bodies ``bodies_of(q_stance, q_swing,
+    hip, stance_center)``.  ``params`` are the model's parameter symbols; the foot radius,
+    the slope and ``g`` are read from them by name."""
+    by_name = {str(p): p for p in params}
+    R, slope, g = by_name["foot_radius"], by_name["slope"], by_name["g"]
+    (q1, q2, xh, yh), (q1d, q2d, xhd, yhd) = _coords(names)
+    s, n = _slope_frame(slope)
+    hip = sp.Matrix([xh, yh])
+    points = _floating_foot_points(hip, q1, q2, L, R, n)
+    bodies = bodies_of(q1, q2, hip, points["stance_center"])
+    return derive(name, (q1, q2, xh, yh), (q1d, q2d, xhd, yhd), bodies, g, params, points=points)
+
+
 # --------------------------------------------------------------------------- simplest walker
 @cache
 def simplest() -> dict:
@@ -302,21 +318,13 @@ def compass_extended() -> LagrangianModel:
     :func:`contact_velocity_jacobian`.
     """
     params = param_symbols("compass")
-    m_h, m, a, b, inertia, R, slope, g = params[:8]
-    (q1, q2, xh, yh), (q1d, q2d, xhd, yhd) = _coords(("q_stance", "q_swing", "x_hip", "y_hip"))
-    s, n = _slope_frame(slope)
-    L = a + b
-    hip = sp.Matrix([xh, yh])
-    points = _floating_foot_points(hip, q1, q2, L, R, n)
-    bodies = _compass_bodies(q1, q2, hip, params, points["stance_center"])
-    return derive(
+    a, b = params[2], params[3]
+    return _floating_base(
         "compass_extended",
-        (q1, q2, xh, yh),
-        (q1d, q2d, xhd, yhd),
-        bodies,
-        g,
+        ("q_stance", "q_swing", "x_hip", "y_hip"),
         params,
-        points=points,
+        a + b,
+        lambda q1, q2, hip, center: _compass_bodies(q1, q2, hip, params, center),
     )
 
 
@@ -445,21 +453,12 @@ def kneed_extended() -> LagrangianModel:
     with the knee locked), the hip free.
     """
     params = param_symbols("kneed")
-    R, slope, g = params[11], params[12], params[13]
-    (q1, q2, xh, yh), (q1d, q2d, xhd, yhd) = _coords(("q1", "q2", "x_hip", "y_hip"))
-    s, n = _slope_frame(slope)
-    l_s, l_t, L = _kneed_geometry(params)
-    hip = sp.Matrix([xh, yh])
-    points = _floating_foot_points(hip, q1, q2, L, R, n)
-    bodies, knee = _kneed_bodies(q1, q2, q2, hip, params, points["stance_center"])
-    return derive(
+    return _floating_base(
         "kneed_extended",
-        (q1, q2, xh, yh),
-        (q1d, q2d, xhd, yhd),
-        bodies,
-        g,
+        ("q1", "q2", "x_hip", "y_hip"),
         params,
-        points=points,
+        _kneed_geometry(params)[2],
+        lambda q1, q2, hip, center: _kneed_bodies(q1, q2, q2, hip, params, center)[0],
     )
 
 

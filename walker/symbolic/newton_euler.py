@@ -113,12 +113,8 @@ class PlanarChain:
         ):
             if arr.shape != shape:
                 raise ValueError(f"`{name}` must have shape {shape}, got {arr.shape}")
-        for name, arr in (
-            ("lengths", lengths),
-            ("coms", coms),
-            ("masses", masses),
-            ("inertias", inertias),
-        ):
+        arrays = {"lengths": lengths, "coms": coms, "masses": masses, "inertias": inertias}
+        for name, arr in arrays.items():
             if not np.all(np.isfinite(arr)):
                 raise ValueError(f"all entries of `{name}` must be finite")
         if np.any(lengths < 0):
@@ -127,12 +123,7 @@ class PlanarChain:
             raise ValueError(f"`masses` must be > 0 [kg], got {masses.tolist()}")
         if np.any(inertias < 0):
             raise ValueError(f"`inertias` must be >= 0 [kg m^2], got {inertias.tolist()}")
-        for name, arr in (
-            ("lengths", lengths),
-            ("coms", coms),
-            ("masses", masses),
-            ("inertias", inertias),
-        ):
+        for name, arr in arrays.items():
             arr.setflags(write=False)
             object.__setattr__(self, name, arr)
 
