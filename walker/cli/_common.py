@@ -313,6 +313,21 @@ def resumable_options(p) -> None:
     )
 
 
+def json_flag(p: argparse.ArgumentParser) -> None:
+    """``--json``: print one strict-JSON object instead of the text summary."""
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print one JSON object (strict JSON: null for a missing number)",
+    )
+
+
+def out_flags(p: argparse.ArgumentParser, help_: str) -> None:
+    """``--out FILE`` (what is written there: ``help_``) and ``--overwrite``."""
+    p.add_argument("--out", metavar="FILE", help=help_)
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --out")
+
+
 def scene_cmd(sub, name: str, help_: str) -> argparse.ArgumentParser:
     """A subcommand that takes a scene file and ``--set NAME=VALUE`` overrides."""
     p = sub.add_parser(name, help=help_, formatter_class=HelpFormatter)

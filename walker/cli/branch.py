@@ -25,6 +25,8 @@ from ._common import (
     _json,
     _load,
     _stride_map,
+    json_flag,
+    out_flags,
     provenance,
     scene_cmd,
     write_result,
@@ -444,11 +446,6 @@ def register(sub) -> None:
         help="natural-parameter continuation, which stops before a fold (default: off, "
         "pseudo-arclength)",
     )
-    p.add_argument(
-        "--json",
-        action="store_true",
-        help="print one JSON object (strict JSON: null for a missing number)",
-    )
-    p.add_argument("--out", metavar="FILE", help="HDF5 file to write the branch to (default: none)")
-    p.add_argument("--overwrite", action="store_true", help="replace an existing --out")
+    json_flag(p)
+    out_flags(p, "HDF5 file to write the branch to (default: none)")
     p.set_defaults(func=cmd_continue)

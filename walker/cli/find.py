@@ -12,6 +12,8 @@ from ._common import (
     _load,
     _positive_flag,
     _stride_map,
+    json_flag,
+    out_flags,
     scene_cmd,
     write_result,
 )
@@ -83,11 +85,7 @@ def _print_fixed_point(scene, P, fp) -> None:
 
 def register(sub) -> None:
     p = scene_cmd(sub, "find", "find the periodic gait (fixed point of the stride map)")
-    p.add_argument(
-        "--json",
-        action="store_true",
-        help="print one JSON object (strict JSON: null for a missing number)",
-    )
+    json_flag(p)
     p.add_argument(
         "--period",
         type=int,
@@ -106,8 +104,5 @@ def register(sub) -> None:
         action="store_true",
         help="finite-difference Jacobian instead of the exact one (variational equations)",
     )
-    p.add_argument(
-        "--out", metavar="FILE", help="also store the fixed point in this HDF5 file (default: none)"
-    )
-    p.add_argument("--overwrite", action="store_true", help="replace an existing --out")
+    out_flags(p, "also store the fixed point in this HDF5 file (default: none)")
     p.set_defaults(func=cmd_find)

@@ -21,7 +21,7 @@ import dataclasses
 import textwrap
 
 from ._catalog import MODEL_SUMMARIES, SECTION_WHERE, STARTS
-from ._common import EXIT_OK, _json
+from ._common import EXIT_OK, _json, out_flags
 from ._help import add_parser
 from .scene_new import cmd_scene_new
 
@@ -254,6 +254,5 @@ def register(sub) -> None:
         metavar="NAME",
         help="parameter preset (`walker params MODEL` lists them; default: the model's first)",
     )
-    p.add_argument("--out", metavar="FILE", help="file to write (default: print the scene)")
-    p.add_argument("--overwrite", action="store_true", help="replace an existing --out")
+    out_flags(p, "file to write (default: print the scene)")
     p.set_defaults(func=cmd_scene_new)
