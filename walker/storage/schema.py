@@ -258,21 +258,24 @@ def _shape_problem(cls: type, v: dict[str, Any]) -> tuple[str, str] | None:
                 return problem
         return None
 
+    def along(name: str, *checks: Any) -> tuple[str, str] | None:
+        """``first`` of ``check(n)`` for each of ``checks``, once the field ``name`` (whose
+        length n sizes the others) is 1-D."""
+        a = v[name]
+        if a.ndim != 1:
+            return name, f"must be 1-D, got shape {a.shape}"
+        return first(*(lambda check=check: check(a.shape[0]) for check in checks))
+
     if cls is EventLog:
-        if v["t"].ndim != 1:
-            return "t", f"must be 1-D, got shape {v['t'].shape}"
-        n = v["t"].shape[0]
-        return first(
-            *(lambda k=k: vector(k, n, "iu") for k in ("guard", "phase_before", "phase_after")),
-            lambda: matrix("x_pre", n),
-            lambda: matrix("x_post", n, v["x_pre"].shape[1]),
-            lambda: matrix("impulse", n),
+        return along(
+            "t",
+            *(lambda n, k=k: vector(k, n, "iu") for k in ("guard", "phase_before", "phase_after")),
+            lambda n: matrix("x_pre", n),
+            lambda n: matrix("x_post", n, v["x_pre"].shape[1]),
+            lambda n: matrix("impulse", n),
         )
     if cls is Trajectory:
-        if v["t"].ndim != 1:
-            return "t", f"must be 1-D, got shape {v['t'].shape}"
-        n = v["t"].shape[0]
-        return first(lambda: matrix("x", n), lambda: vector("phase", n, "iu"))
+        return along("t", lambda n: matrix("x", n), lambda n: vector("phase", n, "iu"))
     if cls is Solution:
         if v["x"].ndim != 1:
             return "x", f"must be 1-D, got shape {v['x'].shape}"
@@ -287,37 +290,28 @@ def _shape_problem(cls: type, v: dict[str, Any]) -> tuple[str, str] | None:
             lambda: None if v["dt_dx0"] is None else vector("dt_dx0", n_x),
         )
     if cls is MapResult:
-        if v["z"].ndim != 1:
-            return "z", f"must be 1-D, got shape {v['z'].shape}"
-        n_z = v["z"].shape[0]
-        return first(lambda: matrix("jac", n_z, n_z), lambda: vector("state"))
+        return along("z", lambda n_z: matrix("jac", n_z, n_z), lambda n_z: vector("state"))
     if cls is FixedPoint:
-        if v["section"].ndim != 1:
-            return "section", f"must be 1-D, got shape {v['section'].shape}"
-        n_z = v["section"].shape[0]
-        return first(
-            lambda: vector("state"),
-            lambda: vector("multipliers", n_z),
-            lambda: matrix("eigenvectors", n_z, n_z),
-            lambda: matrix("jacobian", n_z, n_z),
-            lambda: vector("history"),
+        return along(
+            "section",
+            lambda n_z: vector("state"),
+            lambda n_z: vector("multipliers", n_z),
+            lambda n_z: matrix("eigenvectors", n_z, n_z),
+            lambda n_z: matrix("jacobian", n_z, n_z),
+            lambda n_z: vector("history"),
         )
     if cls is Bifurcation:
         return first(lambda: vector("section"), lambda: vector("multipliers"))
     if cls is Branch:
-        if v["parameter"].ndim != 1:
-            return "parameter", f"must be 1-D, got shape {v['parameter'].shape}"
-        n = v["parameter"].shape[0]
-        return first(
-            lambda: matrix("sections", n),
-            lambda: vector("step_times", n),
-            lambda: matrix("multipliers", n),
-            lambda: vector("stable", n, "b"),
+        return along(
+            "parameter",
+            lambda n: matrix("sections", n),
+            lambda n: vector("step_times", n),
+            lambda n: matrix("multipliers", n),
+            lambda n: vector("stable", n, "b"),
         )
     if cls is OrbitDiagram:
-        if v["parameter"].ndim != 1:
-            return "parameter", f"must be 1-D, got shape {v['parameter'].shape}"
-        return matrix("values", v["parameter"].shape[0])
+        return along("parameter", lambda n: matrix("values", n))
     if cls is BasinMap:
         if len(v["axis_names"]) != 2:
             return "axis_names", f"must be two names, got {len(v['axis_names'])}"
