@@ -122,6 +122,12 @@ class SingularConfiguration(ValueError):
         self.angle = angle
 
 
+def _of_joint(name: str, doc: str) -> property:
+    """A read-only property of a :class:`TaskSpaceModel` that is its joint-space model's
+    attribute ``name``."""
+    return property(lambda self: getattr(self.joint, name), doc=doc)
+
+
 @dataclass(frozen=True)
 class TaskSpaceModel:
     """The matrices of ``M_x x_ddot + V_x + G_x = F + Q_x`` (module docstring), symbolic.
@@ -169,21 +175,10 @@ class TaskSpaceModel:
     angle: sp.Expr
     singular_text: str
 
-    @property
-    def q(self) -> tuple:
-        return self.joint.q
-
-    @property
-    def qd(self) -> tuple:
-        return self.joint.qd
-
-    @property
-    def params(self) -> tuple:
-        return self.joint.params
-
-    @property
-    def n(self) -> int:
-        return self.joint.n
+    q = _of_joint("q", "the joint coordinates (tuple of symbols)")
+    qd = _of_joint("qd", "the joint rates (tuple of symbols)")
+    params = _of_joint("params", "the parameter symbols (tuple)")
+    n = _of_joint("n", "the number of joints, which is the number of task coordinates (int)")
 
 
 def cartesian(
