@@ -11,6 +11,7 @@ scripts/_contenders.py.
 
 from __future__ import annotations
 
+import argparse
 import csv
 import gc
 import io
@@ -222,3 +223,12 @@ def publish(name: str, lines) -> None:
 def command_line(script: str, argv) -> str:
     args = " ".join(argv if argv is not None else sys.argv[1:])
     return f"python scripts/{script}" + (f" {args}" if args else "")
+
+
+def quick_options(script: str, doc: str, quick_help: str, argv) -> tuple[bool, str]:
+    """Parse the command line of a benchmark whose one option is ``--quick`` (described by
+    ``quick_help``; ``doc`` the script's docstring); return whether it is quick and the
+    command line (:func:`command_line`)."""
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help=quick_help)
+    return parser.parse_args(argv).quick, command_line(script, argv)

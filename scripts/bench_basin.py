@@ -38,7 +38,6 @@ Usage: python scripts/bench_basin.py [--quick]
 
 from __future__ import annotations
 
-import argparse
 import concurrent.futures as cf
 import multiprocessing
 import os
@@ -148,14 +147,11 @@ def run_cli(n, span):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="20 x 20 grids, fewer repeats")
-    args = parser.parse_args(argv)
-    cmd = B.command_line("bench_basin.py", argv)
-    n = 20 if args.quick else 100
-    reps = 2 if args.quick else 7
-    pp_reps = 2 if args.quick else 3
-    n_sample = 6 if args.quick else 24
+    quick, cmd = B.quick_options("bench_basin.py", __doc__, "20 x 20 grids, fewer repeats", argv)
+    n = 20 if quick else 100
+    reps = 2 if quick else 7
+    pp_reps = 2 if quick else 3
+    n_sample = 6 if quick else 24
     t_start = time.perf_counter()
     load_before = os.getloadavg()[0]
 

@@ -28,7 +28,6 @@ Usage: python scripts/bench_search.py [--quick]
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
@@ -226,11 +225,8 @@ def fmt_mult(m):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="fewer repeats")
-    args = parser.parse_args(argv)
-    cmd = B.command_line("bench_search.py", argv)
-    reps = 3 if args.quick else 21
+    quick, cmd = B.quick_options("bench_search.py", __doc__, "fewer repeats", argv)
+    reps = 3 if quick else 21
     t0 = time.perf_counter()
     rows = []
     for name, f in (

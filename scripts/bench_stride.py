@@ -34,7 +34,6 @@ Usage: python scripts/bench_stride.py [--quick]
 
 from __future__ import annotations
 
-import argparse
 import importlib.metadata
 import math
 import sys
@@ -410,11 +409,7 @@ def plot(panels, path):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="fewer tolerances and repeats")
-    args = parser.parse_args(argv)
-    cmd = B.command_line("bench_stride.py", argv)
-    quick = args.quick
+    quick, cmd = B.quick_options("bench_stride.py", __doc__, "fewer tolerances and repeats", argv)
     if quick:
         tols = [1e-4, 1e-6, 1e-8, 1e-10, 1e-12]
         reps_sweep, reps_target, batch = 3, 5, 0.005
