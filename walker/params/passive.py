@@ -204,26 +204,15 @@ class CompassParams(_Params):
 
     @classmethod
     def drake(cls) -> CompassParams:
-        """Defaults of Drake's compass gait [1]_: m_H = 10, m = 5, l = 1, centre of mass 0.5
-        from the hip (point-mass legs), g = 9.81, slope 0.0525 rad; undamped
-        (``damping_hip = damping_ankle = 0``).
+        """Defaults of Drake's compass gait [1]_: :meth:`goswami`'s walker (m_H = 10, m = 5,
+        l = 1, centre of mass 0.5 from the hip, point-mass legs, undamped) with g = 9.81 on
+        the slope 0.0525 rad.
 
         References
         ----------
         .. [1] Drake, ``examples/compass_gait/compass_gait_params_named_vector.yaml``.
         """
-        return cls(
-            mass_hip=10.0,
-            mass_leg=5.0,
-            com_from_foot=0.5,
-            com_to_hip=0.5,
-            inertia_leg=0.0,
-            foot_radius=0.0,
-            slope=0.0525,
-            g=9.81,
-            damping_hip=0.0,
-            damping_ankle=0.0,
-        )
+        return cls.goswami(slope=0.0525).replace(g=9.81)
 
 
 # ------------------------------------------------------------------------------------------
