@@ -156,6 +156,54 @@ def floating_base_heel_strike(
     return heel_strike_impact(M, Jsw, Jst, qdf, slope, qdf_plus, impulse)
 
 
+@njit(cache=True, error_model="numpy")
+def relabel(q, qd, order, x_new):
+    """The state ``x_new`` with coordinates ``q[order]`` and rates ``qd[order]``: ``x_new[i] =
+    q[order[i]]``, ``x_new[n + i] = qd[order[i]]`` for the ``n = len(order)`` coordinates (a
+    leg swap, or a locked knee copying its thigh)."""
+    n = len(order)
+    for i in range(n):
+        x_new[i] = q[order[i]]
+        x_new[n + i] = qd[order[i]]
+
+
+@njit(cache=True, error_model="numpy")
+def fell(phase, forward):
+    """The reset of a fall guard: the run ends ``FELL_FORWARD`` (``forward`` true) or
+    ``FELL_BACKWARD``; returns ``(action, next phase, status)``."""
+    return EVENT_TERMINAL, phase, FELL_FORWARD if forward else FELL_BACKWARD
+
+
+@njit(cache=True, error_model="numpy")
+def stride_end(phase, status):
+    """The reset's ``(action, next phase, status)`` after a heel strike that returned
+    ``status``: the stride ends (next phase 0), or the run on a nonzero status."""
+    if status != 0:
+        return EVENT_TERMINAL, phase, status
+    return EVENT_STRIDE, 0, 0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def touchdown(swing_foot, heel_strike, leg_length, phase, x, p, x_new, impulse):
+    """The reset of a walker whose swing foot touches the slope at ``x``: a touchdown no more
+    than ``MIN_STEP`` leg lengths (``leg_length``) ahead of the stance foot is a scuff
+    (ignored), any other the heel strike ``heel_strike(x, p, x_new, impulse)`` that ends the
+    stride (:func:`stride_end`).  ``swing_foot(x, p)`` returns (height, distance ahead)."""
+    if swing_foot(x, p)[1] <= MIN_STEP * leg_length:
+        return EVENT_IGNORE, phase, 0
+    return stride_end(phase, heel_strike(x, p, x_new, impulse))
+
+
+@njit(cache=True, error_model="numpy")
+def passive_impact_status(impulse, lift):
+    """The judgement of a heel strike without a friction cone: 0 when the normal impulse
+    ``impulse[1]`` is positive and the trailing foot lifts off (``lift > 0``),
+    ``NONPHYSICAL_IMPACT`` otherwise."""
+    if not (impulse[1] > 0.0) or not (lift > 0.0):
+        return NONPHYSICAL_IMPACT
+    return 0
+
+
 @njit(cache=True, error_model="numpy", inline="always")
 def after_base_reset(start, phase, action, new_base, status, x_new, p):
     """The reset of a model with joint friction at one of its base model's events (heel
@@ -282,10 +330,10 @@ def impact_status(impulse, lift, mu):
     """The judgement of a heel strike on a floor with friction coefficient ``mu``: 0 when the
     normal impulse ``impulse[1]`` is positive, the impulse inside the friction cone
     ``|impulse[0]| <= mu impulse[1]`` and the trailing foot lifts off (``lift > 0``),
-    ``NONPHYSICAL_IMPACT`` otherwise."""
-    if not (impulse[1] > 0.0) or not (abs(impulse[0]) <= mu * impulse[1]) or not (lift > 0.0):
+    ``NONPHYSICAL_IMPACT`` otherwise (:func:`passive_impact_status` within the cone)."""
+    if not (abs(impulse[0]) <= mu * impulse[1]):
         return NONPHYSICAL_IMPACT
-    return 0
+    return passive_impact_status(impulse, lift)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
