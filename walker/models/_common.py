@@ -12,6 +12,55 @@ from walker._jit import njit
 from walker._linalg import solve_inplace
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
 
+JOINT_FRICTION_EXPORTS = (
+    "N_X",
+    "N_IMPULSE",
+    "STATE_NAMES",
+    "KERNEL_HASH",
+    "JOINTS",
+    "PHASE_NAMES",
+    "GUARD_NAMES",
+    "DIRECTIONS",
+    "I_COULOMB",
+    "rhs",
+    "jac",
+    "guards",
+    "reset",
+    "joint_torques",
+    "phase_of",
+    "modes_of",
+    "start_phase",
+)
+"""The public names of a model with dry joint friction over :mod:`walker.friction_phases`
+(the start of its ``__all__``)."""
+BASE_EXPORTS = (
+    "LIFT_AFFINE",
+    "SECTION_NAMES",
+    "SEGMENTS",
+    "energy",
+    "lift",
+    "lift_jacobian",
+    "points",
+    "project",
+    "swing_foot",
+)
+"""The public names a walker with joint friction takes unchanged from its base model (the
+Poincare section, the energy, the swing foot and the drawing): :func:`joint_friction_walker`."""
+
+
+def joint_friction_walker(module_name: str, base):
+    """The ``__all__`` and the module ``__getattr__`` (PEP 562) of the walker with joint
+    friction ``module_name`` over its base model's module ``base``: its public names are
+    :data:`JOINT_FRICTION_EXPORTS` and :data:`BASE_EXPORTS`, the latter ``base``'s own."""
+
+    def __getattr__(name: str):
+        if name in BASE_EXPORTS:
+            return getattr(base, name)
+        raise AttributeError(f"module {module_name!r} has no attribute {name!r}")
+
+    return [*JOINT_FRICTION_EXPORTS, *BASE_EXPORTS], __getattr__
+
+
 # The walker.status.Status values a reset map returns, as plain integers for compiled code.
 FELL_BACKWARD = int(Status.FELL_BACKWARD)
 FELL_FORWARD = int(Status.FELL_FORWARD)

@@ -47,49 +47,11 @@ from walker._generated import indices as ix
 from walker._generated import kneed as K
 from walker._jit import njit
 from walker.models import kneed as _kneed
-from walker.models._common import after_base_reset, relabel
-from walker.models.kneed import (
-    LIFT_AFFINE,
-    SECTION_NAMES,
-    SEGMENTS,
-    energy,
-    lift,
-    lift_jacobian,
-    points,
-    project,
-    swing_foot,
-)
+from walker.models._common import after_base_reset, joint_friction_walker, relabel
 from walker.params import MODELS
 from walker.status import EVENT_CONTINUE
 
-__all__ = [
-    "N_X",
-    "N_IMPULSE",
-    "STATE_NAMES",
-    "SECTION_NAMES",
-    "SEGMENTS",
-    "KERNEL_HASH",
-    "JOINTS",
-    "PHASE_NAMES",
-    "GUARD_NAMES",
-    "DIRECTIONS",
-    "I_COULOMB",
-    "rhs",
-    "jac",
-    "guards",
-    "reset",
-    "joint_torques",
-    "phase_of",
-    "modes_of",
-    "start_phase",
-    "energy",
-    "LIFT_AFFINE",
-    "lift",
-    "lift_jacobian",
-    "project",
-    "points",
-    "swing_foot",
-]
+__all__, __getattr__ = joint_friction_walker(__name__, _kneed)
 
 N_X = 6
 N_IMPULSE = 2
