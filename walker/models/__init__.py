@@ -21,6 +21,10 @@ A model module (``walker/models/<name>.py``) provides, per the contract of
    (``("trip", "ignore")``, the default first) and ``reset_ignore_scuff``, the reset map
    under ``"ignore"``, compiled as the registry variants ``<model>/ignore_scuff`` and
    ``<model>/<variant>/ignore_scuff`` (:func:`get_model` ``swing_scuff``).
+7. Optionally ``VARIANTS``: compiled structural variants (walker/_core/models.c), name ->
+   parameters.  A variant runs kernels generated with these parameters fixed at exactly
+   zero, so scenes that leave them at zero pay no arithmetic for them;
+   :meth:`WalkerModel.variant_for` picks it.
 
 Importing a model compiles nothing; a compass-gait run never loads the kneed kernels.
 """

@@ -49,9 +49,8 @@ VARIANTS = {
         "damping_ankle",
     )
 }
-"""Compiled structural variants (walker/_core/models.c): a variant runs kernels generated
-with these parameters fixed at exactly zero, so scenes that leave them at zero pay no
-arithmetic for them.  :meth:`walker.models.WalkerModel.variant_for` picks it."""
+"""Compiled structural variants (:mod:`walker.models`, item 7): ``plain`` is the compass gait
+of point masses with point feet and no dampers."""
 
 _I_R, _I_SLOPE = ix.COMPASS_P_FOOT_RADIUS, ix.COMPASS_P_SLOPE
 _I_LEG_A, _I_LEG_B = ix.COMPASS_P_COM_FROM_FOOT, ix.COMPASS_P_COM_TO_HIP

@@ -91,9 +91,8 @@ VARIANTS = {
         "damping_ankle",
     )
 }
-"""Compiled structural variants (walker/_core/models.c): a variant runs kernels generated
-with these parameters fixed at exactly zero, so scenes that leave them at zero pay no
-arithmetic for them.  :meth:`walker.models.WalkerModel.variant_for` picks it."""
+"""Compiled structural variants (:mod:`walker.models`, item 7): ``plain`` is the kneed walker
+of point masses on the segments' axes, with point feet and no dampers."""
 
 _I_R, _I_SLOPE = ix.KNEED_P_FOOT_RADIUS, ix.KNEED_P_SLOPE
 # |q3 - q2| [rad] below which a foot contact with the knee unlocked counts as simultaneous
