@@ -88,10 +88,15 @@ def impact(M, J, qd_minus, qd_plus, impulse):
     Parameters
     ----------
     M : ndarray, shape (n, n)
+        mass matrix.
     J : ndarray, shape (m, n)
+        Jacobian of the ``m`` contact velocities that the plastic impact brings to zero.
     qd_minus : ndarray, shape (n,)
+        rates just before the impact.
     qd_plus : ndarray, shape (n,)   (output)
+        rates just after it.
     impulse : ndarray, shape (>= m,)   (output, first m entries)
+        the contact impulses.
 
     Returns
     -------
