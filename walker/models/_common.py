@@ -1,7 +1,9 @@
 """Compiled pieces shared by the walkers: the fall threshold, the status values a reset
-returns, impacts as augmented linear systems, the floating-base heel strike and the reset of a
-model with joint friction after its base model's events.  (Accelerations and their Jacobian
-are generated kernels: ``accel`` and ``accel_jac`` in walker/_generated.)"""
+returns, impacts as augmented linear systems, the floating-base heel strike, the state after
+an impact (:func:`relabel`), the resets of falls and heel strikes and the reset of a model with
+joint friction after its base model's events; and the public names of the models with joint
+friction.  (Accelerations and their Jacobian are generated kernels: ``accel`` and
+``accel_jac`` in walker/_generated.)"""
 
 import math
 
