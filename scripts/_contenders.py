@@ -26,14 +26,10 @@ import numpy as np
 from walker.params import KneedParams
 
 # ----------------------------------------------------------- hand-written kneed model
-# Parameters the hand-written model leaves out: they must be zero in the benchmarked scene.
-KNEED_ZERO = (
-    "offset_thigh",
-    "offset_shank",
-    "foot_radius",
-    "damping_hip",
-    "damping_knee",
-    "damping_ankle",
+# Parameters the hand-written model leaves out, the segment offsets, the foot radius and the
+# viscous dampers: they must be zero in the benchmarked scene.
+KNEED_ZERO = tuple(
+    n for n in KneedParams.names() if n.startswith(("offset_", "damping_")) or n == "foot_radius"
 )
 # Parameter order of the generated source: walker's KneedParams fields in their order, less
 # the ones left out and the slope (the heel-strike guard takes it).

@@ -21,6 +21,10 @@ A model module (``walker/models/<name>.py``) provides, per the contract of
    (``("trip", "ignore")``, the default first) and ``reset_ignore_scuff``, the reset map
    under ``"ignore"``, compiled as the registry variants ``<model>/ignore_scuff`` and
    ``<model>/<variant>/ignore_scuff`` (:func:`get_model` ``swing_scuff``).
+7. Optionally ``VARIANTS``: compiled structural variants (walker/_core/models.c), name ->
+   parameters.  A variant runs kernels generated with these parameters fixed at exactly
+   zero, so scenes that leave them at zero pay no arithmetic for them;
+   :meth:`WalkerModel.variant_for` picks it.
 
 Importing a model compiles nothing; a compass-gait run never loads the kneed kernels.
 """
@@ -39,6 +43,18 @@ __all__ = ["WalkerModel", "get_model", "MODEL_NAMES"]
 
 MODEL_NAMES = tuple(MODELS)
 """The models walker ships: the keys of the model registry :data:`walker.params.MODELS`."""
+
+
+def _spec_attr(name: str, doc: str) -> property:
+    """A read-only property of :class:`WalkerModel`: attribute ``name`` of the model's
+    registry record (:attr:`WalkerModel.spec`)."""
+    return property(lambda self: getattr(self.spec, name), doc=doc)
+
+
+def _module_attr(name: str, doc: str) -> property:
+    """A read-only property of :class:`WalkerModel`: attribute ``name`` of the model's
+    module."""
+    return property(lambda self: getattr(self.module, name), doc=doc)
 
 
 @dataclass(frozen=True, eq=False)
@@ -161,57 +177,30 @@ class WalkerModel:
         """This model's record in the model registry :data:`walker.params.MODELS`."""
         return MODELS[self.name]
 
-    @property
-    def params_class(self):
-        return self.spec.params_class
-
-    @property
-    def n_x(self) -> int:
-        return self.module.N_X
-
-    @property
-    def state_names(self) -> tuple[str, ...]:
-        return self.spec.state_names
-
-    @property
-    def state_units(self) -> tuple[str, ...]:
-        """Unit of each component of the full state, parallel to :attr:`state_names`."""
-        return self.spec.state_units
-
-    @property
-    def section_names(self) -> tuple[str, ...]:
-        return self.module.SECTION_NAMES
+    params_class = _spec_attr("params_class", "The model's parameter class.")
+    state_names = _spec_attr("state_names", "Name of each component of the full state.")
+    state_units = _spec_attr(
+        "state_units",
+        "Unit of each component of the full state, parallel to :attr:`state_names`.",
+    )
+    has_strides = _spec_attr(
+        "has_strides",
+        "Whether the model walks: heel strikes end strides, and it has a Poincare section "
+        "(its registry record's ``has_strides``).",
+    )
+    is_walker = _spec_attr(
+        "has_strides", "The former name of :attr:`has_strides`, kept for code that reads it."
+    )
+    n_x = _module_attr("N_X", "Length of the full state.")
+    section_names = _module_attr("SECTION_NAMES", "Names of the section coordinates.")
+    phase_names = _module_attr("PHASE_NAMES", "Name of each phase.")
+    guard_names = _module_attr("GUARD_NAMES", "Name of each guard, in priority order.")
+    kernel_hash = _module_attr("KERNEL_HASH", "Hash of the model's generated kernels.")
+    segments = _module_attr("SEGMENTS", "Pairs of :meth:`points` rows joined for drawing.")
 
     @cached_property
     def n_z(self) -> int:
         return len(self.module.SECTION_NAMES)
-
-    @property
-    def phase_names(self) -> tuple[str, ...]:
-        return self.module.PHASE_NAMES
-
-    @property
-    def guard_names(self) -> tuple[str, ...]:
-        return self.module.GUARD_NAMES
-
-    @property
-    def has_strides(self) -> bool:
-        """Whether the model walks: heel strikes end strides, and it has a Poincare section
-        (its registry record's ``has_strides``)."""
-        return self.spec.has_strides
-
-    @property
-    def is_walker(self) -> bool:
-        """The former name of :attr:`has_strides`, kept for code that reads it."""
-        return self.has_strides
-
-    @property
-    def kernel_hash(self) -> str:
-        return self.module.KERNEL_HASH
-
-    @property
-    def segments(self):
-        return self.module.SEGMENTS
 
     def lift(self, z, p) -> np.ndarray:
         """Section coordinates -> full state just after heel strike."""

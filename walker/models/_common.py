@@ -1,7 +1,9 @@
 """Compiled pieces shared by the walkers: the fall threshold, the status values a reset
-returns, impacts as augmented linear systems, the floating-base heel strike and the reset of a
-model with joint friction after its base model's events.  (Accelerations and their Jacobian
-are generated kernels: ``accel`` and ``accel_jac`` in walker/_generated.)"""
+returns, impacts as augmented linear systems, the floating-base heel strike, the state after
+an impact (:func:`relabel`), the resets of falls and heel strikes and the reset of a model with
+joint friction after its base model's events; and the public names of the models with joint
+friction.  (Accelerations and their Jacobian are generated kernels: ``accel`` and
+``accel_jac`` in walker/_generated.)"""
 
 import math
 
@@ -11,6 +13,55 @@ from walker import friction as fr
 from walker._jit import njit
 from walker._linalg import solve_inplace
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
+
+JOINT_FRICTION_EXPORTS = (
+    "N_X",
+    "N_IMPULSE",
+    "STATE_NAMES",
+    "KERNEL_HASH",
+    "JOINTS",
+    "PHASE_NAMES",
+    "GUARD_NAMES",
+    "DIRECTIONS",
+    "I_COULOMB",
+    "rhs",
+    "jac",
+    "guards",
+    "reset",
+    "joint_torques",
+    "phase_of",
+    "modes_of",
+    "start_phase",
+)
+"""The public names of a model with dry joint friction over :mod:`walker.friction_phases`
+(the start of its ``__all__``)."""
+BASE_EXPORTS = (
+    "LIFT_AFFINE",
+    "SECTION_NAMES",
+    "SEGMENTS",
+    "energy",
+    "lift",
+    "lift_jacobian",
+    "points",
+    "project",
+    "swing_foot",
+)
+"""The public names a walker with joint friction takes unchanged from its base model (the
+Poincare section, the energy, the swing foot and the drawing): :func:`joint_friction_walker`."""
+
+
+def joint_friction_walker(module_name: str, base):
+    """The ``__all__`` and the module ``__getattr__`` (PEP 562) of the walker with joint
+    friction ``module_name`` over its base model's module ``base``: its public names are
+    :data:`JOINT_FRICTION_EXPORTS` and :data:`BASE_EXPORTS`, the latter ``base``'s own."""
+
+    def __getattr__(name: str):
+        if name in BASE_EXPORTS:
+            return getattr(base, name)
+        raise AttributeError(f"module {module_name!r} has no attribute {name!r}")
+
+    return [*JOINT_FRICTION_EXPORTS, *BASE_EXPORTS], __getattr__
+
 
 # The walker.status.Status values a reset map returns, as plain integers for compiled code.
 FELL_BACKWARD = int(Status.FELL_BACKWARD)
@@ -39,10 +90,15 @@ def impact(M, J, qd_minus, qd_plus, impulse):
     Parameters
     ----------
     M : ndarray, shape (n, n)
+        mass matrix.
     J : ndarray, shape (m, n)
+        Jacobian of the ``m`` contact velocities that the plastic impact brings to zero.
     qd_minus : ndarray, shape (n,)
+        rates just before the impact.
     qd_plus : ndarray, shape (n,)   (output)
+        rates just after it.
     impulse : ndarray, shape (>= m,)   (output, first m entries)
+        the contact impulses.
 
     Returns
     -------
@@ -154,6 +210,54 @@ def floating_base_heel_strike(
     Jst = np.empty((2, n + 2))
     ext_stance_contact_jac(qf, p, Jst)
     return heel_strike_impact(M, Jsw, Jst, qdf, slope, qdf_plus, impulse)
+
+
+@njit(cache=True, error_model="numpy")
+def relabel(q, qd, order, x_new):
+    """The state ``x_new`` with coordinates ``q[order]`` and rates ``qd[order]``: ``x_new[i] =
+    q[order[i]]``, ``x_new[n + i] = qd[order[i]]`` for the ``n = len(order)`` coordinates (a
+    leg swap, or a locked knee copying its thigh)."""
+    n = len(order)
+    for i in range(n):
+        x_new[i] = q[order[i]]
+        x_new[n + i] = qd[order[i]]
+
+
+@njit(cache=True, error_model="numpy")
+def fell(phase, forward):
+    """The reset of a fall guard: the run ends ``FELL_FORWARD`` (``forward`` true) or
+    ``FELL_BACKWARD``; returns ``(action, next phase, status)``."""
+    return EVENT_TERMINAL, phase, FELL_FORWARD if forward else FELL_BACKWARD
+
+
+@njit(cache=True, error_model="numpy")
+def stride_end(phase, status):
+    """The reset's ``(action, next phase, status)`` after a heel strike that returned
+    ``status``: the stride ends (next phase 0), or the run on a nonzero status."""
+    if status != 0:
+        return EVENT_TERMINAL, phase, status
+    return EVENT_STRIDE, 0, 0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def touchdown(swing_foot, heel_strike, leg_length, phase, x, p, x_new, impulse):
+    """The reset of a walker whose swing foot touches the slope at ``x``: a touchdown no more
+    than ``MIN_STEP`` leg lengths (``leg_length``) ahead of the stance foot is a scuff
+    (ignored), any other the heel strike ``heel_strike(x, p, x_new, impulse)`` that ends the
+    stride (:func:`stride_end`).  ``swing_foot(x, p)`` returns (height, distance ahead)."""
+    if swing_foot(x, p)[1] <= MIN_STEP * leg_length:
+        return EVENT_IGNORE, phase, 0
+    return stride_end(phase, heel_strike(x, p, x_new, impulse))
+
+
+@njit(cache=True, error_model="numpy")
+def passive_impact_status(impulse, lift):
+    """The judgement of a heel strike without a friction cone: 0 when the normal impulse
+    ``impulse[1]`` is positive and the trailing foot lifts off (``lift > 0``),
+    ``NONPHYSICAL_IMPACT`` otherwise."""
+    if not (impulse[1] > 0.0) or not (lift > 0.0):
+        return NONPHYSICAL_IMPACT
+    return 0
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -282,10 +386,10 @@ def impact_status(impulse, lift, mu):
     """The judgement of a heel strike on a floor with friction coefficient ``mu``: 0 when the
     normal impulse ``impulse[1]`` is positive, the impulse inside the friction cone
     ``|impulse[0]| <= mu impulse[1]`` and the trailing foot lifts off (``lift > 0``),
-    ``NONPHYSICAL_IMPACT`` otherwise."""
-    if not (impulse[1] > 0.0) or not (abs(impulse[0]) <= mu * impulse[1]) or not (lift > 0.0):
+    ``NONPHYSICAL_IMPACT`` otherwise (:func:`passive_impact_status` within the cone)."""
+    if not (abs(impulse[0]) <= mu * impulse[1]):
         return NONPHYSICAL_IMPACT
-    return 0
+    return passive_impact_status(impulse, lift)
 
 
 @njit(cache=True, error_model="numpy", inline="always")

@@ -25,15 +25,14 @@ from walker._generated import indices as ix
 from walker._jit import njit
 from walker.models._common import (
     FALL_ANGLE,
-    FELL_BACKWARD,
-    FELL_FORWARD,
     LINEAR_SOLVE_FAILED,
-    MIN_STEP,
-    NONPHYSICAL_IMPACT,
+    fell,
     floating_base_heel_strike,
+    passive_impact_status,
+    relabel,
+    touchdown,
 )
 from walker.params import MODELS
-from walker.status import EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL
 
 N_X = 4
 N_IMPULSE = 2
@@ -50,9 +49,8 @@ VARIANTS = {
         "damping_ankle",
     )
 }
-"""Compiled structural variants (walker/_core/models.c): a variant runs kernels generated
-with these parameters fixed at exactly zero, so scenes that leave them at zero pay no
-arithmetic for them.  :meth:`walker.models.WalkerModel.variant_for` picks it."""
+"""Compiled structural variants (:mod:`walker.models`, item 7): ``plain`` is the compass gait
+of point masses with point feet and no dampers."""
 
 _I_R, _I_SLOPE = ix.COMPASS_P_FOOT_RADIUS, ix.COMPASS_P_SLOPE
 _I_LEG_A, _I_LEG_B = ix.COMPASS_P_COM_FROM_FOOT, ix.COMPASS_P_COM_TO_HIP
@@ -117,13 +115,8 @@ def heel_strike(x, p, x_new, impulse):
     )
     if not ok:
         return LINEAR_SOLVE_FAILED
-    x_new[0] = x[1]
-    x_new[1] = x[0]
-    x_new[2] = qdf_plus[1]
-    x_new[3] = qdf_plus[0]
-    if not (impulse[1] > 0.0) or not (lift > 0.0):
-        return NONPHYSICAL_IMPACT
-    return 0
+    relabel(x, qdf_plus, (1, 0), x_new)  # the legs swap
+    return passive_impact_status(impulse, lift)
 
 
 @njit(cache=True, error_model="numpy")
@@ -131,15 +124,9 @@ def reset(phase, k, t, x, p, x_new, impulse):
     for i in range(x.shape[0]):
         x_new[i] = x[i]
     if k == 0:
-        if swing_foot(x, p)[1] <= MIN_STEP * (p[_I_LEG_A] + p[_I_LEG_B]):
-            return EVENT_IGNORE, phase, 0
-        status = heel_strike(x, p, x_new, impulse)
-        if status != 0:
-            return EVENT_TERMINAL, phase, status
-        return EVENT_STRIDE, 0, 0
-    if k == 1:
-        return EVENT_TERMINAL, phase, FELL_FORWARD
-    return EVENT_TERMINAL, phase, FELL_BACKWARD
+        leg_length = p[_I_LEG_A] + p[_I_LEG_B]
+        return touchdown(swing_foot, heel_strike, leg_length, phase, x, p, x_new, impulse)
+    return fell(phase, k == 1)
 
 
 @njit(cache=True, error_model="numpy")

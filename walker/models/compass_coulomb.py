@@ -56,48 +56,10 @@ from walker._generated import compass as K
 from walker._generated import indices as ix
 from walker._jit import njit
 from walker.models import compass as _compass
-from walker.models._common import after_base_reset
-from walker.models.compass import (
-    LIFT_AFFINE,
-    SECTION_NAMES,
-    SEGMENTS,
-    energy,
-    lift,
-    lift_jacobian,
-    points,
-    project,
-    swing_foot,
-)
+from walker.models._common import after_base_reset, joint_friction_walker
 from walker.params import MODELS
 
-__all__ = [
-    "N_X",
-    "N_IMPULSE",
-    "STATE_NAMES",
-    "SECTION_NAMES",
-    "SEGMENTS",
-    "KERNEL_HASH",
-    "JOINTS",
-    "PHASE_NAMES",
-    "GUARD_NAMES",
-    "DIRECTIONS",
-    "I_COULOMB",
-    "rhs",
-    "jac",
-    "guards",
-    "reset",
-    "joint_torques",
-    "phase_of",
-    "modes_of",
-    "start_phase",
-    "energy",
-    "LIFT_AFFINE",
-    "lift",
-    "lift_jacobian",
-    "project",
-    "points",
-    "swing_foot",
-]
+__all__, __getattr__ = joint_friction_walker(__name__, _compass)
 
 N_X = 4
 N_IMPULSE = 2

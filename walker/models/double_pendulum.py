@@ -63,31 +63,10 @@ from walker import friction_phases as frp
 from walker._generated import double_pendulum as K
 from walker._generated import indices as ix
 from walker._jit import njit
+from walker.models._common import JOINT_FRICTION_EXPORTS
 from walker.params import MODELS
 
-__all__ = [
-    "N_X",
-    "N_IMPULSE",
-    "STATE_NAMES",
-    "SECTION_NAMES",
-    "SEGMENTS",
-    "KERNEL_HASH",
-    "JOINTS",
-    "PHASE_NAMES",
-    "GUARD_NAMES",
-    "DIRECTIONS",
-    "I_COULOMB",
-    "rhs",
-    "jac",
-    "guards",
-    "reset",
-    "joint_torques",
-    "phase_of",
-    "modes_of",
-    "start_phase",
-    "energy",
-    "points",
-]
+__all__ = [*JOINT_FRICTION_EXPORTS, "SECTION_NAMES", "SEGMENTS", "energy", "points"]
 
 N_X = 4
 N_IMPULSE = 1

@@ -52,20 +52,21 @@ from walker._generated import kneed as K
 from walker._jit import njit
 from walker.models._common import (
     FALL_ANGLE,
-    FELL_BACKWARD,
-    FELL_FORWARD,
     LINEAR_SOLVE_FAILED,
     MIN_STEP,
-    NONPHYSICAL_IMPACT,
     TRIPPED,
+    fell,
     floating_base_heel_strike,
     impact,
+    passive_impact_status,
+    relabel,
+    stride_end,
+    touchdown,
 )
 from walker.params import MODELS
 from walker.status import (
     EVENT_CONTINUE,
     EVENT_IGNORE,
-    EVENT_STRIDE,
     EVENT_TERMINAL,
 )
 
@@ -90,9 +91,8 @@ VARIANTS = {
         "damping_ankle",
     )
 }
-"""Compiled structural variants (walker/_core/models.c): a variant runs kernels generated
-with these parameters fixed at exactly zero, so scenes that leave them at zero pay no
-arithmetic for them.  :meth:`walker.models.WalkerModel.variant_for` picks it."""
+"""Compiled structural variants (:mod:`walker.models`, item 7): ``plain`` is the kneed walker
+of point masses on the segments' axes, with point feet and no dampers."""
 
 _I_R, _I_SLOPE = ix.KNEED_P_FOOT_RADIUS, ix.KNEED_P_SLOPE
 # |q3 - q2| [rad] below which a foot contact with the knee unlocked counts as simultaneous
@@ -202,12 +202,7 @@ def knee_lock(x, p, x_new, impulse):
     lam = np.empty(1)
     if not impact(M, J, x[3:], qd_plus, lam):
         return LINEAR_SOLVE_FAILED
-    x_new[0] = x[0]
-    x_new[1] = x[1]
-    x_new[2] = x[1]
-    x_new[3] = qd_plus[0]
-    x_new[4] = qd_plus[1]
-    x_new[5] = qd_plus[1]
+    relabel(x, qd_plus, (0, 1, 1), x_new)  # the shank takes the thigh's angle and rate
     impulse[0] = lam[0]
     impulse[1] = 0.0
     return 0
@@ -236,15 +231,8 @@ def heel_strike(x, p, x_new, impulse):
     )
     if not ok:
         return LINEAR_SOLVE_FAILED
-    x_new[0] = x[1]
-    x_new[1] = x[0]
-    x_new[2] = x[0]
-    x_new[3] = qdf_plus[1]
-    x_new[4] = qdf_plus[0]
-    x_new[5] = qdf_plus[0]
-    if not (impulse[1] > 0.0) or not (lift > 0.0):
-        return NONPHYSICAL_IMPACT
-    return 0
+    relabel(x, qdf_plus, (1, 0, 0), x_new)  # the legs swap, the new swing knee straight
+    return passive_impact_status(impulse, lift)
 
 
 @njit(cache=True, error_model="numpy")
@@ -264,10 +252,7 @@ def _knee_lock_event(phase, x, p, x_new, impulse, ignore_scuff):
         touching = touching and height >= -1e-9 * (shank + thigh)
     if touching and ahead > MIN_STEP * (shank + thigh) and _swing_foot_rate(x_new, p) < 0:
         locked = x_new.copy()
-        status = heel_strike(locked, p, x_new, impulse)
-        if status != 0:
-            return EVENT_TERMINAL, 1, status
-        return EVENT_STRIDE, 0, 0
+        return stride_end(1, heel_strike(locked, p, x_new, impulse))
     return EVENT_CONTINUE, 1, 0
 
 
@@ -289,15 +274,9 @@ def _reset(phase, k, x, p, x_new, impulse, ignore_scuff):
                 # swing_scuff = "ignore": the bent-knee swing foot passes through the ground.
                 return EVENT_IGNORE, phase, 0
             return EVENT_TERMINAL, phase, TRIPPED
-        if swing_foot(x, p)[1] <= _min_step(p):
-            return EVENT_IGNORE, phase, 0
-        status = heel_strike(x, p, x_new, impulse)
-        if status != 0:
-            return EVENT_TERMINAL, phase, status
-        return EVENT_STRIDE, 0, 0
-    if k == 2:
-        return EVENT_TERMINAL, phase, FELL_FORWARD
-    return EVENT_TERMINAL, phase, FELL_BACKWARD
+        shank, thigh = _lengths(p)
+        return touchdown(swing_foot, heel_strike, shank + thigh, phase, x, p, x_new, impulse)
+    return fell(phase, k == 2)
 
 
 @njit(cache=True, error_model="numpy")

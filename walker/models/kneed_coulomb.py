@@ -47,49 +47,11 @@ from walker._generated import indices as ix
 from walker._generated import kneed as K
 from walker._jit import njit
 from walker.models import kneed as _kneed
-from walker.models._common import after_base_reset
-from walker.models.kneed import (
-    LIFT_AFFINE,
-    SECTION_NAMES,
-    SEGMENTS,
-    energy,
-    lift,
-    lift_jacobian,
-    points,
-    project,
-    swing_foot,
-)
+from walker.models._common import after_base_reset, joint_friction_walker, relabel
 from walker.params import MODELS
 from walker.status import EVENT_CONTINUE
 
-__all__ = [
-    "N_X",
-    "N_IMPULSE",
-    "STATE_NAMES",
-    "SECTION_NAMES",
-    "SEGMENTS",
-    "KERNEL_HASH",
-    "JOINTS",
-    "PHASE_NAMES",
-    "GUARD_NAMES",
-    "DIRECTIONS",
-    "I_COULOMB",
-    "rhs",
-    "jac",
-    "guards",
-    "reset",
-    "joint_torques",
-    "phase_of",
-    "modes_of",
-    "start_phase",
-    "energy",
-    "LIFT_AFFINE",
-    "lift",
-    "lift_jacobian",
-    "project",
-    "points",
-    "swing_foot",
-]
+__all__, __getattr__ = joint_friction_walker(__name__, _kneed)
 
 N_X = 6
 N_IMPULSE = 2
@@ -142,6 +104,15 @@ def _dry(base, p):
 
 
 @njit(cache=True, error_model="numpy")
+def _joints(phase, p):
+    """``(base, modes, F)`` of ``phase``: its base phase, the joint modes (3,) (:func:`_split`)
+    and the dry frictions of the base phase's joints."""
+    modes = np.empty(3, dtype=np.int64)
+    base = _split(phase, modes)
+    return base, modes, _dry(base, p)
+
+
+@njit(cache=True, error_model="numpy")
 def _unlocked(x, p):
     """(D, f, qd) of the unlocked walker (:func:`walker.friction_phases.dynamics`)."""
     return frp.dynamics(K.unlocked_mass_matrix, K.unlocked_bias, K.unlocked_forcing, x, 3, p, 3)
@@ -165,9 +136,7 @@ def _matrices(base, x, p):
 
 @njit(cache=True, error_model="numpy")
 def rhs(phase, t, x, p, dx):
-    modes = np.empty(3, dtype=np.int64)
-    base = _split(phase, modes)
-    F = _dry(base, p)
+    base, modes, F = _joints(phase, p)
     if base == UNLOCKED:
         frp.phase_rhs(
             _unlocked, K.unlocked_mass_matrix, K.unlocked_accel, _S_UNLOCKED, F, modes, x, p, dx
@@ -177,19 +146,12 @@ def rhs(phase, t, x, p, dx):
     frp.phase_accelerations(
         _locked, K.locked_mass_matrix, K.locked_accel, _S_LOCKED, F, modes, x, 3, p, qdd
     )
-    dx[0] = x[3]
-    dx[1] = x[4]
-    dx[2] = x[4]
-    dx[3] = qdd[0]
-    dx[4] = qdd[1]
-    dx[5] = qdd[1]
+    relabel(x[3:], qdd, (0, 1, 1), dx)  # qd3 = qd2, qdd3 = qdd2
 
 
 @njit(cache=True, error_model="numpy")
 def jac(phase, t, x, p, J):
-    modes = np.empty(3, dtype=np.int64)
-    base = _split(phase, modes)
-    F = _dry(base, p)
+    base, modes, F = _joints(phase, p)
     if base == UNLOCKED:
         frp.phase_jac(
             _unlocked,
@@ -234,10 +196,8 @@ def jac(phase, t, x, p, J):
 
 @njit(cache=True, error_model="numpy")
 def guards(phase, t, x, p, g):
-    modes = np.empty(3, dtype=np.int64)
-    base = _split(phase, modes)
+    base, modes, F = _joints(phase, p)
     _kneed.guards(base, t, x, p, g)
-    F = _dry(base, p)
     if base == UNLOCKED:
         frp.phase_guards(_unlocked, _S_UNLOCKED, F, modes, x, 3, p, g[4:10])
         return
@@ -262,12 +222,10 @@ def _start(base, x, p):
 
 @njit(cache=True, error_model="numpy")
 def reset(phase, k, t, x, p, x_new, impulse):
-    modes = np.empty(3, dtype=np.int64)
-    base = _split(phase, modes)
+    base, modes, F = _joints(phase, p)
     if k < 4:
         action, new_base, status = _kneed.reset(base, k, t, x, p, x_new, impulse)
         return after_base_reset(_start, phase, action, new_base, status, x_new, p)
-    F = _dry(base, p)
     if base == UNLOCKED:
         return frp.phase_reset(_unlocked, _S_UNLOCKED, F, modes, phase, 0, k - 4, x, 3, p, x_new)
     action, new_phase, status = frp.phase_reset(
@@ -282,12 +240,11 @@ def reset(phase, k, t, x, p, x_new, impulse):
 def joint_torques(phase, x, p):
     """Friction torque at each joint (ankle, hip, knee) [N m]: ``-+F`` while slipping, the
     holding torque while stuck (0 for the locked knee)."""
-    modes = np.empty(3, dtype=np.int64)
-    base = _split(phase, modes)
+    base, modes, F = _joints(phase, p)
     if base == UNLOCKED:
-        return frp.phase_torques(_unlocked, _S_UNLOCKED, _dry(base, p), modes, x, p)
+        return frp.phase_torques(_unlocked, _S_UNLOCKED, F, modes, x, p)
     lam = np.zeros(3)
-    lam[:2] = frp.phase_torques(_locked, _S_LOCKED, _dry(base, p), modes, x, p)
+    lam[:2] = frp.phase_torques(_locked, _S_LOCKED, F, modes, x, p)
     return lam
 
 

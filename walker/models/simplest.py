@@ -37,9 +37,9 @@ import numpy as np
 from walker._generated import indices as ix
 from walker._generated import simplest as K
 from walker._jit import njit
-from walker.models._common import FALL_ANGLE, FELL_BACKWARD, FELL_FORWARD
+from walker.models._common import FALL_ANGLE, fell
 from walker.params import MODELS
-from walker.status import EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL
+from walker.status import EVENT_IGNORE, EVENT_STRIDE
 
 N_X = 4
 N_IMPULSE = 1
@@ -93,9 +93,7 @@ def reset(phase, k, t, x, p, x_new, impulse):
         x_new[2] = c * x[2]
         x_new[3] = c * (1.0 - c) * x[2]
         return EVENT_STRIDE, 0, 0
-    if k == 1:
-        return EVENT_TERMINAL, phase, FELL_FORWARD
-    return EVENT_TERMINAL, phase, FELL_BACKWARD
+    return fell(phase, k == 1)
 
 
 @njit(cache=True, error_model="numpy")

@@ -97,6 +97,7 @@ from walker.models._common import (
     floating_base_heel_strike,
     ground_reaction_at,
     impact_status,
+    relabel,
 )
 from walker.params import MODELS
 from walker.status import EVENT_IGNORE, EVENT_TERMINAL
@@ -303,12 +304,7 @@ def heel_strike(x, p, x_new, impulse):
     )
     if not ok:
         return LINEAR_SOLVE_FAILED
-    x_new[0] = x[1]
-    x_new[1] = x[0]
-    x_new[2] = x[2]
-    x_new[3] = qdf_plus[1]
-    x_new[4] = qdf_plus[0]
-    x_new[5] = qdf_plus[2]
+    relabel(x, qdf_plus, (1, 0, 2), x_new)  # the legs swap, the torso keeps its angle
     return impact_status(impulse, lift, p[I_FRICTION])
 
 
