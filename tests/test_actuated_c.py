@@ -372,7 +372,7 @@ def _user_controllers():
     for the three-link walker: ``same``, the built-in controller (walker's numba
     ``controller_torque`` on the controller block of ``p``), and ``offset``, the same plus
     the constant torques read from ``user`` (a float64 array of 2)."""
-    from numba import carray, cfunc, types
+    from numba import carray, cfunc, njit, types
 
     from walker.control import controller_torque
 
@@ -382,8 +382,9 @@ def _user_controllers():
     n_p = len(_scene("three_link").params.as_array())
     c0 = three_link.CONTROL_OFFSET
 
-    @cfunc(sig)
-    def same(q_, qd_, D_, h_, B_, p_, u_, user):
+    @njit
+    def builtin(q_, qd_, D_, h_, B_, p_, u_):
+        """The built-in controller on the arrays behind the pointers; True if saturated."""
         q = carray(q_, (n,))
         qd = carray(qd_, (n,))
         D = carray(D_, (n, n))
@@ -391,19 +392,17 @@ def _user_controllers():
         B = carray(B_, (n, m))
         p = carray(p_, (n_p,))
         u = carray(u_, (m,))
-        return 1 if controller_torque(q, qd, D, h, B, p[c0:], u) else 0
+        return controller_torque(q, qd, D, h, B, p[c0:], u)
+
+    @cfunc(sig)
+    def same(q_, qd_, D_, h_, B_, p_, u_, user):
+        return 1 if builtin(q_, qd_, D_, h_, B_, p_, u_) else 0
 
     @cfunc(sig)
     def offset(q_, qd_, D_, h_, B_, p_, u_, user):
-        q = carray(q_, (n,))
-        qd = carray(qd_, (n,))
-        D = carray(D_, (n, n))
-        h = carray(h_, (n,))
-        B = carray(B_, (n, m))
-        p = carray(p_, (n_p,))
+        sat = builtin(q_, qd_, D_, h_, B_, p_, u_)
         u = carray(u_, (m,))
         extra = carray(user, (m,), dtype=np.float64)
-        sat = controller_torque(q, qd, D, h, B, p[c0:], u)
         for i in range(m):
             u[i] += extra[i]
         return 1 if sat else 0
