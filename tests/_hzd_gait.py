@@ -17,6 +17,22 @@ from walker.status import Status
 from walker.stride import StrideMap, simulate
 
 
+def assert_not_invariant(raw):
+    """The Bezier design ``raw`` is not hybrid invariant: a residual over 1e-2."""
+    h0, lfh0 = hzd.invariance_residual(raw)
+    assert np.max(np.abs(np.r_[h0, lfh0])) > 1e-2
+
+
+def invariant_design(params):
+    """:func:`walker.hzd.make_invariant` of ``params``, checked: invariance h(Delta(q-)) = 0
+    and L_f h(Delta(q-, qd-)) = 0 (1e-12)."""
+    design = hzd.make_invariant(params)
+    h, lfh = hzd.invariance_residual(design)
+    assert_allclose(h, 0.0, rtol=0, atol=1e-12)
+    assert_allclose(lfh, 0.0, rtol=0, atol=1e-12)
+    return design
+
+
 def assert_restricted_map_multiplier(params, o):
     """The multiplier of the restricted map is the closed form delta_zero^2 (1e-8), inside
     (0, 1); one map from the orbit returns to it (1e-12) with the impact impulse inside the
