@@ -313,38 +313,33 @@ def _outcome(m, k, out):
     return kind, action, status, stuck
 
 
-# Outcomes (guard or N_BASE_GUARDS for a friction guard, action, status, stuck joints
-# after) each reset must reach at least once.
+def _required(module, *own):
+    """Outcomes (guard or N_BASE_GUARDS for a friction guard, action, status, stuck joints
+    after) the reset of ``module`` must reach at least once: those of both walkers (a
+    stride, the heel strike's and the friction cone's failures, the falls, a friction event
+    with some joint stuck after or every joint slipping, or a singular solve) and ``own``."""
+    friction = module.N_BASE_GUARDS
+    return {
+        (0, EVENT_STRIDE, 0, None),
+        (0, EVENT_TERMINAL, _NONPHYS, None),
+        (0, EVENT_TERMINAL, _SINGULAR, None),
+        (1, EVENT_TERMINAL, _FF, None),
+        (2, EVENT_TERMINAL, _FB, None),
+        *((k, EVENT_TERMINAL, _NONPHYS, None) for k in (3, 4, 5)),
+        (friction, EVENT_CONTINUE, 0, True),
+        (friction, EVENT_CONTINUE, 0, False),
+        (friction, EVENT_TERMINAL, _SINGULAR, None),
+        *own,
+    }
+
+
 REQUIRED = {
-    three_link: {
-        (0, EVENT_IGNORE, 0, None),  # scuff
-        (0, EVENT_STRIDE, 0, None),
-        (0, EVENT_TERMINAL, _NONPHYS, None),
-        (0, EVENT_TERMINAL, _SINGULAR, None),
-        (1, EVENT_TERMINAL, _FF, None),
-        (2, EVENT_TERMINAL, _FB, None),
-        (3, EVENT_TERMINAL, _NONPHYS, None),
-        (4, EVENT_TERMINAL, _NONPHYS, None),
-        (5, EVENT_TERMINAL, _NONPHYS, None),
-        (6, EVENT_CONTINUE, 0, True),  # a friction event, some joint stuck after
-        (6, EVENT_CONTINUE, 0, False),  # a friction event, every joint slipping after
-        (6, EVENT_TERMINAL, _SINGULAR, None),
-    },
-    five_link: {
+    three_link: _required(three_link, (0, EVENT_IGNORE, 0, None)),  # scuff
+    five_link: _required(
+        five_link,
         (0, EVENT_TERMINAL, _TRIPPED, None),
-        (0, EVENT_STRIDE, 0, None),
-        (0, EVENT_TERMINAL, _NONPHYS, None),
-        (0, EVENT_TERMINAL, _SINGULAR, None),
-        (1, EVENT_TERMINAL, _FF, None),
-        (2, EVENT_TERMINAL, _FB, None),
-        (3, EVENT_TERMINAL, _NONPHYS, None),
-        (4, EVENT_TERMINAL, _NONPHYS, None),
-        (5, EVENT_TERMINAL, _NONPHYS, None),
         (6, EVENT_TERMINAL, _FB, None),  # hip_down
-        (7, EVENT_CONTINUE, 0, True),
-        (7, EVENT_CONTINUE, 0, False),
-        (7, EVENT_TERMINAL, _SINGULAR, None),
-    },
+    ),
 }
 
 
