@@ -1,4 +1,5 @@
-"""Small hybrid systems for the integrator tests (module-level njit functions).
+"""Small hybrid systems for the integrator tests (module-level njit functions), each built by
+``toy_system`` (also the other tests' toy systems).
 
 * ``ODE``: plain ODEs with exact solutions selected by phase (no guards).
 * ``BALL``: bouncing ball with restitution, closed-form impact times.
