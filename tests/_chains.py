@@ -11,6 +11,7 @@ its acceleration; the tests compare them with the model's joint torques.
 import math
 
 import numpy as np
+from numpy.testing import assert_allclose
 
 from walker.symbolic.newton_euler import PlanarChain, inverse_dynamics
 
@@ -49,6 +50,16 @@ def three_link_chain_torques(chains, x, dx, gravity):
     )
     tau_c = inverse_dynamics(chain_c, phi_b[:1], qd[:1], qdd[:1], gravity=gravity)
     return tau_a, tau_b, tau_c
+
+
+def assert_three_link_torques(chains, x, dx, tau, gravity):
+    """The chains' torques at ``x`` with rates ``dx`` are the joint torques ``tau`` (1e-10
+    N m): swing hip ``tau_2``, torso joint ``-tau_1 - tau_2`` (virtual work of
+    B = [[1, 0], [0, 1], [-1, -1]]), stance foot 0."""
+    tau_a, tau_b, tau_c = three_link_chain_torques(chains, x, dx, gravity)
+    assert_allclose(tau_a[1], tau[1], rtol=0, atol=1e-10)
+    assert_allclose(tau_b[1], -tau[0] - tau[1], rtol=0, atol=1e-10)
+    assert_allclose(tau_a[0] + tau_b[0] - tau_c[0], 0.0, rtol=0, atol=1e-10)
 
 
 def five_link_chains(P):
@@ -95,3 +106,15 @@ def five_link_chain_torques(chains, x, dx, gravity):
     tau_b = inverse_dynamics(chain_b, phi_b, phid_b, phidd_b, gravity=gravity)
     tau_c = inverse_dynamics(chain_c, phi_b[:2], phid_b[:2], phidd_b[:2], gravity=gravity)
     return tau_a, tau_b, tau_c
+
+
+def assert_five_link_torques(chains, x, dx, tau, gravity):
+    """The chains' torques at ``x`` with rates ``dx`` are the joint torques ``tau`` (1e-10
+    N m): swing knee ``tau_4``, swing hip ``tau_2``, torso joint ``-tau_1 - tau_2``, stance
+    knee ``-tau_3`` (joint angle femur - tibia), stance foot 0."""
+    tau_a, tau_b, tau_c = five_link_chain_torques(chains, x, dx, gravity)
+    assert_allclose(tau_a[3], tau[3], rtol=0, atol=1e-10)
+    assert_allclose(tau_a[2], tau[1], rtol=0, atol=1e-10)
+    assert_allclose(tau_b[2], -tau[0] - tau[1], rtol=0, atol=1e-10)
+    assert_allclose(tau_a[1] + tau_b[1] - tau_c[1], -tau[2], rtol=0, atol=1e-10)
+    assert_allclose(tau_a[0] + tau_b[0] - tau_c[0], 0.0, rtol=0, atol=1e-10)

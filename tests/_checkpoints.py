@@ -1,5 +1,5 @@
-"""Small walker files and checkpoints, and a bit-for-bit comparison of HDF5 files, for the
-storage, checkpoint and interrupt tests.
+"""Small walker files and checkpoints, a bit-for-bit comparison of HDF5 files and a Python
+child process to interrupt, for the storage, checkpoint and interrupt tests.
 
 A sweep of ten points over (``slope``, ``mass_ratio``) in four chunks of three rows, with
 one column of each kind walker stores (float, integer, complex with a shape, boolean), a
@@ -8,6 +8,8 @@ one column of each kind walker stores (float, integer, complex with a shape, boo
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from pathlib import Path
 
 import h5py
@@ -15,6 +17,8 @@ import numpy as np
 
 from walker.results import BasinMap
 from walker.storage import SweepStore, write
+
+REPO = Path(__file__).resolve().parents[1]
 
 COLUMNS = {"value": ("f8", ()), "status": ("i8", ()), "mult": ("c16", (2,)), "ok": ("?", ())}
 
@@ -121,3 +125,17 @@ def assert_same_file(a: Path, b: Path) -> None:
     assert sorted(ia) == sorted(ib)
     differ = [k for k in ia if ia[k] != ib[k]]
     assert not differ, f"{a} and {b} differ in {differ}"
+
+
+def start_python(args: list[str], **options) -> subprocess.Popen:
+    """``python args`` started in the repository in a session of its own (so that a signal
+    can reach its whole process group), its output discarded and its errors piped;
+    ``options`` go to :class:`subprocess.Popen`."""
+    return subprocess.Popen(
+        [sys.executable, *args],
+        cwd=REPO,
+        start_new_session=True,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        **options,
+    )

@@ -21,6 +21,14 @@ def _fail(n_z: int, status: Status, n_done: int) -> MapResult:
     return MapResult(status, nan, None, float(n_done), np.full(n_z + 1, np.nan))
 
 
+def _completed(section_map, z, jac, jacobian: bool, n_strides: int) -> MapResult:
+    """``n_strides`` strides of ``section_map`` completed at section point ``z`` (state: its
+    lift), with the Jacobian ``jac`` when ``jacobian`` asks for it."""
+    return MapResult(
+        Status.COMPLETED, z, jac if jacobian else None, float(n_strides), section_map.lift(z)
+    )
+
+
 class _Continued:
     """The continuation part of :class:`walker.fixedpoint.SectionMap` for a frozen dataclass
     whose field named ``parameter_name`` is the continuation parameter."""
@@ -61,10 +69,7 @@ class HenonMap(_Continued):
             if jacobian:
                 jac = np.array([[-2.0 * a * x, 1.0], [b, 0.0]]) @ jac
             x, y = 1.0 - a * x * x + y, b * x
-        out = np.array([x, y])
-        return MapResult(
-            Status.COMPLETED, out, jac if jacobian else None, float(n_strides), self.lift(out)
-        )
+        return _completed(self, np.array([x, y]), jac, jacobian, n_strides)
 
 
 def henon_fixed_points(a: float, b: float) -> np.ndarray:
@@ -119,14 +124,7 @@ class LogisticMap(_Continued):
             x = r * x * (1.0 - x)
         if not 0.0 <= x <= 1.0:
             return _fail(1, Status.FELL_FORWARD, n_strides)
-        out = np.array([x])
-        return MapResult(
-            Status.COMPLETED,
-            out,
-            np.array([[d]]) if jacobian else None,
-            float(n_strides),
-            self.lift(out),
-        )
+        return _completed(self, np.array([x]), np.array([[d]]), jacobian, n_strides)
 
 
 @dataclass(frozen=True)
@@ -149,14 +147,7 @@ class ShiftMap(_Continued):
         for _ in range(n_strides):
             d *= 1.0 + self.wiggle * np.cos(x)
             x = x + c + self.wiggle * np.sin(x)
-        out = np.array([x])
-        return MapResult(
-            Status.COMPLETED,
-            out,
-            np.array([[d]]) if jacobian else None,
-            float(n_strides),
-            out.copy(),
-        )
+        return _completed(self, np.array([x]), np.array([[d]]), jacobian, n_strides)
 
 
 @dataclass(frozen=True)
@@ -198,10 +189,7 @@ class CubicBasinMap(_Continued):
             if jacobian:
                 jac = (r2 * np.eye(n) + 2.0 * np.outer(w, w)) @ jac
             w = w_next
-        out = c + w
-        return MapResult(
-            Status.COMPLETED, out, jac if jacobian else None, float(n_strides), out.copy()
-        )
+        return _completed(self, c + w, jac, jacobian, n_strides)
 
 
 def cubic_basin_toy(center):

@@ -1,4 +1,5 @@
-"""Small hybrid systems for the integrator tests (module-level njit functions).
+"""Small hybrid systems for the integrator tests (module-level njit functions), each built by
+``toy_system`` (also the other tests' toy systems).
 
 * ``ODE``: plain ODEs with exact solutions selected by phase (no guards).
 * ``BALL``: bouncing ball with restitution, closed-form impact times.
@@ -22,6 +23,25 @@ from walker.status import (
 
 FELL_FORWARD = int(Status.FELL_FORWARD)
 FELL_BACKWARD = int(Status.FELL_BACKWARD)
+
+
+def toy_fields(name, n_x, functions, directions, phase_names, guard_names, **options) -> dict:
+    """The :class:`HybridSystem` fields of a toy system: ``functions`` are its ``(rhs,
+    guards, reset, jac)``, its phases and guards as many as their names, one impulse
+    component unless ``options`` (more fields) say otherwise."""
+    rhs, guards, reset, jac = functions
+    fields = dict(n_phases=len(phase_names), n_guards=len(guard_names), n_impulse=1)
+    fields.update(rhs=rhs, guards=guards, reset=reset, jac=jac, directions=directions)
+    fields.update(phase_names=phase_names, guard_names=guard_names, **options)
+    return dict(name=name, n_x=n_x, **fields)
+
+
+def toy_system(name, n_x, functions, directions, phase_names, guard_names, **options):
+    """The :class:`HybridSystem` of :func:`toy_fields`."""
+    return HybridSystem(
+        **toy_fields(name, n_x, functions, directions, phase_names, guard_names, **options)
+    )
+
 
 # ---------------------------------------------------------------------------------------------
 # Plain ODEs (n_x = 2).  phase 0: damped rotation x' = [[-a, -1], [1, -a]] x (a = p[0]);
@@ -74,19 +94,13 @@ def no_reset(phase, k, t, x, p, x_new, impulse):
     return EVENT_IGNORE, phase, 0
 
 
-ODE = HybridSystem(
-    name="ode",
-    n_x=2,
-    n_phases=4,
-    n_guards=0,
-    n_impulse=1,
-    rhs=ode_rhs,
-    guards=no_guards,
-    reset=no_reset,
-    jac=ode_jac,
-    directions=np.zeros((4, 0), dtype=np.int64),
-    phase_names=("rotation", "nonlinear", "pendulum", "blowup"),
-    guard_names=(),
+ODE = toy_system(
+    "ode",
+    2,
+    (ode_rhs, no_guards, no_reset, ode_jac),
+    np.zeros((4, 0), dtype=np.int64),
+    ("rotation", "nonlinear", "pendulum", "blowup"),
+    (),
 )
 
 
@@ -138,19 +152,13 @@ def ball_reset(phase, k, t, x, p, x_new, impulse):
     return EVENT_STRIDE, phase, 0
 
 
-BALL = HybridSystem(
-    name="ball",
-    n_x=2,
-    n_phases=1,
-    n_guards=1,
-    n_impulse=1,
-    rhs=ball_rhs,
-    guards=ball_guards,
-    reset=ball_reset,
-    jac=ball_jac,
-    directions=np.array([[-1]]),
-    phase_names=("flight",),
-    guard_names=("height",),
+BALL = toy_system(
+    "ball",
+    2,
+    (ball_rhs, ball_guards, ball_reset, ball_jac),
+    np.array([[-1]]),
+    ("flight",),
+    ("height",),
 )
 
 
@@ -192,19 +200,8 @@ def ramp_reset(phase, k, t, x, p, x_new, impulse):
     return EVENT_STRIDE, phase, 0
 
 
-RAMP = HybridSystem(
-    name="ramp",
-    n_x=2,
-    n_phases=1,
-    n_guards=1,
-    n_impulse=1,
-    rhs=ramp_rhs,
-    guards=ramp_guards,
-    reset=ramp_reset,
-    jac=None,
-    directions=np.array([[-1]]),
-    phase_names=("ramp",),
-    guard_names=("cos",),
+RAMP = toy_system(
+    "ramp", 2, (ramp_rhs, ramp_guards, ramp_reset, None), np.array([[-1]]), ("ramp",), ("cos",)
 )
 
 # ---------------------------------------------------------------------------------------------
@@ -262,19 +259,13 @@ def walker_reset(phase, k, t, x, p, x_new, impulse):
     return EVENT_STRIDE, phase, 0
 
 
-WALKER = HybridSystem(
-    name="simplest_walker",
-    n_x=4,
-    n_phases=1,
-    n_guards=3,
-    n_impulse=1,
-    rhs=walker_rhs,
-    guards=walker_guards,
-    reset=walker_reset,
-    jac=walker_jac,
-    directions=np.array([[0, -1, 1]]),
-    phase_names=("swing",),
-    guard_names=("heel_strike", "fall_forward", "fall_backward"),
+WALKER = toy_system(
+    "simplest_walker",
+    4,
+    (walker_rhs, walker_guards, walker_reset, walker_jac),
+    np.array([[0, -1, 1]]),
+    ("swing",),
+    ("heel_strike", "fall_forward", "fall_backward"),
 )
 
 

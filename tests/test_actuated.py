@@ -4,9 +4,10 @@ full-order gait, energy balance, the compass-gait limit and Newton–Euler torqu
 import math
 from functools import cache
 
+import _hzd_gait as gait
 import numpy as np
 import pytest
-from _chains import three_link_chain_torques, three_link_chains
+from _chains import assert_three_link_torques, three_link_chains
 from numpy.testing import assert_allclose
 
 from walker import hzd
@@ -16,7 +17,6 @@ from walker.control import bezier
 from walker.fixedpoint import find_fixed_point
 from walker.models import three_link as TL
 from walker.params import CompassParams, ThreeLinkParams
-from walker.scene import load_scene
 from walker.status import Status
 from walker.stride import StrideMap, simulate
 
@@ -69,11 +69,10 @@ def test_make_invariant_gives_hybrid_invariance():
     """Invariance h(Delta(q-)) = 0 and L_f h(Delta(q-, qd-)) = 0 after the adjustment (1e-12),
     and not before it."""
     raw = grizzle().replace(bezier_swing_1=0.0, bezier_torso_0=0.0, bezier_torso_1=0.0)
-    h0, lfh0 = hzd.invariance_residual(raw)
-    assert np.max(np.abs(np.r_[h0, lfh0])) > 1e-2
+    gait.assert_not_invariant(raw)
     for seed_shift in range(3):
         free = RNG.uniform(-0.2, 0.2, 3)
-        design = hzd.make_invariant(
+        gait.invariant_design(
             raw.replace(
                 theta_minus=-0.3 - 0.05 * seed_shift,
                 slope=0.01 * seed_shift,
@@ -82,49 +81,27 @@ def test_make_invariant_gives_hybrid_invariance():
                 bezier_torso_2=free[2],
             )
         )
-        h, lfh = hzd.invariance_residual(design)
-        assert_allclose(h, 0.0, rtol=0, atol=1e-12)
-        assert_allclose(lfh, 0.0, rtol=0, atol=1e-12)
 
 
 def test_restricted_map_multiplier_is_delta_zero_squared():
     """The numerical derivative of rho equals the closed form delta_zero^2 (Westervelt et al.
     2003): central differences with step 1e-5 on a map integrated at rtol 1e-12 -> ~1e-9."""
-    o = hzd_orbit()
-    assert o.success
-    assert_allclose(o.multiplier, o.multiplier_closed_form, rtol=0, atol=1e-8)
-    assert 0.0 < o.multiplier < 1.0
-    r = hzd.restricted_map(grizzle(), o.theta_dot_plus)
-    assert r.status == Status.COMPLETED
-    assert_allclose(r.theta_dot_plus, o.theta_dot_plus, rtol=0, atol=1e-12)
-    # the impact impulse is inside the friction cone with margin
-    assert r.impulse[1] > 0 and abs(r.impulse[0]) < grizzle().friction * r.impulse[1]
+    gait.assert_restricted_map_multiplier(grizzle(), hzd_orbit())
 
 
 def test_zero_dynamics_equals_closed_loop_on_the_surface():
     """On Z the closed-loop stance accelerations equal the zero dynamics' (y = 0 exactly)."""
     P = grizzle()
-    p = P.as_array()
-    for theta in np.linspace(P.theta_plus, P.theta_minus, 5):
-        thd = RNG.uniform(-2.0, -0.5)
-        q, sigma, dsigma = hzd.surface(P, theta)
-        x = np.r_[q, sigma * thd, 0.0, 0.0]
-        dx = np.empty(8)
-        TL.rhs(0, 0.0, x, p, dx)
-        thdd = hzd.zero_dynamics_accel(P, theta, thd)
-        assert_allclose(dx[3:6], sigma * thdd + dsigma * thd**2, rtol=1e-11, atol=1e-11)
+    thetas = np.linspace(P.theta_plus, P.theta_minus, 5)
+    gait.assert_zero_dynamics_on_surface(TL, P, thetas, lambda: RNG.uniform(-2.0, -0.5))
 
 
 # ------------------------------------------------------------------------- full-order gait
 def test_closed_loop_converges_to_period_one_gait():
     """From a perturbed start the walker converges to the HZD orbit on level ground."""
-    P = grizzle()
-    S = StrideMap("three_link", P)
-    sol = simulate("three_link", P, S.lift(hzd_orbit().section + PERTURBATION), n_strides=25)
-    assert sol.status == Status.COMPLETED
     # contraction 0.52 per stride: 0.52^25 * 0.1 ~ 1e-8
-    assert_allclose(S.project(sol.x), hzd_orbit().section, rtol=0, atol=1e-6)
-    assert sol.x[7] == 0.0  # never saturated
+    start = hzd_orbit().section + PERTURBATION
+    gait.converged_run("three_link", grizzle(), start, 25, hzd_orbit().section)
 
 
 def test_full_order_fixed_point_agrees_with_hzd():
@@ -133,15 +110,7 @@ def test_full_order_fixed_point_agrees_with_hzd():
     the transverse multipliers (~1e-4) are far smaller, so it is the dominant one.  The
     orbit agrees to the integration tolerance (1e-10); the multiplier to 1e-7, the accuracy of
     the central-difference vector-field Jacobian (step 1e-6) in the variational equations."""
-    fp = full_orbit()
-    o = hzd_orbit()
-    assert fp.success, fp.message
-    assert fp.stable and np.all(np.abs(fp.multipliers) < 1.0)
-    assert_allclose(fp.section, o.section, rtol=0, atol=1e-10)
-    assert_allclose(fp.multipliers[0].real, o.multiplier_closed_form, rtol=0, atol=1e-7)
-    assert abs(fp.multipliers[0].imag) == 0.0
-    assert np.all(np.abs(fp.multipliers[1:]) < 1e-3)
-    assert_allclose(fp.step_time, o.step_time, rtol=1e-9)
+    gait.assert_full_order_is_hzd(full_orbit(), hzd_orbit(), section_atol=1e-10)
 
 
 @pytest.mark.regression_pin
@@ -149,27 +118,13 @@ def test_scene_reference_is_the_orbit_regression_pin():
     """REGRESSION PIN: the scene's [reference] multipliers of the three-link HZD orbit are
     walker's own (gaits/three_link_grizzle.toml: "reference values below: walker's own").
     """
-    scene = load_scene("gaits/three_link_grizzle.toml")
-    fp = full_orbit()
-    assert scene.params == grizzle()
-    assert_allclose(scene.state[:6], fp.state[:6], rtol=0, atol=1e-10)
-    ref = scene.reference
-    mult = np.asarray(ref["multipliers"], dtype=complex)
-    assert_allclose(mult, fp.multipliers, rtol=0, atol=ref["tolerance"])
+    gait.assert_scene_reference("gaits/three_link_grizzle.toml", grizzle(), full_orbit(), TL.N_Q)
 
 
 def test_actuator_work_equals_impact_loss():
     """Level ground, periodic orbit: the actuators' work over one stride replaces the kinetic
     energy lost at heel strike (1e-9 relative)."""
-    P = grizzle()
-    p = P.as_array()
-    sol = simulate("three_link", P, full_orbit().state, n_strides=1, output="events")
-    assert sol.status == Status.COMPLETED
-    x_pre, x_post = sol.events.x_pre[-1], sol.events.x_post[-1]
-    loss = TL.energy(x_pre, p)[0] - TL.energy(x_post, p)[0]
-    work = sol.x[6]
-    assert loss > 1.0  # joules: the impact is not trivial
-    assert_allclose(work, loss, rtol=1e-9)
+    gait.assert_work_pays_impact("three_link", TL, grizzle(), full_orbit().state)
 
 
 def test_ground_reaction_is_newton_law():
@@ -232,20 +187,14 @@ def _com(q, P):
 def test_saturation_is_reported():
     """A torque limit below the gait's peak torque (~50 N m) clips the torque: the
     saturated time grows and the applied torque never exceeds the limit."""
-    P = grizzle().replace(torque_limit=30.0)
-    p = P.as_array()
-    sol = simulate("three_link", P, full_orbit().state, n_strides=1, output="full")
-    assert sol.x[7] > 0.0
-    u = np.array([TL.torques(x, p) for x in sol.record.x])
-    assert np.max(np.abs(u)) <= 30.0
+    gait.assert_saturates(
+        "three_link", TL, grizzle().replace(torque_limit=30.0), full_orbit().state
+    )
 
 
 def test_slip_is_an_outcome():
     """Friction 0.2 is below the impact's |P_t|/P_n ~ 0.49: the run ends with a status."""
-    P = grizzle().replace(friction=0.2)
-    sol = simulate("three_link", P, full_orbit().state, n_strides=2, output="events")
-    assert sol.status == Status.NONPHYSICAL_IMPACT
-    assert sol.events.guard[-1] in (0, 3, 4)
+    gait.assert_slips("three_link", grizzle().replace(friction=0.2), full_orbit().state)
 
 
 def test_joint_pd_walks_some_strides():
@@ -347,10 +296,6 @@ def test_newton_euler_reproduces_applied_torques():
     for x in sol.samples.x:
         dx = np.empty(8)
         TL.rhs(0, 0.0, x, p, dx)
-        u = TL.torques(x, p)
-        tau_a, tau_b, tau_c = three_link_chain_torques(chains, x, dx, gravity)
-        assert_allclose(tau_a[1], u[1], rtol=0, atol=1e-10)
-        assert_allclose(tau_b[1], -u[0] - u[1], rtol=0, atol=1e-10)
-        assert_allclose(tau_a[0] + tau_b[0] - tau_c[0], 0.0, rtol=0, atol=1e-10)
+        assert_three_link_torques(chains, x, dx, TL.torques(x, p), gravity)
         n_checked += 1
     assert n_checked == len(times)

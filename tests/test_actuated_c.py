@@ -313,38 +313,33 @@ def _outcome(m, k, out):
     return kind, action, status, stuck
 
 
-# Outcomes (guard or N_BASE_GUARDS for a friction guard, action, status, stuck joints
-# after) each reset must reach at least once.
+def _required(module, *own):
+    """Outcomes (guard or N_BASE_GUARDS for a friction guard, action, status, stuck joints
+    after) the reset of ``module`` must reach at least once: those of both walkers (a
+    stride, the heel strike's and the friction cone's failures, the falls, a friction event
+    with some joint stuck after or every joint slipping, or a singular solve) and ``own``."""
+    friction = module.N_BASE_GUARDS
+    return {
+        (0, EVENT_STRIDE, 0, None),
+        (0, EVENT_TERMINAL, _NONPHYS, None),
+        (0, EVENT_TERMINAL, _SINGULAR, None),
+        (1, EVENT_TERMINAL, _FF, None),
+        (2, EVENT_TERMINAL, _FB, None),
+        *((k, EVENT_TERMINAL, _NONPHYS, None) for k in (3, 4, 5)),
+        (friction, EVENT_CONTINUE, 0, True),
+        (friction, EVENT_CONTINUE, 0, False),
+        (friction, EVENT_TERMINAL, _SINGULAR, None),
+        *own,
+    }
+
+
 REQUIRED = {
-    three_link: {
-        (0, EVENT_IGNORE, 0, None),  # scuff
-        (0, EVENT_STRIDE, 0, None),
-        (0, EVENT_TERMINAL, _NONPHYS, None),
-        (0, EVENT_TERMINAL, _SINGULAR, None),
-        (1, EVENT_TERMINAL, _FF, None),
-        (2, EVENT_TERMINAL, _FB, None),
-        (3, EVENT_TERMINAL, _NONPHYS, None),
-        (4, EVENT_TERMINAL, _NONPHYS, None),
-        (5, EVENT_TERMINAL, _NONPHYS, None),
-        (6, EVENT_CONTINUE, 0, True),  # a friction event, some joint stuck after
-        (6, EVENT_CONTINUE, 0, False),  # a friction event, every joint slipping after
-        (6, EVENT_TERMINAL, _SINGULAR, None),
-    },
-    five_link: {
+    three_link: _required(three_link, (0, EVENT_IGNORE, 0, None)),  # scuff
+    five_link: _required(
+        five_link,
         (0, EVENT_TERMINAL, _TRIPPED, None),
-        (0, EVENT_STRIDE, 0, None),
-        (0, EVENT_TERMINAL, _NONPHYS, None),
-        (0, EVENT_TERMINAL, _SINGULAR, None),
-        (1, EVENT_TERMINAL, _FF, None),
-        (2, EVENT_TERMINAL, _FB, None),
-        (3, EVENT_TERMINAL, _NONPHYS, None),
-        (4, EVENT_TERMINAL, _NONPHYS, None),
-        (5, EVENT_TERMINAL, _NONPHYS, None),
         (6, EVENT_TERMINAL, _FB, None),  # hip_down
-        (7, EVENT_CONTINUE, 0, True),
-        (7, EVENT_CONTINUE, 0, False),
-        (7, EVENT_TERMINAL, _SINGULAR, None),
-    },
+    ),
 }
 
 
@@ -372,7 +367,7 @@ def _user_controllers():
     for the three-link walker: ``same``, the built-in controller (walker's numba
     ``controller_torque`` on the controller block of ``p``), and ``offset``, the same plus
     the constant torques read from ``user`` (a float64 array of 2)."""
-    from numba import carray, cfunc, types
+    from numba import carray, cfunc, njit, types
 
     from walker.control import controller_torque
 
@@ -382,8 +377,9 @@ def _user_controllers():
     n_p = len(_scene("three_link").params.as_array())
     c0 = three_link.CONTROL_OFFSET
 
-    @cfunc(sig)
-    def same(q_, qd_, D_, h_, B_, p_, u_, user):
+    @njit
+    def builtin(q_, qd_, D_, h_, B_, p_, u_):
+        """The built-in controller on the arrays behind the pointers; True if saturated."""
         q = carray(q_, (n,))
         qd = carray(qd_, (n,))
         D = carray(D_, (n, n))
@@ -391,19 +387,17 @@ def _user_controllers():
         B = carray(B_, (n, m))
         p = carray(p_, (n_p,))
         u = carray(u_, (m,))
-        return 1 if controller_torque(q, qd, D, h, B, p[c0:], u) else 0
+        return controller_torque(q, qd, D, h, B, p[c0:], u)
+
+    @cfunc(sig)
+    def same(q_, qd_, D_, h_, B_, p_, u_, user):
+        return 1 if builtin(q_, qd_, D_, h_, B_, p_, u_) else 0
 
     @cfunc(sig)
     def offset(q_, qd_, D_, h_, B_, p_, u_, user):
-        q = carray(q_, (n,))
-        qd = carray(qd_, (n,))
-        D = carray(D_, (n, n))
-        h = carray(h_, (n,))
-        B = carray(B_, (n, m))
-        p = carray(p_, (n_p,))
+        sat = builtin(q_, qd_, D_, h_, B_, p_, u_)
         u = carray(u_, (m,))
         extra = carray(user, (m,), dtype=np.float64)
-        sat = controller_torque(q, qd, D, h, B, p[c0:], u)
         for i in range(m):
             u[i] += extra[i]
         return 1 if sat else 0

@@ -33,11 +33,12 @@ from functools import cache
 import numpy as np
 import pytest
 from _chains import (
-    five_link_chain_torques,
+    assert_five_link_torques,
+    assert_three_link_torques,
     five_link_chains,
-    three_link_chain_torques,
     three_link_chains,
 )
+from _toy_systems import toy_system
 from numba import njit
 from numpy.testing import assert_allclose
 from test_params import BOUND_CASES
@@ -49,7 +50,7 @@ from walker._generated import three_link as K3
 from walker._linalg import solve_inplace
 from walker.control import controller_torque
 from walker.fixedpoint import find_fixed_point
-from walker.integrate import HybridSystem, hybrid_solve
+from walker.integrate import hybrid_solve
 from walker.models import five_link as FL
 from walker.models import three_link as TL
 from walker.params import FiveLinkParams, ThreeLinkParams
@@ -253,33 +254,23 @@ def _fl_reset(phase, k, t, x, p, x_new, impulse):
 
 
 _REFERENCE = {
-    "three_link": HybridSystem(
-        name="three_link_frictionless",
-        n_x=8,
-        n_phases=1,
-        n_guards=6,
+    "three_link": toy_system(
+        "three_link_frictionless",
+        8,
+        (_tl_rhs, _tl_guards, _tl_reset, None),
+        np.array([[-1, -1, 1, -1, -1, -1]]),
+        ("stance",),
+        TL.GUARD_NAMES[:6],
         n_impulse=2,
-        rhs=_tl_rhs,
-        guards=_tl_guards,
-        reset=_tl_reset,
-        jac=None,
-        directions=np.array([[-1, -1, 1, -1, -1, -1]]),
-        phase_names=("stance",),
-        guard_names=TL.GUARD_NAMES[:6],
     ),
-    "five_link": HybridSystem(
-        name="five_link_frictionless",
-        n_x=12,
-        n_phases=1,
-        n_guards=7,
+    "five_link": toy_system(
+        "five_link_frictionless",
+        12,
+        (_fl_rhs, _fl_guards, _fl_reset, None),
+        np.array([[-1, -1, 1, -1, -1, -1, -1]]),
+        ("stance",),
+        FL.GUARD_NAMES[:7],
         n_impulse=2,
-        rhs=_fl_rhs,
-        guards=_fl_guards,
-        reset=_fl_reset,
-        jac=None,
-        directions=np.array([[-1, -1, 1, -1, -1, -1, -1]]),
-        phase_names=("stance",),
-        guard_names=FL.GUARD_NAMES[:7],
     ),
 }
 
@@ -523,10 +514,7 @@ def _check_three_link_newton_euler(P, samples):
         dx = np.empty(8)
         TL.rhs(int(phase), 0.0, x, p, dx)
         tau = TL.torques(x, p) + TL.joint_torques(int(phase), x, p)
-        tau_a, tau_b, tau_c = three_link_chain_torques(chains, x, dx, gravity)
-        assert_allclose(tau_a[1], tau[1], rtol=0, atol=1e-10)
-        assert_allclose(tau_b[1], -tau[0] - tau[1], rtol=0, atol=1e-10)
-        assert_allclose(tau_a[0] + tau_b[0] - tau_c[0], 0.0, rtol=0, atol=1e-10)
+        assert_three_link_torques(chains, x, dx, tau, gravity)
 
 
 def test_newton_euler_three_link_gait_with_friction():
@@ -573,12 +561,7 @@ def test_newton_euler_five_link_with_friction():
         dx = np.empty(12)
         FL.rhs(int(phase), 0.0, x, p, dx)
         tau = FL.torques(x, p) + FL.joint_torques(int(phase), x, p)
-        tau_a, tau_b, tau_c = five_link_chain_torques(chains, x, dx, gravity)
-        assert_allclose(tau_a[3], tau[3], rtol=0, atol=1e-10)
-        assert_allclose(tau_a[2], tau[1], rtol=0, atol=1e-10)
-        assert_allclose(tau_b[2], -tau[0] - tau[1], rtol=0, atol=1e-10)
-        assert_allclose(tau_a[1] + tau_b[1] - tau_c[1], -tau[2], rtol=0, atol=1e-10)
-        assert_allclose(tau_a[0] + tau_b[0] - tau_c[0], 0.0, rtol=0, atol=1e-10)
+        assert_five_link_torques(chains, x, dx, tau, gravity)
 
 
 # ------------------------------------------------------------------------------ bad input

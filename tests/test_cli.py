@@ -16,6 +16,11 @@ def _run(capsys, argv):
     return code, out, err
 
 
+def _serial_quiet(out):
+    """The options of a run on one worker that prints no progress and writes ``out``."""
+    return ["--jobs", "1", "--quiet", "--out", str(out)]
+
+
 def test_find_json_has_the_documented_fields(capsys):
     code, out, _ = _run(capsys, ["find", "gaits/compass_goswami.toml", "--json"])
     assert code == 0
@@ -46,19 +51,8 @@ def test_find_with_set_changes_the_parameter(capsys):
 
 def test_run_then_plot(tmp_path, capsys):
     out = tmp_path / "kneed.h5"
-    code, text, _ = _run(
-        capsys,
-        [
-            "run",
-            "gaits/kneed_hsu.toml",
-            "--strides",
-            "2",
-            "--out",
-            str(out),
-            "--sample-rate",
-            "60",
-        ],
-    )
+    argv = ["run", "gaits/kneed_hsu.toml", "--strides", "2", "--out", str(out)]
+    code, text, _ = _run(capsys, [*argv, "--sample-rate", "60"])
     assert code == 0 and out.exists()
     sol, prov = read(out)
     assert sol.n_strides == 2 and prov["model"] == "kneed" and prov["kernel_hash"]
@@ -88,24 +82,8 @@ def test_continue_reports_the_period_doubling(capsys):
 
 def test_basin_writes_a_map(tmp_path, capsys):
     out = tmp_path / "basin.h5"
-    code, text, _ = _run(
-        capsys,
-        [
-            "basin",
-            "gaits/compass_goswami.toml",
-            "--n",
-            "6",
-            "--strides",
-            "30",
-            "--jobs",
-            "1",
-            "--quiet",
-            "--axes",
-            "1,2",
-            "--out",
-            str(out),
-        ],
-    )
+    argv = ["basin", "gaits/compass_goswami.toml", "--n", "6", "--strides", "30", "--axes", "1,2"]
+    code, text, _ = _run(capsys, [*argv, *_serial_quiet(out)])
     assert code == 0
     bm, _ = read(out)
     assert bm.outcome.shape == (6, 6)
@@ -113,20 +91,8 @@ def test_basin_writes_a_map(tmp_path, capsys):
 
 def test_sweep_writes_a_table(tmp_path, capsys):
     out = tmp_path / "sweep.h5"
-    code, text, _ = _run(
-        capsys,
-        [
-            "sweep",
-            "gaits/compass_goswami.toml",
-            "--param",
-            "slope=0.04:0.06:4",
-            "--jobs",
-            "1",
-            "--quiet",
-            "--out",
-            str(out),
-        ],
-    )
+    argv = ["sweep", "gaits/compass_goswami.toml", "--param", "slope=0.04:0.06:4"]
+    code, text, _ = _run(capsys, [*argv, *_serial_quiet(out)])
     assert code == 0
     table, _ = read(out)
     assert table.points.shape == (4, 1)
@@ -138,7 +104,7 @@ def test_sweep_with_set_sweeps_the_changed_walker(tmp_path, capsys):
     is the one ``find --set`` gives for the same two parameters, and the file records it."""
     out = tmp_path / "sweep.h5"
     argv = ["sweep", "gaits/compass_goswami.toml", "--param", "slope=0.04,0.05"]
-    argv += ["--set", "mass_hip=12", "--jobs", "1", "--quiet", "--out", str(out)]
+    argv += ["--set", "mass_hip=12", *_serial_quiet(out)]
     code, _, _ = _run(capsys, argv)
     assert code == 0
     table, provenance = read(out)

@@ -52,6 +52,18 @@ def _run(capsys, argv):
     return code, out, err
 
 
+def _over_slopes(command, slopes, *options):
+    """The arguments of ``walker <command>`` on the compass gait over the slope range
+    ``slopes`` ("A:B"), then ``options``."""
+    return [command, "gaits/compass_goswami.toml", "--range", slopes, *options]
+
+
+def _orbit_diagram(slopes, n, transient, strides, out):
+    """``walker orbit-diagram`` over ``slopes`` writing ``out``, ``--json`` last."""
+    options = ["--n", n, "--transient", transient, "--strides", strides]
+    return _over_slopes("orbit-diagram", slopes, *options, "--out", str(out), "--json")
+
+
 # ---------------------------------------------------------------------------------------------
 # continue_branch: both ways, stop at folds (Hénon map, closed forms)
 # ---------------------------------------------------------------------------------------------
@@ -177,25 +189,14 @@ def test_continue_follows_the_scenes_period(period_two_scene, tmp_path, capsys):
 
 @pytest.mark.parametrize("period", ["0", "-2"])
 def test_period_below_one_is_a_usage_error(period, capsys):
-    code, out, err = _run(
-        capsys,
-        ["continue", "gaits/compass_goswami.toml", "--range", "0.05:0.06", "--period", period],
-    )
+    code, out, err = _run(capsys, _over_slopes("continue", "0.05:0.06", "--period", period))
     assert code == 2 and out == ""
     assert f"--period must be an integer >= 1, got {period}" in err
 
 
 def test_continue_goes_both_ways_by_default(tmp_path, capsys):
     out = tmp_path / "both.h5"
-    argv = [
-        "continue",
-        "gaits/compass_goswami.toml",
-        "--range",
-        "0.045:0.06",
-        "--json",
-        "--out",
-        str(out),
-    ]
+    argv = _over_slopes("continue", "0.045:0.06", "--json", "--out", str(out))
     code, text, _ = _run(capsys, argv)
     rec = _strict(text)
     assert code == 0 and rec["status"] == "COMPLETED", rec["message"]
@@ -257,16 +258,7 @@ def test_switch_follows_the_period_doubled_branch(tmp_path, capsys):
     et al. report only "near 4.4 deg": tests/test_gaits.py checks that to 5e-4).
     """
     out = tmp_path / "compass.h5"
-    argv = [
-        "continue",
-        "gaits/compass_goswami.toml",
-        "--range",
-        "0.05:0.08",
-        "--switch",
-        "--out",
-        str(out),
-        "--json",
-    ]
+    argv = _over_slopes("continue", "0.05:0.08", "--switch", "--out", str(out), "--json")
     code, text, _ = _run(capsys, argv)
     rec = _strict(text)
     assert code == 0, rec
@@ -295,7 +287,7 @@ def test_switch_follows_the_period_doubled_branch(tmp_path, capsys):
 
 
 def test_switch_without_a_doubling_is_an_outcome(capsys):
-    argv = ["continue", "gaits/compass_goswami.toml", "--range", "0.05:0.06", "--switch", "--json"]
+    argv = _over_slopes("continue", "0.05:0.06", "--switch", "--json")
     code, text, _ = _run(capsys, argv)
     rec = _strict(text)
     assert code == 1 and rec["status"] == "COMPLETED"
@@ -367,21 +359,7 @@ def test_settled_period():
 
 def test_orbit_diagram_writes_a_file_that_reads_back(tmp_path, capsys):
     out = tmp_path / "orbits.h5"
-    argv = [
-        "orbit-diagram",
-        "gaits/compass_goswami.toml",
-        "--range",
-        "0.07:0.08",
-        "--n",
-        "5",
-        "--transient",
-        "150",
-        "--strides",
-        "8",
-        "--out",
-        str(out),
-        "--json",
-    ]
+    argv = _orbit_diagram("0.07:0.08", "5", "150", "8", out)
     code, text, _ = _run(capsys, argv)
     rec = _strict(text)
     assert code == 0 and rec["status"] == "COMPLETED"
@@ -404,21 +382,7 @@ def test_orbit_diagram_writes_a_file_that_reads_back(tmp_path, capsys):
 
 def test_orbit_diagram_where_it_always_falls_is_strict_json(tmp_path, capsys):
     out = tmp_path / "fall.h5"
-    argv = [
-        "orbit-diagram",
-        "gaits/compass_goswami.toml",
-        "--range",
-        "0.3:0.35",
-        "--n",
-        "2",
-        "--transient",
-        "5",
-        "--strides",
-        "2",
-        "--out",
-        str(out),
-        "--json",
-    ]
+    argv = _orbit_diagram("0.3:0.35", "2", "5", "2", out)
     code, text, err = _run(capsys, argv)
     rec = _strict(text)
     assert code == 1 and rec["status"] == "FELL" and rec["periods"] == [0, 0]
@@ -438,34 +402,15 @@ def test_orbit_diagram_where_it_always_falls_is_strict_json(tmp_path, capsys):
     ],
 )
 def test_orbit_diagram_usage_errors(extra, message, tmp_path, capsys):
-    argv = [
-        "orbit-diagram",
-        "gaits/compass_goswami.toml",
-        "--range",
-        "0.05:0.06",
-        "--out",
-        str(tmp_path / "x.h5"),
-        *extra,
-    ]
+    argv = _over_slopes("orbit-diagram", "0.05:0.06", "--out", str(tmp_path / "x.h5"), *extra)
     code, out, err = _run(capsys, argv)
     assert code == 2 and out == "" and message in err
     assert not (tmp_path / "x.h5").exists()
 
 
 def test_continue_messages_speak_in_flags(tmp_path, capsys):
-    code = main(
-        [
-            "continue",
-            "gaits/compass_goswami.toml",
-            "--range",
-            "0.04:0.06",
-            "--max-points",
-            "3",
-            "--json",
-            "--out",
-            str(tmp_path / "c.h5"),
-        ]
-    )
+    options = ["--max-points", "3", "--json", "--out", str(tmp_path / "c.h5")]
+    code = main(_over_slopes("continue", "0.04:0.06", *options))
     rec = json.loads(capsys.readouterr().out)
     assert code == 1 and rec["status"] == "MAX_STEPS"
     assert "Increase --max-points." in rec["message"]

@@ -104,25 +104,42 @@ FAMILY = {
 }
 
 
+def double_pendulum_vector(rng, lengths, dampers) -> np.ndarray:
+    """The course's double pendulum with links of ``lengths``, no dry friction: masses,
+    inertias, centres of mass and g drawn in that order, then the dampers ``dampers()``."""
+    l1, l2 = lengths
+    drawn = dict(
+        mass_1=rng.uniform(0.2, 3.0),
+        mass_2=rng.uniform(0.2, 3.0),
+        inertia_1=rng.uniform(0.0, 1.0),
+        inertia_2=rng.uniform(0.0, 1.0),
+        com_1=rng.uniform(0.0, 1.0) * l1,
+        com_2=rng.uniform(0.0, 1.0) * l2,
+        g=rng.uniform(1.0, 20.0),
+    )
+    b1, b2 = dampers()
+    params = DoublePendulumParams.course().replace(
+        length_1=l1, length_2=l2, damping_1=b1, damping_2=b2, **drawn
+    )
+    return params.as_array()
+
+
+def _ground_and_dampers(rng, dampers, damped: bool) -> dict:
+    """A walker's foot radius, slope and g, then the joint dampers named ``dampers`` (zero
+    unless ``damped``), drawn in that order."""
+    drawn = dict(
+        foot_radius=rng.uniform(0.0, 0.2), slope=rng.uniform(-0.2, 0.2), g=rng.uniform(1.0, 20.0)
+    )
+    drawn.update({name: rng.uniform(0.0, 5.0) if damped else 0.0 for name in dampers})
+    return drawn
+
+
 def _random_params(name: str, rng, *, damped: bool) -> np.ndarray:
     """A random physical parameter vector (round feet, inertias, offsets, slope)."""
     if name == "double_pendulum":
-        l1, l2 = rng.uniform(0.3, 2.0, 2)
+        lengths = rng.uniform(0.3, 2.0, 2)
         b1, b2 = rng.uniform(0.0, 5.0, 2) if damped else (0.0, 0.0)
-        p = DoublePendulumParams.course().replace(
-            mass_1=rng.uniform(0.2, 3.0),
-            mass_2=rng.uniform(0.2, 3.0),
-            inertia_1=rng.uniform(0.0, 1.0),
-            inertia_2=rng.uniform(0.0, 1.0),
-            length_1=l1,
-            length_2=l2,
-            com_1=rng.uniform(0.0, 1.0) * l1,
-            com_2=rng.uniform(0.0, 1.0) * l2,
-            g=rng.uniform(1.0, 20.0),
-            damping_1=b1,
-            damping_2=b2,
-        )
-        return p.as_array()
+        return double_pendulum_vector(rng, lengths, lambda: (b1, b2))
     if name == "compass":
         base = CompassParams.goswami()
         p = base.replace(
@@ -131,11 +148,7 @@ def _random_params(name: str, rng, *, damped: bool) -> np.ndarray:
             com_from_foot=rng.uniform(0.2, 1.0),
             com_to_hip=rng.uniform(0.2, 1.0),
             inertia_leg=rng.uniform(0.0, 0.5),
-            foot_radius=rng.uniform(0.0, 0.2),
-            slope=rng.uniform(-0.2, 0.2),
-            g=rng.uniform(1.0, 20.0),
-            damping_hip=rng.uniform(0.0, 5.0) if damped else 0.0,
-            damping_ankle=rng.uniform(0.0, 5.0) if damped else 0.0,
+            **_ground_and_dampers(rng, ("damping_hip", "damping_ankle"), damped),
         )
     else:
         base = KneedParams.hsu_chen()
@@ -147,12 +160,7 @@ def _random_params(name: str, rng, *, damped: bool) -> np.ndarray:
             inertia_shank=rng.uniform(0.001, 0.1),
             offset_thigh=rng.uniform(-0.1, 0.1),
             offset_shank=rng.uniform(-0.1, 0.1),
-            foot_radius=rng.uniform(0.0, 0.2),
-            slope=rng.uniform(-0.2, 0.2),
-            g=rng.uniform(1.0, 20.0),
-            damping_hip=rng.uniform(0.0, 5.0) if damped else 0.0,
-            damping_knee=rng.uniform(0.0, 5.0) if damped else 0.0,
-            damping_ankle=rng.uniform(0.0, 5.0) if damped else 0.0,
+            **_ground_and_dampers(rng, ("damping_hip", "damping_knee", "damping_ankle"), damped),
         )
     return p.as_array()
 

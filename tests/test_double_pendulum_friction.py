@@ -30,8 +30,10 @@ from _fd import rhs_jacobian_fd
 from numpy.testing import assert_allclose
 from scipy.integrate import cumulative_simpson
 
+# The course's release state: link 1 at -0.1 rad from +x, link 2 pointing straight up, at rest.
+from test_reference_runs import COURSE_STATE, release
+
 from walker import friction as fr
-from walker import simulate
 from walker._generated import double_pendulum as K
 from walker.models import double_pendulum as M
 from walker.models import get_model
@@ -40,9 +42,6 @@ from walker.status import Status
 
 TIGHT = {"rtol": 1e-12, "atol": 1e-12}
 MODEL = get_model("double_pendulum")
-# The course's release state (tests/test_reference_runs.py): link 1 at -0.1 rad from +x,
-# link 2 pointing straight up, at rest.
-COURSE_STATE = np.array([-0.1, np.pi / 2 + 0.1, 0.0, 0.0])
 
 
 def _params(**friction) -> DoublePendulumParams:
@@ -165,15 +164,7 @@ def test_slip_phases_use_the_generated_field():
 @pytest.mark.parametrize("damped", [False, True], ids=["course", "viscous"])
 def test_without_dry_friction_no_event_fires(damped):
     friction = {"damping_1": 0.3, "damping_2": 0.2} if damped else {}
-    sol = simulate(
-        "double_pendulum",
-        _params(**friction),
-        COURSE_STATE,
-        n_strides=0,
-        t_max=10.0,
-        output="events",
-        **TIGHT,
-    )
+    sol = release(_params(**friction), 10.0, output="events", **TIGHT)
     assert sol.status == Status.COMPLETED and sol.success
     assert sol.n_events == 0 and len(sol.events) == 0
     assert sol.t == 10.0
@@ -188,16 +179,7 @@ def test_viscous_energy_balance():
     2001 samples 6e-7 J."""
     params = _params(damping_1=0.3, damping_2=0.2)
     times = np.linspace(0.0, 10.0, 20001)
-    sol = simulate(
-        "double_pendulum",
-        params,
-        COURSE_STATE,
-        n_strides=0,
-        t_max=10.0,
-        output="samples",
-        sample_times=times,
-        **TIGHT,
-    )
+    sol = release(params, 10.0, output="samples", sample_times=times, **TIGHT)
     assert sol.success and sol.n_events == 0
     x = sol.samples.x
     kinetic, potential = MODEL.energies(x, params)
@@ -220,9 +202,7 @@ def test_dry_friction_loses_exactly_the_coulomb_work_between_events(coulomb_1, c
     change ``E`` by O(w^2) only (measured <= 7e-15 J)."""
     params = _params(coulomb_1=coulomb_1, coulomb_2=coulomb_2)
     F = np.array([coulomb_1, coulomb_2])
-    sol = simulate(
-        "double_pendulum", params, COURSE_STATE, n_strides=0, t_max=20.0, output="events", **TIGHT
-    )
+    sol = release(params, 20.0, output="events", **TIGHT)
     assert sol.status == Status.COMPLETED
     ev = sol.events
     names = {MODEL.guard_names[g] for g in ev.guard}
@@ -254,15 +234,7 @@ def test_friction_that_can_hold_the_pendulum_keeps_it_stuck():
     # the holding torques are the gravity torques, inside the frictions
     assert_allclose(M.joint_torques(both, COURSE_STATE, params.as_array()), g, rtol=0, atol=1e-12)
     times = np.linspace(0.0, 5.0, 11)
-    sol = simulate(
-        "double_pendulum",
-        params,
-        COURSE_STATE,
-        n_strides=0,
-        t_max=5.0,
-        output="samples",
-        sample_times=times,
-    )
+    sol = release(params, 5.0, output="samples", sample_times=times)
     assert sol.status == Status.COMPLETED and sol.success
     assert (sol.t, sol.n_events, sol.n_strides, sol.phase) == (5.0, 0, 0, both)
     assert np.all(sol.samples.phase == both)
@@ -273,7 +245,7 @@ def test_friction_that_can_hold_the_pendulum_keeps_it_stuck():
         "joint_1": "slip-",
         "joint_2": "stick",
     }
-    sol = simulate("double_pendulum", slipping, COURSE_STATE, n_strides=0, t_max=1.0)
+    sol = release(slipping, 1.0)
     assert sol.success and sol.x[2] < 0.0 and sol.x[0] < COURSE_STATE[0] - 1e-3
 
 
@@ -289,9 +261,7 @@ def test_moderate_friction_slips_swings_and_sticks_at_rest():
     pendulum hanging near the bottom, q1 = -1.6094 rad, where the gravity torques
     (-0.905, -0.325 N m) are within the frictions and are what the joints hold."""
     params = _params(coulomb_1=1.0, coulomb_2=1.0)
-    sol = simulate(
-        "double_pendulum", params, COURSE_STATE, n_strides=0, t_max=30.0, output="events", **TIGHT
-    )
+    sol = release(params, 30.0, output="events", **TIGHT)
     assert sol.status == Status.COMPLETED
     ev = sol.events
     assert len(ev) == 21

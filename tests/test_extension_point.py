@@ -12,11 +12,12 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
+from _toy_systems import toy_system
 from numba import carray, cfunc, types
 
 from walker import _hybrid, load_scene
 from walker.hybrid_system import _compiled
-from walker.integrate import HybridSystem, _interior_code, hybrid_solve
+from walker.integrate import _interior_code, hybrid_solve
 from walker.models import get_model
 from walker.status import (
     EVENT_CONTINUE,
@@ -83,17 +84,10 @@ BALL_P = np.array([GRAVITY, RESTITUTION])
 def _ball(**functions):
     fields = dict(rhs=ball_rhs, guards=ball_guards, reset=ball_reset, jac=ball_jac)
     fields.update(functions)
-    return HybridSystem(
-        name="cfunc ball",
-        n_x=2,
-        n_phases=2,
-        n_guards=1,
-        n_impulse=1,
-        directions=np.array([[-1], [-1]]),
-        phase_names=("bouncing", "one bounce"),
-        guard_names=("floor",),
-        n_params=2,
-        **fields,
+    four = tuple(fields.pop(name) for name in ("rhs", "guards", "reset", "jac"))
+    directions, phase_names = np.array([[-1], [-1]]), ("bouncing", "one bounce")
+    return toy_system(
+        "cfunc ball", 2, four, directions, phase_names, ("floor",), n_params=2, **fields
     )
 
 
@@ -221,21 +215,17 @@ def decay_jac(phase, t, x, p, J, ctx):
 
 def test_ctypes_callbacks_decay_event_time():
     rate = ctypes.c_double(0.7)
-    system = HybridSystem(
-        name="ctypes decay",
-        n_x=1,
-        n_phases=1,
-        n_guards=1,
-        n_impulse=1,
-        rhs=decay_rhs,
-        guards=decay_guards,
-        reset=decay_reset,
-        jac=decay_jac,
-        directions=np.array([[-1]]),
-        phase_names=("decay",),
-        guard_names=("threshold",),
+    functions = (decay_rhs, decay_guards, decay_reset, decay_jac)
+    ctx = ctypes.addressof(rate)
+    system = toy_system(
+        "ctypes decay",
+        1,
+        functions,
+        np.array([[-1]]),
+        ("decay",),
+        ("threshold",),
         n_params=1,
-        ctx=ctypes.addressof(rate),
+        ctx=ctx,
     )
     x0, c = 2.0, 0.5
     sol = hybrid_solve(system, [x0], [c], t_max=10.0, output="events", jacobian=True)

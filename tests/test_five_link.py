@@ -4,9 +4,10 @@ Poincaré map, the full-order gait, energy balance and Newton–Euler torques.""
 import math
 from functools import cache
 
+import _hzd_gait as gait
 import numpy as np
 import pytest
-from _chains import five_link_chain_torques, five_link_chains
+from _chains import assert_five_link_torques, five_link_chains
 from numpy.testing import assert_allclose
 
 from walker import hzd
@@ -14,8 +15,6 @@ from walker._generated import five_link as K5
 from walker.fixedpoint import find_fixed_point
 from walker.models import five_link as FL
 from walker.params import FiveLinkParams
-from walker.scene import load_scene
-from walker.status import Status
 from walker.stride import StrideMap, simulate
 
 RNG = np.random.default_rng(20260311)
@@ -134,11 +133,10 @@ def test_make_invariant_gives_hybrid_invariance():
     """h(Delta(q-)) = 0 and L_f h(Delta(q-, qd-)) = 0 after the adjustment (1e-12), and not
     before it, for random free coefficients, steps and slopes."""
     raw = rabbit().replace(bezier_knee_1=0.3, bezier_torso_0=0.0, bezier_femur_1=0.0)
-    h0, lfh0 = hzd.invariance_residual(raw)
-    assert np.max(np.abs(np.r_[h0, lfh0])) > 1e-2
+    gait.assert_not_invariant(raw)
     for k in range(3):
         free = RNG.uniform(-0.1, 0.1, 6)
-        design = hzd.make_invariant(
+        design = gait.invariant_design(
             raw.replace(
                 theta_minus=-0.18 - 0.03 * k,
                 slope=0.01 * k,
@@ -150,9 +148,6 @@ def test_make_invariant_gives_hybrid_invariance():
                 bezier_tibia_3=0.2 + free[5],
             )
         )
-        h, lfh = hzd.invariance_residual(design)
-        assert_allclose(h, 0.0, rtol=0, atol=1e-12)
-        assert_allclose(lfh, 0.0, rtol=0, atol=1e-12)
         # the swing foot is on the slope at theta_minus
         q, _, _ = hzd.surface(design, design.theta_minus)
         x = np.r_[q, np.zeros(7)]
@@ -161,40 +156,22 @@ def test_make_invariant_gives_hybrid_invariance():
 
 def test_zero_dynamics_equals_closed_loop_on_the_surface():
     P = rabbit()
-    p = P.as_array()
-    for theta in np.linspace(P.theta_plus, P.theta_minus, 4):
-        thd = RNG.uniform(-1.5, -0.5)
-        q, sigma, dsigma = hzd.surface(P, theta)
-        x = np.r_[q, sigma * thd, 0.0, 0.0]
-        dx = np.empty(12)
-        FL.rhs(0, 0.0, x, p, dx)
-        thdd = hzd.zero_dynamics_accel(P, theta, thd)
-        assert_allclose(dx[5:10], sigma * thdd + dsigma * thd**2, rtol=1e-11, atol=1e-11)
+    thetas = np.linspace(P.theta_plus, P.theta_minus, 4)
+    gait.assert_zero_dynamics_on_surface(FL, P, thetas, lambda: RNG.uniform(-1.5, -0.5))
 
 
 def test_restricted_map_multiplier_is_delta_zero_squared():
     """Central differences (step 1e-5) of rho at rtol 1e-12 vs the closed form delta_zero^2
     (Westervelt et al. 2003, Theorem 3)."""
-    o = hzd_orbit()
-    assert o.success
-    assert_allclose(o.multiplier, o.multiplier_closed_form, rtol=0, atol=1e-8)
-    assert 0.0 < o.multiplier < 1.0
-    r = hzd.restricted_map(rabbit(), o.theta_dot_plus)
-    assert r.status == Status.COMPLETED
-    assert_allclose(r.theta_dot_plus, o.theta_dot_plus, rtol=0, atol=1e-12)
-    assert r.impulse[1] > 0 and abs(r.impulse[0]) < rabbit().friction * r.impulse[1]
+    gait.assert_restricted_map_multiplier(rabbit(), hzd_orbit())
 
 
 # ------------------------------------------------------------------------- full-order gait
 def test_closed_loop_converges_to_period_one_gait():
     """From a perturbed start (knee, torso, femur, rates) the walker converges to the HZD
     orbit on level ground: contraction 0.815 per stride, 0.815^80 * 0.1 ~ 1e-8."""
-    P = rabbit()
-    S = StrideMap("five_link", P)
-    sol = simulate("five_link", P, S.lift(hzd_orbit().section + PERTURBATION), n_strides=80)
-    assert sol.status == Status.COMPLETED, sol.message
-    assert_allclose(S.project(sol.x), hzd_orbit().section, rtol=0, atol=1e-6)
-    assert sol.x[11] == 0.0  # never saturated
+    start = hzd_orbit().section + PERTURBATION
+    sol = gait.converged_run("five_link", rabbit(), start, 80, hzd_orbit().section)
     assert sol.x[10] > 0.0  # the actuators did positive work
 
 
@@ -202,15 +179,7 @@ def test_full_order_fixed_point_agrees_with_hzd():
     """The full-order orbit is the HZD orbit (to the integration tolerance) and its dominant
     multiplier is delta_zero^2 (to 1e-7, the accuracy of the central-difference vector-field
     Jacobian in the variational equations); the transverse multipliers are < 1e-3."""
-    fp = full_orbit()
-    o = hzd_orbit()
-    assert fp.success, fp.message
-    assert fp.stable and np.all(np.abs(fp.multipliers) < 1.0)
-    assert_allclose(fp.section, o.section, rtol=0, atol=1e-9)
-    assert_allclose(fp.multipliers[0].real, o.multiplier_closed_form, rtol=0, atol=1e-7)
-    assert fp.multipliers[0].imag == 0.0
-    assert np.all(np.abs(fp.multipliers[1:]) < 1e-3)
-    assert_allclose(fp.step_time, o.step_time, rtol=1e-9)
+    gait.assert_full_order_is_hzd(full_orbit(), hzd_orbit(), section_atol=1e-9)
 
 
 @pytest.mark.regression_pin
@@ -218,45 +187,24 @@ def test_scene_reference_is_the_orbit_regression_pin():
     """REGRESSION PIN: the scene's [reference] multipliers of the five-link HZD orbit are walker's
     own (gaits/five_link_hzd.toml: "reference values below: walker's own").
     """
-    scene = load_scene("gaits/five_link_hzd.toml")
-    fp = full_orbit()
-    assert scene.params == rabbit()
-    assert_allclose(scene.state[:10], fp.state[:10], rtol=0, atol=1e-10)
-    ref = scene.reference
-    mult = np.asarray(ref["multipliers"], dtype=complex)
-    assert_allclose(mult, fp.multipliers, rtol=0, atol=ref["tolerance"])
+    gait.assert_scene_reference("gaits/five_link_hzd.toml", rabbit(), full_orbit(), FL.N_Q)
 
 
 def test_actuator_work_equals_impact_loss():
     """Level ground, periodic orbit: the actuators' work over one stride replaces the kinetic
     energy lost at heel strike (1e-9 relative)."""
-    P = rabbit()
-    p = P.as_array()
-    sol = simulate("five_link", P, full_orbit().state, n_strides=1, output="events")
-    assert sol.status == Status.COMPLETED
-    x_pre, x_post = sol.events.x_pre[-1], sol.events.x_post[-1]
-    loss = FL.energy(x_pre, p)[0] - FL.energy(x_post, p)[0]
-    assert loss > 1.0  # joules: the impact is not trivial
-    assert_allclose(sol.x[10], loss, rtol=1e-9)
+    gait.assert_work_pays_impact("five_link", FL, rabbit(), full_orbit().state)
 
 
 # ------------------------------------------------------------------------------ outcomes
 def test_saturation_is_reported():
     """A limit below the gait's peak torque (~104 N m at the hips) clips the torque."""
-    P = rabbit().replace(torque_limit=80.0)
-    p = P.as_array()
-    sol = simulate("five_link", P, full_orbit().state, n_strides=1, output="full")
-    assert sol.x[11] > 0.0
-    u = np.array([FL.torques(x, p) for x in sol.record.x])
-    assert np.max(np.abs(u)) <= 80.0
+    gait.assert_saturates("five_link", FL, rabbit().replace(torque_limit=80.0), full_orbit().state)
 
 
 def test_slip_is_an_outcome():
     """Friction 0.2 is below the stance phase's peak |F_t|/F_n ~ 0.36: a status, not a crash."""
-    P = rabbit().replace(friction=0.2)
-    sol = simulate("five_link", P, full_orbit().state, n_strides=2, output="events")
-    assert sol.status == Status.NONPHYSICAL_IMPACT
-    assert sol.events.guard[-1] in (0, 3, 4)
+    gait.assert_slips("five_link", rabbit().replace(friction=0.2), full_orbit().state)
 
 
 # --------------------------------------------------------------------------- Newton–Euler
@@ -277,13 +225,7 @@ def test_newton_euler_reproduces_applied_torques():
     for x in sol.samples.x:
         dx = np.empty(12)
         FL.rhs(0, 0.0, x, p, dx)
-        u = FL.torques(x, p)
-        tau_a, tau_b, tau_c = five_link_chain_torques(chains, x, dx, gravity)
-        assert_allclose(tau_a[3], u[3], rtol=0, atol=1e-10)
-        assert_allclose(tau_a[2], u[1], rtol=0, atol=1e-10)
-        assert_allclose(tau_b[2], -u[0] - u[1], rtol=0, atol=1e-10)
-        assert_allclose(tau_a[1] + tau_b[1] - tau_c[1], -u[2], rtol=0, atol=1e-10)
-        assert_allclose(tau_a[0] + tau_b[0] - tau_c[0], 0.0, rtol=0, atol=1e-10)
+        assert_five_link_torques(chains, x, dx, FL.torques(x, p), gravity)
 
 
 def test_generated_points_match_the_geometry():

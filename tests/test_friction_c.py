@@ -40,6 +40,7 @@ from _cmodel import (
     registry,
     solve_with_events,
 )
+from test_models_c import compass_vector, kneed_vector
 
 from walker import friction as fr
 from walker import load_scene
@@ -63,21 +64,13 @@ def _coulomb(rng, n):
     return out
 
 
+def _kept(rng):
+    """Keep an entry with probability 0.7 (else it is zero)."""
+    return lambda: rng.random() < 0.7
+
+
 def _compass_params(rng):
-    a, b = rng.uniform(0.1, 1.0, 2)
-    base = [
-        rng.uniform(0.5, 20.0),  # mass_hip
-        rng.uniform(0.5, 10.0),  # mass_leg
-        a,
-        b,
-        rng.uniform(0.0, 1.0) * (rng.random() < 0.7),  # inertia_leg
-        rng.uniform(0.0, 0.9) * (a + b) * (rng.random() < 0.7),  # foot_radius
-        rng.uniform(-0.2, 0.2),  # slope
-        rng.uniform(1.0, 12.0),  # g
-        rng.uniform(0.0, 2.0) * (rng.random() < 0.7),  # damping_hip
-        rng.uniform(0.0, 2.0) * (rng.random() < 0.7),  # damping_ankle
-    ]
-    return np.concatenate([base, _coulomb(rng, 2)])
+    return np.concatenate([compass_vector(rng, _kept(rng)), _coulomb(rng, 2)])
 
 
 def _double_pendulum_params(rng):
@@ -99,27 +92,7 @@ def _double_pendulum_params(rng):
 
 
 def _kneed_params(rng):
-    a1, b1, a2, b2 = rng.uniform(0.05, 0.6, 4)
-    base = [
-        rng.uniform(0.05, 2.0),  # mass_hip
-        rng.uniform(0.05, 2.0),  # mass_thigh
-        rng.uniform(0.05, 2.0),  # mass_shank
-        a1,
-        b1,
-        a2,
-        b2,
-        rng.uniform(0.0, 0.05),  # inertia_thigh
-        rng.uniform(0.0, 0.05),  # inertia_shank
-        rng.uniform(-0.05, 0.05),  # offset_thigh
-        rng.uniform(-0.05, 0.05),  # offset_shank
-        rng.uniform(0.0, 0.9) * (a1 + b1) * (rng.random() < 0.7),  # foot_radius
-        rng.uniform(-0.2, 0.2),  # slope
-        rng.uniform(1.0, 12.0),  # g
-        rng.uniform(0.0, 1.0) * (rng.random() < 0.7),  # damping_hip
-        rng.uniform(0.0, 1.0) * (rng.random() < 0.7),  # damping_knee
-        rng.uniform(0.0, 1.0) * (rng.random() < 0.7),  # damping_ankle
-    ]
-    return np.concatenate([base, np.asarray(_coulomb(rng, 3)) * 0.2])
+    return np.concatenate([kneed_vector(rng, _kept(rng)), np.asarray(_coulomb(rng, 3)) * 0.2])
 
 
 @dataclasses.dataclass(frozen=True)

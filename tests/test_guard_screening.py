@@ -15,10 +15,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _toy_systems import toy_system
 from numba import njit
 
 from walker import load_scene
-from walker.integrate import HybridSystem, hybrid_solve
+from walker.integrate import hybrid_solve
 from walker.status import EVENT_TERMINAL, Status
 
 GAITS = Path(__file__).resolve().parents[1] / "gaits"
@@ -95,19 +96,14 @@ def _stop_reset(phase, k, t, x, p, x_new, impulse):
 
 
 def _dip_system(autonomous_guards):
-    return HybridSystem(
-        name="timed dip",
-        n_x=1,
-        n_phases=1,
-        n_guards=1,
-        n_impulse=1,
-        rhs=_still_rhs,
-        guards=_dip_guards,
-        reset=_stop_reset,
-        jac=None,
-        directions=np.array([[-1]]),
-        phase_names=("still",),
-        guard_names=("dip",),
+    functions = (_still_rhs, _dip_guards, _stop_reset, None)
+    return toy_system(
+        "timed dip",
+        1,
+        functions,
+        np.array([[-1]]),
+        ("still",),
+        ("dip",),
         autonomous_guards=autonomous_guards,
     )
 

@@ -11,6 +11,7 @@ from _toy_systems import (
     WALKER,
     ball_impact_times,
     ode_exact,
+    toy_fields,
     walker_state,
 )
 from hypothesis import given, settings
@@ -349,20 +350,8 @@ def test_validation_messages(kwargs, exc, match):
 
 
 def test_system_validation():
-    base = dict(
-        name="b",
-        n_x=2,
-        n_phases=1,
-        n_guards=1,
-        n_impulse=1,
-        rhs=BALL.rhs,
-        guards=BALL.guards,
-        reset=BALL.reset,
-        jac=None,
-        directions=np.array([[-1]]),
-        phase_names=("a",),
-        guard_names=("g",),
-    )
+    functions = (BALL.rhs, BALL.guards, BALL.reset, None)
+    base = toy_fields("b", 2, functions, np.array([[-1]]), ("a",), ("g",))
     with pytest.raises(ValueError, match=r"`directions` must have shape"):
         HybridSystem(**{**base, "directions": np.array([-1])})
     with pytest.raises(ValueError, match=r"`directions` values must be -1, 0 or \+1"):

@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 import pytest
-from _checkpoints import assert_same_file
+from _checkpoints import assert_same_file, start_python
 
 from walker.results import BasinMap
 from walker.storage import checkpoint_progress, read
@@ -124,14 +124,7 @@ def _progress_of_copy(path: Path, scratch: Path) -> tuple[int, int] | None:
 
 
 def _start(argv: list[str], out: Path) -> subprocess.Popen:
-    return subprocess.Popen(
-        [sys.executable, "-m", "walker", *argv, "--out", str(out)],
-        cwd=REPO,
-        start_new_session=True,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
+    return start_python(["-m", "walker", *argv, "--out", str(out)], text=True)
 
 
 def _wait_for_progress(proc: subprocess.Popen, out: Path, scratch: Path) -> None:
@@ -258,14 +251,7 @@ def test_process_pool_workers_are_terminated_on_interrupt(tmp_path):
             sys.exit(130)
         """
     )
-    proc = subprocess.Popen(
-        [sys.executable, "-c", script],
-        cwd=REPO,
-        start_new_session=True,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
+    proc = start_python(["-c", script], text=True)
     try:
         _wait_for_progress(proc, out, tmp_path / "copy.h5")
         code, err, children = _interrupt(proc, signal.SIGTERM)

@@ -303,18 +303,11 @@ def test_compass_approaches_simplest_walker_as_leg_mass_vanishes(damping_ankle):
     diffs = []
     betas = (1e-3, 1e-4)
     for beta in betas:
-        params = CompassParams(
-            mass_hip=1.0,
-            mass_leg=beta,
-            com_from_foot=0.0,
-            com_to_hip=1.0,
-            inertia_leg=0.0,
-            foot_radius=0.0,
-            slope=gamma,
-            g=1.0,
-            damping_hip=0.0,
-            damping_ankle=damping_ankle,
-        )
+        # Goswami's point-mass legs (no inertia, point feet, no hip damper) with Garcia's
+        # masses: the leg's mass beta at its foot, unit hip mass, leg length and g
+        garcia = dict(mass_hip=1.0, mass_leg=beta, com_from_foot=0.0, com_to_hip=1.0, g=1.0)
+        params = CompassParams.goswami(gamma).replace(**garcia, damping_ankle=damping_ankle)
+        assert (params.inertia_leg, params.foot_radius, params.damping_hip) == (0.0, 0.0, 0.0)
         P = StrideMap("compass", params)
         # Garcia's theta, theta - phi: legs from the slope normal;
         # qd_swing = cos(2 theta) theta_dot.

@@ -79,30 +79,44 @@ _COMPASS_PLAIN_ZERO = _plain_zero("compass")  # inertia_leg, foot_radius, damper
 _KNEED_PLAIN_ZERO = _plain_zero("kneed")  # inertias, offsets, foot_radius, dampers
 
 
-def _compass_params(rng, plain):
+def _always():
+    return True
+
+
+def _foot_slope_g_dampers(rng, leg, damping_max, n_dampers, kept):
+    """The tail of a passive walker's vector: foot radius (up to 0.9 ``leg``), slope, g and
+    ``n_dampers`` dampers (up to ``damping_max``); each foot or damper entry is multiplied by
+    ``kept()``, called right after it is drawn."""
+    return [
+        rng.uniform(0.0, 0.9) * leg * kept(),  # foot_radius
+        rng.uniform(-0.2, 0.2),  # slope
+        rng.uniform(1.0, 12.0),  # g
+        *(rng.uniform(0.0, damping_max) * kept() for _ in range(n_dampers)),
+    ]
+
+
+def compass_vector(rng, kept=_always):
+    """A random compass vector (also the first ten entries of compass_coulomb's): inertia,
+    foot radius and dampers are each multiplied by ``kept()``, called right after it is
+    drawn (``tests/test_friction_c.py`` zeroes them at random so)."""
     a, b = rng.uniform(0.1, 1.0, 2)
-    p = np.array(
+    return np.array(
         [
             rng.uniform(0.5, 20.0),  # mass_hip
             rng.uniform(0.5, 10.0),  # mass_leg
             a,
             b,
-            rng.uniform(0.0, 1.0),  # inertia_leg
-            rng.uniform(0.0, 0.9) * (a + b),  # foot_radius
-            rng.uniform(-0.2, 0.2),  # slope
-            rng.uniform(1.0, 12.0),  # g
-            rng.uniform(0.0, 2.0),  # damping_hip
-            rng.uniform(0.0, 2.0),  # damping_ankle
+            rng.uniform(0.0, 1.0) * kept(),  # inertia_leg
+            *_foot_slope_g_dampers(rng, a + b, 2.0, 2, kept),  # damping_hip, damping_ankle
         ]
     )
-    zero = _COMPASS_PLAIN_ZERO if plain else [i for i in _COMPASS_PLAIN_ZERO if rng.random() < 0.3]
-    p[list(zero)] = 0.0
-    return p
 
 
-def _kneed_params(rng, plain):
+def kneed_vector(rng, kept=_always):
+    """A random kneed vector (also the first 17 entries of kneed_coulomb's): foot radius and
+    dampers are each multiplied by ``kept()``, called right after it is drawn."""
     a1, b1, a2, b2 = rng.uniform(0.05, 0.6, 4)
-    p = np.array(
+    return np.array(
         [
             rng.uniform(0.05, 2.0),  # mass_hip
             rng.uniform(0.05, 2.0),  # mass_thigh
@@ -115,17 +129,25 @@ def _kneed_params(rng, plain):
             rng.uniform(0.0, 0.05),  # inertia_shank
             rng.uniform(-0.05, 0.05),  # offset_thigh
             rng.uniform(-0.05, 0.05),  # offset_shank
-            rng.uniform(0.0, 0.9) * (a1 + b1),  # foot_radius
-            rng.uniform(-0.2, 0.2),  # slope
-            rng.uniform(1.0, 12.0),  # g
-            rng.uniform(0.0, 1.0),  # damping_hip
-            rng.uniform(0.0, 1.0),  # damping_knee
-            rng.uniform(0.0, 1.0),  # damping_ankle
+            *_foot_slope_g_dampers(rng, a1 + b1, 1.0, 3, kept),  # damping_hip, _knee, _ankle
         ]
     )
-    zero = _KNEED_PLAIN_ZERO if plain else [i for i in _KNEED_PLAIN_ZERO if rng.random() < 0.3]
+
+
+def _zero_plain(p, plain_zero, plain, rng):
+    """``p`` with the entries the "/plain" kernels fix at zero set to zero: all of them if
+    ``plain``, else each with probability 0.3."""
+    zero = plain_zero if plain else [i for i in plain_zero if rng.random() < 0.3]
     p[list(zero)] = 0.0
     return p
+
+
+def _compass_params(rng, plain):
+    return _zero_plain(compass_vector(rng), _COMPASS_PLAIN_ZERO, plain, rng)
+
+
+def _kneed_params(rng, plain):
+    return _zero_plain(kneed_vector(rng), _KNEED_PLAIN_ZERO, plain, rng)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 import sympy as sp
 from numpy.testing import assert_allclose
+from test_symbolic import random_params
 
 from walker.symbolic import models
 from walker.symbolic.inertia import (
@@ -215,31 +216,6 @@ KNEED_T = np.array([[1.0, 0.0, 0.0], [-1.0, 1.0, 0.0], [0.0, -1.0, 1.0]])
 KNEED_C = np.array([np.pi / 2, -np.pi, 0.0])
 
 
-def _random_kneed_params(rng, offsets: bool) -> np.ndarray:
-    a1, b1, a2, b2 = rng.uniform(0.05, 0.6, 4)
-    return np.array(
-        [
-            rng.uniform(0.1, 2.0),  # mass_hip
-            rng.uniform(0.1, 2.0),  # mass_thigh
-            rng.uniform(0.02, 1.0),  # mass_shank
-            a1,
-            b1,
-            a2,
-            b2,
-            rng.uniform(0.001, 0.1),  # inertia_thigh
-            rng.uniform(0.001, 0.1),  # inertia_shank
-            rng.uniform(-0.1, 0.1) if offsets else 0.0,  # offset_thigh
-            rng.uniform(-0.1, 0.1) if offsets else 0.0,  # offset_shank
-            0.0,  # foot_radius: point feet
-            rng.uniform(-0.3, 0.3),  # slope (does not enter with point feet)
-            rng.uniform(1.0, 20.0),  # g
-            0.0,  # damping_hip (D, C, g do not depend on it)
-            0.0,  # damping_knee
-            0.0,  # damping_ankle
-        ]
-    )
-
-
 @pytest.mark.parametrize("offsets", [False, True], ids=["no_offsets", "offsets"])
 def test_kneed_walker_matches_newton_euler(offsets):
     """Newton–Euler on the 3-link chain equals D qdd + C qd + g of ``kneed_unlocked`` after
@@ -249,7 +225,8 @@ def test_kneed_walker_matches_newton_euler(offsets):
     rng = np.random.default_rng(1998 + offsets)
     q, qd, qdd = _random_states(rng, 3)
     for k in range(N_STATES):
-        pv = _random_kneed_params(rng, offsets)
+        # point feet (the slope does not enter with them), no joint friction
+        pv = random_params("kneed", rng, foot_radius=0.0, offsets=offsets)
         chain, g = _kneed_chain(pv)
         theta = KNEED_T @ q[k] + KNEED_C
         tau_rel = inverse_dynamics(
@@ -265,7 +242,7 @@ def test_kneed_chain_mapping_places_the_knee():
     model = models.kneed_unlocked()
     knee_fun = sp.lambdify([list(model.q), list(model.params)], model.points["knee"])
     rng = np.random.default_rng(3)
-    pv = _random_kneed_params(rng, True)
+    pv = random_params("kneed", rng, foot_radius=0.0)
     chain, _ = _kneed_chain(pv)
     q = rng.uniform(-1, 1, 3)
     th = KNEED_T @ q + KNEED_C

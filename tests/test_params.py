@@ -7,6 +7,9 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
+from walker._generated import compass as compass_kernels
+from walker._generated import double_pendulum as double_pendulum_kernels
+from walker._generated import kneed as kneed_kernels
 from walker.params import (
     HAS_EVENTS,
     HAS_STRIDES,
@@ -40,56 +43,21 @@ def _base(cls):
 
 
 # ---- canonical order and metadata --------------------------------------------------------
+def _kernel_order(kernels) -> tuple:
+    """The parameter vector's order that the generated ``kernels`` take (the same in each)."""
+    orders = {arguments["p"] for arguments in kernels.ARGUMENT_ORDER.values()}
+    assert len(orders) == 1, orders
+    return orders.pop()
+
+
 def test_field_order_is_the_kernel_order():
     assert SimplestParams.names() == ("slope", "g", "leg_length", "damping_ankle")
-    assert CompassParams.names() == (
-        "mass_hip",
-        "mass_leg",
-        "com_from_foot",
-        "com_to_hip",
-        "inertia_leg",
-        "foot_radius",
-        "slope",
-        "g",
-        "damping_hip",
-        "damping_ankle",
-    )
+    # the passive walkers' and the double pendulum's: the order every generated kernel takes
+    assert CompassParams.names() == _kernel_order(compass_kernels)
     # the compass block is a prefix, so that ``p[:n]`` of compass_coulomb is a compass vector
     assert CompassCoulombParams.names() == (*CompassParams.names(), "coulomb_ankle", "coulomb_hip")
-    assert KneedParams.names() == (
-        "mass_hip",
-        "mass_thigh",
-        "mass_shank",
-        "shank_com_from_foot",
-        "shank_com_to_knee",
-        "thigh_com_from_knee",
-        "thigh_com_to_hip",
-        "inertia_thigh",
-        "inertia_shank",
-        "offset_thigh",
-        "offset_shank",
-        "foot_radius",
-        "slope",
-        "g",
-        "damping_hip",
-        "damping_knee",
-        "damping_ankle",
-    )
-    assert DoublePendulumParams.names() == (
-        "mass_1",
-        "mass_2",
-        "inertia_1",
-        "inertia_2",
-        "length_1",
-        "length_2",
-        "com_1",
-        "com_2",
-        "g",
-        "damping_1",
-        "damping_2",
-        "coulomb_1",
-        "coulomb_2",
-    )
+    assert KneedParams.names() == _kernel_order(kneed_kernels)
+    assert DoublePendulumParams.names() == _kernel_order(double_pendulum_kernels)
     # the physical parameters first, in the order the generated kernels take them
     assert ThreeLinkParams.names()[: len(THREE_LINK_PARAMS)] == THREE_LINK_PARAMS
     assert ThreeLinkParams.names()[len(THREE_LINK_PARAMS) :] == (

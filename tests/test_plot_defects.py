@@ -22,10 +22,11 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from matplotlib.collections import LineCollection, QuadMesh  # noqa: E402
 from numpy.testing import assert_allclose, assert_array_equal  # noqa: E402
+from test_plotting import basin_map  # noqa: E402
 
 from walker import gallery, plotting  # noqa: E402
 from walker.cli import main  # noqa: E402
-from walker.results import BasinMap, Branch, SweepTable  # noqa: E402
+from walker.results import Branch, SweepTable  # noqa: E402
 from walker.status import Status  # noqa: E402
 from walker.storage import BASIN_NOT_COMPUTED, read  # noqa: E402
 
@@ -240,17 +241,14 @@ def test_state_units_from_names():
     assert plotting.state_unit("actuator_work") == "J"
 
 
+def _compass_basin(outcome):
+    """A compass gait's basin of ``outcome`` on a 3 x 2 grid of (q_stance, qd_stance)."""
+    x, y = np.linspace(0.1, 0.3, 3), np.linspace(-1.5, -0.5, 2)
+    return basin_map(("q_stance", "qd_stance"), x, y, outcome, np.array([0.2, -1.0, -0.3]), 20)
+
+
 def test_basin_and_multiplier_axes_carry_units():
-    basin = BasinMap(
-        ("q_stance", "qd_stance"),
-        np.linspace(0.1, 0.3, 3),
-        np.linspace(-1.5, -0.5, 2),
-        np.full((2, 3), -1),
-        np.zeros((2, 3), int),
-        np.array([0.2, -1.0, -0.3]),
-        np.array([0.2, -1.0, -0.3]),
-        20,
-    )
+    basin = _compass_basin(np.full((2, 3), -1))
     ax = plotting.plot_basin(basin).axes[0]
     assert (ax.get_xlabel(), ax.get_ylabel()) == ("q_stance [rad]", "qd_stance [rad/s]")
     fig = plotting.plot_multipliers(_branch(), parameter_unit="rad")
@@ -266,18 +264,8 @@ def three_link_run(tmp_path_factory):
     """Three strides of gaits/three_link_grizzle.toml sampled at 300 Hz, as `walker run
     --sample-rate 300` stores them (the samples miss the impact instants)."""
     path = tmp_path_factory.mktemp("three_link") / "run.h5"
-    code = main(
-        [
-            "run",
-            "gaits/three_link_grizzle.toml",
-            "--strides",
-            "3",
-            "--sample-rate",
-            "300",
-            "--out",
-            str(path),
-        ]
-    )
+    argv = ["run", "gaits/three_link_grizzle.toml", "--strides", "3", "--sample-rate", "300"]
+    code = main([*argv, "--out", str(path)])
     assert code == 0
     sol, prov = read(path)
     model, params = gallery._params_from_provenance(prov)
@@ -476,16 +464,7 @@ def test_plot_renders_the_animation_only_with_gif(tmp_path, capsys):
 
 def test_basin_points_not_computed_are_named_so():
     outcome = np.array([[-1, -1, int(Status.FELL_FORWARD)], [BASIN_NOT_COMPUTED] * 3])
-    basin = BasinMap(
-        ("q_stance", "qd_stance"),
-        np.linspace(0.1, 0.3, 3),
-        np.linspace(-1.5, -0.5, 2),
-        outcome,
-        np.zeros((2, 3), int),
-        np.array([0.2, -1.0, -0.3]),
-        np.array([0.2, -1.0, -0.3]),
-        20,
-    )
+    basin = _compass_basin(outcome)
     assert plotting.outcome_label(BASIN_NOT_COMPUTED) == "not computed"
     legend = _legend(plotting.plot_basin(basin, coordinates=(0, 1)).axes[0])
     assert legend == ["not computed (3)", "converged (2)", "fell forward (1)", "fixed point"]

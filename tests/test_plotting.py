@@ -182,6 +182,13 @@ def test_plot_orbit_diagram():
     assert fig.axes[0].get_xlabel() == "slope"
 
 
+def basin_map(axis_names, x, y, outcome, fixed_point, n_strides):
+    """A :class:`BasinMap` of ``outcome`` on the grid ``x`` by ``y`` whose points took no
+    strides, with the fixed point ``fixed_point`` also its base state."""
+    strides = np.zeros(outcome.shape, int)
+    return BasinMap(axis_names, x, y, outcome, strides, fixed_point, fixed_point.copy(), n_strides)
+
+
 def test_plot_basin():
     outcome = np.array(
         [
@@ -189,13 +196,11 @@ def test_plot_basin():
             [BASIN_UNDECIDED, BASIN_CONVERGED, int(Status.FELL_FORWARD)],
         ]
     )
-    basin = BasinMap(
+    basin = basin_map(
         ("theta", "theta_dot"),
         np.linspace(0.15, 0.25, 3),
         np.linspace(-0.25, -0.15, 2),
         outcome,
-        np.zeros((2, 3), int),
-        np.array([0.2, -0.2]),
         np.array([0.2, -0.2]),
         50,
     )

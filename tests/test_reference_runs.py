@@ -15,21 +15,17 @@ from walker.params import DoublePendulumParams
 COURSE_STATE = np.array([-0.1, np.pi / 2 + 0.1, 0.0, 0.0])
 
 
+def release(params, t_max, **options):
+    """The course's double pendulum ``params`` released at :data:`COURSE_STATE` and run for
+    ``t_max`` seconds (``n_strides = 0``: a model without strides runs to ``t_max``)."""
+    return simulate("double_pendulum", params, COURSE_STATE, n_strides=0, t_max=t_max, **options)
+
+
 def test_course_double_pendulum_energy_with_walkers_integrator():
     """10 s at rtol = atol = 1e-12: total energy within 1e-9 of its start, relative."""
     params = DoublePendulumParams.course()
     times = np.linspace(0.0, 10.0, 501)
-    sol = simulate(
-        "double_pendulum",
-        params,
-        COURSE_STATE,
-        n_strides=0,
-        t_max=10.0,
-        rtol=1e-12,
-        atol=1e-12,
-        output="samples",
-        sample_times=times,
-    )
+    sol = release(params, 10.0, rtol=1e-12, atol=1e-12, output="samples", sample_times=times)
     assert sol.success
     kinetic, potential = get_model("double_pendulum").energies(sol.samples.x, params)
     energy = kinetic + potential

@@ -521,11 +521,6 @@ COMPUTE_CASES = [
 ]
 
 
-@pytest.mark.parametrize(("body", "message"), COMPUTE_CASES, ids=[b for b, _ in COMPUTE_CASES])
-def test_compute_errors(tmp_path, body, message):
-    _fails(tmp_path, r"\[compute\] " + message, {"compute": body})
-
-
 def test_compute_settings_direct_errors():
     with pytest.raises(ValueError, match=r"^`rtol` must be a finite number > 0, got nan$"):
         ComputeSettings(rtol=math.nan)
@@ -592,9 +587,20 @@ REFERENCE_CASES = [
 ]
 
 
-@pytest.mark.parametrize(("body", "message"), REFERENCE_CASES, ids=[m for _, m in REFERENCE_CASES])
-def test_reference_errors(tmp_path, body, message):
-    _fails(tmp_path, r"\[reference\] " + message, {"reference": body})
+# (table, body, message, id): the [compute] cases named by their body, the [reference]
+# cases by their message
+TABLE_CASES = [("compute", b, m, b) for b, m in COMPUTE_CASES]
+TABLE_CASES += [("reference", b, m, m) for b, m in REFERENCE_CASES]
+
+
+@pytest.mark.parametrize(
+    ("table", "body", "message"),
+    [case[:3] for case in TABLE_CASES],
+    ids=[f"{table}:{name}" for table, _, _, name in TABLE_CASES],
+)
+def test_table_errors(tmp_path, table, body, message):
+    """A bad body of ``[table]`` is refused with the table's name and the message."""
+    _fails(tmp_path, rf"\[{table}\] " + message, {table: body})
 
 
 def test_compute_tol_is_read_and_checked(tmp_path):

@@ -8,8 +8,6 @@ import functools
 import os
 import shutil
 import signal
-import subprocess
-import sys
 import textwrap
 import time
 from pathlib import Path
@@ -17,6 +15,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+from _checkpoints import start_python
 from numpy.testing import assert_allclose
 
 from walker import StrideMap, load_scene
@@ -379,13 +378,7 @@ def test_sigkill_then_resume_gives_the_uninterrupted_table(tmp_path, pool):
         _kill_sweep({str(out)!r})
         """
     )
-    proc = subprocess.Popen(
-        [sys.executable, "-c", script],
-        cwd=REPO,
-        start_new_session=True,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-    )
+    proc = start_python(["-c", script])
     deadline = time.monotonic() + 180  # a cold numba cache compiles first
     try:
         while True:

@@ -20,6 +20,7 @@ import pytest
 import sympy as sp
 from numpy.testing import assert_allclose
 from scipy.optimize import brentq
+from test_damping import double_pendulum_vector
 
 from walker.params import DoublePendulumParams, KneedParams
 from walker.symbolic import models
@@ -59,22 +60,12 @@ def functions():
 def random_elbow_params(rng, *, damped=True) -> np.ndarray:
     """DoublePendulumParams vector; joint dampers on unless ``damped=False`` (Newton-Euler
     has frictionless joints)."""
-    l1, l2 = rng.uniform(0.3, 2.0, 2)
-    return DoublePendulumParams(
-        mass_1=rng.uniform(0.2, 3.0),
-        mass_2=rng.uniform(0.2, 3.0),
-        inertia_1=rng.uniform(0.0, 1.0),
-        inertia_2=rng.uniform(0.0, 1.0),
-        length_1=l1,
-        length_2=l2,
-        com_1=rng.uniform(0.0, 1.0) * l1,
-        com_2=rng.uniform(0.0, 1.0) * l2,
-        g=rng.uniform(1.0, 20.0),
-        damping_1=rng.uniform(0.0, 2.0) if damped else 0.0,
-        damping_2=rng.uniform(0.0, 2.0) if damped else 0.0,
-        coulomb_1=0.0,
-        coulomb_2=0.0,
-    ).as_array()
+    lengths = rng.uniform(0.3, 2.0, 2)
+
+    def dampers():
+        return (rng.uniform(0.0, 2.0), rng.uniform(0.0, 2.0)) if damped else (0.0, 0.0)
+
+    return double_pendulum_vector(rng, lengths, dampers)
 
 
 def random_kneed_params(rng, *, damped=True) -> np.ndarray:

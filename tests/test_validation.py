@@ -26,6 +26,11 @@ def setup():
     return scene.params, np.array(scene.reference["state"]), P, fp
 
 
+def _simulate(**options):
+    """The call of a case that simulates the compass gait from ``x`` with ``options``."""
+    return lambda prm, x, P, fp: simulate("compass", prm, x, **options)
+
+
 # (label, call(prm, x, P, fp), exception, message pattern)
 CASES = [
     (
@@ -52,60 +57,15 @@ CASES = [
         ValueError,
         r"`x0` must be 1-D",
     ),
-    (
-        "simulate rtol<0",
-        lambda prm, x, P, fp: simulate("compass", prm, x, rtol=-1e-6),
-        ValueError,
-        "`rtol` must be positive",
-    ),
-    (
-        "simulate atol<0",
-        lambda prm, x, P, fp: simulate("compass", prm, x, atol=-1.0),
-        ValueError,
-        "`atol` must be positive",
-    ),
-    (
-        "simulate rtol nan",
-        lambda prm, x, P, fp: simulate("compass", prm, x, rtol=np.nan),
-        ValueError,
-        "`rtol` must be positive and finite",
-    ),
-    (
-        "simulate rtol below 100 eps",
-        lambda prm, x, P, fp: simulate("compass", prm, x, rtol=1e-15),
-        ValueError,
-        "`rtol` must be >= 100",
-    ),
-    (
-        "simulate t_max 0",
-        lambda prm, x, P, fp: simulate("compass", prm, x, t_max=0.0),
-        ValueError,
-        "`t_max` must be greater than `t0`",
-    ),
-    (
-        "simulate t_max<0",
-        lambda prm, x, P, fp: simulate("compass", prm, x, t_max=-1.0),
-        ValueError,
-        "`t_max` must be greater than `t0`",
-    ),
-    (
-        "simulate t_max nan",
-        lambda prm, x, P, fp: simulate("compass", prm, x, t_max=np.nan),
-        ValueError,
-        "`t_max` must be finite",
-    ),
-    (
-        "simulate method",
-        lambda prm, x, P, fp: simulate("compass", prm, x, method="RK99"),
-        ValueError,
-        "`method` must be one of",
-    ),
-    (
-        "simulate output",
-        lambda prm, x, P, fp: simulate("compass", prm, x, output="all"),
-        ValueError,
-        "`output` must be one of",
-    ),
+    ("simulate rtol<0", _simulate(rtol=-1e-6), ValueError, "`rtol` must be positive"),
+    ("simulate atol<0", _simulate(atol=-1.0), ValueError, "`atol` must be positive"),
+    ("simulate rtol nan", _simulate(rtol=np.nan), ValueError, "`rtol` must be positive and finite"),
+    ("simulate rtol below 100 eps", _simulate(rtol=1e-15), ValueError, "`rtol` must be >= 100"),
+    ("simulate t_max 0", _simulate(t_max=0.0), ValueError, "`t_max` must be greater than `t0`"),
+    ("simulate t_max<0", _simulate(t_max=-1.0), ValueError, "`t_max` must be greater than `t0`"),
+    ("simulate t_max nan", _simulate(t_max=np.nan), ValueError, "`t_max` must be finite"),
+    ("simulate method", _simulate(method="RK99"), ValueError, "`method` must be one of"),
+    ("simulate output", _simulate(output="all"), ValueError, "`output` must be one of"),
     (
         "simulate model",
         lambda prm, x, P, fp: simulate("compas", prm, x),
@@ -118,33 +78,13 @@ CASES = [
         TypeError,
         "`params` must be a KneedParams",
     ),
-    (
-        "simulate n_strides<0",
-        lambda prm, x, P, fp: simulate("compass", prm, x, n_strides=-1),
-        ValueError,
-        "`n_strides` must be >= 0",
-    ),
-    (
-        "simulate n_strides float",
-        lambda prm, x, P, fp: simulate("compass", prm, x, n_strides=1.5),
-        TypeError,
-        "`n_strides` must be an int",
-    ),
-    (
-        "simulate phase0",
-        lambda prm, x, P, fp: simulate("compass", prm, x, phase0=3),
-        ValueError,
-        "`phase0` must be < n_phases",
-    ),
-    (
-        "simulate max_steps",
-        lambda prm, x, P, fp: simulate("compass", prm, x, max_steps=0),
-        ValueError,
-        "`max_steps` must be >= 1",
-    ),
+    ("simulate n_strides<0", _simulate(n_strides=-1), ValueError, "`n_strides` must be >= 0"),
+    ("simulate n_strides float", _simulate(n_strides=1.5), TypeError, "`n_strides` must be an int"),
+    ("simulate phase0", _simulate(phase0=3), ValueError, "`phase0` must be < n_phases"),
+    ("simulate max_steps", _simulate(max_steps=0), ValueError, "`max_steps` must be >= 1"),
     (
         "simulate samples missing",
-        lambda prm, x, P, fp: simulate("compass", prm, x, output="samples"),
+        _simulate(output="samples"),
         ValueError,
         "`sample_times` is required",
     ),
