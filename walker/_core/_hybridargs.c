@@ -145,6 +145,39 @@ int wkpy_arg_buffer(PyObject *o, const char *name, char kind, int ndim, Py_buffe
     return 0;
 }
 
+int wkpy_hold_buffer(wkpy_held *h, PyObject *o, const char *name, char kind, int ndim,
+                     Py_buffer *view)
+{
+    if (h->n >= WKPY_MAX_HELD) {
+        PyErr_SetString(PyExc_SystemError, "wkpy_hold_buffer: too many buffers held");
+        return -1;
+    }
+    if (wkpy_arg_buffer(o, name, kind, ndim, view)) return -1;
+    h->views[h->n++] = view;
+    return 0;
+}
+
+void wkpy_release_held(wkpy_held *h)
+{
+    for (int i = 0; i < h->n; i++) PyBuffer_Release(h->views[i]);
+    h->n = 0;
+}
+
+int wkpy_run_failed(int rc, int64_t res_phase, int64_t n_phases)
+{
+    if (rc == WK_ERR_NOMEM) {
+        PyErr_NoMemory();
+        return 1;
+    }
+    if (rc == WK_ERR_BAD_PHASE) {
+        PyErr_Format(PyExc_ValueError,
+                     "`reset` returned next phase %lld, outside [0, n_phases = %lld)",
+                     (long long)res_phase, (long long)n_phases);
+        return 1;
+    }
+    return 0;
+}
+
 /* Are all n values finite? */
 int wkpy_all_finite(const double *v, Py_ssize_t n)
 {

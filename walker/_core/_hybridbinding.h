@@ -59,6 +59,35 @@ int wkpy_arg_system(PyObject *const *args, wk_functions *fn, wk_problem *pb);
 int wkpy_arg_solver(PyObject *const *args, int64_t *method, wk_problem *pb);
 int wkpy_arg_interior(PyObject *arg, wk_problem *pb);
 
+/* In a function whose cleanup follows the label ``out``: raise ``exc`` with the message
+ * format and arguments, and go to out. */
+#define WKPY_FAIL(exc, ...)                                                                  \
+    do {                                                                                     \
+        PyErr_Format(exc, __VA_ARGS__);                                                      \
+        goto out;                                                                            \
+    } while (0)
+
+/* The buffers a function holds, each acquired by wkpy_hold_buffer, all released by
+ * wkpy_release_held (start from wkpy_held h = {0}). */
+#define WKPY_MAX_HELD 8
+typedef struct {
+    Py_buffer *views[WKPY_MAX_HELD];
+    int n;
+} wkpy_held;
+
+/* wkpy_arg_buffer into ``view``, which h then holds; 0, or -1 with an exception (nothing
+ * more held). */
+int wkpy_hold_buffer(wkpy_held *h, PyObject *o, const char *name, char kind, int ndim,
+                     Py_buffer *view);
+
+/* Releases the buffers h holds, in the order they were acquired. */
+void wkpy_release_held(wkpy_held *h);
+
+/* The exception of a run that failed: wk_hybrid_solve's (or wk_section_run's) code rc
+ * WK_ERR_NOMEM (out of memory) or WK_ERR_BAD_PHASE (a reset's next phase, the result's
+ * phase res_phase, outside [0, n_phases)); returns 1 then, else 0 (no exception). */
+int wkpy_run_failed(int rc, int64_t res_phase, int64_t n_phases);
+
 /* 1 when all n values are finite, else 0. */
 int wkpy_all_finite(const double *v, Py_ssize_t n);
 

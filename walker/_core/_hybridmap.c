@@ -48,7 +48,8 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
     uintptr_t a_energy, a_start, a_lift, a_lift_jac;
     int64_t method;
     Py_buffer v_dir, v_p, v_a, v_b, v_proj;
-    int have_dir = 0, have_p = 0, have_a = 0, have_b = 0, have_proj = 0, rc = -1;
+    wkpy_held held = {0};
+    int rc = -1;
 
     if (wkpy_arg_system(args, fn, pb) || wkpy_arg_solver(args + 10, &method, pb) ||
         wkpy_arg_int(args[16], "max_steps", &sec->max_steps) ||
@@ -65,72 +66,63 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
         wkpy_arg_address(args[30], "lift_jacobian", 1, &a_lift_jac))
         return -1;
 
-#define FAIL(exc, ...)                          \
-    do {                                        \
-        PyErr_Format(exc, __VA_ARGS__);         \
-        goto out;                               \
-    } while (0)
-
     if (pb->n_x < 1 || pb->n_x > MAX_N_X)
-        FAIL(PyExc_ValueError, "`n_x` must be in [1, %d], got %lld", MAX_N_X,
-             (long long)pb->n_x);
+        WKPY_FAIL(PyExc_ValueError, "`n_x` must be in [1, %d], got %lld", MAX_N_X,
+                  (long long)pb->n_x);
     if (pb->n_guards < 1 || pb->n_guards > MAX_COUNT || fn->guards == NULL || fn->reset == NULL)
-        FAIL(PyExc_ValueError, "a walker needs guards and a reset (`n_guards` >= 1)");
+        WKPY_FAIL(PyExc_ValueError, "a walker needs guards and a reset (`n_guards` >= 1)");
     if (pb->n_impulse < 1 || pb->n_impulse > MAX_COUNT)
-        FAIL(PyExc_ValueError, "`n_impulse` must be in [1, 2**24]");
+        WKPY_FAIL(PyExc_ValueError, "`n_impulse` must be in [1, 2**24]");
     if (method != WK_METHOD_DOP853 && method != WK_METHOD_DP5 && method != WK_METHOD_RK4 &&
         method != WK_METHOD_EULER)
-        FAIL(PyExc_ValueError, "`method` must be a code in [0, 3], got %lld", (long long)method);
+        WKPY_FAIL(PyExc_ValueError, "`method` must be a code in [0, 3], got %lld",
+                  (long long)method);
     pb->method = (int)method;
     if (pb->adaptive && pb->method != WK_METHOD_DOP853 && pb->method != WK_METHOD_DP5)
-        FAIL(PyExc_ValueError, "`adaptive` needs method DOP853 or RK45");
+        WKPY_FAIL(PyExc_ValueError, "`adaptive` needs method DOP853 or RK45");
     if (!(pb->rtol > 0.0 && isfinite(pb->rtol)) || !(pb->atol > 0.0 && isfinite(pb->atol)))
-        FAIL(PyExc_ValueError, "`rtol` and `atol` must be positive and finite");
+        WKPY_FAIL(PyExc_ValueError, "`rtol` and `atol` must be positive and finite");
     if (!(pb->first_step >= 0.0 && isfinite(pb->first_step)) ||
         (!pb->adaptive && !(pb->first_step > 0.0)))
-        FAIL(PyExc_ValueError, "`first_step` must be finite and positive (0: automatic)");
-    if (!(pb->max_step > 0.0)) FAIL(PyExc_ValueError, "`max_step` must be positive");
-    if (sec->max_steps < 1) FAIL(PyExc_ValueError, "`max_steps` must be >= 1");
+        WKPY_FAIL(PyExc_ValueError, "`first_step` must be finite and positive (0: automatic)");
+    if (!(pb->max_step > 0.0)) WKPY_FAIL(PyExc_ValueError, "`max_step` must be positive");
+    if (sec->max_steps < 1) WKPY_FAIL(PyExc_ValueError, "`max_steps` must be >= 1");
     if (pb->n_interior < 0 || pb->n_interior > MAX_COUNT)
-        FAIL(PyExc_ValueError, "`n_interior` must be in [0, 2**24]");
-    if (sec->n_q < 0 || sec->n_q > pb->n_x) FAIL(PyExc_ValueError, "`n_q` must be in [0, n_x]");
+        WKPY_FAIL(PyExc_ValueError, "`n_interior` must be in [0, 2**24]");
+    if (sec->n_q < 0 || sec->n_q > pb->n_x)
+        WKPY_FAIL(PyExc_ValueError, "`n_q` must be in [0, n_x]");
     if (!(sec->t_max > 0.0 && isfinite(sec->t_max)))
-        FAIL(PyExc_ValueError, "`t_max` must be positive and finite");
+        WKPY_FAIL(PyExc_ValueError, "`t_max` must be positive and finite");
     if ((a_lift == 0) != (a_lift_jac == 0))
-        FAIL(PyExc_ValueError, "`lift` and `lift_jacobian` must be given together");
+        WKPY_FAIL(PyExc_ValueError, "`lift` and `lift_jacobian` must be given together");
 
-    if (wkpy_arg_buffer(args[5], "directions", 'q', 2, &v_dir)) goto out;
-    have_dir = 1;
+    if (wkpy_hold_buffer(&held, args[5], "directions", 'q', 2, &v_dir)) goto out;
     if (v_dir.shape[1] != pb->n_guards || v_dir.shape[0] < 1)
-        FAIL(PyExc_ValueError, "`directions` must have n_guards columns and at least one row");
+        WKPY_FAIL(PyExc_ValueError, "`directions` must have n_guards columns and at least one row");
     pb->n_phases = v_dir.shape[0];
     for (int64_t i = 0; i < pb->n_phases * pb->n_guards; i++) {
         const int64_t d = ((const int64_t *)v_dir.buf)[i];
-        if (d < -1 || d > 1) FAIL(PyExc_ValueError, "`directions` values must be -1, 0 or +1");
+        if (d < -1 || d > 1) WKPY_FAIL(PyExc_ValueError, "`directions` values must be -1, 0 or +1");
     }
-    if (wkpy_arg_buffer(args[9], "p", 'd', 1, &v_p)) goto out;
-    have_p = 1;
+    if (wkpy_hold_buffer(&held, args[9], "p", 'd', 1, &v_p)) goto out;
     if (!wkpy_all_finite((const double *)v_p.buf, v_p.shape[0]))
-        FAIL(PyExc_ValueError, "All parameters `p` must be finite.");
-    if (wkpy_arg_buffer(args[18], "lift_a", 'd', 2, &v_a)) goto out;
-    have_a = 1;
+        WKPY_FAIL(PyExc_ValueError, "All parameters `p` must be finite.");
+    if (wkpy_hold_buffer(&held, args[18], "lift_a", 'd', 2, &v_a)) goto out;
     sec->n_z = v_a.shape[1];
     if (v_a.shape[0] != pb->n_x || sec->n_z < 1 || sec->n_z > pb->n_x)
-        FAIL(PyExc_ValueError, "`lift_a` must have shape (n_x, n_z) with 1 <= n_z <= n_x");
-    if (wkpy_arg_buffer(args[19], "lift_b", 'd', 1, &v_b)) goto out;
-    have_b = 1;
-    if (v_b.shape[0] != pb->n_x) FAIL(PyExc_ValueError, "`lift_b` must have length n_x");
+        WKPY_FAIL(PyExc_ValueError, "`lift_a` must have shape (n_x, n_z) with 1 <= n_z <= n_x");
+    if (wkpy_hold_buffer(&held, args[19], "lift_b", 'd', 1, &v_b)) goto out;
+    if (v_b.shape[0] != pb->n_x) WKPY_FAIL(PyExc_ValueError, "`lift_b` must have length n_x");
     if (!wkpy_all_finite((const double *)v_a.buf, v_a.shape[0] * v_a.shape[1]) ||
         !wkpy_all_finite((const double *)v_b.buf, v_b.shape[0]))
-        FAIL(PyExc_ValueError, "`lift_a` and `lift_b` must be finite");
-    if (wkpy_arg_buffer(args[20], "proj", 'q', 1, &v_proj)) goto out;
-    have_proj = 1;
-    if (v_proj.shape[0] != sec->n_z) FAIL(PyExc_ValueError, "`proj` must have length n_z");
+        WKPY_FAIL(PyExc_ValueError, "`lift_a` and `lift_b` must be finite");
+    if (wkpy_hold_buffer(&held, args[20], "proj", 'q', 1, &v_proj)) goto out;
+    if (v_proj.shape[0] != sec->n_z) WKPY_FAIL(PyExc_ValueError, "`proj` must have length n_z");
     for (int64_t i = 0; i < sec->n_z; i++) {
         const int64_t k = ((const int64_t *)v_proj.buf)[i];
-        if (k < 0 || k >= pb->n_x) FAIL(PyExc_ValueError, "`proj` indices must be in [0, n_x)");
+        if (k < 0 || k >= pb->n_x)
+            WKPY_FAIL(PyExc_ValueError, "`proj` indices must be in [0, n_x)");
     }
-#undef FAIL
 
     /* One block owns the copies: directions, p, lift_a, lift_b, proj (8-byte items). */
     const Py_ssize_t n_dir = pb->n_phases * pb->n_guards, n_p = v_p.shape[0];
@@ -153,11 +145,7 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
     rc = 0;
 
 out:
-    if (have_dir) PyBuffer_Release(&v_dir);
-    if (have_p) PyBuffer_Release(&v_p);
-    if (have_a) PyBuffer_Release(&v_a);
-    if (have_b) PyBuffer_Release(&v_b);
-    if (have_proj) PyBuffer_Release(&v_proj);
+    wkpy_release_held(&held);
     return rc;
 }
 
@@ -243,6 +231,35 @@ static PyObject *nan_point(int64_t n)
     return out;
 }
 
+/* map()'s answer (0, t, z_new, x, jac) after a run res that completed with status 0: the
+ * projection selects components, z_new and (want_jac) the rows of the Jacobian; ``rows``
+ * holds n_z values of scratch. */
+static PyObject *stride_answer(const wkpy_section *s, const wk_result *res, int want_jac,
+                               double *rows)
+{
+    const int64_t n_x = s->pb.n_x, n_z = s->sec.n_z;
+    for (int64_t i = 0; i < n_z; i++) rows[i] = res->x[s->sec.proj[i]];
+    PyObject *z_new = wkpy_bytes_of(rows, n_z, sizeof(double));
+    PyObject *jac = Py_NewRef(Py_None);
+    if (want_jac && z_new != NULL) {
+        Py_DECREF(jac);
+        jac = PyByteArray_FromStringAndSize(NULL, (Py_ssize_t)(n_z * n_z * 8));
+        if (jac != NULL) {
+            double *out = (double *)PyByteArray_AS_STRING(jac);
+            for (int64_t i = 0; i < n_z; i++)
+                memcpy(out + i * n_z, res->jac + s->sec.proj[i] * n_z,
+                       (size_t)n_z * sizeof(double));
+        }
+    }
+    if (z_new == NULL || jac == NULL) {
+        Py_XDECREF(z_new);
+        Py_XDECREF(jac);
+        return NULL;
+    }
+    return Py_BuildValue("(LdNNN)", 0LL, res->t, z_new,
+                         wkpy_bytes_of(res->x, n_x, sizeof(double)), jac);
+}
+
 PyDoc_STRVAR(prepared_map_map_doc,
              "map(z, n_strides, jacobian) -> (status, t, z_new, x, jac) or None\n\n"
              "One call of the stride map from the section point z: the lift, the start\n"
@@ -313,39 +330,13 @@ static PyObject *prepared_map_map(PreparedMap *self, PyObject *const *args, Py_s
     Py_BEGIN_ALLOW_THREADS
     rc = wk_section_run(&s->fn, &s->pb, &s->sec, (int64_t)period, seed, x0, phase0, &res);
     Py_END_ALLOW_THREADS
-    if (rc == WK_ERR_NOMEM) {
-        PyErr_NoMemory();
-    } else if (rc == WK_ERR_BAD_PHASE) {
-        PyErr_Format(PyExc_ValueError,
-                     "`reset` returned next phase %lld, outside [0, n_phases = %lld)",
-                     (long long)res.phase, (long long)s->pb.n_phases);
-    } else if (res.status != 0) {
+    if (wkpy_run_failed(rc, res.phase, s->pb.n_phases))
+        result = NULL;
+    else if (res.status != 0)
         result = Py_BuildValue("(LdNNO)", (long long)res.status, res.t, nan_point(n_z),
                                wkpy_bytes_of(res.x, n_x, sizeof(double)), Py_None);
-    } else {
-        /* the projection selects components: z_new and the rows of the Jacobian */
-        double *rows = z; /* reused: n_z <= n_x values, then n_z * n_z below */
-        for (int64_t i = 0; i < n_z; i++) rows[i] = res.x[s->sec.proj[i]];
-        PyObject *z_new = wkpy_bytes_of(rows, n_z, sizeof(double));
-        PyObject *jac = Py_NewRef(Py_None);
-        if (want_jac && z_new != NULL) {
-            Py_DECREF(jac);
-            jac = PyByteArray_FromStringAndSize(NULL, (Py_ssize_t)(n_z * n_z * 8));
-            if (jac != NULL) {
-                double *out = (double *)PyByteArray_AS_STRING(jac);
-                for (int64_t i = 0; i < n_z; i++)
-                    memcpy(out + i * n_z, res.jac + s->sec.proj[i] * n_z,
-                           (size_t)n_z * sizeof(double));
-            }
-        }
-        if (z_new != NULL && jac != NULL)
-            result = Py_BuildValue("(LdNNN)", 0LL, res.t, z_new,
-                                   wkpy_bytes_of(res.x, n_x, sizeof(double)), jac);
-        else {
-            Py_XDECREF(z_new);
-            Py_XDECREF(jac);
-        }
-    }
+    else
+        result = stride_answer(s, &res, want_jac, z); /* z reused: n_z <= n_x values */
     wk_result_free(&res);
 out:
     if (z != small) PyMem_Free(z);

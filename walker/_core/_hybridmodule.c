@@ -79,7 +79,7 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
     wk_problem pb;
     memset(&pb, 0, sizeof pb);
     Py_buffer v_dir, v_x0, v_p, v_st, v_seed;
-    int have_dir = 0, have_x0 = 0, have_p = 0, have_st = 0, have_seed = 0;
+    wkpy_held held = {0};
     PyObject *result = NULL;
     int64_t method, output;
 
@@ -93,107 +93,98 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
         wkpy_arg_interior(args[25], &pb))
         return NULL;
 
-#define FAIL(exc, ...)                          \
-    do {                                        \
-        PyErr_Format(exc, __VA_ARGS__);         \
-        goto out;                               \
-    } while (0)
-
     if (pb.n_x < 1 || pb.n_x > MAX_N_X)
-        FAIL(PyExc_ValueError, "`n_x` must be in [1, %d], got %lld", MAX_N_X, (long long)pb.n_x);
+        WKPY_FAIL(PyExc_ValueError, "`n_x` must be in [1, %d], got %lld", MAX_N_X,
+                  (long long)pb.n_x);
     if (pb.n_guards < 0 || pb.n_guards > MAX_COUNT)
-        FAIL(PyExc_ValueError, "`n_guards` must be in [0, 2**24], got %lld",
-             (long long)pb.n_guards);
+        WKPY_FAIL(PyExc_ValueError, "`n_guards` must be in [0, 2**24], got %lld",
+                  (long long)pb.n_guards);
     if (pb.n_impulse < 1 || pb.n_impulse > MAX_COUNT)
-        FAIL(PyExc_ValueError, "`n_impulse` must be in [1, 2**24], got %lld",
-             (long long)pb.n_impulse);
+        WKPY_FAIL(PyExc_ValueError, "`n_impulse` must be in [1, 2**24], got %lld",
+                  (long long)pb.n_impulse);
     if (pb.n_guards > 0 && (fn.guards == NULL || fn.reset == NULL))
-        FAIL(PyExc_ValueError, "`%s` must be a non-zero function address when n_guards > 0",
-             fn.guards == NULL ? "guards" : "reset");
+        WKPY_FAIL(PyExc_ValueError, "`%s` must be a non-zero function address when n_guards > 0",
+                  fn.guards == NULL ? "guards" : "reset");
     if (method < WK_METHOD_EULER || method > WK_METHOD_DOP853)
-        FAIL(PyExc_ValueError, "`method` must be a code in [0, 3], got %lld", (long long)method);
+        WKPY_FAIL(PyExc_ValueError, "`method` must be a code in [0, 3], got %lld",
+                  (long long)method);
     pb.method = (int)method;
     if (output < WK_OUTPUT_MAP || output > WK_OUTPUT_FULL)
-        FAIL(PyExc_ValueError, "`output` must be a code in [0, 3], got %lld", (long long)output);
+        WKPY_FAIL(PyExc_ValueError, "`output` must be a code in [0, 3], got %lld",
+                  (long long)output);
     pb.output = (int)output;
     if (pb.adaptive && pb.method != WK_METHOD_DOP853 && pb.method != WK_METHOD_DP5)
-        FAIL(PyExc_ValueError, "`adaptive` needs method DOP853 or RK45");
+        WKPY_FAIL(PyExc_ValueError, "`adaptive` needs method DOP853 or RK45");
     if (!(isfinite(pb.t0) && isfinite(pb.t_max) && pb.t_max > pb.t0))
-        FAIL(PyExc_ValueError, "`t0` and `t_max` must be finite with t_max > t0");
+        WKPY_FAIL(PyExc_ValueError, "`t0` and `t_max` must be finite with t_max > t0");
     if (!(pb.rtol > 0.0 && isfinite(pb.rtol)))
-        FAIL(PyExc_ValueError, "`rtol` must be positive and finite");
+        WKPY_FAIL(PyExc_ValueError, "`rtol` must be positive and finite");
     if (!(pb.atol > 0.0 && isfinite(pb.atol)))
-        FAIL(PyExc_ValueError, "`atol` must be positive and finite");
+        WKPY_FAIL(PyExc_ValueError, "`atol` must be positive and finite");
     if (!(pb.first_step >= 0.0 && isfinite(pb.first_step)) ||
         (!pb.adaptive && !(pb.first_step > 0.0)))
-        FAIL(PyExc_ValueError, "`first_step` must be finite and positive (0: automatic, "
-                               "adaptive methods only)");
+        WKPY_FAIL(PyExc_ValueError, "`first_step` must be finite and positive (0: automatic, "
+                                    "adaptive methods only)");
     if (!(pb.max_step > 0.0))
-        FAIL(PyExc_ValueError, "`max_step` must be positive");
-    if (pb.n_strides < 0) FAIL(PyExc_ValueError, "`n_strides` must be >= 0");
-    if (pb.max_steps < 1) FAIL(PyExc_ValueError, "`max_steps` must be >= 1");
+        WKPY_FAIL(PyExc_ValueError, "`max_step` must be positive");
+    if (pb.n_strides < 0) WKPY_FAIL(PyExc_ValueError, "`n_strides` must be >= 0");
+    if (pb.max_steps < 1) WKPY_FAIL(PyExc_ValueError, "`max_steps` must be >= 1");
     if (pb.n_interior < 0 || pb.n_interior > MAX_COUNT)
-        FAIL(PyExc_ValueError, "`n_interior` must be in [0, 2**24]");
+        WKPY_FAIL(PyExc_ValueError, "`n_interior` must be in [0, 2**24]");
     if (pb.want_jac && fn.jac == NULL)
-        FAIL(PyExc_ValueError, "`want_jac` needs a Jacobian (`jac` is 0)");
+        WKPY_FAIL(PyExc_ValueError, "`want_jac` needs a Jacobian (`jac` is 0)");
 
-    if (wkpy_arg_buffer(args[5], "directions", 'q', 2, &v_dir)) goto out;
-    have_dir = 1;
+    if (wkpy_hold_buffer(&held, args[5], "directions", 'q', 2, &v_dir)) goto out;
     if (v_dir.shape[1] != pb.n_guards)
-        FAIL(PyExc_ValueError, "`directions` must have n_guards = %lld columns, got %zd",
-             (long long)pb.n_guards, v_dir.shape[1]);
+        WKPY_FAIL(PyExc_ValueError, "`directions` must have n_guards = %lld columns, got %zd",
+                  (long long)pb.n_guards, v_dir.shape[1]);
     pb.n_phases = v_dir.shape[0];
-    if (pb.n_phases < 1) FAIL(PyExc_ValueError, "`directions` must have at least one row");
+    if (pb.n_phases < 1) WKPY_FAIL(PyExc_ValueError, "`directions` must have at least one row");
     pb.directions = (const int64_t *)v_dir.buf;
     for (int64_t i = 0; i < pb.n_phases * pb.n_guards; i++)
         if (pb.directions[i] < -1 || pb.directions[i] > 1)
-            FAIL(PyExc_ValueError, "`directions` values must be -1, 0 or +1");
+            WKPY_FAIL(PyExc_ValueError, "`directions` values must be -1, 0 or +1");
     if (pb.phase0 < 0 || pb.phase0 >= pb.n_phases)
-        FAIL(PyExc_ValueError, "`phase0` must be in [0, n_phases = %lld), got %lld",
-             (long long)pb.n_phases, (long long)pb.phase0);
+        WKPY_FAIL(PyExc_ValueError, "`phase0` must be in [0, n_phases = %lld), got %lld",
+                  (long long)pb.n_phases, (long long)pb.phase0);
 
-    if (wkpy_arg_buffer(args[9], "x0", 'd', 1, &v_x0)) goto out;
-    have_x0 = 1;
+    if (wkpy_hold_buffer(&held, args[9], "x0", 'd', 1, &v_x0)) goto out;
     if (v_x0.shape[0] != pb.n_x)
-        FAIL(PyExc_ValueError, "`x0` must have length n_x = %lld, got %zd", (long long)pb.n_x,
-             v_x0.shape[0]);
+        WKPY_FAIL(PyExc_ValueError, "`x0` must have length n_x = %lld, got %zd", (long long)pb.n_x,
+                  v_x0.shape[0]);
     pb.x0 = (const double *)v_x0.buf;
     if (!wkpy_all_finite(pb.x0, v_x0.shape[0]))
-        FAIL(PyExc_ValueError, "All components of the initial state `x0` must be finite.");
+        WKPY_FAIL(PyExc_ValueError, "All components of the initial state `x0` must be finite.");
 
-    if (wkpy_arg_buffer(args[10], "p", 'd', 1, &v_p)) goto out;
-    have_p = 1;
+    if (wkpy_hold_buffer(&held, args[10], "p", 'd', 1, &v_p)) goto out;
     pb.p = (const double *)v_p.buf;
     if (!wkpy_all_finite(pb.p, v_p.shape[0]))
-        FAIL(PyExc_ValueError, "All parameters `p` must be finite.");
+        WKPY_FAIL(PyExc_ValueError, "All parameters `p` must be finite.");
 
-    if (wkpy_arg_buffer(args[23], "sample_times", 'd', 1, &v_st)) goto out;
-    have_st = 1;
+    if (wkpy_hold_buffer(&held, args[23], "sample_times", 'd', 1, &v_st)) goto out;
     pb.sample_times = (const double *)v_st.buf;
     pb.n_samples = v_st.shape[0];
     if (pb.output == WK_OUTPUT_SAMPLES && pb.n_samples > 0) {
         if (!wkpy_all_finite(pb.sample_times, v_st.shape[0]))
-            FAIL(PyExc_ValueError, "`sample_times` must be finite");
+            WKPY_FAIL(PyExc_ValueError, "`sample_times` must be finite");
         for (int64_t i = 1; i < pb.n_samples; i++)
             if (pb.sample_times[i] < pb.sample_times[i - 1])
-                FAIL(PyExc_ValueError, "`sample_times` must be sorted (non-decreasing)");
+                WKPY_FAIL(PyExc_ValueError, "`sample_times` must be sorted (non-decreasing)");
     }
 
     if (nargs > SOLVE_NARGS && args[SOLVE_NARGS] != Py_None) {
-        if (!pb.want_jac) FAIL(PyExc_ValueError, "`jacobian_seed` needs `want_jac`");
-        if (wkpy_arg_buffer(args[SOLVE_NARGS], "jacobian_seed", 'd', 2, &v_seed)) goto out;
-        have_seed = 1;
+        if (!pb.want_jac) WKPY_FAIL(PyExc_ValueError, "`jacobian_seed` needs `want_jac`");
+        if (wkpy_hold_buffer(&held, args[SOLVE_NARGS], "jacobian_seed", 'd', 2, &v_seed)) goto out;
         if (v_seed.shape[0] != pb.n_x || v_seed.shape[1] < 1 || v_seed.shape[1] > pb.n_x)
-            FAIL(PyExc_ValueError,
-                 "`jacobian_seed` must have shape (n_x = %lld, m) with 1 <= m <= n_x, got "
-                 "(%zd, %zd)",
-                 (long long)pb.n_x, v_seed.shape[0], v_seed.shape[1]);
+            WKPY_FAIL(PyExc_ValueError,
+                      "`jacobian_seed` must have shape (n_x = %lld, m) with 1 <= m <= n_x, got "
+                      "(%zd, %zd)",
+                      (long long)pb.n_x, v_seed.shape[0], v_seed.shape[1]);
         if (!wkpy_all_finite((const double *)v_seed.buf, v_seed.shape[0] * v_seed.shape[1]))
-            FAIL(PyExc_ValueError, "`jacobian_seed` must be finite");
+            WKPY_FAIL(PyExc_ValueError, "`jacobian_seed` must be finite");
         pb.jac_seed = (const double *)v_seed.buf;
         pb.n_seed = v_seed.shape[1];
     }
-#undef FAIL
 
     wk_result res;
     int rc;
@@ -201,23 +192,11 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
     rc = wk_hybrid_solve(&fn, &pb, &res);
     Py_END_ALLOW_THREADS
 
-    if (rc == WK_ERR_NOMEM) {
-        PyErr_NoMemory();
-    } else if (rc == WK_ERR_BAD_PHASE) {
-        PyErr_Format(PyExc_ValueError,
-                     "`reset` returned next phase %lld, outside [0, n_phases = %lld)",
-                     (long long)res.phase, (long long)pb.n_phases);
-    } else {
-        result = wkpy_solve_result(&res, &pb);
-    }
+    if (!wkpy_run_failed(rc, res.phase, pb.n_phases)) result = wkpy_solve_result(&res, &pb);
     wk_result_free(&res);
 
 out:
-    if (have_dir) PyBuffer_Release(&v_dir);
-    if (have_x0) PyBuffer_Release(&v_x0);
-    if (have_p) PyBuffer_Release(&v_p);
-    if (have_st) PyBuffer_Release(&v_st);
-    if (have_seed) PyBuffer_Release(&v_seed);
+    wkpy_release_held(&held);
     return result;
 }
 
@@ -237,6 +216,59 @@ static int set_item(PyObject *dict, const char *key, PyObject *value)
     return rc;
 }
 
+/* An entry of a registry: the value (a new reference; NULL with an exception set) and its
+ * key of item i of the registry's table. */
+typedef PyObject *(*entry_fn)(const void *table, int64_t i, const char **key);
+
+/* A registry as a new dict: the entries of the count items of table. */
+static PyObject *registry(const void *table, int64_t count, entry_fn entry)
+{
+    PyObject *out = PyDict_New();
+    if (out == NULL) return NULL;
+    for (int64_t i = 0; i < count; i++) {
+        const char *key = NULL;
+        PyObject *value = entry(table, i, &key);
+        if (value == NULL || PyDict_SetItemString(out, key, value)) {
+            Py_XDECREF(value);
+            Py_DECREF(out);
+            return NULL;
+        }
+        Py_DECREF(value);
+    }
+    return out;
+}
+
+/* A model's entry: its name -> the dict of its function addresses. */
+static PyObject *model_entry(const void *table, int64_t i, const char **key)
+{
+    const wk_model_entry *e = ((const wk_model_entry *const *)table)[i];
+    *key = e->name;
+    PyObject *entry = PyDict_New();
+    if (entry == NULL) return NULL;
+    if (set_item(entry, "rhs", ADDRESS(e->fn.rhs)) ||
+        set_item(entry, "guards", ADDRESS(e->fn.guards)) ||
+        set_item(entry, "reset", ADDRESS(e->fn.reset)) ||
+        set_item(entry, "jac", ADDRESS(e->fn.jac)) || set_item(entry, "ctx", ADDRESS(e->fn.ctx)) ||
+        set_item(entry, "energy", ADDRESS(e->energy)) ||
+        set_item(entry, "points", ADDRESS(e->points)) ||
+        set_item(entry, "start_phase", ADDRESS(e->start_phase)) ||
+        set_item(entry, "lift", ADDRESS(e->lift)) ||
+        set_item(entry, "lift_jacobian", ADDRESS(e->lift_jacobian)) ||
+        set_item(entry, "rhs_jac", ADDRESS(e->fn.rhs_jac))) {
+        Py_DECREF(entry);
+        return NULL;
+    }
+    return entry;
+}
+
+/* A kernel's entry: its name -> (signature, address). */
+static PyObject *kernel_entry(const void *table, int64_t i, const char **key)
+{
+    const wk_kernel_entry *k = (const wk_kernel_entry *)table + i;
+    *key = k->name;
+    return Py_BuildValue("(sN)", k->sig, ADDRESS(k->address));
+}
+
 PyDoc_STRVAR(models_doc,
              "models()\n--\n\n"
              "walker's compiled models: dict name -> dict of int addresses {'rhs', 'guards',\n"
@@ -251,33 +283,7 @@ static PyObject *py_models(PyObject *self, PyObject *unused)
     (void)unused;
     int64_t count = 0;
     const wk_model_entry *const *table = wk_model_table(&count);
-    PyObject *out = PyDict_New();
-    if (out == NULL) return NULL;
-    for (int64_t i = 0; i < count; i++) {
-        const wk_model_entry *e = table[i];
-        PyObject *entry = PyDict_New();
-        if (entry == NULL) goto fail;
-        if (set_item(entry, "rhs", ADDRESS(e->fn.rhs)) ||
-            set_item(entry, "guards", ADDRESS(e->fn.guards)) ||
-            set_item(entry, "reset", ADDRESS(e->fn.reset)) ||
-            set_item(entry, "jac", ADDRESS(e->fn.jac)) ||
-            set_item(entry, "ctx", ADDRESS(e->fn.ctx)) ||
-            set_item(entry, "energy", ADDRESS(e->energy)) ||
-            set_item(entry, "points", ADDRESS(e->points)) ||
-            set_item(entry, "start_phase", ADDRESS(e->start_phase)) ||
-            set_item(entry, "lift", ADDRESS(e->lift)) ||
-            set_item(entry, "lift_jacobian", ADDRESS(e->lift_jacobian)) ||
-            set_item(entry, "rhs_jac", ADDRESS(e->fn.rhs_jac)) ||
-            PyDict_SetItemString(out, e->name, entry)) {
-            Py_DECREF(entry);
-            goto fail;
-        }
-        Py_DECREF(entry);
-    }
-    return out;
-fail:
-    Py_DECREF(out);
-    return NULL;
+    return registry(table, count, model_entry);
 }
 
 PyDoc_STRVAR(kernels_doc,
@@ -291,18 +297,7 @@ static PyObject *py_kernels(PyObject *self, PyObject *unused)
     (void)unused;
     int64_t count = 0;
     const wk_kernel_entry *table = wk_kernel_table(&count);
-    PyObject *out = PyDict_New();
-    if (out == NULL) return NULL;
-    for (int64_t i = 0; i < count; i++) {
-        PyObject *item = Py_BuildValue("(sN)", table[i].sig, ADDRESS(table[i].address));
-        if (item == NULL || PyDict_SetItemString(out, table[i].name, item)) {
-            Py_XDECREF(item);
-            Py_DECREF(out);
-            return NULL;
-        }
-        Py_DECREF(item);
-    }
-    return out;
+    return registry(table, count, kernel_entry);
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -429,7 +424,7 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
     wkpy_section s;
     if (wkpy_section_parse(args, &s)) return NULL;
     Py_buffer v_z0, v_target;
-    int have_z0 = 0, have_target = 0;
+    wkpy_held held = {0};
     PyObject *result = NULL;
     int64_t n_strides, period;
     double tol;
@@ -438,26 +433,18 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
         wkpy_arg_int(args[35], "period", &period))
         goto out;
 
-#define FAIL(exc, ...)                          \
-    do {                                        \
-        PyErr_Format(exc, __VA_ARGS__);         \
-        goto out;                               \
-    } while (0)
-
-    if (!(tol >= 0.0)) FAIL(PyExc_ValueError, "`tol` must be >= 0");
-    if (n_strides < 0) FAIL(PyExc_ValueError, "`n_strides` must be >= 0");
-    if (period < 1) FAIL(PyExc_ValueError, "`period` must be >= 1");
-    if (wkpy_arg_buffer(args[31], "z0", 'd', 2, &v_z0)) goto out;
-    have_z0 = 1;
+    if (!(tol >= 0.0)) WKPY_FAIL(PyExc_ValueError, "`tol` must be >= 0");
+    if (n_strides < 0) WKPY_FAIL(PyExc_ValueError, "`n_strides` must be >= 0");
+    if (period < 1) WKPY_FAIL(PyExc_ValueError, "`period` must be >= 1");
+    if (wkpy_hold_buffer(&held, args[31], "z0", 'd', 2, &v_z0)) goto out;
     if (v_z0.shape[1] != s.sec.n_z)
-        FAIL(PyExc_ValueError, "`z0` must have n_z = %lld columns, got %zd",
-             (long long)s.sec.n_z, v_z0.shape[1]);
+        WKPY_FAIL(PyExc_ValueError, "`z0` must have n_z = %lld columns, got %zd",
+                  (long long)s.sec.n_z, v_z0.shape[1]);
     if (!wkpy_all_finite((const double *)v_z0.buf, v_z0.shape[0] * v_z0.shape[1]))
-        FAIL(PyExc_ValueError, "All section points `z0` must be finite.");
-    if (wkpy_arg_buffer(args[32], "target", 'd', 1, &v_target)) goto out;
-    have_target = 1;
-    if (v_target.shape[0] != s.sec.n_z) FAIL(PyExc_ValueError, "`target` must have length n_z");
-#undef FAIL
+        WKPY_FAIL(PyExc_ValueError, "All section points `z0` must be finite.");
+    if (wkpy_hold_buffer(&held, args[32], "target", 'd', 1, &v_target)) goto out;
+    if (v_target.shape[0] != s.sec.n_z)
+        WKPY_FAIL(PyExc_ValueError, "`target` must have length n_z");
 
     const int64_t m = v_z0.shape[0];
     int64_t *buf = PyMem_Calloc((size_t)(2 * m + 1), sizeof(int64_t));
@@ -481,8 +468,7 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
     PyMem_Free(buf);
 
 out:
-    if (have_z0) PyBuffer_Release(&v_z0);
-    if (have_target) PyBuffer_Release(&v_target);
+    wkpy_release_held(&held);
     wkpy_section_free(&s);
     return result;
 }

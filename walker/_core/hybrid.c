@@ -105,6 +105,37 @@ static int grow_record(wk_result *res, int64_t *cap, int64_t n, int64_t n_x)
 
 #undef RESIZE
 
+/* Append the record row (t_abs, x, phase), x of n_x entries; 0 on success. */
+static int record_row(wk_result *res, int64_t *cap, int64_t *n_rec, double t_abs,
+                      const double *x, int64_t phase, int64_t n_x)
+{
+    const int64_t r = *n_rec;
+    *n_rec = r + 1;
+    if (grow_record(res, cap, r + 1, n_x)) return -1;
+    res->r_t[r] = t_abs;
+    memcpy(res->r_x + r * n_x, x, (size_t)n_x * sizeof(double));
+    res->r_phase[r] = phase;
+    return 0;
+}
+
+/* Take the samples not yet taken (from the n_samp-th of n_samp_total) whose times
+ * (absolute, t_abs) fall at or before the local time t_limit, on the dense output of the
+ * step st (n_z components, of which the n_x of the state are sampled); returns the new count
+ * of samples taken. */
+static int64_t take_samples(wk_result *res, int64_t n_samp, int64_t n_samp_total,
+                            const double *t_abs, double t_off, double t_off_c, double t_limit,
+                            const step_t *st, int64_t n_z, int64_t n_x)
+{
+    while (n_samp < n_samp_total && local_time(t_abs[n_samp], t_off, t_off_c) <= t_limit) {
+        wk_dense_eval(st->kind, st->Q, n_z, st->y_old,
+                      (local_time(t_abs[n_samp], t_off, t_off_c) - st->t_old) / st->h, n_x,
+                      res->s_x + n_samp * n_x);
+        res->s_phase[n_samp] = st->phase;
+        n_samp += 1;
+    }
+    return n_samp;
+}
+
 #define FREE(ptr)       \
     do {                \
         free(ptr);      \
@@ -447,14 +478,8 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
                 goto done;
             }
             /* samples up to and including the event time come from the pre-event segment */
-            while (n_samp < n_samp_total &&
-                   local_time(sample_times[n_samp], t_off, t_off_c) <= best_t) {
-                wk_dense_eval(kind, Q, n_z, z,
-                           (local_time(sample_times[n_samp], t_off, t_off_c) - t) / h, n_x,
-                           res->s_x + n_samp * n_x);
-                res->s_phase[n_samp] = phase;
-                n_samp += 1;
-            }
+            n_samp = take_samples(res, n_samp, n_samp_total, sample_times, t_off, t_off_c,
+                                  best_t, &st, n_z, n_x);
             if (store_events) {
                 n_log += 1;
                 if (grow_events(res, &cap_e, n_log, n_x, n_impulse)) {
@@ -481,15 +506,10 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
                 status = st_code;
                 t = best_t;
                 memcpy(z, zev, (size_t)n_z * sizeof(double));
-                if (output == WK_OUTPUT_FULL) {
-                    n_rec += 1;
-                    if (grow_record(res, &cap_r, n_rec, n_x)) {
-                        rc = WK_ERR_NOMEM;
-                        goto done;
-                    }
-                    res->r_t[n_rec - 1] = t_off + (t + t_off_c);
-                    memcpy(res->r_x + (n_rec - 1) * n_x, z, (size_t)n_x * sizeof(double));
-                    res->r_phase[n_rec - 1] = phase;
+                if (output == WK_OUTPUT_FULL &&
+                    record_row(res, &cap_r, &n_rec, t_off + (t + t_off_c), z, phase, n_x)) {
+                    rc = WK_ERR_NOMEM;
+                    goto done;
                 }
                 event_applied = 1;
                 break;
@@ -510,18 +530,12 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
             phase = nxt;
             t = best_t;
             for (int64_t i = 0; i < n_x; i++) z[i] = x_new[i];
-            if (output == WK_OUTPUT_FULL) {
-                n_rec += 2;
-                if (grow_record(res, &cap_r, n_rec, n_x)) {
-                    rc = WK_ERR_NOMEM;
-                    goto done;
-                }
-                res->r_t[n_rec - 2] = t_off + (t + t_off_c);
-                memcpy(res->r_x + (n_rec - 2) * n_x, zev, (size_t)n_x * sizeof(double));
-                res->r_phase[n_rec - 2] = phase_before;
-                res->r_t[n_rec - 1] = t_off + (t + t_off_c);
-                memcpy(res->r_x + (n_rec - 1) * n_x, z, (size_t)n_x * sizeof(double));
-                res->r_phase[n_rec - 1] = phase;
+            /* the event's two rows: the state before and after the reset */
+            if (output == WK_OUTPUT_FULL &&
+                (record_row(res, &cap_r, &n_rec, t_off + (t + t_off_c), zev, phase_before, n_x) ||
+                 record_row(res, &cap_r, &n_rec, t_off + (t + t_off_c), z, phase, n_x))) {
+                rc = WK_ERR_NOMEM;
+                goto done;
             }
             event_applied = 1;
             /* re-base local time at the event */
@@ -556,28 +570,17 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
         /* ---- no event in this step: samples, record, advance ---- */
         if (n_samp < n_samp_total && local_time(sample_times[n_samp], t_off, t_off_c) <= t_new) {
             n_rhs += dense_state_ready(&dense_have, kind, m, phase, t, z, y_new, h, K, Q, tmp);
-            while (n_samp < n_samp_total &&
-                   local_time(sample_times[n_samp], t_off, t_off_c) <= t_new) {
-                wk_dense_eval(kind, Q, n_z, z,
-                           (local_time(sample_times[n_samp], t_off, t_off_c) - t) / h, n_x,
-                           res->s_x + n_samp * n_x);
-                res->s_phase[n_samp] = phase;
-                n_samp += 1;
-            }
+            n_samp = take_samples(res, n_samp, n_samp_total, sample_times, t_off, t_off_c, t_new,
+                                  &st, n_z, n_x);
         }
         t = t_new;
         memcpy(z, y_new, (size_t)n_z * sizeof(double));
         memcpy(f0, K_end, (size_t)n_z * sizeof(double));
         for (int64_t i = 0; i < n_guards; i++) rate_a[i] = rate_b[i];
-        if (output == WK_OUTPUT_FULL) {
-            n_rec += 1;
-            if (grow_record(res, &cap_r, n_rec, n_x)) {
-                rc = WK_ERR_NOMEM;
-                goto done;
-            }
-            res->r_t[n_rec - 1] = t_off + (t + t_off_c);
-            memcpy(res->r_x + (n_rec - 1) * n_x, z, (size_t)n_x * sizeof(double));
-            res->r_phase[n_rec - 1] = phase;
+        if (output == WK_OUTPUT_FULL &&
+            record_row(res, &cap_r, &n_rec, t_off + (t + t_off_c), z, phase, n_x)) {
+            rc = WK_ERR_NOMEM;
+            goto done;
         }
         if (last) {
             status = n_strides == 0 ? ST_COMPLETED : ST_NO_EVENT;

@@ -21,11 +21,7 @@ typedef struct {
     wk_qqdp_v accel_jac;
     wk_qqdp_s kinetic;
     wk_qp_s potential;
-    wk_qp_v points;
-    wk_qp_v hip_jac;
-    wk_qp_v ext_mass_matrix;
-    wk_qp_v ext_swing_contact_jac;
-    wk_qp_v ext_stance_contact_jac;
+    wk_floating_base base; /* the heel strike's kernels (the hip at row 1 of 4 points) */
     /* the plain variant's fused accel_and_jac (NULL for the general kernels): (2, 5),
      * accel_jac's Jacobian and the accelerations in the last column */
     wk_qqdp_v accel_and_jac;
@@ -94,48 +90,24 @@ static void guards(const compass_kernels *K, int64_t phase, const double *x,
     g[WK_COMPASS_GUARD_FALL_BACKWARD] = psi1 - WK_FALL_ANGLE;
 }
 
-/* Floating-base heel-strike impact and leg swap; returns a status (0 for a physical
- * impact), impulse = (along the slope, normal) on the new stance foot [N s]. */
-static int64_t heel_strike(const compass_kernels *K, const double *x, const double *p,
-                           double *x_new, double *impulse)
-{
-    double qdf_plus[4], lift;
-    if (!wk_floating_base_heel_strike(K->points, K->hip_jac, K->ext_mass_matrix,
-                                      K->ext_swing_contact_jac, K->ext_stance_contact_jac, x,
-                                      x + 2, p, 2, 4, 1, p[I_SLOPE], qdf_plus, impulse, &lift))
-        return WK_LINEAR_SOLVE_FAILED;
-    x_new[0] = x[1];
-    x_new[1] = x[0];
-    x_new[2] = qdf_plus[1];
-    x_new[3] = qdf_plus[0];
-    if (!(impulse[1] > 0.0) || !(lift > 0.0)) return WK_NONPHYSICAL_IMPACT;
-    return 0;
-}
-
+/* Heel strike (floating-base impact and leg swap, wk_plastic_heel_strike; impulse = (along
+ * the slope, normal) on the new stance foot [N s]) or a fall. */
 static void reset(const compass_kernels *K, int64_t phase, int64_t k, const double *x,
                   const double *p, double *x_new, double *impulse, int64_t *out)
 {
+    static const int swap[2] = {1, 0}; /* the leg swap at heel strike */
     for (int i = 0; i < 4; i++) x_new[i] = x[i];
-    if (k == 0) {
-        double height, ahead;
-        swing_foot(x, p, &height, &ahead);
-        if (ahead <= WK_MIN_STEP * (p[WK_COMPASS_P_COM_FROM_FOOT] + p[WK_COMPASS_P_COM_TO_HIP])) {
-            wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
-            return;
-        }
-        int64_t status = heel_strike(K, x, p, x_new, impulse);
-        if (status != 0) {
-            wk_reset_out(out, WK_EVENT_TERMINAL, phase, status);
-            return;
-        }
-        wk_reset_out(out, WK_EVENT_STRIDE, 0, 0);
+    if (k != WK_COMPASS_GUARD_HEEL_STRIKE) {
+        wk_fall_out(out, phase, k == WK_COMPASS_GUARD_FALL_FORWARD);
         return;
     }
-    if (k == 1) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_FORWARD);
-        return;
-    }
-    wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_BACKWARD);
+    double height, ahead;
+    swing_foot(x, p, &height, &ahead);
+    if (ahead <= WK_MIN_STEP * (p[WK_COMPASS_P_COM_FROM_FOOT] + p[WK_COMPASS_P_COM_TO_HIP]))
+        wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
+    else
+        wk_stride_out(out, phase,
+                      wk_plastic_heel_strike(&K->base, swap, 2, x, p, p[I_SLOPE], x_new, impulse));
 }
 
 /* (kinetic, potential) [J]; potential zero with the stance contact at height 0. */
@@ -150,29 +122,30 @@ static void energy(const compass_kernels *K, const double *x, const double *p, d
 static void points(const compass_kernels *K, const double *x, const double *p, double *out)
 {
     double pts[4 * 2];
-    K->points(x, p, pts);
-    out[0] = pts[0];
-    out[1] = pts[1];
-    out[2] = pts[2];
-    out[3] = pts[3];
+    K->base.points(x, p, pts);
+    for (int i = 0; i < 4; i++) out[i] = pts[i];
     out[4] = pts[6];
     out[5] = pts[7];
 }
 
 static const compass_kernels GENERAL = {
-    wk_compass_accel,           wk_compass_accel_jac,
-    wk_compass_kinetic,         wk_compass_potential,
-    wk_compass_points,          wk_compass_hip_jac,
-    wk_compass_ext_mass_matrix, wk_compass_ext_swing_contact_jac,
-    wk_compass_ext_stance_contact_jac, NULL,
+    wk_compass_accel,
+    wk_compass_accel_jac,
+    wk_compass_kinetic,
+    wk_compass_potential,
+    {wk_compass_points, wk_compass_hip_jac, wk_compass_ext_mass_matrix,
+     wk_compass_ext_swing_contact_jac, wk_compass_ext_stance_contact_jac, 2, 4, 1},
+    NULL,
 };
 
 static const compass_kernels PLAIN = {
-    wk_compass_plain_accel,           wk_compass_plain_accel_jac,
-    wk_compass_kinetic,               wk_compass_potential,
-    wk_compass_plain_points,          wk_compass_plain_hip_jac,
-    wk_compass_plain_ext_mass_matrix, wk_compass_plain_ext_swing_contact_jac,
-    wk_compass_plain_ext_stance_contact_jac, wk_compass_plain_accel_and_jac,
+    wk_compass_plain_accel,
+    wk_compass_plain_accel_jac,
+    wk_compass_kinetic,
+    wk_compass_potential,
+    {wk_compass_plain_points, wk_compass_plain_hip_jac, wk_compass_plain_ext_mass_matrix,
+     wk_compass_plain_ext_swing_contact_jac, wk_compass_plain_ext_stance_contact_jac, 2, 4, 1},
+    wk_compass_plain_accel_and_jac,
 };
 
 WK_MODEL_VARIANT(compass, GENERAL)

@@ -60,19 +60,5 @@ static void reset(int64_t phase, int64_t k, double t, const double *x, const dou
                             x_new, out);
 }
 
-/* The phase consistent with state x (walker.models.compass_coulomb.start_phase). */
-static void start_phase(const double *x, const double *p, double *out, void *ctx)
-{
-    (void)ctx;
-    double y[4] = {x[0], x[1], x[2], x[3]};
-    out[0] = (double)start(0, y, p);
-}
-
-/* Energy and drawing points are the compass gait's (model_compass.c). */
-const wk_model_entry wk_entry_compass_coulomb = {
-    "compass_coulomb",
-    {rhs, guards, reset, jac, NULL},
-    wk_model_compass_energy,
-    wk_model_compass_points,
-    start_phase,
-};
+/* start_phase; energy and drawing points are the compass gait's (model_compass.c). */
+WK_FRICTION_WALKER_ENTRY(compass_coulomb, compass, 4)

@@ -50,16 +50,11 @@ static const double RELABEL[N_Q * N_Q] = {
     1.0, -0.5, 0.0, 0.0, 0.0,
 };
 
-/* Mass matrix D, generalized force without dry friction f = B u - h - S^T F_v S qd and
- * controller torque u; returns 1 when the torque saturated. */
-static int forces(const double *x, const double *p, double *D, double *f, double *u,
-                  void *ctx)
+/* Generalized force without dry friction f = B u - h - S^T F_v S qd and controller torque u
+ * (wk_actuated_model.force); returns 1 when the torque saturated. */
+static int force(const double *q, const double *qd, const double *D, const double *h,
+                 const double *p, double *f, double *u, void *ctx)
 {
-    const double *q = x;
-    const double *qd = x + 5;
-    double h[N_Q];
-    wk_five_link_mass_matrix(q, p, D);
-    wk_five_link_bias(q, qd, p, h);
     int sat = wk_actuated_torque(ctx, q, qd, D, h, B_MATRIX, p, CONTROL_OFFSET, u, N_Q);
     for (int i = 0; i < 5; i++) {
         double s = -h[i];
@@ -85,32 +80,43 @@ static void dry(const double *p, double *F)
     F[2] = F[3] = p[I_COULOMB_KNEE];
 }
 
-static const wk_actuated_model MODEL = {N_Q, N_JOINTS, S_MATRIX, forces, dry,
-                                        wk_five_link_ground_reaction};
-
-/* Closed-loop accelerations, torques and dry-friction torques in ``phase``; returns 1 when
- * the controller saturated. */
-static int closed_loop(int64_t phase, const double *x, const double *p, double *qdd,
-                       double *u, double *lam, void *ctx)
+/* Actuator power: u . (B^T qd). */
+static double power(const double *u, const double *x)
 {
-    return wk_actuated_closed_loop(&MODEL, phase, x, p, qdd, u, lam, ctx);
-}
-
-void wk_model_five_link_rhs(int64_t phase, double t, const double *x, const double *p,
-                            double *dx, void *ctx)
-{
-    (void)t;
-    double qdd[N_Q], u[N_U], lam[N_JOINTS];
-    int sat = closed_loop(phase, x, p, qdd, u, lam, ctx);
     double power = 0.0;
     for (int i = 0; i < 5; i++) {
-        dx[i] = x[5 + i];
-        dx[5 + i] = qdd[i];
         for (int j = 0; j < 4; j++) power += u[j] * B_MATRIX[i * N_U + j] * x[5 + i];
     }
-    dx[10] = power; /* u . (B^T qd) */
-    dx[11] = sat ? 1.0 : 0.0;
+    return power;
 }
+
+/* The leg swap at heel strike: q+ = RELABEL q-, and the post-impact rates likewise. */
+static void relabel(const double *x, const double *qdf_plus, double *x_new)
+{
+    for (int i = 0; i < 5; i++) {
+        double sq = 0.0;
+        double sv = 0.0;
+        for (int j = 0; j < 5; j++) {
+            sq += RELABEL[i * N_Q + j] * x[j];
+            sv += RELABEL[i * N_Q + j] * qdf_plus[j];
+        }
+        x_new[i] = sq;
+        x_new[5 + i] = sv;
+    }
+}
+
+/* Statuses of the base guards after heel strike: fall_forward, fall_backward, slip_forward,
+ * slip_backward, lift_off, hip_down. */
+static const int64_t BASE_STATUS[N_BASE_GUARDS] = {
+    0, WK_FELL_FORWARD, WK_FELL_BACKWARD, WK_NONPHYSICAL_IMPACT, WK_NONPHYSICAL_IMPACT,
+    WK_NONPHYSICAL_IMPACT, WK_FELL_BACKWARD,
+};
+
+/* The model's table (wk_actuated.h): the hip at row 2 of the 6 points. */
+static const wk_actuated_model MODEL = {
+    N_Q, N_JOINTS, S_MATRIX, WK_ACTUATED_KERNELS(five_link, N_Q, 6, 2),
+    force, dry, power, relabel, I_SLOPE, I_FRICTION, N_BASE_GUARDS, BASE_STATUS,
+};
 
 void wk_model_five_link_jac(int64_t phase, double t, const double *x, const double *p,
                             double *J, void *ctx)
@@ -138,89 +144,18 @@ void wk_model_five_link_guards(int64_t phase, double t, const double *x, const d
                              g + WK_FIVE_LINK_GUARD_SLIP_FORWARD, g + N_BASE_GUARDS, ctx);
 }
 
-/* Floating-base heel-strike impact and leg swap; returns a status (0 for a physical
- * impact) and the impulse on the new stance foot (along the slope, normal to it). */
-static int64_t heel_strike(const double *x, const double *p, double *x_new, double *impulse)
+/* The heel strike's reset: the run ends for a step too short (the swing foot not ahead of
+ * the stance foot). */
+static void strike(int64_t phase, const double *x, const double *p, double *x_new,
+                   double *impulse, int64_t *out, void *ctx)
 {
-    /* the hip at row 2 of the 6 points */
-    double qdf_plus[7], lift;
-    if (!wk_floating_base_heel_strike(wk_five_link_points, wk_five_link_hip_jac,
-                                      wk_five_link_ext_mass_matrix,
-                                      wk_five_link_ext_swing_contact_jac,
-                                      wk_five_link_ext_stance_contact_jac, x, x + 5, p, 5, 6, 2,
-                                      p[I_SLOPE], qdf_plus, impulse, &lift))
-        return WK_LINEAR_SOLVE_FAILED;
-    for (int i = 0; i < 5; i++) {
-        double sq = 0.0;
-        double sv = 0.0;
-        for (int j = 0; j < 5; j++) {
-            sq += RELABEL[i * N_Q + j] * x[j];
-            sv += RELABEL[i * N_Q + j] * qdf_plus[j];
-        }
-        x_new[i] = sq;
-        x_new[5 + i] = sv;
-    }
-    return wk_impact_status(impulse, lift, p[I_FRICTION]);
+    double pts[6 * 2], ahead, height;
+    wk_five_link_points(x, p, pts);
+    wk_slope_frame(pts + 8, p[I_SLOPE], &ahead, &height);
+    if (ahead <= WK_MIN_STEP * (p[I_LENGTH_FEMUR] + p[I_LENGTH_TIBIA]))
+        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_TRIPPED);
+    else
+        wk_actuated_heel_strike(&MODEL, phase, x, p, x_new, impulse, out, ctx);
 }
 
-void wk_model_five_link_reset(int64_t phase, int64_t k, double t, const double *x,
-                              const double *p, double *x_new, double *impulse, int64_t *out,
-                              void *ctx)
-{
-    (void)t;
-    for (int i = 0; i < N_X; i++) x_new[i] = x[i];
-    if (k == 0) {
-        double pts[6 * 2], ahead, height;
-        wk_five_link_points(x, p, pts);
-        wk_slope_frame(pts + 8, p[I_SLOPE], &ahead, &height);
-        if (ahead <= WK_MIN_STEP * (p[I_LENGTH_FEMUR] + p[I_LENGTH_TIBIA])) {
-            wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_TRIPPED);
-            return;
-        }
-        int64_t status = heel_strike(x, p, x_new, impulse);
-        /* every joint's mode afresh for the post-impact state */
-        wk_actuated_after_heel_strike(&MODEL, phase, status, x_new, p, out, ctx);
-        return;
-    }
-    if (k == 1) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_FORWARD);
-        return;
-    }
-    if (k == 2 || k == 6) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_BACKWARD);
-        return;
-    }
-    if (k < N_BASE_GUARDS) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_NONPHYSICAL_IMPACT);
-        return;
-    }
-    /* joint j's slip_stops or stick_breaks */
-    wk_actuated_joint_event(&MODEL, phase, k - N_BASE_GUARDS, x, p, x_new, out, ctx);
-}
-
-void wk_model_five_link_start_phase(const double *x, const double *p, double *out, void *ctx)
-{
-    out[0] = (double)wk_actuated_start_phase(&MODEL, x, p, ctx);
-}
-
-void wk_model_five_link_energy(const double *x, const double *p, double *out, void *ctx)
-{
-    (void)ctx;
-    out[0] = wk_five_link_kinetic(x, x + 5, p);
-    out[1] = wk_five_link_potential(x, p);
-}
-
-void wk_model_five_link_points(const double *x, const double *p, double *out, void *ctx)
-{
-    (void)ctx;
-    wk_five_link_points(x, p, out);
-}
-
-const wk_model_entry wk_entry_five_link = {
-    "five_link",
-    {wk_model_five_link_rhs, wk_model_five_link_guards, wk_model_five_link_reset,
-     wk_model_five_link_jac, NULL},
-    wk_model_five_link_energy,
-    wk_model_five_link_points,
-    wk_model_five_link_start_phase,
-};
+WK_ACTUATED_MODEL(five_link, MODEL)

@@ -14,6 +14,7 @@
 #include <math.h>
 #include <stddef.h>
 #include "wk_common.h"
+#include "wk_kneed.h"
 #include "kneed.h"
 #include "kneed_plain.h"
 
@@ -32,11 +33,9 @@ typedef struct {
     wk_qp_v unlocked_points;
     wk_qqdp_v locked_accel;
     wk_qqdp_v locked_accel_jac;
-    wk_qp_v locked_points;
-    wk_qp_v locked_hip_jac;
-    wk_qp_v ext_mass_matrix;
-    wk_qp_v ext_swing_contact_jac;
-    wk_qp_v ext_stance_contact_jac;
+    /* the heel strike's kernels: the knee locked, the 2-link model's (the hip at row 1 of the
+     * 5 locked points) */
+    wk_floating_base locked_base;
     int ignore_scuff; /* swing_scuff = "ignore" (1) or "trip" (0) */
     /* the plain variant's fused accel_and_jac (NULL for the general kernels, which have
      * none): (n, 2n + 1), accel_jac's Jacobian and the accelerations in the last column */
@@ -68,29 +67,10 @@ static void rhs(const kneed_kernels *K, int64_t phase, const double *x, const do
         K->unlocked_accel(x, x + 3, p, dx + 3);
     } else {
         /* Locked: (q1, q2) and (qd1, qd2) are contiguous slices of the state. */
-        dx[0] = x[3];
-        dx[1] = x[4];
-        dx[2] = x[4];
-        K->locked_accel(x, x + 3, p, dx + 3);
-        dx[5] = dx[4];
+        double qdd[2];
+        K->locked_accel(x, x + 3, p, qdd);
+        wk_kneed_locked_state(x + 3, qdd, dx);
     }
-}
-
-/* The locked phase's J (zeroed by the caller) from a, the accelerations' Jacobian with
- * respect to (q1, q2, qd1, qd2) in 2 rows of `stride` entries: the rows of q3 and qd3 copy
- * those of q2 and qd2, the columns of q3 and qd3 are 0. */
-static void locked_jac(const double *a, int stride, double *J)
-{
-    J[0 * 6 + 3] = 1.0;
-    J[1 * 6 + 4] = 1.0;
-    J[2 * 6 + 4] = 1.0;
-    for (int i = 0; i < 2; i++) {
-        J[(3 + i) * 6 + 0] = a[i * stride + 0];
-        J[(3 + i) * 6 + 1] = a[i * stride + 1];
-        J[(3 + i) * 6 + 3] = a[i * stride + 2];
-        J[(3 + i) * 6 + 4] = a[i * stride + 3];
-    }
-    for (int j = 0; j < 6; j++) J[5 * 6 + j] = J[4 * 6 + j];
 }
 
 static void jac(const kneed_kernels *K, int64_t phase, const double *x, const double *p,
@@ -105,7 +85,7 @@ static void jac(const kneed_kernels *K, int64_t phase, const double *x, const do
     } else {
         double a[2 * 4];
         K->locked_accel_jac(x, x + 3, p, a);
-        locked_jac(a, 4, J);
+        wk_kneed_locked_jac(a, 4, J);
     }
 }
 
@@ -133,13 +113,9 @@ static void rhs_jac(const kneed_kernels *K, int64_t phase, const double *x, cons
         /* Locked, as in rhs and jac: q3, qd3 copy q2, qd2. */
         double a[2 * 5];
         K->locked_accel_and_jac(x, x + 3, p, a);
-        dx[0] = x[3];
-        dx[1] = x[4];
-        dx[2] = x[4];
-        locked_jac(a, 5, J);
-        dx[3] = a[0 * 5 + 4];
-        dx[4] = a[1 * 5 + 4];
-        dx[5] = dx[4];
+        const double qdd[2] = {a[0 * 5 + 4], a[1 * 5 + 4]};
+        wk_kneed_locked_state(x + 3, qdd, dx);
+        wk_kneed_locked_jac(a, 5, J);
     }
 }
 
@@ -192,36 +168,20 @@ static int64_t knee_lock(const kneed_kernels *K, const double *x, const double *
     const double J[3] = {0.0, -1.0, 1.0};
     double qd_plus[3], lam[1];
     if (!wk_impact(M, J, x + 3, qd_plus, lam, 3, 1)) return WK_LINEAR_SOLVE_FAILED;
-    x_new[0] = x[0];
-    x_new[1] = x[1];
-    x_new[2] = x[1];
-    x_new[3] = qd_plus[0];
-    x_new[4] = qd_plus[1];
-    x_new[5] = qd_plus[1];
+    wk_kneed_locked_state(x, qd_plus, x_new);
     impulse[0] = lam[0];
     impulse[1] = 0.0;
     return 0;
 }
 
-/* Floating-base heel strike (knee locked) and leg swap; the new swing knee is straight and
- * unlocked.  impulse = (along slope, normal) on the new stance foot [N s]. */
+/* Floating-base heel strike (knee locked) and leg swap (wk_plastic_heel_strike); the new
+ * swing knee is straight and unlocked.  impulse = (along slope, normal) on the new stance
+ * foot [N s]. */
 static int64_t heel_strike(const kneed_kernels *K, const double *x, const double *p,
                            double *x_new, double *impulse)
 {
-    /* the knee is locked: the 2-link kernels, the hip at row 1 of the 5 locked points */
-    double qdf_plus[4], lift;
-    if (!wk_floating_base_heel_strike(K->locked_points, K->locked_hip_jac, K->ext_mass_matrix,
-                                      K->ext_swing_contact_jac, K->ext_stance_contact_jac, x,
-                                      x + 3, p, 2, 5, 1, p[I_SLOPE], qdf_plus, impulse, &lift))
-        return WK_LINEAR_SOLVE_FAILED;
-    x_new[0] = x[1];
-    x_new[1] = x[0];
-    x_new[2] = x[0];
-    x_new[3] = qdf_plus[1];
-    x_new[4] = qdf_plus[0];
-    x_new[5] = qdf_plus[0];
-    if (!(impulse[1] > 0.0) || !(lift > 0.0)) return WK_NONPHYSICAL_IMPACT;
-    return 0;
+    static const int swap[3] = {1, 0, 0};
+    return wk_plastic_heel_strike(&K->locked_base, swap, 3, x, p, p[I_SLOPE], x_new, impulse);
 }
 
 /* Knee lock, followed in the same reset by heel strike when the swing foot is on the ground
@@ -244,12 +204,7 @@ static void knee_lock_event(const kneed_kernels *K, int64_t phase, const double 
     if (touching && ahead > WK_MIN_STEP * (shank + thigh) && swing_foot_rate(x_new, p) < 0) {
         double locked[6];
         for (int i = 0; i < 6; i++) locked[i] = x_new[i];
-        status = heel_strike(K, locked, p, x_new, impulse);
-        if (status != 0) {
-            wk_reset_out(out, WK_EVENT_TERMINAL, 1, status);
-            return;
-        }
-        wk_reset_out(out, WK_EVENT_STRIDE, 0, 0);
+        wk_stride_out(out, 1, heel_strike(K, locked, p, x_new, impulse));
         return;
     }
     wk_reset_out(out, WK_EVENT_CONTINUE, 1, 0);
@@ -284,23 +239,13 @@ static void reset(const kneed_kernels *K, int64_t phase, int64_t k, const double
             wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_TRIPPED);
             return;
         }
-        if (ahead <= min_step(p)) {
+        if (ahead <= min_step(p))
             wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
-            return;
-        }
-        int64_t status = heel_strike(K, x, p, x_new, impulse);
-        if (status != 0) {
-            wk_reset_out(out, WK_EVENT_TERMINAL, phase, status);
-            return;
-        }
-        wk_reset_out(out, WK_EVENT_STRIDE, 0, 0);
+        else
+            wk_stride_out(out, phase, heel_strike(K, x, p, x_new, impulse));
         return;
     }
-    if (k == 2) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_FORWARD);
-        return;
-    }
-    wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_BACKWARD);
+    wk_fall_out(out, phase, k == WK_KNEED_GUARD_FALL_FORWARD);
 }
 
 /* (kinetic, potential) [J]; valid in both phases (locked: q3 = q2, qd3 = qd2). */
@@ -324,18 +269,18 @@ static void points(const kneed_kernels *K, const double *x, const double *p, dou
 #define GENERAL_KERNELS                                                                     \
     wk_kneed_unlocked_accel, wk_kneed_unlocked_accel_jac, wk_kneed_unlocked_mass_matrix,       \
         wk_kneed_unlocked_kinetic, wk_kneed_unlocked_potential, wk_kneed_unlocked_points,     \
-        wk_kneed_locked_accel, wk_kneed_locked_accel_jac, wk_kneed_locked_points,             \
-        wk_kneed_locked_hip_jac, wk_kneed_ext_mass_matrix, wk_kneed_ext_swing_contact_jac,    \
-        wk_kneed_ext_stance_contact_jac
+        wk_kneed_locked_accel, wk_kneed_locked_accel_jac,                                     \
+        {wk_kneed_locked_points, wk_kneed_locked_hip_jac, wk_kneed_ext_mass_matrix,           \
+         wk_kneed_ext_swing_contact_jac, wk_kneed_ext_stance_contact_jac, 2, 5, 1}
 
 #define PLAIN_KERNELS                                                                       \
     wk_kneed_plain_unlocked_accel, wk_kneed_plain_unlocked_accel_jac,                         \
         wk_kneed_plain_unlocked_mass_matrix, wk_kneed_unlocked_kinetic,                       \
         wk_kneed_unlocked_potential, wk_kneed_plain_unlocked_points,                          \
         wk_kneed_plain_locked_accel, wk_kneed_plain_locked_accel_jac,                         \
-        wk_kneed_plain_locked_points, wk_kneed_plain_locked_hip_jac,                          \
-        wk_kneed_plain_ext_mass_matrix, wk_kneed_plain_ext_swing_contact_jac,                 \
-        wk_kneed_plain_ext_stance_contact_jac
+        {wk_kneed_plain_locked_points, wk_kneed_plain_locked_hip_jac,                         \
+         wk_kneed_plain_ext_mass_matrix, wk_kneed_plain_ext_swing_contact_jac,                \
+         wk_kneed_plain_ext_stance_contact_jac, 2, 5, 1}
 
 #define PLAIN_FUSED wk_kneed_plain_unlocked_accel_and_jac, wk_kneed_plain_locked_accel_and_jac
 

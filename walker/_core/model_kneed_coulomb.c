@@ -10,6 +10,7 @@
 #include "wk_common.h"
 #include "wk_friction.h"
 #include "wk_friction_models.h"
+#include "wk_kneed.h"
 #include "kneed.h"
 
 #define I_COULOMB WK_KNEED_COULOMB_P_COULOMB_ANKLE
@@ -46,51 +47,40 @@ static int split(int64_t phase, int64_t *modes)
     return LOCKED;
 }
 
-static void rhs(int64_t phase, double t, const double *x, const double *p, double *dx,
-                void *ctx)
+/* wk_friction_phase_rhs over both base phases (K the table of both): in a locked phase the
+ * locked walker's, q3 and qd3 copying q2 and qd2. */
+static void phase_rhs(const wk_friction_kernels *K, const double *F, int64_t phase,
+                      const double *x, const double *p, double *dx)
 {
-    (void)t;
-    (void)ctx;
     int64_t modes[3];
-    int base = split(phase, modes);
-    if (base == UNLOCKED) {
-        wk_friction_phase_rhs(&KERNELS[base], p + I_COULOMB, phase, x, p, dx);
+    double qdd[2];
+    if (split(phase, modes) == UNLOCKED) {
+        wk_friction_phase_rhs(&K[UNLOCKED], F, phase, x, p, dx);
         return;
     }
-    double qdd[2];
-    wk_friction_phase_accelerations(&KERNELS[base], p + I_COULOMB, modes, x, p, qdd);
-    dx[0] = x[3];
-    dx[1] = x[4];
-    dx[2] = x[4];
-    dx[3] = qdd[0];
-    dx[4] = qdd[1];
-    dx[5] = qdd[1];
+    wk_friction_phase_accelerations(&K[LOCKED], F, modes, x, p, qdd);
+    wk_kneed_locked_state(x + 3, qdd, dx);
 }
 
-static void jac(int64_t phase, double t, const double *x, const double *p, double *J,
-                void *ctx)
+/* wk_friction_phase_jac over both base phases: in a locked phase (q1, q2, qd1, qd2) map to
+ * state columns 0, 1, 3, 4 and q3, qd3 copy q2, qd2. */
+static void phase_jac(const wk_friction_kernels *K, const double *F, int64_t phase,
+                      const double *x, const double *p, double *J)
 {
-    (void)t;
-    (void)ctx;
     int64_t modes[3];
-    int base = split(phase, modes);
-    if (base == UNLOCKED) {
-        wk_friction_phase_jac(&KERNELS[base], p + I_COULOMB, phase, x, p, J);
+    double a[2 * 4];
+    if (split(phase, modes) == UNLOCKED) {
+        wk_friction_phase_jac(&K[UNLOCKED], F, phase, x, p, J);
         return;
     }
-    double a[2 * 4];
-    wk_friction_phase_jacobian(&KERNELS[base], p + I_COULOMB, modes, x, p, a);
-    /* Locked: (q1, q2, qd1, qd2) map to state columns 0, 1, 3, 4; q3, qd3 copy q2, qd2. */
+    wk_friction_phase_jacobian(&K[LOCKED], F, modes, x, p, a);
     for (int i = 0; i < 36; i++) J[i] = 0.0;
-    J[0 * 6 + 3] = 1.0;
-    J[1 * 6 + 4] = 1.0;
-    J[2 * 6 + 4] = 1.0;
-    static const int cols[4] = {0, 1, 3, 4};
-    for (int i = 0; i < 2; i++) {
-        for (int c = 0; c < 4; c++) J[(3 + i) * 6 + cols[c]] = a[i * 4 + c];
-    }
-    for (int c = 0; c < 6; c++) J[5 * 6 + c] = J[4 * 6 + c];
+    wk_kneed_locked_jac(a, 4, J);
 }
+
+/* rhs and jac (wk_friction.h). */
+WK_FRICTION_PHASE_FUNCTION(rhs, phase_rhs, KERNELS[0], I_COULOMB)
+WK_FRICTION_PHASE_FUNCTION(jac, phase_jac, KERNELS[0], I_COULOMB)
 
 static void guards(int64_t phase, double t, const double *x, const double *p, double *g,
                    void *ctx)
@@ -133,20 +123,6 @@ static void reset(int64_t phase, int64_t k, double t, const double *x, const dou
         x_new[5] = x_new[4];
 }
 
-/* The unlocked phase consistent with state x (walker.models.kneed_coulomb.start_phase). */
-static void start_phase(const double *x, const double *p, double *out, void *ctx)
-{
-    (void)ctx;
-    double y[6];
-    for (int i = 0; i < 6; i++) y[i] = x[i];
-    out[0] = (double)start(UNLOCKED, y, p);
-}
-
-/* Energy and drawing points are the kneed walker's (model_kneed.c). */
-const wk_model_entry wk_entry_kneed_coulomb = {
-    "kneed_coulomb",
-    {rhs, guards, reset, jac, NULL},
-    wk_model_kneed_energy,
-    wk_model_kneed_points,
-    start_phase,
-};
+/* start_phase (in the unlocked phase); energy and drawing points are the kneed walker's
+ * (model_kneed.c). */
+WK_FRICTION_WALKER_ENTRY(kneed_coulomb, kneed, 6)

@@ -71,11 +71,7 @@ void wk_model_simplest_reset(int64_t phase, int64_t k, double t, const double *x
         wk_reset_out(out, WK_EVENT_STRIDE, 0, 0);
         return;
     }
-    if (k == 1) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_FORWARD);
-        return;
-    }
-    wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_BACKWARD);
+    wk_fall_out(out, phase, k == WK_SIMPLEST_GUARD_FALL_FORWARD);
 }
 
 /* (kinetic, potential) per unit hip mass [J/kg]; potential zero at the stance foot. */

@@ -49,16 +49,11 @@ static int torque(void *ctx, const double *q, const double *qd, const double *D,
     return wk_actuated_torque(ctx, q, qd, D, h, B_MATRIX, p, CONTROL_OFFSET, u, N_Q);
 }
 
-/* Mass matrix D, generalized force without dry friction f = B u - h - F_v S^T S qd and
- * controller torque u; returns 1 when the torque saturated. */
-static int forces(const double *x, const double *p, double *D, double *f, double *u,
-                  void *ctx)
+/* Generalized force without dry friction f = B u - h - F_v S^T S qd and controller torque u
+ * (wk_actuated_model.force); returns 1 when the torque saturated. */
+static int force(const double *q, const double *qd, const double *D, const double *h,
+                 const double *p, double *f, double *u, void *ctx)
 {
-    const double *q = x;
-    const double *qd = x + 3;
-    double h[N_Q];
-    wk_three_link_mass_matrix(q, p, D);
-    wk_three_link_bias(q, qd, p, h);
     int sat = torque(ctx, q, qd, D, h, p, u);
     for (int i = 0; i < 3; i++)
         f[i] = B_MATRIX[i * N_U + 0] * u[0] + B_MATRIX[i * N_U + 1] * u[1] - h[i];
@@ -80,31 +75,32 @@ static void dry(const double *p, double *F)
     F[1] = p[I_COULOMB_HIP];
 }
 
-static const wk_actuated_model MODEL = {N_Q, N_JOINTS, S_MATRIX, forces, dry,
-                                        wk_three_link_ground_reaction};
-
-/* Closed-loop accelerations, torques and dry-friction torques in ``phase``; returns 1 when
- * the controller saturated. */
-static int closed_loop(int64_t phase, const double *x, const double *p, double *qdd,
-                       double *u, double *lam, void *ctx)
+/* Actuator power: u . (B^T qd), B^T qd = relative hip rates. */
+static double power(const double *u, const double *x)
 {
-    return wk_actuated_closed_loop(&MODEL, phase, x, p, qdd, u, lam, ctx);
+    return u[0] * (x[3] - x[5]) + u[1] * (x[4] - x[5]);
 }
 
-void wk_model_three_link_rhs(int64_t phase, double t, const double *x, const double *p,
-                             double *dx, void *ctx)
+/* The leg swap at heel strike: (q_swing, q_stance, q_torso) and the post-impact rates
+ * likewise. */
+static void relabel(const double *x, const double *qdf_plus, double *x_new)
 {
-    (void)t;
-    double qdd[N_Q], u[N_U], lam[N_JOINTS];
-    int sat = closed_loop(phase, x, p, qdd, u, lam, ctx);
-    for (int i = 0; i < 3; i++) {
-        dx[i] = x[3 + i];
-        dx[3 + i] = qdd[i];
-    }
-    /* actuator power: u . (B^T qd), B^T qd = relative hip rates */
-    dx[6] = u[0] * (x[3] - x[5]) + u[1] * (x[4] - x[5]);
-    dx[7] = sat ? 1.0 : 0.0;
+    static const int swap[N_Q] = {1, 0, 2};
+    wk_swap_legs(swap, N_Q, x, qdf_plus, x_new);
 }
+
+/* Statuses of the base guards after heel strike: fall_forward, fall_backward, slip_forward,
+ * slip_backward, lift_off. */
+static const int64_t BASE_STATUS[N_BASE_GUARDS] = {
+    0, WK_FELL_FORWARD, WK_FELL_BACKWARD, WK_NONPHYSICAL_IMPACT, WK_NONPHYSICAL_IMPACT,
+    WK_NONPHYSICAL_IMPACT,
+};
+
+/* The model's table (wk_actuated.h): the hip at row 1 of the 4 points. */
+static const wk_actuated_model MODEL = {
+    N_Q, N_JOINTS, S_MATRIX, WK_ACTUATED_KERNELS(three_link, N_Q, 4, 1),
+    force, dry, power, relabel, I_SLOPE, I_FRICTION, N_BASE_GUARDS, BASE_STATUS,
+};
 
 /* Mode 3's linearized controller (wk_control.h), handed to the rhs as a user controller. */
 typedef struct {
@@ -165,85 +161,17 @@ void wk_model_three_link_guards(int64_t phase, double t, const double *x, const 
                              g + WK_THREE_LINK_GUARD_SLIP_FORWARD, g + N_BASE_GUARDS, ctx);
 }
 
-/* Floating-base heel-strike impact and leg swap; returns a status (0 for a physical
- * impact) and the impulse on the new stance foot (along the slope, normal to it). */
-static int64_t heel_strike(const double *x, const double *p, double *x_new, double *impulse)
+/* The heel strike's reset: none for a step too short (step_event 1 fires the guard wherever
+ * the swing foot is). */
+static void strike(int64_t phase, const double *x, const double *p, double *x_new,
+                   double *impulse, int64_t *out, void *ctx)
 {
-    /* the hip at row 1 of the 4 points */
-    double qdf_plus[5], lift;
-    if (!wk_floating_base_heel_strike(wk_three_link_points, wk_three_link_hip_jac,
-                                      wk_three_link_ext_mass_matrix,
-                                      wk_three_link_ext_swing_contact_jac,
-                                      wk_three_link_ext_stance_contact_jac, x, x + 3, p, 3, 4, 1,
-                                      p[I_SLOPE], qdf_plus, impulse, &lift))
-        return WK_LINEAR_SOLVE_FAILED;
-    x_new[0] = x[1];
-    x_new[1] = x[0];
-    x_new[2] = x[2];
-    x_new[3] = qdf_plus[1];
-    x_new[4] = qdf_plus[0];
-    x_new[5] = qdf_plus[2];
-    return wk_impact_status(impulse, lift, p[I_FRICTION]);
+    double height, ahead;
+    swing_foot(x, p, &height, &ahead);
+    if (ahead <= WK_MIN_STEP * (p[I_LEG_A] + p[I_LEG_B]))
+        wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
+    else
+        wk_actuated_heel_strike(&MODEL, phase, x, p, x_new, impulse, out, ctx);
 }
 
-void wk_model_three_link_reset(int64_t phase, int64_t k, double t, const double *x,
-                               const double *p, double *x_new, double *impulse, int64_t *out,
-                               void *ctx)
-{
-    (void)t;
-    for (int i = 0; i < N_X; i++) x_new[i] = x[i];
-    if (k == 0) {
-        double height, ahead;
-        swing_foot(x, p, &height, &ahead);
-        if (ahead <= WK_MIN_STEP * (p[I_LEG_A] + p[I_LEG_B])) {
-            wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
-            return;
-        }
-        int64_t status = heel_strike(x, p, x_new, impulse);
-        /* every joint's mode afresh for the post-impact state */
-        wk_actuated_after_heel_strike(&MODEL, phase, status, x_new, p, out, ctx);
-        return;
-    }
-    if (k == 1) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_FORWARD);
-        return;
-    }
-    if (k == 2) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_FELL_BACKWARD);
-        return;
-    }
-    if (k < N_BASE_GUARDS) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_NONPHYSICAL_IMPACT);
-        return;
-    }
-    /* joint j's slip_stops or stick_breaks */
-    wk_actuated_joint_event(&MODEL, phase, k - N_BASE_GUARDS, x, p, x_new, out, ctx);
-}
-
-void wk_model_three_link_start_phase(const double *x, const double *p, double *out,
-                                     void *ctx)
-{
-    out[0] = (double)wk_actuated_start_phase(&MODEL, x, p, ctx);
-}
-
-void wk_model_three_link_energy(const double *x, const double *p, double *out, void *ctx)
-{
-    (void)ctx;
-    out[0] = wk_three_link_kinetic(x, x + 3, p);
-    out[1] = wk_three_link_potential(x, p);
-}
-
-void wk_model_three_link_points(const double *x, const double *p, double *out, void *ctx)
-{
-    (void)ctx;
-    wk_three_link_points(x, p, out);
-}
-
-const wk_model_entry wk_entry_three_link = {
-    "three_link",
-    {wk_model_three_link_rhs, wk_model_three_link_guards, wk_model_three_link_reset,
-     wk_model_three_link_jac, NULL},
-    wk_model_three_link_energy,
-    wk_model_three_link_points,
-    wk_model_three_link_start_phase,
-};
+WK_ACTUATED_MODEL(three_link, MODEL)

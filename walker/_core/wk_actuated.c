@@ -21,16 +21,43 @@ int wk_actuated_torque(void *ctx, const double *q, const double *qd, const doubl
     return wk_control_controller_torque(q, qd, D, h, B, p + control_offset, u, n);
 }
 
+/* The mass matrix D, the generalized force without dry friction f and the controller torque
+ * u at state x (M->force on the kernels' D and h); returns 1 when the torque saturated. */
+static int forces(const wk_actuated_model *M, const double *x, const double *p, double *D,
+                  double *f, double *u, void *ctx)
+{
+    const double *qd = x + M->n_q;
+    double h[MAX_Q];
+    M->mass_matrix(x, p, D);
+    M->bias(x, qd, p, h);
+    return M->force(x, qd, D, h, p, f, u, ctx);
+}
+
 int wk_actuated_closed_loop(const wk_actuated_model *M, int64_t phase, const double *x,
                             const double *p, double *qdd, double *u, double *lam, void *ctx)
 {
     double D[MAX_Q * MAX_Q], f[MAX_Q], F[MAX_J];
     int64_t modes[MAX_J];
-    int sat = M->forces(x, p, D, f, u, ctx);
+    int sat = forces(M, x, p, D, f, u, ctx);
     wk_friction_decode(phase, modes, M->n_joints);
     M->dry(p, F);
     wk_friction_accelerations(D, f, M->S, F, modes, M->n_q, M->n_joints, qdd, lam);
     return sat;
+}
+
+void wk_actuated_rhs(const wk_actuated_model *M, int64_t phase, double t, const double *x,
+                     const double *p, double *dx, void *ctx)
+{
+    (void)t;
+    int n = M->n_q;
+    double qdd[MAX_Q], u[MAX_J], lam[MAX_J];
+    int sat = wk_actuated_closed_loop(M, phase, x, p, qdd, u, lam, ctx);
+    for (int i = 0; i < n; i++) {
+        dx[i] = x[n + i];
+        dx[n + i] = qdd[i];
+    }
+    dx[2 * n] = M->power(u, x);
+    dx[2 * n + 1] = sat ? 1.0 : 0.0;
 }
 
 void wk_actuated_jac(wk_rhs_fn rhs, int64_t phase, double t, const double *x, const double *p,
@@ -88,7 +115,7 @@ static int64_t settle(const wk_actuated_model *M, int64_t *modes, const bool *fr
 {
     int n = M->n_q;
     double D[MAX_Q * MAX_Q], f[MAX_Q], u[MAX_J], F[MAX_J], qd[MAX_Q], qd_new[MAX_Q];
-    M->forces(x, p, D, f, u, ctx);
+    forces(M, x, p, D, f, u, ctx);
     M->dry(p, F);
     for (int i = 0; i < n; i++) qd[i] = x[n + i];
     if (!wk_friction_settle(D, f, M->S, F, qd, free_joints, n, M->n_joints, modes, qd_new))
@@ -97,9 +124,24 @@ static int64_t settle(const wk_actuated_model *M, int64_t *modes, const bool *fr
     return wk_friction_encode(modes, M->n_joints);
 }
 
-void wk_actuated_after_heel_strike(const wk_actuated_model *M, int64_t phase, int64_t status,
-                                   double *x_new, const double *p, int64_t *out, void *ctx)
+/* Floating-base heel-strike impact and leg swap; returns a status (0 for a physical
+ * impact). */
+static int64_t impact(const wk_actuated_model *M, const double *x, const double *p,
+                      double *x_new, double *impulse)
 {
+    double qdf_plus[WK_FLOATING_BASE_MAX], lift;
+    if (!wk_floating_base_heel_strike(&M->base, x, x + M->n_q, p, p[M->i_slope], qdf_plus,
+                                      impulse, &lift))
+        return WK_LINEAR_SOLVE_FAILED;
+    M->relabel(x, qdf_plus, x_new);
+    return wk_impact_status(impulse, lift, p[M->i_friction]);
+}
+
+void wk_actuated_heel_strike(const wk_actuated_model *M, int64_t phase, const double *x,
+                             const double *p, double *x_new, double *impulse, int64_t *out,
+                             void *ctx)
+{
+    int64_t status = impact(M, x, p, x_new, impulse);
     if (status != 0) {
         wk_reset_out(out, WK_EVENT_TERMINAL, phase, status);
         return;
@@ -118,15 +160,17 @@ void wk_actuated_after_heel_strike(const wk_actuated_model *M, int64_t phase, in
     wk_reset_out(out, WK_EVENT_STRIDE, new_phase, 0);
 }
 
-void wk_actuated_joint_event(const wk_actuated_model *M, int64_t phase, int64_t event,
-                             const double *x, const double *p, double *x_new, int64_t *out,
-                             void *ctx)
+/* actuated_joint_event: the reset of joint friction event 2 j (slip_stops) or 2 j + 1
+ * (stick_breaks) of joint j. */
+static void joint_event(const wk_actuated_model *M, int64_t phase, int64_t event,
+                        const double *x, const double *p, double *x_new, int64_t *out,
+                        void *ctx)
 {
     int n = M->n_q;
     int64_t modes[MAX_J];
     double D[MAX_Q * MAX_Q], f[MAX_Q], u[MAX_J], F[MAX_J], qd[MAX_Q], qd_new[MAX_Q];
     wk_friction_decode(phase, modes, M->n_joints);
-    M->forces(x, p, D, f, u, ctx);
+    forces(M, x, p, D, f, u, ctx);
     M->dry(p, F);
     for (int i = 0; i < n; i++) qd[i] = x[n + i];
     int64_t j = event / 2;
@@ -137,6 +181,20 @@ void wk_actuated_joint_event(const wk_actuated_model *M, int64_t phase, int64_t 
     }
     for (int i = 0; i < n; i++) x_new[n + i] = qd_new[i];
     wk_reset_out(out, WK_EVENT_CONTINUE, wk_friction_encode(modes, M->n_joints), 0);
+}
+
+void wk_actuated_reset(const wk_actuated_model *M, wk_strike_fn strike, int64_t phase, int64_t k,
+                       double t, const double *x, const double *p, double *x_new,
+                       double *impulse, int64_t *out, void *ctx)
+{
+    (void)t;
+    for (int i = 0; i < 2 * M->n_q + 2; i++) x_new[i] = x[i];
+    if (k == 0)
+        strike(phase, x, p, x_new, impulse, out, ctx);
+    else if (k < M->n_base_guards)
+        wk_reset_out(out, WK_EVENT_TERMINAL, phase, M->base_status[k]);
+    else
+        joint_event(M, phase, k - M->n_base_guards, x, p, x_new, out, ctx);
 }
 
 int64_t wk_actuated_start_phase(const wk_actuated_model *M, const double *x, const double *p,
@@ -150,7 +208,7 @@ int64_t wk_actuated_start_phase(const wk_actuated_model *M, const double *x, con
         modes[j] = 0;
         free_joints[j] = true;
     }
-    M->forces(x, p, D, f, u, ctx);
+    forces(M, x, p, D, f, u, ctx);
     M->dry(p, F);
     for (int i = 0; i < n; i++) qd[i] = x[n + i];
     wk_friction_choose_modes(D, f, M->S, F, qd, free_joints, n, M->n_joints, modes);

@@ -68,12 +68,23 @@ WK_DECLARE_ACTUATED(five_link)
 
 /* The phase functions both models share (wk_actuated.c; C ports of the actuated_* functions
  * of walker/models/_common.py, same operations in the same order), written over a table of
- * the model: n coordinates x[0..n), rates x[n..2 n), m joints that are also the inputs
- * (S = B^T, m x n row-major), and
- *   forces(x, p, D, f, u, ctx): the mass matrix D (n x n), the generalized force without dry
- *     friction f (n) and the controller torque u (m); returns 1 when the torque saturated;
+ * the model: n coordinates x[0..n), rates x[n..2 n), actuator work x[2 n] and saturated time
+ * x[2 n + 1]; m joints that are also the inputs (S = B^T, m x n row-major), and
+ *   mass_matrix(q, p, D), bias(q, qd, p, h), ground_reaction(q, qd, qdd, p, F): the
+ *     generated kernels of the mass matrix D (n x n), h = C qd + g (n) and the ground
+ *     reaction F (world frame);
+ *   base: the heel strike's floating base (wk_common.h), also of the generated kernels
+ *     (WK_ACTUATED_KERNELS fills these fields);
+ *   force(q, qd, D, h, p, f, u, ctx): the generalized force without dry friction f (n) and
+ *     the controller torque u (m) at (q, qd) with D and h; returns 1 when the torque
+ *     saturated;
  *   dry(p, F): the joints' dry-friction magnitudes F (m);
- *   ground_reaction(q, qd, qdd, p, F): the generated kernel (world frame). */
+ *   power(u, x): the actuator power u . (B^T qd) at state x;
+ *   relabel(x, qdf_plus, x_new): the leg swap at heel strike of the coordinates x and the
+ *     post-impact rates qdf_plus (n + 2) into x_new (2 n);
+ *   i_slope, i_friction: the indices of the slope and the foot's friction coefficient in p;
+ *   n_base_guards, base_status: the guards before the joints' friction guards, and the
+ *     status that ends the run where base guard k >= 1 fires (guard 0 is heel strike). */
 #define WK_ACTUATED_MAX_Q 5
 #define WK_ACTUATED_MAX_X 12
 
@@ -81,12 +92,37 @@ typedef struct {
     int n_q;
     int n_joints;
     const double *S;
-    int (*forces)(const double *x, const double *p, double *D, double *f, double *u,
-                  void *ctx);
-    void (*dry)(const double *p, double *F);
+    wk_qp_v mass_matrix;
+    wk_qqdp_v bias;
     void (*ground_reaction)(const double *q, const double *qd, const double *qdd,
                             const double *p, double *F);
+    wk_floating_base base;
+    int (*force)(const double *q, const double *qd, const double *D, const double *h,
+                 const double *p, double *f, double *u, void *ctx);
+    void (*dry)(const double *p, double *F);
+    double (*power)(const double *u, const double *x);
+    void (*relabel)(const double *x, const double *qdf_plus, double *x_new);
+    int i_slope;
+    int i_friction;
+    int n_base_guards;
+    const int64_t *base_status;
 } wk_actuated_model;
+
+/* The fields mass_matrix .. base of the table of actuated model ``name`` of n coordinates: its
+ * generated kernels wk_<name>_*, the floating base's n_points drawing points with the hip at
+ * row hip_row. */
+#define WK_ACTUATED_KERNELS(name, n, n_points, hip_row)                                      \
+    wk_##name##_mass_matrix, wk_##name##_bias, wk_##name##_ground_reaction,                  \
+    {                                                                                        \
+        wk_##name##_points, wk_##name##_hip_jac, wk_##name##_ext_mass_matrix,                \
+            wk_##name##_ext_swing_contact_jac, wk_##name##_ext_stance_contact_jac, n,        \
+            n_points, hip_row                                                                \
+    }
+
+/* A model's reset of its heel-strike guard (guard 0), with the signature of the rest of the
+ * reset (wk_reset_fn without k and t). */
+typedef void (*wk_strike_fn)(int64_t phase, const double *x, const double *p, double *x_new,
+                             double *impulse, int64_t *out, void *ctx);
 
 /* The controller's torque u (n - 1) for B (n x (n - 1)): the user's (ctx, above) or the
  * built-in one, wk_control_controller_torque on the block p + control_offset; returns
@@ -99,6 +135,11 @@ int wk_actuated_torque(void *ctx, const double *q, const double *qd, const doubl
  * torques lam (m) in phase; returns 1 when the controller saturated. */
 int wk_actuated_closed_loop(const wk_actuated_model *M, int64_t phase, const double *x,
                             const double *p, double *qdd, double *u, double *lam, void *ctx);
+
+/* The model's rhs (wk_rhs_fn, t unused): dx = (qd, qdd, power, saturated) with the
+ * closed-loop accelerations qdd (wk_actuated_closed_loop) and saturated 1 or 0. */
+void wk_actuated_rhs(const wk_actuated_model *M, int64_t phase, double t, const double *x,
+                     const double *p, double *dx, void *ctx);
 
 /* central_difference_jac: df/dx (n_x x n_x, row-major) of rhs by central differences, step
  * rel_step * max(1, |x_j|); n_x <= WK_ACTUATED_MAX_X. */
@@ -119,19 +160,68 @@ void wk_actuated_force_guards(const wk_actuated_model *M, int64_t phase, const d
  * cone |P_t| <= mu P_n, trailing foot lifting off), WK_NONPHYSICAL_IMPACT otherwise. */
 int64_t wk_impact_status(const double *impulse, double lift, double mu);
 
-/* actuated_after_heel_strike: the reset's out after a heel strike that returned status,
- * every joint's mode chosen afresh at x_new (rates projected in place). */
-void wk_actuated_after_heel_strike(const wk_actuated_model *M, int64_t phase, int64_t status,
-                                   double *x_new, const double *p, int64_t *out, void *ctx);
-
-/* actuated_joint_event: the reset of joint friction event 2 j (slip_stops) or 2 j + 1
- * (stick_breaks) of joint j: rates into x_new, (action, next phase, status) into out. */
-void wk_actuated_joint_event(const wk_actuated_model *M, int64_t phase, int64_t event,
-                             const double *x, const double *p, double *x_new, int64_t *out,
+/* The heel strike's reset: the floating-base impact and leg swap (M->base, M->relabel) into
+ * x_new and impulse (along the slope, normal to it, on the new stance foot), judged by
+ * wk_impact_status; then (actuated_after_heel_strike) the end of the run for a singular or
+ * nonphysical impact, else a stride with every joint's mode chosen afresh at x_new (rates
+ * projected in place). */
+void wk_actuated_heel_strike(const wk_actuated_model *M, int64_t phase, const double *x,
+                             const double *p, double *x_new, double *impulse, int64_t *out,
                              void *ctx);
+
+/* The model's reset (wk_reset_fn, t unused): x_new a copy of x, then strike for guard 0, the
+ * end of the run with M->base_status[k] for the other base guards, and for the joints'
+ * friction guards (actuated_joint_event) the reset of joint friction event 2 j (slip_stops)
+ * or 2 j + 1 (stick_breaks) of joint j: rates into x_new, (action, next phase, status) into
+ * out. */
+void wk_actuated_reset(const wk_actuated_model *M, wk_strike_fn strike, int64_t phase, int64_t k,
+                       double t, const double *x, const double *p, double *x_new,
+                       double *impulse, int64_t *out, void *ctx);
 
 /* actuated_start_phase: the phase consistent with x (wk_friction_choose_modes). */
 int64_t wk_actuated_start_phase(const wk_actuated_model *M, const double *x, const double *p,
                                 void *ctx);
+
+/* Defines the functions of actuated model ``name`` that are written once over its table M
+ * (a wk_actuated_model) and its static strike (a wk_strike_fn): wk_model_<name>_rhs, reset,
+ * start_phase, energy and points (on the generated kernels wk_<name>_kinetic, potential and
+ * points), and the registry entry wk_entry_<name>, with the model file's
+ * wk_model_<name>_guards and wk_model_<name>_jac. */
+#define WK_ACTUATED_MODEL(name, M)                                                          \
+    void wk_model_##name##_rhs(int64_t phase, double t, const double *x, const double *p,   \
+                               double *dx, void *ctx)                                       \
+    {                                                                                       \
+        wk_actuated_rhs(&(M), phase, t, x, p, dx, ctx);                                     \
+    }                                                                                       \
+    void wk_model_##name##_reset(int64_t phase, int64_t k, double t, const double *x,       \
+                                 const double *p, double *x_new, double *impulse,           \
+                                 int64_t *out, void *ctx)                                   \
+    {                                                                                       \
+        wk_actuated_reset(&(M), strike, phase, k, t, x, p, x_new, impulse, out, ctx);       \
+    }                                                                                       \
+    void wk_model_##name##_start_phase(const double *x, const double *p, double *out,       \
+                                       void *ctx)                                           \
+    {                                                                                       \
+        out[0] = (double)wk_actuated_start_phase(&(M), x, p, ctx);                          \
+    }                                                                                       \
+    void wk_model_##name##_energy(const double *x, const double *p, double *out, void *ctx)\
+    {                                                                                       \
+        (void)ctx;                                                                          \
+        out[0] = wk_##name##_kinetic(x, x + (M).n_q, p);                                    \
+        out[1] = wk_##name##_potential(x, p);                                               \
+    }                                                                                       \
+    void wk_model_##name##_points(const double *x, const double *p, double *out, void *ctx)\
+    {                                                                                       \
+        (void)ctx;                                                                          \
+        wk_##name##_points(x, p, out);                                                      \
+    }                                                                                       \
+    const wk_model_entry wk_entry_##name = {                                                \
+        #name,                                                                              \
+        {wk_model_##name##_rhs, wk_model_##name##_guards, wk_model_##name##_reset,          \
+         wk_model_##name##_jac, NULL},                                                      \
+        wk_model_##name##_energy,                                                           \
+        wk_model_##name##_points,                                                           \
+        wk_model_##name##_start_phase,                                                      \
+    };
 
 #endif

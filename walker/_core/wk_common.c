@@ -127,21 +127,33 @@ int wk_heel_strike_impact(const double *M, const double *J_swing, const double *
     return 1;
 }
 
-int wk_floating_base_heel_strike(wk_qp_v points, wk_qp_v hip_jac, wk_qp_v ext_mass_matrix,
-                                 wk_qp_v ext_swing_contact_jac, wk_qp_v ext_stance_contact_jac,
-                                 const double *q, const double *qd, const double *p, int n,
-                                 int n_points, int hip_row, double slope, double *qdf_plus,
+int wk_floating_base_heel_strike(const wk_floating_base *B, const double *q, const double *qd,
+                                 const double *p, double slope, double *qdf_plus,
                                  double *impulse, double *lift)
 {
     enum { NF = WK_FLOATING_BASE_MAX };
     double pts[WK_POINTS_MAX * 2], hip_J[2 * NF], qf[NF], qdf[NF];
     double M[NF * NF], Jsw[2 * NF], Jst[2 * NF];
-    if (n + 2 > NF || n_points > WK_POINTS_MAX || hip_row < 0 || hip_row >= n_points) return 0;
-    points(q, p, pts);
-    hip_jac(q, p, hip_J);
-    wk_floating_base_state(q, qd, pts + 2 * hip_row, hip_J, qf, qdf, n);
-    ext_mass_matrix(qf, p, M);
-    ext_swing_contact_jac(qf, p, Jsw);
-    ext_stance_contact_jac(qf, p, Jst);
+    const int n = B->n;
+    if (n + 2 > NF || B->n_points > WK_POINTS_MAX || B->hip_row < 0 || B->hip_row >= B->n_points)
+        return 0;
+    B->points(q, p, pts);
+    B->hip_jac(q, p, hip_J);
+    wk_floating_base_state(q, qd, pts + 2 * B->hip_row, hip_J, qf, qdf, n);
+    B->ext_mass_matrix(qf, p, M);
+    B->ext_swing_contact_jac(qf, p, Jsw);
+    B->ext_stance_contact_jac(qf, p, Jst);
     return wk_heel_strike_impact(M, Jsw, Jst, qdf, slope, qdf_plus, impulse, lift, n + 2);
+}
+
+int64_t wk_plastic_heel_strike(const wk_floating_base *B, const int *swap, int n_c,
+                               const double *x, const double *p, double slope, double *x_new,
+                               double *impulse)
+{
+    double qdf_plus[WK_FLOATING_BASE_MAX], lift;
+    if (!wk_floating_base_heel_strike(B, x, x + n_c, p, slope, qdf_plus, impulse, &lift))
+        return WK_LINEAR_SOLVE_FAILED;
+    wk_swap_legs(swap, n_c, x, qdf_plus, x_new);
+    if (!(impulse[1] > 0.0) || !(lift > 0.0)) return WK_NONPHYSICAL_IMPACT;
+    return 0;
 }

@@ -83,18 +83,67 @@ int wk_heel_strike_impact(const double *M, const double *J_swing, const double *
 #define WK_FLOATING_BASE_MAX 8
 #define WK_POINTS_MAX 8
 
-/* walker.models._common.floating_base_heel_strike: the plastic heel strike of a pinned model
- * of n coordinates (q, qd) on its floating-base extension of n + 2, from the generated
- * kernels points(q, p, pts) (n_points rows of 2, the hip at row hip_row), hip_jac(q, p, J)
- * (2 x n) and the floating-base ext_mass_matrix, ext_swing_contact_jac and
- * ext_stance_contact_jac(qf, p, out).  Writes qdf_plus (n + 2), impulse[0..1] and *lift as
- * wk_heel_strike_impact; returns 0 for a singular system (or sizes over the maxima).  The
- * caller swaps the legs and judges the impact. */
-int wk_floating_base_heel_strike(wk_qp_v points, wk_qp_v hip_jac, wk_qp_v ext_mass_matrix,
-                                 wk_qp_v ext_swing_contact_jac, wk_qp_v ext_stance_contact_jac,
-                                 const double *q, const double *qd, const double *p, int n,
-                                 int n_points, int hip_row, double slope, double *qdf_plus,
+/* A pinned model of n coordinates and its floating-base extension of n + 2, as the heel
+ * strike needs them: the generated kernels points(q, p, pts) (n_points rows of 2, the hip at
+ * row hip_row) and hip_jac(q, p, J) (2 x n) of the pinned model, and ext_mass_matrix,
+ * ext_swing_contact_jac and ext_stance_contact_jac(qf, p, out) of the floating base. */
+typedef struct {
+    wk_qp_v points;
+    wk_qp_v hip_jac;
+    wk_qp_v ext_mass_matrix;
+    wk_qp_v ext_swing_contact_jac;
+    wk_qp_v ext_stance_contact_jac;
+    int n;
+    int n_points;
+    int hip_row;
+} wk_floating_base;
+
+/* walker.models._common.floating_base_heel_strike: the plastic heel strike of the pinned
+ * model B (q, qd) on its floating-base extension.  Writes qdf_plus (n + 2), impulse[0..1]
+ * and *lift as wk_heel_strike_impact; returns 0 for a singular system (or sizes over the
+ * maxima).  The caller swaps the legs and judges the impact. */
+int wk_floating_base_heel_strike(const wk_floating_base *B, const double *q, const double *qd,
+                                 const double *p, double slope, double *qdf_plus,
                                  double *impulse, double *lift);
+
+/* The leg swap after a heel strike, for a state of n_c coordinates and their rates:
+ * x_new[i] = q[swap[i]], x_new[n_c + i] = qd[swap[i]] for i < n_c (q the coordinates before
+ * the impact, qd the rates after it). */
+static inline void wk_swap_legs(const int *swap, int n_c, const double *q, const double *qd,
+                                double *x_new)
+{
+    for (int i = 0; i < n_c; i++) {
+        x_new[i] = q[swap[i]];
+        x_new[n_c + i] = qd[swap[i]];
+    }
+}
+
+/* The heel strike of a walker without foot friction (the compass gait; the kneed walker with
+ * its knee locked, on its 2-link kernels): wk_floating_base_heel_strike of B at the state x
+ * of n_c coordinates and their rates (x + n_c), then the leg swap wk_swap_legs(swap, n_c,
+ * x, qdf_plus, x_new).  Returns WK_LINEAR_SOLVE_FAILED for a singular system (x_new
+ * untouched), WK_NONPHYSICAL_IMPACT when the normal impulse is not positive or the trailing
+ * foot does not lift off, else 0. */
+int64_t wk_plastic_heel_strike(const wk_floating_base *B, const int *swap, int n_c,
+                               const double *x, const double *p, double slope, double *x_new,
+                               double *impulse);
+
+/* The reset's out after a heel strike that returned status: a stride into phase 0, or
+ * (status nonzero: a singular or nonphysical impact) the end of the run in phase. */
+static inline void wk_stride_out(int64_t *out, int64_t phase, int64_t status)
+{
+    if (status != 0)
+        wk_reset_out(out, WK_EVENT_TERMINAL, phase, status);
+    else
+        wk_reset_out(out, WK_EVENT_STRIDE, 0, 0);
+}
+
+/* The reset's out for a fall guard: the end of the run in phase, fallen forward or
+ * backward. */
+static inline void wk_fall_out(int64_t *out, int64_t phase, int forward)
+{
+    wk_reset_out(out, WK_EVENT_TERMINAL, phase, forward ? WK_FELL_FORWARD : WK_FELL_BACKWARD);
+}
 
 /* The models' functions, registered in models.c: wk_model_<name>_{rhs, guards, reset, jac}
  * (wk_system.h) and wk_model_<name>_{energy, points} (wk_models.h). */
@@ -111,6 +160,26 @@ int wk_floating_base_heel_strike(wk_qp_v points, wk_qp_v hip_jac, wk_qp_v ext_ma
     void wk_model_##name##_energy(const double *x, const double *p, double *out, void *ctx);\
     void wk_model_##name##_points(const double *x, const double *p, double *out, void *ctx);
 
+/* Defines the exported function fn with the signature rhs, guards and jac share (wk_rhs_fn)
+ * as the static call(K, phase, x, p, out) of a model file, K = &KT (WK_MODEL_VARIANT). */
+#define WK_PHASE_FUNCTION(fn, call, KT)                                                      \
+    void fn(int64_t phase, double t, const double *x, const double *p, double *out,          \
+            void *ctx)                                                                       \
+    {                                                                                        \
+        (void)t;                                                                             \
+        (void)ctx;                                                                           \
+        call(&KT, phase, x, p, out);                                                         \
+    }
+
+/* Defines the exported function fn with the signature of energy and points (wk_state_fn,
+ * wk_models.h) as the static call(K, x, p, out) of a model file, K = &KT. */
+#define WK_STATE_FUNCTION(fn, call, KT)                                                      \
+    void fn(const double *x, const double *p, double *out, void *ctx)                        \
+    {                                                                                        \
+        (void)ctx;                                                                           \
+        call(&KT, x, p, out);                                                                \
+    }
+
 /* Defines the exported functions of model variant ``name`` in a model file whose glue is
  * written once over a table of kernels: static functions
  *     rhs(K, phase, x, p, dx), guards(K, phase, x, p, g),
@@ -118,20 +187,9 @@ int wk_floating_base_heel_strike(wk_qp_v points, wk_qp_v hip_jac, wk_qp_v ext_ma
  *     energy(K, x, p, out), points(K, x, p, out)
  * with K the address of the variant's kernel table KT. */
 #define WK_MODEL_VARIANT(name, KT)                                                          \
-    void wk_model_##name##_rhs(int64_t phase, double t, const double *x, const double *p,   \
-                               double *dx, void *ctx)                                       \
-    {                                                                                       \
-        (void)t;                                                                            \
-        (void)ctx;                                                                          \
-        rhs(&KT, phase, x, p, dx);                                                          \
-    }                                                                                       \
-    void wk_model_##name##_guards(int64_t phase, double t, const double *x, const double *p,\
-                                  double *g, void *ctx)                                     \
-    {                                                                                       \
-        (void)t;                                                                            \
-        (void)ctx;                                                                          \
-        guards(&KT, phase, x, p, g);                                                        \
-    }                                                                                       \
+    WK_PHASE_FUNCTION(wk_model_##name##_rhs, rhs, KT)                                       \
+    WK_PHASE_FUNCTION(wk_model_##name##_guards, guards, KT)                                 \
+    WK_PHASE_FUNCTION(wk_model_##name##_jac, jac, KT)                                       \
     void wk_model_##name##_reset(int64_t phase, int64_t k, double t, const double *x,       \
                                  const double *p, double *x_new, double *impulse,           \
                                  int64_t *out, void *ctx)                                   \
@@ -140,23 +198,8 @@ int wk_floating_base_heel_strike(wk_qp_v points, wk_qp_v hip_jac, wk_qp_v ext_ma
         (void)ctx;                                                                          \
         reset(&KT, phase, k, x, p, x_new, impulse, out);                                    \
     }                                                                                       \
-    void wk_model_##name##_jac(int64_t phase, double t, const double *x, const double *p,   \
-                               double *J, void *ctx)                                        \
-    {                                                                                       \
-        (void)t;                                                                            \
-        (void)ctx;                                                                          \
-        jac(&KT, phase, x, p, J);                                                           \
-    }                                                                                       \
-    void wk_model_##name##_energy(const double *x, const double *p, double *out, void *ctx)\
-    {                                                                                       \
-        (void)ctx;                                                                          \
-        energy(&KT, x, p, out);                                                             \
-    }                                                                                       \
-    void wk_model_##name##_points(const double *x, const double *p, double *out, void *ctx)\
-    {                                                                                       \
-        (void)ctx;                                                                          \
-        points(&KT, x, p, out);                                                             \
-    }
+    WK_STATE_FUNCTION(wk_model_##name##_energy, energy, KT)                                 \
+    WK_STATE_FUNCTION(wk_model_##name##_points, points, KT)
 
 /* A model variant's fused rhs and Jacobian, wk_model_<name>_rhs_jac (wk_rhs_jac_fn, see
  * wk_system.h): declared for the variants whose registry entry has one (models.c). */

@@ -179,25 +179,25 @@ void wk_friction_phase_rhs(const wk_friction_kernels *K, const double *F, int64_
 void wk_friction_phase_jac(const wk_friction_kernels *K, const double *F, int64_t code,
                            const double *x, const double *p, double *J);
 
-/* Defines the static rhs and jac (wk_functions signatures) of a friction model with one base
- * phase, whose phase is the joint-mode code (model_compass_coulomb.c,
- * model_double_pendulum.c): wk_friction_phase_rhs and wk_friction_phase_jac over its kernel
- * table KT, with the dry frictions at p + I_COULOMB. */
-#define WK_FRICTION_ONE_BASE_FIELD(KT, I_COULOMB)                                              \
-    static void rhs(int64_t phase, double t, const double *x, const double *p, double *dx,   \
-                    void *ctx)                                                                \
+/* Defines the static phase function fn (wk_functions' rhs or jac signature) of a friction
+ * model as call(K, F, phase, x, p, out) (the signature of wk_friction_phase_rhs and
+ * wk_friction_phase_jac) with K = &KT, its kernel table, and the dry frictions F at
+ * p + I_COULOMB. */
+#define WK_FRICTION_PHASE_FUNCTION(fn, call, KT, I_COULOMB)                                   \
+    static void fn(int64_t phase, double t, const double *x, const double *p, double *out,    \
+                   void *ctx)                                                                 \
     {                                                                                         \
         (void)t;                                                                              \
         (void)ctx;                                                                            \
-        wk_friction_phase_rhs(&(KT), p + (I_COULOMB), phase, x, p, dx);                       \
-    }                                                                                         \
-    static void jac(int64_t phase, double t, const double *x, const double *p, double *J,    \
-                    void *ctx)                                                                \
-    {                                                                                         \
-        (void)t;                                                                              \
-        (void)ctx;                                                                            \
-        wk_friction_phase_jac(&(KT), p + (I_COULOMB), phase, x, p, J);                        \
+        call(&(KT), p + (I_COULOMB), phase, x, p, out);                                       \
     }
+
+/* Defines the static rhs and jac of a friction model with one base phase, whose phase is the
+ * joint-mode code (model_compass_coulomb.c, model_double_pendulum.c): wk_friction_phase_rhs
+ * and wk_friction_phase_jac over its kernel table KT. */
+#define WK_FRICTION_ONE_BASE_FIELD(KT, I_COULOMB)                                              \
+    WK_FRICTION_PHASE_FUNCTION(rhs, wk_friction_phase_rhs, KT, I_COULOMB)                     \
+    WK_FRICTION_PHASE_FUNCTION(jac, wk_friction_phase_jac, KT, I_COULOMB)
 
 /* phase_start: every joint's mode chosen at state x (modes in place, the rates projected in
  * place, wk_friction_phase_settle); returns the phase offset + encode(modes) (offset the

@@ -12,4 +12,25 @@ extern const wk_model_entry wk_entry_compass_coulomb;
 extern const wk_model_entry wk_entry_double_pendulum;
 extern const wk_model_entry wk_entry_kneed_coulomb;
 
+/* Defines the static start_phase and the registry entry wk_entry_<name> of the friction model
+ * ``name`` on the walker ``base`` (its energy and drawing points, wk_model_<base>_energy and
+ * wk_model_<base>_points): with the model file's static rhs, guards, reset and jac, and its
+ * start (a wk_friction_start_fn, wk_friction.h), start_phase the phase consistent with the
+ * state x of n_x entries in base phase 0 (walker.models.<name>.start_phase). */
+#define WK_FRICTION_WALKER_ENTRY(name, base, n_x)                                            \
+    static void start_phase(const double *x, const double *p, double *out, void *ctx)        \
+    {                                                                                        \
+        (void)ctx;                                                                           \
+        double y[n_x];                                                                       \
+        for (int i = 0; i < (n_x); i++) y[i] = x[i];                                         \
+        out[0] = (double)start(0, y, p);                                                     \
+    }                                                                                        \
+    const wk_model_entry wk_entry_##name = {                                                 \
+        #name,                                                                               \
+        {rhs, guards, reset, jac, NULL},                                                     \
+        wk_model_##base##_energy,                                                            \
+        wk_model_##base##_points,                                                            \
+        start_phase,                                                                         \
+    };
+
 #endif
