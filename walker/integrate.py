@@ -165,6 +165,8 @@ def _ints(buf):
 
 
 def _check_positive_float(name, value, allow_inf=False):
+    if type(value) is float and value > 0.0 and (allow_inf or value != math.inf):
+        return value  # the common case, a valid Python float, without the checks below
     if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
         raise TypeError(f"`{name}` must be a real number, got {type(value).__name__}")
     value = float(value)
@@ -183,6 +185,8 @@ def _interior_code(system: HybridSystem, n_interior: int) -> int:
 
 
 def _check_int(name, value, low):
+    if type(value) is int and value >= low:
+        return value  # the common case, a valid Python int, without the checks below
     if isinstance(value, bool) or not isinstance(value, int | np.integer):
         raise TypeError(f"`{name}` must be an int, got {type(value).__name__}")
     if value < low:
@@ -492,6 +496,8 @@ def _solve(
     if phase0 >= system.n_phases:
         raise ValueError(f"`phase0` must be < n_phases = {system.n_phases}, got {phase0}")
     for name, v in (("t0", t0), ("t_max", t_max)):
+        if type(v) is float and math.isfinite(v):
+            continue  # the common case, a finite Python float
         if isinstance(v, bool) or not isinstance(v, int | float | np.floating | np.integer):
             raise TypeError(f"`{name}` must be a real number, got {type(v).__name__}")
         if not math.isfinite(v):
@@ -525,7 +531,7 @@ def _solve(
         if sample_times is not None:
             raise ValueError('`sample_times` is only used with output="samples"')
         st = _EMPTY
-    if not isinstance(jacobian, bool | np.bool_):
+    if jacobian is not False and jacobian is not True and not isinstance(jacobian, np.bool_):
         raise TypeError(f"`jacobian` must be a bool, got {type(jacobian).__name__}")
     jacobian = bool(jacobian)
     if jacobian and system.jac is None:
