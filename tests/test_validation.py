@@ -427,6 +427,47 @@ def test_simulate_string_x0_names_x0(setup):
         simulate("compass", setup[0], "abcd")
 
 
+# Values next to the common case that walker.integrate's checks accept without further tests
+# (an exact Python int >= the bound, a positive finite float, a bool): each must still go to
+# the full check and fail there, naming the argument.
+@pytest.mark.parametrize(
+    "options, exc, match",
+    [
+        ({"n_strides": True}, TypeError, "`n_strides` must be an int"),
+        ({"max_steps": False}, TypeError, "`max_steps` must be an int"),
+        ({"rtol": True}, TypeError, "`rtol` must be a real number"),
+        ({"rtol": np.inf}, ValueError, "`rtol` must be positive and finite"),
+        ({"atol": -0.0}, ValueError, "`atol` must be positive"),
+        ({"t_max": np.inf}, ValueError, "`t_max` must be finite"),
+        ({"t_max": True}, TypeError, "`t_max` must be a real number"),
+        ({"jacobian": 1}, TypeError, "`jacobian` must be a bool"),
+    ],
+)
+def test_simulate_checks_behind_the_common_case(setup, options, exc, match):
+    with pytest.raises(exc, match=match):
+        simulate("compass", setup[0], setup[1], **options)
+
+
+def test_simulate_numpy_scalars_run_as_python_scalars(setup):
+    """numpy scalars take the full checks, Python scalars the common case: the same run."""
+    prm, x = setup[0], setup[1]
+    plain = simulate("compass", prm, x, n_strides=2, t_max=5.0, rtol=1e-9, atol=1e-10)
+    numpy = simulate(
+        "compass",
+        prm,
+        x,
+        n_strides=np.int64(2),
+        t_max=np.float64(5.0),
+        rtol=np.float64(1e-9),
+        atol=np.float64(1e-10),
+        jacobian=np.bool_(False),
+    )
+    assert plain.status == numpy.status
+    assert plain.n_strides == numpy.n_strides == 2
+    assert plain.t == numpy.t
+    np.testing.assert_array_equal(plain.x, numpy.x)
+
+
 # ------------------------------------------------------------------------------ the CLI
 
 
