@@ -9,7 +9,8 @@
 * one kneed stride with ``scipy.integrate.solve_ivp`` on that model, and on walker's own
   compiled vector field, with terminal events for knee lock and heel strike and walker's
   impact maps (the impacts are not the integrator being compared); the same stride with
-  heyoka; one stride of the one-phase walkers (compass, simplest) with solve_ivp;
+  heyoka; one stride of the one-phase walkers (compass, simplest) with solve_ivp, and of
+  the compass with heyoka;
 * :func:`section_map`: any of these strides as a map on walker's section.
 
 Only walker's public API is used (``walker.params``, ``walker.models.get_model`` and the
@@ -463,6 +464,79 @@ class HeyokaKneed:
         if status != 0 or action != 2:
             return None, t2
         return x6.copy(), t2
+
+
+class HeyokaCompass:
+    """The compass stride (point feet, no leg inertia, no dampers) with heyoka's Taylor
+    integrator, the parameters folded in as numbers.  The compass gait of Goswami, Thuilot
+    and Espiau (1998), its Lagrange equations written here in the leg angles from the
+    vertical (walker's coordinates): the 2x2 mass matrix ``[[(m_H + m) L^2 + m a^2,
+    -m b L cos(q1 - q2)], [., m b^2]]`` solved by Cramer's rule.  Terminal events: the swing
+    foot's height above the slope, ``L (cos(q1 + slope) - cos(q2 + slope))``, falling through
+    zero, where walker's reset tells a heel strike from a scuff (after a scuff the run goes
+    on, the event's cooldown keeping it from firing again at once), and the stance leg 70
+    degrees from the slope normal (walker's threshold)."""
+
+    FALL = math.radians(70.0)
+
+    def __init__(self, params, tol):
+        import heyoka as hy
+
+        from walker.models import get_model
+
+        for name in ("foot_radius", "inertia_leg", "damping_hip", "damping_ankle"):
+            if getattr(params, name) != 0.0:
+                raise ValueError(f"the heyoka compass needs {name} = 0")
+        mh, m = float(params.mass_hip), float(params.mass_leg)
+        a, b = float(params.com_from_foot), float(params.com_to_hip)
+        g, s = float(params.g), float(params.slope)
+        L = a + b
+        q1, q2, w1, w2 = hy.make_vars("q1", "q2", "w1", "w2")
+        m11 = (mh + m) * L * L + m * a * a
+        m12 = -m * b * L * hy.cos(q1 - q2)
+        m22 = m * b * b
+        sd = hy.sin(q1 - q2)
+        r1 = m * b * L * sd * w2 * w2 + ((mh + m) * L + m * a) * g * hy.sin(q1)
+        r2 = -m * b * L * sd * w1 * w1 - m * b * g * hy.sin(q2)
+        det = m11 * m22 - m12 * m12
+        negative, positive = hy.event_direction.negative, hy.event_direction.positive
+        t0 = time.perf_counter()
+        self.ta = hy.taylor_adaptive(
+            [
+                (q1, w1),
+                (q2, w2),
+                (w1, (m22 * r1 - m12 * r2) / det),
+                (w2, (m11 * r2 - m12 * r1) / det),
+            ],
+            [0.0] * 4,
+            tol=tol,
+            t_events=[
+                hy.t_event(L * (hy.cos(q1 + s) - hy.cos(q2 + s)), direction=negative),
+                hy.t_event(q1 + s - self.FALL, direction=positive),
+                hy.t_event(q1 + s + self.FALL, direction=negative),
+            ],
+        )
+        self.compile_seconds = time.perf_counter() - t0
+        self.p = params.as_array()
+        self.reset = get_model("compass").module.reset
+        self._imp = np.zeros(2)
+        self._x = np.empty(4)
+
+    def stride(self, x0, t_span=20.0):
+        ta = self.ta
+        ta.time = 0.0
+        ta.state[:] = x0
+        ta.reset_cooldowns()
+        for _ in range(6):
+            if int(ta.propagate_until(t_span)[0]) != -1:
+                return None, math.nan  # a fall, or no event before t_span
+            te, xe = ta.time, ta.state
+            action, _, status = self.reset(0, 0, te, xe, self.p, self._x, self._imp)
+            if action == 2 and status == 0:
+                return self._x.copy(), te
+            if action != 0:
+                return None, te  # a nonphysical impact
+        return None, ta.time
 
 
 class CompiledSimple:

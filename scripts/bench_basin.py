@@ -28,8 +28,9 @@ Measured for each grid:
    --span S --out <tmp>``; its default ``--jobs``: os.cpu_count() threads), once;
 3. per grid point, serially on the same random sample of grid points, walker's ``StrideMap``
    against a ``scipy.integrate.solve_ivp`` DOP853 stride on walker's compiled compass vector
-   field (scripts/_contenders.py ``CompiledSimple``), with the iteration rule of
-   ``walker.basin.basin_chunk``, interleaved round-robin.
+   field (scripts/_contenders.py ``CompiledSimple``) and, when heyoka is installed (the
+   ``bench`` extra), a heyoka Taylor stride with the parameters folded in (``HeyokaCompass``),
+   with the iteration rule of ``walker.basin.basin_chunk``, interleaved round-robin.
 
 Writes results/bench/basin.csv, basin.md and README.md.
 
@@ -72,6 +73,7 @@ WORKERS = 2
 BASIN_TOL = 1e-6  # basin_map's default convergence tolerance
 IVP = "solve_ivp DOP853, walker's compiled rhs"
 WALKER = "walker StrideMap"
+HEYOKA = "heyoka Taylor, folded constants, tol = rtol"
 CONTENDERS = ("threads", "pool", "serial", "loose")
 SAME = CONTENDERS[:3]  # the same map: outcome and stride grids must agree bit for bit
 LOOSE_RTOL = 1e-9  # `walker basin --rtol 1e-9`: the basin's strides only (atol the same)
@@ -165,6 +167,10 @@ def main(argv=None):
     model = get_model("compass")
     p = scene.params.as_array()
     ivp = C.CompiledSimple("compass", scene.params)
+    try:  # optional (the bench extra)
+        hey = C.HeyokaCompass(scene.params, c.rtol)
+    except ImportError:
+        hey = None
 
     def walker_stride(z):
         r = P(z)
@@ -173,6 +179,14 @@ def main(argv=None):
     def ivp_stride(z):
         x, _, _ = ivp.stride(model.lift(z, p), rtol=c.rtol, atol=c.atol, t_span=c.t_max)
         return None if x is None else model.project(x, p)
+
+    def heyoka_stride(z):
+        x, _ = hey.stride(model.lift(z, p), t_span=c.t_max)
+        return None if x is None else model.project(x, p)
+
+    strides = {WALKER: (walker_stride, "walker"), IVP: (ivp_stride, "ivp")}
+    if hey is not None:
+        strides[HEYOKA] = (heyoka_stride, "heyoka")
 
     # A 2-worker fork-server process pool, started and warmed once (not in the timings).
     ctx = multiprocessing.get_context(
@@ -264,19 +278,25 @@ def main(argv=None):
             return go
 
         for z in sample[:2]:  # warm-up (first calls: imports, caches), not timed
-            walker_stride(z.copy())
-            ivp_stride(z.copy())
+            for fn, _ in strides.values():
+                fn(z.copy())
         pp = B.round_robin(
-            {WALKER: run_all(walker_stride, "walker"), IVP: run_all(ivp_stride, "ivp")},
+            {who: run_all(fn, key) for who, (fn, key) in strides.items()},
             pp_reps,
-            inner={WALKER: 1, IVP: 1},
+            inner=dict.fromkeys(strides, 1),
         )
         g["pp"] = {k: v / n_sample for k, v in pp.items()}
-        g["agree"] = sum(a == b for a, b in zip(outcomes["walker"], outcomes["ivp"], strict=True))
+        g["agree"] = {
+            key: sum(a == b for a, b in zip(outcomes["walker"], outcomes[key], strict=True))
+            for _, key in list(strides.values())[1:]
+        }
         g["sample_strides"] = sum(s for _, s in outcomes["walker"])
         g["sample_falls"] = sum(o == "fell" for o, _ in outcomes["walker"])
-        w, i = np.median(g["pp"][WALKER]), np.median(g["pp"][IVP])
-        print(f"{name} per point: walker {w * 1e3:.2f} ms, solve_ivp {i * 1e3:.2f} ms", flush=True)
+        print(
+            f"{name} per point: "
+            + ", ".join(f"{who} {np.median(v) * 1e3:.2f} ms" for who, v in g["pp"].items()),
+            flush=True,
+        )
 
     # ---------------------------------------------------------------------- outputs
     labels = {
@@ -328,7 +348,14 @@ def main(argv=None):
         + "; ".join(phrase(k) for k in grids)
         + f". Per stride walker's StrideMap is "
         f"{np.median(gw['pp'][IVP]) / np.median(gw['pp'][WALKER]):.0f}x faster than a "
-        "solve_ivp DOP853 stride on walker's compiled rhs (walking slice, serial)."
+        "solve_ivp DOP853 stride on walker's compiled rhs"
+        + (
+            f" and {np.median(gw['pp'][HEYOKA]) / np.median(gw['pp'][WALKER]):.1f}x faster "
+            "than heyoka's Taylor integrator with the parameters folded in"
+            if HEYOKA in gw["pp"]
+            else ""
+        )
+        + " (walking slice, serial)."
     )
     md = [
         "# Basin of attraction",
@@ -448,10 +475,11 @@ def main(argv=None):
             )
     md += [
         "",
-        "Same outcome and stride count from both at "
+        "Same outcome and stride count as walker's at "
         + "; ".join(
-            f"{g['agree']} of the {n_sample} {name} sample points ({g['sample_strides']} "
-            f"completed strides, {g['sample_falls']} falls)"
+            f"{name} sample points ({g['sample_strides']} completed strides, "
+            f"{g['sample_falls']} falls): "
+            + ", ".join(f"{k} {a} of {n_sample}" for k, a in g["agree"].items())
             for name, g in grids.items()
         )
         + ". The solve_ivp stride uses the same tolerances and walker's compiled compass rhs "
@@ -461,7 +489,16 @@ def main(argv=None):
         "(walker's threshold). Outcomes can differ at a grazing contact, the foot dipping "
         "through the ground and back within one solve_ivp step: its end-of-step sign test "
         "misses it, walker's interior sampling and tangency check see it (the one "
-        "disagreement examined while writing this script was of that kind).",
+        "disagreement examined while writing this script was of that kind)."
+        + (
+            " The heyoka stride (scripts/_contenders.py `HeyokaCompass`, compiled once "
+            f"before the timings in {hey.compile_seconds:.2f} s) is the compass's equations "
+            "written out by hand, integrated by heyoka's Taylor method at tol = the scene's "
+            "rtol, the heel-strike and fall events as terminal events, walker's impact map; "
+            "after a scuff the same integrator goes on (one more `propagate_until`)."
+            if hey is not None
+            else " heyoka is not installed (the `bench` extra): no heyoka row."
+        ),
         "",
     ]
     B.publish("basin.md", md)
