@@ -118,6 +118,20 @@ def test_out_name_too_long_names_the_flag(tmp_path, capsys, no_work, command):
     _one_error_line(err, f"--out {out}", "File name too long")
 
 
+def test_a_line_longer_than_the_limit_keeps_its_reason(tmp_path, capsys, no_work):
+    """Before: a message over 400 characters was cut at its end, so a long path in a deep
+    directory hid the reason ("...: File name too...").  Now such a line loses its middle."""
+    deep = tmp_path
+    for letter in "defgh":  # 5 x 200 characters of directories
+        deep = deep / (letter * 200)
+    deep.mkdir(parents=True)
+    out = deep / ("a" * 300 + ".h5")
+    code, _, err = _cli(capsys, ["find", SCENE, "--out", out])
+    assert code == EXIT_USAGE
+    line = _one_error_line(err, "--out /", " ... ", ".h5: File name too long")
+    assert len(line) <= len("walker: error: ") + 1000
+
+
 def test_scene_and_result_names_too_long(tmp_path, capsys, no_work):
     """Before: an ``OSError`` traceback from ``Path.is_file`` / ``Path.exists``, exit 1."""
     long = tmp_path / ("s" * 300 + ".toml")

@@ -169,6 +169,10 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
 _PACKAGE_DIR = Path(__file__).resolve().parent.parent
 
 
+_LINE_MAX = 1000
+"""Longest error line; a longer one (a path of thousands of characters) is cut in the middle."""
+
+
 def _raised_by_walker(exc: BaseException) -> bool:
     """``exc`` was raised in walker's own code (its innermost frame is in the package), not
     inside another library walker called."""
@@ -184,9 +188,14 @@ def _raised_by_walker(exc: BaseException) -> bool:
 
 
 def _first_line(exc: BaseException) -> str:
+    """The first line of ``exc``'s message, at most ``_LINE_MAX`` characters: a longer one
+    loses its middle, not its end, where the reason follows a long path."""
     text = str(exc).strip()
     line = text.splitlines()[0] if text else type(exc).__name__
-    return line if len(line) <= 400 else line[:397] + "..."
+    if len(line) <= _LINE_MAX:
+        return line
+    keep = (_LINE_MAX - 5) // 2
+    return f"{line[:keep]} ... {line[-keep:]}"
 
 
 def _path_label(args, filename) -> str:
