@@ -136,7 +136,7 @@ def test_readme_keeps_its_first_two_commands():
     assert (
         blocks[0] == "python -m pip install -e '.[test,dask]' && walker find gaits/kneed_hsu.toml\n"
     )
-    assert blocks[1] == 'python -m pytest -q -m "not slow"\n'
+    assert blocks[1] == 'python -m pytest -q -m "not slow" -n auto\n'
 
 
 def test_readme_finding_your_way_lists_the_commands_and_docs():
