@@ -384,6 +384,19 @@ class CompiledKneed(_ScipyKneed):
         self.unlocked, self.locked, self.knee, self.heel = f0, f1, knee, heel
 
 
+def _impact_parts(obj, t0, params, name):
+    """What a heyoka contender keeps once its integrators are built (``t0``: when their
+    building began): the build time, the parameter vector, walker's impact map of model
+    ``name`` and its output buffers."""
+    from walker.models import get_model
+
+    obj.compile_seconds = time.perf_counter() - t0
+    obj.p = params.as_array()
+    obj.reset = get_model(name).module.reset
+    obj._imp = np.zeros(2)
+    obj._x = np.empty(get_model(name).n_x)
+
+
 class HeyokaKneed:
     """The kneed stride with heyoka: one Taylor integrator per phase (unlocked: 6 states,
     knee-lock event ``q3 - q2`` rising; locked: 4 states, heel-strike event = swing-foot
@@ -394,8 +407,6 @@ class HeyokaKneed:
 
     def __init__(self, params, tol, runtime_pars):
         import heyoka as hy
-
-        from walker.models import get_model
 
         make, _ = kneed_factory()
         pv = check_kneed_params(params)
@@ -430,14 +441,10 @@ class HeyokaKneed:
             t_events=[heel],
             **kw2,
         )
-        self.compile_seconds = time.perf_counter() - t0
-        self.p = params.as_array()
-        self.reset = get_model("kneed").module.reset
-        self._imp = np.zeros(2)
-        self._x6 = np.empty(6)
+        _impact_parts(self, t0, params, "kneed")
 
     def stride(self, x0, t_span=5.0):
-        ta3, ta2, p, x6, imp = self.ta3, self.ta2, self.p, self._x6, self._imp
+        ta3, ta2, p, x6, imp = self.ta3, self.ta2, self.p, self._x, self._imp
         ta3.time = 0.0
         ta3.state[:] = x0
         ta3.reset_cooldowns()
@@ -482,8 +489,6 @@ class HeyokaCompass:
     def __init__(self, params, tol):
         import heyoka as hy
 
-        from walker.models import get_model
-
         for name in ("foot_radius", "inertia_leg", "damping_hip", "damping_ankle"):
             if getattr(params, name) != 0.0:
                 raise ValueError(f"the heyoka compass needs {name} = 0")
@@ -516,11 +521,7 @@ class HeyokaCompass:
                 hy.t_event(q1 + s + self.FALL, direction=negative),
             ],
         )
-        self.compile_seconds = time.perf_counter() - t0
-        self.p = params.as_array()
-        self.reset = get_model("compass").module.reset
-        self._imp = np.zeros(2)
-        self._x = np.empty(4)
+        _impact_parts(self, t0, params, "compass")
 
     def stride(self, x0, t_span=20.0):
         ta = self.ta
