@@ -1,6 +1,7 @@
 """The walkers: impacts conserve what they must, guards mean what they say, gaits match the
 literature, limits hold."""
 
+import importlib
 import math
 
 import numpy as np
@@ -12,6 +13,7 @@ from walker import get_model, load_scene, simulate
 from walker.models import MODEL_NAMES
 from walker.models import compass as C
 from walker.models import kneed as KN
+from walker.models._common import BASE_EXPORTS
 from walker.params import MODELS, CompassParams, KneedParams, SimplestParams
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, Status
 from walker.symbolic import models as sym
@@ -401,3 +403,19 @@ def test_failure_outcomes_are_statuses_with_times():
         assert not s.success and s.message
         assert 0.1 < s.t < 2.0  # the time it happened
         assert np.all(np.isfinite(s.x))
+
+
+@pytest.mark.parametrize("name", ["kneed_coulomb", "compass_coulomb"])
+def test_friction_walker_lists_its_base_models_names(name):
+    """The names a friction walker takes from its base model (a module ``__getattr__``) are
+    in ``__all__``, reachable as attributes, and listed by ``dir()`` (tab completion), which
+    used to show only the module's own."""
+    module = importlib.import_module(f"walker.models.{name}")
+    listed = dir(module)
+    assert listed == sorted(listed)
+    for attr in BASE_EXPORTS:
+        assert attr in module.__all__ and attr in listed, attr
+        assert getattr(module, attr) is not None
+    for attr in module.__all__:
+        assert attr in listed, attr
+    assert "__getattr__" in listed and "np" in listed  # the module's own names stay

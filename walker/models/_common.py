@@ -6,6 +6,7 @@ friction.  (Accelerations and their Jacobian are generated kernels: ``accel`` an
 ``accel_jac`` in walker/_generated.)"""
 
 import math
+import sys
 
 import numpy as np
 
@@ -51,16 +52,20 @@ Poincare section, the energy, the swing foot and the drawing): :func:`joint_fric
 
 
 def joint_friction_walker(module_name: str, base):
-    """The ``__all__`` and the module ``__getattr__`` (PEP 562) of the walker with joint
-    friction ``module_name`` over its base model's module ``base``: its public names are
-    :data:`JOINT_FRICTION_EXPORTS` and :data:`BASE_EXPORTS`, the latter ``base``'s own."""
+    """The ``__all__`` and the module ``__getattr__`` and ``__dir__`` (PEP 562) of the walker
+    with joint friction ``module_name`` over its base model's module ``base``: its public
+    names are :data:`JOINT_FRICTION_EXPORTS` and :data:`BASE_EXPORTS`, the latter ``base``'s
+    own, which ``dir()`` (and so tab completion) lists with the module's own names."""
 
     def __getattr__(name: str):
         if name in BASE_EXPORTS:
             return getattr(base, name)
         raise AttributeError(f"module {module_name!r} has no attribute {name!r}")
 
-    return [*JOINT_FRICTION_EXPORTS, *BASE_EXPORTS], __getattr__
+    def __dir__():
+        return sorted({*vars(sys.modules[module_name]), *BASE_EXPORTS})
+
+    return [*JOINT_FRICTION_EXPORTS, *BASE_EXPORTS], __getattr__, __dir__
 
 
 # The walker.status.Status values a reset map returns, as plain integers for compiled code.

@@ -59,7 +59,7 @@ from walker.models import compass as _compass
 from walker.models._common import after_base_reset, joint_friction_walker
 from walker.params import MODELS
 
-__all__, __getattr__ = joint_friction_walker(__name__, _compass)
+__all__, __getattr__, __dir__ = joint_friction_walker(__name__, _compass)
 
 N_X = 4
 N_IMPULSE = 2

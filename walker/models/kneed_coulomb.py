@@ -51,7 +51,7 @@ from walker.models._common import after_base_reset, joint_friction_walker, relab
 from walker.params import MODELS
 from walker.status import EVENT_CONTINUE
 
-__all__, __getattr__ = joint_friction_walker(__name__, _kneed)
+__all__, __getattr__, __dir__ = joint_friction_walker(__name__, _kneed)
 
 N_X = 6
 N_IMPULSE = 2
