@@ -29,6 +29,13 @@ SIZE_FIELDS = ("n_x", "n_p", "n_phases", "n_guards", "n_impulse", "n_points", "n
 # the scenes' event runs: strides (models with strides) and seconds (models without)
 EVENT_STRIDES = 3
 NO_STRIDE_T_MAX = 2.0
+# the scenes' small basins (walker.basin.basin_map, the compiled basin loop): a BASIN_N grid
+# within BASIN_HALF_WIDTH of the fixed point in the first two section coordinates, at most
+# BASIN_STRIDES strides a point, converged within BASIN_TOL
+BASIN_N = (3, 3)
+BASIN_HALF_WIDTH = 0.02
+BASIN_STRIDES = 5
+BASIN_TOL = 1e-3
 # sentinel written past the end of every output buffer: a C function that writes beyond its
 # output's length is caught (the sentinel must come back unchanged)
 PAD = 2
@@ -203,7 +210,10 @@ def scene_outputs(path: Path) -> dict[str, np.ndarray]:
     ``stride_z0``, ``stride_z``, ``stride_jac``, ``stride_t``, ``stride_x``,
     ``stride_status``) and ``fp_*`` (:func:`walker.fixedpoint.find_fixed_point` from there
     with its defaults: ``fp_section``, ``fp_state``, ``fp_jacobian``, ``fp_multipliers``,
-    ``fp_step_time``, ``fp_residual``, ``fp_history``, ``fp_n_iter``, ``fp_status``).  For
+    ``fp_step_time``, ``fp_residual``, ``fp_history``, ``fp_n_iter``, ``fp_status``) and,
+    when it converged and the section has two coordinates or more, ``basin_*`` (a small
+    basin around it, :data:`BASIN_N`: ``basin_x``, ``basin_y``, ``basin_outcome``,
+    ``basin_strides``).  For
     every scene ``run_*``: ``simulate(..., output="events")`` from the scene's state with
     its solver settings, :data:`EVENT_STRIDES` strides (or :data:`NO_STRIDE_T_MAX` seconds
     for a model without strides); for walkers also ``jac_run_*``, one stride of it with the
@@ -238,6 +248,8 @@ def scene_outputs(path: Path) -> dict[str, np.ndarray]:
         out["fp_history"] = np.asarray(fp.history, dtype=np.float64)
         out["fp_n_iter"] = np.int64(fp.n_iter)
         out["fp_status"] = np.int64(int(fp.status))
+        if fp.success and smap.n_z >= 2:
+            out.update(_basin_record(smap, fp))
         sol = simulate(
             model,
             scene.params,
@@ -267,6 +279,29 @@ def scene_outputs(path: Path) -> dict[str, np.ndarray]:
     )
     out.update(_run_record("run", sol))
     return out
+
+
+def _basin_record(smap, fp) -> dict[str, np.ndarray]:
+    """A small basin of ``fp`` (see :data:`BASIN_N`), serial, by name ``basin_<what>``."""
+    from walker.basin import basin_map
+
+    z, h = fp.section, BASIN_HALF_WIDTH
+    bm = basin_map(
+        smap,
+        fp,
+        ranges=((z[0] - h, z[0] + h), (z[1] - h, z[1] + h)),
+        n=BASIN_N,
+        n_strides=BASIN_STRIDES,
+        tol=BASIN_TOL,
+        executor="serial",
+        progress=False,
+    )
+    return {
+        "basin_x": np.asarray(bm.x, dtype=np.float64),
+        "basin_y": np.asarray(bm.y, dtype=np.float64),
+        "basin_outcome": np.asarray(bm.outcome, dtype=np.int64),
+        "basin_strides": np.asarray(bm.strides, dtype=np.int64),
+    }
 
 
 def _run_record(prefix: str, sol) -> dict[str, np.ndarray]:
