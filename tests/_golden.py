@@ -45,6 +45,7 @@ _vp = ctypes.c_void_p
 _i64 = ctypes.c_int64
 _f64 = ctypes.c_double
 _RHS = ctypes.CFUNCTYPE(None, _i64, _f64, _vp, _vp, _vp, _vp)
+_RHS_JAC = ctypes.CFUNCTYPE(None, _i64, _f64, _vp, _vp, _vp, _vp, _vp)
 _RESET = ctypes.CFUNCTYPE(None, _i64, _i64, _f64, _vp, _vp, _vp, _vp, _vp, _vp)
 _STATE = ctypes.CFUNCTYPE(None, _vp, _vp, _vp, _vp)
 
@@ -116,8 +117,9 @@ def entry_outputs(entry: str, addresses: dict, inputs: dict) -> dict[str, np.nda
     rows for the lift when the entry has one.
 
     Returns the outputs by name: ``rhs`` (m, n_x), ``jac`` (m, n_x, n_x), ``guards``
-    (m, n_guards), ``reset_out`` (r, 3) int64 (action, next phase, status), ``reset_x``
-    (r, n_x), ``reset_impulse`` (r, n_impulse), ``energy`` (n, 2), ``points``
+    (m, n_guards), ``rhs_jac_dx`` (m, n_x) and ``rhs_jac_J`` (m, n_x, n_x) of the fused rhs
+    and Jacobian where the entry has one, ``reset_out`` (r, 3) int64 (action, next phase,
+    status), ``reset_x`` (r, n_x), ``reset_impulse`` (r, n_impulse), ``energy`` (n, 2), ``points``
     (n, n_points, 2), ``start_phase`` (n,), ``lift`` (n_lift, n_x) and ``lift_jacobian``
     (n_lift, n_x, n_z) for the entries that have them.
     """
@@ -127,6 +129,10 @@ def entry_outputs(entry: str, addresses: dict, inputs: dict) -> dict[str, np.nda
     rhs_fn, guards_fn, jac_fn = (_RHS(addresses[k]) for k in ("rhs", "guards", "jac"))
     reset_fn = _RESET(addresses["reset"])
     out: dict[str, list] = {k: [] for k in ("rhs", "jac", "guards")}
+    rhs_jac_fn = None
+    if addresses.get("rhs_jac"):
+        rhs_jac_fn = _RHS_JAC(addresses["rhs_jac"])
+        out.update(rhs_jac_dx=[], rhs_jac_J=[])
     for sample, phase in inputs["phase_calls"].tolist():
         x, p, t = _vec(X[sample]), _vec(P[sample]), float(T[sample])
         where = f"{entry} phase {phase} sample {sample}"
@@ -137,6 +143,11 @@ def entry_outputs(entry: str, addresses: dict, inputs: dict) -> dict[str, np.nda
         buf = _Buffer(n_x * n_x)
         jac_fn(phase, t, x.ctypes.data, p.ctypes.data, buf.ptr, None)
         out["jac"].append(buf.value(f"jac of {where}").reshape(n_x, n_x))
+        if rhs_jac_fn is not None:
+            dx, J = _Buffer(n_x), _Buffer(n_x * n_x)
+            rhs_jac_fn(phase, t, x.ctypes.data, p.ctypes.data, dx.ptr, J.ptr, None)
+            out["rhs_jac_dx"].append(dx.value(f"rhs_jac dx of {where}"))
+            out["rhs_jac_J"].append(J.value(f"rhs_jac J of {where}").reshape(n_x, n_x))
     resets: dict[str, list] = {"reset_out": [], "reset_x": [], "reset_impulse": []}
     for sample, phase, k in inputs["reset_calls"].tolist():
         x, p, t = _vec(X[sample]), _vec(P[sample]), float(T[sample])

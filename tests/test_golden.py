@@ -47,6 +47,8 @@ _ROWS = {
     "rhs": "in_phase_calls",
     "jac": "in_phase_calls",
     "guards": "in_phase_calls",
+    "rhs_jac_dx": "in_phase_calls",
+    "rhs_jac_J": "in_phase_calls",
     "reset_out": "in_reset_calls",
     "reset_x": "in_reset_calls",
     "reset_impulse": "in_reset_calls",
@@ -96,8 +98,9 @@ def test_every_shipped_scene_is_recorded():
 
 @pytest.mark.parametrize("entry", ENTRIES)
 def test_registry_entry_outputs_bit_for_bit(entry):
-    """Every rhs, Jacobian, guard vector, reset (outcome, state, impulse), energy, points,
-    start phase and lift of one registry entry at its recorded inputs."""
+    """Every rhs, Jacobian, fused rhs and Jacobian, guard vector, reset (outcome, state,
+    impulse), energy, points, start phase and lift of one registry entry at its recorded
+    inputs."""
     addresses = registry().get(entry)
     assert addresses is not None, f"registry entry {entry!r} is gone; " + REGENERATE
     with np.load(ENTRIES_FILE) as data:

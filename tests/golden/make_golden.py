@@ -9,7 +9,8 @@ It writes, next to this file:
 - ``entries.npz``: for every registry entry of the compiled extension
   (``walker._hybrid.models()``, structural variants included), the inputs (states,
   parameter vectors, times, which phase and guard each call used, section points) and the
-  outputs of every phase's rhs, Jacobian and guards, every guard's reset (action, next
+  outputs of every phase's rhs, Jacobian (and the fused rhs and Jacobian of the entries that
+  have one) and guards, every guard's reset (action, next
   phase, status, post-reset state, impulse), energy, points, start phase and, where
   compiled, the section lift and its Jacobian.  The inputs are drawn with a fixed seed near
   the gait states of the model's shipped scenes (states just before each event of a run,
