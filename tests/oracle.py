@@ -413,7 +413,8 @@ def oracle(name):
 # ----------------------------------------------------------------------------- strides
 class Run:
     """One oracle run: ``status``, final ``t``, ``x``, ``phase`` and the ``events``
-    ``(t, guard, phase_after, x_post, impulse)`` of the real (not ignored) events."""
+        ``(t, guard, phase_after, x_post, impulse)`` of the real (not ignored) events (a terminal
+    event's ``x_post`` and ``impulse`` None)."""
 
     def __init__(self, status, t, x, phase, events):
         self.status, self.t, self.x, self.phase, self.events = status, t, x, phase, events
@@ -473,6 +474,7 @@ def run(model, x0, p, *, phase=0, n_strides=1, t_max=20.0, rtol=1e-12, atol=1e-1
             armed[k] = False
             continue
         if action == EVENT_TERMINAL:
+            events.append((t, k, phase, None, None))
             return Run(status, t, x, phase, events)
         events.append((t, k, next_phase, x_new, impulse))
         phase, x = next_phase, x_new

@@ -34,9 +34,10 @@ import numpy as np
 import oracle as O
 import pytest
 
-from walker import _hybrid, load_scene
+from walker import StrideMap, _hybrid, load_scene
 from walker.models import get_model
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
+from walker.stride import simulate
 
 KERNEL_RTOL = 1e-12
 STRIDE_RTOL = 1e-9
@@ -314,4 +315,128 @@ def test_reset_agrees_with_oracle_on_every_branch(entry):
     key = "kneed/ignore_scuff" if entry.endswith("ignore_scuff") else name
     missing = REQUIRED[key] - seen
     assert not missing, f"{entry}: branches not reached {sorted(missing)}"
+    worst.report()
+
+
+# --------------------------------------------------------------------------------------
+# Strides, their Jacobians and fixed points
+# --------------------------------------------------------------------------------------
+
+STRIDE_SCENES = {
+    "simplest_garcia": {},
+    "compass_goswami": {},
+    "kneed_hsu": {},
+    "kneed_mcgeer_pointmass": {},  # swing_scuff = "ignore"
+    # round feet, inertias, offsets and dampers from the scenes' gaits (one stride each)
+    "compass_goswami round": {
+        "foot_radius": 0.15,
+        "inertia_leg": 0.1,
+        "damping_hip": 0.05,
+        "damping_ankle": 0.05,
+    },
+    "kneed_hsu round": {
+        "foot_radius": 0.1,
+        "inertia_thigh": 0.002,
+        "inertia_shank": 0.0005,
+        "offset_thigh": 0.01,
+        "offset_shank": -0.01,
+        "damping_hip": 0.01,
+        "damping_knee": 0.01,
+        "damping_ankle": 0.01,
+    },
+}
+
+
+def _scene_setup(key):
+    """The scene's walker model, oracle, parameters and start state (``key``: a scene name
+    and optionally " round", its parameters then changed as :data:`STRIDE_SCENES` says)."""
+    scene = load_scene(f"gaits/{key.split()[0]}.toml")
+    model = scene.walker_model
+    params = scene.params
+    if STRIDE_SCENES[key]:
+        params = scene.params.replace(**STRIDE_SCENES[key])
+    x0 = np.array(scene.reference["state"] if scene.reference else scene.state, dtype=float)
+    ignore = model.swing_scuff == "ignore"
+    o = O.oracle(f"{model.name}/ignore_scuff" if ignore else model.name)
+    return scene, model, o, params, x0
+
+
+def _compare_runs(sol, r, worst, what):
+    """A C run (walker Solution with events) against an oracle run: status, the events
+    (guard, phase after, time, post-event state, impulse), final time and state."""
+    assert int(sol.status) == r.status, what
+    assert len(sol.events) == len(r.events), what
+    for i, (t, k, phase, x_post, impulse) in enumerate(r.events):
+        assert int(sol.events.guard[i]) == k and int(sol.events.phase_after[i]) == phase, what
+        worst.check("event times", sol.events.t[i], t, STRIDE_RTOL, what)
+        if x_post is None:  # the terminal event
+            continue
+        worst.check("event states", sol.events.x_post[i], x_post, STRIDE_RTOL, what)
+        worst.check("impulses", sol.events.impulse[i], impulse, STRIDE_RTOL, what)
+    worst.check("final time", sol.t, r.t, STRIDE_RTOL, what)
+    worst.check("final state", sol.x, r.x, STRIDE_RTOL, what)
+
+
+@pytest.mark.parametrize("key", list(STRIDE_SCENES))
+def test_stride_and_jacobian_agree_with_oracle(key):
+    """One stride from the scene's gait: every event, the final state and time (C
+    ``simulate`` with events) and the section point and step time (``StrideMap``) to
+    ``STRIDE_RTOL``; the C's exact stride-map Jacobian against central differences of
+    oracle strides to ``JACOBIAN_RTOL``."""
+    scene, model, o, params, x0 = _scene_setup(key)
+    p = params.as_array()
+    worst = Worst(key)
+    sol = simulate(model, params, x0, output="events", rtol=1e-12, atol=1e-12)
+    r = O.run(o, x0, p)
+    assert r.status == 0 and len(r.events) >= 1
+    _compare_runs(sol, r, worst, key)
+    stride_map = StrideMap(model, params, rtol=1e-12, atol=1e-12)
+    z = o.project(x0)
+    res = stride_map(z, jacobian=True)
+    z_o, t_o, _ = O.stride(o, z, p)
+    worst.check("section point", res.z, z_o, STRIDE_RTOL)
+    worst.check("step time", res.step_time, t_o, STRIDE_RTOL)
+    worst.check(
+        "Jacobian",
+        res.jac / np.abs(res.jac).max(),
+        O.stride_jacobian(o, z, p) / np.abs(res.jac).max(),
+        JACOBIAN_RTOL,
+    )
+    worst.report()
+
+
+@pytest.mark.parametrize(
+    "name", ["simplest_garcia", "compass_goswami", "kneed_hsu", "kneed_mcgeer_pointmass"]
+)
+def test_reference_gait_is_the_oracles_fixed_point(name):
+    """The scene's ``[reference]`` gait against the oracle's fixed point (one Newton step
+    from it with the oracle's finite-difference Jacobian) to ``FIXED_POINT_TOL``, and its
+    step time against the oracle's stride."""
+    scene, model, o, params, x0 = _scene_setup(name)
+    p = params.as_array()
+    z = o.project(x0)
+    z_next, t, _ = O.stride(o, z, p)
+    J = O.stride_jacobian(o, z, p)
+    z_fixed = z - np.linalg.solve(J - np.eye(len(z)), z_next - z)
+    worst = Worst(f"{name} fixed point")
+    worst.check("fixed point", z, z_fixed, FIXED_POINT_TOL)
+    worst.check("step time", scene.reference["step_time"], t, FIXED_POINT_TOL)
+    worst.report()
+
+
+@pytest.mark.parametrize("swing_scuff", ["trip", "ignore"])
+def test_roundfoot_mcgeer_failure_agrees_with_oracle(swing_scuff):
+    """McGeer's round-foot scene has no gait: from its guess the C run ends TRIPPED under
+    "trip" and FELL_FORWARD under "ignore" (gaits/kneed_mcgeer_roundfoot.toml); the oracle
+    ends the same way, at the same time and state, after the same events."""
+    scene = load_scene("gaits/kneed_mcgeer_roundfoot.toml")
+    model = get_model("kneed", swing_scuff=swing_scuff)
+    o = O.oracle("kneed/ignore_scuff" if swing_scuff == "ignore" else "kneed")
+    x0 = np.array(scene.state, dtype=float)
+    sol = simulate(model, scene.params, x0, output="events", rtol=1e-12, atol=1e-12, n_strides=3)
+    expected = Status.TRIPPED if swing_scuff == "trip" else Status.FELL_FORWARD
+    assert sol.status == expected
+    r = O.run(o, x0, scene.params.as_array(), n_strides=3, t_max=sol.t + 10.0)
+    worst = Worst(f"kneed_mcgeer_roundfoot {swing_scuff}")
+    _compare_runs(sol, r, worst, swing_scuff)
     worst.report()
