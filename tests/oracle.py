@@ -37,6 +37,7 @@ from scipy.integrate import solve_ivp
 
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
 from walker.symbolic import models as sym
+from walker.symbolic.mechanics import Body, derive
 
 FALL_ANGLE = math.radians(70.0)
 """A stance leg 70 degrees from the slope normal has fallen (docs/conventions.md)."""
@@ -398,6 +399,131 @@ class Kneed(_Walker):
         return x[[0, 3, 4]]
 
 
+# ------------------------------------------------------------------------ rimless wheel
+class RimlessWheel:
+    """The rimless wheel: ``x = (theta, theta_dot)``, ``p = (spokes, leg_length, g,
+    slope)``, energies and impulses per unit hub mass; phases rolling (0) and standing (1).
+
+    The stance dynamics are derived here (a point-mass hub on a massless spoke, with
+    :func:`walker.symbolic.mechanics.derive`; walker has no symbolic model of the wheel), the
+    impact on the floating hub (the new spoke's length held: ``J`` its unit vector)."""
+
+    n_x = 2
+    n_impulse = 2
+    directions = np.array([[-1, 1, -1, 1], [-1, 1, -1, 1]])
+
+    def __init__(self):
+        spokes, l, g, slope = sp.symbols("spokes leg_length g slope", real=True)
+        theta, theta_dot = sp.symbols("theta theta_dot", real=True)
+        s = sp.Matrix([sp.cos(slope), -sp.sin(slope)])
+        n = sp.Matrix([sp.sin(slope), sp.cos(slope)])
+        hub = l * (-sp.sin(theta) * s + sp.cos(theta) * n)
+        m = derive(
+            "rimless_wheel",
+            (theta,),
+            (theta_dot,),
+            [Body("hub", sp.S.One, hub)],
+            g,
+            (spokes, l, g, slope),
+            points={"hub": hub},
+        )
+        self.wheel = Lagrangian(m)
+
+    @staticmethod
+    def alpha(p):
+        return math.pi / p[0]
+
+    def rhs(self, phase, x, p):
+        if phase == 1:
+            return np.zeros(2)
+        return np.array([x[1], self.wheel.accel(x[:1], x[1:], p)[0]])
+
+    def jac(self, phase, x, p):
+        J = np.zeros((2, 2))
+        if phase == 0:
+            J[0, 1] = 1.0
+            J[1] = self.wheel.accel_jac(x[:1], x[1:], p)[0]
+        return J
+
+    def guards(self, phase, x, p):
+        if phase == 1:
+            return np.ones(4)
+        a, late = self.alpha(p), 2.0 * GUARD_TOL
+        return np.array([x[0] + a, x[0] - a, x[0] + a + late, x[0] - a - late])
+
+    def _hub_velocity(self, theta, theta_dot, p):
+        return self.wheel.point_jac["hub"](np.array([theta]), p)[:, 0] * theta_dot
+
+    def _strike(self, theta, theta_dot, new_theta, p):
+        """Plastic impact of the spoke at ``new_theta`` (its foot at the hub minus ``l
+        u(new_theta)``) on the hub moving about the old foot: ``(rate after about the new
+        foot, hub velocity change in the slope frame)``."""
+        s, n = slope_frame(p[3])
+        l = p[1]
+        v_minus = self._hub_velocity(theta, theta_dot, p)
+        u_new = -math.sin(new_theta) * s + math.cos(new_theta) * n  # new foot -> hub
+        v_plus, _ = solve_impact(np.eye(2), u_new[None, :], v_minus)
+        rate = (v_plus @ (-math.cos(new_theta) * s - math.sin(new_theta) * n)) / l
+        dv = v_plus - v_minus
+        return rate, np.array([dv @ s, dv @ n])
+
+    def _stop(self, x, p):
+        """The impulse ``v+ - v- = -v-`` that stops the hub."""
+        return -np.array([self._hub_velocity(x[0], x[1], p) @ v for v in slope_frame(p[3])])
+
+    def _at_rest(self, p):
+        return np.array([self.alpha(p), 0.0])
+
+    def reset(self, phase, k, x, p):
+        a, slope, g_l = self.alpha(p), p[3], p[2] / p[1]
+        if phase == 1:
+            return (EVENT_IGNORE, phase, 0), None, None
+        if k in (0, 2):  # the leading spoke strikes: it becomes the stance spoke
+            rate, impulse = self._strike(x[0], x[1], x[0] + 2 * a, p)
+            if p[0] > 4:  # cos(2 alpha) > 0: 5 spokes or more
+                return (EVENT_STRIDE, 0, 0), np.array([a, rate]), impulse
+            # 3 or 4 spokes: the old foot cannot leave the ground; the wheel stops
+            impulse = self._stop(x, p)
+            if slope <= -a:
+                return (EVENT_TERMINAL, phase, _FELL[False]), None, None
+            return (EVENT_STRIDE, 0 if slope >= a else 1, 0), self._at_rest(p), impulse
+        # the trailing spoke strikes: the wheel rolled back
+        if p[0] <= 4:  # 3 or 4 spokes: it stops on both feet, then falls, stands or tips on
+            if slope <= -a:
+                return (EVENT_TERMINAL, phase, _FELL[False]), None, None
+            return (EVENT_CONTINUE, int(slope < a), 0), self._at_rest(p), self._stop(x, p)
+        w, impulse = self._strike(x[0], x[1], x[0] - 2 * a, p)
+        if w * w >= 2 * g_l * (1 - math.cos(a + slope)) or slope <= -a:
+            return (EVENT_TERMINAL, phase, _FELL[False]), None, None
+        over = math.cos(2 * a) ** 2 * w * w >= 2 * g_l * (1 - math.cos(a - slope))
+        if not over and slope < a:  # it rocks to rest (not integrated): v+ = 0
+            return (EVENT_CONTINUE, 1, 0), self._at_rest(p), self._stop(x, p)
+        return (EVENT_CONTINUE, 0, 0), np.array([-a, w]), impulse
+
+    def energy(self, x, p):
+        return np.array([self.wheel.kinetic(x[:1], x[1:], p), self.wheel.potential(x[:1], p)])
+
+    def points(self, x, p):
+        """Stance foot, hub, leading foot, trailing foot."""
+        s, n = slope_frame(p[3])
+        hub = self.wheel.point["hub"](x[:1], p)
+        a = self.alpha(p)
+        feet = [
+            hub - p[1] * (-math.sin(x[0] + d) * s + math.cos(x[0] + d) * n) for d in (2 * a, -2 * a)
+        ]
+        return np.array([[0.0, 0.0], hub, *feet])
+
+    def start_phase(self, x, p):
+        a = self.alpha(p)
+        return int(x[1] == 0.0 and abs(x[0]) == a and abs(p[3]) < a)
+
+    def lift(self, z, p):
+        return np.array([self.alpha(p), z[0]])
+
+    def project(self, x):
+        return x[1:]
+
+
 @functools.cache
 def oracle(name):
     """The oracle of model ``name`` ("simplest", "compass", "kneed", "kneed/ignore_scuff")."""
@@ -405,6 +531,8 @@ def oracle(name):
         return Simplest()
     if name == "compass":
         return Compass()
+    if name == "rimless_wheel":
+        return RimlessWheel()
     if name in ("kneed", "kneed/ignore_scuff"):
         return Kneed(ignore_scuff=name.endswith("ignore_scuff"))
     raise ValueError(f"`name` must be a model the oracle knows, got {name!r}")

@@ -327,6 +327,7 @@ STRIDE_SCENES = {
     "compass_goswami": {},
     "kneed_hsu": {},
     "kneed_mcgeer_pointmass": {},  # swing_scuff = "ignore"
+    "rimless_wheel": {},
     # round feet, inertias, offsets and dampers from the scenes' gaits (one stride each)
     "compass_goswami round": {
         "foot_radius": 0.15,
@@ -406,7 +407,8 @@ def test_stride_and_jacobian_agree_with_oracle(key):
 
 
 @pytest.mark.parametrize(
-    "name", ["simplest_garcia", "compass_goswami", "kneed_hsu", "kneed_mcgeer_pointmass"]
+    "name",
+    ["simplest_garcia", "compass_goswami", "kneed_hsu", "kneed_mcgeer_pointmass", "rimless_wheel"],
 )
 def test_reference_gait_is_the_oracles_fixed_point(name):
     """The scene's ``[reference]`` gait against the oracle's fixed point (one Newton step
@@ -439,4 +441,83 @@ def test_roundfoot_mcgeer_failure_agrees_with_oracle(swing_scuff):
     r = O.run(o, x0, scene.params.as_array(), n_strides=3, t_max=sol.t + 10.0)
     worst = Worst(f"kneed_mcgeer_roundfoot {swing_scuff}")
     _compare_runs(sol, r, worst, swing_scuff)
+    worst.report()
+
+
+# --------------------------------------------------------------------------------------
+# The rimless wheel
+# --------------------------------------------------------------------------------------
+
+# (guard, action, next phase, status) the rolling wheel's reset must reach.
+REQUIRED_RIMLESS = (
+    {
+        (k, EVENT_STRIDE, phase, 0)
+        for k in (0, 2)
+        for phase in (0, 1)  # roll on, or stop
+    }
+    | {
+        (k, EVENT_CONTINUE, phase, 0)
+        for k in (1, 3)
+        for phase in (0, 1)  # back step, or rest
+    }
+    | {(k, EVENT_TERMINAL, 0, _FB) for k in range(4)}
+)
+
+
+def _rimless_sample(rng):
+    spokes = float(rng.choice([3, 4, 5, 6, 8, 10, 12]))
+    alpha = np.pi / spokes
+    p = np.array([spokes, rng.uniform(0.5, 2.0), rng.uniform(1.0, 12.0), 0.0])
+    p[3] = rng.uniform(-0.08, 0.12) if rng.random() < 0.6 else rng.uniform(-1.5, 1.5) * alpha
+    return p, alpha
+
+
+def test_rimless_wheel_agrees_with_oracle():
+    """Phase functions in both phases, energy, points and the start phase at 400 random
+    wheels and states, to ``KERNEL_RTOL``; the rolling wheel's reset on every branch (rolling
+    on, stopping on 3 or 4 spokes, tipping forward, stepping back, coming to rest, falling
+    back), outcomes equal, states and impulses to ``KERNEL_RTOL``."""
+    c, o = Compiled("rimless_wheel"), O.oracle("rimless_wheel")
+    rng = np.random.default_rng(20261128)
+    worst = Worst("rimless_wheel")
+    seen = set()
+    for _ in range(400):
+        p, alpha = _rimless_sample(rng)
+        x = np.array([rng.uniform(-alpha, alpha), rng.normal(0.0, 2.0)])
+        for phase in range(2):
+            worst.check("rhs", c.rhs(phase, x, p), o.rhs(phase, x, p), KERNEL_RTOL)
+            worst.check("jac", c.jac(phase, x, p), o.jac(phase, x, p), KERNEL_RTOL)
+            worst.check("guards", c.guards(phase, x, p), o.guards(phase, x, p), KERNEL_RTOL)
+        worst.check("energy", c.model.energy(x, p), o.energy(x, p), KERNEL_RTOL)
+        worst.check("points", c.model.points(x, p), o.points(x, p), KERNEL_RTOL)
+        for state in ([alpha, 0.0], [-alpha, 0.0], [alpha, 1e-3], x):
+            state = np.array(state)
+            assert c.model.start_phase(state, p) == o.start_phase(state, p), (state, p)
+        for k in range(4):
+            forward = k in (0, 2)
+            rate = abs(x[1]) * rng.choice([0.05, 0.3, 1.0])
+            state = np.array([-alpha, -rate] if forward else [alpha, rate])
+            out_o, x_o, imp_o = o.reset(0, k, state, p)
+            out_c, x_c, imp_c = c.reset(0, k, state, p)
+            assert out_c == out_o, (k, state, p)
+            if x_o is not None:
+                worst.check("reset state", x_c, x_o, KERNEL_RTOL)
+                worst.check("impulse", imp_c, imp_o, KERNEL_RTOL)
+            seen.add((k, *out_o))
+    missing = REQUIRED_RIMLESS - seen
+    assert not missing, f"rimless_wheel: branches not reached {sorted(missing)}"
+    worst.report()
+
+
+def test_rimless_wheel_below_the_critical_slope_comes_to_rest_like_the_oracle():
+    """Below the critical slope the wheel rolls back and comes to rest standing: the C run
+    and the oracle's take the same events and end ``NO_EVENT`` at ``t_max`` in phase 1."""
+    scene = load_scene("gaits/rimless_wheel.toml")
+    params = scene.params.replace(slope=0.03)
+    x0 = np.array([np.pi / 8, -0.4])
+    sol = simulate("rimless_wheel", params, x0, output="events", rtol=1e-12, atol=1e-12, t_max=6.0)
+    r = O.run(O.oracle("rimless_wheel"), x0, params.as_array(), t_max=6.0)
+    assert sol.status == Status.NO_EVENT and r.phase == 1
+    worst = Worst("rimless_wheel at rest")
+    _compare_runs(sol, r, worst, "rimless_wheel at rest")
     worst.report()
