@@ -29,6 +29,7 @@ largest magnitude of the quantity compared, or 1 if that is smaller):
 from __future__ import annotations
 
 import ctypes
+import functools
 
 import numpy as np
 import oracle as O
@@ -138,12 +139,18 @@ OPTIONAL = {
 }
 
 
+@functools.cache
+def _scene_vectors(name):
+    """The scene's parameter vector and start state."""
+    scene = load_scene(SCENE_OF[name])
+    return scene.params.as_array(), np.array(scene.state, dtype=float)
+
+
 def sample_params(name, rng, plain):
     """The scene's parameters, each positive one scaled by U(0.8, 1.2), the slope drawn in
     (-0.1, 0.1), the optional ones zero (``plain``, or at random) or drawn."""
-    scene = load_scene(SCENE_OF[name])
     names = get_model(name).params_class.names()
-    p = scene.params.as_array().copy()
+    p = _scene_vectors(name)[0].copy()
     p[p > 0] *= rng.uniform(0.8, 1.2, int((p > 0).sum()))
     p[names.index("slope")] = rng.uniform(-0.1, 0.1)
     leg = O.oracle(name).leg_length(p) if name != "simplest" else 1.0
@@ -155,7 +162,7 @@ def sample_params(name, rng, plain):
 
 
 def sample_state(name, rng):
-    x = np.array(load_scene(SCENE_OF[name]).state, dtype=float)
+    x = _scene_vectors(name)[1].copy()
     n = len(x) // 2
     x[:n] += rng.normal(0.0, 0.3, n)
     x[n:] += rng.normal(0.0, 1.0, n)
