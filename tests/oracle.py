@@ -533,6 +533,10 @@ def oracle(name):
         return Compass()
     if name == "rimless_wheel":
         return RimlessWheel()
+    if name == "double_pendulum":
+        import oracle_friction
+
+        return oracle_friction.DoublePendulum()
     if name in ("kneed", "kneed/ignore_scuff"):
         return Kneed(ignore_scuff=name.endswith("ignore_scuff"))
     raise ValueError(f"`name` must be a model the oracle knows, got {name!r}")
@@ -560,7 +564,7 @@ def _armed(model, phase, x, p):
 
 def run(model, x0, p, *, phase=0, n_strides=1, t_max=20.0, rtol=1e-12, atol=1e-12):
     """Integrate ``model`` from ``x0`` until ``n_strides`` strides, a terminal event or
-    ``t_max`` (status ``NO_EVENT``)."""
+    ``t_max`` (status ``NO_EVENT``; ``n_strides = 0``: integrate to ``t_max``, status 0)."""
     t, x = 0.0, np.array(x0, dtype=float)
     armed = _armed(model, phase, x, p)
     strides = 0
@@ -590,8 +594,9 @@ def run(model, x0, p, *, phase=0, n_strides=1, t_max=20.0, rtol=1e-12, atol=1e-1
             events=fns,
         )
         t, x = float(sol.t[-1]), sol.y[:, -1].copy()
-        if sol.status != 1:
-            return Run(int(Status.NO_EVENT) if sol.status == 0 else -1, t, x, phase, events)
+        if sol.status != 1:  # t_max: the end of a run without strides, else NO_EVENT
+            status = (0 if n_strides == 0 else int(Status.NO_EVENT)) if sol.status == 0 else -1
+            return Run(status, t, x, phase, events)
         hits = [(te[0], k) for te, k in zip(sol.t_events, which, strict=True) if len(te)]
         _, k = min(hits)
         if not armed[k]:
