@@ -533,10 +533,14 @@ def oracle(name):
         return Compass()
     if name == "rimless_wheel":
         return RimlessWheel()
-    if name == "double_pendulum":
+    if name in ("double_pendulum", "compass_coulomb", "kneed_coulomb"):
         import oracle_friction
 
-        return oracle_friction.DoublePendulum()
+        return {
+            "double_pendulum": oracle_friction.DoublePendulum,
+            "compass_coulomb": oracle_friction.CompassCoulomb,
+            "kneed_coulomb": oracle_friction.KneedCoulomb,
+        }[name]()
     if name in ("kneed", "kneed/ignore_scuff"):
         return Kneed(ignore_scuff=name.endswith("ignore_scuff"))
     raise ValueError(f"`name` must be a model the oracle knows, got {name!r}")
@@ -619,8 +623,12 @@ def run(model, x0, p, *, phase=0, n_strides=1, t_max=20.0, rtol=1e-12, atol=1e-1
 
 
 def stride(model, z, p, **kw):
-    """The stride map on the section: ``(z_next, step_time, run)``."""
-    r = run(model, model.lift(np.asarray(z, dtype=float), p), p, **kw)
+    """The stride map on the section: ``(z_next, step_time, run)``; the run starts in the
+    phase consistent with the lifted state (``start_phase``) when the model has one."""
+    x0 = model.lift(np.asarray(z, dtype=float), p)
+    if hasattr(model, "start_phase"):
+        kw = {"phase": model.start_phase(x0, p), **kw}
+    r = run(model, x0, p, **kw)
     return model.project(r.x), r.t, r
 
 

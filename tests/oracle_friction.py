@@ -166,7 +166,9 @@ class FrictionLayer:
     def _accel(self, phase, x, p):
         base, modes = self.split(phase)
         q, qd, lag, D, f, pb = self._forces(base, x, p)
-        return accelerations(D, f, self.joint_rows(base), self.F(p), modes)
+        return accelerations(
+            D, f, self.joint_rows(base), self.F(p)[: len(self.joint_rows(base))], modes
+        )
 
     def friction_rhs(self, phase, x, p):
         base, _ = self.split(phase)
@@ -177,7 +179,9 @@ class FrictionLayer:
     def friction_jac(self, phase, x, p):
         base, modes = self.split(phase)
         q, qd, lag, D, f, pb = self._forces(base, x, p)
-        qdd, _ = accelerations(D, f, self.joint_rows(base), self.F(p), modes)
+        qdd, _ = accelerations(
+            D, f, self.joint_rows(base), self.F(p)[: len(self.joint_rows(base))], modes
+        )
         dD = [d(q, pb) for d in lag.dmass]
         a = accelerations_jacobian(
             D,
@@ -194,7 +198,9 @@ class FrictionLayer:
         base, modes = self.split(phase)
         q, qd, *_ = self._forces(base, x, p)
         _, lam = self._accel(phase, x, p)
-        g = friction_guards(self.joint_rows(base), self.F(p), modes, qd, lam)
+        g = friction_guards(
+            self.joint_rows(base), self.F(p)[: len(self.joint_rows(base))], modes, qd, lam
+        )
         missing = 2 * (len(self.joint_rows(0)) - len(modes))
         return np.concatenate([g, np.ones(missing)])
 
@@ -204,7 +210,9 @@ class FrictionLayer:
         S = self.joint_rows(base)
         q, qd, lag, D, f, pb = self._forces(base, x, p)
         free = range(len(S)) if free is None else free
-        ok, modes = choose_modes(D, f, S, self.F(p), qd, free, modes or [0] * len(S))
+        ok, modes = choose_modes(
+            D, f, S, self.F(p)[: len(self.joint_rows(base))], qd, free, modes or [0] * len(S)
+        )
         if not ok:
             return None
         qd_new = project_stuck(D, S, modes, qd)
@@ -216,7 +224,9 @@ class FrictionLayer:
         base = 0
         S = self.joint_rows(base)
         q, qd, lag, D, f, pb = self._forces(base, x, p)
-        _, modes = choose_modes(D, f, S, self.F(p), qd, range(len(S)), [0] * len(S))
+        _, modes = choose_modes(
+            D, f, S, self.F(p)[: len(self.joint_rows(base))], qd, range(len(S)), [0] * len(S)
+        )
         return self.phase_of(base, modes)
 
     def switch(self, phase, event, x, p):
@@ -227,7 +237,7 @@ class FrictionLayer:
         j, breaks = event // 2, event % 2 == 1
         q, qd, lag, D, f, pb = self._forces(base, x, p)
         if breaks:
-            solved = accelerations(D, f, S, self.F(p), modes)
+            solved = accelerations(D, f, S, self.F(p)[: len(self.joint_rows(base))], modes)
             if solved is None:
                 return (EVENT_TERMINAL, phase, _SINGULAR), None, None
             modes = list(modes)
@@ -278,7 +288,7 @@ class DoublePendulum(FrictionLayer):
         return x[:2], x[2:], self.lag
 
     def F(self, p):
-        return p[11:13]
+        return p[11:13]  # coulomb_1, coulomb_2
 
     def expand(self, base, qd, qdd):
         return np.concatenate([qd, qdd])
@@ -304,3 +314,145 @@ class DoublePendulum(FrictionLayer):
 
     def points(self, x, p):
         return np.array([[0.0, 0.0], *(self.lag.point[k](x[:2], p) for k in ("elbow", "tip"))])
+
+
+# ---------------------------------------------------------------------- walkers with friction
+class CompassCoulomb(FrictionLayer):
+    """The compass gait with dry friction at the stance ankle (``w = qd_stance``) and the
+    hip (``w = qd_swing - qd_stance``); ``p``: the compass gait's, ``coulomb_ankle``,
+    ``coulomb_hip``."""
+
+    n_x = 4
+    n_impulse = 2
+    n_base_params = 10
+    n_base_guards = 3
+
+    def __init__(self):
+        self.walker = O.oracle("compass")
+        self.directions = np.array(
+            [list(self.walker.directions[0]) + friction_directions(c, 2) for c in range(9)]
+        )
+
+    def joint_rows(self, base):
+        return np.array([[1.0, 0.0], [-1.0, 1.0]])
+
+    def dynamics(self, base, x, p):
+        return x[:2], x[2:], self.walker.pinned
+
+    def F(self, p):
+        return p[10:12]
+
+    def expand(self, base, qd, qdd):
+        return np.concatenate([qd, qdd])
+
+    def expand_jac(self, base, a):
+        J = np.zeros((4, 4))
+        J[0, 2] = J[1, 3] = 1.0
+        J[2:] = a
+        return J
+
+    def with_rates(self, base, x, qd):
+        return np.concatenate([x[:2], qd])
+
+    rhs = FrictionLayer.friction_rhs
+    jac = FrictionLayer.friction_jac
+
+    def guards(self, phase, x, p):
+        base = self.walker.guards(0, x, p[:10])
+        return np.concatenate([base, self.friction_guards(phase, x, p)])
+
+    def reset(self, phase, k, x, p):
+        if k >= self.n_base_guards:
+            return self.switch(phase, k - self.n_base_guards, x, p)
+        return self.after_base_event(phase, *self.walker.reset(0, k, x, p[:10]), p)
+
+    def energy(self, x, p):
+        return self.walker.energy(x, p[:10])
+
+    def points(self, x, p):
+        return self.walker.points(x, p[:10])
+
+    def lift(self, z, p):
+        return self.walker.lift(z, p[:10])
+
+    def project(self, x):
+        return self.walker.project(x)
+
+
+class KneedCoulomb(FrictionLayer):
+    """The kneed walker with dry friction at the stance ankle (``qd1``), the hip (``qd2 -
+    qd1``) and, while unlocked, the swing knee (``qd3 - qd2``); phases 0..26 unlocked,
+    27..35 locked (the knee is no joint then)."""
+
+    n_x = 6
+    n_impulse = 2
+    n_base_params = 17
+    n_base_guards = 4
+
+    def __init__(self):
+        self.walker = O.oracle("kneed")
+        d = self.walker.directions
+        self.directions = np.array(
+            [list(d[0]) + friction_directions(c, 3) for c in range(27)]
+            + [list(d[1]) + friction_directions(c, 2) + [-1, 1] for c in range(9)]
+        )
+
+    def joint_rows(self, base):
+        if base == 0:
+            return np.array([[1.0, 0.0, 0.0], [-1.0, 1.0, 0.0], [0.0, -1.0, 1.0]])
+        return np.array([[1.0, 0.0], [-1.0, 1.0]])
+
+    def dynamics(self, base, x, p):
+        if base == 0:
+            return x[:3], x[3:], self.walker.pinned
+        return x[:2], x[3:5], self.walker.locked
+
+    def F(self, p):
+        return p[17:20]
+
+    def expand(self, base, qd, qdd):
+        if base == 0:
+            return np.concatenate([qd, qdd])
+        return np.array([qd[0], qd[1], qd[1], qdd[0], qdd[1], qdd[1]])
+
+    def expand_jac(self, base, a):
+        J = np.zeros((6, 6))
+        if base == 0:
+            J[0, 3] = J[1, 4] = J[2, 5] = 1.0
+            J[3:] = a
+            return J
+        J[0, 3] = J[1, 4] = J[2, 4] = 1.0
+        J[3:5][:, [0, 1, 3, 4]] = a
+        J[5] = J[4]
+        return J
+
+    def with_rates(self, base, x, qd):
+        if base == 0:
+            return np.concatenate([x[:3], qd])
+        return np.array([x[0], x[1], x[2], qd[0], qd[1], qd[1]])
+
+    rhs = FrictionLayer.friction_rhs
+    jac = FrictionLayer.friction_jac
+
+    def guards(self, phase, x, p):
+        base, _ = self.split(phase)
+        g = self.walker.guards(base, x, p[:17])
+        return np.concatenate([g, self.friction_guards(phase, x, p)])
+
+    def reset(self, phase, k, x, p):
+        if k >= self.n_base_guards:
+            return self.switch(phase, k - self.n_base_guards, x, p)
+        base, _ = self.split(phase)
+        return self.after_base_event(phase, *self.walker.reset(base, k, x, p[:17]), p)
+
+    def energy(self, x, p):
+        return self.walker.energy(x, p[:17])
+
+    def points(self, x, p):
+        return self.walker.points(x, p[:17])
+
+    def lift(self, z, p):
+        return self.walker.lift(z, p[:17])
+
+    def project(self, x):
+        return self.walker.project(x)

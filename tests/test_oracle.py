@@ -369,7 +369,7 @@ def _scene_setup(key):
     return scene, model, o, params, x0
 
 
-def _compare_runs(sol, r, worst, what):
+def compare_runs(sol, r, worst, what):
     """A C run (walker Solution with events) against an oracle run: status, the events
     (guard, phase after, time, post-event state, impulse), final time and state."""
     assert int(sol.status) == r.status, what
@@ -397,7 +397,7 @@ def test_stride_and_jacobian_agree_with_oracle(key):
     sol = simulate(model, params, x0, output="events", rtol=1e-12, atol=1e-12)
     r = O.run(o, x0, p)
     assert r.status == 0 and len(r.events) >= 1
-    _compare_runs(sol, r, worst, key)
+    compare_runs(sol, r, worst, key)
     stride_map = StrideMap(model, params, rtol=1e-12, atol=1e-12)
     z = o.project(x0)
     res = stride_map(z, jacobian=True)
@@ -447,7 +447,7 @@ def test_roundfoot_mcgeer_failure_agrees_with_oracle(swing_scuff):
     assert sol.status == expected
     r = O.run(o, x0, scene.params.as_array(), n_strides=3, t_max=sol.t + 10.0)
     worst = Worst(f"kneed_mcgeer_roundfoot {swing_scuff}")
-    _compare_runs(sol, r, worst, swing_scuff)
+    compare_runs(sol, r, worst, swing_scuff)
     worst.report()
 
 
@@ -526,5 +526,5 @@ def test_rimless_wheel_below_the_critical_slope_comes_to_rest_like_the_oracle():
     r = O.run(O.oracle("rimless_wheel"), x0, params.as_array(), t_max=6.0)
     assert sol.status == Status.NO_EVENT and r.phase == 1
     worst = Worst("rimless_wheel at rest")
-    _compare_runs(sol, r, worst, "rimless_wheel at rest")
+    compare_runs(sol, r, worst, "rimless_wheel at rest")
     worst.report()
