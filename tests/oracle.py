@@ -531,6 +531,12 @@ def oracle(name):
         return Simplest()
     if name == "compass":
         return Compass()
+    if name == "three_link":
+        import oracle_actuated
+
+        from walker.params import MODELS
+
+        return oracle_actuated.ThreeLink(MODELS["three_link"].params_class.names())
     if name == "rimless_wheel":
         return RimlessWheel()
     if name in ("double_pendulum", "compass_coulomb", "kneed_coulomb"):
