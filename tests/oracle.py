@@ -531,12 +531,13 @@ def oracle(name):
         return Simplest()
     if name == "compass":
         return Compass()
-    if name == "three_link":
+    if name in ("three_link", "five_link"):
         import oracle_actuated
 
         from walker.params import MODELS
 
-        return oracle_actuated.ThreeLink(MODELS["three_link"].params_class.names())
+        cls = oracle_actuated.ThreeLink if name == "three_link" else oracle_actuated.FiveLink
+        return cls(MODELS[name].params_class.names())
     if name == "rimless_wheel":
         return RimlessWheel()
     if name in ("double_pendulum", "compass_coulomb", "kneed_coulomb"):

@@ -183,3 +183,144 @@ def test_grizzle_stride_jacobian_and_gait_agree_with_oracle():
     worst.check("fixed point", z, z_fixed, FIXED_POINT_TOL)
     worst.check("step time", scene.reference["step_time"], t_o, FIXED_POINT_TOL)
     worst.report()
+
+
+# --------------------------------------------------------------------------------------
+# The five-link walker (its derivation and lambdification take about 4 s: slow tier)
+# --------------------------------------------------------------------------------------
+
+FIVE_NAMES = get_model("five_link").params_class.names()
+
+
+@functools.cache
+def _five_scene():
+    scene = load_scene("gaits/five_link_hzd.toml")
+    return scene, scene.params.as_array(), np.array(scene.reference["state"], dtype=float)
+
+
+def _five_sample(rng):
+    """A state near the HZD gait and parameters near the scene's (as :func:`_sample`)."""
+    _, p0, x0 = _five_scene()
+    p = p0.copy()
+    p[:13] *= rng.uniform(0.8, 1.2, 13)
+    p[FIVE_NAMES.index("slope")] = rng.uniform(-0.1, 0.1)
+    p[FIVE_NAMES.index("controller")] = rng.choice([0.0, 1.0, 2.0])
+    p[FIVE_NAMES.index("torque_limit")] = rng.choice([1000.0, 40.0])
+    for k in ("damping_hip", "damping_knee"):
+        p[FIVE_NAMES.index(k)] = rng.uniform(0.0, 2.0) * (rng.random() < 0.5)
+    for k in ("coulomb_hip", "coulomb_knee"):
+        p[FIVE_NAMES.index(k)] = rng.uniform(0.0, 20.0) * (rng.random() < 0.5)
+    x = x0.copy()
+    x[:5] += rng.normal(0.0, 0.1, 5)
+    x[5:10] += rng.normal(0.0, 0.5, 5)
+    x[10:] = rng.uniform(0.0, 1.0, 2)
+    S = O.oracle("five_link").joint_rows(0)
+    for j in range(4):
+        if rng.random() < 0.3:  # joint j at rest
+            x[5:10] -= S[j] * (S[j] @ x[5:10]) / (S[j] @ S[j])
+    return x, p
+
+
+@pytest.mark.slow
+def test_five_link_phase_functions_agree_with_oracle():
+    """rhs, guards, energy, points and the start phase at 12 samples in 8 random phases
+    each (of 81) to ``KERNEL_RTOL``; the finite-difference Jacobian to ``FD_JAC_RTOL``."""
+    c, o = Compiled("five_link"), O.oracle("five_link")
+    rng = np.random.default_rng(20261128)
+    worst = Worst("five_link")
+    for _ in range(12):
+        x, p = _five_sample(rng)
+        assert c.model.start_phase(x, p) == o.start_phase(x, p), (x.tolist(), p.tolist())
+        for phase in rng.choice(81, 8, replace=False):
+            where = f"phase {phase} x {x.tolist()} p {p.tolist()}"
+            worst.check("rhs", c.rhs(phase, x, p), o.rhs(phase, x, p), KERNEL_RTOL, where)
+            worst.check("guards", c.guards(phase, x, p), o.guards(phase, x, p), KERNEL_RTOL, where)
+            J_c, J_o = c.jac(phase, x, p), o.jac(phase, x, p)
+            scale = max(1.0, np.abs(J_o).max())
+            worst.check("jac", J_c / scale, J_o / scale, FD_JAC_RTOL, where)
+        worst.check("energy", c.model.energy(x, p), o.energy(x, p), KERNEL_RTOL)
+        worst.check("points", c.model.points(x, p), o.points(x, p), KERNEL_RTOL)
+    worst.report()
+
+
+@pytest.mark.slow
+def test_five_link_reset_agrees_with_oracle_on_every_branch():
+    """Heel strike at 60 touchdowns ahead (the gait's configuration with the legs swapped,
+    random rates and friction coefficients: strides and nonphysical impacts) and behind
+    (trips), the falls, hip down, the force guards, and every joint's friction events:
+    equal outcomes, states and impulses to ``KERNEL_RTOL``."""
+    c, o = Compiled("five_link"), O.oracle("five_link")
+    rng = np.random.default_rng(7)
+    worst = Worst("five_link reset")
+    seen = set()
+    cases = []
+    for _ in range(60):
+        x, p = _five_sample(rng)
+        p[FIVE_NAMES.index("friction")] = rng.choice([0.8, 0.1, 0.02])
+        try:
+            after = o.lift(o.project(x), p)  # the swing foot on the slope behind
+        except ValueError:  # the swing foot cannot reach the slope
+            continue
+        before = after.copy()
+        before[:5] = o.swap(after[:5])  # the swing foot on the slope ahead
+        for state in (before, after):
+            phase = o.start_phase(state, p)
+            cases += [(phase, k, state, p) for k in range(7)]
+        phase = o.start_phase(x, p)
+        _, modes = o.split(phase)
+        for j, mode in enumerate(modes):
+            F = o.F(p)[j]
+            if mode == OF.STICK:
+                cases.append((phase, 7 + 2 * j + 1, x, p))
+            elif F > 0.0:
+                row = o.joint_rows(0)[j]
+                x_j = x.copy()
+                x_j[5:10] -= row * (row @ x_j[5:10]) / (row @ row)
+                cases.append((phase, 7 + 2 * j, x_j, p))
+    for phase, k, x, p in cases:
+        out_o, x_o, imp_o = o.reset(phase, k, x, p)
+        out_c, x_c, imp_c = c.reset(phase, k, x, p)
+        where = f"phase {phase} guard {k} x {x.tolist()} p {p.tolist()}"
+        assert out_c == out_o, where
+        if out_o[0] in (EVENT_STRIDE, EVENT_CONTINUE):
+            worst.check("state", x_c, x_o, KERNEL_RTOL, where)
+            worst.check("impulse", imp_c, imp_o, KERNEL_RTOL, where)
+        seen.add((k, out_o[0], out_o[2]))
+    required = {
+        (0, EVENT_STRIDE, 0),
+        (0, EVENT_TERMINAL, _NONPHYS),
+        (0, EVENT_TERMINAL, int(Status.TRIPPED)),
+        (1, EVENT_TERMINAL, int(Status.FELL_FORWARD)),
+        (2, EVENT_TERMINAL, int(Status.FELL_BACKWARD)),
+        (6, EVENT_TERMINAL, int(Status.FELL_BACKWARD)),
+        *((k, EVENT_TERMINAL, _NONPHYS) for k in (3, 4, 5)),
+        *((k, EVENT_CONTINUE, 0) for k in range(7, 15)),
+    }
+    missing = required - seen
+    assert not missing, f"five_link: branches not reached {sorted(missing)}"
+    worst.report()
+
+
+@pytest.mark.slow
+def test_five_link_stride_jacobian_and_gait_agree_with_oracle():
+    """One stride of the HZD gait (controller 2): events, final state, section point to
+    ``STRIDE_RTOL``; the exact stride-map Jacobian (its vector-field Jacobian by central
+    differences) against oracle central differences to ``JACOBIAN_RTOL``; the scene's gait
+    against the oracle's fixed point to ``FIXED_POINT_TOL``."""
+    scene, p, x0 = _five_scene()
+    o = O.oracle("five_link")
+    worst = Worst("five_link_hzd")
+    sol = simulate("five_link", scene.params, x0, output="events", rtol=1e-12, atol=1e-12)
+    r = O.run(o, x0, p, phase=o.start_phase(x0, p))
+    compare_runs(sol, r, worst, "five_link_hzd")
+    z = o.project(x0)
+    res = StrideMap("five_link", scene.params, rtol=1e-12, atol=1e-12)(z, jacobian=True)
+    z_o, t_o, _ = O.stride(o, z, p)
+    worst.check("section point", res.z, z_o, STRIDE_RTOL)
+    J = O.stride_jacobian(o, z, p)
+    scale = np.abs(res.jac).max()
+    worst.check("Jacobian", res.jac / scale, J / scale, JACOBIAN_RTOL)
+    z_fixed = z - np.linalg.solve(J - np.eye(len(z)), z_o - z)
+    worst.check("fixed point", z, z_fixed, FIXED_POINT_TOL)
+    worst.check("step time", scene.reference["step_time"], t_o, FIXED_POINT_TOL)
+    worst.report()
