@@ -19,8 +19,9 @@ knee).  The Bezier
 polynomials are evaluated in the power basis (``numpy.polynomial``), the ground reaction is
 the rate of the total momentum plus the weight, and the Jacobian of the vector field is
 taken by central differences of this oracle's own vector field (the C's is too, with the
-same relative step ``1e-6``).  The finite-time controller (``controller = 3``, compiled C
-only) is not in the oracle.
+same relative step ``1e-6``).  The finite-time controller (``controller = 3``) is written
+from its description in :class:`walker.params.ThreeLinkParams` (``ft_alpha``,
+``ft_epsilon``, ``poly_*``).
 """
 
 from __future__ import annotations
@@ -96,6 +97,33 @@ class ActuatedWalker(OF.FrictionLayer):
         return x
 
     # --- the controller
+    def _outputs(self, q, qd, p):
+        """``(y, yd, H = dy/dq, c = ydd - H qdd)`` of the outputs ``y = q[1:] - b(q[0])``:
+        Bezier polynomials in the normalized phase (controllers 1, 2), or plain polynomials
+        in the stance angle (controller 3, ``poly_*`` coefficients)."""
+        k = self.n_q - 1
+        if self._p(p, "controller") == 3.0:
+            i0, width, scale, theta0 = self.names.index("poly_swing_0"), 6, 1.0, 0.0
+            polys = [p[i0 + width * i : i0 + width * (i + 1)] for i in range(k)]
+        else:
+            theta_plus, theta_minus = self._p(p, "theta_plus"), self._p(p, "theta_minus")
+            i0, scale, theta0 = (
+                self.names.index(self.bezier),
+                1.0 / (theta_minus - theta_plus),
+                theta_plus,
+            )
+            polys = [bezier_power(p[i0 + 5 * i : i0 + 5 * i + 5]) for i in range(k)]
+        s = (q[0] - theta0) * scale
+        y, yd, H, c = np.zeros(k), np.zeros(k), np.zeros((k, self.n_q)), np.zeros(k)
+        for i, b in enumerate(polys):
+            b1, b2 = P.polyder(b), P.polyder(b, 2)
+            y[i] = q[1 + i] - P.polyval(s, b)
+            yd[i] = qd[1 + i] - P.polyval(s, b1) * scale * qd[0]
+            H[i, 0] = -P.polyval(s, b1) * scale
+            H[i, 1 + i] = 1.0
+            c[i] = -P.polyval(s, b2) * scale**2 * qd[0] ** 2
+        return y, yd, H, c
+
     def torque(self, q, qd, D, h, p):
         """``(u, saturated)``."""
         mode = self._p(p, "controller")
@@ -103,28 +131,22 @@ class ActuatedWalker(OF.FrictionLayer):
         if mode == 0.0:
             u = np.zeros(self.B.shape[1])
         else:
-            theta_plus, theta_minus = self._p(p, "theta_plus"), self._p(p, "theta_minus")
-            ds = 1.0 / (theta_minus - theta_plus)
-            s = (q[0] - theta_plus) * ds
-            i0 = self.names.index(self.bezier)
-            k = self.n_q - 1
-            y, yd, H, c = np.zeros(k), np.zeros(k), np.zeros((k, self.n_q)), np.zeros(k)
-            for i in range(k):
-                b = bezier_power(p[i0 + 5 * i : i0 + 5 * i + 5])
-                b1, b2 = P.polyder(b), P.polyder(b, 2)
-                y[i] = q[1 + i] - P.polyval(s, b)
-                yd[i] = qd[1 + i] - P.polyval(s, b1) * ds * qd[0]
-                H[i, 0] = -P.polyval(s, b1) * ds
-                H[i, 1 + i] = 1.0
-                c[i] = -P.polyval(s, b2) * ds**2 * qd[0] ** 2
-            v = -self._p(p, "kp") * y - self._p(p, "kd") * yd
+            y, yd, H, c = self._outputs(q, qd, p)
+            if mode == 3.0:  # Bhat and Bernstein's finite-time controller
+                alpha, eps = self._p(p, "ft_alpha"), self._p(p, "ft_epsilon")
+
+                def sig(v, e):
+                    return np.sign(v) * np.abs(v) ** e
+
+                phi = y + sig(eps * yd, 2.0 - alpha) / (2.0 - alpha)
+                v = (-sig(eps * yd, alpha) - sig(phi, alpha / (2.0 - alpha))) / eps**2
+            else:
+                v = -self._p(p, "kp") * y - self._p(p, "kd") * yd
             if mode == 1.0:
                 u = np.linalg.solve(self.B[1:], v)
-            elif mode == 2.0:
+            else:  # input-output linearization
                 Dinv_B, Dinv_h = np.linalg.solve(D, self.B), np.linalg.solve(D, h)
                 u = np.linalg.solve(H @ Dinv_B, v + H @ Dinv_h - c)
-            else:
-                raise ValueError("the oracle has controllers 0, 1 and 2 only")
         saturated = bool((np.abs(u) > limit).any())
         return np.clip(u, -limit, limit), saturated
 
