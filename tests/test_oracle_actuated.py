@@ -8,8 +8,8 @@ Tolerances as in ``tests/test_oracle.py`` except the vector field's Jacobian: th
 it by central differences (relative step 1e-6), the oracle too, of its own vector field, so
 the two differ by the round-off of the vector fields over the step (``FD_JAC_RTOL`` = 1e-7
 of the largest entry; up to 6e-9 seen, with the finite-time controller, whose
-``sgn(y) |y|^alpha`` steepens near ``y = 0``).  The five-link walker's derivation and its strides are slow (slow
-tier), as are the three-link strides.
+``sgn(y) |y|^alpha`` steepens near ``y = 0``).  The five-link walker's derivation and its
+strides are slow (slow tier), as are the three-link strides.
 """
 
 from __future__ import annotations
