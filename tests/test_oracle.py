@@ -48,6 +48,7 @@ FIXED_POINT_TOL = 1e-9
 _vp, _i64, _f64 = ctypes.c_void_p, ctypes.c_int64, ctypes.c_double
 _RHS = ctypes.CFUNCTYPE(None, _i64, _f64, _vp, _vp, _vp, _vp)
 _RESET = ctypes.CFUNCTYPE(None, _i64, _i64, _f64, _vp, _vp, _vp, _vp, _vp, _vp)
+_RHS_JAC = ctypes.CFUNCTYPE(None, _i64, _f64, _vp, _vp, _vp, _vp, _vp)
 
 
 class Compiled:
@@ -61,6 +62,15 @@ class Compiled:
         fns = _hybrid.models()[entry]
         self._rhs, self._jac, self._guards = (_RHS(fns[k]) for k in ("rhs", "jac", "guards"))
         self._reset = _RESET(fns["reset"])
+        self._rhs_jac = _RHS_JAC(fns["rhs_jac"]) if fns["rhs_jac"] else None
+        self.rhs_jac = self._fused if fns["rhs_jac"] else None
+
+    def _fused(self, phase, x, p):
+        dx = np.full(self.n_x, np.nan)
+        J = np.full((self.n_x, self.n_x), np.nan)
+        args = (x, p, dx, J)
+        self._rhs_jac(phase, 0.3, *(a.ctypes.data for a in args), None)
+        return dx, J
 
     def _call(self, fn, shape, phase, x, p):
         out = np.full(shape, np.nan)
@@ -192,7 +202,9 @@ def _oracle_of(entry):
 @pytest.mark.parametrize("entry", ENTRIES)
 def test_phase_functions_agree_with_oracle(entry):
     """rhs, Jacobian, the guards active in each phase (nonzero direction), energy and points
-    at 100 states near the scene's, to ``KERNEL_RTOL``."""
+    at 100 states near the scene's, to ``KERNEL_RTOL``; a "/plain" entry's fused rhs and
+    Jacobian (``rhs_jac``) too, and a compiled section lift (the simplest walker's) with its
+    Jacobian (against central differences of the oracle's lift, to 1e-8)."""
     name = entry.split("/")[0]
     c, o = Compiled(entry), _oracle_of(entry)
     rng = np.random.default_rng(20261128)
@@ -209,10 +221,33 @@ def test_phase_functions_agree_with_oracle(entry):
             worst.check("jac", c.jac(phase, x, p), o.jac(phase, x, p), KERNEL_RTOL, where)
             g_c, g_o = c.guards(phase, x, p)[active], o.guards(phase, x, p)[active]
             worst.check("guards", g_c, g_o, KERNEL_RTOL, where)
+        if c.rhs_jac is not None:  # a "/plain" entry's fused rhs and Jacobian
+            for phase in range(len(o.directions)):
+                dx, J = c.rhs_jac(phase, x, p)
+                worst.check("fused rhs", dx, o.rhs(phase, x, p), KERNEL_RTOL)
+                worst.check("fused jac", J, o.jac(phase, x, p), KERNEL_RTOL)
         if "/" not in entry:  # energy and points: the general entry's helpers
             worst.check("energy", c.model.energy(x, p), o.energy(x, p), KERNEL_RTOL)
             worst.check("points", c.model.points(x, p), o.points(x, p), KERNEL_RTOL)
+        lift = _hybrid.models()[entry]["lift"]
+        if lift:  # a compiled section lift and its Jacobian (the simplest walker's)
+            z = o.project(x)
+            got = _hybrid.call_state_fn(lift, z, p, o.n_x)
+            worst.check("lift", got, o.lift(z, p), KERNEL_RTOL)
+            jac_address = _hybrid.models()[entry]["lift_jacobian"]
+            got = np.reshape(_hybrid.call_state_fn(jac_address, z, p, o.n_x * len(z)), (o.n_x, -1))
+            worst.check("lift Jacobian", got, _central_differences(o.lift, z, p), 1e-8)
     worst.report()
+
+
+def _central_differences(f, z, p, step=1e-6):
+    """``df/dz`` by central differences (truncation about ``step^2``)."""
+    cols = []
+    for j in range(len(z)):
+        e = np.zeros(len(z))
+        e[j] = step
+        cols.append((f(z + e, p) - f(z - e, p)) / (2 * step))
+    return np.column_stack(cols)
 
 
 # --------------------------------------------------------------------------------------
