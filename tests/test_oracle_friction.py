@@ -12,7 +12,9 @@ The resets are compared where the integrator calls them: a friction event of a j
 ``F > 0`` in a phase where it is armed (``slip_stops`` with the joint's rate zero,
 ``stick_breaks`` with the joint's holding torque at its friction), and the base model's
 events at the states of ``tests/test_oracle.py``'s branch cases.  Exact ties of the mode
-choice (a holding torque equal to the friction) are not sampled.
+choice (a holding torque equal to the friction) are not sampled: there the rate change of a
+slipping option is round-off (1e-16) and its sign decides between two equally valid
+choices (the C and the oracle differ at about a quarter of such ties).
 """
 
 from __future__ import annotations
