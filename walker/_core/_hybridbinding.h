@@ -163,6 +163,18 @@ int wkpy_check_system(const wk_functions *fn, const wk_problem *pb, int64_t n_p)
 int wkpy_check_state_fn(uintptr_t address, const char *name, int role, int64_t n_x,
                         int64_t n_p, int64_t n_z);
 
+/* Interrupts (_hybridsignals.c): wkpy_signals_begin before a compiled call releases the
+ * GIL, wkpy_signals_end after it took it back (both with the GIL held); end returns 1 when
+ * SIGINT or SIGTERM arrived meanwhile (the call then ended early, WK_STATUS_INTERRUPTED).
+ * wkpy_interrupted then runs Python's signal handlers: -1 with their exception set when
+ * one raised; else, with must_raise, -1 with a KeyboardInterrupt (a result cut short that
+ * carries no status of its own, or a thread other than the main one), else 0 (the caller
+ * returns its result with the INTERRUPTED status). */
+void wkpy_signals_init(void); /* at import: notes the main thread */
+void wkpy_signals_begin(void);
+int wkpy_signals_end(void);
+int wkpy_interrupted(int must_raise);
+
 /* Makes the PreparedMap type ready and adds it to ``module``; 0, or -1 with an exception. */
 int wkpy_add_prepared_map(PyObject *module);
 

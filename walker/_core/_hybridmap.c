@@ -336,10 +336,13 @@ static PyObject *prepared_map_map(PreparedMap *self, PyObject *const *args, Py_s
     }
     wk_result res;
     int rc;
+    wkpy_signals_begin();
     Py_BEGIN_ALLOW_THREADS
     rc = wk_section_run(&s->fn, &s->pb, &s->sec, (int64_t)period, seed, x0, phase0, &res);
     Py_END_ALLOW_THREADS
-    if (wkpy_run_failed(rc, res.phase, s->pb.n_phases))
+    if (wkpy_signals_end() && wkpy_interrupted(0))
+        result = NULL;
+    else if (wkpy_run_failed(rc, res.phase, s->pb.n_phases))
         result = NULL;
     else if (res.status != 0)
         result = Py_BuildValue("(LdNNO)", (long long)res.status, res.t, nan_point(n_z),
@@ -478,9 +481,12 @@ static PyObject *prepared_map_search(PreparedMap *self, PyObject *const *args, P
     res.known_jac = res.known_x + n_x;
     res.history = res.known_jac + n_z * n_z;
     int rc;
+    wkpy_signals_begin();
     Py_BEGIN_ALLOW_THREADS
     rc = wk_search(&s->fn, &s->pb, &s->sec, &reg, &set, z0, &res);
     Py_END_ALLOW_THREADS
+    if (wkpy_signals_end() && wkpy_interrupted(1)) /* the search's end is not its own */
+        goto out;
     if (rc != WK_OK) {
         PyErr_NoMemory();
         goto out;

@@ -189,11 +189,15 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
 
     wk_result res;
     int rc;
+    wkpy_signals_begin();
     Py_BEGIN_ALLOW_THREADS
     rc = wk_hybrid_solve(&fn, &pb, &res);
     Py_END_ALLOW_THREADS
+    const int interrupted = wkpy_signals_end();
 
-    if (!wkpy_run_failed(rc, res.phase, pb.n_phases)) result = wkpy_solve_result(&res, &pb);
+    if (interrupted && wkpy_interrupted(0)) result = NULL;
+    else if (!wkpy_run_failed(rc, res.phase, pb.n_phases))
+        result = wkpy_solve_result(&res, &pb);
     wk_result_free(&res);
 
 out:
@@ -500,11 +504,14 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
         goto out;
     }
     int rc;
+    wkpy_signals_begin();
     Py_BEGIN_ALLOW_THREADS
     rc = wk_basin_points(&s.fn, &s.pb, &s.sec, m, (const double *)v_z0.buf,
                          (const double *)v_target.buf, tol, n_strides, period, buf, buf + m);
     Py_END_ALLOW_THREADS
-    if (rc == WK_ERR_NOMEM) {
+    if (wkpy_signals_end() && wkpy_interrupted(1)) {
+        /* the outcomes after the signal are not the points' own: never returned */
+    } else if (rc == WK_ERR_NOMEM) {
         PyErr_NoMemory();
     } else if (rc == WK_ERR_BAD_PHASE) {
         PyErr_SetString(PyExc_ValueError, "`reset` returned a next phase outside the phases");
@@ -554,6 +561,7 @@ PyMODINIT_FUNC PyInit__hybrid(void)
 {
     PyObject *m = PyModule_Create(&module);
     if (m == NULL) return NULL;
+    wkpy_signals_init();
     /* The arming tolerance compiled into the kernel (walker.integrate.GUARD_TOL). */
     PyObject *tol = PyFloat_FromDouble(WK_GUARD_TOL);
     if (tol == NULL || PyModule_AddObjectRef(m, "GUARD_TOL", tol) < 0) {
