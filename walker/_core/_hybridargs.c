@@ -373,9 +373,10 @@ int wkpy_check_state_fn(uintptr_t address, const char *name, int role, int64_t n
     int found;
     if (address == 0) return 0;
     const wkpy_model_sizes *s = wkpy_sizes_of(address, &found);
-    if (s == NULL || found != role) {
-        PyErr_Format(PyExc_ValueError, "`%s` must be 0 or the %s function of a compiled model "
-                     "(walker._hybrid.models())", name, ROLE_NAMES[role]);
+    if (s == NULL) return 0; /* a user's function: its sizes are the caller's to keep */
+    if (found != role) {
+        PyErr_Format(PyExc_ValueError, "`%s` is the %s function of the compiled model '%s', "
+                     "not its %s", name, ROLE_NAMES[found], s->name, ROLE_NAMES[role]);
         return -1;
     }
     if (s->n_x != n_x || s->n_p != n_p ||

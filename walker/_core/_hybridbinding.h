@@ -158,8 +158,9 @@ int wkpy_state_fn_lengths(const wkpy_model_sizes *s, int role, int64_t *n_in, in
 int wkpy_check_system(const wk_functions *fn, const wk_problem *pb, int64_t n_p);
 
 /* A state function handed to a section or search (energy, start_phase, lift,
- * lift_jacobian: ``role``): 0 or the compiled function of that role of a model with the
- * system's n_x and n_p (and n_z for a lift).  0, or -1 with a ValueError naming ``name``. */
+ * lift_jacobian: ``role``): when it is a compiled model's, it must be that model's function
+ * of this role, with the system's n_x and n_p (and n_z for a lift); a user's function (any
+ * other address) is the caller's to size.  0, or -1 with a ValueError naming ``name``. */
 int wkpy_check_state_fn(uintptr_t address, const char *name, int role, int64_t n_x,
                         int64_t n_p, int64_t n_z);
 

@@ -151,6 +151,7 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
     sec->start_phase = (wk_state_fn)a_start;
     sec->lift = (wk_state_fn)a_lift;
     sec->lift_jacobian = (wk_state_fn)a_lift_jac;
+    sec->ctx = fn->ctx;
     rc = 0;
 
 out:

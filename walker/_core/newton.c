@@ -98,7 +98,7 @@ static int outside(search *s, const double *z, double *value, int64_t *index)
         return WK_OUT_WOUND;
     }
     double out[4] = {0.0, 0.0, 0.0, 0.0};
-    reg->energy(x, s->tmpl->p, out, NULL);
+    reg->energy(x, s->tmpl->p, out, s->fn->ctx);
     if (!(out[0] <= reg->kinetic_max)) {
         *value = out[0];
         return WK_OUT_ENERGY;
