@@ -12,6 +12,7 @@ import numpy as np
 
 __all__ = [
     "MAX_BUDGET",
+    "MAX_FIXED_STEPS",
     "MAX_STRIDE_STEPS",
     "as_vector",
     "bounded_int",
@@ -28,11 +29,15 @@ MAX_BUDGET = 10**7
 core derives from a budget in range; the binding checks the same bound
 (``WKPY_MAX_BUDGET`` in ``walker/_core/_hybridbinding.h``)."""
 
-MAX_STRIDE_STEPS = 10**6
-"""Largest step budget of one stride of a stride map
-(:func:`walker.region.stride_max_steps`): an adaptive method's budget is clamped to it
-(the shipped scenes' strides take 17-83 steps), a fixed-step method that would need more to
-reach ``t_max`` is refused before it starts."""
+MAX_STRIDE_STEPS = 10**5
+"""Largest step budget of one stride of a stride map with an adaptive method
+(:func:`walker.region.stride_max_steps` clamps to it): the shipped scenes' strides take
+17-83 steps and their budgets are 1000-4000, so it binds only for a ``t_max`` of thousands
+of the walker's time units (e.g. ``g = 1e12``), where a stride past it is a runaway."""
+
+MAX_FIXED_STEPS = 10**6
+"""Most steps of a fixed-step method (Euler, RK4) in one stride: a ``first_step`` that
+needs more to reach ``t_max`` is refused before any work (a ValueError naming it)."""
 
 
 def as_vector(value, name: str, length: int | None = None) -> np.ndarray:

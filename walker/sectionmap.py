@@ -129,9 +129,15 @@ def validate_max_evals(max_evals) -> int | None:
     """``max_evals`` as None or an int in [1, :data:`walker._checks.MAX_BUDGET`]."""
     if max_evals is None:
         return None
-    if isinstance(max_evals, bool) or not isinstance(max_evals, int | np.integer):
-        raise ValueError(f"`max_evals` must be None or an integer, got {max_evals!r}")
-    return bounded_int(max_evals, "max_evals", 1)
+    if (
+        isinstance(max_evals, bool)
+        or not isinstance(max_evals, int | np.integer)
+        or not 1 <= max_evals <= MAX_BUDGET
+    ):
+        raise ValueError(
+            f"`max_evals` must be None or an integer >= 1 and <= {MAX_BUDGET}, got {max_evals!r}"
+        )
+    return int(max_evals)
 
 
 def validate_int(value, name: str, minimum: int, maximum: int = MAX_BUDGET) -> int:
