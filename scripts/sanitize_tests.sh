@@ -38,6 +38,8 @@ export LD_PRELOAD="$asan"
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export WALKER_SANITIZER_TIER=1
+# the allocator of every Python object is malloc, so a write past one is seen too
+export PYTHONMALLOC=malloc
 export PYTHONPATH="$work${PYTHONPATH:+:$PYTHONPATH}"
 python -c "import walker, walker._hybrid as h; assert h.__file__.startswith('$work'), h.__file__"
 python -m pytest -q -n 0 -p no:cacheprovider -m "not slow" --rootdir "$repo" "$@"
