@@ -10,7 +10,34 @@ import numbers
 
 import numpy as np
 
-__all__ = ["as_vector", "positive", "sample_rate", "short_repr", "time_scale"]
+__all__ = [
+    "MAX_BUDGET",
+    "MAX_FIXED_STEPS",
+    "MAX_STRIDE_STEPS",
+    "as_vector",
+    "bounded_int",
+    "positive",
+    "sample_rate",
+    "short_repr",
+    "time_scale",
+]
+
+MAX_BUDGET = 10**7
+"""Largest count a caller may give for an iteration, evaluation, stride or point budget
+(``max_iter``, ``max_evals``, ``period``, ``max_points``...).  Far beyond any useful search
+(one stride-map evaluation takes a millisecond or more), it keeps every size the compiled
+core derives from a budget in range; the binding checks the same bound
+(``WKPY_MAX_BUDGET`` in ``walker/_core/_hybridbinding.h``)."""
+
+MAX_STRIDE_STEPS = 10**5
+"""Largest step budget of one stride of a stride map with an adaptive method
+(:func:`walker.region.stride_max_steps` clamps to it): the shipped scenes' strides take
+17-83 steps and their budgets are 1000-4000, so it binds only for a ``t_max`` of thousands
+of the walker's time units (e.g. ``g = 1e12``), where a stride past it is a runaway."""
+
+MAX_FIXED_STEPS = 10**6
+"""Most steps of a fixed-step method (Euler, RK4) in one stride: a ``first_step`` that
+needs more to reach ``t_max`` is refused before any work (a ValueError naming it)."""
 
 
 def as_vector(value, name: str, length: int | None = None) -> np.ndarray:
@@ -86,3 +113,17 @@ def positive(value, name: str, unit: str = "") -> float:
 def sample_rate(value) -> float:
     """``sample_rate`` [Hz] as a positive finite float, or an error naming it."""
     return positive(value, "sample_rate", " [Hz]")
+
+
+def bounded_int(value, name: str, minimum: int, maximum: int = MAX_BUDGET) -> int:
+    """``value`` as an int in ``[minimum, maximum]``, or a ValueError naming ``name`` and the
+    range (a bool or a non-integer is refused too)."""
+    if (
+        isinstance(value, bool | np.bool_)
+        or not isinstance(value, numbers.Integral)
+        or not minimum <= value <= maximum
+    ):
+        raise ValueError(
+            f"`{name}` must be an integer >= {minimum} and <= {maximum}, got {short_repr(value)}"
+        )
+    return int(value)

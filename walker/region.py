@@ -17,7 +17,7 @@ import weakref
 
 import numpy as np
 
-from walker._checks import time_scale
+from walker._checks import MAX_FIXED_STEPS, MAX_STRIDE_STEPS, time_scale
 
 __all__ = ["WalkingRegion", "stride_max_steps"]
 
@@ -252,11 +252,26 @@ def stride_max_steps(params, t_max: float, method: str, first_step: float | None
     walker swinging without a heel strike until ``t_max`` takes about 20 steps per T, well
     inside the budget; only states with rates far beyond any gait's (step sizes shrinking
     with the rates) run into it.  Fixed-step methods take ``ceil(t_max / first_step)``
-    steps at most anyway; their budget is that plus two.
+    steps at most anyway; their budget is that plus two.  Computed in floating point: an
+    adaptive budget is clamped to :data:`walker._checks.MAX_STRIDE_STEPS`, and a fixed step
+    that needs more than :data:`walker._checks.MAX_FIXED_STEPS` is refused (ValueError).
     """
     from walker.integrate import check_solver_settings
 
     _, _, _, first_step, adaptive = check_solver_settings(method, 1e-6, 1e-6, first_step)
+    # in floating point, clamped: parameters at their bounds (g = 1e300, a leg of 5e-324 m)
+    # or t_max = 1e308 give budgets far beyond an int64
     if not adaptive:
-        return int(math.ceil(t_max / first_step)) + 2
-    return max(STRIDE_MIN_STEPS, int(math.ceil(STEPS_PER_TIME_UNIT * t_max / time_scale(params))))
+        steps = t_max / first_step
+        if not steps <= MAX_FIXED_STEPS:
+            raise ValueError(
+                f"`first_step` = {first_step:g} s needs {steps:.3g} {method} steps to reach "
+                f"`t_max` = {t_max:g} s, more than the {MAX_FIXED_STEPS} a stride may take; "
+                "raise `first_step` or lower `t_max`"
+            )
+        return int(math.ceil(steps)) + 2
+    scale = time_scale(params)
+    budget = STEPS_PER_TIME_UNIT * t_max / scale if scale > 0.0 else math.inf
+    if not budget <= MAX_STRIDE_STEPS:
+        return MAX_STRIDE_STEPS
+    return max(STRIDE_MIN_STEPS, int(math.ceil(budget)))

@@ -18,7 +18,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from walker._checks import as_vector
+from walker._checks import MAX_BUDGET, as_vector, bounded_int
 from walker._checks import positive as validate_positive
 from walker.results import MapResult
 from walker.status import Status
@@ -114,10 +114,8 @@ def validate_z(section_map: SectionMap, z: np.ndarray, name: str) -> np.ndarray:
 
 
 def validate_period(period) -> int:
-    """``period`` as an int >= 1."""
-    if isinstance(period, bool) or not isinstance(period, int | np.integer) or period < 1:
-        raise ValueError(f"`period` must be an integer >= 1, got {period!r}")
-    return int(period)
+    """``period`` as an int in [1, :data:`walker._checks.MAX_BUDGET`]."""
+    return bounded_int(period, "period", 1)
 
 
 def validate_jacobian_mode(jacobian) -> str:
@@ -128,19 +126,24 @@ def validate_jacobian_mode(jacobian) -> str:
 
 
 def validate_max_evals(max_evals) -> int | None:
-    """``max_evals`` as None or an int >= 1."""
+    """``max_evals`` as None or an int in [1, :data:`walker._checks.MAX_BUDGET`]."""
     if max_evals is None:
         return None
-    if isinstance(max_evals, bool) or not isinstance(max_evals, int | np.integer) or max_evals < 1:
-        raise ValueError(f"`max_evals` must be None or an integer >= 1, got {max_evals!r}")
+    if (
+        isinstance(max_evals, bool)
+        or not isinstance(max_evals, int | np.integer)
+        or not 1 <= max_evals <= MAX_BUDGET
+    ):
+        raise ValueError(
+            f"`max_evals` must be None or an integer >= 1 and <= {MAX_BUDGET}, got {max_evals!r}"
+        )
     return int(max_evals)
 
 
-def validate_int(value, name: str, minimum: int) -> int:
-    """``value`` as an int >= ``minimum``."""
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
-        raise ValueError(f"`{name}` must be an integer >= {minimum}, got {value!r}")
-    return int(value)
+def validate_int(value, name: str, minimum: int, maximum: int = MAX_BUDGET) -> int:
+    """``value`` as an int in ``[minimum, maximum]`` (a budget: at most
+    :data:`walker._checks.MAX_BUDGET` unless told)."""
+    return bounded_int(value, name, minimum, maximum)
 
 
 def map_value(section_map, z, period, parameter) -> MapResult:

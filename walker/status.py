@@ -47,6 +47,7 @@ class Status(IntEnum):
     BUDGET_EXHAUSTED = 14
     OUTSIDE_WALKING_REGION = 15
     CHATTERING = 16
+    INTERRUPTED = 17
 
     @property
     def message(self) -> str:
@@ -128,5 +129,11 @@ _MESSAGES = {
         "bouncing to rest or a joint switching between stick and slip ever faster), so the "
         "run stopped at that event instead of stepping through the accumulation. The model "
         "has no mode for the limit it approaches (e.g. resting contact)."
+    ),
+    Status.INTERRUPTED: (
+        "A signal (SIGINT, Ctrl-C, or SIGTERM) arrived while the compiled integrator ran, so "
+        "the run stopped where it was. Python's handler for the signal normally raises "
+        "(KeyboardInterrupt) instead; this status is what a run reports when the handler "
+        "returned."
     ),
 }

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "_hybridbinding.h"
+#include "indices.h"
 #include "wk_models.h"
 
 /* An int (not a bool) that fits in int64. */
@@ -247,6 +248,143 @@ int wkpy_arg_buffer_pair(PyObject *const *args, const char *name0, int ndim0, co
     if (wkpy_arg_buffer(args[0], name0, 'd', ndim0, view0)) return -1;
     if (wkpy_arg_buffer(args[1], name1, 'd', ndim1, view1)) {
         PyBuffer_Release(view0);
+        return -1;
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------------------------------
+ * The compiled models' sizes
+ * ------------------------------------------------------------------------------------------ */
+
+/* Every compiled model's sizes, by the name before the first '/' of its registry entries
+ * (its variants share them).  The parameter counts are the generated indices' (indices.h);
+ * tests/test_binding_safety.py checks every row against the Python model (walker.models). */
+static const wkpy_model_sizes SIZES[] = {
+    /* name, n_x, n_p, n_phases, n_guards, n_impulse, n_points, n_z */
+    {"simplest", 4, WK_SIMPLEST_N_P, 1, 3, 1, 3, 2},
+    {"compass", 4, WK_COMPASS_N_P, 1, 3, 2, 3, 3},
+    {"kneed", 6, WK_KNEED_N_P, 2, 4, 2, 4, 3},
+    {"compass_coulomb", 4, WK_COMPASS_COULOMB_N_P, 9, 7, 2, 3, 3},
+    {"double_pendulum", 4, WK_DOUBLE_PENDULUM_N_P, 9, 4, 1, 3, 0},
+    {"kneed_coulomb", 6, WK_KNEED_COULOMB_N_P, 36, 10, 2, 4, 3},
+    {"three_link", 8, WK_THREE_LINK_N_P, 9, 10, 2, 4, 5},
+    {"five_link", 12, WK_FIVE_LINK_N_P, 81, 15, 2, 6, 9},
+    {"rimless_wheel", 2, WK_RIMLESS_WHEEL_N_P, 2, 4, 2, 4, 1},
+};
+
+const wkpy_model_sizes *wkpy_sizes_named(const char *entry_name)
+{
+    const size_t len = strcspn(entry_name, "/");
+    for (size_t i = 0; i < sizeof SIZES / sizeof SIZES[0]; i++)
+        if (strlen(SIZES[i].name) == len && strncmp(SIZES[i].name, entry_name, len) == 0)
+            return &SIZES[i];
+    return NULL;
+}
+
+const wkpy_model_sizes *wkpy_sizes_of(uintptr_t address, int *role)
+{
+    *role = WKPY_FN_NONE;
+    if (address == 0) return NULL;
+    int64_t count = 0;
+    const wk_model_entry *const *table = wk_model_table(&count);
+    for (int64_t i = 0; i < count; i++) {
+        const wk_model_entry *e = table[i];
+        const uintptr_t fns[WKPY_FN_NONE] = {
+            (uintptr_t)e->fn.rhs,       (uintptr_t)e->fn.guards,     (uintptr_t)e->fn.reset,
+            (uintptr_t)e->fn.jac,       (uintptr_t)e->energy,        (uintptr_t)e->points,
+            (uintptr_t)e->start_phase,  (uintptr_t)e->lift,          (uintptr_t)e->lift_jacobian,
+        };
+        for (int k = 0; k < WKPY_FN_NONE; k++)
+            if (fns[k] == address) {
+                *role = k;
+                return wkpy_sizes_named(e->name);
+            }
+    }
+    return NULL;
+}
+
+static const char *const ROLE_NAMES[WKPY_FN_NONE] = {
+    "rhs", "guards", "reset", "jac", "energy", "points", "start_phase", "lift", "lift_jacobian",
+};
+
+int wkpy_state_fn_lengths(const wkpy_model_sizes *s, int role, int64_t *n_in, int64_t *n_out)
+{
+    switch (role) {
+    case WKPY_FN_ENERGY: *n_in = s->n_x; *n_out = 2; return 0;
+    case WKPY_FN_POINTS: *n_in = s->n_x; *n_out = 2 * s->n_points; return 0;
+    case WKPY_FN_START: *n_in = s->n_x; *n_out = 1; return 0;
+    case WKPY_FN_LIFT: *n_in = s->n_z; *n_out = s->n_x; return 0;
+    case WKPY_FN_LIFT_JAC: *n_in = s->n_z; *n_out = s->n_x * s->n_z; return 0;
+    default: return -1;
+    }
+}
+
+/* One function of a system: when ``address`` is a compiled model's, it must be its
+ * function for the slot ``role`` and the sizes it reads and writes must be the model's. */
+static int check_fn(uintptr_t address, int role, const wk_problem *pb, int64_t n_p)
+{
+    int found;
+    const wkpy_model_sizes *s = wkpy_sizes_of(address, &found);
+    const char *name = ROLE_NAMES[role];
+    if (s == NULL) return 0; /* a user's function: its sizes are the caller's to keep */
+    if (found != role) {
+        PyErr_Format(PyExc_ValueError, "`%s` is the %s function of the compiled model '%s', "
+                     "not its %s", name, ROLE_NAMES[found], s->name, name);
+        return -1;
+    }
+    const char *what = NULL;
+    int64_t want = 0, got = 0;
+    if (pb->n_x != s->n_x) what = "n_x", want = s->n_x, got = pb->n_x;
+    else if (n_p != s->n_p) what = "p", want = s->n_p, got = n_p;
+    else if (pb->n_phases > s->n_phases) what = "directions` rows (n_phases", want = s->n_phases,
+                                         got = pb->n_phases;
+    else if (role == WKPY_FN_GUARDS && pb->n_guards != s->n_guards)
+        what = "n_guards", want = s->n_guards, got = pb->n_guards;
+    else if (role == WKPY_FN_RESET && pb->n_impulse != s->n_impulse)
+        what = "n_impulse", want = s->n_impulse, got = pb->n_impulse;
+    if (what == NULL) return 0;
+    if (what[0] == 'd')
+        PyErr_Format(PyExc_ValueError, "`%s) must be at most %lld for the compiled model '%s' "
+                     "(its `%s`), got %lld", what, (long long)want, s->name, name, (long long)got);
+    else if (what[0] == 'p')
+        PyErr_Format(PyExc_ValueError, "`p` must have length n_p = %lld for the compiled model "
+                     "'%s' (its `%s`), got %lld", (long long)want, s->name, name,
+                     (long long)got);
+    else
+        PyErr_Format(PyExc_ValueError, "`%s` must be %lld for the compiled model '%s' (its "
+                     "`%s`), got %lld", what, (long long)want, s->name, name, (long long)got);
+    return -1;
+}
+
+int wkpy_check_system(const wk_functions *fn, const wk_problem *pb, int64_t n_p)
+{
+    if (check_fn((uintptr_t)fn->rhs, WKPY_FN_RHS, pb, n_p) ||
+        check_fn((uintptr_t)fn->guards, WKPY_FN_GUARDS, pb, n_p) ||
+        check_fn((uintptr_t)fn->reset, WKPY_FN_RESET, pb, n_p) ||
+        check_fn((uintptr_t)fn->jac, WKPY_FN_JAC, pb, n_p))
+        return -1;
+    return 0;
+}
+
+int wkpy_check_state_fn(uintptr_t address, const char *name, int role, int64_t n_x,
+                        int64_t n_p, int64_t n_z)
+{
+    int found;
+    if (address == 0) return 0;
+    const wkpy_model_sizes *s = wkpy_sizes_of(address, &found);
+    if (s == NULL) return 0; /* a user's function: its sizes are the caller's to keep */
+    if (found != role) {
+        PyErr_Format(PyExc_ValueError, "`%s` is the %s function of the compiled model '%s', "
+                     "not its %s", name, ROLE_NAMES[found], s->name, ROLE_NAMES[role]);
+        return -1;
+    }
+    if (s->n_x != n_x || s->n_p != n_p ||
+        ((role == WKPY_FN_LIFT || role == WKPY_FN_LIFT_JAC) && s->n_z != n_z)) {
+        PyErr_Format(PyExc_ValueError, "`%s` belongs to the compiled model '%s' (n_x = %lld, "
+                     "n_p = %lld), which does not match the system's n_x = %lld, n_p = %lld",
+                     name, s->name, (long long)s->n_x, (long long)s->n_p, (long long)n_x,
+                     (long long)n_p);
         return -1;
     }
     return 0;

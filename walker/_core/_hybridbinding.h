@@ -24,6 +24,9 @@
 /* Largest sizes accepted (far above any walker; they keep the work-array sizes in range). */
 #define MAX_N_X 4096
 #define MAX_COUNT ((int64_t)1 << 24)
+/* Largest iteration or evaluation budget of a search (walker._checks.MAX_BUDGET, checked
+ * there first): the search's history holds one value per iteration. */
+#define WKPY_MAX_BUDGET ((int64_t)10000000)
 
 /* Each converter returns 0, or -1 with a Python exception set that names ``name``. */
 
@@ -114,6 +117,7 @@ typedef struct {
     wk_functions fn;
     wk_problem pb; /* the template: sizes, p, solver settings */
     wk_section sec;
+    int64_t n_p; /* the length of pb.p */
     void *block; /* owns directions, p, lift_a, lift_b, proj */
 } wkpy_section;
 
@@ -121,6 +125,56 @@ typedef struct {
  * argument (``s`` then owns nothing).  wkpy_section_free releases it. */
 int wkpy_section_parse(PyObject *const *args, wkpy_section *s);
 void wkpy_section_free(wkpy_section *s);
+
+/* A compiled model's sizes (walker._hybrid.models() reports them): state, parameters,
+ * phases, guards, impulse components, drawing points, section coordinates. */
+typedef struct {
+    const char *name;
+    int64_t n_x, n_p, n_phases, n_guards, n_impulse, n_points, n_z;
+} wkpy_model_sizes;
+
+/* The functions of a registry entry, as the slots they fill. */
+enum {
+    WKPY_FN_RHS, WKPY_FN_GUARDS, WKPY_FN_RESET, WKPY_FN_JAC, WKPY_FN_ENERGY, WKPY_FN_POINTS,
+    WKPY_FN_START, WKPY_FN_LIFT, WKPY_FN_LIFT_JAC, WKPY_FN_NONE
+};
+
+/* The sizes of the registry entry named ``entry_name`` ("kneed/plain": kneed's); NULL when
+ * the model has no row (a test keeps every entry covered). */
+const wkpy_model_sizes *wkpy_sizes_named(const char *entry_name);
+
+/* The sizes of the compiled model that function ``address`` belongs to, and in *role which
+ * of its functions it is; NULL (role WKPY_FN_NONE) for an address outside the registry. */
+const wkpy_model_sizes *wkpy_sizes_of(uintptr_t address, int *role);
+
+/* A state function's input length (n_x, or n_z for a lift) and output count; -1 for a
+ * role that is not a state function. */
+int wkpy_state_fn_lengths(const wkpy_model_sizes *s, int role, int64_t *n_in, int64_t *n_out);
+
+/* The system's compiled functions against its sizes (pb: n_x, n_phases, n_guards,
+ * n_impulse; n_p the parameter count): each of fn's functions that is a compiled model's
+ * must fill its slot and find the model's sizes.  0, or -1 with a ValueError naming the
+ * argument.  A user's functions are not checked (their sizes are the caller's). */
+int wkpy_check_system(const wk_functions *fn, const wk_problem *pb, int64_t n_p);
+
+/* A state function handed to a section or search (energy, start_phase, lift,
+ * lift_jacobian: ``role``): when it is a compiled model's, it must be that model's function
+ * of this role, with the system's n_x and n_p (and n_z for a lift); a user's function (any
+ * other address) is the caller's to size.  0, or -1 with a ValueError naming ``name``. */
+int wkpy_check_state_fn(uintptr_t address, const char *name, int role, int64_t n_x,
+                        int64_t n_p, int64_t n_z);
+
+/* Interrupts (_hybridsignals.c): wkpy_signals_begin before a compiled call releases the
+ * GIL, wkpy_signals_end after it took it back (both with the GIL held); end returns 1 when
+ * SIGINT or SIGTERM arrived meanwhile (the call then ended early, WK_STATUS_INTERRUPTED).
+ * wkpy_interrupted then runs Python's signal handlers: -1 with their exception set when
+ * one raised; else, with must_raise, -1 with a KeyboardInterrupt (a result cut short that
+ * carries no status of its own, or a thread other than the main one), else 0 (the caller
+ * returns its result with the INTERRUPTED status). */
+void wkpy_signals_init(void); /* at import: notes the main thread */
+void wkpy_signals_begin(void);
+int wkpy_signals_end(void);
+int wkpy_interrupted(int must_raise);
 
 /* Makes the PreparedMap type ready and adds it to ``module``; 0, or -1 with an exception. */
 int wkpy_add_prepared_map(PyObject *module);

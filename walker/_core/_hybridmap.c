@@ -116,6 +116,14 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
     if (!wkpy_all_finite((const double *)v_a.buf, v_a.shape[0] * v_a.shape[1]) ||
         !wkpy_all_finite((const double *)v_b.buf, v_b.shape[0]))
         WKPY_FAIL(PyExc_ValueError, "`lift_a` and `lift_b` must be finite");
+    /* the compiled functions against the sizes they read and write */
+    if (wkpy_check_system(fn, pb, v_p.shape[0]) ||
+        wkpy_check_state_fn(a_energy, "energy", WKPY_FN_ENERGY, pb->n_x, v_p.shape[0], 0) ||
+        wkpy_check_state_fn(a_start, "start_phase", WKPY_FN_START, pb->n_x, v_p.shape[0], 0) ||
+        wkpy_check_state_fn(a_lift, "lift", WKPY_FN_LIFT, pb->n_x, v_p.shape[0], sec->n_z) ||
+        wkpy_check_state_fn(a_lift_jac, "lift_jacobian", WKPY_FN_LIFT_JAC, pb->n_x,
+                            v_p.shape[0], sec->n_z))
+        goto out;
     if (wkpy_hold_buffer(&held, args[20], "proj", 'q', 1, &v_proj)) goto out;
     if (v_proj.shape[0] != sec->n_z) WKPY_FAIL(PyExc_ValueError, "`proj` must have length n_z");
     for (int64_t i = 0; i < sec->n_z; i++) {
@@ -135,6 +143,7 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
     char *cursor = s->block;
     pb->directions = take(&cursor, &v_dir, n_dir);
     pb->p = take(&cursor, &v_p, n_p);
+    s->n_p = n_p;
     sec->lift_a = take(&cursor, &v_a, n_a);
     sec->lift_b = take(&cursor, &v_b, pb->n_x);
     sec->proj = take(&cursor, &v_proj, sec->n_z);
@@ -142,6 +151,7 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
     sec->start_phase = (wk_state_fn)a_start;
     sec->lift = (wk_state_fn)a_lift;
     sec->lift_jacobian = (wk_state_fn)a_lift_jac;
+    sec->ctx = fn->ctx;
     rc = 0;
 
 out:
@@ -327,10 +337,13 @@ static PyObject *prepared_map_map(PreparedMap *self, PyObject *const *args, Py_s
     }
     wk_result res;
     int rc;
+    wkpy_signals_begin();
     Py_BEGIN_ALLOW_THREADS
     rc = wk_section_run(&s->fn, &s->pb, &s->sec, (int64_t)period, seed, x0, phase0, &res);
     Py_END_ALLOW_THREADS
-    if (wkpy_run_failed(rc, res.phase, s->pb.n_phases))
+    if (wkpy_signals_end() && wkpy_interrupted(0))
+        result = NULL;
+    else if (wkpy_run_failed(rc, res.phase, s->pb.n_phases))
         result = NULL;
     else if (res.status != 0)
         result = Py_BuildValue("(LdNNO)", (long long)res.status, res.t, nan_point(n_z),
@@ -432,6 +445,17 @@ static PyObject *prepared_map_search(PreparedMap *self, PyObject *const *args, P
     wk_region reg;
     wk_search_settings set;
     if (read_region(args[2], &reg) || read_settings(args[3], &set)) return NULL;
+    if (wkpy_check_state_fn((uintptr_t)reg.energy, "energy", WKPY_FN_ENERGY, n_x,
+                            s->n_p, 0))
+        return NULL;
+    /* the history holds min(max_iter, max_evals) + 1 values: the budgets are bounded */
+    if (set.max_iter > WKPY_MAX_BUDGET || set.max_evals > WKPY_MAX_BUDGET) {
+        PyErr_Format(PyExc_ValueError, "search(): `%s` must be at most %lld, got %lld",
+                     set.max_iter > WKPY_MAX_BUDGET ? "max_iter" : "max_evals",
+                     (long long)WKPY_MAX_BUDGET,
+                     (long long)(set.max_iter > WKPY_MAX_BUDGET ? set.max_iter : set.max_evals));
+        return NULL;
+    }
     if (s->fn.jac == NULL || set.period < 1 || set.period > self->max_period ||
         set.max_iter < 1 || set.max_evals < 1 || reg.n_q < 1 || reg.n_q > n_x ||
         !(set.own_rtol > 0.0) || !(set.own_atol > 0.0))
@@ -458,9 +482,12 @@ static PyObject *prepared_map_search(PreparedMap *self, PyObject *const *args, P
     res.known_jac = res.known_x + n_x;
     res.history = res.known_jac + n_z * n_z;
     int rc;
+    wkpy_signals_begin();
     Py_BEGIN_ALLOW_THREADS
     rc = wk_search(&s->fn, &s->pb, &s->sec, &reg, &set, z0, &res);
     Py_END_ALLOW_THREADS
+    if (wkpy_signals_end() && wkpy_interrupted(1)) /* the search's end is not its own */
+        goto out;
     if (rc != WK_OK) {
         PyErr_NoMemory();
         goto out;

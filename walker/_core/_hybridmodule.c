@@ -160,6 +160,7 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
     pb.p = (const double *)v_p.buf;
     if (!wkpy_all_finite(pb.p, v_p.shape[0]))
         WKPY_FAIL(PyExc_ValueError, "All parameters `p` must be finite.");
+    if (wkpy_check_system(&fn, &pb, v_p.shape[0])) goto out;
 
     if (wkpy_hold_buffer(&held, args[23], "sample_times", 'd', 1, &v_st)) goto out;
     pb.sample_times = (const double *)v_st.buf;
@@ -188,11 +189,15 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
 
     wk_result res;
     int rc;
+    wkpy_signals_begin();
     Py_BEGIN_ALLOW_THREADS
     rc = wk_hybrid_solve(&fn, &pb, &res);
     Py_END_ALLOW_THREADS
+    const int interrupted = wkpy_signals_end();
 
-    if (!wkpy_run_failed(rc, res.phase, pb.n_phases)) result = wkpy_solve_result(&res, &pb);
+    if (interrupted && wkpy_interrupted(0)) result = NULL;
+    else if (!wkpy_run_failed(rc, res.phase, pb.n_phases))
+        result = wkpy_solve_result(&res, &pb);
     wk_result_free(&res);
 
 out:
@@ -258,6 +263,22 @@ static PyObject *model_entry(const void *table, int64_t i, const char **key)
         Py_DECREF(entry);
         return NULL;
     }
+    const wkpy_model_sizes *z = wkpy_sizes_named(e->name);
+    if (z == NULL) {
+        Py_DECREF(entry);
+        PyErr_Format(PyExc_SystemError, "the compiled model '%s' has no sizes", e->name);
+        return NULL;
+    }
+    if (set_item(entry, "n_x", PyLong_FromLongLong(z->n_x)) ||
+        set_item(entry, "n_p", PyLong_FromLongLong(z->n_p)) ||
+        set_item(entry, "n_phases", PyLong_FromLongLong(z->n_phases)) ||
+        set_item(entry, "n_guards", PyLong_FromLongLong(z->n_guards)) ||
+        set_item(entry, "n_impulse", PyLong_FromLongLong(z->n_impulse)) ||
+        set_item(entry, "n_points", PyLong_FromLongLong(z->n_points)) ||
+        set_item(entry, "n_z", PyLong_FromLongLong(z->n_z))) {
+        Py_DECREF(entry);
+        return NULL;
+    }
     return entry;
 }
 
@@ -275,7 +296,10 @@ PyDoc_STRVAR(models_doc,
              "'reset', 'jac', 'ctx', 'energy', 'points', 'start_phase', 'lift',\n"
              "'lift_jacobian', 'rhs_jac'} (0 for NULL; 'lift' and 'lift_jacobian' a section\n"
              "lift that is not affine; 'rhs_jac', the fused rhs and Jacobian the integrator\n"
-             "uses by itself for this (rhs, jac) pair, is informational).");
+             "uses by itself for this (rhs, jac) pair, is informational) and its sizes as\n"
+             "ints {'n_x', 'n_p', 'n_phases', 'n_guards', 'n_impulse', 'n_points', 'n_z'}\n"
+             "(state, parameters, phases, guards, impulse components, drawing points,\n"
+             "section coordinates), which the binding checks every call against.");
 
 static PyObject *py_models(PyObject *self, PyObject *unused)
 {
@@ -306,9 +330,11 @@ static PyObject *py_kernels(PyObject *self, PyObject *unused)
 
 PyDoc_STRVAR(call_state_fn_doc,
              "call_state_fn(address, x, p, n_out, ctx=0)\n--\n\n"
-             "Calls the wk_state_fn at ``address`` (a model's energy, points or start_phase,\n"
-             "see wk_models.h) on the float64 arrays x and p; returns its n_out outputs as a\n"
-             "list of floats.");
+             "Calls the wk_state_fn at ``address`` (a compiled model's energy, points, start_phase,\n"
+             "lift or lift_jacobian, see wk_models.h) on the float64 arrays x and p; returns\n"
+             "its first n_out outputs as a list of floats.  Only a compiled model's function\n"
+             "(its lengths are known): x must have the model's n_x (n_z for a lift), p its\n"
+             "n_p, and n_out be at most the function's output count.");
 
 static PyObject *py_call_state_fn(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -318,36 +344,57 @@ static PyObject *py_call_state_fn(PyObject *self, PyObject *const *args, Py_ssiz
         return NULL;
     }
     uintptr_t address, ctx = 0;
-    int64_t n_out;
+    int64_t n_out, n_in = 0, n_max = 0;
+    int role;
     if (wkpy_arg_address(args[0], "address", 0, &address) ||
         wkpy_arg_int(args[3], "n_out", &n_out) ||
         (nargs == 5 && wkpy_arg_address(args[4], "ctx", 1, &ctx)))
         return NULL;
-    if (n_out < 0 || n_out > MAX_COUNT) {
-        PyErr_Format(PyExc_ValueError, "`n_out` must be in [0, 2**24], got %lld",
-                     (long long)n_out);
+    /* Only a compiled model's state function: its input and output lengths are known. */
+    const wkpy_model_sizes *sizes = wkpy_sizes_of(address, &role);
+    if (sizes == NULL || wkpy_state_fn_lengths(sizes, role, &n_in, &n_max)) {
+        PyErr_SetString(PyExc_ValueError, "`address` must be the energy, points, start_phase, "
+                                          "lift or lift_jacobian function of a compiled model "
+                                          "(walker._hybrid.models())");
+        return NULL;
+    }
+    if (n_out < 0 || n_out > n_max) {
+        PyErr_Format(PyExc_ValueError, "`n_out` must be in [0, %lld] for the %s's function, "
+                     "got %lld", (long long)n_max, sizes->name, (long long)n_out);
         return NULL;
     }
     Py_buffer vx, vp;
     if (wkpy_arg_buffer_pair(args + 1, "x", 1, "p", 1, &vx, &vp)) return NULL;
     PyObject *list = NULL;
-    double *out = PyMem_Calloc((size_t)n_out + 1, sizeof(double));
+    double *out = NULL;
+    if (vx.shape[0] != n_in) {
+        PyErr_Format(PyExc_ValueError, "`x` must have length %lld for %s, got %zd",
+                     (long long)n_in, sizes->name, vx.shape[0]);
+        goto out;
+    }
+    if (vp.shape[0] != sizes->n_p) {
+        PyErr_Format(PyExc_ValueError, "`p` must have length n_p = %lld for %s, got %zd",
+                     (long long)sizes->n_p, sizes->name, vp.shape[0]);
+        goto out;
+    }
+    out = PyMem_Calloc((size_t)n_max + 1, sizeof(double));
     if (out == NULL) {
         PyErr_NoMemory();
-    } else {
-        wk_state_fn f = (wk_state_fn)address;
-        f((const double *)vx.buf, (const double *)vp.buf, out, (void *)ctx);
-        list = PyList_New((Py_ssize_t)n_out);
-        for (int64_t i = 0; list != NULL && i < n_out; i++) {
-            PyObject *v = PyFloat_FromDouble(out[i]);
-            if (v == NULL) {
-                Py_CLEAR(list);
-                break;
-            }
-            PyList_SET_ITEM(list, (Py_ssize_t)i, v);
-        }
-        PyMem_Free(out);
+        goto out;
     }
+    wk_state_fn f = (wk_state_fn)address;
+    f((const double *)vx.buf, (const double *)vp.buf, out, (void *)ctx);
+    list = PyList_New((Py_ssize_t)n_out);
+    for (int64_t i = 0; list != NULL && i < n_out; i++) {
+        PyObject *v = PyFloat_FromDouble(out[i]);
+        if (v == NULL) {
+            Py_CLEAR(list);
+            break;
+        }
+        PyList_SET_ITEM(list, (Py_ssize_t)i, v);
+    }
+out:
+    PyMem_Free(out);
     PyBuffer_Release(&vx);
     PyBuffer_Release(&vp);
     return list;
@@ -435,7 +482,11 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
 
     if (!(tol >= 0.0)) WKPY_FAIL(PyExc_ValueError, "`tol` must be >= 0");
     if (n_strides < 0) WKPY_FAIL(PyExc_ValueError, "`n_strides` must be >= 0");
-    if (period < 1) WKPY_FAIL(PyExc_ValueError, "`period` must be >= 1");
+    if (period < 1 || period > INT64_MAX / s.sec.max_steps)
+        WKPY_FAIL(PyExc_ValueError, "`period` must be in [1, %lld] (its step budget in int64)",
+                  (long long)(INT64_MAX / s.sec.max_steps));
+    if (n_strides > INT64_MAX / 2)
+        WKPY_FAIL(PyExc_ValueError, "`n_strides` must be at most 2**62");
     if (wkpy_hold_buffer(&held, args[31], "z0", 'd', 2, &v_z0)) goto out;
     if (v_z0.shape[1] != s.sec.n_z)
         WKPY_FAIL(PyExc_ValueError, "`z0` must have n_z = %lld columns, got %zd",
@@ -453,11 +504,14 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
         goto out;
     }
     int rc;
+    wkpy_signals_begin();
     Py_BEGIN_ALLOW_THREADS
     rc = wk_basin_points(&s.fn, &s.pb, &s.sec, m, (const double *)v_z0.buf,
                          (const double *)v_target.buf, tol, n_strides, period, buf, buf + m);
     Py_END_ALLOW_THREADS
-    if (rc == WK_ERR_NOMEM) {
+    if (wkpy_signals_end() && wkpy_interrupted(1)) {
+        /* the outcomes after the signal are not the points' own: never returned */
+    } else if (rc == WK_ERR_NOMEM) {
         PyErr_NoMemory();
     } else if (rc == WK_ERR_BAD_PHASE) {
         PyErr_SetString(PyExc_ValueError, "`reset` returned a next phase outside the phases");
@@ -507,6 +561,7 @@ PyMODINIT_FUNC PyInit__hybrid(void)
 {
     PyObject *m = PyModule_Create(&module);
     if (m == NULL) return NULL;
+    wkpy_signals_init();
     /* The arming tolerance compiled into the kernel (walker.integrate.GUARD_TOL). */
     PyObject *tol = PyFloat_FromDouble(WK_GUARD_TOL);
     if (tol == NULL || PyModule_AddObjectRef(m, "GUARD_TOL", tol) < 0) {

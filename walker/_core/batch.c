@@ -15,7 +15,7 @@ void wk_section_lift(const wk_section *sec, int64_t n_x, const double *p, const 
                      double *x)
 {
     if (sec->lift != NULL) {
-        sec->lift(z, p, x, NULL);
+        sec->lift(z, p, x, sec->ctx);
         return;
     }
     const int64_t n_z = sec->n_z;
@@ -56,13 +56,13 @@ int64_t wk_section_start(const wk_problem *tmpl, const wk_section *sec, const do
         if (fabs(x0[i]) > sec->wound) return B_OUTSIDE_WALKING_REGION;
     double out[4] = {0.0, 0.0, 0.0, 0.0};
     if (sec->energy != NULL) {
-        sec->energy(x0, tmpl->p, out, NULL);
+        sec->energy(x0, tmpl->p, out, sec->ctx);
         if (!(out[0] <= sec->kinetic_limit)) return B_OUTSIDE_WALKING_REGION;
     }
     *phase0 = 0;
     if (sec->start_phase != NULL) {
         out[0] = 0.0;
-        sec->start_phase(x0, tmpl->p, out, NULL);
+        sec->start_phase(x0, tmpl->p, out, sec->ctx);
         *phase0 = (int64_t)out[0];
         if (*phase0 < 0) return B_LINEAR_SOLVE_FAILED;
     }
@@ -74,7 +74,7 @@ const double *wk_section_seed(const wk_section *sec, int64_t n_x, const double *
 {
     if (sec->lift == NULL) return sec->lift_a;
     for (int64_t i = 0; i < n_x * sec->n_z; i++) buf[i] = 0.0;
-    sec->lift_jacobian(z, p, buf, NULL);
+    sec->lift_jacobian(z, p, buf, sec->ctx);
     return buf;
 }
 

@@ -33,6 +33,8 @@ typedef struct {
     int64_t max_steps;     /* per stride */
     wk_state_fn lift;      /* NULL: the affine lift above; else x = lift(z, p) */
     wk_state_fn lift_jacobian; /* with lift: its Jacobian (n_x, n_z) at z */
+    void *ctx;             /* the system's ctx (wk_functions.ctx), handed to the functions
+                            * above as to every other call (wk_system.h) */
 } wk_section;
 
 /* x (n_x,): the model's compiled lift of z where it has one (sec->lift), else

@@ -22,6 +22,9 @@
 #define ST_NONFINITE 7
 #define ST_MAX_STEPS 8
 #define ST_CHATTERING 16
+#define ST_INTERRUPTED WK_STATUS_INTERRUPTED
+
+volatile sig_atomic_t wk_interrupt = 0;
 
 /* Initial capacities of the growing event log and record. */
 #define EVENTS_CAP0 8
@@ -320,6 +323,10 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
         }
         if (n_steps + n_rej >= pb->max_steps) {
             status = ST_MAX_STEPS;
+            break;
+        }
+        if (wk_interrupt) {
+            status = ST_INTERRUPTED;
             break;
         }
         h = min2(h, max_step);

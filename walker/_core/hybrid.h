@@ -10,6 +10,7 @@
 #ifndef WK_HYBRID_H
 #define WK_HYBRID_H
 
+#include <signal.h>
 #include <stdint.h>
 #include "wk_system.h"
 
@@ -26,6 +27,15 @@
 
 /* Absolute guard tolerance for arming (walker.integrate.GUARD_TOL). */
 #define WK_GUARD_TOL 1e-10
+
+/* A pending interrupt: the number of a signal (SIGINT, SIGTERM) that arrived while compiled
+ * work ran, set by the binding's handler (walker/_core/_hybridsignals.c), else 0.  Every
+ * loop polls it (the step loop each step, the gait search each evaluation, a batch each
+ * point) and ends with WK_STATUS_INTERRUPTED; reading it changes no arithmetic. */
+extern volatile sig_atomic_t wk_interrupt;
+
+/* walker.status.Status.INTERRUPTED: the run stopped because a signal arrived. */
+#define WK_STATUS_INTERRUPTED 17
 
 /* Return codes of wk_hybrid_solve (the run's outcome is wk_result.status). */
 #define WK_OK 0

@@ -160,7 +160,8 @@ static double dip_value(const model_t *m, const step_t *st, double theta, double
                         double *xbuf, double *gbuf, int64_t i)
 {
     wk_dense_eval(st->kind, st->Q, m->n_z, st->y_old, theta, m->n_x, xbuf);
-    m->fn.guards(st->phase, st->t_old, xbuf, m->p, gbuf, m->fn.ctx);
+    /* at the trial point's own time (an autonomous guard ignores it) */
+    m->fn.guards(st->phase, st->t_old + theta * st->h, xbuf, m->p, gbuf, m->fn.ctx);
     return sign * gbuf[i];
 }
 

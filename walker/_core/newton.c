@@ -98,7 +98,7 @@ static int outside(search *s, const double *z, double *value, int64_t *index)
         return WK_OUT_WOUND;
     }
     double out[4] = {0.0, 0.0, 0.0, 0.0};
-    reg->energy(x, s->tmpl->p, out, NULL);
+    reg->energy(x, s->tmpl->p, out, s->fn->ctx);
     if (!(out[0] <= reg->kinetic_max)) {
         *value = out[0];
         return WK_OUT_ENERGY;
@@ -167,7 +167,8 @@ static int residual_at(search *s, const double *z, double level, int want_jac, e
 /* _Evaluator._spend */
 static int spend(search *s, int64_t n)
 {
-    if (s->n_evals + n > s->set->max_evals) return OUT_OF_BUDGET;
+    /* an interrupt ends the search here (the binding then raises; hybrid.h) */
+    if (s->n_evals + n > s->set->max_evals || wk_interrupt) return OUT_OF_BUDGET;
     s->n_evals += n;
     return 0;
 }

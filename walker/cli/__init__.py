@@ -29,18 +29,18 @@ Output paths are checked before any work: ``--out`` naming a directory, in a mis
 unwritable directory, or an existing file without ``--overwrite`` (``sweep`` and ``basin``:
 unless it checkpoints the same computation, which is then resumed) is an error (exit 2).
 
-``sweep`` and ``basin`` run with a handler for SIGINT and SIGTERM (installed here only; the
-library sees an ordinary ``KeyboardInterrupt``): the workers are stopped, the finished chunks
-stay in the checkpoint ``--out``, one line says so, and the exit status is 130; the same
-command resumes.  A second signal exits at once.  Ctrl-C on the other commands also ends
-with one line and status 130 (their files are written atomically, so nothing half-written
-is left).
+Every command runs with a handler for SIGINT and SIGTERM (installed here only; the library
+sees an ordinary ``KeyboardInterrupt``; compiled searches, strides and basins poll for the
+signal and stop within a step, see walker/_core/_hybridsignals.c).  ``sweep`` and ``basin``:
+the workers are stopped, the finished chunks stay in the checkpoint ``--out``, one line says
+so, and the exit status is 130; the same command resumes.  A second signal exits at once.
+Ctrl-C or SIGTERM on the other commands also ends with one line and status 130 (their files
+are written atomically, so nothing half-written is left).
 """
 
 from __future__ import annotations
 
 import argparse
-import contextlib
 import os
 import platform
 import select
@@ -131,11 +131,8 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
 
     before = _file_id(args.out) if args.command in _CHECKPOINTING else None
-    guard = (
-        interrupts_as_exceptions() if args.command in _CHECKPOINTING else contextlib.nullcontext()
-    )
     try:
-        with guard, warnings.catch_warnings():
+        with interrupts_as_exceptions(), warnings.catch_warnings():
             warnings.showwarning = _one_line_warning
             try:
                 code = args.func(args)

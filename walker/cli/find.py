@@ -18,6 +18,11 @@ from ._common import (
     write_result,
 )
 
+MAX_PERIOD = 100_000
+"""Longest period ``find`` searches: a search evaluates the period-fold map tens of times
+(with the Jacobian), about a minute of strides at this period, so a longer one cannot finish
+in reasonable time and is refused before any work (exit 2)."""
+
 
 def cmd_find(args) -> int:
     from walker.fixedpoint import find_fixed_point
@@ -31,6 +36,12 @@ def cmd_find(args) -> int:
     out = _check_out(args.out, overwrite=args.overwrite)
     P = _stride_map(scene)
     period = max(1, scene.compute.strides) if args.period is None else args.period
+    if period > MAX_PERIOD:
+        source = "--period" if args.period is not None else f"{args.scene}: [compute] strides"
+        raise UsageError(
+            f"{source} (the period searched) must be <= {MAX_PERIOD:,} for find, got "
+            f"{period:,}: a search evaluates the {period:,}-stride map tens of times"
+        )
     fp = find_fixed_point(
         P,
         P.project(scene.state),
