@@ -172,3 +172,57 @@ def one_line(exc_info):
     text = str(exc_info.value)
     assert "\n" not in text and text.startswith("cannot ")
     return text
+
+
+def _tree(path):
+    """The tree walker reads from ``path`` (in this process, no budget)."""
+    from walker.storage.loader import _Loader
+
+    with h5py.File(path, "r") as f:
+        return _Loader(f, Path(path), None, None).run()
+
+
+def resign(path, tree) -> Path:
+    """Store in ``path`` the root ``checksum`` of ``tree``: what a forger with walker's
+    source does to make an edited file pass the SHA-256."""
+    from walker.storage.checksums import _content_digest
+
+    with h5py.File(path, "r+") as f:
+        f.attrs["checksum"] = _content_digest(tree)
+    return Path(path)
+
+
+def bomb(src, dst, *, declared: int, dataset: str = "result/values", signed: bool = False) -> Path:
+    """A decompression bomb made from the walker file ``src``: ``dataset`` (2-D float64) is
+    replaced by one of the same rows whose columns make it ``declared`` bytes, stored as
+    chunks of 1 MiB of zeros deflated at level 9 (about 1 KiB each, an expansion near
+    deflate's 1032:1).  The chunks are written raw (``write_direct_chunk``), so making the
+    bomb takes no memory.  ``signed``: the root ``checksum`` is computed again for the
+    bombed content (streamed over a broadcast zero array), so that only a size cap can
+    refuse it; else the old checksum is left, stale."""
+    import shutil
+    import zlib
+
+    shutil.copyfile(src, dst)
+    chunk_cols = 1 << 17  # 1 MiB of float64
+    with h5py.File(dst, "r") as f:
+        rows = f[dataset].shape[0]
+    cols = max(declared // (8 * rows * chunk_cols), 1) * chunk_cols
+    zipped = zlib.compress(bytes(8 * chunk_cols), 9)
+    with h5py.File(dst, "r+") as f:
+        del f[dataset]
+        ds = f.create_dataset(
+            dataset, shape=(rows, cols), dtype="f8", chunks=(1, chunk_cols), compression="gzip"
+        )
+        for r in range(rows):
+            for c in range(0, cols, chunk_cols):
+                ds.id.write_direct_chunk((r, c), zipped)
+    if signed:
+        tree = _tree(src)
+        node = tree
+        *groups, name = dataset.split("/")
+        for g in groups:
+            node = node["groups"][g]
+        node["datasets"][name] = np.broadcast_to(np.float64(0.0), (rows, cols))
+        resign(dst, tree)
+    return Path(dst)

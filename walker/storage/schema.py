@@ -35,9 +35,17 @@ READ_TIMEOUT = 60.0
 """Seconds a checked read may take, plus one per 50 MB of file, before it is abandoned as
 a hang (:func:`read` ``timeout``)."""
 
-MAX_COMPRESSION_RATIO = 1032
-"""Largest expansion of deflate (gzip) data; a compressed dataset declaring more bytes than
-this times its stored size is refused before any of it is read."""
+MAX_COMPRESSION_RATIO = 64
+"""Largest expansion allowed of a compressed (deflate) dataset: one declaring more bytes than
+this times its stored size is refused before any of it is decompressed.  walker itself never
+compresses; deflate (up to 1032:1) is read only from files repacked by other tools, and
+walker's numbers (floats) compress far less than 64:1, while a decompression bomb needs
+about 1000:1."""
+
+MAX_DECOMPRESSED_BYTES = 32 << 20
+"""Largest total of declared bytes of a file's compressed datasets [bytes] (32 MiB): beyond it
+a file is refused before any of them is decompressed, so that reading a small compressed file
+stays within about 200 MiB of memory whatever its compressed datasets declare."""
 
 WRITE_ATTEMPTS = 4
 """Attempts of a checkpoint chunk write that fails with a transient error (backoff 0.05 s,
