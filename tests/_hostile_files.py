@@ -67,12 +67,30 @@ def sweep_v1(path, *, parameter_names, points, columns, chunk_size, provenance) 
 
 
 def unchecked(path) -> Path:
-    """Turn a file :func:`walker.storage.write` made into a schema-1 file (no ``checksum``):
-    what it holds is then checked by the reader's rules only, not by the checksum."""
-    with h5py.File(path, "r+") as f:
+    """Turn a file :func:`walker.storage.write` made into a schema-1 file: the same content
+    rewritten in the layout of version 1 (contiguous datasets without Fletcher-32, no root
+    ``checksum``, no chunk SHA-256), so that what it holds is checked by the reader's rules
+    only, not by the checksums.  (Setting ``schema_version`` to 1 alone is refused: a
+    downgraded file.)"""
+    tree = _tree(path)
+
+    def emit(node, group, where):
+        for name, value in node["attrs"].items():
+            if where == "/" and name == "checksum":
+                continue
+            group.attrs[name] = value
+        for name, arr in node["datasets"].items():
+            if where == "/checkpoint" and name == "chunk_sha256":
+                continue
+            ds = group.create_dataset(name, data=np.ascontiguousarray(arr))
+            for attr, value in node.get("dataset_attrs", {}).get(name, {}).items():
+                ds.attrs[attr] = value
+        for name, sub in node["groups"].items():
+            emit(sub, group.create_group(name), f"{where.rstrip('/')}/{name}")
+
+    with h5py.File(path, "w", libver="earliest") as f:
+        emit(tree, f, "/")
         f.attrs["schema_version"] = np.int64(1)
-        if "checksum" in f.attrs:
-            del f.attrs["checksum"]
     return Path(path)
 
 

@@ -197,3 +197,118 @@ def test_streamed_checksum_hashes_the_bytes_of_tobytes(arr, monkeypatch):
     got = hashlib.sha256()
     checksums_module._feed_array(got, b"D", "/p", arr)
     assert got.hexdigest() == want.hexdigest()
+
+
+# --------------------------------------------------------------------------------------------
+# Item 7: decoding bounded (forged files with a valid checksum)
+
+
+def _forged(tmp_path, kind, edit, name="forged.h5"):
+    """A file of ``kind`` edited by ``edit(h5file)`` and re-signed: its checksum is valid,
+    so only the reader's range checks can refuse it."""
+    path = write(tmp_path / name, RESULTS[kind](), provenance={"rtol": 1e-10})
+    with h5py.File(path, "r+") as f:
+        edit(f)
+    return resign(path, _tree(path))
+
+
+FORGED_INTS = {
+    # case: (kind, group, attribute, value, before)
+    "branch-period-2e6": ("branch", "result", "period", 2_000_000, "plot allocated 3.3 GB"),
+    "branch-period-1e9": ("branch", "result", "period", 10**9, "exit 3"),
+    "branch-period--3": ("branch", "result", "period", -3, "exit 3"),
+    "fixed-point-period-0": ("fixed_point", "result", "period", 0, "read"),
+    "orbit-coordinate--100": ("orbit_diagram", "result", "coordinate", -100, "exit 3"),
+    "orbit-coordinate--1": ("orbit_diagram", "result", "coordinate", -1, "mislabelled axis"),
+    "orbit-coordinate-10**6": ("orbit_diagram", "result", "coordinate", 10**6, "read"),
+    "solution-n-steps--1": ("solution", "result", "n_steps", -1, "read"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(FORGED_INTS))
+def test_forged_integer_is_refused(tmp_path, case):
+    """Before: the values after each case's name were read as they were (see ``before``);
+    now every integer field is checked against the range walker writes, before use."""
+    kind, group, name, value, _ = FORGED_INTS[case]
+
+    def edit(f):
+        f[group].attrs[name] = np.int64(value)
+
+    path = _forged(tmp_path, kind, edit)
+    with pytest.raises(
+        StorageError, match=rf"attribute '{name}' of '/{group}' is {value}, outside"
+    ):
+        read(path)
+
+
+def test_forged_branch_period_plot_is_exit_2(tmp_path):
+    """Before: ``walker plot`` of a 39 KB branch file with ``period = 2e6`` allocated 3.3 GB
+    (hours of strides).  Now it is one line and exit 2, before any figure."""
+
+    def edit(f):
+        f["result"].attrs["period"] = np.int64(2_000_000)
+
+    path = _forged(tmp_path, "branch", edit)
+    done = subprocess.run(
+        [sys.executable, "-m", "walker", "plot", str(path), "--out", str(tmp_path / "fig")],
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.count("\n") == 1 and "'period'" in done.stderr, done.stderr
+
+
+def test_write_refuses_an_integer_read_would_refuse(tmp_path):
+    import dataclasses
+
+    bad = dataclasses.replace(RESULTS["orbit_diagram"](), coordinate=-1)
+    with pytest.raises(ValueError, match=r"`OrbitDiagram.coordinate` must be in \[0, 255\]"):
+        write(tmp_path / "x.h5", bad, provenance={})
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("key", ["rtol", "parameters"])
+def test_provenance_integer_beyond_float_is_refused(tmp_path, key):
+    """Before: a provenance ``rtol`` written as a 400-digit integer ended in exit 3
+    (OverflowError converting it).  Now a real number must fit a float."""
+
+    def edit(f):
+        prov = json.loads(f.attrs["provenance"])
+        big = 10**400
+        if key == "rtol":
+            prov["rtol"] = big
+        else:
+            prov["parameters"] = {"slope": {"value": big, "unit": "rad"}}
+        f.attrs["provenance"] = json.dumps(prov)
+
+    path = _forged(tmp_path, "fixed_point", edit)
+    with pytest.raises(StorageError, match=f"provenance key '{key}'"):
+        read(path)
+
+
+def test_version_downgrade_is_refused(tmp_path):
+    """Before: setting ``schema_version = 1`` switched off the SHA-256 check even with the
+    ``checksum`` attribute present, so an edited provenance was read.  Now a version-1 file
+    carrying version-2 features (the ``checksum`` attribute, Fletcher-32 datasets, chunk
+    SHA-256) is refused."""
+
+    def downgrade(f, drop_checksum):
+        f.attrs["schema_version"] = np.int64(1)
+        f.attrs["provenance"] = json.dumps({"rtol": 1.0, "model": "edited"})
+        if drop_checksum:
+            del f.attrs["checksum"]
+
+    for drop in (False, True):
+        path = write(tmp_path / f"d{drop}.h5", RESULTS["fixed_point"](), provenance={})
+        with h5py.File(path, "r+") as f:
+            downgrade(f, drop)
+        feature = "the checksums of dataset" if drop else "the root attribute 'checksum'"
+        with pytest.raises(StorageError, match=f"schema_version 1 but carries {feature}"):
+            read(path)
+    # a genuine version-1 file (contiguous, no checksums) is still read
+    path = unchecked(write(tmp_path / "v1.h5", RESULTS["fixed_point"](), provenance={}))
+    result, prov = read(path)
+    assert prov["schema_version"] == 1
+    np.testing.assert_array_equal(result.section, RESULTS["fixed_point"]().section)

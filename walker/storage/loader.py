@@ -14,6 +14,7 @@ import numpy as np
 from walker.storage.checksums import _DONE_FALSE, _DONE_TRUE, _is_dynamic
 from walker.storage.schema import (
     _CHECKPOINT_GROUP,
+    _CHECKSUM_ATTR,
     _CHUNK_SHA,
     BASIN_NOT_COMPUTED,
     KINDS,
@@ -105,6 +106,7 @@ class _Loader:
         self.n_objects = 0
         self.seen: set[Any] = set()
         self.deferred: dict[str, h5py.Dataset] = {}
+        self.version = SCHEMA_VERSION
 
     # -- structure ----------------------------------------------------------------------
 
@@ -112,7 +114,10 @@ class _Loader:
         f = self.f
         attrs = self.attrs(f, "/")
         version, kind = _header_kind(attrs, self.path)
+        if version < 2 and _CHECKSUM_ATTR in attrs:
+            raise self.downgraded("the root attribute 'checksum'")
         link = f.get(_CHECKPOINT_GROUP, getlink=True)
+        self.version = version
         self.kind = kind
         self.has_checkpoint = isinstance(link, h5py.HardLink)
         self.seen.add(self.identity(f))
@@ -216,6 +221,10 @@ class _Loader:
             if code not in _ALLOWED_FILTERS:
                 raise _refused(self.path, f"dataset '{path}' uses the HDF5 filter {code}")
             codes.append(code)
+        if self.version < 2 and (
+            h5py.h5z.FILTER_FLETCHER32 in codes or path == f"/{_CHECKPOINT_GROUP}/{_CHUNK_SHA}"
+        ):
+            raise self.downgraded(f"the checksums of dataset '{path}'")
         dtype = ds.dtype
         if dtype.kind not in "biufc" or dtype.fields is not None or dtype.itemsize > 16:
             raise _refused(self.path, f"dataset '{path}' has the type {dtype}")
@@ -266,6 +275,15 @@ class _Loader:
                 "refused"
             )
         self.spend(n_bytes, f"dataset '{path}'")
+
+    def downgraded(self, feature: str) -> StorageError:
+        """A file that says schema version 1 (read without the checksums) but carries
+        ``feature`` of version 2: an edited version-2 file passing as unchecked."""
+        return StorageError(
+            f"cannot read '{self.path}': it says schema_version 1 but carries {feature}, "
+            "which only version 2 writes (an edited file downgraded to skip the checksums?); "
+            "refused"
+        )
 
     def check_compressed(self, path: str, n_bytes: int, stored: int) -> None:
         """Refuse a compressed dataset declaring ``n_bytes`` from ``stored`` bytes whose
