@@ -312,3 +312,37 @@ def test_version_downgrade_is_refused(tmp_path):
     result, prov = read(path)
     assert prov["schema_version"] == 1
     np.testing.assert_array_equal(result.section, RESULTS["fixed_point"]().section)
+
+
+# --------------------------------------------------------------------------------------------
+# The isolated reader's imports
+
+
+def test_spawned_reader_does_not_import_from_the_current_directory(tmp_path, orbit_file):
+    """Before: with more than one thread (a notebook, Dask) the reading child started as
+    ``python -c`` with the current directory first on ``sys.path``, so a planted ``json.py``
+    ran in it.  Now the child runs in isolated mode (``-I``) and loads walker by path."""
+    planted = tmp_path / "cwd"
+    planted.mkdir()
+    marker = tmp_path / "planted-code-ran"
+    for name in ("json", "numpy", "h5py"):
+        (planted / f"{name}.py").write_text(
+            f"open({str(marker)!r}, 'a').write({name!r})\nraise SystemExit(99)\n"
+        )
+    # The parent imports what it needs first, then moves into the planted directory: the
+    # child starts there.
+    code = f"""
+        import os, threading
+        from walker.storage import isolated, read
+        stop = threading.Event()
+        threading.Thread(target=stop.wait, daemon=True).start()  # no fork: a new interpreter
+        assert not isolated._can_fork()
+        os.chdir({str(planted)!r})
+        result, prov = read({str(orbit_file)!r})
+        stop.set()
+        print(prov["kind"], result.values.shape)
+    """
+    done = _python(code)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split()[0] == "orbit_diagram"
+    assert not marker.exists(), marker.read_text()
