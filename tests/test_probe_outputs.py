@@ -123,3 +123,153 @@ def test_animation_goes_through_the_same_writer(tmp_path):
     assert victim.read_bytes() == b"precious"
     assert not path.is_symlink() and path.read_bytes()[:6] in (b"GIF89a", b"GIF87a")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["victim.gif", "walk.gif"]
+
+
+# --------------------------------------------------------------------------------------------
+# Exit codes
+
+
+def _closed_stdout():
+    os.close(1)
+
+
+def test_closed_stdout_is_141(tmp_path):
+    """Before: ``walker find gaits/kneed_hsu.toml >&-`` ended in exit 3 (AttributeError:
+    ``sys.stdout`` is None), where the exit-status table promises 141.  Now the output goes
+    nowhere and the status is 141; files are still written, and a later file never gets
+    descriptor 1."""
+    out = tmp_path / "fp.h5"
+    done = subprocess.run(
+        [sys.executable, "-m", "walker", "find", str(COMPASS), "--out", str(out)],
+        cwd=REPO,
+        stderr=subprocess.PIPE,
+        text=True,
+        timeout=300,
+        preexec_fn=_closed_stdout,
+    )
+    assert done.returncode == 141, done.stderr
+    assert done.stderr == ""
+    from walker.storage import read
+
+    result, _ = read(out)
+    assert result.success
+
+
+@pytest.mark.parametrize("what", ["character-device", "fifo", "directory"])
+def test_scene_path_that_is_not_a_file_says_what_it_is(tmp_path, what, capsys):
+    """Before: ``walker find /dev/zero`` (or a FIFO, or a directory) said "scene file not
+    found".  Now the line says what the path is; a FIFO is not opened (which would block)."""
+    if what == "character-device":
+        path, kind = Path(os.devnull), "a character device"
+    elif what == "fifo":
+        path, kind = tmp_path / "scene.toml", "a FIFO"
+        os.mkfifo(path)
+    else:
+        path, kind = tmp_path, "a directory"
+    assert main(["find", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err == f"walker: error: scene file {path}: is {kind}, not a regular file\n"
+
+
+def test_missing_scene_still_says_not_found(tmp_path, capsys):
+    assert main(["find", str(tmp_path / "none.toml")]) == 2
+    assert "scene file not found" in capsys.readouterr().err
+
+
+def test_output_created_meanwhile_says_the_flag(tmp_path, monkeypatch, capsys):
+    """Before: of two sweeps started together on one ``--out``, the loser said "pass
+    overwrite=True" (the library's wording).  Now it names ``--out`` and ``--overwrite``.
+    The race is made certain: the file appears between the command's check of ``--out``
+    and its creation."""
+    out = tmp_path / "sweep.h5"
+    original = disk_module._atomic_write
+
+    def winner_first(path, image, overwrite):
+        Path(path).write_bytes(b"the other sweep's file")
+        return original(path, image, overwrite)
+
+    monkeypatch.setattr(disk_module, "_atomic_write", winner_first)
+    from walker.storage import checkpoint as checkpoint_module
+
+    monkeypatch.setattr(checkpoint_module, "_atomic_write", winner_first)
+    argv = ["sweep", str(COMPASS), "--param", "slope=0.01:0.02:2", "--out", str(out), "--quiet"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err == f"walker: error: --out {out} exists; pass --overwrite to replace it\n"
+    assert out.read_bytes() == b"the other sweep's file"
+
+
+# --------------------------------------------------------------------------------------------
+# Ctrl-C while the command starts
+
+
+@pytest.mark.parametrize("after", ["import walker", "import walker.cli", "parse"])
+def test_interrupt_while_starting_is_quiet_130(after):
+    """Before: SIGINT in the first ~1.5 s of any command printed an 18-21-line traceback
+    of the import it hit.  Now the ``walker`` command installs a handler first thing in
+    ``walker/__init__.py``: one line, status 130.  The signal is sent by the process to
+    itself at a fixed point of its start, so the test does not depend on timing."""
+    code = f"""
+import os, signal, sys
+sys.argv = ["walker", "find", {str(COMPASS)!r}]  # as the console script starts
+import walker
+if {after!r} == "import walker":
+    os.kill(os.getpid(), signal.SIGINT)
+import walker.cli
+if {after!r} == "import walker.cli":
+    os.kill(os.getpid(), signal.SIGINT)
+parser = walker.cli.build_parser()
+if {after!r} == "parse":
+    os.kill(os.getpid(), signal.SIGINT)
+sys.exit(walker.cli.main(sys.argv[1:]))
+"""
+    done = subprocess.run(
+        [sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 130, done.stderr
+    assert done.stderr == "walker: interrupted\n"
+
+
+def test_library_import_keeps_the_interrupt_handler():
+    code = (
+        "import signal, walker\n"
+        "print(signal.getsignal(signal.SIGINT) is signal.default_int_handler)"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=120
+    )
+    assert done.stdout == "True\n", done.stderr
+
+
+def _numpy_loaded(pid: int) -> bool:
+    try:
+        return "_multiarray_umath" in Path(f"/proc/{pid}/maps").read_text()
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not Path("/proc/self/maps").exists(), reason="needs /proc/<pid>/maps")
+def test_real_ctrl_c_during_imports_is_quiet_130():
+    """A real SIGINT to ``python -m walker find`` as soon as numpy's extension is mapped
+    (walker's own imports have begun, after the start-up handler): one line, 130."""
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "walker", "find", str(COMPASS)],
+        cwd=REPO,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        deadline = time.monotonic() + 60  # a hang guard, not a measurement
+        while not _numpy_loaded(proc.pid) and proc.poll() is None:
+            if time.monotonic() > deadline:
+                pytest.fail("numpy was never loaded")
+            time.sleep(0.001)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 130, err
+    assert err == "walker: interrupted\n"

@@ -475,7 +475,8 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
     FileNotFoundError
         ``path`` does not exist.
     OSError
-        ``path`` cannot be read (its ``filename`` names it), e.g. a name too long.
+        ``path`` cannot be read (its ``filename`` names it), e.g. a name too long, or is not a
+        regular file (a directory, a device, a FIFO: the message says which).
     ValueError
         invalid TOML or an invalid scene (the message names the file and the key path).
 
@@ -492,7 +493,9 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
     if not isinstance(shown, str):
         raise TypeError(f"`path` must name a file as str, got {type(shown).__name__}")
     if not path_obj.is_file():  # OSError (a name too long, ...) names the path
-        raise FileNotFoundError(f"scene file not found: {shown}")
+        if not path_obj.exists():
+            raise FileNotFoundError(f"scene file not found: {shown}")
+        raise _not_a_file(path_obj, shown)
     reader = _Reader(shown)
     with path_obj.open("rb") as fh:
         data = fh.read(MAX_SCENE_BYTES + 1)
@@ -570,6 +573,25 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
         reference=_reference(reader, n_x, reference_t),
         swing_scuff=_swing_scuff(reader, model, model_t),
     )
+
+
+def _not_a_file(path: Path, shown: str) -> OSError:
+    """The error for a scene path that exists but is not a regular file (never opened: a
+    FIFO would block), saying what it is."""
+    import errno
+    import stat
+
+    mode = path.stat().st_mode
+    kinds = (
+        (stat.S_ISDIR, "a directory"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISFIFO, "a FIFO"),
+        (stat.S_ISSOCK, "a socket"),
+    )
+    kind = next((name for test, name in kinds if test(mode)), "a special file")
+    code = errno.EISDIR if stat.S_ISDIR(mode) else errno.EINVAL
+    return OSError(code, f"is {kind}, not a regular file", shown)
 
 
 def _swing_scuff(reader: _Reader, model: str, table: Mapping[str, Any]) -> str:

@@ -51,6 +51,8 @@ import traceback
 import warnings
 from pathlib import Path
 
+from walker._startup import restore_interrupts
+
 from . import basin, branch, find, info, orbit, plot, run, sweep
 from ._common import (
     BASIN_TOL,
@@ -127,19 +129,25 @@ def _interrupted_line(args, before: tuple | None) -> str:
 
 
 def main(argv=None) -> int:
+    stdout_closed = _open_standard_streams()
     parser = build_parser()
     args = parser.parse_args(argv)
 
-    before = _file_id(args.out) if args.command in _CHECKPOINTING else None
-    guard = (
-        interrupts_as_exceptions() if args.command in _CHECKPOINTING else contextlib.nullcontext()
-    )
     try:
+        restore_interrupts()  # from here on, Ctrl-C is a KeyboardInterrupt handled below
+        before = _file_id(args.out) if args.command in _CHECKPOINTING else None
+        guard = (
+            interrupts_as_exceptions()
+            if args.command in _CHECKPOINTING
+            else contextlib.nullcontext()
+        )
         with guard, warnings.catch_warnings():
             warnings.showwarning = _one_line_warning
             try:
                 code = args.func(args)
                 sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
+                if stdout_closed and code in (EXIT_OK, EXIT_OUTCOME):
+                    return EXIT_BROKEN_PIPE  # its output went nowhere
                 return code
             except KeyboardInterrupt:  # Ctrl-C, or SIGTERM/SIGINT (interrupts_as_exceptions)
                 # Still under the handler: a second signal now exits at once.
@@ -158,6 +166,31 @@ def main(argv=None) -> int:
             return _internal_error(exc, argv)
         print(f"walker: error: {line}", file=sys.stderr)
         return EXIT_USAGE
+
+
+def _open_standard_streams() -> bool:
+    """Standard input, output and error that are closed (``walker find ... >&-``) are opened
+    on the null device, so that no file walker opens later gets their descriptor (and a
+    ``print`` into it) and printing works.  Returns whether standard output was closed: the
+    command then ends with ``EXIT_BROKEN_PIPE``, its output dropped."""
+    closed = {}
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+            closed[fd] = False
+        except OSError:
+            closed[fd] = True
+            try:
+                null = os.open(os.devnull, os.O_RDWR)
+                if null != fd:
+                    os.dup2(null, fd)
+                    os.close(null)
+            except OSError:  # pragma: no cover - no null device
+                pass
+    for fd, name in ((1, "stdout"), (2, "stderr")):
+        if closed[fd] or getattr(sys, name) is None:
+            setattr(sys, name, open(os.devnull, "w", encoding="utf-8"))  # noqa: SIM115
+    return closed[1] or sys.__stdout__ is None
 
 
 def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:
@@ -218,6 +251,10 @@ def _input_error_line(args, exc: Exception) -> str | None:
 
     if isinstance(exc, UsageError | StorageError | NumbaMissing):
         return _first_line(exc)
+    if isinstance(exc, FileExistsError) and exc.filename is not None and hasattr(args, "overwrite"):
+        # Created meanwhile (two commands on one --out): the command line's wording.
+        label = _path_label(args, exc.filename) or "--out "
+        return f"{label}{os.fsdecode(exc.filename)} exists; pass --overwrite to replace it"
     if isinstance(exc, OSError) and exc.filename is not None:
         # An OSError of a named file: the path, the flag it came from and the reason.
         reason = exc.strerror or _first_line(exc)

@@ -47,8 +47,16 @@ def _check_target(path: Any, overwrite: bool) -> Path:
     if not parent.is_dir():
         raise FileNotFoundError(f"directory '{parent}' of `path` '{path}' does not exist")
     if path.exists() and not overwrite:
-        raise FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
+        raise _exists(path)
     return path
+
+
+def _exists(path: Path) -> FileExistsError:
+    """The error of an existing target; its ``filename`` is the path, so that the command
+    line can say which flag named it and how to replace it."""
+    exc = FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
+    exc.filename = os.fspath(path)
+    return exc
 
 
 def _disk_error(exc: OSError, path: Path, what: str) -> StorageError:
@@ -228,16 +236,12 @@ def _atomic_write(path: Path, image: bytes, overwrite: bool) -> Path:
             try:
                 os.link(tmp, path)
             except FileExistsError:
-                raise FileExistsError(
-                    f"'{path}' exists; pass overwrite=True to replace it"
-                ) from None
+                raise _exists(path) from None
             except OSError as exc:  # no hard links on this file system
                 if exc.errno in _DISK_ERRNOS and exc.errno != errno.EIO:
                     raise
                 if path.exists():
-                    raise FileExistsError(
-                        f"'{path}' exists; pass overwrite=True to replace it"
-                    ) from None
+                    raise _exists(path) from None
                 os.replace(tmp, path)
             else:
                 os.unlink(tmp)
