@@ -273,3 +273,50 @@ def test_real_ctrl_c_during_imports_is_quiet_130():
             proc.wait()
     assert proc.returncode == 130, err
     assert err == "walker: interrupted\n"
+
+
+# --------------------------------------------------------------------------------------------
+# Parsing cost of scenes
+
+
+@pytest.mark.parametrize(
+    "text, line",
+    [
+        ("a" + ".a" * 10_000 + " = 1\n", 1),  # the probe's 20 KB scene (41 s to refuse)
+        ("[scene]\nmodel = 'compass'\n" + "a" + ".a" * 32 + " = 1\n", 3),
+        ('"x"' + '."y"' * 40 + " = 1\n", 1),
+        ("[" + "t." * 40 + "t]\n", 1),
+        ("x = {" + "k . " * 40 + "k = 1}\n", 1),
+    ],
+    ids=["20KB-dotted-key", "33-parts", "quoted-parts", "table-header", "inline-spaces"],
+)
+def test_long_dotted_key_is_refused_before_parsing(tmp_path, text, line, monkeypatch):
+    """Before: TOML dotted keys parse in time growing with the square of their parts; a
+    20 KB scene of ``a.a.a...`` took 41 s to refuse, and the 1 MiB limit allowed hours.
+    Now a key of more than ``MAX_KEY_PARTS`` parts is refused by a linear scan, before the
+    parser runs (the parser is replaced by one that fails, to show it is never called)."""
+    from walker import scene as scene_module
+
+    path = tmp_path / "deep.toml"
+    path.write_text(text)
+
+    def never(_text):
+        raise AssertionError("the TOML parser ran")
+
+    monkeypatch.setattr(scene_module.tomllib, "loads", never)
+    with pytest.raises(ValueError, match=rf"more than 32 parts at line {line}; refused") as info:
+        scene_module.load_scene(path)
+    assert str(path) in str(info.value) and "\n" not in str(info.value)
+
+
+def test_keys_of_at_most_32_parts_reach_the_parser(tmp_path):
+    """The bound refuses nothing a scene can hold: the shipped scenes load, and a 32-part
+    key is left to the parser and the scene rules (an unknown table)."""
+    from walker.scene import load_scene
+
+    for scene in sorted((REPO / "gaits").glob("*.toml")):
+        load_scene(scene)
+    path = tmp_path / "ok.toml"
+    path.write_text("a" + ".a" * 31 + " = 1\nversion = '1.2.3.4.5'\n")
+    with pytest.raises(ValueError, match=r"unknown tables \[a\], \[version\]"):
+        load_scene(path)
