@@ -320,3 +320,59 @@ def test_keys_of_at_most_32_parts_reach_the_parser(tmp_path):
     path.write_text("a" + ".a" * 31 + " = 1\nversion = '1.2.3.4.5'\n")
     with pytest.raises(ValueError, match=r"unknown tables \[a\], \[version\]"):
         load_scene(path)
+
+
+# --------------------------------------------------------------------------------------------
+# Item 3: optional dependencies
+
+
+def test_scheduler_without_dask_is_one_line_exit_2(tmp_path, monkeypatch, capsys):
+    """Before: ``walker sweep --scheduler ...`` without dask printed "internal error ...
+    please report" and exited 3.  Now it is one line naming the ``dask`` extra, exit 2,
+    before any work (no file).  dask is hidden from this process (``sys.modules`` entries
+    of None make its import fail as if it were not installed)."""
+    for name in ("distributed", "dask"):
+        monkeypatch.setitem(sys.modules, name, None)
+    out = tmp_path / "sw.h5"
+    argv = ["sweep", str(COMPASS), "--param", "slope=0.05:0.06:2", "--out", str(out)]
+    assert main([*argv, "--scheduler", "tcp://127.0.0.1:1"]) == 2
+    err = capsys.readouterr().err
+    assert err == (
+        "walker: error: the optional extra `dask` is not installed (no module 'distributed'); "
+        "install it with pip install 'walker-hybrid[dask]'\n"
+    )
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    "module, extra",
+    [("heyoka", "`bench`"), ("pydrake", "`bench`"), ("numba", "`numba`"), ("pandas", None)],
+)
+def test_any_missing_optional_module_is_one_line_exit_2(module, extra, monkeypatch, capsys):
+    """Whatever command meets a missing optional module: one line naming what installs it
+    (the command is replaced by one whose import fails)."""
+    from walker.cli import find as find_module
+
+    def needs_it(args):
+        raise ModuleNotFoundError(f"No module named '{module}'", name=module)
+
+    monkeypatch.setattr(find_module, "cmd_find", needs_it)
+    assert main(["find", str(COMPASS)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"(no module '{module}')" in err
+    if extra is None:
+        assert f"the optional package `{module}`" in err and f"pip install {module}\n" in err
+    else:
+        assert f"the optional extra {extra} is not installed" in err
+
+
+def test_a_missing_required_module_is_still_an_internal_error(monkeypatch, capsys, tmp_path):
+    from walker.cli import find as find_module
+
+    def broken(args):
+        raise ModuleNotFoundError("No module named 'scipy'", name="scipy")
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    monkeypatch.setattr(find_module, "cmd_find", broken)
+    assert main(["find", str(COMPASS)]) == 3
+    assert "internal error" in capsys.readouterr().err

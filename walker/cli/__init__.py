@@ -67,6 +67,7 @@ from ._common import (
     interrupts_as_exceptions,
     provenance,
 )
+from ._extras import missing_extra_line
 
 __all__ = [
     "BASIN_TOL",
@@ -251,6 +252,9 @@ def _input_error_line(args, exc: Exception) -> str | None:
 
     if isinstance(exc, UsageError | StorageError | NumbaMissing):
         return _first_line(exc)
+    missing = missing_extra_line(exc)
+    if missing is not None:  # an optional dependency (dask, numba, ...) is not installed
+        return missing
     if isinstance(exc, FileExistsError) and exc.filename is not None and hasattr(args, "overwrite"):
         # Created meanwhile (two commands on one --out): the command line's wording.
         label = _path_label(args, exc.filename) or "--out "
