@@ -346,3 +346,39 @@ def test_spawned_reader_does_not_import_from_the_current_directory(tmp_path, orb
     assert done.returncode == 0, done.stderr
     assert done.stdout.split()[0] == "orbit_diagram"
     assert not marker.exists(), marker.read_text()
+
+
+# --------------------------------------------------------------------------------------------
+# The interrupt message reads the bookkeeping only
+
+
+def test_progress_without_verifying_reads_only_the_bookkeeping(tmp_path, monkeypatch):
+    """Before: Ctrl-C on a 1e6-point checkpoint took 28-55 s, because the one-line message
+    re-read and re-verified the whole file.  Now the message counts the done flags of
+    ``/checkpoint`` alone: the same count as the full check on an intact file, and no row
+    is read (the full loader is replaced by one that fails)."""
+    from _checkpoints import basin_kw, half_done_sweep
+
+    from walker.storage import BasinStore, checkpoint_progress
+    from walker.storage import checkpoint as checkpoint_module
+
+    sweep = tmp_path / "s.h5"
+    half_done_sweep(sweep)
+    basin = tmp_path / "b.h5"
+    store = BasinStore.create_or_open(basin, **basin_kw())
+    sl = store.chunk_slice(1)
+    rows = np.ones((sl.stop - sl.start, 3), dtype=np.int64)
+    store.write_chunk(1, rows, rows)
+    full = {p: checkpoint_progress(p) for p in (sweep, basin)}
+    assert full[sweep] == (2, 4) and full[basin] == (1, 3)
+
+    def no_full_read(*args, **kw):
+        raise AssertionError("the whole file was read")
+
+    monkeypatch.setattr(checkpoint_module, "_load_checked", no_full_read)
+    for p in (sweep, basin):
+        assert checkpoint_progress(p, verify=False) == full[p]
+    not_a_checkpoint = write(tmp_path / "o.h5", RESULTS["orbit_diagram"](), provenance={})
+    monkeypatch.undo()
+    assert checkpoint_progress(not_a_checkpoint, verify=False) is None
+    assert checkpoint_progress(tmp_path / "missing.h5", verify=False) is None

@@ -118,7 +118,7 @@ def _interrupted_line(args, before: tuple | None) -> str:
         return "walker: interrupted"
     from walker.storage import checkpoint_progress
 
-    progress = checkpoint_progress(args.out)
+    progress = checkpoint_progress(args.out, verify=False)  # bookkeeping only: fast
     replaced = before is None or _file_id(args.out) != before
     if progress is None or (args.overwrite and not replaced):
         return f"walker: interrupted before anything was stored in {args.out}"
