@@ -14,16 +14,19 @@ Exit status:
   :class:`UsageError` of the command line, a ``ValueError`` or ``TypeError`` raised by
   walker's own validation (raised in walker's code: the innermost frame of its traceback
   is in the package; the library's messages name the argument), a
-  :class:`walker.storage.StorageError`, and an ``OSError`` of a named file (the line names
-  the path, and the flag it came from).
+  :class:`walker.storage.StorageError`, an ``OSError`` of a named file (the line names
+  the path, and the flag it came from), and a missing optional dependency (the line names
+  the extra that installs it: ``walker/cli/_extras.py``).
 * 3: an internal error, a bug (``EXIT_INTERNAL``): any other exception, an ``OSError``
   without a file or a ``ValueError`` raised inside another library included.  One line
   ``walker: internal error (<type>: <message>), please report; traceback in <file>``; the
   traceback goes to a new file under ``$XDG_CACHE_HOME/walker/`` (``~/.cache/walker/``; the
   temporary directory when that cannot be written).
-* 130: interrupted (SIGINT, SIGTERM; below).
-* 141: standard output was closed by its reader (``walker find ... | head -c1``): the rest of
-  the output is dropped, nothing is printed, as for a tool ended by SIGPIPE.
+* 130: interrupted (SIGINT, SIGTERM; below), also while the command starts (a handler
+  installed first thing by ``walker/__init__.py``: ``walker/_startup.py``).
+* 141: standard output was closed by its reader (``walker find ... | head -c1``) or closed
+  before the start (``>&-``): the rest of the output is dropped, nothing is printed, as for
+  a tool ended by SIGPIPE.
 
 Output paths are checked before any work: ``--out`` naming a directory, in a missing or
 unwritable directory, or an existing file without ``--overwrite`` (``sweep`` and ``basin``:
