@@ -149,7 +149,9 @@ def test_scene_and_result_names_too_long(tmp_path, capsys, no_work):
 def test_unreachable_scheduler_fails_fast_with_exit_2(tmp_path):
     """Before: dask retried for 30 s, then an ``OSError`` traceback with exit 1 (38 s in
     all).  Now a refused port is reported at once; the hang guard is generous against the
-    few seconds allowed (``walker.cli.sweep.SCHEDULER_TIMEOUT``)."""
+    few seconds allowed (``walker.cli.sweep.SCHEDULER_TIMEOUT``).  Needs dask (the
+    ``dask`` extra; without it ``--scheduler`` is refused first: tests/test_probe_outputs)."""
+    pytest.importorskip("distributed", reason="the `dask` extra is not installed")
     out = tmp_path / "sw.h5"
     args = ["sweep", SCENE, "--param", "slope=0.05:0.06:2", "--out", out]
     proc = _walker(*args, "--scheduler", "tcp://127.0.0.1:1", timeout=30)

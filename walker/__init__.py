@@ -56,7 +56,11 @@ processes) never imports it.
 Only ``symbolic`` imports sympy; a simulation derives nothing.
 """
 
-from importlib.metadata import PackageNotFoundError, version
+from walker._startup import quiet_interrupts as _quiet_interrupts
+
+_quiet_interrupts()  # the `walker` command: Ctrl-C during the imports below exits 130 quietly
+
+from importlib.metadata import PackageNotFoundError, version  # noqa: E402
 
 try:
     __version__ = version("walker-hybrid")

@@ -22,8 +22,18 @@ __all__ = ["phase_labels", "plot_file", "plot_solution", "solution_figures", "wa
 
 
 def _save(fig, path: Path) -> Path:
-    fig.savefig(path, dpi=110)
-    return path
+    """Write ``fig`` to ``path`` (its format from the suffix) as every output of walker is
+    written: rendered in memory, then through a temporary file in the same directory
+    renamed onto ``path`` (:func:`walker.storage.write_file`), so that a symbolic link
+    planted at ``path`` is replaced, not followed, and a failure (a full disk) leaves no
+    partial file and is a one-line StorageError naming ``path``."""
+    import io
+
+    from walker.storage import write_file
+
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format=path.suffix.lstrip(".") or "png", dpi=110)
+    return write_file(path, buffer.getvalue())
 
 
 FRICTION_PREFIXES = ("damping_", "coulomb_")

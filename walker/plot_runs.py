@@ -494,5 +494,20 @@ def animate_walker(
         fig, draw, frames=frames.shape[0], interval=interval_ms, blit=False, repeat=False
     )
     if writer_cls is not None:
-        anim.save(str(path), writer=writer_cls(fps=1000.0 / interval_ms))
+        _save_animation(anim, path, writer_cls(fps=1000.0 / interval_ms))
     return anim
+
+
+def _save_animation(anim: Any, path: Path, writer: Any) -> None:
+    """Render ``anim`` into a private temporary directory, then write the file onto ``path``
+    atomically (:func:`walker.storage.write_file`: a symbolic link at ``path`` is replaced,
+    not followed; a failure leaves no partial file)."""
+    import tempfile
+
+    from walker.storage import write_file
+
+    with tempfile.TemporaryDirectory(prefix="walker-anim-") as tmp:
+        rendered = Path(tmp) / f"animation{path.suffix.lower()}"
+        anim.save(str(rendered), writer=writer)
+        data = rendered.read_bytes()
+    write_file(path, data)

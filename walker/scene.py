@@ -54,8 +54,9 @@ rad/s.
 Every error in a file is a one-line ``ValueError`` naming the file and the key path, e.g.
 ``gaits/x.toml: [parameters] unknown key `mas_hip`; valid keys: ...``; a missing file raises
 ``FileNotFoundError``.  Hostile files end the same way: a file larger than
-:data:`MAX_SCENE_BYTES`, tables nested too deeply for the TOML parser, or an integer too large
-for a float are ``ValueError`` naming the file (and the key).
+:data:`MAX_SCENE_BYTES`, a dotted key of more than :data:`MAX_KEY_PARTS` parts (refused
+before parsing, whose time grows with its square), tables nested too deeply for the TOML
+parser, or an integer too large for a float are ``ValueError`` naming the file (and the key).
 
 Examples
 --------
@@ -70,6 +71,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import re
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -90,6 +92,20 @@ MAX_STRIDES = 1_000_000
 
 MAX_SCENE_BYTES = 1 << 20
 """Largest scene file read [bytes] (the shipped ones are about 2 KB)."""
+
+MAX_KEY_PARTS = 32
+"""Most dot-separated parts of a TOML key (``a.b.c`` has 3) a scene may have; a scene's keys
+have at most 2.  The TOML parser's time grows with the square of a dotted key's parts (a
+20 KB key ``a.a.a...`` took 41 s), so longer chains are refused before parsing."""
+
+# MAX_KEY_PARTS or more dots joining key parts (bare or quoted, at most 256 characters),
+# anywhere in the text.  Possessive quantifiers, and a start only where no part or dot
+# precedes, keep the search linear in the text's length.
+_LONG_DOTTED_KEY = re.compile(
+    r"(?<![A-Za-z0-9_\-\"'.])"
+    r"(?:(?:[A-Za-z0-9_-]++|\"[^\"\n]{0,256}+\"|'[^'\n]{0,256}+')[ \t]*+\.[ \t]*+)"
+    rf"{{{MAX_KEY_PARTS},}}+"
+)
 
 _TABLES = {
     "scene": True,
@@ -475,7 +491,8 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
     FileNotFoundError
         ``path`` does not exist.
     OSError
-        ``path`` cannot be read (its ``filename`` names it), e.g. a name too long.
+        ``path`` cannot be read (its ``filename`` names it), e.g. a name too long, or is not a
+        regular file (a directory, a device, a FIFO: the message says which).
     ValueError
         invalid TOML or an invalid scene (the message names the file and the key path).
 
@@ -492,7 +509,9 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
     if not isinstance(shown, str):
         raise TypeError(f"`path` must name a file as str, got {type(shown).__name__}")
     if not path_obj.is_file():  # OSError (a name too long, ...) names the path
-        raise FileNotFoundError(f"scene file not found: {shown}")
+        if not path_obj.exists():
+            raise FileNotFoundError(f"scene file not found: {shown}")
+        raise _not_a_file(path_obj, shown)
     reader = _Reader(shown)
     with path_obj.open("rb") as fh:
         data = fh.read(MAX_SCENE_BYTES + 1)
@@ -501,11 +520,21 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
             "", f"a scene file has at most {MAX_SCENE_BYTES:,} bytes; this is larger"
         )
     try:
-        doc = tomllib.loads(data.decode("utf-8"))
+        text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise reader.error(
             "", f"invalid TOML: not UTF-8 text ({exc.reason} at byte {exc.start})"
         ) from None
+    long_key = _LONG_DOTTED_KEY.search(text)
+    if long_key is not None:
+        line = text.count("\n", 0, long_key.start()) + 1
+        raise reader.error(
+            "",
+            f"a dotted key of more than {MAX_KEY_PARTS} parts at line {line}; refused before "
+            "parsing (a scene's keys have at most 2)",
+        )
+    try:
+        doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise reader.error("", f"invalid TOML: {exc}") from None
     except RecursionError:
@@ -570,6 +599,25 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
         reference=_reference(reader, n_x, reference_t),
         swing_scuff=_swing_scuff(reader, model, model_t),
     )
+
+
+def _not_a_file(path: Path, shown: str) -> OSError:
+    """The error for a scene path that exists but is not a regular file (never opened: a
+    FIFO would block), saying what it is."""
+    import errno
+    import stat
+
+    mode = path.stat().st_mode
+    kinds = (
+        (stat.S_ISDIR, "a directory"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISFIFO, "a FIFO"),
+        (stat.S_ISSOCK, "a socket"),
+    )
+    kind = next((name for test, name in kinds if test(mode)), "a special file")
+    code = errno.EISDIR if stat.S_ISDIR(mode) else errno.EINVAL
+    return OSError(code, f"is {kind}, not a regular file", shown)
 
 
 def _swing_scuff(reader: _Reader, model: str, table: Mapping[str, Any]) -> str:

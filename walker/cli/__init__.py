@@ -14,33 +14,36 @@ Exit status:
   :class:`UsageError` of the command line, a ``ValueError`` or ``TypeError`` raised by
   walker's own validation (raised in walker's code: the innermost frame of its traceback
   is in the package; the library's messages name the argument), a
-  :class:`walker.storage.StorageError`, and an ``OSError`` of a named file (the line names
-  the path, and the flag it came from).
+  :class:`walker.storage.StorageError`, an ``OSError`` of a named file (the line names
+  the path, and the flag it came from), and a missing optional dependency (the line names
+  the extra that installs it: ``walker/cli/_extras.py``).
 * 3: an internal error, a bug (``EXIT_INTERNAL``): any other exception, an ``OSError``
   without a file or a ``ValueError`` raised inside another library included.  One line
   ``walker: internal error (<type>: <message>), please report; traceback in <file>``; the
   traceback goes to a new file under ``$XDG_CACHE_HOME/walker/`` (``~/.cache/walker/``; the
   temporary directory when that cannot be written).
-* 130: interrupted (SIGINT, SIGTERM; below).
-* 141: standard output was closed by its reader (``walker find ... | head -c1``): the rest of
-  the output is dropped, nothing is printed, as for a tool ended by SIGPIPE.
+* 130: interrupted (SIGINT, SIGTERM; below), also while the command starts (a handler
+  installed first thing by ``walker/__init__.py``: ``walker/_startup.py``).
+* 141: standard output was closed by its reader (``walker find ... | head -c1``) or closed
+  before the start (``>&-``): the rest of the output is dropped, nothing is printed, as for
+  a tool ended by SIGPIPE.
 
 Output paths are checked before any work: ``--out`` naming a directory, in a missing or
 unwritable directory, or an existing file without ``--overwrite`` (``sweep`` and ``basin``:
 unless it checkpoints the same computation, which is then resumed) is an error (exit 2).
 
-Every command runs with a handler for SIGINT and SIGTERM (installed here only; the library
-sees an ordinary ``KeyboardInterrupt``; compiled searches, strides and basins poll for the
-signal and stop within a step, see walker/_core/_hybridsignals.c).  ``sweep`` and ``basin``:
-the workers are stopped, the finished chunks stay in the checkpoint ``--out``, one line says
-so, and the exit status is 130; the same command resumes.  A second signal exits at once.
-Ctrl-C or SIGTERM on the other commands also ends with one line and status 130 (their files
-are written atomically, so nothing half-written is left).
+``sweep`` and ``basin`` run with a handler for SIGINT and SIGTERM (installed here only; the
+library sees an ordinary ``KeyboardInterrupt``): the workers are stopped, the finished chunks
+stay in the checkpoint ``--out``, one line says so, and the exit status is 130; the same
+command resumes.  A second signal exits at once.  Ctrl-C on the other commands also ends
+with one line and status 130 (their files are written atomically, so nothing half-written
+is left).
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import platform
 import select
@@ -50,6 +53,8 @@ import time
 import traceback
 import warnings
 from pathlib import Path
+
+from walker._startup import restore_interrupts
 
 from . import basin, branch, find, info, orbit, plot, run, sweep
 from ._common import (
@@ -65,6 +70,7 @@ from ._common import (
     interrupts_as_exceptions,
     provenance,
 )
+from ._extras import missing_extra_line
 
 __all__ = [
     "BASIN_TOL",
@@ -115,7 +121,7 @@ def _interrupted_line(args, before: tuple | None) -> str:
         return "walker: interrupted"
     from walker.storage import checkpoint_progress
 
-    progress = checkpoint_progress(args.out)
+    progress = checkpoint_progress(args.out, verify=False)  # bookkeeping only: fast
     replaced = before is None or _file_id(args.out) != before
     if progress is None or (args.overwrite and not replaced):
         return f"walker: interrupted before anything was stored in {args.out}"
@@ -127,16 +133,25 @@ def _interrupted_line(args, before: tuple | None) -> str:
 
 
 def main(argv=None) -> int:
+    stdout_closed = _open_standard_streams()
     parser = build_parser()
     args = parser.parse_args(argv)
 
-    before = _file_id(args.out) if args.command in _CHECKPOINTING else None
     try:
-        with interrupts_as_exceptions(), warnings.catch_warnings():
+        restore_interrupts()  # from here on, Ctrl-C is a KeyboardInterrupt handled below
+        before = _file_id(args.out) if args.command in _CHECKPOINTING else None
+        guard = (
+            interrupts_as_exceptions()
+            if args.command in _CHECKPOINTING
+            else contextlib.nullcontext()
+        )
+        with guard, warnings.catch_warnings():
             warnings.showwarning = _one_line_warning
             try:
                 code = args.func(args)
                 sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
+                if stdout_closed and code in (EXIT_OK, EXIT_OUTCOME):
+                    return EXIT_BROKEN_PIPE  # its output went nowhere
                 return code
             except KeyboardInterrupt:  # Ctrl-C, or SIGTERM/SIGINT (interrupts_as_exceptions)
                 # Still under the handler: a second signal now exits at once.
@@ -155,6 +170,31 @@ def main(argv=None) -> int:
             return _internal_error(exc, argv)
         print(f"walker: error: {line}", file=sys.stderr)
         return EXIT_USAGE
+
+
+def _open_standard_streams() -> bool:
+    """Standard input, output and error that are closed (``walker find ... >&-``) are opened
+    on the null device, so that no file walker opens later gets their descriptor (and a
+    ``print`` into it) and printing works.  Returns whether standard output was closed: the
+    command then ends with ``EXIT_BROKEN_PIPE``, its output dropped."""
+    closed = {}
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+            closed[fd] = False
+        except OSError:
+            closed[fd] = True
+            try:
+                null = os.open(os.devnull, os.O_RDWR)
+                if null != fd:
+                    os.dup2(null, fd)
+                    os.close(null)
+            except OSError:  # pragma: no cover - no null device
+                pass
+    for fd, name in ((1, "stdout"), (2, "stderr")):
+        if closed[fd] or getattr(sys, name) is None:
+            setattr(sys, name, open(os.devnull, "w", encoding="utf-8"))  # noqa: SIM115
+    return closed[1] or sys.__stdout__ is None
 
 
 def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:
@@ -215,6 +255,13 @@ def _input_error_line(args, exc: Exception) -> str | None:
 
     if isinstance(exc, UsageError | StorageError | NumbaMissing):
         return _first_line(exc)
+    missing = missing_extra_line(exc)
+    if missing is not None:  # an optional dependency (dask, numba, ...) is not installed
+        return missing
+    if isinstance(exc, FileExistsError) and exc.filename is not None and hasattr(args, "overwrite"):
+        # Created meanwhile (two commands on one --out): the command line's wording.
+        label = _path_label(args, exc.filename) or "--out "
+        return f"{label}{os.fsdecode(exc.filename)} exists; pass --overwrite to replace it"
     if isinstance(exc, OSError) and exc.filename is not None:
         # An OSError of a named file: the path, the flag it came from and the reason.
         reason = exc.strerror or _first_line(exc)

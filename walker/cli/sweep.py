@@ -24,6 +24,7 @@ from ._common import (
     jobs_option,
     resumable_options,
 )
+from ._extras import require
 from ._help import add_parser
 
 if TYPE_CHECKING:
@@ -63,6 +64,8 @@ def cmd_sweep(args) -> int:
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     _check_out(args.out, overwrite=args.overwrite, resumable=True, size=0)  # the store checks
+    if args.scheduler is not None:
+        require("distributed", "--scheduler")  # the `dask` extra, before any work
     jobs = args.jobs
     if jobs is not None and args.scheduler is not None:
         print(

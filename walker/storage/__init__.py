@@ -43,7 +43,8 @@ The package, by layer (each module imports only those above it):
 ``provenance``      provenance builders, the JSON form of provenance values and its checks
 ``checksums``       Fletcher-32, the root ``checksum`` and the chunk SHA-256
 ``loader``          an open HDF5 file into a plain, checked tree (every HDF5 call of a read)
-``disk``            atomic writing of a file built in memory, free-space and disk-error checks
+``disk``            atomic writing of a file built in memory (:func:`write_file` for any bytes:
+                    figures, animations), free-space and disk-error checks
 ``encode``          dataclass -> tree -> HDF5 group, root attributes, :func:`write`
 ``isolated``        the load in a child process with a time and memory budget
 ``decode``          tree -> dataclass with types, shapes and checksums checked, :func:`read`
@@ -78,7 +79,7 @@ from walker.storage.checkpoint import checkpoint_progress
 from walker.storage.checksums import _fletcher32 as _fletcher32
 from walker.storage.decode import read
 from walker.storage.disk import _write_all as _write_all
-from walker.storage.disk import check_writable
+from walker.storage.disk import check_writable, write_file
 from walker.storage.encode import _emit as _emit
 from walker.storage.encode import _encode as _encode
 from walker.storage.encode import _provenance_attrs as _provenance_attrs
@@ -100,6 +101,8 @@ from walker.storage.schema import (
     BASIN_NOT_COMPUTED,
     KINDS,
     MAX_COMPRESSION_RATIO,
+    MAX_DECOMPRESSED_BYTES,
+    MAX_PERIOD,
     READ_TIMEOUT,
     SCHEMA_VERSION,
     WRITE_ATTEMPTS,
@@ -112,6 +115,8 @@ __all__ = [
     "BASIN_NOT_COMPUTED",
     "KINDS",
     "MAX_COMPRESSION_RATIO",
+    "MAX_DECOMPRESSED_BYTES",
+    "MAX_PERIOD",
     "READ_TIMEOUT",
     "SCHEMA_VERSION",
     "WRITE_ATTEMPTS",
@@ -127,4 +132,5 @@ __all__ = [
     "solver_provenance",
     "walker_version",
     "write",
+    "write_file",
 ]

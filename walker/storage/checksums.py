@@ -91,6 +91,36 @@ def _feed(h: Any, tag: bytes, *parts: bytes | str) -> None:
         h.update(raw)
 
 
+_HASH_BLOCK = 8 << 20  # bytes of an array hashed at a time [bytes]
+
+
+def _feed_array(h: Any, tag: bytes, path: str, arr: np.ndarray) -> None:
+    """:func:`_feed` of ``(path, dtype and shape, arr.tobytes())`` without the copy: the
+    bytes (in C order) are hashed in blocks of rows of about ``_HASH_BLOCK`` bytes, so
+    that verifying a large array takes no memory beyond it (a read-only broadcast array,
+    a constant of any shape, takes none at all)."""
+    arr = np.asarray(arr)
+    _feed(h, tag, path, f"{arr.dtype.str}{arr.shape}")
+    h.update(int(arr.nbytes).to_bytes(8, "little"))
+    _hash_c_order(h, arr)
+
+
+def _hash_c_order(h: Any, arr: np.ndarray) -> None:
+    """``h.update(arr.tobytes())`` in blocks of at most about ``_HASH_BLOCK`` bytes."""
+    if arr.ndim == 0 or arr.size == 0 or arr.nbytes <= _HASH_BLOCK:
+        h.update(np.ascontiguousarray(arr).tobytes() if not arr.flags.c_contiguous else arr.data)
+        return
+    row_bytes = arr.nbytes // arr.shape[0]
+    if row_bytes > _HASH_BLOCK and arr.ndim > 1:
+        for row in arr:
+            _hash_c_order(h, row)
+        return
+    step = max(_HASH_BLOCK // max(row_bytes, 1), 1)
+    for start in range(0, arr.shape[0], step):
+        block = np.ascontiguousarray(arr[start : start + step])  # a view when contiguous
+        h.update(block.data)
+
+
 def _value_bytes(value: Any) -> tuple[str, bytes]:
     if isinstance(value, str):
         return "s", value.encode("utf-8", "surrogatepass")
@@ -116,8 +146,10 @@ def _content_digest(root: dict) -> str:
         for name in sorted(node["datasets"]):
             p = f"{path.rstrip('/')}/{name}"
             arr = node["datasets"][name]
-            data = b"" if _is_dynamic(kind, has_checkpoint, p) else arr.tobytes()
-            _feed(h, b"D", p, f"{arr.dtype.str}{arr.shape}", data)
+            if _is_dynamic(kind, has_checkpoint, p):
+                _feed(h, b"D", p, f"{arr.dtype.str}{arr.shape}", b"")
+            else:
+                _feed_array(h, b"D", p, arr)
             for attr in sorted(node.get("dataset_attrs", {}).get(name, {})):
                 value = node["dataset_attrs"][name][attr]
                 _feed(h, b"a", p, attr, *_value_bytes(value))

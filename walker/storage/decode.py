@@ -21,6 +21,7 @@ from walker.storage.schema import (
     _CHECKPOINT_GROUP,
     _CHECKSUM_ATTR,
     _CHUNK_SHA,
+    _INT_RANGES,
     _RESULT_GROUP,
     _SPECS,
     KINDS,
@@ -85,6 +86,11 @@ def _decode(node: dict, cls: type, where: str) -> Any:
     if stored != cls.__name__:
         raise _Corrupt(f"'{where}' holds a {stored!r:.40}, expected a {cls.__name__}")
     values = {name: _decode_field(node, name, codec, where) for name, codec in _SPECS[cls].items()}
+    for name, (low, high) in _INT_RANGES.get(cls, {}).items():
+        if not low <= values[name] <= high:
+            raise _Corrupt(
+                f"attribute '{name}' of '{where}' is {values[name]}, outside [{low}, {high}]"
+            )
     problem = _shape_problem(cls, values)
     if problem is not None:
         raise _Corrupt(f"'{where.rstrip('/')}/{problem[0]}' {problem[1]}")

@@ -47,8 +47,16 @@ def _check_target(path: Any, overwrite: bool) -> Path:
     if not parent.is_dir():
         raise FileNotFoundError(f"directory '{parent}' of `path` '{path}' does not exist")
     if path.exists() and not overwrite:
-        raise FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
+        raise _exists(path)
     return path
+
+
+def _exists(path: Path) -> FileExistsError:
+    """The error of an existing target; its ``filename`` is the path, so that the command
+    line can say which flag named it and how to replace it."""
+    exc = FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
+    exc.filename = os.fspath(path)
+    return exc
 
 
 def _disk_error(exc: OSError, path: Path, what: str) -> StorageError:
@@ -228,16 +236,12 @@ def _atomic_write(path: Path, image: bytes, overwrite: bool) -> Path:
             try:
                 os.link(tmp, path)
             except FileExistsError:
-                raise FileExistsError(
-                    f"'{path}' exists; pass overwrite=True to replace it"
-                ) from None
+                raise _exists(path) from None
             except OSError as exc:  # no hard links on this file system
                 if exc.errno in _DISK_ERRNOS and exc.errno != errno.EIO:
                     raise
                 if path.exists():
-                    raise FileExistsError(
-                        f"'{path}' exists; pass overwrite=True to replace it"
-                    ) from None
+                    raise _exists(path) from None
                 os.replace(tmp, path)
             else:
                 os.unlink(tmp)
@@ -256,6 +260,52 @@ def _atomic_write(path: Path, image: bytes, overwrite: bool) -> Path:
             raise _disk_error(exc, path, "cannot write") from None
         raise
     return path
+
+
+def write_file(path: str | os.PathLike, data: bytes, *, overwrite: bool = True) -> Path:
+    """Write the bytes ``data`` to ``path`` as :func:`walker.storage.write` writes a result:
+    under a temporary name in the same directory, fsynced, then renamed onto ``path``.
+
+    The rename replaces whatever is at ``path`` (with ``overwrite``), a symbolic link
+    included: the link itself is replaced, its target is never written.  On any failure
+    (a full disk, a read-only or missing directory) neither ``path`` nor a temporary file
+    is left, and the error is a one-line :class:`StorageError` naming ``path``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        the file to write (a figure, an animation); its directory must exist.
+    data : bytes
+        the whole content.
+    overwrite : bool
+        replace an existing ``path``; else an existing one raises ``FileExistsError``.
+
+    Returns
+    -------
+    Path
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = write_file(pathlib.Path(tempfile.mkdtemp()) / "a.txt", b"walker")
+    >>> p.read_bytes()
+    b'walker'
+    """
+    if not isinstance(path, str | os.PathLike):
+        raise TypeError(f"`path` must be a str or os.PathLike, got {type(path).__name__}")
+    path = Path(path)
+    try:
+        return _atomic_write(path, memoryview(data), overwrite)
+    except (StorageError, FileExistsError):
+        raise
+    except OSError as exc:
+        reason = exc.strerror or _first_line_of(exc)
+        raise StorageError(f"cannot write '{path}': {reason}") from None
+
+
+def _first_line_of(exc: BaseException) -> str:
+    text = str(exc).strip()
+    return text.splitlines()[0] if text else type(exc).__name__
 
 
 def _atomic_create(path: Path, fill: Any, overwrite: bool) -> Path:

@@ -19,6 +19,7 @@ from walker.status import Status
 from walker.storage.disk import _atomic_create, _check_target
 from walker.storage.provenance import _check_provenance, _to_json, walker_version
 from walker.storage.schema import (
+    _INT_RANGES,
     _KIND_OF,
     _RESULT_GROUP,
     _SPECS,
@@ -44,6 +45,12 @@ def _encode(obj: Any, cls: type, where: str) -> dict[str, dict]:
     tree["attrs"]["dataclass"] = cls.__name__
     for name, codec in _SPECS[cls].items():
         _encode_field(tree, name, getattr(obj, name), codec, f"{where}.{name}")
+    for name, (low, high) in _INT_RANGES.get(cls, {}).items():
+        if not low <= int(getattr(obj, name)) <= high:
+            raise ValueError(
+                f"`{where}.{name}` must be in [{low}, {high}] to be stored, got "
+                f"{getattr(obj, name)!r}"
+            )
     problem = _shape_problem(cls, {name: getattr(obj, name) for name in _SPECS[cls]})
     if problem is not None:
         raise ValueError(f"`{where}.{problem[0]}` {problem[1]}")

@@ -201,22 +201,50 @@ def _start_child(path: Path, fd: int, file_size: int, budget: int) -> Any:
         if pid == 0:  # pragma: no cover - runs in the child, which exits
             _child_load(str(path), fd, file_size, budget)
         return pid
-    import walker
-
-    env = dict(os.environ)
-    root = str(Path(walker.__file__).resolve().parents[1])
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH")) if p)
-    code = (
-        "import sys; from walker.storage.isolated import _isolated_main; "
-        "_isolated_main(sys.argv[1:])"
-    )
     return subprocess.Popen(
-        [sys.executable, "-c", code, str(path), str(fd), str(file_size), str(budget)],
+        [
+            sys.executable,
+            "-I",
+            "-c",
+            _spawn_code(),
+            str(path),
+            str(fd),
+            str(file_size),
+            str(budget),
+        ],
         pass_fds=(fd,),
         stdin=subprocess.DEVNULL,
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
-        env=env,
+    )
+
+
+def _spawn_code() -> str:
+    """The program of a spawned reading child.  It runs in isolated mode (``-I``: neither
+    the current directory nor ``PYTHON*`` variables nor the user's site on ``sys.path``), so
+    a ``json.py`` planted where the caller runs is never imported.  walker itself is loaded
+    from this process's package directory by its path, and this process's other absolute
+    ``sys.path`` entries (where numpy and h5py may live) are appended after the
+    interpreter's own, so that they cannot shadow the standard library."""
+    import walker
+
+    package = Path(walker.__file__).resolve().parent
+    extra = [
+        p
+        for p in sys.path
+        if isinstance(p, str) and os.path.isabs(p) and Path(p).resolve() != package.parent
+    ]
+    return (
+        "import sys, importlib.util\n"
+        f"sys.path.extend(p for p in {extra!r} if p not in sys.path)\n"
+        "spec = importlib.util.spec_from_file_location("
+        f"'walker', {str(package / '__init__.py')!r}, "
+        f"submodule_search_locations=[{str(package)!r}])\n"
+        "module = importlib.util.module_from_spec(spec)\n"
+        "sys.modules['walker'] = module\n"
+        "spec.loader.exec_module(module)\n"
+        "from walker.storage.isolated import _isolated_main\n"
+        "_isolated_main(sys.argv[1:])\n"
     )
 
 

@@ -14,10 +14,12 @@ import numpy as np
 from walker.storage.checksums import _DONE_FALSE, _DONE_TRUE, _is_dynamic
 from walker.storage.schema import (
     _CHECKPOINT_GROUP,
+    _CHECKSUM_ATTR,
     _CHUNK_SHA,
     BASIN_NOT_COMPUTED,
     KINDS,
     MAX_COMPRESSION_RATIO,
+    MAX_DECOMPRESSED_BYTES,
     SCHEMA_VERSION,
     StorageError,
     _Corrupt,
@@ -79,8 +81,9 @@ class _Loader:
     Before any data is read: links other than hard links, a second link to an object,
     committed datatypes, virtual datasets, external raw storage, filters other than
     Fletcher-32/deflate/shuffle and non-numeric dtypes are refused; every dataset's declared
-    size is compared with what its storage can hold (the file size, times
-    :data:`MAX_COMPRESSION_RATIO` for deflate) and the total with the memory ``budget``.
+    size is compared with what its storage can hold (the file size; for deflate, at most
+    :data:`MAX_COMPRESSION_RATIO` times the stored size and :data:`MAX_DECOMPRESSED_BYTES`
+    for the file), its chunks with its shape, and the total with the memory ``budget``.
     """
 
     def __init__(
@@ -99,9 +102,11 @@ class _Loader:
         self.file_size = file_size
         self.budget = budget
         self.spent = 0
+        self.decompressed = 0  # declared bytes of the compressed datasets read so far
         self.n_objects = 0
         self.seen: set[Any] = set()
         self.deferred: dict[str, h5py.Dataset] = {}
+        self.version = SCHEMA_VERSION
 
     # -- structure ----------------------------------------------------------------------
 
@@ -109,7 +114,10 @@ class _Loader:
         f = self.f
         attrs = self.attrs(f, "/")
         version, kind = _header_kind(attrs, self.path)
+        if version < 2 and _CHECKSUM_ATTR in attrs:
+            raise self.downgraded("the root attribute 'checksum'")
         link = f.get(_CHECKPOINT_GROUP, getlink=True)
+        self.version = version
         self.kind = kind
         self.has_checkpoint = isinstance(link, h5py.HardLink)
         self.seen.add(self.identity(f))
@@ -213,6 +221,10 @@ class _Loader:
             if code not in _ALLOWED_FILTERS:
                 raise _refused(self.path, f"dataset '{path}' uses the HDF5 filter {code}")
             codes.append(code)
+        if self.version < 2 and (
+            h5py.h5z.FILTER_FLETCHER32 in codes or path == f"/{_CHECKPOINT_GROUP}/{_CHUNK_SHA}"
+        ):
+            raise self.downgraded(f"the checksums of dataset '{path}'")
         dtype = ds.dtype
         if dtype.kind not in "biufc" or dtype.fields is not None or dtype.itemsize > 16:
             raise _refused(self.path, f"dataset '{path}' has the type {dtype}")
@@ -234,12 +246,26 @@ class _Loader:
                 )
             limit = n_bytes if size is None or offset + n_bytes <= size else -1
         elif layout == h5py.h5d.CHUNKED:
+            chunks = ds.chunks
+            if (
+                chunks is None
+                or len(chunks) != len(shape)
+                or any(c > max(s, 1) for c, s in zip(chunks, shape, strict=True))
+            ):
+                # HDF5 decompresses whole chunks: a chunk larger than the dataset would
+                # allocate more than the declared size (walker's chunks never exceed it).
+                raise StorageError(
+                    f"cannot read '{self.path}': dataset '{path}' of shape {shape} is stored "
+                    f"in chunks of {chunks}, larger than the dataset; refused"
+                )
             stored = ds.id.get_storage_size()
-            ratio = MAX_COMPRESSION_RATIO if h5py.h5z.FILTER_DEFLATE in codes else 1
             if size is not None and stored > size:
                 limit = -1
+            elif h5py.h5z.FILTER_DEFLATE in codes:
+                self.check_compressed(path, n_bytes, stored)
+                limit = n_bytes
             else:
-                limit = stored * ratio
+                limit = stored
         else:
             raise _refused(self.path, f"dataset '{path}' has the storage layout {layout}")
         if n_bytes > limit:
@@ -249,6 +275,33 @@ class _Loader:
                 "refused"
             )
         self.spend(n_bytes, f"dataset '{path}'")
+
+    def downgraded(self, feature: str) -> StorageError:
+        """A file that says schema version 1 (read without the checksums) but carries
+        ``feature`` of version 2: an edited version-2 file passing as unchecked."""
+        return StorageError(
+            f"cannot read '{self.path}': it says schema_version 1 but carries {feature}, "
+            "which only version 2 writes (an edited file downgraded to skip the checksums?); "
+            "refused"
+        )
+
+    def check_compressed(self, path: str, n_bytes: int, stored: int) -> None:
+        """Refuse a compressed dataset declaring ``n_bytes`` from ``stored`` bytes whose
+        expansion is above :data:`MAX_COMPRESSION_RATIO`, or that brings the file's
+        compressed data above :data:`MAX_DECOMPRESSED_BYTES`: before decompressing it."""
+        if n_bytes > stored * MAX_COMPRESSION_RATIO:
+            raise StorageError(
+                f"cannot read '{self.path}': dataset '{path}' declares {n_bytes} bytes "
+                f"compressed into {stored}, an expansion above the cap of "
+                f"{MAX_COMPRESSION_RATIO}:1 (a decompression bomb?); refused"
+            )
+        self.decompressed += n_bytes
+        if self.decompressed > MAX_DECOMPRESSED_BYTES:
+            raise StorageError(
+                f"cannot read '{self.path}': dataset '{path}' brings the file's compressed "
+                f"data to {self.decompressed} bytes decompressed, above the cap of "
+                f"{MAX_DECOMPRESSED_BYTES} bytes; refused"
+            )
 
     def read(self, ds: h5py.Dataset, path: str, sel: Any = ()) -> np.ndarray:
         try:

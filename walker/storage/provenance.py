@@ -215,7 +215,16 @@ def _to_json(value: Any, where: str) -> Any:
 
 
 def _is_real(value: Any) -> bool:
-    return isinstance(value, numbers.Real) and not isinstance(value, bool | np.bool_)
+    """A real number (not a bool) that a float holds: an int beyond the float range (a
+    400-digit integer in a file's JSON) is not."""
+    if not isinstance(value, numbers.Real) or isinstance(value, bool | np.bool_):
+        return False
+    if isinstance(value, numbers.Integral):
+        return abs(int(value)) <= _FLOAT_INT_MAX
+    return True
+
+
+_FLOAT_INT_MAX = int(np.finfo(np.float64).max)
 
 
 def _from_json(value: Any, where: str = "provenance") -> Any:
@@ -291,7 +300,10 @@ _PROVENANCE_RULES: dict[str, tuple[str, Any]] = {
     "tol": ("a real number", _is_real),
     "t_max": ("a real number", _is_real),
     "first_step": ("a real number or null", lambda v: v is None or _is_real(v)),
-    "n_strides": ("an int", lambda v: isinstance(v, int) and not isinstance(v, bool)),
+    "n_strides": (
+        "an int in [0, 2**62]",
+        lambda v: isinstance(v, int) and not isinstance(v, bool) and 0 <= v <= 1 << 62,
+    ),
     "status": ("a Status or a str", lambda v: isinstance(v, Status | str)),
     "z0": ("a list of real numbers", lambda v: isinstance(v, list) and all(map(_is_real, v))),
 }

@@ -35,9 +35,43 @@ READ_TIMEOUT = 60.0
 """Seconds a checked read may take, plus one per 50 MB of file, before it is abandoned as
 a hang (:func:`read` ``timeout``)."""
 
-MAX_COMPRESSION_RATIO = 1032
-"""Largest expansion of deflate (gzip) data; a compressed dataset declaring more bytes than
-this times its stored size is refused before any of it is read."""
+MAX_COMPRESSION_RATIO = 64
+"""Largest expansion allowed of a compressed (deflate) dataset: one declaring more bytes than
+this times its stored size is refused before any of it is decompressed.  walker itself never
+compresses; deflate (up to 1032:1) is read only from files repacked by other tools, and
+walker's numbers (floats) compress far less than 64:1, while a decompression bomb needs
+about 1000:1."""
+
+MAX_DECOMPRESSED_BYTES = 32 << 20
+"""Largest total of declared bytes of a file's compressed datasets [bytes] (32 MiB): beyond it
+a file is refused before any of them is decompressed, so that reading a small compressed file
+stays within about 200 MiB of memory whatever its compressed datasets declare."""
+
+MAX_PERIOD = 1_000_000
+"""Largest ``period`` (strides of a gait cycle) of a stored fixed point or branch: the
+command line's and the scenes' limit on strides (``walker.scene.MAX_STRIDES``).  A file
+declaring more is refused on read: the figures of a branch run ``period`` strides per
+point and size arrays by it."""
+
+MAX_SECTION_COORDINATES = 256
+"""A stored section coordinate index (an orbit diagram's ``coordinate``) must be below this:
+walker's models have sections of at most a few dozen coordinates."""
+
+_COUNT_MAX = 1 << 62  # a counter of steps, evaluations, strides, iterations
+
+_INT_RANGES: dict[type, dict[str, tuple[int, int]]] = {
+    Solution: {
+        "phase": (0, 1 << 31),
+        **{k: (0, _COUNT_MAX) for k in ("n_steps", "n_rejected", "n_rhs", "n_events")},
+        "n_strides": (0, _COUNT_MAX),
+    },
+    FixedPoint: {"n_iter": (0, _COUNT_MAX), "period": (1, MAX_PERIOD)},
+    Branch: {"period": (1, MAX_PERIOD)},
+    OrbitDiagram: {"coordinate": (0, MAX_SECTION_COORDINATES - 1)},
+    BasinMap: {"n_strides": (0, _COUNT_MAX)},
+}
+"""The range of each integer field walker writes, checked on read before the value is used
+(``(lowest, highest)``, both allowed)."""
 
 WRITE_ATTEMPTS = 4
 """Attempts of a checkpoint chunk write that fails with a transient error (backoff 0.05 s,

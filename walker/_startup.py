@@ -1,0 +1,59 @@
+"""Ctrl-C while the ``walker`` command starts: exit 130 quietly, not with a traceback.
+
+The command line imports numpy, scipy, h5py and matplotlib before its own handling of
+interrupts (:func:`walker.cli.main`) is in place, which takes about a second; a SIGINT then
+printed the 18-21-line traceback of whatever import it hit.  :func:`quiet_interrupts` is
+called first thing by ``walker/__init__.py``: when this process is the ``walker`` command
+(the console script, or ``python -m walker``) and SIGINT still has Python's default
+handler, it installs one that prints ``walker: interrupted`` and exits with status 130.
+:func:`walker.cli.main` hands SIGINT back to Python's default handler (KeyboardInterrupt)
+once its own handling covers it.  A program importing walker as a library keeps its
+handlers untouched.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+
+EXIT_INTERRUPTED = 130
+
+
+def _is_walker_command() -> bool:
+    """This process runs the ``walker`` console script or ``python -m walker``."""
+    argv0 = sys.argv[0] if sys.argv else ""
+    if os.path.basename(argv0) in ("walker", "walker.exe", "walker-script.py"):
+        return True
+    orig = list(getattr(sys, "orig_argv", []))
+    for i, arg in enumerate(orig[:-1]):
+        if arg == "-m":
+            return orig[i + 1] == "walker"
+    return False
+
+
+def _interrupted_while_starting(signum, frame) -> None:  # noqa: ARG001 - a signal handler
+    try:
+        os.write(2, b"walker: interrupted\n")
+    except OSError:
+        pass
+    os._exit(EXIT_INTERRUPTED)
+
+
+def quiet_interrupts() -> None:
+    """Install the start-up SIGINT handler when this process is the ``walker`` command."""
+    try:
+        if _is_walker_command() and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            signal.signal(signal.SIGINT, _interrupted_while_starting)
+    except (ValueError, OSError):  # not the main thread, or no signals here
+        pass
+
+
+def restore_interrupts() -> None:
+    """SIGINT back to Python's default handler (KeyboardInterrupt), if the start-up handler
+    holds it."""
+    try:
+        if signal.getsignal(signal.SIGINT) is _interrupted_while_starting:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+    except (ValueError, OSError):
+        pass
