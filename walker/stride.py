@@ -384,10 +384,22 @@ class StrideMap:
 
         return points
 
+    def ensemble(self, z0, terrains, *, threads: int = 1):
+        """Walk from ``z0`` (shape ``(n_z,)`` or ``(n_runs, n_z)``) over each run's terrain
+        ``terrains`` (shape ``(n_runs, n_steps, 2)``, per step ``(slope, drop)``), in compiled
+        code without the GIL, ``threads`` threads over contiguous blocks of runs (the same
+        result for any number).  Returns ``(steps_completed, status)``, int64 arrays
+        ``(n_runs,)``: the strides completed before the first failure (``n_steps`` and status
+        0 when none failed) and the failure's :class:`walker.status.Status` value."""
+        from walker._terrain_run import ensemble
+
+        return ensemble(self, z0, terrains, threads)
+
     def __getstate__(self):
         state = dict(self.__dict__)
         state.pop("_run", None)  # process-local addresses: rebuilt where it lands
         state.pop("_tolerances", None)
+        state.pop("_terrain_args", None)
         return state
 
     def __setstate__(self, state):
@@ -466,6 +478,7 @@ class StrideMap:
             object.__setattr__(new, name, value)
         new.__dict__.pop("_run", None)
         new.__dict__.pop("_tolerances", None)
+        new.__dict__.pop("_terrain_args", None)
         return new
 
     def _p(self) -> np.ndarray:
@@ -482,9 +495,24 @@ class StrideMap:
         return self.model.project(_as_vector(x, "x", self.model.n_x), self._p())
 
     def __call__(
-        self, z, *, jacobian: bool = False, n_strides: int = 1, parameter: float | None = None
+        self,
+        z,
+        *,
+        jacobian: bool = False,
+        n_strides: int = 1,
+        parameter: float | None = None,
+        terrain=None,
     ) -> MapResult:
         """Apply the map ``n_strides`` times.
+
+        ``terrain``: None, the scene's plane (this path); or array-like ``(n_strides, 2)``
+        of each step's ``(slope [rad], drop [m])`` (:mod:`walker.terrain`), walked in one
+        compiled call (``walker._terrain_run``); the start ``z`` is lifted on the scene's
+        plane, the full state is carried from stride to stride, and with ``jacobian=True``
+        the result's ``terrain_jac`` holds ``dz / d(slope_k, drop_k)`` (the strides then run
+        one by one: ``z`` agrees with the call without the Jacobian to the tolerance, not
+        bit for bit).  Rows equal to the plane give this path's numbers bit for bit.  A model
+        without terrain functions raises a ValueError naming it.
 
         A stride's work is bounded: at most
         :func:`walker.fixedpoint.stride_max_steps` integration steps per stride (else
@@ -505,7 +533,13 @@ class StrideMap:
             ``z`` is NaN and ``status`` says why when a stride fails.
         """
         if parameter is not None and parameter != self.parameter_value:
-            return self.with_parameter(parameter)(z, jacobian=jacobian, n_strides=n_strides)
+            return self.with_parameter(parameter)(
+                z, jacobian=jacobian, n_strides=n_strides, terrain=terrain
+            )
+        if terrain is not None:
+            from walker._terrain_run import terrain_call
+
+            return terrain_call(self, z, jacobian, n_strides, terrain)
         cached = self.__dict__.get("_run")
         if cached is None:
             self._prepared()

@@ -125,4 +125,7 @@ void wkpy_section_free(wkpy_section *s);
 /* Makes the PreparedMap type ready and adds it to ``module``; 0, or -1 with an exception. */
 int wkpy_add_prepared_map(PyObject *module);
 
+/* Adds the terrain functions (_terrainbinding.c) to ``module``; 0, or -1 with an exception. */
+int wkpy_add_terrain(PyObject *module);
+
 #endif

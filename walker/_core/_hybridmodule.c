@@ -525,6 +525,11 @@ PyMODINIT_FUNC PyInit__hybrid(void)
         Py_DECREF(m);
         return NULL;
     }
+    /* The terrain runs (_terrainbinding.c). */
+    if (wkpy_add_terrain(m) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
     /* Fingerprint of the sources this was built from (setup.py, walker/_build.py). */
     if (PyModule_AddStringConstant(m, "SOURCE_HASH", WK_SOURCE_HASH) < 0) {
         Py_DECREF(m);

@@ -1,0 +1,122 @@
+/* Terrain defined per step (issue 29): the ground of walker's stride maps when it is not one
+ * plane.
+ *
+ * The rule.  During step n the ground ahead of the stance contact is the plane through the
+ * point a height h_n (``drop``, [m], positive down) below the stance contact, with slope
+ * gamma_n (``slope``, [rad], downhill positive like the scene's slope).  The step ends at the
+ * first touchdown on that plane, under the model's guard and scuff conventions; the next
+ * step's pair belongs to the new stance contact.  The state stays in the model's own angle
+ * frame (the scene slope's), so the phases' vector fields are the model's: a step's terrain
+ * enters only through the guards of touchdown and the ground-referenced quantities of the
+ * impact (the normal and tangential impulse directions, the trailing foot's lift-off, the
+ * rimless wheel's landing angle).
+ *
+ * A terrain run calls the model's terrain guards and reset (wk_terrain_entry) with ctx a
+ * wk_terrain; the integrator calls wk_terrain_on_stride after every stride event, which
+ * moves to the next step.  A step equal to the scene's plane (slope == the scene's slope,
+ * drop == 0, the previous step's slope the scene's too) runs the model's plane arithmetic,
+ * so plane terrain gives the plane run's numbers bit for bit.
+ */
+#ifndef WK_TERRAIN_H
+#define WK_TERRAIN_H
+
+#include <stdint.h>
+
+#include "batch.h"
+#include "hybrid.h"
+#include "wk_common.h"
+#include "wk_system.h"
+
+/* The ground of the current step. */
+typedef struct {
+    double slope;      /* gamma_n [rad], downhill positive */
+    double drop;       /* h_n [m]: the plane passes h_n below the stance contact */
+    double prev_slope; /* gamma_{n-1}: the plane the stance (trailing) contact stands on */
+    double prev_drop;  /* h_{n-1} */
+    int plane;         /* the step is the scene's plane: the model's plane arithmetic */
+} wk_ground;
+
+/* A terrain run's context (the ctx the model's terrain functions receive). */
+typedef struct {
+    wk_ground ground;
+    const double *steps; /* (n_steps, 2) row-major: (slope, drop) of each step */
+    int64_t n_steps;     /* past the last step: the scene's plane */
+    int64_t index;       /* the current step */
+    double scene_slope;  /* the model's slope parameter [rad] */
+} wk_terrain;
+
+/* A model's terrain functions: guards and reset with the signatures of wk_system.h, called
+ * with ctx a wk_terrain (the model's own ctx is NULL: passive models only). */
+typedef struct {
+    const char *name;     /* the model (registry name, walker/_core/models.c) */
+    wk_guards_fn guards;  /* the model's plane guards: the key the run is found by */
+    int64_t slope_index;  /* the slope's index in the parameter vector */
+    wk_guards_fn terrain_guards;
+    wk_reset_fn terrain_reset;
+} wk_terrain_entry;
+
+/* The terrain functions of the model whose plane guards are ``guards``; NULL: none. */
+const wk_terrain_entry *wk_terrain_find(wk_guards_fn guards);
+
+/* Sets the ground of step ``index`` (the previous step's from index - 1, the scene's plane
+ * before step 0 and past the last step). */
+void wk_terrain_set_step(wk_terrain *T, int64_t index);
+
+/* wk_stride_fn: the next step after a stride. */
+void wk_terrain_on_stride(void *ctx, int64_t n_done);
+
+/* Recomputes ground.plane from the values in ground (after they were changed). */
+void wk_terrain_update_plane(wk_terrain *T);
+
+/* Walks from section point z (sec's lift and start checks) over the n_steps steps of
+ * ``steps``, one integration of n_steps strides.  Fills status, strides (completed), t, the
+ * final state x (n_x) and section point z_out (n_z, NaN unless completed).  Returns a
+ * wk_hybrid_solve code. */
+int wk_terrain_walk(const wk_functions *fn, const wk_terrain_entry *te, const wk_problem *tmpl,
+                    const wk_section *sec, const double *z, const double *steps, int64_t n_steps,
+                    int64_t *status, int64_t *strides, double *t, double *x, double *z_out);
+
+/* As wk_terrain_walk with the Jacobians, stride by stride: jz (n_z, n_z) d z_out / d z and
+ * tjac (n_z, 2 n_steps) d z_out / d (slope_k, drop_k), column 2k the slope and 2k + 1 the
+ * drop of step k: the variational equations and saltation matrices of each stride
+ * (wk_hybrid_solve) and, at each stride's touchdown, the terrain's terms (the guard's and
+ * the reset's dependence on the step's pair) by Richardson-extrapolated central
+ * differences.  Returns a wk_hybrid_solve code (WK_ERR_NOMEM). */
+int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
+                        const wk_problem *tmpl, const wk_section *sec, const double *z,
+                        const double *steps, int64_t n_steps, int64_t *status, int64_t *strides,
+                        double *t, double *x, double *z_out, double *jz, double *tjac);
+
+/* Many walks (Monte Carlo): run i from z0 (n_z) over steps + i * n_steps * 2; status[i] and
+ * strides[i] (completed strides before the first failure).  Returns a wk_hybrid_solve
+ * code. */
+int wk_terrain_ensemble(const wk_functions *fn, const wk_terrain_entry *te,
+                        const wk_problem *tmpl, const wk_section *sec, const double *z0,
+                        int64_t m, const double *steps, int64_t n_steps, int64_t *status,
+                        int64_t *strides);
+
+/* The terrain's heel strike of a floating-base walker (wk_plastic_heel_strike on terrain):
+ * the impact of B at x (n_c coordinates and their rates) and the leg swap into x_new; the
+ * impulse (along, normal to the step's plane G->slope) and the trailing foot's lift-off
+ * from the plane it stands on (G->prev_slope).  Returns a status: 0, NONPHYSICAL_IMPACT
+ * (impulse[1] <= 0 or no lift-off) or LINEAR_SOLVE_FAILED. */
+int64_t wk_terrain_heel_strike(const wk_floating_base *B, const int *swap, int n_c,
+                               const double *x, const double *p, const wk_ground *G,
+                               double *x_new, double *impulse);
+
+/* The model terrain functions (defined in the model files). */
+void wk_terrain_rimless_wheel_guards(int64_t phase, double t, const double *x, const double *p,
+                                     double *g, void *ctx);
+void wk_terrain_rimless_wheel_reset(int64_t phase, int64_t k, double t, const double *x,
+                                    const double *p, double *x_new, double *impulse,
+                                    int64_t *out, void *ctx);
+#define WK_DECLARE_TERRAIN(name)                                                             \
+    void wk_terrain_##name##_guards(int64_t phase, double t, const double *x, const double *p, \
+                                    double *g, void *ctx);                                   \
+    void wk_terrain_##name##_reset(int64_t phase, int64_t k, double t, const double *x,      \
+                                   const double *p, double *x_new, double *impulse,          \
+                                   int64_t *out, void *ctx);
+WK_DECLARE_TERRAIN(compass)
+WK_DECLARE_TERRAIN(compass_plain)
+
+#endif

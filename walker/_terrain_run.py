@@ -1,0 +1,153 @@
+"""A stride map's runs over per-step terrain (:mod:`walker.terrain`), in compiled code
+(walker/_core/terrain.c): one call of :meth:`walker.stride.StrideMap.__call__` with
+``terrain=`` and the Monte-Carlo batch :meth:`walker.stride.StrideMap.ensemble`.
+
+The compiled terrain functions exist for the models listed by :func:`check_supported`'s
+error; for any other model, passing terrain raises a ValueError that names it.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from walker import _section
+from walker._checks import as_vector
+from walker.results import MapResult
+from walker.status import Status
+
+__all__ = ["check_supported", "ensemble", "terrain_call", "terrain_rows"]
+
+_KEY = "_terrain_args"
+
+
+def _args(smap) -> tuple:
+    """The compiled section settings of ``smap`` (``walker._hybrid.terrain_walk``'s head),
+    checked once per prepared run: a ValueError naming the model when it has no terrain
+    functions."""
+    cached = smap.__dict__.get("_run")
+    if cached is None:
+        smap._prepared()
+        cached = smap.__dict__["_run"]
+    kept = smap.__dict__.get(_KEY)
+    if kept is not None and kept[0] is cached:
+        return kept[1]
+    check_supported(smap)
+    run, _, _ = smap._prepared(1)
+    args = _section.section_args(smap.model, smap.t_max, cached, run)
+    smap.__dict__[_KEY] = (cached, args)
+    return args
+
+
+def check_supported(smap) -> None:
+    """Raise a ValueError naming the model when ``smap`` cannot walk on terrain."""
+    from walker import _hybrid
+
+    model = smap.model
+    cached = smap.__dict__.get("_run")
+    if cached is None:
+        smap._prepared()
+        cached = smap.__dict__["_run"]
+    name = model.name
+    guards = smap._prepared(1)[0]._head[1]  # the compiled guards' address
+    if cached[6] is None or _hybrid.terrain_model(guards) is None:
+        raise ValueError(f"terrain is not supported for `{name}` yet")
+    radius = getattr(smap.params, "foot_radius", 0.0)
+    if radius:
+        raise ValueError(
+            f"terrain is not supported for `{name}` with round feet (`foot_radius` = "
+            f"{radius:g} > 0) yet"
+        )
+
+
+def terrain_rows(terrain, n_strides: int, name: str = "terrain") -> np.ndarray:
+    """``terrain`` as a C-contiguous float64 array of shape ``(n_strides, 2)``, finite."""
+    rows = np.array(terrain, dtype=np.float64, order="C")
+    if rows.shape != (n_strides, 2):
+        raise ValueError(
+            f"`{name}` must have shape (n_strides, 2) = ({n_strides}, 2) of (slope, drop) "
+            f"per step, got {rows.shape}"
+        )
+    if not np.isfinite(rows).all():
+        raise ValueError(f"All values of `{name}` must be finite.")
+    return rows
+
+
+def terrain_call(smap, z, jacobian, n_strides, terrain) -> MapResult:
+    """:meth:`walker.stride.StrideMap.__call__` with ``terrain``: the checks, then one
+    compiled walk (``walker._hybrid.terrain_walk``)."""
+    from walker import _hybrid
+
+    z = as_vector(z, "z", smap.model.n_z)
+    if not all(map(math.isfinite, z.tolist())):
+        raise ValueError("All components of the section point `z` must be finite.")
+    if isinstance(n_strides, bool) or not isinstance(n_strides, numbers.Integral):
+        raise TypeError(f"`n_strides` must be an int, got {type(n_strides).__name__}")
+    if n_strides < 1:
+        raise ValueError(f"`n_strides` must be >= 1, got {n_strides}")
+    if not isinstance(jacobian, bool | np.bool_ | numbers.Integral):
+        raise TypeError(f"`jacobian` must be a bool, got {type(jacobian).__name__}")
+    rows = terrain_rows(terrain, int(n_strides))
+    args = _args(smap)
+    z = np.ascontiguousarray(z, dtype=np.float64)
+    status, _, t, x, z_new, jz, tj = _hybrid.terrain_walk(*args, z, rows, bool(jacobian))
+    n_z = smap.model.n_z
+    z_new = np.frombuffer(z_new, dtype=np.float64).copy()
+    x = np.frombuffer(x, dtype=np.float64).copy()
+    jac = terrain_jac = None
+    if jz is not None and status == 0:
+        jac = np.frombuffer(jz, dtype=np.float64).reshape(n_z, n_z).copy()
+        terrain_jac = np.frombuffer(tj, dtype=np.float64).reshape(n_z, -1).copy()
+    return MapResult(Status(status), z_new, jac, float(t), x, terrain_jac)
+
+
+def ensemble(smap, z0, terrains, threads: int = 1):
+    """Many walks of ``smap`` over terrain in compiled code: the Monte-Carlo batch of
+    :meth:`walker.stride.StrideMap.ensemble` (its documentation)."""
+    from walker import _hybrid
+
+    n_z = smap.model.n_z
+    terrains = np.asarray(terrains, dtype=np.float64)
+    if terrains.ndim != 3 or terrains.shape[2] != 2 or terrains.shape[1] < 1:
+        raise ValueError(
+            f"`terrains` must have shape (n_runs, n_steps, 2) with n_steps >= 1, got "
+            f"{terrains.shape}"
+        )
+    if not np.isfinite(terrains).all():
+        raise ValueError("All values of `terrains` must be finite.")
+    terrains = np.ascontiguousarray(terrains)
+    m = terrains.shape[0]
+    z0 = np.asarray(z0, dtype=np.float64)
+    if z0.shape == (n_z,):
+        z0 = np.broadcast_to(z0, (m, n_z))
+    if z0.shape != (m, n_z):
+        raise ValueError(f"`z0` must have shape ({n_z},) or ({m}, {n_z}), got {z0.shape}")
+    if not np.isfinite(z0).all():
+        raise ValueError("All section points `z0` must be finite.")
+    z0 = np.ascontiguousarray(z0)
+    if isinstance(threads, bool) or not isinstance(threads, numbers.Integral):
+        raise TypeError(f"`threads` must be an int, got {type(threads).__name__}")
+    if threads < 1:
+        raise ValueError(f"`threads` must be >= 1, got {threads}")
+    args = _args(smap)
+    bounds = np.linspace(0, m, min(int(threads), max(m, 1)) + 1).astype(int)
+    chunks = [(a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True) if b > a]
+
+    def run(chunk):
+        a, b = chunk
+        status, strides = _hybrid.terrain_ensemble(*args, z0[a:b], terrains[a:b])
+        return np.frombuffer(status, dtype=np.int64), np.frombuffer(strides, dtype=np.int64)
+
+    if len(chunks) <= 1:
+        parts = [run(c) for c in chunks]
+    else:
+        with ThreadPoolExecutor(max_workers=len(chunks)) as pool:
+            parts = list(pool.map(run, chunks))
+    if not parts:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    status = np.concatenate([p[0] for p in parts])
+    strides = np.concatenate([p[1] for p in parts])
+    return strides, status
