@@ -1,0 +1,224 @@
+"""Terrain defined per step (walker/terrain.py, walker/_core/terrain.c): the rimless wheel's
+stride map on random slopes against its closed form, the terrain Jacobian columns against
+finite differences of whole runs, plane terrain bit for bit against the plane path, and the
+geometry of a step down."""
+
+import math
+
+import numpy as np
+import pytest
+
+from walker import StrideMap, load_scene
+from walker.status import Status
+from walker.terrain import Terrain
+
+RIMLESS = "gaits/rimless_wheel.toml"
+COMPASS = "gaits/compass_goswami.toml"
+
+
+def _map(path, **kw):
+    scene = load_scene(path)
+    P = StrideMap.from_scene(scene)
+    if kw:
+        P = StrideMap(P.model, P.params, rtol=kw.get("rtol", P.rtol), atol=kw.get("atol", P.atol))
+    return scene, P, P.project(scene.state)
+
+
+# --- the rimless wheel against its closed form ------------------------------------------
+
+
+def _rimless_closed_form(p, w_plus, slopes):
+    """The rimless wheel's rate magnitudes after each stride on slopes ``slopes`` (drop 0),
+    from a start just after landing on the scene's plane: energy between impacts, angular
+    momentum about the new foot at impacts (McGeer 1990; Byl & Tedrake 2009, section 3).
+
+    With phi the stance spoke's angle from the vertical, a spoke that landed on a plane of
+    slope gamma starts at phi = alpha - gamma (both feet on that plane) and the next impact
+    on slope gamma' is at phi = -(alpha + gamma'); the hub's height is l cos(phi), so
+    1/2 w-^2 = 1/2 w+^2 + (g/l)(cos(gamma_prev - alpha) - cos(gamma + alpha)),
+    w+_next = cos(2 alpha) w-; the wheel passes over its stance spoke only if
+    1/2 w+^2 > (g/l)(1 - cos(gamma_prev - alpha)) when gamma_prev < alpha.
+    Returns the list of w+ after each completed stride and the index of the stride that
+    rolled back (None if none did)."""
+    alpha = math.pi / p.spokes
+    gl = p.g / p.leg_length
+    prev = p.slope
+    out = []
+    for n, gamma in enumerate(slopes):
+        if prev < alpha and 0.5 * w_plus**2 <= gl * (1.0 - math.cos(prev - alpha)):
+            return out, n
+        w_minus = math.sqrt(
+            w_plus**2 + 2.0 * gl * (math.cos(prev - alpha) - math.cos(gamma + alpha))
+        )
+        w_plus = math.cos(2.0 * alpha) * w_minus
+        out.append(w_plus)
+        prev = gamma
+    return out, None
+
+
+def test_rimless_wheel_random_slopes_match_the_closed_form():
+    """Cases drawn here: slopes N(scene slope, 0.04^2), 6 strides each; walker's state
+    after k strides (theta_dot = -w+) and its status against the closed form."""
+    scene, P, z = _map(RIMLESS)
+    rng = np.random.default_rng(20291)
+    rolled = completed = 0
+    for _ in range(12):
+        slopes = scene.params.slope + 0.04 * rng.standard_normal(6)
+        w0 = abs(z[0]) * rng.uniform(0.6, 1.3)
+        expected, fail = _rimless_closed_form(scene.params, w0, slopes)
+        rows = np.column_stack([slopes, np.zeros(6)])
+        for k in range(1, 7):
+            r = P(np.array([-w0]), terrain=rows[:k], n_strides=k)
+            if fail is not None and k > fail:
+                assert r.status == Status.ROLLED_BACK
+                rolled += 1
+                break
+            assert r.status == Status.COMPLETED
+            np.testing.assert_allclose(-r.z[0], expected[k - 1], rtol=1e-9, atol=0)
+            completed += 1
+    assert rolled >= 1 and completed >= 20  # both branches were exercised
+
+
+def test_rimless_wheel_terrain_jacobian_matches_the_closed_form():
+    """d w+ / d gamma and d w+ / d h of one stride: walker's terrain_jac against the closed
+    form's derivative (the landing angle on a plane h below: 2 l sin(alpha) sin(u) +
+    h cos(gamma) = 0, u = phi + gamma + alpha), by central differences of the formula."""
+    scene, P, z = _map(RIMLESS)
+    p = scene.params
+    alpha, l, gl = math.pi / p.spokes, p.leg_length, p.g / p.leg_length
+
+    def w_next(gamma, h):
+        u = -math.asin(h * math.cos(gamma) / (2.0 * l * math.sin(alpha)))
+        phi_minus = u - gamma - alpha
+        e = 0.5 * z[0] ** 2 + gl * (math.cos(alpha - p.slope) - math.cos(phi_minus))
+        return -math.cos(2.0 * alpha) * math.sqrt(2.0 * e)
+
+    rng = np.random.default_rng(7)
+    for _ in range(4):
+        gamma, h = p.slope + 0.02 * rng.standard_normal(), 0.01 * rng.standard_normal()
+        r = P(z, terrain=[[gamma, h]], jacobian=True)
+        assert r.status == Status.COMPLETED
+        np.testing.assert_allclose(r.z[0], w_next(gamma, h), rtol=1e-10, atol=0)
+        e = 1e-5
+        d_gamma = (w_next(gamma + e, h) - w_next(gamma - e, h)) / (2 * e)
+        d_h = (w_next(gamma, h + e) - w_next(gamma, h - e)) / (2 * e)
+        np.testing.assert_allclose(r.terrain_jac[0], [d_gamma, d_h], rtol=1e-7, atol=0)
+
+
+# --- terrain Jacobian columns against finite differences ---------------------------------
+
+
+@pytest.mark.parametrize("path", [COMPASS, RIMLESS])
+def test_terrain_jacobian_columns_match_finite_differences(path):
+    """Three strides over rough steps: d z_3 / d(slope_k, drop_k) for every step k against
+    central differences of whole runs (step 1e-6, rtol 1e-12 runs)."""
+    scene, P, z = _map(path)
+    slope = scene.params.slope
+    rows = np.array([[slope + 0.01, 0.01], [slope, 0.0], [slope - 0.008, -0.004]])
+    r = P(z, terrain=rows, n_strides=3, jacobian=True)
+    assert r.status == Status.COMPLETED and r.terrain_jac.shape == (P.n_z, 6)
+    fd = np.empty((P.n_z, 6))
+    e = 1e-6
+    for k in range(6):
+        d = np.zeros(6)
+        d[k] = e
+        up = P(z, terrain=rows + d.reshape(3, 2), n_strides=3).z
+        down = P(z, terrain=rows - d.reshape(3, 2), n_strides=3).z
+        fd[:, k] = (up - down) / (2 * e)
+    np.testing.assert_allclose(r.terrain_jac, fd, rtol=2e-6, atol=2e-7)
+    # and the state columns of the same call
+    plain = P(z, terrain=rows, n_strides=3)
+    np.testing.assert_allclose(r.z, plain.z, rtol=1e-9, atol=1e-11)
+
+
+# --- plane terrain is the plane path, bit for bit ----------------------------------------
+
+
+@pytest.mark.parametrize("path", [COMPASS, RIMLESS])
+def test_plane_terrain_is_bit_identical(path):
+    scene, P, z = _map(path)
+    slope = scene.params.slope
+    for kind in (Terrain("plane"), Terrain("random", slope_std=0.0, height_std=0.0, seed=1)):
+        for n in (1, 4):
+            rows = kind.steps(n, slope=slope)
+            a, b = P(z, n_strides=n), P(z, n_strides=n, terrain=rows)
+            assert a.status == b.status == Status.COMPLETED
+            assert np.array_equal(a.z, b.z) and np.array_equal(a.state, b.state)
+            assert a.step_time == b.step_time
+    a = P(z, jacobian=True)
+    b = P(z, jacobian=True, terrain=[[slope, 0.0]])
+    assert np.array_equal(a.z, b.z) and np.array_equal(a.jac, b.jac)
+    assert b.terrain_jac.shape == (P.n_z, 2)
+
+
+def test_ensemble_matches_single_walks_for_any_thread_count():
+    scene, P, z = _map(COMPASS)
+    rng = np.random.default_rng(3)
+    ter = np.zeros((7, 5, 2))
+    ter[..., 0] = scene.params.slope + 0.004 * rng.standard_normal((7, 5))
+    one, st1 = P.ensemble(z, ter, threads=1)
+    two, st2 = P.ensemble(z, ter, threads=3)
+    assert np.array_equal(one, two) and np.array_equal(st1, st2)
+    for i in range(7):
+        r = P(z, terrain=ter[i], n_strides=5)
+        assert st1[i] == r.status
+        if r.status == Status.COMPLETED:
+            assert one[i] == 5
+
+
+# --- a step down: later, lower, on the given plane ---------------------------------------
+
+
+def test_compass_step_down_lands_on_the_plane_later_and_lower():
+    """The touchdown foot, from the post-impact angles (absolute, from the vertical; the old
+    stance foot at the origin, x downhill): hip = L(-sin q_old, cos q_old), new foot = hip -
+    L(-sin q_new, cos q_new).  It lies on the plane h below with slope gamma to 1e-12, and a
+    step down lands later and lower than on the plane."""
+    scene, P, z = _map(COMPASS)
+    p = scene.params
+    L = p.com_from_foot + p.com_to_hip
+    flat = P(z, terrain=[[p.slope, 0.0]])
+    previous = flat
+    for h in (0.002, 0.01, 0.03):
+        gamma = p.slope + 0.005
+        r = P(z, terrain=[[gamma, h]])
+        assert r.status == Status.COMPLETED
+        q_new, q_old = r.state[0], r.state[1]
+        X = -L * math.sin(q_old) + L * math.sin(q_new)
+        Y = L * math.cos(q_old) - L * math.cos(q_new)
+        assert abs(X * math.sin(gamma) + (Y + h) * math.cos(gamma)) < 1e-12
+        assert r.step_time > previous.step_time
+        Y_prev = L * math.cos(previous.state[1]) - L * math.cos(previous.state[0])
+        assert Y < Y_prev
+        previous = r
+
+
+# --- input errors ---------------------------------------------------------------------------
+
+
+def test_terrain_input_errors_name_the_argument():
+    scene, P, z = _map(COMPASS)
+    with pytest.raises(ValueError, match="terrain"):
+        P(z, terrain=[[0.0, 0.0], [0.0, 0.0]])  # n_strides = 1
+    with pytest.raises(ValueError, match="finite"):
+        P(z, terrain=[[np.nan, 0.0]])
+    with pytest.raises(ValueError, match="kind"):
+        Terrain("bumpy")
+    with pytest.raises(ValueError, match="slope_std"):
+        Terrain("random", slope_std=-1.0)
+    with pytest.raises(ValueError, match="same length"):
+        Terrain("steps", slopes=(0.1, 0.2), heights=(0.0,))
+    five = load_scene("gaits/five_link_hzd.toml")
+    F = StrideMap.from_scene(five)
+    with pytest.raises(ValueError, match="`five_link`"):
+        F(F.project(five.state), terrain=[[five.params.slope, 0.0]])
+
+
+def test_terrain_steps_kinds():
+    t = Terrain("steps", slopes=(0.1, 0.2), slope_mean=0.05)
+    np.testing.assert_array_equal(t.steps(3), [[0.1, 0.0], [0.2, 0.0], [0.05, 0.0]])
+    r = Terrain("random", slope_mean=0.01, slope_std=0.1, height_std=0.01, seed=5)
+    np.testing.assert_array_equal(r.steps(4), r.steps(4))  # seeded
+    draws = np.random.default_rng(5).standard_normal((4, 2))
+    np.testing.assert_allclose(r.steps(4)[:, 0], 0.01 + 0.1 * draws[:, 0], rtol=1e-15, atol=0)
+    assert Terrain.from_table({"kind": "plane"}, 0.03).steps(1).tolist() == [[0.03, 0.0]]
