@@ -18,10 +18,20 @@
 static const wk_terrain_entry ENTRIES[] = {
     {"rimless_wheel", wk_model_rimless_wheel_guards, WK_RIMLESS_WHEEL_P_SLOPE,
      wk_terrain_rimless_wheel_guards, wk_terrain_rimless_wheel_reset},
+    {"simplest", wk_model_simplest_guards, WK_SIMPLEST_P_SLOPE, wk_terrain_simplest_guards,
+     wk_terrain_simplest_reset},
     {"compass", wk_model_compass_guards, WK_COMPASS_P_SLOPE, wk_terrain_compass_guards,
      wk_terrain_compass_reset},
     {"compass/plain", wk_model_compass_plain_guards, WK_COMPASS_P_SLOPE,
      wk_terrain_compass_plain_guards, wk_terrain_compass_plain_reset},
+#define KNEED_ENTRY(label, name)                                                             \
+    {label, wk_model_##name##_guards, WK_KNEED_P_SLOPE, wk_terrain_##name##_guards,           \
+     wk_terrain_##name##_reset}
+    KNEED_ENTRY("kneed", kneed),
+    KNEED_ENTRY("kneed/plain", kneed_plain),
+    KNEED_ENTRY("kneed/ignore_scuff", kneed_ignore_scuff),
+    KNEED_ENTRY("kneed/plain/ignore_scuff", kneed_plain_ignore_scuff),
+#undef KNEED_ENTRY
 };
 
 const wk_terrain_entry *wk_terrain_find(wk_guards_fn guards)

@@ -116,7 +116,12 @@ void wk_terrain_rimless_wheel_reset(int64_t phase, int64_t k, double t, const do
     void wk_terrain_##name##_reset(int64_t phase, int64_t k, double t, const double *x,      \
                                    const double *p, double *x_new, double *impulse,          \
                                    int64_t *out, void *ctx);
+WK_DECLARE_TERRAIN(simplest)
 WK_DECLARE_TERRAIN(compass)
 WK_DECLARE_TERRAIN(compass_plain)
+WK_DECLARE_TERRAIN(kneed)
+WK_DECLARE_TERRAIN(kneed_plain)
+WK_DECLARE_TERRAIN(kneed_ignore_scuff)
+WK_DECLARE_TERRAIN(kneed_plain_ignore_scuff)
 
 #endif
