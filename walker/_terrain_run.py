@@ -19,7 +19,14 @@ from walker._checks import as_vector
 from walker.results import MapResult
 from walker.status import Status
 
-__all__ = ["check_supported", "ensemble", "terrain_call", "terrain_rows"]
+__all__ = [
+    "check_model",
+    "check_supported",
+    "ensemble",
+    "rows_for",
+    "terrain_call",
+    "terrain_rows",
+]
 
 _KEY = "_terrain_args"
 
@@ -42,20 +49,17 @@ def _args(smap) -> tuple:
     return args
 
 
-def check_supported(smap) -> None:
-    """Raise a ValueError naming the model when ``smap`` cannot walk on terrain."""
+def check_model(model, params, system) -> None:
+    """Raise a ValueError naming the model when it cannot walk on terrain: no compiled
+    terrain functions for its system (walker/_core/terrain.c), or round feet."""
     from walker import _hybrid
+    from walker.hybrid_system import _compiled
 
-    model = smap.model
-    cached = smap.__dict__.get("_run")
-    if cached is None:
-        smap._prepared()
-        cached = smap.__dict__["_run"]
     name = model.name
-    guards = smap._prepared(1)[0]._head[1]  # the compiled guards' address
-    if cached[6] is None or _hybrid.terrain_model(guards) is None:
+    guards = _compiled(system)[1]
+    if not guards or _hybrid.terrain_model(guards) is None:
         raise ValueError(f"terrain is not supported for `{name}` yet")
-    radius = getattr(smap.params, "foot_radius", 0.0)
+    radius = getattr(params, "foot_radius", 0.0)
     if radius:
         raise ValueError(
             f"terrain is not supported for `{name}` with round feet (`foot_radius` = "
@@ -63,10 +67,31 @@ def check_supported(smap) -> None:
         )
 
 
-def terrain_rows(terrain, n_strides: int, name: str = "terrain") -> np.ndarray:
-    """``terrain`` as a C-contiguous float64 array of shape ``(n_strides, 2)``, finite."""
+def check_supported(smap) -> None:
+    """Raise a ValueError naming the model when ``smap`` cannot walk on terrain."""
+    cached = smap.__dict__.get("_run")
+    if cached is None:
+        smap._prepared()
+        cached = smap.__dict__["_run"]
+    check_model(smap.model, smap.params, cached[4])
+    if cached[6] is None:  # no compiled call (walker._section.compiled_call_fits)
+        raise ValueError(f"terrain is not supported for `{smap.model.name}` yet")
+
+
+def rows_for(model, params, system, terrain) -> np.ndarray:
+    """:func:`walker.stride.simulate`'s ``terrain``: the model checked, the rows as an
+    ``(n, 2)`` float64 array (n >= 1)."""
+    check_model(model, params, system)
+    return terrain_rows(terrain, None)
+
+
+def terrain_rows(terrain, n_strides: int | None, name: str = "terrain") -> np.ndarray:
+    """``terrain`` as a C-contiguous float64 array of shape ``(n_strides, 2)`` (any number
+    of rows >= 1 for None), finite."""
     rows = np.array(terrain, dtype=np.float64, order="C")
-    if rows.shape != (n_strides, 2):
+    if rows.ndim != 2 or rows.shape[1] != 2 or rows.shape[0] < 1:
+        raise ValueError(f"`{name}` must have shape (n, 2) of (slope, drop) rows, got {rows.shape}")
+    if n_strides is not None and rows.shape[0] != n_strides:
         raise ValueError(
             f"`{name}` must have shape (n_strides, 2) = ({n_strides}, 2) of (slope, drop) "
             f"per step, got {rows.shape}"
