@@ -116,6 +116,8 @@ def test_rimless_wheel_terrain_jacobian_matches_the_closed_form():
         ("gaits/kneed_hsu.toml", 0.3, 1e-6),
         ("gaits/kneed_mcgeer_pointmass.toml", 0.3, 1e-6),
         ("gaits/simplest_garcia.toml", 0.03, 1e-7),
+        ("gaits/compass_coulomb_goswami.toml", 0.3, 1e-6),
+        ("gaits/kneed_coulomb_hsu.toml", 0.3, 1e-6),
     ],
 )
 def test_terrain_jacobian_columns_match_finite_differences(path, size, e):
@@ -145,7 +147,15 @@ def test_terrain_jacobian_columns_match_finite_differences(path, size, e):
 
 
 @pytest.mark.parametrize(
-    "path", [COMPASS, RIMLESS, "gaits/simplest_garcia.toml", "gaits/kneed_mcgeer_pointmass.toml"]
+    "path",
+    [
+        COMPASS,
+        RIMLESS,
+        "gaits/simplest_garcia.toml",
+        "gaits/kneed_mcgeer_pointmass.toml",
+        "gaits/compass_coulomb_goswami.toml",
+        "gaits/kneed_coulomb_hsu.toml",
+    ],
 )
 def test_plane_terrain_is_bit_identical(path):
     scene, P, z = _map(path)

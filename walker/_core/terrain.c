@@ -34,10 +34,18 @@ static const wk_terrain_entry ENTRIES[] = {
 #undef KNEED_ENTRY
 };
 
+static const wk_terrain_entry *const MORE[] = {
+    &wk_terrain_entry_compass_coulomb,
+    &wk_terrain_entry_kneed_coulomb,
+};
+
 const wk_terrain_entry *wk_terrain_find(wk_guards_fn guards)
 {
+    if (guards == NULL) return NULL;
     for (size_t i = 0; i < sizeof ENTRIES / sizeof ENTRIES[0]; i++)
         if (ENTRIES[i].guards == guards) return &ENTRIES[i];
+    for (size_t i = 0; i < sizeof MORE / sizeof MORE[0]; i++)
+        if (MORE[i]->guards == guards) return MORE[i];
     return NULL;
 }
 

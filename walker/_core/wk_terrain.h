@@ -116,6 +116,10 @@ void wk_terrain_rimless_wheel_reset(int64_t phase, int64_t k, double t, const do
     void wk_terrain_##name##_reset(int64_t phase, int64_t k, double t, const double *x,      \
                                    const double *p, double *x_new, double *impulse,          \
                                    int64_t *out, void *ctx);
+/* Entries written in their model files (their plane guards are static there). */
+extern const wk_terrain_entry wk_terrain_entry_compass_coulomb;
+extern const wk_terrain_entry wk_terrain_entry_kneed_coulomb;
+
 WK_DECLARE_TERRAIN(simplest)
 WK_DECLARE_TERRAIN(compass)
 WK_DECLARE_TERRAIN(compass_plain)
