@@ -118,15 +118,20 @@ def test_rimless_wheel_terrain_jacobian_matches_the_closed_form():
         ("gaits/simplest_garcia.toml", 0.03, 1e-7),
         ("gaits/compass_coulomb_goswami.toml", 0.3, 1e-6),
         ("gaits/kneed_coulomb_hsu.toml", 0.3, 1e-6),
+        ("gaits/three_link_grizzle.toml", -0.2, 1e-6),
     ],
 )
 def test_terrain_jacobian_columns_match_finite_differences(path, size, e):
     """Three strides over rough steps: d z_3 / d(slope_k, drop_k) for every step k against
-    central differences of whole runs (steps ``e``, the scenes' rtol)."""
+    central differences of whole runs (steps ``e``, the scenes' rtol).  The three-link
+    walker's steps go up (``size`` < 0): its rigid swing foot dips under the ground just past
+    the stance foot, so a plane dropped by less than that dip is touched there."""
     scene, P, z = _map(path)
     slope = scene.params.slope
     rows = np.array([[slope + 0.01 * size, 0.01 * size], [slope, 0.0]])
-    rows = np.vstack([rows, [[slope - 0.008 * size, -0.004 * size]]])
+    rows = np.vstack([rows, [[slope - 0.008 * size, -0.004 * abs(size)]]])
+    if size < 0:
+        rows[1, 1] = -0.005
     r = P(z, terrain=rows, n_strides=3, jacobian=True)
     assert r.status == Status.COMPLETED and r.terrain_jac.shape == (P.n_z, 6)
     fd = np.empty((P.n_z, 6))
@@ -155,6 +160,7 @@ def test_terrain_jacobian_columns_match_finite_differences(path, size, e):
         "gaits/kneed_mcgeer_pointmass.toml",
         "gaits/compass_coulomb_goswami.toml",
         "gaits/kneed_coulomb_hsu.toml",
+        "gaits/three_link_grizzle.toml",
     ],
 )
 def test_plane_terrain_is_bit_identical(path):
@@ -233,7 +239,24 @@ def test_terrain_input_errors_name_the_argument():
     five = load_scene("gaits/five_link_hzd.toml")
     F = StrideMap.from_scene(five)
     with pytest.raises(ValueError, match="`five_link`"):
-        F(F.project(five.state), terrain=[[five.params.slope, 0.0]])
+        F(F.project(five.state), terrain=[[five.params.slope, 0.0]], jacobian=True)
+    book = load_scene("gaits/three_link_book.toml")
+    B = StrideMap.from_scene(book)
+    with pytest.raises(ValueError, match="`three_link` with `step_event` = 1"):
+        B(B.project(book.state), terrain=[[book.params.slope, 0.0]])
+
+
+def test_five_link_walks_on_terrain_without_a_compiled_map():
+    """The five-link walker's map has no compiled call: its terrain call runs through
+    simulate (plane rows: the map's numbers bit for bit; rough rows: a different walk)."""
+    five = load_scene("gaits/five_link_hzd.toml")
+    F = StrideMap.from_scene(five)
+    z, slope = F.project(five.state), five.params.slope
+    a = F(z, n_strides=2)
+    b = F(z, n_strides=2, terrain=[[slope, 0.0], [slope, 0.0]])
+    assert a.status == b.status == Status.COMPLETED and np.array_equal(a.z, b.z)
+    c = F(z, n_strides=2, terrain=[[slope + 0.01, -0.005], [slope, 0.0]])
+    assert c.status == Status.COMPLETED and not np.allclose(c.z, a.z, rtol=1e-6, atol=1e-6)
 
 
 def test_terrain_steps_kinds():

@@ -59,6 +59,11 @@ def check_model(model, params, system) -> None:
     guards = _compiled(system)[1]
     if not guards or _hybrid.terrain_model(guards) is None:
         raise ValueError(f"terrain is not supported for `{name}` yet")
+    if getattr(params, "step_event", 0.0) == 1.0:
+        raise ValueError(
+            f"terrain is not supported for `{name}` with `step_event` = 1 (its steps end on "
+            "the controller's impact surface, not on touching the ground)"
+        )
     radius = getattr(params, "foot_radius", 0.0)
     if radius:
         raise ValueError(
@@ -67,15 +72,44 @@ def check_model(model, params, system) -> None:
         )
 
 
-def check_supported(smap) -> None:
-    """Raise a ValueError naming the model when ``smap`` cannot walk on terrain."""
+def check_supported(smap, what: str = "terrain") -> None:
+    """Raise a ValueError naming the model when ``smap`` cannot walk on terrain (``what``:
+    the feature asked for, in the message) in one compiled call."""
     cached = smap.__dict__.get("_run")
     if cached is None:
         smap._prepared()
         cached = smap.__dict__["_run"]
     check_model(smap.model, smap.params, cached[4])
     if cached[6] is None:  # no compiled call (walker._section.compiled_call_fits)
-        raise ValueError(f"terrain is not supported for `{smap.model.name}` yet")
+        raise ValueError(f"{what} is not supported for `{smap.model.name}` yet")
+
+
+def _python_call(smap, z, n_strides, rows) -> MapResult:
+    """A terrain call of a map without a compiled call (its lift is neither affine nor
+    compiled: the five-link walker's): the model's lift, then one run through
+    :func:`walker.stride.simulate`, projected; no Jacobians."""
+    from walker.fixedpoint import stride_max_steps
+    from walker.stride import simulate
+
+    p = smap._p()
+    x0 = np.asarray(smap.model.lift(z, p), dtype=np.float64)
+    per_stride = stride_max_steps(smap.params, smap.t_max, smap.method, smap.first_step)
+    sol = simulate(
+        smap.model,
+        smap.params,
+        x0,
+        n_strides=n_strides,
+        t_max=smap.t_max * n_strides,
+        method=smap.method,
+        rtol=smap.rtol,
+        atol=smap.atol,
+        first_step=smap.first_step,
+        max_steps=per_stride * n_strides,
+        terrain=rows,
+    )
+    x = np.asarray(sol.x, dtype=np.float64)
+    z_new = smap.model.project(x, p) if sol.success else np.full(smap.model.n_z, np.nan)
+    return MapResult(sol.status, np.asarray(z_new, dtype=np.float64), None, float(sol.t), x)
 
 
 def rows_for(model, params, system, terrain) -> np.ndarray:
@@ -116,6 +150,15 @@ def terrain_call(smap, z, jacobian, n_strides, terrain) -> MapResult:
     if not isinstance(jacobian, bool | np.bool_ | numbers.Integral):
         raise TypeError(f"`jacobian` must be a bool, got {type(jacobian).__name__}")
     rows = terrain_rows(terrain, int(n_strides))
+    cached = smap.__dict__.get("_run")
+    if cached is None:
+        smap._prepared()
+        cached = smap.__dict__["_run"]
+    if cached[6] is None:
+        check_model(smap.model, smap.params, cached[4])
+        if jacobian:
+            check_supported(smap, "the terrain Jacobian")
+        return _python_call(smap, z, int(n_strides), rows)
     args = _args(smap)
     z = np.ascontiguousarray(z, dtype=np.float64)
     status, _, t, x, z_new, jz, tj = _hybrid.terrain_walk(*args, z, rows, bool(jacobian))

@@ -194,16 +194,12 @@ static PyObject *solve_impl(PyObject *const *args, Py_ssize_t nargs, const doubl
         const wk_terrain_entry *te = wk_terrain_find(fn.guards);
         if (te == NULL)
             WKPY_FAIL(PyExc_ValueError, "terrain is not supported for this system's model");
-        if (fn.ctx != NULL) WKPY_FAIL(PyExc_ValueError, "terrain runs take no `ctx`");
         memset(&T, 0, sizeof T);
         T.steps = terrain;
         T.n_steps = n_steps;
         T.scene_slope = pb.p[te->slope_index];
         wk_terrain_set_step(&T, 0);
-        fn.guards = te->terrain_guards;
-        fn.reset = te->terrain_reset;
-        fn.ctx = &T;
-        fn.on_stride = wk_terrain_on_stride;
+        fn = wk_terrain_functions(&fn, te, &T);
     }
 
     wk_result res;
