@@ -165,12 +165,16 @@ WK_MODEL_FUSED(compass_plain, PLAIN)
 static void terrain_guards(const compass_kernels *K, int64_t phase, const double *x,
                            const double *p, double *g, const wk_terrain *T)
 {
-    guards(K, phase, x, p, g);
-    if (T->ground.plane) return;
+    if (T->ground.plane) {
+        guards(K, phase, x, p, g);
+        return;
+    }
     const double L = p[WK_COMPASS_P_COM_FROM_FOOT] + p[WK_COMPASS_P_COM_TO_HIP] - p[I_R];
-    const double gam = T->ground.slope;
+    const double gam = T->ground.slope, psi1 = x[0] + p[I_SLOPE];
     g[WK_COMPASS_GUARD_HEEL_STRIKE] =
         L * (cos(x[0] + gam) - cos(x[1] + gam)) + T->ground.drop * cos(gam);
+    g[WK_COMPASS_GUARD_FALL_FORWARD] = psi1 + WK_FALL_ANGLE;
+    g[WK_COMPASS_GUARD_FALL_BACKWARD] = psi1 - WK_FALL_ANGLE;
 }
 
 static void terrain_reset(const compass_kernels *K, int64_t phase, int64_t k, const double *x,
