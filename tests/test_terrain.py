@@ -267,3 +267,25 @@ def test_terrain_steps_kinds():
     draws = np.random.default_rng(5).standard_normal((4, 2))
     np.testing.assert_allclose(r.steps(4)[:, 0], 0.01 + 0.1 * draws[:, 0], rtol=1e-15, atol=0)
     assert Terrain.from_table({"kind": "plane"}, 0.03).steps(1).tolist() == [[0.03, 0.0]]
+
+
+def test_docs_terrain_md_examples_run():
+    """docs/terrain.md's examples, run as doctests."""
+    import doctest
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parent.parent / "docs" / "terrain.md"
+    text = path.read_text(encoding="utf-8")
+    parser = doctest.DocTestParser()
+    test = parser.get_doctest(text, {}, "terrain.md", str(path), 0)
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    import os
+
+    old = os.getcwd()
+    os.chdir(path.parent.parent)
+    try:
+        runner.run(test)
+    finally:
+        os.chdir(old)
+    result = runner.summarize(verbose=False)
+    assert result.attempted >= 8 and result.failed == 0
