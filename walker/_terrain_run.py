@@ -86,29 +86,45 @@ def check_supported(smap, what: str = "terrain") -> None:
 
 def _python_call(smap, z, n_strides, rows) -> MapResult:
     """A terrain call of a map without a compiled call (its lift is neither affine nor
-    compiled: the five-link walker's): the model's lift, then one run through
-    :func:`walker.stride.simulate`, projected; no Jacobians."""
-    from walker.fixedpoint import stride_max_steps
-    from walker.stride import simulate
+    compiled: the five-link walker's): the model's lift, then one run of the map's system
+    (as :func:`walker.stride.simulate` runs it), projected; no Jacobians."""
+    import math as _math
 
-    p = smap._p()
-    x0 = np.asarray(smap.model.lift(z, p), dtype=np.float64)
+    from walker.fixedpoint import stride_max_steps
+    from walker.integrate import _solve
+
+    cached = smap.__dict__["_run"]
+    p, system, model = cached[1], cached[4], smap.model
+    x0 = np.ascontiguousarray(model.lift(z, p), dtype=np.float64)
+    start_phase = model.start_phase_fn()
+    phase0 = 0
+    if start_phase is not None and all(map(_math.isfinite, x0.tolist())):
+        phase0 = start_phase(x0, p)
     per_stride = stride_max_steps(smap.params, smap.t_max, smap.method, smap.first_step)
-    sol = simulate(
-        smap.model,
-        smap.params,
+    sol = _solve(
+        system,
         x0,
-        n_strides=n_strides,
+        p,
+        phase0=phase0,
+        t0=0.0,
         t_max=smap.t_max * n_strides,
+        n_strides=n_strides,
         method=smap.method,
         rtol=smap.rtol,
         atol=smap.atol,
         first_step=smap.first_step,
+        max_step=np.inf,
         max_steps=per_stride * n_strides,
+        output="map",
+        sample_times=None,
+        jacobian=False,
+        n_interior=4,
+        fixed_step=False,
+        p_checked=True,
         terrain=rows,
     )
     x = np.asarray(sol.x, dtype=np.float64)
-    z_new = smap.model.project(x, p) if sol.success else np.full(smap.model.n_z, np.nan)
+    z_new = model.project(x, p) if sol.success else np.full(model.n_z, np.nan)
     return MapResult(sol.status, np.asarray(z_new, dtype=np.float64), None, float(sol.t), x)
 
 
