@@ -179,6 +179,23 @@ def test_plane_terrain_is_bit_identical(path):
     assert b.terrain_jac.shape == (P.n_z, 2)
 
 
+def test_rimless_wheel_turning_back_is_rolled_back_on_terrain_only():
+    """Too slow to get over the top (1/2 w^2 < (g/l)(1 - cos(alpha - slope)), the closed
+    form's condition): on the plane path the wheel rocks to rest and the run ends NO_EVENT
+    at t_max, as before; on terrain, plane rows included, ROLLED_BACK."""
+    scene, P, z = _map(RIMLESS)
+    p = scene.params
+    alpha = math.pi / p.spokes
+    w_top = math.sqrt(2.0 * p.g / p.leg_length * (1.0 - math.cos(alpha - p.slope)))
+    slow = np.array([-0.9 * w_top])
+    assert P(slow).status == Status.NO_EVENT
+    assert P(slow, terrain=[[p.slope, 0.0]]).status == Status.ROLLED_BACK
+    steps, status = P.ensemble(slow, np.array([[[p.slope, 0.0]] * 3]))
+    assert steps[0] == 0 and status[0] == Status.ROLLED_BACK
+    fast = np.array([-1.1 * w_top])
+    assert P(fast, terrain=[[p.slope, 0.0]]).status == Status.COMPLETED
+
+
 def test_ensemble_matches_single_walks_for_any_thread_count():
     scene, P, z = _map(COMPASS)
     rng = np.random.default_rng(3)
