@@ -105,6 +105,47 @@ def test_rimless_wheel_terrain_jacobian_matches_the_closed_form():
         np.testing.assert_allclose(r.terrain_jac[0], [d_gamma, d_h], rtol=1e-7, atol=0)
 
 
+def test_rimless_wheel_walk_from_a_landed_state_matches_the_closed_form():
+    """StrideMap.walk from the state just after landing on slope gamma_prev (the spoke at
+    alpha - gamma_prev from the vertical: theta = alpha - gamma_prev + slope from the scene's
+    normal), one stride on gamma: w+ = cos(2 alpha) sqrt(w^2 + 2 (g/l)(cos(gamma_prev -
+    alpha) - cos(gamma + alpha))); its dz/dx0 against central differences of walks."""
+    scene, P, z = _map(RIMLESS)
+    p = scene.params
+    alpha, gl = math.pi / p.spokes, p.g / p.leg_length
+    rng = np.random.default_rng(11)
+    for _ in range(5):
+        g_prev, gamma = p.slope + 0.03 * rng.standard_normal(2)
+        w = abs(z[0]) * rng.uniform(1.0, 1.4)
+        x0 = np.array([alpha - g_prev + p.slope, -w])
+        r = P.walk(x0, [[gamma, 0.0]], previous=(g_prev, 0.0), jacobian=True)
+        assert r.status == Status.COMPLETED
+        expected = math.cos(2 * alpha) * math.sqrt(
+            w**2 + 2 * gl * (math.cos(g_prev - alpha) - math.cos(gamma + alpha))
+        )
+        np.testing.assert_allclose(-r.z[0], expected, rtol=1e-10, atol=0)
+        assert r.jac.shape == (1, 2)
+        e = 1e-6
+        for j in range(2):
+            d = np.zeros(2)
+            d[j] = e
+            up = P.walk(x0 + d, [[gamma, 0.0]]).z
+            down = P.walk(x0 - d, [[gamma, 0.0]]).z
+            np.testing.assert_allclose(r.jac[0, j], (up - down)[0] / (2 * e), rtol=1e-6, atol=1e-9)
+
+
+def test_walk_continues_a_walk():
+    """A walk from the state a terrain call ended in, with `previous` its last step, is the
+    same walk as one call over both steps (to the tolerance: two integrations)."""
+    scene, P, z = _map(COMPASS)
+    s = scene.params.slope
+    rows = np.array([[s + 0.004, 0.003], [s - 0.002, -0.002]])
+    both = P(z, terrain=rows, n_strides=2)
+    first = P(z, terrain=rows[:1])
+    second = P.walk(first.state, rows[1:], previous=rows[0])
+    np.testing.assert_allclose(second.z, both.z, rtol=1e-9, atol=1e-10)
+
+
 # --- terrain Jacobian columns against finite differences ---------------------------------
 
 

@@ -72,6 +72,10 @@ void wk_terrain_set_step(wk_terrain *T, int64_t index)
     T->ground.drop = has ? T->steps[2 * index + 1] : 0.0;
     T->ground.prev_slope = has_prev ? T->steps[2 * prev] : T->scene_slope;
     T->ground.prev_drop = has_prev ? T->steps[2 * prev + 1] : 0.0;
+    if (prev == -1 && T->previous != NULL) {
+        T->ground.prev_slope = T->previous[0];
+        T->ground.prev_drop = T->previous[1];
+    }
     wk_terrain_update_plane(T);
 }
 
@@ -81,13 +85,46 @@ void wk_terrain_on_stride(void *ctx, int64_t n_done)
 }
 
 static void terrain_init(wk_terrain *T, const wk_terrain_entry *te, const wk_problem *tmpl,
-                         const double *steps, int64_t n_steps)
+                         const double *steps, int64_t n_steps, const double *previous)
 {
     memset(T, 0, sizeof *T);
     T->steps = steps;
     T->n_steps = n_steps;
     T->scene_slope = tmpl->p[te->slope_index];
+    T->previous = previous;
     wk_terrain_set_step(T, 0);
+}
+
+/* wk_section_start's checks for a start at a full state x0 (its section point x0[proj]). */
+static int64_t state_start(const wk_problem *tmpl, const wk_section *sec, const double *x0,
+                           int64_t *phase0)
+{
+    const double psi = x0[sec->proj[0]] + sec->offset;
+    if (!(fabs(psi) < sec->fall_angle)) return psi < 0.0 ? WK_FELL_FORWARD : WK_FELL_BACKWARD;
+    for (int64_t i = 0; i < sec->n_q; i++)
+        if (fabs(x0[i]) > sec->wound) return 15; /* OUTSIDE_WALKING_REGION */
+    double out[4] = {0.0, 0.0, 0.0, 0.0};
+    if (sec->energy != NULL) {
+        sec->energy(x0, tmpl->p, out, NULL);
+        if (!(out[0] <= sec->kinetic_limit)) return 15;
+    }
+    *phase0 = 0;
+    if (sec->start_phase != NULL) {
+        out[0] = 0.0;
+        sec->start_phase(x0, tmpl->p, out, NULL);
+        *phase0 = (int64_t)out[0];
+        if (*phase0 < 0) return WK_LINEAR_SOLVE_FAILED;
+    }
+    return 0;
+}
+
+/* The start of a walk: x (n_x) and phase; 0 or the status of a start not integrated. */
+static int64_t walk_start(const wk_problem *tmpl, const wk_section *sec,
+                          const wk_terrain_start *st, double *x, int64_t *phase0)
+{
+    if (!st->from_state) return wk_section_start(tmpl, sec, st->start, x, phase0);
+    memcpy(x, st->start, (size_t)tmpl->n_x * sizeof(double));
+    return state_start(tmpl, sec, x, phase0);
 }
 
 void wk_terrain_rhs(int64_t phase, double t, const double *x, const double *p, double *dx,
@@ -159,18 +196,19 @@ static void fill_nan(double *v, int64_t n)
 }
 
 int wk_terrain_walk(const wk_functions *fn, const wk_terrain_entry *te, const wk_problem *tmpl,
-                    const wk_section *sec, const double *z, const double *steps, int64_t n_steps,
-                    int64_t *status, int64_t *strides, double *t, double *x, double *z_out)
+                    const wk_section *sec, const wk_terrain_start *st, const double *steps,
+                    int64_t n_steps, int64_t *status, int64_t *strides, double *t, double *x,
+                    double *z_out)
 {
     const int64_t n_x = tmpl->n_x;
     wk_terrain T;
-    terrain_init(&T, te, tmpl, steps, n_steps);
+    terrain_init(&T, te, tmpl, steps, n_steps, st->previous);
     const wk_functions f = wk_terrain_functions(fn, te, &T);
     int64_t phase0 = 0;
     *strides = 0;
     *t = 0.0;
     fill_nan(z_out, sec->n_z);
-    *status = wk_section_start(tmpl, sec, z, x, &phase0);
+    *status = walk_start(tmpl, sec, st, x, &phase0);
     if (*status != 0) return WK_OK;
     double *x0 = malloc((size_t)n_x * sizeof(double));
     if (x0 == NULL) return WK_ERR_NOMEM;
@@ -288,35 +326,39 @@ static void matmul(const double *A, const double *B, int64_t r, int64_t n, int64
 }
 
 int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
-                        const wk_problem *tmpl, const wk_section *sec, const double *z,
+                        const wk_problem *tmpl, const wk_section *sec, const wk_terrain_start *st,
                         const double *steps, int64_t n_steps, int64_t *status, int64_t *strides,
                         double *t, double *x, double *z_out, double *jz, double *tjac)
 {
     const int64_t n_x = tmpl->n_x, n_z = sec->n_z, n_t = 2 * n_steps;
+    const int64_t n_0 = st->from_state ? n_x : n_z; /* the start's coordinates */
     wk_terrain T;
-    terrain_init(&T, te, tmpl, steps, n_steps);
+    terrain_init(&T, te, tmpl, steps, n_steps, st->previous);
     const wk_functions f = wk_terrain_functions(fn, te, &T);
     int64_t phase = 0;
     *strides = 0;
     *t = 0.0;
     fill_nan(z_out, n_z);
-    for (int64_t i = 0; i < n_z * n_z; i++) jz[i] = NAN;
+    for (int64_t i = 0; i < n_z * n_0; i++) jz[i] = NAN;
     for (int64_t i = 0; i < n_z * n_t; i++) tjac[i] = NAN;
-    *status = wk_section_start(tmpl, sec, z, x, &phase);
+    *status = walk_start(tmpl, sec, st, x, &phase);
     if (*status != 0) return WK_OK;
 
-    const size_t n_work = (size_t)(n_x * n_z * 3 + n_x * n_t * 2 + n_x * n_x * 2 + n_x * 3 +
+    const size_t n_work = (size_t)(n_x * n_0 * 3 + n_x * n_t * 2 + n_x * n_x * 2 + n_x * 3 +
                                    n_x * 2 + 8 * n_x + 2 * tmpl->n_impulse + tmpl->n_guards);
     double *work = malloc(n_work * sizeof(double));
     if (work == NULL) return WK_ERR_NOMEM;
-    double *Jx = work, *Jtmp = Jx + n_x * n_z, *seed_buf = Jtmp + n_x * n_z;
-    double *Tx = seed_buf + n_x * n_z, *Ttmp = Tx + n_x * n_t;
+    double *Jx = work, *Jtmp = Jx + n_x * n_0, *seed_buf = Jtmp + n_x * n_0;
+    double *Tx = seed_buf + n_x * n_0, *Ttmp = Tx + n_x * n_t;
     double *eye = Ttmp + n_x * n_t, *M = eye + n_x * n_x;
     double *x0 = M + n_x * n_x, *xm = x0 + n_x, *c = xm + n_x;
     double *fd = c + 2 * n_x;
     for (int64_t i = 0; i < n_x * n_t; i++) Tx[i] = 0.0;
     for (int64_t i = 0; i < n_x * n_x; i++) eye[i] = (i / n_x == i % n_x) ? 1.0 : 0.0;
-    const double *seed0 = wk_section_seed(sec, n_x, tmpl->p, z, seed_buf);
+    /* the first stride's seed: the lift's Jacobian from a section point, else none (the
+     * identity) */
+    const double *seed0 =
+        st->from_state ? NULL : wk_section_seed(sec, n_x, tmpl->p, st->start, seed_buf);
     memcpy(x0, x, (size_t)n_x * sizeof(double));
 
     int rc = WK_OK;
@@ -333,7 +375,7 @@ int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
         pb.output = WK_OUTPUT_EVENTS;
         pb.want_jac = 1;
         pb.jac_seed = k == 0 ? seed0 : NULL;
-        pb.n_seed = k == 0 ? n_z : 0;
+        pb.n_seed = k == 0 && seed0 != NULL ? n_z : 0;
         pb.sample_times = NULL;
         pb.n_samples = 0;
         wk_result res;
@@ -354,11 +396,11 @@ int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
         memcpy(xm, res.ev_x_pre + e * n_x, (size_t)n_x * sizeof(double));
         const int64_t ev_phase = res.ev_phase_before[e], ev_guard = res.ev_guard[e];
         if (k == 0) {
-            memcpy(Jx, res.jac, (size_t)(n_x * n_z) * sizeof(double));
+            memcpy(Jx, res.jac, (size_t)(n_x * n_0) * sizeof(double));
         } else {
             memcpy(M, res.jac, (size_t)(n_x * n_x) * sizeof(double));
-            matmul(M, Jx, n_x, n_x, n_z, Jtmp);
-            memcpy(Jx, Jtmp, (size_t)(n_x * n_z) * sizeof(double));
+            matmul(M, Jx, n_x, n_x, n_0, Jtmp);
+            memcpy(Jx, Jtmp, (size_t)(n_x * n_0) * sizeof(double));
             matmul(M, Tx, n_x, n_x, n_t, Ttmp);
             memcpy(Tx, Ttmp, (size_t)(n_x * n_t) * sizeof(double));
         }
@@ -379,7 +421,7 @@ int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
         for (int64_t i = 0; i < n_z; i++) {
             const int64_t r = sec->proj[i];
             z_out[i] = x[r];
-            for (int64_t j = 0; j < n_z; j++) jz[i * n_z + j] = Jx[r * n_z + j];
+            for (int64_t j = 0; j < n_0; j++) jz[i * n_0 + j] = Jx[r * n_0 + j];
             for (int64_t j = 0; j < n_t; j++) tjac[i * n_t + j] = Tx[r * n_t + j];
         }
     }
@@ -402,7 +444,8 @@ int wk_terrain_ensemble(const wk_functions *fn, const wk_terrain_entry *te,
     int rc = WK_OK;
     for (int64_t i = 0; i < m && rc == WK_OK; i++) {
         double t;
-        rc = wk_terrain_walk(fn, te, tmpl, sec, z0 + i * n_z, steps + i * n_steps * 2, n_steps,
+        const wk_terrain_start st = {z0 + i * n_z, 0, NULL};
+        rc = wk_terrain_walk(fn, te, tmpl, sec, &st, steps + i * n_steps * 2, n_steps,
                              status + i, strides + i, &t, buf, buf + n_x);
     }
     free(buf);

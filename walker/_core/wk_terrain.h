@@ -43,6 +43,7 @@ typedef struct {
     int64_t n_steps;     /* past the last step: the scene's plane */
     int64_t index;       /* the current step */
     double scene_slope;  /* the model's slope parameter [rad] */
+    const double *previous; /* (2): the ground before step 0; NULL: the scene's plane */
     /* the model's own ctx (a controller; NULL for the built-in one and the passive models)
      * and, for a model whose phase functions read it (own_ctx), its rhs and jac, called
      * through wk_terrain_rhs / wk_terrain_jac with it */
@@ -91,22 +92,33 @@ void wk_terrain_on_stride(void *ctx, int64_t n_done);
 /* Recomputes ground.plane from the values in ground (after they were changed). */
 void wk_terrain_update_plane(wk_terrain *T);
 
-/* Walks from section point z (sec's lift and start checks) over the n_steps steps of
- * ``steps``, one integration of n_steps strides.  Fills status, strides (completed), t, the
- * final state x (n_x) and section point z_out (n_z, NaN unless completed).  Returns a
- * wk_hybrid_solve code. */
-int wk_terrain_walk(const wk_functions *fn, const wk_terrain_entry *te, const wk_problem *tmpl,
-                    const wk_section *sec, const double *z, const double *steps, int64_t n_steps,
-                    int64_t *status, int64_t *strides, double *t, double *x, double *z_out);
+/* Where a walk starts: ``from_state`` 0, at the section point start (n_z; sec's lift), else
+ * at the full state start (n_x); the start checks of wk_section_start either way.
+ * ``previous`` (2) the (slope, drop) of the step the start landed on, NULL: the scene's
+ * plane. */
+typedef struct {
+    const double *start;
+    int from_state;
+    const double *previous;
+} wk_terrain_start;
 
-/* As wk_terrain_walk with the Jacobians, stride by stride: jz (n_z, n_z) d z_out / d z and
+/* Walks from ``st`` over the n_steps steps of ``steps``, one integration of n_steps strides.
+ * Fills status, strides (completed), t, the final state x (n_x) and section point z_out
+ * (n_z, NaN unless completed).  Returns a wk_hybrid_solve code. */
+int wk_terrain_walk(const wk_functions *fn, const wk_terrain_entry *te, const wk_problem *tmpl,
+                    const wk_section *sec, const wk_terrain_start *st, const double *steps,
+                    int64_t n_steps, int64_t *status, int64_t *strides, double *t, double *x,
+                    double *z_out);
+
+/* As wk_terrain_walk with the Jacobians, stride by stride: jz (n_z, n_0) d z_out / d start
+ * (n_0 = n_z from a section point, n_x from a state) and
  * tjac (n_z, 2 n_steps) d z_out / d (slope_k, drop_k), column 2k the slope and 2k + 1 the
  * drop of step k: the variational equations and saltation matrices of each stride
  * (wk_hybrid_solve) and, at each stride's touchdown, the terrain's terms (the guard's and
  * the reset's dependence on the step's pair) by Richardson-extrapolated central
  * differences.  Returns a wk_hybrid_solve code (WK_ERR_NOMEM). */
 int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
-                        const wk_problem *tmpl, const wk_section *sec, const double *z,
+                        const wk_problem *tmpl, const wk_section *sec, const wk_terrain_start *st,
                         const double *steps, int64_t n_steps, int64_t *status, int64_t *strides,
                         double *t, double *x, double *z_out, double *jz, double *tjac);
 
