@@ -279,6 +279,72 @@ def test_compass_step_down_lands_on_the_plane_later_and_lower():
         previous = r
 
 
+# --- round feet -----------------------------------------------------------------------------
+
+
+def _round_compass():
+    scene = load_scene(COMPASS)
+    params = scene.params.replace(foot_radius=0.1)
+    P = StrideMap("compass", params, rtol=1e-12, atol=1e-12)
+    from walker import find_fixed_point
+
+    gait = find_fixed_point(P, P.project(scene.state))
+    assert gait.status == Status.COMPLETED
+    return params, P, gait.section
+
+
+def test_round_feet_touch_down_on_the_plane():
+    """Round feet (radius R): the stance foot's centre starts R above the contact it landed
+    at and rolls R (q_land - q) along its plane; the swing foot's centre sits (L - R)(sin q_sw
+    - sin q_st, cos q_st - cos q_sw) from it (angles from the vertical).  At touchdown the
+    swing foot's lowest point, R below its centre, lies on the step's plane (1e-12), and the
+    plane rows give the plane's numbers bit for bit."""
+    params, P, z = _round_compass()
+    g0, R = params.slope, params.foot_radius
+    L = params.com_from_foot + params.com_to_hip
+    a, b = P(z, n_strides=2), P(z, n_strides=2, terrain=[[g0, 0.0], [g0, 0.0]])
+    assert np.array_equal(a.z, b.z) and a.step_time == b.step_time
+    q_land = P.lift(z)[0]
+    for gamma, h in [(g0 + 0.01, 0.005), (g0 - 0.02, -0.003), (g0 + 0.03, 0.0)]:
+        r = P(z, terrain=[[gamma, h]])
+        assert r.status == Status.COMPLETED
+        q_new, q_old = r.state[0], r.state[1]  # the legs swapped at touchdown
+        t_s = np.array([math.cos(g0), -math.sin(g0)])
+        n_s = np.array([math.sin(g0), math.cos(g0)])
+        centre = R * (q_land - q_old) * t_s + R * n_s
+        swing = centre + (L - R) * np.array(
+            [math.sin(q_new) - math.sin(q_old), math.cos(q_old) - math.cos(q_new)]
+        )
+        normal = np.array([math.sin(gamma), math.cos(gamma)])
+        assert abs(swing @ normal + h * math.cos(gamma) - R) < 1e-12
+
+
+def test_round_feet_roll_on_the_plane_they_landed_on():
+    """In the second step the stance foot rolls on the first step's plane: the walker's
+    energy (the model's, its slope parameter that plane's) is conserved there to the
+    tolerance, and not with the scene's slope."""
+    from walker import simulate
+    from walker.models import get_model
+
+    params, P, z = _round_compass()
+    g1 = params.slope + 0.05
+    sol = simulate(
+        "compass", params, P.lift(z), n_strides=2, output="full", terrain=[[g1, 0.0], [g1, 0.0]]
+    )
+    assert sol.status == Status.COMPLETED
+    t_event = sol.events.t[0]
+    energy = get_model("compass").energy
+    t = sol.record.t
+    second = sol.record.x[(t > t_event + 1e-9) & (t < sol.events.t[1] - 1e-9)]
+    assert len(second) > 10
+    on_plane = [sum(energy(x, params.replace(slope=g1))) for x in second]
+    on_scene = [sum(energy(x, params)) for x in second]
+    assert np.ptp(on_plane) < 1e-9 * abs(np.mean(on_plane))
+    assert np.ptp(on_scene) > 1e-4 * abs(np.mean(on_scene))
+    with pytest.raises(ValueError, match="round feet"):
+        P(z, terrain=[[g1, 0.0]], jacobian=True)
+
+
 # --- input errors ---------------------------------------------------------------------------
 
 

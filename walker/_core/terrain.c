@@ -17,16 +17,16 @@
 
 static const wk_terrain_entry ENTRIES[] = {
     {"rimless_wheel", wk_model_rimless_wheel_guards, WK_RIMLESS_WHEEL_P_SLOPE,
-     wk_terrain_rimless_wheel_guards, wk_terrain_rimless_wheel_reset},
+     wk_terrain_rimless_wheel_guards, wk_terrain_rimless_wheel_reset, 0, -1, 0},
     {"simplest", wk_model_simplest_guards, WK_SIMPLEST_P_SLOPE, wk_terrain_simplest_guards,
-     wk_terrain_simplest_reset},
+     wk_terrain_simplest_reset, 0, -1, 0},
     {"compass", wk_model_compass_guards, WK_COMPASS_P_SLOPE, wk_terrain_compass_guards,
-     wk_terrain_compass_reset},
+     wk_terrain_compass_reset, 0, WK_COMPASS_P_FOOT_RADIUS, WK_COMPASS_N_P},
     {"compass/plain", wk_model_compass_plain_guards, WK_COMPASS_P_SLOPE,
-     wk_terrain_compass_plain_guards, wk_terrain_compass_plain_reset},
+     wk_terrain_compass_plain_guards, wk_terrain_compass_plain_reset, 0, -1, 0},
 #define KNEED_ENTRY(label, name)                                                             \
     {label, wk_model_##name##_guards, WK_KNEED_P_SLOPE, wk_terrain_##name##_guards,           \
-     wk_terrain_##name##_reset}
+     wk_terrain_##name##_reset, 0, WK_KNEED_P_FOOT_RADIUS, WK_KNEED_N_P}
     KNEED_ENTRY("kneed", kneed),
     KNEED_ENTRY("kneed/plain", kneed_plain),
     KNEED_ENTRY("kneed/ignore_scuff", kneed_ignore_scuff),
@@ -79,9 +79,77 @@ void wk_terrain_set_step(wk_terrain *T, int64_t index)
     wk_terrain_update_plane(T);
 }
 
-void wk_terrain_on_stride(void *ctx, int64_t n_done)
+void wk_terrain_on_stride(void *ctx, int64_t n_done, const double *x)
 {
-    wk_terrain_set_step((wk_terrain *)ctx, n_done);
+    wk_terrain *T = (wk_terrain *)ctx;
+    wk_terrain_set_step(T, n_done);
+    T->land_angle = x[0];
+}
+
+const double *wk_terrain_stance_params(wk_terrain *T, const double *p)
+{
+    if (!T->rolling) return p;
+    T->p_buf[T->slope_index] = T->ground.prev_slope; /* the rest copied at the start */
+    return T->p_buf;
+}
+
+double wk_terrain_round_height(const wk_terrain *T, double centres, double q_stance, double R)
+{
+    const double d = T->ground.slope - T->ground.prev_slope;
+    return centres + R * (T->land_angle - q_stance) * sin(d) + R * (cos(d) - 1.0) +
+           T->ground.drop * cos(T->ground.slope);
+}
+
+int64_t wk_terrain_heel_strike_round(const wk_floating_base *B, const int *swap, int n_c,
+                                     const double *x, const double *p, const wk_terrain *T,
+                                     double *x_new, double *impulse)
+{
+    enum { NF = WK_FLOATING_BASE_MAX };
+    double p_n[WK_TERRAIN_MAX_P], p_s[WK_TERRAIN_MAX_P];
+    double pts[WK_POINTS_MAX * 2], hip_J[2 * NF], qf[NF], qdf[NF], qdf_plus[NF];
+    double M[NF * NF], Jsw[2 * NF], Jst[2 * NF], lam[2];
+    const int n = B->n;
+    if (n + 2 > NF || B->n_points > WK_POINTS_MAX || T->n_params > WK_TERRAIN_MAX_P)
+        return WK_LINEAR_SOLVE_FAILED;
+    for (int64_t i = 0; i < T->n_params; i++) p_n[i] = p_s[i] = p[i];
+    const double gam = T->ground.slope, gam_s = T->ground.prev_slope;
+    p_n[T->slope_index] = gam;
+    p_s[T->slope_index] = gam_s;
+    /* the hip's velocity from the stance foot rolling on its plane; the swing foot's
+     * contact on the step's plane, the trailing foot's on its own */
+    B->points(x, p_s, pts);
+    B->hip_jac(x, p_s, hip_J);
+    wk_floating_base_state(x, x + n_c, pts + 2 * B->hip_row, hip_J, qf, qdf, n);
+    B->ext_mass_matrix(qf, p_n, M);
+    B->ext_swing_contact_jac(qf, p_n, Jsw);
+    B->ext_stance_contact_jac(qf, p_s, Jst);
+    if (!wk_impact(M, Jsw, qdf, qdf_plus, lam, n + 2, 2)) return WK_LINEAR_SOLVE_FAILED;
+    impulse[0] = lam[0] * cos(gam) - lam[1] * sin(gam);
+    impulse[1] = lam[0] * sin(gam) + lam[1] * cos(gam);
+    double v0 = 0.0, v1 = 0.0;
+    for (int j = 0; j < n + 2; j++) {
+        v0 += Jst[0 * (n + 2) + j] * qdf_plus[j];
+        v1 += Jst[1 * (n + 2) + j] * qdf_plus[j];
+    }
+    const double lift = v0 * sin(gam_s) + v1 * cos(gam_s);
+    wk_swap_legs(swap, n_c, x, qdf_plus, x_new);
+    if (!(impulse[1] > 0.0) || !(lift > 0.0)) return WK_NONPHYSICAL_IMPACT;
+    return 0;
+}
+
+/* The model's rhs and jac with the parameters of the plane the stance foot rolls on. */
+static void rolling_rhs(int64_t phase, double t, const double *x, const double *p, double *dx,
+                        void *ctx)
+{
+    wk_terrain *T = (wk_terrain *)ctx;
+    T->rhs(phase, t, x, wk_terrain_stance_params(T, p), dx, T->inner);
+}
+
+static void rolling_jac(int64_t phase, double t, const double *x, const double *p, double *J,
+                        void *ctx)
+{
+    wk_terrain *T = (wk_terrain *)ctx;
+    T->jac(phase, t, x, wk_terrain_stance_params(T, p), J, T->inner);
 }
 
 static void terrain_init(wk_terrain *T, const wk_terrain_entry *te, const wk_problem *tmpl,
@@ -142,12 +210,23 @@ void wk_terrain_jac(int64_t phase, double t, const double *x, const double *p, d
 }
 
 wk_functions wk_terrain_functions(const wk_functions *fn, const wk_terrain_entry *te,
-                                  wk_terrain *T)
+                                  wk_terrain *T, const double *p, const double *x0)
 {
     wk_functions f = *fn;
     T->inner = fn->ctx;
     T->rhs = fn->rhs;
     T->jac = fn->jac;
+    T->land_angle = x0[0];
+    T->slope_index = te->slope_index;
+    T->n_params = te->n_params;
+    T->rolling = te->radius_index >= 0 && p[te->radius_index] != 0.0 &&
+                 te->n_params <= WK_TERRAIN_MAX_P;
+    if (T->rolling) {
+        for (int64_t i = 0; i < te->n_params; i++) T->p_buf[i] = p[i];
+        f.rhs = rolling_rhs;
+        f.jac = fn->jac != NULL ? rolling_jac : NULL;
+        f.rhs_jac = NULL;
+    }
     f.guards = te->terrain_guards;
     f.reset = te->terrain_reset;
     f.ctx = T;
@@ -203,13 +282,13 @@ int wk_terrain_walk(const wk_functions *fn, const wk_terrain_entry *te, const wk
     const int64_t n_x = tmpl->n_x;
     wk_terrain T;
     terrain_init(&T, te, tmpl, steps, n_steps, st->previous);
-    const wk_functions f = wk_terrain_functions(fn, te, &T);
     int64_t phase0 = 0;
     *strides = 0;
     *t = 0.0;
     fill_nan(z_out, sec->n_z);
     *status = walk_start(tmpl, sec, st, x, &phase0);
     if (*status != 0) return WK_OK;
+    const wk_functions f = wk_terrain_functions(fn, te, &T, tmpl->p, x);
     double *x0 = malloc((size_t)n_x * sizeof(double));
     if (x0 == NULL) return WK_ERR_NOMEM;
     memcpy(x0, x, (size_t)n_x * sizeof(double));
@@ -334,7 +413,6 @@ int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
     const int64_t n_0 = st->from_state ? n_x : n_z; /* the start's coordinates */
     wk_terrain T;
     terrain_init(&T, te, tmpl, steps, n_steps, st->previous);
-    const wk_functions f = wk_terrain_functions(fn, te, &T);
     int64_t phase = 0;
     *strides = 0;
     *t = 0.0;
@@ -343,6 +421,7 @@ int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
     for (int64_t i = 0; i < n_z * n_t; i++) tjac[i] = NAN;
     *status = walk_start(tmpl, sec, st, x, &phase);
     if (*status != 0) return WK_OK;
+    const wk_functions f = wk_terrain_functions(fn, te, &T, tmpl->p, x);
 
     const size_t n_work = (size_t)(n_x * n_0 * 3 + n_x * n_t * 2 + n_x * n_x * 2 + n_x * 3 +
                                    n_x * 2 + 8 * n_x + 2 * tmpl->n_impulse + tmpl->n_guards);
@@ -365,6 +444,7 @@ int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
     double t_sum = 0.0;
     for (int64_t k = 0; k < n_steps; k++) {
         wk_terrain_set_step(&T, k);
+        T.land_angle = x0[0];
         wk_problem pb = *tmpl;
         pb.x0 = x0;
         pb.phase0 = phase;
@@ -407,6 +487,7 @@ int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
         phase = res.phase;
         wk_result_free(&res);
         wk_terrain_set_step(&T, k); /* the run's on_stride moved it on */
+        T.land_angle = x0[0];
         terrain_columns(&f, &T, &pb, ev_phase, ev_guard, xm, c, fd);
         for (int64_t i = 0; i < n_x; i++) {
             Tx[i * n_t + 2 * k] = c[2 * i];

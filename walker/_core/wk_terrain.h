@@ -27,6 +27,9 @@
 #include "wk_common.h"
 #include "wk_system.h"
 
+/* Largest parameter vector of a model with round feet. */
+#define WK_TERRAIN_MAX_P 64
+
 /* The ground of the current step. */
 typedef struct {
     double slope;      /* gamma_n [rad], downhill positive */
@@ -50,6 +53,14 @@ typedef struct {
     void *inner;
     wk_rhs_fn rhs;
     wk_jac_fn jac;
+    /* round feet (the entry's radius_index, p[radius_index] > 0): the stance leg's angle
+     * x[0] when the step began (its foot has rolled from there), and the parameters with
+     * the slope of the plane the stance foot rolls on, for the model's phase functions */
+    double land_angle;
+    int rolling;
+    int64_t n_params;
+    int64_t slope_index;
+    double p_buf[WK_TERRAIN_MAX_P];
 } wk_terrain;
 
 /* A model's terrain functions: guards and reset with the signatures of wk_system.h, called
@@ -61,13 +72,19 @@ typedef struct {
     wk_guards_fn terrain_guards;
     wk_reset_fn terrain_reset;
     int own_ctx; /* the model's rhs, jac, guards and reset read a ctx of their own */
+    /* round feet: the foot radius' index in p (-1: point feet only) and the parameters'
+     * count; with p[radius_index] > 0 the phase functions run with the slope of the plane
+     * the stance foot rolls on (wk_terrain_rolling_rhs) */
+    int64_t radius_index;
+    int64_t n_params;
 } wk_terrain_entry;
 
 /* The run's functions: the model's with its terrain guards and reset, ctx T (T's inner,
- * rhs and jac set from fn), on_stride wk_terrain_on_stride; rhs and jac go through the
- * trampolines below for a model with a ctx of its own. */
+ * rhs and jac set from fn, its land_angle from the start state x0, its rolling from p),
+ * on_stride wk_terrain_on_stride; rhs and jac go through the trampolines below for a model
+ * with a ctx of its own, or with the stance plane's parameters for round feet. */
 wk_functions wk_terrain_functions(const wk_functions *fn, const wk_terrain_entry *te,
-                                  wk_terrain *T);
+                                  wk_terrain *T, const double *p, const double *x0);
 
 /* The model's rhs and jac with T->inner as their ctx (ctx a wk_terrain). */
 void wk_terrain_rhs(int64_t phase, double t, const double *x, const double *p, double *dx,
@@ -86,8 +103,25 @@ const wk_terrain_entry *wk_terrain_find(wk_guards_fn guards);
  * before step 0 and past the last step). */
 void wk_terrain_set_step(wk_terrain *T, int64_t index);
 
-/* wk_stride_fn: the next step after a stride. */
-void wk_terrain_on_stride(void *ctx, int64_t n_done);
+/* wk_stride_fn: the next step after a stride (and the new stance leg's angle x[0]). */
+void wk_terrain_on_stride(void *ctx, int64_t n_done, const double *x);
+
+/* The parameters with the slope of the plane the stance foot stands on (T->p_buf) for a
+ * walker with round feet, else p itself. */
+const double *wk_terrain_stance_params(wk_terrain *T, const double *p);
+
+/* The signed distance [m] of a round swing foot's lowest point from the step's plane, from
+ * the foot centres' offset (L - R)(cos(q_st + gamma) - cos(q_sw + gamma)) (``centres``,
+ * computed with the step's slope gamma): the stance foot rolled R (land_angle - q_st)
+ * along the plane of slope gamma_s it stands on, from the contact it landed at. */
+double wk_terrain_round_height(const wk_terrain *T, double centres, double q_stance, double R);
+
+/* wk_terrain_heel_strike for round feet: the swing foot's contact on the step's plane, the
+ * trailing foot's on the previous step's, the hip's velocity from the stance foot rolling
+ * on it. */
+int64_t wk_terrain_heel_strike_round(const wk_floating_base *B, const int *swap, int n_c,
+                                     const double *x, const double *p, const wk_terrain *T,
+                                     double *x_new, double *impulse);
 
 /* Recomputes ground.plane from the values in ground (after they were changed). */
 void wk_terrain_update_plane(wk_terrain *T);
