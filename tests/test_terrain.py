@@ -341,8 +341,40 @@ def test_round_feet_roll_on_the_plane_they_landed_on():
     on_scene = [sum(energy(x, params)) for x in second]
     assert np.ptp(on_plane) < 1e-9 * abs(np.mean(on_plane))
     assert np.ptp(on_scene) > 1e-4 * abs(np.mean(on_scene))
-    with pytest.raises(ValueError, match="round feet"):
-        P(z, terrain=[[g1, 0.0]], jacobian=True)
+
+
+@pytest.mark.parametrize("path", [COMPASS, "gaits/kneed_hsu.toml"])
+def test_round_feet_jacobians_match_finite_differences(path):
+    """Round feet: a step's slope also moves the next step's rolling flow and touchdown (the
+    stance foot rolls on it), and the landing angle the guard; dz/dz0 and the terrain
+    columns of three strides against central differences of whole walks."""
+    from walker import find_fixed_point
+
+    scene = load_scene(path)
+    params = scene.params.replace(foot_radius=0.1 if path == COMPASS else 0.05)
+    P = StrideMap(scene.walker_model, params, rtol=1e-12, atol=1e-12)
+    z = find_fixed_point(P, P.project(scene.state)).section
+    s = params.slope
+    rows = np.array([[s + 0.004, 0.002], [s - 0.003, -0.001], [s + 0.002, 0.001]])
+    r = P(z, terrain=rows, n_strides=3, jacobian=True)
+    assert r.status == Status.COMPLETED
+    e = 1e-6
+    fd = np.empty((P.n_z, 6))
+    for k in range(6):
+        d = np.zeros(6)
+        d[k] = e
+        up = P(z, terrain=rows + d.reshape(3, 2), n_strides=3).z
+        down = P(z, terrain=rows - d.reshape(3, 2), n_strides=3).z
+        fd[:, k] = (up - down) / (2 * e)
+    np.testing.assert_allclose(r.terrain_jac, fd, rtol=1e-6, atol=1e-7 * np.abs(fd).max())
+    fz = np.empty((P.n_z, P.n_z))
+    for k in range(P.n_z):
+        d = np.zeros(P.n_z)
+        d[k] = e
+        fz[:, k] = (
+            P(z + d, terrain=rows, n_strides=3).z - P(z - d, terrain=rows, n_strides=3).z
+        ) / (2 * e)
+    np.testing.assert_allclose(r.jac, fz, rtol=1e-6, atol=1e-7 * np.abs(fz).max())
 
 
 # --- input errors ---------------------------------------------------------------------------

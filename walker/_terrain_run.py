@@ -146,17 +146,6 @@ def terrain_rows(terrain, n_strides: int | None, name: str = "terrain") -> np.nd
     return rows
 
 
-def _check_round_feet(smap) -> None:
-    """The terrain Jacobian is refused for round feet: the stance foot rolls on the previous
-    step's plane, so the flow itself depends on that step's slope (not carried)."""
-    radius = getattr(smap.params, "foot_radius", 0.0)
-    if radius:
-        raise ValueError(
-            f"the terrain Jacobian is not supported for `{smap.model.name}` with round feet "
-            f"(`foot_radius` = {radius:g} > 0) yet"
-        )
-
-
 def _check_walk_args(jacobian, previous):
     if not isinstance(jacobian, bool | np.bool_ | numbers.Integral):
         raise TypeError(f"`jacobian` must be a bool, got {type(jacobian).__name__}")
@@ -190,8 +179,6 @@ def terrain_call(smap, z, jacobian, n_strides, terrain, previous=None) -> MapRes
         if jacobian or previous is not None:
             check_supported(smap, "the terrain Jacobian (and `previous`)")
         return _python_call(smap, z, int(n_strides), rows)
-    if jacobian:
-        _check_round_feet(smap)
     return _walk(smap, z, False, rows, jacobian, previous)
 
 
@@ -231,8 +218,6 @@ def walk(self, x0, terrain, *, jacobian: bool = False, previous=None) -> MapResu
     jacobian, previous = _check_walk_args(jacobian, previous)
     rows = terrain_rows(terrain, None)
     check_supported(self, "`walk`")
-    if jacobian:
-        _check_round_feet(self)
     return _walk(self, x0, True, rows, jacobian, previous)
 
 

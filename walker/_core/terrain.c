@@ -152,7 +152,7 @@ static void rolling_jac(int64_t phase, double t, const double *x, const double *
     T->jac(phase, t, x, wk_terrain_stance_params(T, p), J, T->inner);
 }
 
-static void terrain_init(wk_terrain *T, const wk_terrain_entry *te, const wk_problem *tmpl,
+void wk_terrain_init(wk_terrain *T, const wk_terrain_entry *te, const wk_problem *tmpl,
                          const double *steps, int64_t n_steps, const double *previous)
 {
     memset(T, 0, sizeof *T);
@@ -186,8 +186,7 @@ static int64_t state_start(const wk_problem *tmpl, const wk_section *sec, const 
     return 0;
 }
 
-/* The start of a walk: x (n_x) and phase; 0 or the status of a start not integrated. */
-static int64_t walk_start(const wk_problem *tmpl, const wk_section *sec,
+int64_t wk_terrain_walk_start(const wk_problem *tmpl, const wk_section *sec,
                           const wk_terrain_start *st, double *x, int64_t *phase0)
 {
     if (!st->from_state) return wk_section_start(tmpl, sec, st->start, x, phase0);
@@ -269,7 +268,7 @@ int64_t wk_terrain_heel_strike(const wk_floating_base *B, const int *swap, int n
  * One walk
  * ------------------------------------------------------------------------------------------ */
 
-static void fill_nan(double *v, int64_t n)
+void wk_terrain_fill_nan(double *v, int64_t n)
 {
     for (int64_t i = 0; i < n; i++) v[i] = NAN;
 }
@@ -281,12 +280,12 @@ int wk_terrain_walk(const wk_functions *fn, const wk_terrain_entry *te, const wk
 {
     const int64_t n_x = tmpl->n_x;
     wk_terrain T;
-    terrain_init(&T, te, tmpl, steps, n_steps, st->previous);
+    wk_terrain_init(&T, te, tmpl, steps, n_steps, st->previous);
     int64_t phase0 = 0;
     *strides = 0;
     *t = 0.0;
-    fill_nan(z_out, sec->n_z);
-    *status = walk_start(tmpl, sec, st, x, &phase0);
+    wk_terrain_fill_nan(z_out, sec->n_z);
+    *status = wk_terrain_walk_start(tmpl, sec, st, x, &phase0);
     if (*status != 0) return WK_OK;
     const wk_functions f = wk_terrain_functions(fn, te, &T, tmpl->p, x);
     double *x0 = malloc((size_t)n_x * sizeof(double));
@@ -304,209 +303,6 @@ int wk_terrain_walk(const wk_functions *fn, const wk_terrain_entry *te, const wk
             for (int64_t i = 0; i < sec->n_z; i++) z_out[i] = res.x[sec->proj[i]];
     }
     wk_result_free(&res);
-    return rc;
-}
-
-/* ------------------------------------------------------------------------------------------
- * One walk with its Jacobians
- * ------------------------------------------------------------------------------------------ */
-
-#define TERRAIN_FD_STEP 1e-3
-
-/* One function value of the event's finite differences: the guard k and the reset's state
- * at x, with the ground T->ground as it is set. */
-static void event_values(const wk_functions *f, const wk_problem *pb, int64_t phase, int64_t k,
-                         const double *x, double *g, double *xn, double *imp, double *gbuf)
-{
-    int64_t out[3] = {0, 0, 0};
-    f->guards(phase, 0.0, x, pb->p, gbuf, f->ctx);
-    *g = gbuf[k];
-    for (int64_t i = 0; i < pb->n_x; i++) xn[i] = x[i];
-    for (int64_t i = 0; i < pb->n_impulse; i++) imp[i] = 0.0;
-    f->reset(phase, k, 0.0, x, pb->p, xn, imp, out, f->ctx);
-}
-
-/* Richardson-extrapolated central difference (4 D(h/2) - D(h)) / 3 of the guard and the
- * reset along one direction: ``which`` 0 the state along ``dir`` (x + s dir), 1 the step's
- * slope, 2 its drop.  dg receives the guard's derivative, dR (n_x) the reset's. */
-static void event_derivative(const wk_functions *f, wk_terrain *T, const wk_problem *pb,
-                             int64_t phase, int64_t k, const double *x, int which,
-                             const double *dir, double h, double *dg, double *dR, double *work)
-{
-    const int64_t n_x = pb->n_x;
-    double *xp = work, *xn = xp + n_x, *acc = xn + n_x, *acch = acc + n_x;
-    double *imp = acch + n_x, *gbuf = imp + pb->n_impulse;
-    const wk_ground saved = T->ground;
-    double gd[2] = {0.0, 0.0};
-    for (int level = 0; level < 2; level++) {
-        const double step = level == 0 ? h : 0.5 * h;
-        double *col = level == 0 ? acc : acch;
-        for (int64_t i = 0; i < n_x; i++) col[i] = 0.0;
-        for (int si = 0; si < 2; si++) {
-            const double sgn = si == 0 ? 1.0 : -1.0;
-            for (int64_t i = 0; i < n_x; i++) xp[i] = x[i];
-            T->ground = saved;
-            if (which == 0) {
-                for (int64_t i = 0; i < n_x; i++) xp[i] = x[i] + sgn * step * dir[i];
-            } else {
-                if (which == 1)
-                    T->ground.slope = saved.slope + sgn * step;
-                else
-                    T->ground.drop = saved.drop + sgn * step;
-                T->ground.plane = 0;
-            }
-            double g;
-            event_values(f, pb, phase, k, xp, &g, xn, imp, gbuf);
-            gd[level] += sgn * g / (2.0 * step);
-            for (int64_t i = 0; i < n_x; i++) col[i] += sgn * xn[i] / (2.0 * step);
-        }
-    }
-    T->ground = saved;
-    *dg = (4.0 * gd[1] - gd[0]) / 3.0;
-    for (int64_t i = 0; i < n_x; i++) dR[i] = (4.0 * acch[i] - acc[i]) / 3.0;
-}
-
-/* The terrain's two columns c (n_x, 2) row-major of the map to the post-impact state at a
- * touchdown from x (phase, guard k): c_j = dR/dtau_j - (DR f-) (dg/dtau_j) / (grad g . f-),
- * tau = (slope, drop) of the current step (autonomous guards and resets). */
-static void terrain_columns(const wk_functions *f, wk_terrain *T, const wk_problem *pb,
-                            int64_t phase, int64_t k, const double *x, double *c, double *work)
-{
-    const int64_t n_x = pb->n_x;
-    double *fm = work, *Rf = fm + n_x, *Rt = Rf + n_x, *scratch = Rt + n_x;
-    f->rhs(phase, 0.0, x, pb->p, fm, f->ctx);
-    double fmax = 0.0, xmax = 1.0;
-    for (int64_t i = 0; i < n_x; i++) {
-        fmax = fmax > fabs(fm[i]) ? fmax : fabs(fm[i]);
-        xmax = xmax > fabs(x[i]) ? xmax : fabs(x[i]);
-    }
-    double gf;
-    const double hf = fmax > 0.0 ? TERRAIN_FD_STEP * xmax / fmax : TERRAIN_FD_STEP;
-    event_derivative(f, T, pb, phase, k, x, 0, fm, hf, &gf, Rf, scratch);
-    for (int j = 0; j < 2; j++) {
-        const double base = j == 0 ? T->ground.slope : T->ground.drop;
-        const double h = TERRAIN_FD_STEP * (fabs(base) > 1.0 ? fabs(base) : 1.0);
-        double gt;
-        event_derivative(f, T, pb, phase, k, x, 1 + j, NULL, h, &gt, Rt, scratch);
-        for (int64_t i = 0; i < n_x; i++) c[i * 2 + j] = Rt[i] - Rf[i] * gt / gf;
-    }
-}
-
-/* out (r, m) = A (r, n) B (n, m), row-major; out must not alias. */
-static void matmul(const double *A, const double *B, int64_t r, int64_t n, int64_t m,
-                   double *out)
-{
-    for (int64_t i = 0; i < r; i++)
-        for (int64_t j = 0; j < m; j++) {
-            double s = 0.0;
-            for (int64_t q = 0; q < n; q++) s += A[i * n + q] * B[q * m + j];
-            out[i * m + j] = s;
-        }
-}
-
-int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
-                        const wk_problem *tmpl, const wk_section *sec, const wk_terrain_start *st,
-                        const double *steps, int64_t n_steps, int64_t *status, int64_t *strides,
-                        double *t, double *x, double *z_out, double *jz, double *tjac)
-{
-    const int64_t n_x = tmpl->n_x, n_z = sec->n_z, n_t = 2 * n_steps;
-    const int64_t n_0 = st->from_state ? n_x : n_z; /* the start's coordinates */
-    wk_terrain T;
-    terrain_init(&T, te, tmpl, steps, n_steps, st->previous);
-    int64_t phase = 0;
-    *strides = 0;
-    *t = 0.0;
-    fill_nan(z_out, n_z);
-    for (int64_t i = 0; i < n_z * n_0; i++) jz[i] = NAN;
-    for (int64_t i = 0; i < n_z * n_t; i++) tjac[i] = NAN;
-    *status = walk_start(tmpl, sec, st, x, &phase);
-    if (*status != 0) return WK_OK;
-    const wk_functions f = wk_terrain_functions(fn, te, &T, tmpl->p, x);
-
-    const size_t n_work = (size_t)(n_x * n_0 * 3 + n_x * n_t * 2 + n_x * n_x * 2 + n_x * 3 +
-                                   n_x * 2 + 8 * n_x + 2 * tmpl->n_impulse + tmpl->n_guards);
-    double *work = malloc(n_work * sizeof(double));
-    if (work == NULL) return WK_ERR_NOMEM;
-    double *Jx = work, *Jtmp = Jx + n_x * n_0, *seed_buf = Jtmp + n_x * n_0;
-    double *Tx = seed_buf + n_x * n_0, *Ttmp = Tx + n_x * n_t;
-    double *eye = Ttmp + n_x * n_t, *M = eye + n_x * n_x;
-    double *x0 = M + n_x * n_x, *xm = x0 + n_x, *c = xm + n_x;
-    double *fd = c + 2 * n_x;
-    for (int64_t i = 0; i < n_x * n_t; i++) Tx[i] = 0.0;
-    for (int64_t i = 0; i < n_x * n_x; i++) eye[i] = (i / n_x == i % n_x) ? 1.0 : 0.0;
-    /* the first stride's seed: the lift's Jacobian from a section point, else none (the
-     * identity) */
-    const double *seed0 =
-        st->from_state ? NULL : wk_section_seed(sec, n_x, tmpl->p, st->start, seed_buf);
-    memcpy(x0, x, (size_t)n_x * sizeof(double));
-
-    int rc = WK_OK;
-    double t_sum = 0.0;
-    for (int64_t k = 0; k < n_steps; k++) {
-        wk_terrain_set_step(&T, k);
-        T.land_angle = x0[0];
-        wk_problem pb = *tmpl;
-        pb.x0 = x0;
-        pb.phase0 = phase;
-        pb.t0 = 0.0;
-        pb.t_max = sec->t_max;
-        pb.n_strides = 1;
-        pb.max_steps = sec->max_steps;
-        pb.output = WK_OUTPUT_EVENTS;
-        pb.want_jac = 1;
-        pb.jac_seed = k == 0 ? seed0 : NULL;
-        pb.n_seed = k == 0 && seed0 != NULL ? n_z : 0;
-        pb.sample_times = NULL;
-        pb.n_samples = 0;
-        wk_result res;
-        rc = wk_hybrid_solve(&f, &pb, &res);
-        if (rc != WK_OK) {
-            wk_result_free(&res);
-            break;
-        }
-        t_sum += res.t;
-        memcpy(x, res.x, (size_t)n_x * sizeof(double));
-        *status = res.status;
-        if (res.status != 0 || res.counters[WK_N_LOG] < 1) {
-            if (res.status == 0) *status = WK_NO_EVENT; /* cannot happen: a stride logs */
-            wk_result_free(&res);
-            break;
-        }
-        const int64_t e = res.counters[WK_N_LOG] - 1;
-        memcpy(xm, res.ev_x_pre + e * n_x, (size_t)n_x * sizeof(double));
-        const int64_t ev_phase = res.ev_phase_before[e], ev_guard = res.ev_guard[e];
-        if (k == 0) {
-            memcpy(Jx, res.jac, (size_t)(n_x * n_0) * sizeof(double));
-        } else {
-            memcpy(M, res.jac, (size_t)(n_x * n_x) * sizeof(double));
-            matmul(M, Jx, n_x, n_x, n_0, Jtmp);
-            memcpy(Jx, Jtmp, (size_t)(n_x * n_0) * sizeof(double));
-            matmul(M, Tx, n_x, n_x, n_t, Ttmp);
-            memcpy(Tx, Ttmp, (size_t)(n_x * n_t) * sizeof(double));
-        }
-        phase = res.phase;
-        wk_result_free(&res);
-        wk_terrain_set_step(&T, k); /* the run's on_stride moved it on */
-        T.land_angle = x0[0];
-        terrain_columns(&f, &T, &pb, ev_phase, ev_guard, xm, c, fd);
-        for (int64_t i = 0; i < n_x; i++) {
-            Tx[i * n_t + 2 * k] = c[2 * i];
-            Tx[i * n_t + 2 * k + 1] = c[2 * i + 1];
-        }
-        *strides = k + 1;
-        memcpy(x0, x, (size_t)n_x * sizeof(double));
-    }
-    (void)eye;
-    *t = t_sum;
-    if (rc == WK_OK && *status == 0) {
-        for (int64_t i = 0; i < n_z; i++) {
-            const int64_t r = sec->proj[i];
-            z_out[i] = x[r];
-            for (int64_t j = 0; j < n_0; j++) jz[i * n_0 + j] = Jx[r * n_0 + j];
-            for (int64_t j = 0; j < n_t; j++) tjac[i * n_t + j] = Tx[r * n_t + j];
-        }
-    }
-    free(work);
     return rc;
 }
 

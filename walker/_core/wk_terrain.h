@@ -156,6 +156,15 @@ int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
                         const double *steps, int64_t n_steps, int64_t *status, int64_t *strides,
                         double *t, double *x, double *z_out, double *jz, double *tjac);
 
+/* Shared by terrain.c and terrain_jac.c: T for a walk over steps (the ground of step 0;
+ * ``previous`` the ground before it, NULL: the scene's plane); the start of a walk, x (n_x)
+ * and its phase, 0 or the status of a start not integrated; v[0..n) = NaN. */
+void wk_terrain_init(wk_terrain *T, const wk_terrain_entry *te, const wk_problem *tmpl,
+                     const double *steps, int64_t n_steps, const double *previous);
+int64_t wk_terrain_walk_start(const wk_problem *tmpl, const wk_section *sec,
+                              const wk_terrain_start *st, double *x, int64_t *phase0);
+void wk_terrain_fill_nan(double *v, int64_t n);
+
 /* Many walks (Monte Carlo): run i from z0 (n_z) over steps + i * n_steps * 2; status[i] and
  * strides[i] (completed strides before the first failure).  Returns a wk_hybrid_solve
  * code. */
