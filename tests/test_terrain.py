@@ -445,3 +445,75 @@ def test_docs_terrain_md_examples_run():
         os.chdir(old)
     result = runner.summarize(verbose=False)
     assert result.attempted >= 8 and result.failed == 0
+
+
+# --- scenes and the command line -------------------------------------------------------------
+
+
+def test_walker_run_walks_on_terrain_and_records_it(tmp_path, capsys):
+    from walker.cli import main
+    from walker.storage import read
+
+    out = tmp_path / "run.h5"
+    code = main(
+        [
+            "run",
+            COMPASS,
+            "--strides",
+            "4",
+            "--terrain-std",
+            "0.001",
+            "--seed",
+            "3",
+            "--out",
+            str(out),
+        ]
+    )
+    text = capsys.readouterr().out
+    assert code == 0 and "terrain: random" in text and "seed 3" in text
+    sol, prov = read(out)
+    assert prov["terrain"]["slope_std"] == 0.001 and prov["terrain"]["seed"] == 3
+    # the same walk from Python: simulate over the same draws
+    from walker import simulate
+
+    scene = load_scene(COMPASS)
+    rows = Terrain("random", slope_mean=scene.params.slope, slope_std=0.001, seed=3).steps(4)
+    c = scene.compute
+    again = simulate(
+        scene.walker_model,
+        scene.params,
+        scene.state,
+        n_strides=4,
+        t_max=c.t_max * 4,
+        method=c.method,
+        rtol=c.rtol,
+        atol=c.atol,
+        first_step=c.first_step,
+        terrain=rows,
+    )
+    assert np.array_equal(again.x, sol.x)
+    # zero standard deviations: the plane's run, bit for bit
+    main(["run", COMPASS, "--strides", "4", "--out", str(tmp_path / "a.h5")])
+    main(["run", COMPASS, "--strides", "4", "--terrain-std", "0", "--out", str(tmp_path / "b.h5")])
+    assert np.array_equal(read(tmp_path / "a.h5")[0].x, read(tmp_path / "b.h5")[0].x)
+
+
+def test_walker_run_refuses_bad_terrain_flags(capsys):
+    from walker.cli import main
+
+    assert main(["run", COMPASS, "--terrain-std", "-1"]) == 2
+    assert "--terrain-std" in capsys.readouterr().err
+    assert main(["run", "gaits/three_link_book.toml", "--terrain-std", "0.01"]) == 2
+    assert "step_event" in capsys.readouterr().err
+
+
+def test_scene_terrain_table(tmp_path):
+    text = open(COMPASS, encoding="utf-8").read()
+    path = tmp_path / "s.toml"
+    path.write_text(text + '\n[terrain]\nkind = "steps"\nheights = [0.01, 0.0]\n', encoding="utf-8")
+    scene = load_scene(path)
+    assert scene.terrain.kind == "steps" and scene.terrain.slope_mean == scene.params.slope
+    np.testing.assert_array_equal(scene.terrain.steps(3)[:, 1], [0.01, 0.0, 0.0])
+    path.write_text(text + '\n[terrain]\nkind = "random"\nseed = -1\n', encoding="utf-8")
+    with pytest.raises(ValueError, match=r"\[terrain\] `seed` must be >= 0"):
+        load_scene(path)
