@@ -155,10 +155,12 @@ WK_MODEL_FUSED(compass_plain, PLAIN)
 /* ------------------------------------------------------------------------------------------
  * Terrain (wk_terrain.h): the swing foot's signed distance from the step's plane
  * L (cos(q_st + gamma) - cos(q_sw + gamma)) + h cos(gamma) (the angles from the vertical,
- * the plane h below the stance foot; round feet: wk_terrain_round_height), its distance ahead along that plane (a touchdown
- * with the foot not ahead is ignored, as on the plane), and the heel
- * strike with the impulse along and normal to it (wk_terrain_heel_strike).  A step on the
- * scene's plane runs the plane functions above.
+ * the plane h below the stance foot; round feet: wk_terrain_round_height), its distance
+ * ahead along that plane (a touchdown with the foot not ahead is ignored, as on the plane),
+ * and the heel strike with the impulse along and normal to it (wk_terrain_heel_strike,
+ * wk_terrain_heel_strike_round).  A step on the scene's plane runs the plane functions
+ * above; with round feet the phase functions run with the stance plane's slope
+ * (terrain.c).
  * ------------------------------------------------------------------------------------------ */
 #include "wk_terrain.h"
 

@@ -144,7 +144,8 @@ static void aug_jac(int64_t phase, double t, const double *xa, const double *p, 
         A->f.rhs(phase, t, xa, p, A->fa, T);
         T->ground.prev_slope = base - step;
         A->f.rhs(phase, t, xa, p, A->fb, T);
-        for (int64_t i = 0; i < n && i < 64; i++) d[level][i] = (A->fa[i] - A->fb[i]) / (2.0 * step);
+        for (int64_t i = 0; i < n && i < 64; i++)
+            d[level][i] = (A->fa[i] - A->fb[i]) / (2.0 * step);
     }
     aug_set(A, xa);
     for (int64_t i = 0; i < n && i < 64; i++) J[i * m + n] = (4.0 * d[1][i] - d[0][i]) / 3.0;
