@@ -234,6 +234,10 @@ class MapResult:
         duration of the stride(s) [s].
     state : ndarray, shape (n_x,)
         full state at the section (just after the last heel strike).
+    terrain_jac : ndarray, shape (n_z, 2 n_strides), or None
+        with per-step terrain and ``jacobian=True`` (:meth:`walker.stride.StrideMap.__call__`):
+        ``dz_next / d(slope_k, drop_k)``, columns ``2k`` (slope [1/rad]) and ``2k + 1``
+        (drop [1/m]) for step ``k``; None otherwise.
     """
 
     status: Status
@@ -241,6 +245,7 @@ class MapResult:
     jac: np.ndarray | None
     step_time: float
     state: np.ndarray
+    terrain_jac: np.ndarray | None = None
 
     @property
     def success(self) -> bool:

@@ -48,6 +48,7 @@ class Status(IntEnum):
     OUTSIDE_WALKING_REGION = 15
     CHATTERING = 16
     INTERRUPTED = 17
+    ROLLED_BACK = 18
 
     @property
     def message(self) -> str:
@@ -122,6 +123,11 @@ _MESSAGES = {
         "pi from the slope normal, the stance leg past the fall angle, or kinetic energy far "
         "above what the scene supplies), so it was not integrated. Start from a state near a "
         "gait: on the command line the scene's `[initial] state`, from Python `z0` or `x0`."
+    ),
+    Status.ROLLED_BACK: (
+        "The rimless wheel did not get over its stance spoke and turned back (on per-step "
+        "terrain, walker/terrain.py): a failure of the walk. Try a faster start or a "
+        "steeper or smoother ground."
     ),
     Status.CHATTERING: (
         "Events accumulated: the same event fired at three or more shrinking intervals in a "

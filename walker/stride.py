@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from walker import _section
+from walker import _section, _terrain_run
 from walker._checks import as_vector as _as_vector
 from walker._checks import sample_rate as _sample_rate
 from walker._checks import time_scale as _time_scale
@@ -79,6 +79,7 @@ def simulate(
     sample_times=None,
     jacobian: bool = False,
     max_steps: int = 1_000_000,
+    terrain=None,
 ) -> Solution:
     """Simulate ``n_strides`` strides of a walker from the full state ``x0``.
 
@@ -101,6 +102,9 @@ def simulate(
         n_strides) * sqrt(leg_length / g)``.
     method, rtol, atol, first_step, output, sample_times, jacobian, max_steps
         as in :func:`walker.integrate.hybrid_solve`.
+    terrain : array_like, shape (n, 2), optional
+        per-step ``(slope [rad], drop [m])`` (:mod:`walker.terrain`), the scene's plane past
+        the last row; None: the plane (this path, unchanged).
 
     Returns
     -------
@@ -116,6 +120,8 @@ def simulate(
     ('COMPLETED', 3)
     """
     model, p, system, time_scale, start_phase = _setup(model, params)
+    if terrain is not None:
+        terrain = _terrain_run.rows_for(model, params, system, terrain)
     x0 = _as_vector(x0, "x0")
     if t_max is None:
         t_max = 20.0 * max(1, n_strides) * time_scale
@@ -147,6 +153,7 @@ def simulate(
         n_interior=4,
         fixed_step=False,
         p_checked=True,
+        terrain=terrain,
     )
     if model.conventions:
         sol.conventions = dict(model.conventions)
@@ -384,10 +391,15 @@ class StrideMap:
 
         return points
 
+    # terrain (walker/_terrain_run.py): Monte-Carlo walks, and a walk from a full state
+    ensemble = _terrain_run.ensemble_method
+    walk = _terrain_run.walk
+
     def __getstate__(self):
         state = dict(self.__dict__)
         state.pop("_run", None)  # process-local addresses: rebuilt where it lands
         state.pop("_tolerances", None)
+        state.pop("_terrain_args", None)
         return state
 
     def __setstate__(self, state):
@@ -466,6 +478,7 @@ class StrideMap:
             object.__setattr__(new, name, value)
         new.__dict__.pop("_run", None)
         new.__dict__.pop("_tolerances", None)
+        new.__dict__.pop("_terrain_args", None)
         return new
 
     def _p(self) -> np.ndarray:
@@ -482,9 +495,24 @@ class StrideMap:
         return self.model.project(_as_vector(x, "x", self.model.n_x), self._p())
 
     def __call__(
-        self, z, *, jacobian: bool = False, n_strides: int = 1, parameter: float | None = None
+        self,
+        z,
+        *,
+        jacobian: bool = False,
+        n_strides: int = 1,
+        parameter: float | None = None,
+        terrain=None,
     ) -> MapResult:
         """Apply the map ``n_strides`` times.
+
+        ``terrain``: None, the scene's plane (this path); or array-like ``(n_strides, 2)``
+        of each step's ``(slope [rad], drop [m])`` (:mod:`walker.terrain`), walked in one
+        compiled call (``walker._terrain_run``); the start ``z`` is lifted on the scene's
+        plane, the full state is carried from stride to stride, and with ``jacobian=True``
+        the result's ``terrain_jac`` holds ``dz / d(slope_k, drop_k)`` (the strides then run
+        one by one: ``z`` agrees with the call without the Jacobian to the tolerance, not
+        bit for bit).  Rows equal to the plane give this path's numbers bit for bit.  A model
+        without terrain functions raises a ValueError naming it.
 
         A stride's work is bounded: at most
         :func:`walker.fixedpoint.stride_max_steps` integration steps per stride (else
@@ -505,7 +533,11 @@ class StrideMap:
             ``z`` is NaN and ``status`` says why when a stride fails.
         """
         if parameter is not None and parameter != self.parameter_value:
-            return self.with_parameter(parameter)(z, jacobian=jacobian, n_strides=n_strides)
+            return self.with_parameter(parameter)(
+                z, jacobian=jacobian, n_strides=n_strides, terrain=terrain
+            )
+        if terrain is not None:
+            return _terrain_run.terrain_call(self, z, jacobian, n_strides, terrain)
         cached = self.__dict__.get("_run")
         if cached is None:
             self._prepared()

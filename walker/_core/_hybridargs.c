@@ -214,6 +214,7 @@ int wkpy_arg_system(PyObject *const *args, wk_functions *fn, wk_problem *pb)
     fn->ctx = (void *)ctx;
     /* a built-in model's fused rhs and Jacobian (NULL for any other system) */
     fn->rhs_jac = wk_model_rhs_jac(fn->rhs, fn->jac);
+    fn->on_stride = NULL; /* terrain runs set it (terrain.c) */
     return 0;
 }
 

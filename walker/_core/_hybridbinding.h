@@ -179,4 +179,7 @@ int wkpy_interrupted(int must_raise);
 /* Makes the PreparedMap type ready and adds it to ``module``; 0, or -1 with an exception. */
 int wkpy_add_prepared_map(PyObject *module);
 
+/* Adds the terrain functions (_terrainbinding.c) to ``module``; 0, or -1 with an exception. */
+int wkpy_add_terrain(PyObject *module);
+
 #endif

@@ -151,3 +151,73 @@ static const compass_kernels PLAIN = {
 WK_MODEL_VARIANT(compass, GENERAL)
 WK_MODEL_VARIANT(compass_plain, PLAIN)
 WK_MODEL_FUSED(compass_plain, PLAIN)
+
+/* ------------------------------------------------------------------------------------------
+ * Terrain (wk_terrain.h): the swing foot's signed distance from the step's plane
+ * L (cos(q_st + gamma) - cos(q_sw + gamma)) + h cos(gamma) (the angles from the vertical,
+ * the plane h below the stance foot; round feet: wk_terrain_round_height), its distance
+ * ahead along that plane (a touchdown with the foot not ahead is ignored, as on the plane),
+ * and the heel strike with the impulse along and normal to it (wk_terrain_heel_strike,
+ * wk_terrain_heel_strike_round).  A step on the scene's plane runs the plane functions
+ * above; with round feet the phase functions run with the stance plane's slope
+ * (terrain.c).
+ * ------------------------------------------------------------------------------------------ */
+#include "wk_terrain.h"
+
+static void terrain_guards(const compass_kernels *K, int64_t phase, const double *x,
+                           const double *p, double *g, const wk_terrain *T)
+{
+    if (T->ground.plane) {
+        guards(K, phase, x, p, g);
+        return;
+    }
+    const double R = p[I_R];
+    const double L = p[WK_COMPASS_P_COM_FROM_FOOT] + p[WK_COMPASS_P_COM_TO_HIP] - R;
+    const double gam = T->ground.slope, psi1 = x[0] + p[I_SLOPE];
+    const double centres = L * (cos(x[0] + gam) - cos(x[1] + gam));
+    g[WK_COMPASS_GUARD_HEEL_STRIKE] = R == 0.0 ? centres + T->ground.drop * cos(gam)
+                                               : wk_terrain_round_height(T, centres, x[0], R);
+    g[WK_COMPASS_GUARD_FALL_FORWARD] = psi1 + WK_FALL_ANGLE;
+    g[WK_COMPASS_GUARD_FALL_BACKWARD] = psi1 - WK_FALL_ANGLE;
+}
+
+static void terrain_reset(const compass_kernels *K, int64_t phase, int64_t k, const double *x,
+                          const double *p, double *x_new, double *impulse, int64_t *out,
+                          const wk_terrain *T)
+{
+    static const int swap[2] = {1, 0};
+    if (T->ground.plane || k != WK_COMPASS_GUARD_HEEL_STRIKE) {
+        reset(K, phase, k, x, p, x_new, impulse, out);
+        return;
+    }
+    for (int i = 0; i < 4; i++) x_new[i] = x[i];
+    const double L = p[WK_COMPASS_P_COM_FROM_FOOT] + p[WK_COMPASS_P_COM_TO_HIP];
+    const double gam = T->ground.slope;
+    const double ahead = (L - p[I_R]) * (sin(x[1] + gam) - sin(x[0] + gam));
+    if (ahead <= WK_MIN_STEP * L)
+        wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
+    else if (p[I_R] == 0.0)
+        wk_stride_out(out, phase,
+                      wk_terrain_heel_strike(&K->base, swap, 2, x, p, &T->ground, x_new, impulse));
+    else
+        wk_stride_out(out, phase,
+                      wk_terrain_heel_strike_round(&K->base, swap, 2, x, p, T, x_new, impulse));
+}
+
+#define COMPASS_TERRAIN(name, KT)                                                             \
+    void wk_terrain_##name##_guards(int64_t phase, double t, const double *x, const double *p, \
+                                    double *g, void *ctx)                                    \
+    {                                                                                        \
+        (void)t;                                                                             \
+        terrain_guards(&KT, phase, x, p, g, (const wk_terrain *)ctx);                        \
+    }                                                                                        \
+    void wk_terrain_##name##_reset(int64_t phase, int64_t k, double t, const double *x,      \
+                                   const double *p, double *x_new, double *impulse,          \
+                                   int64_t *out, void *ctx)                                  \
+    {                                                                                        \
+        (void)t;                                                                             \
+        terrain_reset(&KT, phase, k, x, p, x_new, impulse, out, (const wk_terrain *)ctx);    \
+    }
+
+COMPASS_TERRAIN(compass, GENERAL)
+COMPASS_TERRAIN(compass_plain, PLAIN)

@@ -204,3 +204,85 @@ const wk_model_entry wk_entry_rimless_wheel = {
     wk_model_rimless_wheel_points,
     wk_model_rimless_wheel_start_phase,
 };
+
+/* ------------------------------------------------------------------------------------------
+ * Terrain (wk_terrain.h)
+ *
+ * Step n's plane passes h below the stance foot with slope gamma.  With phi = theta - slope
+ * the stance spoke's angle from the vertical, the leading foot's signed distance from that
+ * plane is 2 l sin(a) sin(u) + h cos(gamma), u = phi + gamma + a: it lands at
+ * u* = -asin(h cos(gamma) / (2 l sin a)) (u* = 0 on the scene's plane, where u = theta + a),
+ * the impact guard is u - u* (never, 1.0, for a drop the spoke cannot reach), and the new
+ * stance spoke starts at theta+ = u* - (gamma - slope) + a, the angle it landed at: the
+ * post-impact state carries the plane it landed on.  The rate maps as on the plane,
+ * theta_dot+ = cos(2a) theta_dot-.  A wheel that does not pass over its stance spoke turns
+ * back (theta_dot increasing through 0, guards 1 and 3 on terrain): ROLLED_BACK.  The
+ * impulse is along and normal to the step's plane.
+ * ------------------------------------------------------------------------------------------ */
+#include "wk_terrain.h"
+
+/* u* of the current step, or NAN when the leading spoke cannot reach its plane. */
+static double landing_u(const wk_terrain *T, double l, double a)
+{
+    const double s = T->ground.drop * cos(T->ground.slope) / (2.0 * l * sin(a));
+    if (!(fabs(s) < 1.0)) return NAN;
+    return -asin(s);
+}
+
+void wk_terrain_rimless_wheel_guards(int64_t phase, double t, const double *x, const double *p,
+                                     double *g, void *ctx)
+{
+    const wk_terrain *T = (const wk_terrain *)ctx;
+    if (phase == RW_STANDING || T->ground.plane) {
+        wk_model_rimless_wheel_guards(phase, t, x, p, g, NULL);
+    } else {
+        const double a = RW_PI / p[WK_RIMLESS_WHEEL_P_SPOKES];
+        const double u_land = landing_u(T, p[WK_RIMLESS_WHEEL_P_LEG_LENGTH], a);
+        const double u = x[0] - p[WK_RIMLESS_WHEEL_P_SLOPE] + T->ground.slope + a;
+        g[WK_RIMLESS_WHEEL_GUARD_IMPACT] = isnan(u_land) ? 1.0 : u - u_land;
+        g[WK_RIMLESS_WHEEL_GUARD_IMPACT_LATE] = isnan(u_land) ? 1.0 : (u - u_land) + RW_LATE;
+    }
+    if (phase != RW_STANDING) { /* turning back: the wheel did not get over its stance spoke */
+        g[WK_RIMLESS_WHEEL_GUARD_BACK_IMPACT] = x[1];
+        g[WK_RIMLESS_WHEEL_GUARD_BACK_IMPACT_LATE] = x[1] - RW_LATE;
+    }
+}
+
+void wk_terrain_rimless_wheel_reset(int64_t phase, int64_t k, double t, const double *x,
+                                    const double *p, double *x_new, double *impulse,
+                                    int64_t *out, void *ctx)
+{
+    const wk_terrain *T = (const wk_terrain *)ctx;
+    if (phase != RW_STANDING &&
+        (k == WK_RIMLESS_WHEEL_GUARD_BACK_IMPACT || k == WK_RIMLESS_WHEEL_GUARD_BACK_IMPACT_LATE)) {
+        x_new[0] = x[0];
+        x_new[1] = x[1];
+        impulse[0] = 0.0;
+        impulse[1] = 0.0;
+        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_ROLLED_BACK);
+        return;
+    }
+    if (phase == RW_STANDING || T->ground.plane) {
+        wk_model_rimless_wheel_reset(phase, k, t, x, p, x_new, impulse, out, NULL);
+        return;
+    }
+    const double l = p[WK_RIMLESS_WHEEL_P_LEG_LENGTH], slope = p[WK_RIMLESS_WHEEL_P_SLOPE];
+    const double a = RW_PI / p[WK_RIMLESS_WHEEL_P_SPOKES];
+    const double c = p[WK_RIMLESS_WHEEL_P_SPOKES] > 4.0 ? cos(2.0 * a) : 0.0;
+    const double turn = T->ground.slope - slope; /* the step's plane against the scene's */
+    const double u_land = landing_u(T, l, a);
+    const double w = x[1];
+    double v_minus[2], v_plus[2] = {0.0, 0.0};
+    hub_velocity(l, x[0] + turn, w, v_minus); /* in the step's plane frame */
+    x_new[0] = (isnan(u_land) ? 0.0 : u_land) - turn + a;
+    x_new[1] = c > 0.0 ? c * w : 0.0;
+    hub_velocity(l, x_new[0] + turn, x_new[1], v_plus);
+    set_impulse(impulse, v_plus, v_minus);
+    if (c > 0.0 || x_new[0] - slope < 0.0) {
+        /* rolling on; 3 or 4 spokes stop on both feet, and tip forward from rest only with
+         * the hub ahead of the new stance foot */
+        wk_reset_out(out, WK_EVENT_STRIDE, RW_ROLLING, 0);
+        return;
+    }
+    wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_ROLLED_BACK);
+}

@@ -129,3 +129,53 @@ void wk_model_simplest_lift_jacobian(const double *z, const double *p, double *o
     out[6] = 2.0 * s2 * z[1];
     out[7] = 1.0 - cos(2.0 * z[0]);
 }
+
+/* ------------------------------------------------------------------------------------------
+ * Terrain (wk_terrain.h).  theta is the stance leg's angle from the scene slope's normal,
+ * a = theta - phi the swing leg's; the swing foot sits l (sin a - sin theta, cos theta -
+ * cos a) from the stance foot (along the scene slope, normal), so with d = gamma - slope its
+ * signed distance from the step's plane is l (cos(theta + d) - cos(a + d)) + h cos(gamma).
+ * The guard is that distance over -l (the sign of phi - 2 theta at heel strike on the plane).
+ * The impact is Garcia's with the inter-leg angle phi- in place of 2 theta-: theta+ =
+ * theta- - phi-, phi+ = -phi-, theta_dot+ = cos(phi-) theta_dot-, phi_dot+ = cos(phi-)
+ * (1 - cos(phi-)) theta_dot- (the new stance leg is the old swing leg; the hip's velocity,
+ * perpendicular to the old stance leg, keeps its component perpendicular to the new one).
+ * ------------------------------------------------------------------------------------------ */
+#include <stddef.h>
+#include "wk_terrain.h"
+
+void wk_terrain_simplest_guards(int64_t phase, double t, const double *x, const double *p,
+                                double *g, void *ctx)
+{
+    const wk_terrain *T = (const wk_terrain *)ctx;
+    wk_model_simplest_guards(phase, t, x, p, g, NULL);
+    if (T->ground.plane) return;
+    const double d = T->ground.slope - p[WK_SIMPLEST_P_SLOPE];
+    const double a = x[0] - x[1];
+    g[WK_SIMPLEST_GUARD_HEEL_STRIKE] = (cos(a + d) - cos(x[0] + d)) -
+                                       T->ground.drop * cos(T->ground.slope) /
+                                           p[WK_SIMPLEST_P_LEG_LENGTH];
+}
+
+void wk_terrain_simplest_reset(int64_t phase, int64_t k, double t, const double *x,
+                               const double *p, double *x_new, double *impulse, int64_t *out,
+                               void *ctx)
+{
+    const wk_terrain *T = (const wk_terrain *)ctx;
+    if (T->ground.plane || k != WK_SIMPLEST_GUARD_HEEL_STRIKE) {
+        wk_model_simplest_reset(phase, k, t, x, p, x_new, impulse, out, NULL);
+        return;
+    }
+    for (int i = 0; i < 4; i++) x_new[i] = x[i];
+    impulse[0] = 0.0;
+    if (x[0] >= 0.0) { /* the mid-stance scuff, as on the plane */
+        wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
+        return;
+    }
+    const double c = cos(x[1]);
+    x_new[0] = x[0] - x[1];
+    x_new[1] = -x[1];
+    x_new[2] = c * x[2];
+    x_new[3] = c * (1.0 - c) * x[2];
+    wk_reset_out(out, WK_EVENT_STRIDE, 0, 0);
+}

@@ -28,6 +28,8 @@
 #define WK_NOT_CONVERGED 9
 #define WK_LINEAR_SOLVE_FAILED 10
 #define WK_PARAMETER_OUT_OF_RANGE 11
+#define WK_CHATTERING 16
+#define WK_ROLLED_BACK 18
 
 /* Largest augmented system wk_impact solves (coordinates + constraints). */
 #define WK_IMPACT_MAX 16

@@ -24,7 +24,7 @@
  * call, that is filled internally, never by a user: the binding sets it when (rhs, jac) is
  * the pair of a built-in model with a fused function (walker/_core/models.c), NULL
  * otherwise.  It comes after ctx, so an initializer {rhs, guards, reset, jac, ctx} leaves
- * it NULL.
+ * it NULL.  After it, on_stride (also internal, NULL for a user system): see wk_stride_fn.
  *
  * ``t`` is the local time since the last applied event (see walker/integrate.py).
  */
@@ -48,6 +48,13 @@ typedef void (*wk_jac_fn)(int64_t phase, double t, const double *x, const double
 typedef void (*wk_rhs_jac_fn)(int64_t phase, double t, const double *x, const double *p,
                               double *dx, double *J, void *ctx);
 
+/* Called by the integrator after it applied a stride event (WK_EVENT_STRIDE) and its
+ * sensitivities, before it re-arms the guards, with ``ctx``, the strides completed so far
+ * and the state after the reset (n_x): a system whose guards and resets change from stride
+ * to stride (walker's terrain, walker/_core/wk_terrain.h) advances its stride there.  Never
+ * called inside the finite differences of an event. */
+typedef void (*wk_stride_fn)(void *ctx, int64_t n_done, const double *x);
+
 typedef struct {
     wk_rhs_fn rhs;
     wk_guards_fn guards;
@@ -55,6 +62,7 @@ typedef struct {
     wk_jac_fn jac; /* NULL: no Jacobian */
     void *ctx;
     wk_rhs_jac_fn rhs_jac; /* filled internally (wk_model_rhs_jac), NULL for user systems */
+    wk_stride_fn on_stride; /* filled internally (terrain runs, terrain.c), else NULL */
 } wk_functions;
 
 /* Event actions returned by reset in out[0]; the values of walker.status. */

@@ -169,6 +169,7 @@ _SPECS: dict[type, dict[str, Any]] = {
         "jac": "optional_array",
         "step_time": "float",
         "state": "array",
+        "terrain_jac": "optional_array",
     },
     FixedPoint: {
         "status": "status",
