@@ -380,10 +380,13 @@ int wkpy_check_state_fn(uintptr_t address, const char *name, int role, int64_t n
                      "not its %s", name, ROLE_NAMES[found], s->name, ROLE_NAMES[role]);
         return -1;
     }
-    if (s->n_x != n_x || s->n_p != n_p ||
+    /* A model's state functions may serve a variant with more parameters (the Coulomb
+     * walkers take their base walker's energy and points: the base's parameters come first),
+     * so only reading past the caller's `p` is refused. */
+    if (s->n_x != n_x || s->n_p > n_p ||
         ((role == WKPY_FN_LIFT || role == WKPY_FN_LIFT_JAC) && s->n_z != n_z)) {
         PyErr_Format(PyExc_ValueError, "`%s` belongs to the compiled model '%s' (n_x = %lld, "
-                     "n_p = %lld), which does not match the system's n_x = %lld, n_p = %lld",
+                     "n_p = %lld), which does not fit the system's n_x = %lld, n_p = %lld",
                      name, s->name, (long long)s->n_x, (long long)s->n_p, (long long)n_x,
                      (long long)n_p);
         return -1;
