@@ -308,21 +308,7 @@ class StrideMap:
 
             p = np.ascontiguousarray(self.params.as_array(), dtype=np.float64)
             per_stride = stride_max_steps(self.params, self.t_max, self.method, self.first_step)
-            region = WalkingRegion(self.model, self.params)
-            address = region.energy_address if math.isfinite(region.kinetic_limit) else None
-            stance = (
-                (region.stance * region.slope, region.fall_angle)
-                if region.stance is not None
-                else (0.0, math.inf)
-            )
-            guard = (
-                stance,
-                region.n_q,
-                region.wound_limit,
-                _hybrid.call_state_fn,
-                address,
-                region.kinetic_limit,
-            )
+            guard = self._guard(WalkingRegion(self.model, self.params))
             fast = _section.fast_parts(self.model, p)
             cached = [{}, p, guard, per_stride, self.model.system_for(p), fast, None]
             run = self._new_run(cached, n_strides)
@@ -337,6 +323,77 @@ class StrideMap:
         if run is None:
             run = self._new_run(cached, n_strides)
         return run, cached[1], cached[2]
+
+    def _guard(self, region) -> tuple:
+        """The start checks of :meth:`_prepared` from the map's walking region, which is
+        kept as the map's own region (:meth:`walker.region.WalkingRegion.of`), so a gait
+        search on the map does not build it again."""
+        from walker import _hybrid
+        from walker.region import _cache_of
+
+        per_map = _cache_of(self)
+        if per_map is not None and None not in per_map:
+            per_map[None] = copy.copy(region)
+        address = region.energy_address if math.isfinite(region.kinetic_limit) else None
+        stance = (
+            (region.stance * region.slope, region.fall_angle)
+            if region.stance is not None
+            else (0.0, math.inf)
+        )
+        return (
+            stance,
+            region.n_q,
+            region.wound_limit,
+            _hybrid.call_state_fn,
+            address,
+            region.kinetic_limit,
+        )
+
+    def _retargeted(self, params) -> StrideMap:
+        """A copy at ``params`` (a validated instance of the same class) whose compiled run
+        is re-targeted from this map's, not rebuilt: what does not depend on the parameters
+        (the model's system and compiled kernels, the solver settings, the runs per stride
+        count, the projection's indices) is shared, and only what does is computed again
+        (the parameter vector, the start checks, the lift).  The same numbers as
+        ``_with_params_object(params)`` bit for bit, at a fraction of the set-up cost: a
+        sweep point's (:func:`walker.sweep.sweep_chunk`).  Falls back to a plain copy (built
+        on first use) when this map is not prepared yet or the parameters change what is
+        shared (another kernel variant, another step budget, another projection)."""
+        new = self._with_params_object(params)
+        cached = self.__dict__.get("_run")
+        if cached is None:
+            return new
+        from walker.fixedpoint import WalkingRegion, stride_max_steps
+
+        model = self.model
+        p = np.ascontiguousarray(params.as_array(), dtype=np.float64)
+        if model.system_for(p) is not cached[4]:
+            return new
+        per_stride = stride_max_steps(params, self.t_max, self.method, self.first_step)
+        if per_stride != cached[3]:
+            return new
+        lift, project, lift_jac, start_phase = cached[5]
+        if project is not None:
+            idx = model.project(np.arange(model.n_x, dtype=np.float64), p)
+            if not np.array_equal(idx, project):
+                return new
+            lift_jac = np.array(
+                model.lift_jacobian(np.zeros(model.n_z), p), dtype=np.float64, order="C"
+            )
+            lift_jac.flags.writeable = False
+        guard = new._guard(WalkingRegion(model, params))
+        run = cached[0].get(1) or next(iter(cached[0].values()), None)
+        fresh = [cached[0], p, guard, per_stride, cached[4], (lift, project, lift_jac, start_phase)]
+        fresh.append(None)
+        if cached[6] is not None and run is not None:
+            from walker import _hybrid
+
+            args = _section.section_args(model, self.t_max, fresh, run)
+            fresh[6] = _hybrid.PreparedMap(*args).map
+        elif cached[6] is not None:
+            return new
+        object.__setattr__(new, "_run", tuple(fresh))
+        return new
 
     def _new_run(self, cached, n_strides):
         """A PreparedRun for ``n_strides`` strides, kept for up to 16 stride counts."""

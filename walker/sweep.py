@@ -57,10 +57,17 @@ import numpy as np
 
 from walker._checks import as_vector as _as_vector
 from walker._executors import die_with_parent, progress_bar, run_chunks, worker_pool
-from walker.fixedpoint import find_fixed_point
 from walker.results import SweepTable
 from walker.sectionmap import validate_positive
 from walker.stride import StrideMap, solver_settings
+from walker.sweep_chains import (
+    MapSpec,
+    _fixed_point,
+    _materialize,
+    _retargeter,
+    root_index,
+    run_lines,
+)
 from walker.sweep_grid import (
     DEFAULT_CHUNK_POINTS,
     KINDS,
@@ -95,55 +102,6 @@ __all__ = [
 # ---------------------------------------------------------------------------------------------
 # The unit of work
 # ---------------------------------------------------------------------------------------------
-
-
-@dataclasses.dataclass(frozen=True)
-class MapSpec:
-    """A picklable recipe for a :class:`~walker.stride.StrideMap`.
-
-    A ``StrideMap`` holds its model's compiled kernels and module, which do not pickle; this
-    holds the model name and the map's other fields (parameters dataclass, method,
-    tolerances, ...), and :meth:`build` makes the map again in a worker.  Workers keep the
-    last map they built, so a worker rebuilds it (and prepares its compiled run) once, not
-    once per chunk.
-
-    Attributes
-    ----------
-    model : str
-        model name.
-    fields : tuple of (str, object)
-        the other ``StrideMap`` fields, by name.
-    """
-
-    model: str
-    fields: tuple[tuple[str, Any], ...]
-
-    @classmethod
-    def from_map(cls, stride_map: StrideMap) -> MapSpec:
-        fields = tuple(
-            (f.name, getattr(stride_map, f.name))
-            for f in dataclasses.fields(stride_map)
-            if f.name != "model"
-        )
-        return cls(stride_map.model.name, fields)
-
-    def build(self) -> StrideMap:
-        return StrideMap(self.model, **dict(self.fields))
-
-
-_WORKER_MAP: dict[MapSpec, Any] = {}
-
-
-def _materialize(section_map: Any) -> Any:
-    """The stride map a chunk runs on (built once per worker process from a MapSpec)."""
-    if not isinstance(section_map, MapSpec):
-        return section_map
-    cached = _WORKER_MAP.get(section_map)
-    if cached is None:
-        _WORKER_MAP.clear()
-        cached = section_map.build()
-        _WORKER_MAP[section_map] = cached
-    return cached
 
 
 def sweep_chunk(
@@ -194,7 +152,6 @@ def sweep_chunk(
     most and a point whose guess does not walk one or two; a gait converges from a warm
     start in 4-6.
     """
-    from walker.fixedpoint import POINT_MAX_EVALS
 
     if kind not in KINDS:
         raise ValueError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}")
@@ -212,23 +169,18 @@ def sweep_chunk(
         for name, (dtype, shape) in table_columns(kind, n_z).items()
     }
     z_guess = z0
+    retarget = _retargeter(base)
     for i in range(m):
         # Every grid point was validated by `sweep` before any work was submitted.
         values = dict(zip(names, points[i].tolist(), strict=True))
-        point_map = base._with_params_object(base.params._replace_validated(**values))
+        point_map = retarget(base.params._replace_validated(**values))
         if kind == "outcome":
             r = point_map(z0, n_strides=n_strides)
             out["status"][i] = int(r.status)
             out["section"][i] = r.z
             out["step_time"][i] = r.step_time
             continue
-        fp = find_fixed_point(
-            point_map, z_guess, period=n_strides, tol=tol, max_evals=POINT_MAX_EVALS
-        )
-        if not fp.success and z_guess is not z0:
-            fp = find_fixed_point(
-                point_map, z0, period=n_strides, tol=tol, max_evals=POINT_MAX_EVALS
-            )
+        fp = _fixed_point(point_map, z_guess, z0, n_strides, tol)
         out["status"][i] = int(fp.status)
         out["residual"][i] = fp.residual
         out["n_iter"][i] = fp.n_iter
@@ -472,6 +424,9 @@ class _Plan:
     columns: dict
     store: Any
     pending: list[int]
+    shape: tuple[int, ...] = ()
+    root: tuple[int, ...] = ()
+    scale: np.ndarray | None = None
 
 
 def _check_executor(executor: Any, jobs: int | None) -> Any:
@@ -540,9 +495,29 @@ def _prepare(
         if provenance is not None and not isinstance(provenance, dict):
             raise TypeError(f"`provenance` must be a dict or None, got {type(provenance).__name__}")
         pending = list(range(n_chunks))
-    return _Plan(
+    plan = _Plan(
         stride_map, names, points, kind, z0, n_strides, chunk, jobs, tol, columns, store, pending
     )
+    if kind == "fixed_point":
+        _plan_lines(plan, ranges)
+    return plan
+
+
+def _plan_lines(plan: _Plan, ranges: Any) -> None:
+    """The grid's shape, the root of its warm-start lines and the section's scale
+    (:mod:`walker.sweep_chains`)."""
+    from walker.region import WalkingRegion
+    from walker.sweep_grid import _normalize_ranges
+
+    axes = [values for _, values in _normalize_ranges(ranges)]
+    plan.shape = tuple(len(v) for v in axes)
+    base = [float(getattr(plan.stride_map.params, name)) for name in plan.names]
+    plan.root = root_index(axes, base)
+    scale = np.ones(int(plan.stride_map.n_z))
+    model = getattr(plan.stride_map, "model", None)
+    if getattr(model, "section_names", None) is not None:
+        scale = np.asarray(WalkingRegion(model, plan.stride_map.params).scale, dtype=float)
+    plan.scale = scale
 
 
 def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
@@ -584,6 +559,18 @@ def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
         if not processes:
             task_map = stride_map
     n_done = n_points - sum(rows(i).stop - rows(i).start for i in pending)
+    if kind == "fixed_point":
+        try:
+            with progress_bar(
+                progress, total=n_points, initial=n_done, desc=f"sweep {kind}", unit="pt"
+            ) as bar:
+                run_lines(plan, executor, own_pool, task_map, table, bar)
+        finally:
+            if own_pool is not None:
+                own_pool.shutdown(wait=True, cancel_futures=True)
+        if store is not None:
+            return store.table()
+        return SweepTable(parameter_names=names, points=points, columns=table)
     try:
         # An interrupted run leaves no progress bar behind (progress_bar).
         with progress_bar(
