@@ -155,6 +155,12 @@ README_SECTIONS = (
         ["coldstart.csv"],
     ),
     (
+        "sweep.md",
+        "Sweep overhead per point",
+        "python scripts/bench_sweep_overhead.py",
+        ["sweep.csv"],
+    ),
+    (
         "friction.md",
         "Cost of the dry-friction layer",
         "python scripts/bench_friction.py",

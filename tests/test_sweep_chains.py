@@ -175,6 +175,11 @@ def test_retargeted_map_gives_the_rebuilt_maps_numbers(scene):
         a, b = fresh(z0, jacobian=True), moved(z0, jacobian=True)
         assert a.status == b.status and a.step_time == b.step_time
         assert np.array_equal(a.z, b.z) and np.array_equal(a.jac, b.jac)
+        for tol in (1e-6, 1e-9):  # the gait search's coarse copies are re-targeted too
+            ca, cb = fresh.with_tolerance(tol, tol), moved.with_tolerance(tol, tol)
+            assert "_run" in cb.__dict__ and cb.rtol == tol
+            a, b = ca(z0, jacobian=True), cb(z0, jacobian=True)
+            assert np.array_equal(a.z, b.z) and np.array_equal(a.jac, b.jac)
         fa, fb = find_fixed_point(fresh, z0), find_fixed_point(moved, z0)
         assert np.array_equal(fa.section, fb.section)
         assert np.array_equal(fa.multipliers, fb.multipliers)

@@ -393,6 +393,7 @@ class StrideMap:
         elif cached[6] is not None:
             return new
         object.__setattr__(new, "_run", tuple(fresh))
+        new.__dict__["_origin"] = self  # with_tolerance re-targets the origin's copies too
         return new
 
     def _new_run(self, cached, n_strides):
@@ -445,6 +446,7 @@ class StrideMap:
         state = dict(self.__dict__)
         state.pop("_run", None)  # process-local addresses: rebuilt where it lands
         state.pop("_tolerances", None)
+        state.pop("_origin", None)
         return state
 
     def __setstate__(self, state):
@@ -497,7 +499,13 @@ class StrideMap:
         key = (float(rtol), float(atol))
         new = kept.get(key)
         if new is None:
-            new = self._copy_with(rtol=key[0], atol=key[1])
+            origin = self.__dict__.get("_origin")
+            if origin is not None:  # re-targeted: so is the copy, from the origin's copy
+                new = origin.with_tolerance(*key)
+                new._prepared()
+                new = new._retargeted(self.params)
+            else:
+                new = self._copy_with(rtol=key[0], atol=key[1])
             if len(kept) < 8:
                 kept[key] = new
         return new
@@ -523,6 +531,7 @@ class StrideMap:
             object.__setattr__(new, name, value)
         new.__dict__.pop("_run", None)
         new.__dict__.pop("_tolerances", None)
+        new.__dict__.pop("_origin", None)
         return new
 
     def _p(self) -> np.ndarray:
