@@ -71,6 +71,7 @@ def simulate(
     n_strides: int = 1,
     phase0: int | None = None,
     t_max: float | None = None,
+    t0: float = 0.0,
     method: str = "DOP853",
     rtol: float = 1e-10,
     atol: float = 1e-12,
@@ -99,6 +100,9 @@ def simulate(
     t_max : float, optional
         final time [s]; default ``20 n_strides`` stride-times' worth: ``20 * max(1,
         n_strides) * sqrt(leg_length / g)``.
+    t0 : float
+        start time [s], ``< t_max`` (a run continued from where another ended: walker run's
+        blocks of strides).
     method, rtol, atol, first_step, output, sample_times, jacobian, max_steps
         as in :func:`walker.integrate.hybrid_solve`.
 
@@ -132,7 +136,7 @@ def simulate(
         x0,
         p,
         phase0=phase0,
-        t0=0.0,
+        t0=t0,
         t_max=t_max,
         n_strides=n_strides,
         method=method,
