@@ -161,6 +161,12 @@ README_SECTIONS = (
         ["sweep.csv"],
     ),
     (
+        "longrun.md",
+        "Long runs: memory and time against strides",
+        "python scripts/bench_longrun.py",
+        ["longrun.csv"],
+    ),
+    (
         "friction.md",
         "Cost of the dry-friction layer",
         "python scripts/bench_friction.py",
