@@ -18,6 +18,7 @@ __all__ = [
     "compiled_call_fits",
     "compiled_lift",
     "fast_parts",
+    "retarget",
     "section_args",
     "selected_components",
 ]
@@ -116,3 +117,47 @@ def section_args(model, t_max, cached, run) -> tuple:
         float(t_max),
         *lift,
     )
+
+
+def retarget(new, cached):
+    """The prepared run (``StrideMap._prepared``'s tuple) of the map ``new`` from ``cached``,
+    the prepared run of a map that differs from it in its parameters only
+    (``StrideMap._retargeted``): what does not depend on the parameters (the system and its
+    compiled kernels, the solver settings, the runs per stride count, the projection's
+    indices) is shared, what does is computed again (the parameter vector, the start checks,
+    the lift); None when the parameters change what is shared (another kernel variant,
+    another step budget, another projection)."""
+    from walker import _hybrid
+    from walker.region import WalkingRegion, stride_max_steps
+
+    model, params = new.model, new.params
+    p = np.ascontiguousarray(params.as_array(), dtype=np.float64)
+    if model.system_for(p) is not cached[4]:
+        return None
+    per_stride = stride_max_steps(params, new.t_max, new.method, new.first_step)
+    if per_stride != cached[3]:
+        return None
+    lift, project, lift_jac, start_phase = cached[5]
+    if project is not None:
+        if not np.array_equal(model.project(np.arange(model.n_x, dtype=np.float64), p), project):
+            return None
+        lift_jac = np.array(
+            model.lift_jacobian(np.zeros(model.n_z), p), dtype=np.float64, order="C"
+        )
+        lift_jac.flags.writeable = False
+    guard = new._guard(WalkingRegion(model, params))
+    fresh = [
+        cached[0],
+        p,
+        guard,
+        per_stride,
+        cached[4],
+        (lift, project, lift_jac, start_phase),
+        None,
+    ]
+    if cached[6] is not None:
+        run = cached[0].get(1) or next(iter(cached[0].values()), None)
+        if run is None:
+            return None
+        fresh[6] = _hybrid.PreparedMap(*section_args(model, new.t_max, fresh, run)).map
+    return tuple(fresh)

@@ -365,39 +365,10 @@ class StrideMap:
         shared (another kernel variant, another step budget, another projection)."""
         new = self._with_params_object(params)
         cached = self.__dict__.get("_run")
-        if cached is None:
-            return new
-        from walker.fixedpoint import WalkingRegion, stride_max_steps
-
-        model = self.model
-        p = np.ascontiguousarray(params.as_array(), dtype=np.float64)
-        if model.system_for(p) is not cached[4]:
-            return new
-        per_stride = stride_max_steps(params, self.t_max, self.method, self.first_step)
-        if per_stride != cached[3]:
-            return new
-        lift, project, lift_jac, start_phase = cached[5]
-        if project is not None:
-            idx = model.project(np.arange(model.n_x, dtype=np.float64), p)
-            if not np.array_equal(idx, project):
-                return new
-            lift_jac = np.array(
-                model.lift_jacobian(np.zeros(model.n_z), p), dtype=np.float64, order="C"
-            )
-            lift_jac.flags.writeable = False
-        guard = new._guard(WalkingRegion(model, params))
-        run = cached[0].get(1) or next(iter(cached[0].values()), None)
-        fresh = [cached[0], p, guard, per_stride, cached[4], (lift, project, lift_jac, start_phase)]
-        fresh.append(None)
-        if cached[6] is not None and run is not None:
-            from walker import _hybrid
-
-            args = _section.section_args(model, self.t_max, fresh, run)
-            fresh[6] = _hybrid.PreparedMap(*args).map
-        elif cached[6] is not None:
-            return new
-        object.__setattr__(new, "_run", tuple(fresh))
-        new.__dict__["_origin"] = self  # with_tolerance re-targets the origin's copies too
+        fresh = None if cached is None else _section.retarget(new, cached)
+        if fresh is not None:
+            object.__setattr__(new, "_run", fresh)
+            new.__dict__["_origin"] = self  # with_tolerance re-targets the origin's copies
         return new
 
     def _new_run(self, cached, n_strides):
