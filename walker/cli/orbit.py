@@ -131,6 +131,15 @@ def cmd_orbit_diagram(args) -> int:
         value = getattr(args, flag[2:])
         if value is not None and value < 1:
             raise UsageError(f"{flag} must be an integer >= 1, got {value}")
+    if args.scheduler is not None:
+        from .sweep import need_dask
+
+        need_dask()
+        if args.jobs is not None:
+            print(
+                "walker: warning: --jobs has no effect with --scheduler (the cluster decides)",
+                file=sys.stderr,
+            )
     out = _check_out(args.out, overwrite=args.overwrite)
     fp = find_fixed_point(P, P.project(scene.state))
     z0 = fp.section if fp.success else P.project(scene.state)
@@ -225,13 +234,9 @@ def _blocks(args, scene, P, z0, values, coordinate, chains, names, start_gait):
         raise _resume_hint(exc) from None
     executor = None
     if args.scheduler is not None:
-        from .sweep import _connect
+        from .sweep import connect_scheduler
 
-        try:
-            client = _connect(args.scheduler)
-        except (ConnectionError, ValueError) as exc:
-            raise UsageError(f"--scheduler {args.scheduler}: {exc}") from None
-        with client:
+        with connect_scheduler(args.scheduler) as client:
             return orbit_diagram_blocks(
                 P,
                 z0,

@@ -63,6 +63,8 @@ def cmd_sweep(args) -> int:
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     _check_out(args.out, overwrite=args.overwrite, resumable=True, size=0)  # the store checks
+    if args.scheduler is not None:
+        need_dask()
     jobs = args.jobs
     if jobs is not None and args.scheduler is not None:
         print(
@@ -238,6 +240,28 @@ def _swept(scene, param_texts) -> dict:
             entry["values"] = [float(v) for v in values]
         swept[name] = entry
     return swept
+
+
+def need_dask() -> None:
+    """The UsageError of ``--scheduler`` without dask.distributed installed (one line naming
+    the extra), raised before any work."""
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        raise UsageError(
+            "--scheduler needs dask.distributed, which is not installed: "
+            "python -m pip install 'walker-hybrid[dask]'"
+        ) from None
+
+
+def connect_scheduler(address: str) -> Any:
+    """``--scheduler ADDRESS`` of a command: a ``dask.distributed.Client`` (:func:`_connect`),
+    or the one-line UsageError saying why not (dask not installed, no scheduler there)."""
+    need_dask()
+    try:
+        return _connect(address)
+    except (ConnectionError, ValueError) as exc:
+        raise UsageError(f"--scheduler {address}: {exc}") from None
 
 
 def _connect(scheduler: str) -> Any:
