@@ -365,7 +365,12 @@ class StrideMap:
         shared (another kernel variant, another step budget, another projection)."""
         new = self._with_params_object(params)
         cached = self.__dict__.get("_run")
-        fresh = None if cached is None else _section.retarget(new, cached)
+        if cached is None:
+            return new
+        from walker.region import _cache_of
+
+        region = (_cache_of(self) or {}).get(None)
+        fresh = _section.retarget(new, cached, region)
         if fresh is not None:
             object.__setattr__(new, "_run", fresh)
             new.__dict__["_origin"] = self  # with_tolerance re-targets the origin's copies
