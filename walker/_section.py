@@ -139,20 +139,22 @@ def retarget(new, cached, region):
     p = np.ascontiguousarray(params.as_array(), dtype=np.float64)
     if model.system_for(p) is not cached[4]:
         return None
-    per_stride = stride_max_steps(params, new.t_max, new.method, new.first_step)
-    if per_stride != cached[3]:
-        return None
+    region = WalkingRegion(model, params) if region is None else region.at(params, p)
+    per_stride = cached[3]
+    if region.time_scale != getattr(region, "_base_time_scale", None):  # the budget's unit
+        per_stride = stride_max_steps(params, new.t_max, new.method, new.first_step)
+        if per_stride != cached[3]:
+            return None
     lift, project, lift_jac, start_phase = cached[5]
     proj = model.project(np.arange(model.n_x, dtype=np.float64), p)
     if project is not None:
-        if not np.array_equal(proj, project):
+        if proj.tolist() != project.tolist():
             return None
         lift_jac = model.lift_jacobian(np.zeros(model.n_z), p)
         lift_jac = np.array(lift_jac, dtype=np.float64, order="C")
         lift_jac.flags.writeable = False
-    region = WalkingRegion(model, params) if region is None else region.at(params)
     fast = (lift, project, lift_jac, start_phase)
-    fresh = [cached[0], p, new._guard(region), per_stride, cached[4], fast, None]
+    fresh = [cached[0], p, new._guard(region, own=True), per_stride, cached[4], fast, None]
     if cached[6] is not None:
         run = cached[0].get(1) or next(iter(cached[0].values()), None)
         if run is None:

@@ -91,21 +91,25 @@ class WalkingRegion:
         self.energy_address = model._state_fn("energy")
         self._set_params(params)
 
-    def at(self, params) -> WalkingRegion:
+    def at(self, params, p=None) -> WalkingRegion:
         """The region of the same model at other parameters (an instance of the same
-        class): what does not depend on them is kept, the rest computed as
-        :meth:`__init__` does (a sweep point's map, ``StrideMap._retargeted``)."""
+        class; ``p`` their vector when the caller has it): what does not depend on them is
+        kept, the rest computed as :meth:`__init__` does (a sweep point's map,
+        ``StrideMap._retargeted``)."""
         new = copy.copy(self)
-        new._set_params(params)
+        new._set_params(params, p)
         return new
 
-    def _set_params(self, params) -> None:
+    def _set_params(self, params, p=None) -> None:
         """The fields that depend on the parameters."""
         model = self.model
         self.params = params
-        self.p = np.ascontiguousarray(params.as_array(), dtype=np.float64)
+        if p is None:
+            p = params.as_array()
+        self.p = np.ascontiguousarray(p, dtype=np.float64)
         self.slope = float(getattr(params, "slope", 0.0))
-        rate = 1.0 / time_scale(params)
+        self.time_scale = time_scale(params)
+        rate = 1.0 / self.time_scale
         self.scale = np.where(self._rates, rate, 1.0)
         self.wound_limit = math.pi + abs(self.slope)
         try:

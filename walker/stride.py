@@ -328,16 +328,20 @@ class StrideMap:
             run = self._new_run(cached, n_strides)
         return run, cached[1], cached[2]
 
-    def _guard(self, region) -> tuple:
+    def _guard(self, region, own: bool = False) -> tuple:
         """The start checks of :meth:`_prepared` from the map's walking region, which is
-        kept as the map's own region (:meth:`walker.region.WalkingRegion.of`), so a gait
-        search on the map does not build it again."""
+        kept as the map's own region (:meth:`walker.region.WalkingRegion.of`; a copy unless
+        ``own``: the region is the map's alone), so a gait search on the map does not build
+        it again."""
         from walker import _hybrid
         from walker.region import _cache_of
 
         per_map = _cache_of(self)
         if per_map is not None and None not in per_map:
-            per_map[None] = copy.copy(region)
+            per_map[None] = region if own else copy.copy(region)
+            # a map re-targeted from this one keeps its step budget while the time scale
+            # (the budget's unit) is this map's
+            per_map[None]._base_time_scale = region.time_scale
         address = region.energy_address if math.isfinite(region.kinetic_limit) else None
         stance = (
             (region.stance * region.slope, region.fall_angle)
