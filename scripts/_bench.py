@@ -157,7 +157,7 @@ README_SECTIONS = (
     (
         "sweep.md",
         "Sweep overhead per point",
-        "python scripts/bench_sweep_overhead.py",
+        "python scripts/bench_sweep.py --overhead",
         ["sweep.csv"],
     ),
     (
