@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import dataclasses
+import functools
 import numbers
 import os
 import warnings
@@ -112,6 +113,8 @@ def sweep_chunk(
     z0: np.ndarray,
     n_strides: int,
     tol: float,
+    *,
+    checked: bool = False,
 ) -> dict[str, np.ndarray]:
     """Evaluate one chunk of a sweep (the task sent to an executor).
 
@@ -131,6 +134,9 @@ def sweep_chunk(
         strides per point (outcome) or the gait's period (fixed_point).
     tol : float
         Newton tolerance, max-norm of ``P^k(z) - z`` (fixed_point).
+    checked : bool
+        the arguments were checked already (:func:`sweep` checks every grid point before
+        any work and passes True): they are not checked again.
 
     Returns
     -------
@@ -161,7 +167,10 @@ def sweep_chunk(
             "`section_map` must be a walker.stride.StrideMap or a MapSpec, got "
             f"{type(base).__name__}"
         )
-    names, points, z0, n_strides, tol = _chunk_arguments(base, names, points, z0, n_strides, tol)
+    if not checked:
+        names, points, z0, n_strides, tol = _chunk_arguments(
+            base, names, points, z0, n_strides, tol
+        )
     n_z = int(base.n_z)
     m = points.shape[0]
     out = {
@@ -578,14 +587,14 @@ def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
         ) as bar:
             if executor == "serial":
                 for i in pending:
-                    finish(i, sweep_chunk(*args(i)))
+                    finish(i, sweep_chunk(*args(i), checked=True))
             elif pending:
                 # On an interrupt: chunks not started are cancelled, running threads finish
                 # their (short) chunk, a process pool's workers are terminated, and every
                 # chunk that finished is written before the interrupt propagates.
                 run_chunks(
                     executor,
-                    sweep_chunk,
+                    functools.partial(sweep_chunk, checked=True),
                     ((i, args(i)) for i in pending),
                     finish,
                     own=own_pool is not None,
