@@ -101,7 +101,10 @@ def cmd_sweep(args) -> int:
             raise UsageError(f"--param: {message}") from None
         raise
     n_ok = int(np.sum(table.columns["status"] == 0))
-    print(f"wrote {args.out}: {len(table.points)} points, {n_ok} completed")
+    jumps = ""
+    if "jump" in table.columns:  # a fixed-point sweep: points on another gait than a neighbour
+        jumps = f", {int(np.sum(table.columns['jump'] == 1))} flagged as jumps (column jump)"
+    print(f"wrote {args.out}: {len(table.points)} points, {n_ok} completed{jumps}")
     return EXIT_OK
 
 
