@@ -10,10 +10,14 @@ How the work is cut and run (DESIGN.md, decision 10):
    ``chunk_size`` consecutive points.  A chunk is one task: :func:`sweep_chunk`, a module-level
    function of plain, picklable arguments (the stride map travels as :class:`MapSpec`, which
    rebuilds it in the worker once per process).
-2. Chunks are independent.  A fixed-point sweep warm-starts Newton from the previous point's
-   gait *within* a chunk only; each chunk starts from ``z0``.  So a chunk's rows never depend
-   on which other chunks ran, where, or in what order: serial, a process pool and a dask
-   cluster give identical tables, and so does a resumed run.
+2. The table never depends on how the work is cut.  Outcome points are independent.  A
+   fixed-point point starts from a guess that is a function of the grid only
+   (:mod:`walker.sweep_chains`): the points are walked along lines of the grid, outwards
+   from the point nearest the base map's parameters, each warm-started from the gait its
+   neighbour on the line converged to; a fixed-point task is a run of whole lines.  So
+   serial, threads, a process pool, a dask cluster, any chunk size and a resumed run give
+   identical tables.  A point whose gait differs from a converged neighbour's beyond
+   stated thresholds is flagged in the ``jump`` column.
 3. With ``out`` every chunk is written to a :class:`~walker.storage.SweepStore` checkpoint as
    soon as it finishes; running the same call again after a kill computes only the chunks not
    yet marked done.
@@ -323,16 +327,19 @@ def sweep(
     kind : {"outcome", "fixed_point"}
         ``"outcome"``: the map applied ``n_strides`` times from ``z0`` at each point.
         ``"fixed_point"``: the period-``n_strides`` gait by :func:`~walker.fixedpoint.
-        find_fixed_point` (tolerance ``tol``), warm-started from the last gait found earlier
-        in the same chunk, retried from ``z0`` if that fails; each chunk starts from ``z0``.
+        find_fixed_point` (tolerance ``tol``), warm-started from a converged grid neighbour
+        along lines of the grid (:mod:`walker.sweep_chains`; the point nearest the base
+        parameters starts from ``z0``), retried from ``z0`` if that fails.
     z0 : array_like, shape (n_z,)
         section point (outcome) or initial guess (fixed_point).
     n_strides : int
         strides per point (outcome) or period of the gait (fixed_point), >= 1.
     chunk_size : int, optional
-        points per task, >= 1.  Default :func:`default_chunk_size` (at most 256 for
-        outcome, 16 for fixed_point, and at least 16 chunks when there are 16 points).
-        A resumed sweep must use the chunk size it started with.
+        points per checkpoint chunk and per task (a fixed-point task is a run of whole
+        lines of about that many points), >= 1; it never changes the table.  Default
+        :func:`default_chunk_size` (at most 256 for outcome, 16 for fixed_point, and at
+        least 16 chunks when there are 16 points).  A resumed sweep must use the chunk size
+        it started with.
     executor : concurrent.futures.Executor, dask.distributed.Client, "serial", "processes" or None
         ``None``: ``jobs or os.cpu_count()`` threads of this process (the compiled strides
         release the GIL) created and shut down here; ``"processes"``: as many worker
@@ -368,8 +375,9 @@ def sweep(
         ``points`` shape (n, k); ``columns``: ``status`` (int, :class:`Status` codes),
         ``section`` (n, n_z), ``step_time`` [s]; for fixed points also ``multipliers_re``,
         ``multipliers_im`` (n, n_z, sorted by decreasing modulus), ``residual``, ``stable``
-        (int 0/1), ``n_iter``.  Where a point failed, its section, step time and multipliers
-        are NaN (an outcome's ``step_time`` is then the time of the failure).
+        (int 0/1), ``n_iter``, ``jump`` (int 0/1: :func:`walker.sweep_chains.jump_flags`;
+        -1 in a checkpoint not finished).  Where a point failed, its section, step time and
+        multipliers are NaN (an outcome's ``step_time`` is then the time of the failure).
 
     Raises
     ------
