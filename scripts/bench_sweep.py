@@ -334,7 +334,9 @@ def overhead(quick: bool, command: str) -> None:
         f"<!-- command: {command} -->",
         f"<!-- summary: {summary} -->",
         "",
-        f"Made by `{command}` on {machine_line()}.",
+        f"Made by `{command}` on {machine_line()}; 1-minute load average "
+        f"{os.getloadavg()[0]:.2f} when done (a shared machine: absolute times are inflated by "
+        "the load, the re-targeted / rebuilt ratio, measured interleaved, much less).",
         "",
         OVERHEAD_DOC.split("\n\n")[1].replace("\n", " "),
         "",
