@@ -155,6 +155,18 @@ README_SECTIONS = (
         ["coldstart.csv"],
     ),
     (
+        "sweep.md",
+        "Sweep overhead per point",
+        "python scripts/bench_sweep.py --overhead",
+        ["sweep.csv"],
+    ),
+    (
+        "longrun.md",
+        "Long runs: memory and time against strides",
+        "python scripts/bench_longrun.py",
+        ["longrun.csv"],
+    ),
+    (
         "friction.md",
         "Cost of the dry-friction layer",
         "python scripts/bench_friction.py",

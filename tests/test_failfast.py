@@ -21,7 +21,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import walker.steppers as steppers_module
-import walker.sweep as sweep_module
+import walker.sweep_chains as sweep_chains_module
 from walker import load_scene, simulate
 from walker.cli import build_parser
 from walker.cli import main as cli_main
@@ -116,7 +116,7 @@ def _cli_options() -> set[str]:
 
 def test_messages_name_what_a_command_line_user_can_change():
     options = _cli_options()
-    assert "--set" in options and "--max-steps" not in options and "--max-evals" not in options
+    assert "--set" in options and "--max-steps" in options and "--max-evals" not in options
     for status in SEARCH_ENDS | {Status.OUTSIDE_WALKING_REGION}:
         msg = status.message
         assert "[initial] state" in msg, status
@@ -125,9 +125,9 @@ def test_messages_name_what_a_command_line_user_can_change():
         assert "--set" in status.message, status
     assert "max_evals" in Status.BUDGET_EXHAUSTED.message
     msg = Status.MAX_STEPS.message
-    # the Python argument is named, and what a CLI user can do (there is no --max-steps)
+    # the Python argument is named, and what a CLI user can do (walker run --max-steps)
     assert "`max_steps`" in msg and "command line" in msg and "rtol" in msg
-    assert "--max-steps" not in msg and not msg.endswith("Increase `max_steps`.")
+    assert "walker run --max-steps" in msg and not msg.endswith("Increase `max_steps`.")
 
 
 # ------------------------------------------------------------------- walking region
@@ -343,7 +343,7 @@ def test_each_sweep_point_has_a_budget(monkeypatch):
         records.append((kwargs.get("max_evals"), len(m.calls), fp.status))
         return fp
 
-    monkeypatch.setattr(sweep_module, "find_fixed_point", budgeted)
+    monkeypatch.setattr(sweep_chains_module, "find_fixed_point", budgeted)  # the point search
     scene, P = scene_map(KNEED)
     points = np.array([[0.05], [0.02], [0.025], [0.06]])
     out = sweep_chunk(

@@ -23,6 +23,7 @@ from walker.cli.sweep import run_sweep_command
 from walker.status import Status
 from walker.storage import StorageError, read
 from walker.sweep import grid_points, parse_range, sweep
+from walker.sweep_chains import sweep_lines
 
 REPO = Path(__file__).resolve().parents[1]
 TESTS = Path(__file__).resolve().parent
@@ -59,13 +60,17 @@ def _assert_tables_equal(a, b):
 
 
 class RecordingExecutor(cf.Executor):
-    """Runs tasks inline and records the points of every chunk submitted."""
+    """Runs tasks inline and records the points every task submitted computes (a
+    fixed-point task's points already done, passed in ``known``, are looked up only)."""
 
     def __init__(self):
         self.submitted = []
 
     def submit(self, fn, /, *args, **kwargs):
-        self.submitted.append(np.array(args[2]))
+        points = np.array(args[2])
+        if fn is sweep_lines and args[5] is not None:
+            points = points[~args[5]["known"]]
+        self.submitted.append(points)
         future = cf.Future()
         future.set_result(fn(*args, **kwargs))
         return future
@@ -271,8 +276,9 @@ def test_compass_fixed_points_along_slope():
     assert np.all(np.diff(cols["section"][:, 1]) < 0)
 
 
-def test_fixed_point_chunk_starts_from_z0():
-    """A chunk's rows do not depend on other chunks: a point sweeps the same alone."""
+def test_fixed_point_start_is_a_function_of_the_grid():
+    """A point's guess follows the grid from the point nearest the scene's parameters (here
+    3 degrees in both grids), never the chunks: the rows from the root outwards agree."""
     stride_map, z0 = _compass_map()
     ranges = [("slope", np.radians([2.0, 2.5, 3.0, 3.5]))]
     whole = sweep(
@@ -338,7 +344,7 @@ def test_run_sweep_command_rejects_unknown_name_before_connecting():
 
 # ---- resume after SIGKILL ------------------------------------------------------------------
 
-KILL_RANGES = ["slope=0.005:0.15:60", "mass_hip=5:20:10"]
+KILL_RANGES = ["slope=0.005:0.25:60", "mass_hip=5:20:10"]  # failures on the steep end
 KILL_CHUNK = 10
 
 
@@ -405,16 +411,24 @@ def test_sigkill_then_resume_gives_the_uninterrupted_table(tmp_path, pool):
     resumed = _kill_sweep(out, executor=recorder)
     points = resumed.points
     computed = sorted(
-        int(np.flatnonzero(np.all(points == chunk[0], axis=1))[0]) // KILL_CHUNK
-        for chunk in recorder.submitted
+        int(np.flatnonzero(np.all(points == point, axis=1))[0])
+        for task in recorder.submitted
+        for point in task
     )
-    # exactly the pending chunks were computed, each once; the done ones were skipped
-    assert computed == pending_before.tolist()
+    # exactly the points of the pending chunks were computed, each once; the done ones were
+    # looked up (as the seeds of their lines' next points), not computed
+    pending_rows = [
+        i for c in pending_before.tolist() for i in range(c * KILL_CHUNK, (c + 1) * KILL_CHUNK)
+    ]
+    assert computed == pending_rows
     assert _stored_done(out).all()  # no gaps
     assert not np.any(resumed.columns["status"] == -1)
     for i in np.flatnonzero(done_before):
         rows = slice(i * KILL_CHUNK, (i + 1) * KILL_CHUNK)
         for name, col in resumed.columns.items():
+            if name == "jump":  # flagged once every point is done: -1 until then
+                assert np.all(table_before.columns[name][rows] == -1)
+                continue
             assert np.array_equal(col[rows], table_before.columns[name][rows], equal_nan=True)
 
     fresh = _kill_sweep(None, executor=pool)

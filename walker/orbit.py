@@ -8,7 +8,7 @@ import numpy as np
 from walker.results import OrbitDiagram
 from walker.sectionmap import SectionMap, map_value, validate_int, validate_z
 
-__all__ = ["orbit_diagram"]
+__all__ = ["at_parameter", "orbit_diagram", "settle"]
 
 
 def orbit_diagram(
@@ -93,20 +93,9 @@ def orbit_diagram(
     values = np.full((params.size, n_keep), np.nan)
     z_start = z0
     for i, mu in enumerate(params):
-        z = z_start
-        fell = False
-        if n_transient > 0:
-            res = map_value(section_map, z, n_transient, float(mu))
-            fell = not res.success
-            z = res.z
-        if not fell:
-            for k in range(n_keep):
-                res = map_value(section_map, z, 1, float(mu))
-                if not res.success:
-                    fell = True
-                    break
-                z = res.z
-                values[i, k] = z[coordinate]
+        z, fell = settle(
+            section_map, z_start, float(mu), n_transient, n_keep, coordinate, values[i]
+        )
         z_start = z if (warm_start and not fell) else z0
     return OrbitDiagram(
         parameter_name=section_map.parameter_name,
@@ -114,3 +103,35 @@ def orbit_diagram(
         values=values,
         coordinate=int(coordinate),
     )
+
+
+def at_parameter(section_map, value: float):
+    """The map at ``value`` of its continuation parameter: a stride map re-targeted from its
+    prepared run (``StrideMap._retargeted``, the numbers of ``with_parameter`` bit for bit),
+    else ``with_parameter(value)``."""
+    if hasattr(section_map, "_retargeted") and hasattr(section_map, "_prepared"):
+        params = section_map.params.replace(**{section_map.parameter_name: float(value)})
+        section_map._prepared()
+        return section_map._retargeted(params)
+    return section_map.with_parameter(float(value))
+
+
+def settle(section_map, z, mu, n_transient, n_keep, coordinate, row) -> tuple:
+    """One parameter value of an orbit diagram: ``n_transient`` strides from ``z``, then
+    ``n_keep`` strides whose coordinate ``coordinate`` is written into ``row`` (left NaN
+    from a fall on).  Returns the last section point and whether the walker fell."""
+    point_map = at_parameter(section_map, mu)
+    fell = False
+    if n_transient > 0:
+        res = map_value(point_map, z, n_transient, mu)
+        fell = not res.success
+        z = res.z
+    if not fell:
+        for k in range(n_keep):
+            res = map_value(point_map, z, 1, mu)
+            if not res.success:
+                fell = True
+                break
+            z = res.z
+            row[k] = z[coordinate]
+    return z, fell

@@ -83,19 +83,37 @@ class WalkingRegion:
         from walker.models._common import FALL_ANGLE
 
         self.model = model
-        self.params = params
-        self.p = np.ascontiguousarray(params.as_array(), dtype=np.float64)
-        self.slope = float(getattr(params, "slope", 0.0))
         names = tuple(model.section_names)
-        rate = 1.0 / time_scale(params)
-        self.scale = np.array([rate if _is_rate(n) else 1.0 for n in names])
+        self._rates = np.array([_is_rate(n) for n in names], dtype=bool)
         self.stance = _STANCE_ANGLE.get(names[0]) if names else None
         self.fall_angle = FALL_ANGLE
         self.n_q = int(getattr(model.module, "N_Q", model.n_x // 2))
-        self.wound_limit = math.pi + abs(self.slope)
         self.energy_address = model._state_fn("energy")
+        self._set_params(params)
+
+    def at(self, params, p=None) -> WalkingRegion:
+        """The region of the same model at other parameters (an instance of the same
+        class; ``p`` their vector when the caller has it): what does not depend on them is
+        kept, the rest computed as :meth:`__init__` does (a sweep point's map,
+        ``StrideMap._retargeted``)."""
+        new = copy.copy(self)
+        new._set_params(params, p)
+        return new
+
+    def _set_params(self, params, p=None) -> None:
+        """The fields that depend on the parameters."""
+        model = self.model
+        self.params = params
+        if p is None:
+            p = params.as_array()
+        self.p = np.ascontiguousarray(p, dtype=np.float64)
+        self.slope = float(getattr(params, "slope", 0.0))
+        self.time_scale = time_scale(params)
+        rate = 1.0 / self.time_scale
+        self.scale = np.where(self._rates, rate, 1.0)
+        self.wound_limit = math.pi + abs(self.slope)
         try:
-            up = self.kinetic_potential(model.lift(np.zeros(len(names)), self.p))[1]
+            up = self.kinetic_potential(model.lift(np.zeros(self._rates.size), self.p))[1]
         except (ValueError, ArithmeticError):
             up = float("nan")
         self.potential_up = float(up) if math.isfinite(up) and up > 0 else float("nan")

@@ -86,7 +86,8 @@ _MESSAGES = {
         "Reached the step budget before finishing: the state is far from any gait (rates so "
         "high that the steps shrink) or the tolerance is very tight. On the command line, "
         "start nearer a gait (the scene's `[initial] state`, `--set`) or loosen `rtol` in the "
-        "scene's [compute] table; from Python, raise `max_steps` (simulate, hybrid_solve) or "
+        "scene's [compute] table, or raise the budget (`walker run --max-steps N`); from "
+        "Python, raise `max_steps` (simulate, hybrid_solve) or "
         "`t_max` (a StrideMap allows a number of steps proportional to `t_max`, see "
         "walker.fixedpoint.stride_max_steps)."
     ),

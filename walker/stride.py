@@ -71,6 +71,7 @@ def simulate(
     n_strides: int = 1,
     phase0: int | None = None,
     t_max: float | None = None,
+    t0: float = 0.0,
     method: str = "DOP853",
     rtol: float = 1e-10,
     atol: float = 1e-12,
@@ -100,6 +101,9 @@ def simulate(
     t_max : float, optional
         final time [s]; default ``20 n_strides`` stride-times' worth: ``20 * max(1,
         n_strides) * sqrt(leg_length / g)``.
+    t0 : float
+        start time [s], ``< t_max`` (a run continued from where another ended: walker run's
+        blocks of strides).
     method, rtol, atol, first_step, output, sample_times, jacobian, max_steps
         as in :func:`walker.integrate.hybrid_solve`.
     terrain : array_like, shape (n, 2), optional
@@ -138,7 +142,7 @@ def simulate(
         x0,
         p,
         phase0=phase0,
-        t0=0.0,
+        t0=t0,
         t_max=t_max,
         n_strides=n_strides,
         method=method,
@@ -315,21 +319,7 @@ class StrideMap:
 
             p = np.ascontiguousarray(self.params.as_array(), dtype=np.float64)
             per_stride = stride_max_steps(self.params, self.t_max, self.method, self.first_step)
-            region = WalkingRegion(self.model, self.params)
-            address = region.energy_address if math.isfinite(region.kinetic_limit) else None
-            stance = (
-                (region.stance * region.slope, region.fall_angle)
-                if region.stance is not None
-                else (0.0, math.inf)
-            )
-            guard = (
-                stance,
-                region.n_q,
-                region.wound_limit,
-                _hybrid.call_state_fn,
-                address,
-                region.kinetic_limit,
-            )
+            guard = self._guard(WalkingRegion(self.model, self.params))
             fast = _section.fast_parts(self.model, p)
             cached = [{}, p, guard, per_stride, self.model.system_for(p), fast, None]
             run = self._new_run(cached, n_strides)
@@ -344,6 +334,58 @@ class StrideMap:
         if run is None:
             run = self._new_run(cached, n_strides)
         return run, cached[1], cached[2]
+
+    def _guard(self, region, own: bool = False) -> tuple:
+        """The start checks of :meth:`_prepared` from the map's walking region, which is
+        kept as the map's own region (:meth:`walker.region.WalkingRegion.of`; a copy unless
+        ``own``: the region is the map's alone), so a gait search on the map does not build
+        it again."""
+        from walker import _hybrid
+        from walker.region import _cache_of
+
+        per_map = _cache_of(self)
+        if per_map is not None and None not in per_map:
+            per_map[None] = region if own else copy.copy(region)
+            # a map re-targeted from this one keeps its step budget while the time scale
+            # (the budget's unit) is this map's
+            per_map[None]._base_time_scale = region.time_scale
+        address = region.energy_address if math.isfinite(region.kinetic_limit) else None
+        stance = (
+            (region.stance * region.slope, region.fall_angle)
+            if region.stance is not None
+            else (0.0, math.inf)
+        )
+        return (
+            stance,
+            region.n_q,
+            region.wound_limit,
+            _hybrid.call_state_fn,
+            address,
+            region.kinetic_limit,
+        )
+
+    def _retargeted(self, params) -> StrideMap:
+        """A copy at ``params`` (a validated instance of the same class) whose compiled run
+        is re-targeted from this map's, not rebuilt: what does not depend on the parameters
+        (the model's system and compiled kernels, the solver settings, the runs per stride
+        count, the projection's indices) is shared, and only what does is computed again
+        (the parameter vector, the start checks, the lift).  The same numbers as
+        ``_with_params_object(params)`` bit for bit, at a fraction of the set-up cost: a
+        sweep point's (:func:`walker.sweep.sweep_chunk`).  Falls back to a plain copy (built
+        on first use) when this map is not prepared yet or the parameters change what is
+        shared (another kernel variant, another step budget, another projection)."""
+        new = self._with_params_object(params)
+        cached = self.__dict__.get("_run")
+        if cached is None:
+            return new
+        from walker.region import _cache_of
+
+        region = (_cache_of(self) or {}).get(None)
+        fresh = _section.retarget(new, cached, region)
+        if fresh is not None:
+            object.__setattr__(new, "_run", fresh)
+            new.__dict__["_origin"] = self  # with_tolerance re-targets the origin's copies
+        return new
 
     def _new_run(self, cached, n_strides):
         """A PreparedRun for ``n_strides`` strides, kept for up to 16 stride counts."""
@@ -400,6 +442,7 @@ class StrideMap:
         state.pop("_run", None)  # process-local addresses: rebuilt where it lands
         state.pop("_tolerances", None)
         state.pop("_terrain_args", None)
+        state.pop("_origin", None)
         return state
 
     def __setstate__(self, state):
@@ -452,7 +495,13 @@ class StrideMap:
         key = (float(rtol), float(atol))
         new = kept.get(key)
         if new is None:
-            new = self._copy_with(rtol=key[0], atol=key[1])
+            origin = self.__dict__.get("_origin")
+            if origin is not None:  # re-targeted: so is the copy, from the origin's copy
+                new = origin.with_tolerance(*key)
+                new._prepared()
+                new = new._retargeted(self.params)
+            else:
+                new = self._copy_with(rtol=key[0], atol=key[1])
             if len(kept) < 8:
                 kept[key] = new
         return new
@@ -479,6 +528,7 @@ class StrideMap:
         new.__dict__.pop("_run", None)
         new.__dict__.pop("_tolerances", None)
         new.__dict__.pop("_terrain_args", None)
+        new.__dict__.pop("_origin", None)
         return new
 
     def _p(self) -> np.ndarray:

@@ -10,10 +10,14 @@ How the work is cut and run (DESIGN.md, decision 10):
    ``chunk_size`` consecutive points.  A chunk is one task: :func:`sweep_chunk`, a module-level
    function of plain, picklable arguments (the stride map travels as :class:`MapSpec`, which
    rebuilds it in the worker once per process).
-2. Chunks are independent.  A fixed-point sweep warm-starts Newton from the previous point's
-   gait *within* a chunk only; each chunk starts from ``z0``.  So a chunk's rows never depend
-   on which other chunks ran, where, or in what order: serial, a process pool and a dask
-   cluster give identical tables, and so does a resumed run.
+2. The table never depends on how the work is cut.  Outcome points are independent.  A
+   fixed-point point starts from a guess that is a function of the grid only
+   (:mod:`walker.sweep_chains`): the points are walked along lines of the grid, outwards
+   from the point nearest the base map's parameters, each warm-started from the gait its
+   neighbour on the line converged to; a fixed-point task is a run of whole lines.  So
+   serial, threads, a process pool, a dask cluster, any chunk size and a resumed run give
+   identical tables.  A point whose gait differs from a converged neighbour's beyond
+   stated thresholds is flagged in the ``jump`` column.
 3. With ``out`` every chunk is written to a :class:`~walker.storage.SweepStore` checkpoint as
    soon as it finishes; running the same call again after a kill computes only the chunks not
    yet marked done.
@@ -47,6 +51,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import dataclasses
+import functools
 import numbers
 import os
 import warnings
@@ -57,10 +62,17 @@ import numpy as np
 
 from walker._checks import as_vector as _as_vector
 from walker._executors import die_with_parent, progress_bar, run_chunks, worker_pool
-from walker.fixedpoint import find_fixed_point
 from walker.results import SweepTable
 from walker.sectionmap import validate_positive
 from walker.stride import StrideMap, solver_settings
+from walker.sweep_chains import (
+    MapSpec,
+    _fixed_point,
+    _materialize,
+    _retargeter,
+    root_index,
+    run_lines,
+)
 from walker.sweep_grid import (
     DEFAULT_CHUNK_POINTS,
     KINDS,
@@ -97,55 +109,6 @@ __all__ = [
 # ---------------------------------------------------------------------------------------------
 
 
-@dataclasses.dataclass(frozen=True)
-class MapSpec:
-    """A picklable recipe for a :class:`~walker.stride.StrideMap`.
-
-    A ``StrideMap`` holds its model's compiled kernels and module, which do not pickle; this
-    holds the model name and the map's other fields (parameters dataclass, method,
-    tolerances, ...), and :meth:`build` makes the map again in a worker.  Workers keep the
-    last map they built, so a worker rebuilds it (and prepares its compiled run) once, not
-    once per chunk.
-
-    Attributes
-    ----------
-    model : str
-        model name.
-    fields : tuple of (str, object)
-        the other ``StrideMap`` fields, by name.
-    """
-
-    model: str
-    fields: tuple[tuple[str, Any], ...]
-
-    @classmethod
-    def from_map(cls, stride_map: StrideMap) -> MapSpec:
-        fields = tuple(
-            (f.name, getattr(stride_map, f.name))
-            for f in dataclasses.fields(stride_map)
-            if f.name != "model"
-        )
-        return cls(stride_map.model.name, fields)
-
-    def build(self) -> StrideMap:
-        return StrideMap(self.model, **dict(self.fields))
-
-
-_WORKER_MAP: dict[MapSpec, Any] = {}
-
-
-def _materialize(section_map: Any) -> Any:
-    """The stride map a chunk runs on (built once per worker process from a MapSpec)."""
-    if not isinstance(section_map, MapSpec):
-        return section_map
-    cached = _WORKER_MAP.get(section_map)
-    if cached is None:
-        _WORKER_MAP.clear()
-        cached = section_map.build()
-        _WORKER_MAP[section_map] = cached
-    return cached
-
-
 def sweep_chunk(
     section_map: MapSpec | Any,
     names: tuple[str, ...],
@@ -154,6 +117,8 @@ def sweep_chunk(
     z0: np.ndarray,
     n_strides: int,
     tol: float,
+    *,
+    checked: bool = False,
 ) -> dict[str, np.ndarray]:
     """Evaluate one chunk of a sweep (the task sent to an executor).
 
@@ -173,6 +138,9 @@ def sweep_chunk(
         strides per point (outcome) or the gait's period (fixed_point).
     tol : float
         Newton tolerance, max-norm of ``P^k(z) - z`` (fixed_point).
+    checked : bool
+        the arguments were checked already (:func:`sweep` checks every grid point before
+        any work and passes True): they are not checked again.
 
     Returns
     -------
@@ -194,7 +162,6 @@ def sweep_chunk(
     most and a point whose guess does not walk one or two; a gait converges from a warm
     start in 4-6.
     """
-    from walker.fixedpoint import POINT_MAX_EVALS
 
     if kind not in KINDS:
         raise ValueError(f"`kind` must be one of {', '.join(KINDS)}, got {kind!r}")
@@ -204,7 +171,10 @@ def sweep_chunk(
             "`section_map` must be a walker.stride.StrideMap or a MapSpec, got "
             f"{type(base).__name__}"
         )
-    names, points, z0, n_strides, tol = _chunk_arguments(base, names, points, z0, n_strides, tol)
+    if not checked:
+        names, points, z0, n_strides, tol = _chunk_arguments(
+            base, names, points, z0, n_strides, tol
+        )
     n_z = int(base.n_z)
     m = points.shape[0]
     out = {
@@ -212,23 +182,18 @@ def sweep_chunk(
         for name, (dtype, shape) in table_columns(kind, n_z).items()
     }
     z_guess = z0
+    retarget = _retargeter(base)
     for i in range(m):
         # Every grid point was validated by `sweep` before any work was submitted.
         values = dict(zip(names, points[i].tolist(), strict=True))
-        point_map = base._with_params_object(base.params._replace_validated(**values))
+        point_map = retarget(base.params._replace_validated(**values))
         if kind == "outcome":
             r = point_map(z0, n_strides=n_strides)
             out["status"][i] = int(r.status)
             out["section"][i] = r.z
             out["step_time"][i] = r.step_time
             continue
-        fp = find_fixed_point(
-            point_map, z_guess, period=n_strides, tol=tol, max_evals=POINT_MAX_EVALS
-        )
-        if not fp.success and z_guess is not z0:
-            fp = find_fixed_point(
-                point_map, z0, period=n_strides, tol=tol, max_evals=POINT_MAX_EVALS
-            )
+        fp = _fixed_point(point_map, z_guess, z0, n_strides, tol)
         out["status"][i] = int(fp.status)
         out["residual"][i] = fp.residual
         out["n_iter"][i] = fp.n_iter
@@ -362,16 +327,19 @@ def sweep(
     kind : {"outcome", "fixed_point"}
         ``"outcome"``: the map applied ``n_strides`` times from ``z0`` at each point.
         ``"fixed_point"``: the period-``n_strides`` gait by :func:`~walker.fixedpoint.
-        find_fixed_point` (tolerance ``tol``), warm-started from the last gait found earlier
-        in the same chunk, retried from ``z0`` if that fails; each chunk starts from ``z0``.
+        find_fixed_point` (tolerance ``tol``), warm-started from a converged grid neighbour
+        along lines of the grid (:mod:`walker.sweep_chains`; the point nearest the base
+        parameters starts from ``z0``), retried from ``z0`` if that fails.
     z0 : array_like, shape (n_z,)
         section point (outcome) or initial guess (fixed_point).
     n_strides : int
         strides per point (outcome) or period of the gait (fixed_point), >= 1.
     chunk_size : int, optional
-        points per task, >= 1.  Default :func:`default_chunk_size` (at most 256 for
-        outcome, 16 for fixed_point, and at least 16 chunks when there are 16 points).
-        A resumed sweep must use the chunk size it started with.
+        points per checkpoint chunk and per task (a fixed-point task is a run of whole
+        lines of about that many points), >= 1; it never changes the table.  Default
+        :func:`default_chunk_size` (at most 256 for outcome, 16 for fixed_point, and at
+        least 16 chunks when there are 16 points).  A resumed sweep must use the chunk size
+        it started with.
     executor : concurrent.futures.Executor, dask.distributed.Client, "serial", "processes" or None
         ``None``: ``jobs or os.cpu_count()`` threads of this process (the compiled strides
         release the GIL) created and shut down here; ``"processes"``: as many worker
@@ -407,8 +375,9 @@ def sweep(
         ``points`` shape (n, k); ``columns``: ``status`` (int, :class:`Status` codes),
         ``section`` (n, n_z), ``step_time`` [s]; for fixed points also ``multipliers_re``,
         ``multipliers_im`` (n, n_z, sorted by decreasing modulus), ``residual``, ``stable``
-        (int 0/1), ``n_iter``.  Where a point failed, its section, step time and multipliers
-        are NaN (an outcome's ``step_time`` is then the time of the failure).
+        (int 0/1), ``n_iter``, ``jump`` (int 0/1: :func:`walker.sweep_chains.jump_flags`;
+        -1 in a checkpoint not finished).  Where a point failed, its section, step time and
+        multipliers are NaN (an outcome's ``step_time`` is then the time of the failure).
 
     Raises
     ------
@@ -472,6 +441,9 @@ class _Plan:
     columns: dict
     store: Any
     pending: list[int]
+    shape: tuple[int, ...] = ()
+    root: tuple[int, ...] = ()
+    scale: np.ndarray | None = None
 
 
 def _check_executor(executor: Any, jobs: int | None) -> Any:
@@ -540,9 +512,29 @@ def _prepare(
         if provenance is not None and not isinstance(provenance, dict):
             raise TypeError(f"`provenance` must be a dict or None, got {type(provenance).__name__}")
         pending = list(range(n_chunks))
-    return _Plan(
+    plan = _Plan(
         stride_map, names, points, kind, z0, n_strides, chunk, jobs, tol, columns, store, pending
     )
+    if kind == "fixed_point":
+        _plan_lines(plan, ranges)
+    return plan
+
+
+def _plan_lines(plan: _Plan, ranges: Any) -> None:
+    """The grid's shape, the root of its warm-start lines and the section's scale
+    (:mod:`walker.sweep_chains`)."""
+    from walker.region import WalkingRegion
+    from walker.sweep_grid import _normalize_ranges
+
+    axes = [values for _, values in _normalize_ranges(ranges)]
+    plan.shape = tuple(len(v) for v in axes)
+    base = [float(getattr(plan.stride_map.params, name)) for name in plan.names]
+    plan.root = root_index(axes, base)
+    scale = np.ones(int(plan.stride_map.n_z))
+    model = getattr(plan.stride_map, "model", None)
+    if getattr(model, "section_names", None) is not None:
+        scale = np.asarray(WalkingRegion(model, plan.stride_map.params).scale, dtype=float)
+    plan.scale = scale
 
 
 def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
@@ -584,6 +576,18 @@ def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
         if not processes:
             task_map = stride_map
     n_done = n_points - sum(rows(i).stop - rows(i).start for i in pending)
+    if kind == "fixed_point":
+        try:
+            with progress_bar(
+                progress, total=n_points, initial=n_done, desc=f"sweep {kind}", unit="pt"
+            ) as bar:
+                run_lines(plan, executor, own_pool, task_map, table, bar)
+        finally:
+            if own_pool is not None:
+                own_pool.shutdown(wait=True, cancel_futures=True)
+        if store is not None:
+            return store.table()
+        return SweepTable(parameter_names=names, points=points, columns=table)
     try:
         # An interrupted run leaves no progress bar behind (progress_bar).
         with progress_bar(
@@ -591,14 +595,14 @@ def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
         ) as bar:
             if executor == "serial":
                 for i in pending:
-                    finish(i, sweep_chunk(*args(i)))
+                    finish(i, sweep_chunk(*args(i), checked=True))
             elif pending:
                 # On an interrupt: chunks not started are cancelled, running threads finish
                 # their (short) chunk, a process pool's workers are terminated, and every
                 # chunk that finished is written before the interrupt propagates.
                 run_chunks(
                     executor,
-                    sweep_chunk,
+                    functools.partial(sweep_chunk, checked=True),
                     ((i, args(i)) for i in pending),
                     finish,
                     own=own_pool is not None,

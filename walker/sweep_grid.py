@@ -352,6 +352,7 @@ def table_columns(kind: str, n_z: int) -> dict[str, tuple[str, tuple[int, ...]]]
             residual=("f8", ()),
             stable=("i8", ()),
             n_iter=("i8", ()),
+            jump=("i8", ()),
         )
     return cols
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 
@@ -42,6 +43,16 @@ def cmd_basin(args) -> int:
         raise UsageError(f"--span must be a positive number, got {args.span}")
     if args.jobs is not None and args.jobs < 1:
         raise UsageError(f"--jobs must be >= 1, got {args.jobs}")
+    if args.jobs is not None and args.scheduler is not None:
+        print(
+            "walker: warning: --jobs has no effect with --scheduler (the cluster decides)",
+            file=sys.stderr,
+        )
+        args.jobs = None
+    if args.scheduler is not None:
+        from .sweep import need_dask
+
+        need_dask()
     scene = _load(args)
     P = _stride_map(scene)
     P_basin, extra = P, {}
@@ -100,21 +111,25 @@ def cmd_basin(args) -> int:
         )
         for a in axes
     )
+    run = dict(
+        axes=axes,
+        ranges=ranges,
+        n=(args.n, args.n),
+        n_strides=args.strides,
+        tol=BASIN_TOL,
+        progress=not args.quiet,
+        out=out,
+        overwrite=args.overwrite,
+        provenance=prov,
+    )
     try:
-        bm = basin_map(
-            P_basin,
-            fp,
-            axes=axes,
-            ranges=ranges,
-            n=(args.n, args.n),
-            n_strides=args.strides,
-            tol=BASIN_TOL,
-            jobs=args.jobs,
-            progress=not args.quiet,
-            out=out,
-            overwrite=args.overwrite,
-            provenance=prov,
-        )
+        if args.scheduler is None:
+            bm = basin_map(P_basin, fp, jobs=args.jobs, **run)
+        else:  # tasks are chunks of grid rows, on the cluster's workers
+            from .sweep import connect_scheduler
+
+            with connect_scheduler(args.scheduler) as client:
+                bm = basin_map(P_basin, fp, executor=client, **run)
     except CheckpointMismatch as exc:
         raise _resume_hint(exc) from None
     from walker.results import BASIN_CONVERGED
@@ -157,6 +172,13 @@ def register(sub) -> None:
         "largest |multiplier| of 0.6)",
     )
     jobs_option(p)
+    p.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="dask.distributed scheduler address, e.g. tcp://host:8786: the chunks of grid rows "
+        "run on that cluster (default: none, run on this machine)",
+    )
     p.add_argument(
         "--rtol",
         type=float,

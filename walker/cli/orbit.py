@@ -25,6 +25,7 @@ from ._common import (
     _load,
     _positive_flag,
     _stride_map,
+    jobs_option,
     scene_cmd,
     write_result,
 )
@@ -94,7 +95,6 @@ def _describe(run: dict, n_keep: int) -> str:
 
 
 def cmd_orbit_diagram(args) -> int:
-    from walker.continuation import orbit_diagram
     from walker.fixedpoint import find_fixed_point
 
     scene = _load(args)
@@ -127,13 +127,25 @@ def cmd_orbit_diagram(args) -> int:
             P.with_parameter(value)
         except ValueError as exc:
             raise UsageError(f"--range {end} = {value}: {exc}") from None
+    for flag in ("--jobs", "--chains"):
+        value = getattr(args, flag[2:])
+        if value is not None and value < 1:
+            raise UsageError(f"{flag} must be an integer >= 1, got {value}")
+    if args.scheduler is not None:
+        from .sweep import need_dask
+
+        need_dask()
+        if args.jobs is not None:
+            print(
+                "walker: warning: --jobs has no effect with --scheduler (the cluster decides)",
+                file=sys.stderr,
+            )
     out = _check_out(args.out, overwrite=args.overwrite)
     fp = find_fixed_point(P, P.project(scene.state))
     z0 = fp.section if fp.success else P.project(scene.state)
     values = np.linspace(a, b, args.n)
-    diagram = orbit_diagram(
-        P, z0, values, n_transient=args.transient, n_keep=args.strides, coordinate=coordinate
-    )
+    chains = args.chains or 1
+    diagram = _blocks(args, scene, P, z0, values, coordinate, chains, names, bool(fp.success))
     periods = [settled_period(row) for row in diagram.values]
     runs = _runs(diagram.parameter, periods)
     n_fell = sum(k == 0 for k in periods)
@@ -146,8 +158,10 @@ def cmd_orbit_diagram(args) -> int:
         "coordinate_name": names[coordinate],
         "start_gait": bool(fp.success),
         "warm_start": True,
+        "chains": chains,
     }
     write_result(out, diagram, scene, args, write_prov)
+    _remove_checkpoint(out)
     record = {
         "status": status,
         "parameter": args.param,
@@ -181,6 +195,87 @@ def cmd_orbit_diagram(args) -> int:
     return EXIT_OK
 
 
+def _blocks(args, scene, P, z0, values, coordinate, chains, names, start_gait):
+    """The diagram through :func:`walker.orbit_run.orbit_diagram_blocks`, checkpointed
+    beside ``--out`` (:func:`walker.orbit_run.checkpoint_path`): rerunning the same command
+    resumes it; ``--overwrite`` starts afresh."""
+    from walker.orbit_run import checkpoint_path, default_block, orbit_diagram_blocks
+    from walker.storage import CheckpointMismatch, SweepStore
+
+    from ._common import _resume_hint, provenance
+
+    block = default_block(values.size)
+    ckpt = checkpoint_path(args.out)
+    prov = provenance(
+        scene,
+        {
+            "range": [float(values[0]), float(values[-1])],
+            "n": int(values.size),
+            "n_transient": int(args.transient),
+            "n_keep": int(args.strides),
+            "coordinate_name": names[coordinate],
+            "start_gait": start_gait,
+            "chains": chains,
+            "z0": [float(v) for v in z0],
+        },
+        out=args.out,
+    )
+    try:
+        store = SweepStore.create_or_open(
+            ckpt,
+            parameter_names=(args.param,),
+            points=values[:, None],
+            columns={"values": ("f8", (args.strides,)), "carry": ("f8", (len(z0),))},
+            chunk_size=block,
+            provenance=prov,
+            overwrite=bool(args.overwrite),
+        )
+    except CheckpointMismatch as exc:
+        raise _resume_hint(exc) from None
+    executor = None
+    if args.scheduler is not None:
+        from .sweep import connect_scheduler
+
+        with connect_scheduler(args.scheduler) as client:
+            return orbit_diagram_blocks(
+                P,
+                z0,
+                values,
+                n_transient=args.transient,
+                n_keep=args.strides,
+                coordinate=coordinate,
+                chains=chains,
+                block=block,
+                executor=client,
+                store=store,
+                progress=not args.quiet,
+            )
+    return orbit_diagram_blocks(
+        P,
+        z0,
+        values,
+        n_transient=args.transient,
+        n_keep=args.strides,
+        coordinate=coordinate,
+        chains=chains,
+        block=block,
+        executor=executor,
+        jobs=args.jobs,
+        store=store,
+        progress=not args.quiet,
+    )
+
+
+def _remove_checkpoint(out) -> None:
+    import contextlib
+    import os
+
+    from walker.orbit_run import checkpoint_path
+
+    with contextlib.suppress(FileNotFoundError):
+        os.unlink(checkpoint_path(out))
+
+
 def register(sub) -> None:
     p = scene_cmd(sub, "orbit-diagram", "where the walker settles as a parameter changes")
     p.add_argument("--param", default="slope", help="parameter to vary (default: slope)")
@@ -205,7 +300,35 @@ def register(sub) -> None:
         default="0",
         help="section coordinate recorded, by name or index (default: 0, the first)",
     )
+    p.add_argument(
+        "--chains",
+        type=int,
+        default=None,
+        help="stretches of consecutive values, each started from the scene's gait, that --jobs "
+        "runs in parallel (default: 1, one stretch following the attractor over the whole "
+        "range)",
+    )
+    jobs_option(p)
+    p.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="dask.distributed scheduler address, e.g. tcp://host:8786 (default: none, run "
+        "on this machine)",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object (default: text)")
-    p.add_argument("--out", required=True, help="HDF5 file to write (required)")
-    p.add_argument("--overwrite", action="store_true", help="replace --out (default: refuse)")
+    p.add_argument(
+        "--out",
+        required=True,
+        help="HDF5 file to write (required); until it is written, a checkpoint .OUT.checkpoint.h5 "
+        "beside it, which rerunning the same command resumes",
+    )
+    p.add_argument(
+        "--quiet", action="store_true", help="no progress bar (default: a bar on a terminal)"
+    )
+    p.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace --out and its checkpoint (default: refuse --out, resume the checkpoint)",
+    )
     p.set_defaults(func=cmd_orbit_diagram)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import math
 
 import numpy as np
@@ -17,9 +18,30 @@ from ._common import (
     write_result,
 )
 
+BLOCK_STRIDES = 1000
+"""Strides per block of a long ``walker run``: a run of more strides is integrated block
+after block, each continuing from the last one's final state (a block ends just after a
+heel strike, where the integrator restarts its step anyway), and its events, samples and
+steps are streamed to ``--out`` (:class:`walker.storage.stream.SolutionStream`), so memory
+stays bounded whatever ``--strides``."""
+
+MAX_STEPS_LIMIT = 2**62
+"""Largest ``--max-steps`` (the compiled loop counts steps in 64-bit integers)."""
+
+
+def run_budget(scene, strides: int) -> int:
+    """The default step budget of ``walker run``: the stride map's per-stride budget
+    (:func:`walker.region.stride_max_steps` at the scene's ``t_max``) times the strides, and
+    at least 1,000,000 (the former fixed budget)."""
+    from walker.region import stride_max_steps
+
+    c = scene.compute
+    per_stride = stride_max_steps(scene.params, c.t_max, c.method, c.first_step)
+    return int(min(MAX_STEPS_LIMIT, max(1_000_000, per_stride * max(1, strides))))
+
 
 def cmd_run(args) -> int:
-    from walker.stride import check_sample_count, simulate, solver_settings
+    from walker.stride import solver_settings
 
     if args.strides is not None and args.strides < 0:
         raise UsageError(f"--strides must be >= 0, got {args.strides}")
@@ -29,48 +51,44 @@ def cmd_run(args) -> int:
         args.sample_rate > 0 and math.isfinite(args.sample_rate)
     ):
         raise UsageError(f"--sample-rate must be a positive number, got {args.sample_rate}")
+    if args.max_steps is not None and not 1 <= args.max_steps <= MAX_STEPS_LIMIT:
+        raise UsageError(f"--max-steps must be an integer in [1, 2**62], got {args.max_steps}")
     scene = _load(args)
     terrain = _terrain(scene, args)
     out = _check_out(args.out, overwrite=args.overwrite)
     c = scene.compute
     strides = c.strides if args.strides is None else args.strides
+    budget = run_budget(scene, strides) if args.max_steps is None else args.max_steps
+    depth = args.swing_depth if args.swing_depth is not None else strides <= BLOCK_STRIDES
     common = {
         **solver_settings(c),
         "t_max": c.t_max * max(1, strides),
-        "n_strides": strides,
         "phase0": scene.phase,
+        "max_steps": budget,
     }
     if not terrain.is_plane:
         # one row a stride (--strides 0: the first TERRAIN_ROWS strides, then the plane)
         common["terrain"] = terrain.steps(strides if strides > 0 else TERRAIN_ROWS)
-    if args.sample_rate is None:
-        sol = simulate(scene.walker_model, scene.params, scene.state, output="full", **common)
+    # A run on terrain is integrated in one piece: a block's start would not know the plane
+    # the previous block's last step landed on.
+    if strides <= BLOCK_STRIDES or not terrain.is_plane:
+        sol = _one_block(scene, args, dict(common, n_strides=strides), "full", 0)[0]
+        pen = _penetration(scene, sol) if depth else None
+        if out is not None:
+            extra = {"status": sol.status.name}
+            if not terrain.is_plane:
+                extra["terrain"] = terrain.as_dict()
+            write_result(out, sol, scene, args, extra)
     else:
-        first = simulate(scene.walker_model, scene.params, scene.state, output="events", **common)
-        try:
-            check_sample_count(first.t, args.sample_rate, len(scene.state), "--sample-rate")
-        except ValueError as exc:
-            raise UsageError(str(exc)) from None
-        times = np.arange(0.0, first.t, 1.0 / args.sample_rate)
-        sol = simulate(
-            scene.walker_model,
-            scene.params,
-            scene.state,
-            output="samples",
-            sample_times=times,
-            **common,
-        )
+        sol, pen = _blocks(scene, args, common, strides, out, depth)
     print(f"status {sol.status.name}: {sol.message}")
     print(
         f"t = {sol.t:.12g} s, strides {sol.n_strides}, events {sol.n_events}, "
         f"steps {sol.n_steps} ({sol.n_rejected} rejected), rhs {sol.n_rhs}"
     )
-    _print_penetration(scene, sol)
+    if pen is not None:
+        _print_penetration(scene, pen)
     if out is not None:
-        extra = {"status": sol.status.name}
-        if not terrain.is_plane:
-            extra["terrain"] = terrain.as_dict()
-        write_result(out, sol, scene, args, extra)
         print(f"wrote {out}")
     return EXIT_OK if sol.success else EXIT_OUTCOME
 
@@ -128,14 +146,105 @@ def _terrain_summary(terrain) -> str:
     )
 
 
-def _print_penetration(scene, sol) -> None:
-    """For models that report it (kneed), how deep the swing foot went below the slope: what
-    the swing-foot scuffing convention let pass."""
+def _one_block(scene, args, run: dict, output: str, first_sample: int):
+    """One run of ``run`` (simulate's settings) with ``output`` (``--sample-rate``: samples
+    ``first_sample, first_sample + 1, ...`` of the run's grid of sample times up to where it
+    ends, found by a first run with events only).  Returns the Solution and the index of the
+    next sample."""
+    from walker.stride import check_sample_count, simulate
+
+    model, params, x0 = scene.walker_model, scene.params, run.pop("x0", scene.state)
+    if args.sample_rate is None:
+        return simulate(model, params, x0, output=output, **run), first_sample
+    first = simulate(model, params, x0, output="events", **run)
+    step = 1.0 / args.sample_rate
+    t0 = run.get("t0", 0.0)
+    try:
+        check_sample_count(first.t - t0, args.sample_rate, len(scene.state), "--sample-rate")
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    if first_sample == 0:
+        times = np.arange(0.0, first.t, step)  # as a run in one piece
+    else:
+        last = int(math.ceil(first.t / step))
+        times = np.arange(first_sample, max(first_sample, last)) * step
+        times = times[times < first.t]
+    sol = simulate(model, params, x0, output="samples", sample_times=times, **run)
+    return sol, first_sample + (0 if sol.samples is None else len(sol.samples))
+
+
+def _blocks(scene, args, common: dict, strides: int, out, depth: bool):
+    """A long run, :data:`BLOCK_STRIDES` strides at a time, streamed to ``out``.  Returns
+    the run's Solution (final state and summed counters, no arrays) and the deepest swing
+    foot penetration (``depth``) or None."""
+    import dataclasses
+
+    from walker.cli._common import provenance
+
+    output = "full" if out is not None or depth else "map"
+    x, phase, t, done, used, next_sample = scene.state, scene.phase, 0.0, 0, 0, 0
+    totals = dict.fromkeys(("n_steps", "n_rejected", "n_rhs", "n_events", "n_strides"), 0)
+    error = 0.0
+    pen = stream = None
+    try:
+        while True:
+            k = min(BLOCK_STRIDES, strides - done)
+            run = dict(common, n_strides=k, phase0=phase, t0=t, x0=x)
+            run["max_steps"] = common["max_steps"] - used
+            block, next_sample = _one_block(scene, args, run, output, next_sample)
+            if out is not None and stream is None:
+                from walker.storage.stream import SolutionStream
+
+                prov = provenance(scene, {"status": "RUNNING"}, out=out)
+                stream = SolutionStream(out, block, provenance=prov, overwrite=args.overwrite)
+            elif stream is not None:
+                stream.append(block)
+            if depth:
+                here = _penetration(scene, block)
+                if here is not None and (pen is None or here.depth > pen.depth):
+                    pen = here
+            for name in totals:
+                totals[name] += getattr(block, name)
+            error += block.error_estimate
+            used += block.n_steps + block.n_rejected
+            done += block.n_strides
+            x, phase, t = block.x, block.phase, block.t
+            if not block.success or done >= strides:
+                break
+        sol = dataclasses.replace(
+            block, events=None, samples=None, record=None, error_estimate=error, **totals
+        )
+        if stream is not None:
+            stream.prov["status"] = sol.status.name
+            stream.f.attrs.update(_status_attrs(stream, sol))
+            stream.finish(sol)
+    finally:
+        if stream is not None:
+            stream.__exit__(None, None, None)
+    return sol, pen
+
+
+def _status_attrs(stream, sol) -> dict:
+    """The root attributes that carry the final status (written ``RUNNING`` at the start)."""
+    import json
+
+    stream.prov["status"] = sol.status.name
+    return {"status": sol.status.name, "provenance": json.dumps(stream.prov)}
+
+
+def _penetration(scene, sol):
+    """For models that report it (kneed), how deep the swing foot went below the slope in
+    ``sol``; None for other models or a run without stored states."""
     deepest = getattr(scene.walker_model.module, "deepest_penetration", None)
-    if deepest is None:
-        return
+    if deepest is None or (sol.record is None and sol.samples is None):
+        return None
+    return deepest(sol, scene.params)
+
+
+def _print_penetration(scene, pen) -> None:
+    """How deep the swing foot went below the slope (:func:`_penetration`): what the
+    swing-foot scuffing convention let pass."""
     convention = f"swing_scuff = {scene.swing_scuff}"
-    pen = deepest(sol, scene.params)
     if pen.depth == 0.0:
         print(f"swing foot never below the slope ({convention})")
         return
@@ -170,6 +279,21 @@ def register(sub) -> None:
         default=None,
         metavar="HZ",
         help="store samples at this rate [1/s] instead of every step (default: every step)",
+    )
+    p.add_argument(
+        "--max-steps",
+        type=int,
+        default=None,
+        metavar="N",
+        help="step budget of the whole run (accepted + rejected steps; default: the stride "
+        "map's per-stride budget times --strides, at least 1,000,000)",
+    )
+    p.add_argument(
+        "--swing-depth",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="report how deep the kneed walker's swing foot went below the slope (default: "
+        f"for runs of at most {BLOCK_STRIDES} strides)",
     )
     p.add_argument(
         "--terrain-std",

@@ -102,7 +102,10 @@ def cmd_sweep(args) -> int:
             raise UsageError(f"--param: {message}") from None
         raise
     n_ok = int(np.sum(table.columns["status"] == 0))
-    print(f"wrote {args.out}: {len(table.points)} points, {n_ok} completed")
+    jumps = ""
+    if "jump" in table.columns:  # a fixed-point sweep: points on another gait than a neighbour
+        jumps = f", {int(np.sum(table.columns['jump'] == 1))} flagged as jumps (column jump)"
+    print(f"wrote {args.out}: {len(table.points)} points, {n_ok} completed{jumps}")
     return EXIT_OK
 
 
@@ -241,6 +244,22 @@ def _swept(scene, param_texts) -> dict:
             entry["values"] = [float(v) for v in values]
         swept[name] = entry
     return swept
+
+
+def need_dask() -> None:
+    """``--scheduler`` without dask.distributed installed: one line naming the extra
+    (:func:`walker.cli._extras.require`), raised before any work."""
+    require("distributed", "--scheduler")
+
+
+def connect_scheduler(address: str) -> Any:
+    """``--scheduler ADDRESS`` of a command: a ``dask.distributed.Client`` (:func:`_connect`),
+    or the one-line UsageError saying why not (dask not installed, no scheduler there)."""
+    need_dask()
+    try:
+        return _connect(address)
+    except (ConnectionError, ValueError) as exc:
+        raise UsageError(f"--scheduler {address}: {exc}") from None
 
 
 def _connect(scheduler: str) -> Any:

@@ -142,8 +142,12 @@ class _Params:
     # ---- names, units, docs -------------------------------------------------------------
     @classmethod
     def names(cls) -> tuple[str, ...]:
-        """Field names in the canonical order of ``p``."""
-        return tuple(f.name for f in dataclasses.fields(cls))  # type: ignore[arg-type]
+        """Field names in the canonical order of ``p`` (read once per class)."""
+        names = cls.__dict__.get("_field_names")
+        if names is None:
+            names = tuple(f.name for f in dataclasses.fields(cls))  # type: ignore[arg-type]
+            cls._field_names = names
+        return names
 
     @classmethod
     def units(cls) -> dict[str, str]:
@@ -223,8 +227,14 @@ class _Params:
         by :meth:`replace` (a sweep validates every grid point before any work, then its
         workers rebuild the points cheaply).  Not for user input."""
         new = object.__new__(type(self))
-        for name in self.names():
-            object.__setattr__(new, name, float(changes.get(name, getattr(self, name))))
+        fields = new.__dict__
+        own = self.__dict__
+        for name in self.names():  # every field of a validated instance is a float already
+            fields[name] = own[name]
+        for name, value in changes.items():
+            if name not in own:
+                raise ValueError(f"unknown {type(self).__name__} parameter `{name}`")
+            fields[name] = float(value)
         return new
 
     @classmethod

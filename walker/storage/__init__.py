@@ -51,6 +51,7 @@ The package, by layer (each module imports only those above it):
 ``checkpoint``      the stores' chunks, writes with ``os.pwrite``, chunk states, ``/checkpoint``
 ``sweep_store``     :class:`SweepStore`
 ``basin_store``     :class:`BasinStore`
+``stream``          :class:`~walker.storage.stream.SolutionStream`: a long run, block by block
 ==================  ==========================================================================
 
 Everything public is imported from ``walker.storage`` itself.
