@@ -26,6 +26,9 @@ from walker.storage.schema import (
 )
 
 _MAX_OBJECTS = 100_000
+MAX_CHUNK_BYTES = 4 << 20
+"""Largest chunk [bytes] of a dataset smaller than its chunk (a streamed ``walker run``'s
+resizable datasets end inside their last chunk of 4096 rows)."""
 _MAX_DEPTH = 16
 _MAX_ATTR_BYTES = 64 << 20
 
@@ -250,13 +253,15 @@ class _Loader:
             if (
                 chunks is None
                 or len(chunks) != len(shape)
-                or any(c > max(s, 1) for c, s in zip(chunks, shape, strict=True))
+                or math.prod(chunks) * dtype.itemsize > max(n_bytes, MAX_CHUNK_BYTES)
             ):
                 # HDF5 decompresses whole chunks: a chunk larger than the dataset would
-                # allocate more than the declared size (walker's chunks never exceed it).
+                # allocate more than the declared size.  walker's own chunks are at most the
+                # dataset, or at most MAX_CHUNK_BYTES in a streamed run's resizable datasets.
                 raise StorageError(
                     f"cannot read '{self.path}': dataset '{path}' of shape {shape} is stored "
-                    f"in chunks of {chunks}, larger than the dataset; refused"
+                    f"in chunks of {chunks}, larger than the dataset and than "
+                    f"{MAX_CHUNK_BYTES} bytes; refused"
                 )
             stored = ds.id.get_storage_size()
             if size is not None and stored > size:
