@@ -180,15 +180,9 @@ def sample_state(name, rng):
     return x
 
 
-ENTRIES = [
-    "simplest",
-    "compass",
-    "compass/plain",
-    "kneed",
-    "kneed/plain",
-    "kneed/ignore_scuff",
-    "kneed/plain/ignore_scuff",
-]
+ENTRIES = sorted(k for k in _hybrid.models() if k.split("/")[0] in SCENE_OF)
+"""Every registry entry of the passive walkers with a pinned stance (general, "/plain",
+"/ignore_scuff")."""
 
 
 def _oracle_of(entry):

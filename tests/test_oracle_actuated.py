@@ -22,7 +22,6 @@ import oracle_friction as OF
 import pytest
 from test_oracle import (
     FIXED_POINT_TOL,
-    JACOBIAN_RTOL,
     KERNEL_RTOL,
     STRIDE_RTOL,
     Compiled,
@@ -36,6 +35,11 @@ from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERM
 from walker.stride import simulate
 
 FD_JAC_RTOL = 1e-7
+ACTUATED_JACOBIAN_RTOL = 1e-6
+"""The stride-map Jacobian of an actuated walker: its variational equations run on the
+central-difference vector-field Jacobian, whose error (about 1e-7 of the largest entry,
+gaits/five_link_hzd.toml's note) they carry (7.4e-8 seen for the five-link walker, 3.5e-9
+for the three-link)."""
 NAMES = get_model("three_link").params_class.names()
 
 
@@ -178,11 +182,11 @@ def test_book_stride_agrees_with_oracle():
     worst.report()
 
 
-@pytest.mark.slow  # eleven oracle strides through the controller
+@pytest.mark.slow  # 21 oracle strides through the controller
 def test_grizzle_stride_jacobian_and_gait_agree_with_oracle():
     """One stride of Grizzle's gait (controller 2): events, final state (accumulators
-    included), section point to ``STRIDE_RTOL``; the exact stride-map Jacobian against
-    oracle central differences to ``JACOBIAN_RTOL``; the scene's gait against the oracle's
+    included), section point to ``STRIDE_RTOL``; the stride-map Jacobian against oracle
+    central differences to ``ACTUATED_JACOBIAN_RTOL``; the scene's gait against the oracle's
     fixed point to ``FIXED_POINT_TOL``."""
     scene, p, x0 = _scene()
     o = O.oracle("three_link")
@@ -196,7 +200,7 @@ def test_grizzle_stride_jacobian_and_gait_agree_with_oracle():
     worst.check("section point", res.z, z_o, STRIDE_RTOL)
     J = O.stride_jacobian(o, z, p)
     scale = np.abs(res.jac).max()
-    worst.check("Jacobian", res.jac / scale, J / scale, JACOBIAN_RTOL)
+    worst.check("Jacobian", res.jac / scale, J / scale, ACTUATED_JACOBIAN_RTOL)
     z_fixed = z - np.linalg.solve(J - np.eye(len(z)), z_o - z)
     worst.check("fixed point", z, z_fixed, FIXED_POINT_TOL)
     worst.check("step time", scene.reference["step_time"], t_o, FIXED_POINT_TOL)
@@ -322,9 +326,9 @@ def test_five_link_reset_agrees_with_oracle_on_every_branch():
 @pytest.mark.slow
 def test_five_link_stride_jacobian_and_gait_agree_with_oracle():
     """One stride of the HZD gait (controller 2): events, final state, section point to
-    ``STRIDE_RTOL``; the exact stride-map Jacobian (its vector-field Jacobian by central
-    differences) against oracle central differences to ``JACOBIAN_RTOL``; the scene's gait
-    against the oracle's fixed point to ``FIXED_POINT_TOL``."""
+    ``STRIDE_RTOL``; the stride-map Jacobian (its vector-field Jacobian by central
+    differences) against oracle central differences to ``ACTUATED_JACOBIAN_RTOL``; the
+    scene's gait against the oracle's fixed point to ``FIXED_POINT_TOL``."""
     scene, p, x0 = _five_scene()
     o = O.oracle("five_link")
     worst = Worst("five_link_hzd")
@@ -337,7 +341,7 @@ def test_five_link_stride_jacobian_and_gait_agree_with_oracle():
     worst.check("section point", res.z, z_o, STRIDE_RTOL)
     J = O.stride_jacobian(o, z, p)
     scale = np.abs(res.jac).max()
-    worst.check("Jacobian", res.jac / scale, J / scale, JACOBIAN_RTOL)
+    worst.check("Jacobian", res.jac / scale, J / scale, ACTUATED_JACOBIAN_RTOL)
     z_fixed = z - np.linalg.solve(J - np.eye(len(z)), z_o - z)
     worst.check("fixed point", z, z_fixed, FIXED_POINT_TOL)
     worst.check("step time", scene.reference["step_time"], t_o, FIXED_POINT_TOL)
