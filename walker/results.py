@@ -195,6 +195,10 @@ class Solution(Outcome):
         the modelling conventions the run used, e.g. ``{"swing_scuff": "ignore"}`` for a
         kneed walker (:attr:`walker.models.WalkerModel.conventions`); empty when the model
         has none or the run came from :func:`walker.integrate.hybrid_solve` directly.
+    measures : dict of str to float
+        gait measures of the run up to its last step (:meth:`walker.measures.GaitMeasures.to_dict`:
+        step time, step length, speed, energy lost at each impact, cost of transport); empty
+        when not computed (``walker run`` computes them).
     """
 
     status: Status
@@ -217,6 +221,7 @@ class Solution(Outcome):
     phase_names: tuple[str, ...] = ()
     guard_names: tuple[str, ...] = ()
     conventions: dict = field(default_factory=dict)
+    measures: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -278,6 +283,10 @@ class FixedPoint(Outcome):
     conventions : dict of str to str
         the modelling conventions of the stride map's model, e.g.
         ``{"swing_scuff": "ignore"}`` (:attr:`walker.models.WalkerModel.conventions`).
+    measures : dict of str to float
+        the gait's measures over its cycle (:meth:`walker.measures.GaitMeasures.to_dict`);
+        empty when not computed (``walker find`` computes them, as does
+        :func:`walker.measures.cycle_measures`).
     """
 
     status: Status
@@ -296,6 +305,7 @@ class FixedPoint(Outcome):
     stable: bool = False
     parameters: dict = field(default_factory=dict)
     conventions: dict = field(default_factory=dict)
+    measures: dict = field(default_factory=dict)
 
     @classmethod
     def failed(
@@ -358,6 +368,9 @@ class Branch(Outcome):
     bifurcations : list of Bifurcation
     status, message, success
     period : int
+    measures : dict of str to ndarray
+        the gait measures of each point (:func:`walker.measures.branch_measures`), one
+        column per measure; empty when not computed (``walker continue`` computes them).
     """
 
     parameter_name: str
@@ -371,6 +384,7 @@ class Branch(Outcome):
     message: str
     success: bool
     period: int = 1
+    measures: dict = field(default_factory=dict)
 
 
 @dataclass

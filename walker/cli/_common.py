@@ -336,3 +336,22 @@ def scene_cmd(sub, name: str, help_: str) -> argparse.ArgumentParser:
         "--set", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable)"
     )
     return p
+
+
+def print_measures(
+    measures: dict, title: str = "gait measures (energies and costs per step):"
+) -> None:
+    """Print the gait measures of a result (:meth:`walker.measures.GaitMeasures.to_dict`),
+    each with its unit; nothing when there are none."""
+    import math
+
+    from walker.measures import unit_of
+
+    if not measures or not measures.get("n_steps"):
+        return
+    print(title)
+    for key, value in measures.items():
+        if key in ("n_steps", "weight") or (isinstance(value, float) and math.isnan(value)):
+            continue
+        unit = unit_of(key)
+        print(f"  {key:<32s} {value:.10g}{'' if unit == '1' else ' ' + unit}")

@@ -237,6 +237,18 @@ def _print_summary(rec: dict, label: str = "") -> None:
         print("  stopped at the fold: pass --through-folds to follow the branch round it")
 
 
+def _with_measures(P, branch):
+    """``branch`` with the gait measures of each of its points
+    (:func:`walker.measures.branch_measures`)."""
+    import dataclasses
+
+    from walker.measures import branch_measures
+
+    if not len(branch.parameter):
+        return branch
+    return dataclasses.replace(branch, measures=branch_measures(P, branch))
+
+
 def cmd_continue(args) -> int:
     from walker.continuation import continue_branch
     from walker.fixedpoint import find_fixed_point
@@ -276,11 +288,16 @@ def cmd_continue(args) -> int:
     if args.step is not None:
         options["step"] = args.step
     branch = continue_branch(P, fp.section, bounds=bounds, **options)
+    branch = _with_measures(P, branch)
     start = None
     if len(branch.parameter):
         dist = np.abs(branch.parameter - mu0) + np.max(np.abs(branch.sections - fp.section), axis=1)
         start = int(np.argmin(dist))
     record = _summary(branch, args.param, start, bounds)
+    record["measures"] = {
+        args.param: [float(v) for v in branch.parameter],
+        **{key: col.tolist() for key, col in branch.measures.items()},
+    }
     extra = {
         "status": branch.status.name,
         "period": period,
@@ -383,6 +400,7 @@ def _switch(P, branch, bounds, options, period, mu0, name):
     br2 = continue_branch(
         P.with_parameter(mu2), fp2.section, bounds=side, **dict(options, period=2 * period)
     )
+    br2 = _with_measures(P, br2)
     start = 0 if mu2 == side[0] else len(br2.parameter) - 1
     rec = _summary(br2, name, start, side)
     rec["doubling"] = mu_pd

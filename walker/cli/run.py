@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -13,6 +14,7 @@ from ._common import (
     UsageError,
     _check_out,
     _load,
+    print_measures,
     scene_cmd,
     write_result,
 )
@@ -56,12 +58,18 @@ def cmd_run(args) -> int:
             sample_times=times,
             **common,
         )
+    if scene.walker_model.has_strides and sol.events is not None:
+        from walker.measures import run_measures
+
+        measures = run_measures(scene.walker_model, scene.params, sol, scene.state)
+        sol = dataclasses.replace(sol, measures=measures.to_dict())
     print(f"status {sol.status.name}: {sol.message}")
     print(
         f"t = {sol.t:.12g} s, strides {sol.n_strides}, events {sol.n_events}, "
         f"steps {sol.n_steps} ({sol.n_rejected} rejected), rhs {sol.n_rhs}"
     )
     _print_penetration(scene, sol)
+    print_measures(sol.measures, "gait measures up to the last step (energy per step):")
     if out is not None:
         write_result(out, sol, scene, args, {"status": sol.status.name})
         print(f"wrote {out}")

@@ -104,7 +104,9 @@ def _encode_field(tree: dict, name: str, value: Any, codec: Any, where: str) -> 
         if not isinstance(value, dict):
             raise TypeError(f"`{where}` must be a dict, got {type(value).__name__}")
         attrs[name] = json.dumps(_to_json(value, where))
-    elif codec == "array_dict":
+    elif codec == "optional_array_dict" and isinstance(value, dict) and not value:
+        pass
+    elif codec in ("array_dict", "optional_array_dict"):
         if not isinstance(value, dict):
             raise TypeError(f"`{where}` must be a dict name -> ndarray, got {type(value).__name__}")
         sub = _new_tree()
