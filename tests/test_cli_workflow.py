@@ -86,3 +86,57 @@ def test_fixed_point_sweep_has_measure_columns(tmp_path, capsys):
 def test_scene_state_names_are_those_of_the_model():
     scene = load_scene("gaits/kneed_hsu.toml")
     assert tuple(scene.state_names) == ("q1", "q2", "q3", "qd1", "qd2", "qd3")
+
+
+# ----------------------------------------------------------------------------------------
+# runs from the gait or a given state
+
+
+def test_run_from_gait_is_periodic(tmp_path, capsys):
+    """A run from the fixed point comes back to it after each stride (the gait is a cycle),
+    unlike a run from the scene's rounded digits."""
+    out = tmp_path / "gait_run.h5"
+    argv = ["run", "gaits/kneed_hsu.toml", "--from-gait", "--strides", "3", "--out", str(out)]
+    code, text, _ = _run(capsys, argv)
+    assert code == 0 and "starting from the gait" in text
+    sol, prov = read(out)
+    assert prov["start"] == "gait"
+    x0 = np.array(prov["initial_state"])
+    for x_post in sol.events.x_post[sol.events.guard == 1]:  # swing_foot_contact: heel strike
+        assert_allclose(x_post, x0, rtol=0, atol=1e-9)
+    slope = prov["parameters"]["slope"]["value"]
+    assert_allclose(sol.measures["cost_of_transport"], math.sin(slope), rtol=0, atol=1e-9)
+
+
+def test_run_from_a_given_state(tmp_path, capsys):
+    scene = load_scene("gaits/compass_goswami.toml")
+    text_state = ",".join(repr(float(v)) for v in scene.state)
+    out = tmp_path / "state_run.h5"
+    argv = ["run", "gaits/compass_goswami.toml", "--strides", "1"]
+    code, _, _ = _run(capsys, [*argv, f"--state={text_state}", "--out", str(out)])
+    assert code == 0
+    sol, prov = read(out)
+    assert prov["start"] == "state" and prov["initial_state"] == scene.state.tolist()
+    ref = tmp_path / "scene_run.h5"
+    assert _run(capsys, [*argv, "--out", str(ref)])[0] == 0
+    np.testing.assert_array_equal(read(ref)[0].x, sol.x)
+
+
+@pytest.mark.parametrize(
+    ("value", "words"),
+    [
+        ("1,2,3", "--state must have 4 values"),
+        ("1,2,nan,3", "--state must be finite"),
+        ("1,x,2,3", "--state expects 4 comma-separated numbers"),
+    ],
+)
+def test_run_state_errors_name_the_flag(capsys, value, words):
+    code, _, err = _run(capsys, ["run", "gaits/compass_goswami.toml", f"--state={value}"])
+    assert code == 2 and words in err and len(err.strip().splitlines()) == 1
+
+
+def test_run_from_gait_without_a_gait(capsys):
+    code, text, _ = _run(capsys, ["run", "gaits/kneed_mcgeer_roundfoot.toml", "--from-gait"])
+    assert code == 1 and "no gait to start from" in text
+    code, _, err = _run(capsys, ["run", "gaits/double_pendulum.toml", "--from-gait"])
+    assert code == 2 and "--from-gait" in err
