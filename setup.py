@@ -31,11 +31,23 @@ UNIX_FLAGS = ["-O2", "-std=c99", "-ffp-contract=off", "-fno-fast-math", "-fno-st
 MSVC_FLAGS = ["/O2", "/fp:precise"]
 
 
+def _c_string(text: str) -> str:
+    """``text`` as a C string literal for a ``-D`` macro."""
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
 class BuildExt(build_ext):
     def build_extensions(self):
         flags = MSVC_FLAGS if self.compiler.compiler_type == "msvc" else UNIX_FLAGS
+        # The compiler command with its own and walker's flags, compiled into the extension
+        # (_hybrid.COMPILE_FLAGS) so that every result file can record it.
+        command = [*getattr(self.compiler, "compiler_so", [self.compiler.compiler_type]), *flags]
         for ext in self.extensions:
             ext.extra_compile_args = list(flags)
+            ext.define_macros = [
+                *(m for m in ext.define_macros if m[0] != "WK_COMPILE_FLAGS"),
+                ("WK_COMPILE_FLAGS", _c_string(" ".join(command))),
+            ]
         super().build_extensions()
 
 

@@ -140,3 +140,59 @@ def test_run_from_gait_without_a_gait(capsys):
     assert code == 1 and "no gait to start from" in text
     code, _, err = _run(capsys, ["run", "gaits/double_pendulum.toml", "--from-gait"])
     assert code == 2 and "--from-gait" in err
+
+
+# ----------------------------------------------------------------------------------------
+# provenance
+
+
+def test_every_file_records_how_it_was_made(tmp_path, capsys):
+    import shutil
+    import subprocess
+    from pathlib import Path
+
+    import h5py
+    import scipy
+
+    from walker import _hybrid
+
+    out = tmp_path / "gait.h5"
+    argv = ["find", "gaits/compass_goswami.toml", "--out", str(out)]
+    assert _run(capsys, argv)[0] == 0
+    _, prov = read(out)
+    assert prov["command_line"] == f"walker find gaits/compass_goswami.toml --out {out}"
+    assert prov["scene_text"] == Path("gaits/compass_goswami.toml").read_text()
+    versions = prov["versions"]
+    assert versions["numpy"] == np.__version__ and versions["scipy"] == scipy.__version__
+    assert versions["h5py"] == h5py.__version__
+    assert prov["compiler_flags"] == _hybrid.COMPILE_FLAGS
+    if "msvc" not in prov["compiler_flags"]:
+        assert "-ffp-contract=off" in prov["compiler_flags"].split()
+    assert prov["state_names"] == ["q_stance", "q_swing", "qd_stance", "qd_swing"]
+    assert prov["state_units"] == ["rad", "rad", "rad/s", "rad/s"]
+    root = Path(__import__("walker").__file__).resolve().parents[1]
+    if (root / ".git").exists() and shutil.which("git"):
+        head = subprocess.run(
+            ["git", "-C", str(root), "rev-parse", "HEAD"], capture_output=True, text=True
+        ).stdout.strip()
+        assert prov["git_commit"].removesuffix("+dirty") == head
+
+
+def test_no_git_is_no_commit_and_no_error(tmp_path, capsys, monkeypatch):
+    from walker.storage import provenance as P
+
+    monkeypatch.setenv("PATH", str(tmp_path))  # no git on the PATH
+    monkeypatch.setattr(P, "_ENVIRONMENT", None)
+    env = P.environment_provenance()
+    assert "git_commit" not in env and env["versions"]["numpy"] == np.__version__
+    monkeypatch.setattr(P, "_ENVIRONMENT", None)  # computed again after the test
+
+
+def test_a_rerun_with_other_flags_resumes_the_checkpoint(tmp_path, capsys):
+    out = tmp_path / "sweep.h5"
+    base = ["sweep", "gaits/simplest_garcia.toml", "--param", "slope=0.008:0.01:3"]
+    assert _run(capsys, [*base, "--jobs", "1", "--quiet", "--out", str(out)])[0] == 0
+    code, text, err = _run(capsys, [*base, "--jobs", "2", "--quiet", "--out", str(out)])
+    assert code == 0, err
+    _, prov = read(out)
+    assert "--jobs 1" in prov["command_line"]  # the file keeps the command that made it

@@ -127,8 +127,11 @@ def _interrupted_line(args, before: tuple | None) -> str:
 
 
 def main(argv=None) -> int:
+    from walker.storage.provenance import set_command_line
+
     parser = build_parser()
     args = parser.parse_args(argv)
+    set_command_line(sys.argv[1:] if argv is None else argv)  # recorded in every file
 
     before = _file_id(args.out) if args.command in _CHECKPOINTING else None
     guard = (
