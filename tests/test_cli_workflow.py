@@ -196,3 +196,177 @@ def test_a_rerun_with_other_flags_resumes_the_checkpoint(tmp_path, capsys):
     assert code == 0, err
     _, prov = read(out)
     assert "--jobs 1" in prov["command_line"]  # the file keeps the command that made it
+
+
+# ----------------------------------------------------------------------------------------
+# export: read back with independent readers (csv module, scipy.io.loadmat, json)
+
+
+def _results(tmp_path, capsys):
+    """One file of each kind the command line writes."""
+    files = {}
+    jobs = ["--jobs", "1", "--quiet"]
+    commands = {
+        "fixed_point": ["find", "gaits/compass_goswami.toml"],
+        "solution": ["run", "gaits/compass_goswami.toml", "--strides", "2"],
+        "branch": ["continue", "gaits/simplest_garcia.toml", "--range", "0.009:0.0095"],
+        "orbit_diagram": [
+            "orbit-diagram",
+            "gaits/simplest_garcia.toml",
+            "--range",
+            "0.009:0.0095",
+            "--n",
+            "3",
+            "--transient",
+            "2",
+            "--strides",
+            "2",
+        ],
+        "basin": ["basin", "gaits/compass_goswami.toml", "--n", "3", "--strides", "3", *jobs],
+        "sweep": ["sweep", "gaits/compass_goswami.toml", "--param", "slope=0.05:0.06:3", *jobs],
+    }
+    for kind, argv in commands.items():
+        out = tmp_path / f"{kind}.h5"
+        code, _, err = _run(capsys, [*argv, "--out", str(out)])
+        assert code == 0, (kind, err)
+        files[kind] = out
+    return files
+
+
+@pytest.fixture(scope="module")
+def result_files(tmp_path_factory):
+    capsys = _NoCapture()
+    return _results(tmp_path_factory.mktemp("results"), capsys)
+
+
+class _NoCapture:
+    def readouterr(self):
+        return "", ""
+
+
+def _read_csv(path):
+    import csv
+
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], rows[1:]
+
+
+def _column(header, rows, name):
+    for j, label in enumerate(header):
+        if label == name or label.startswith(f"{name} ["):
+            return np.array([float(r[j]) if r[j] else np.nan for r in rows])
+    raise KeyError(name)
+
+
+def test_export_csv_of_every_kind(result_files, tmp_path, capsys):
+    for kind, path in result_files.items():
+        out = tmp_path / f"{kind}.csv"
+        code, text, err = _run(capsys, ["export", str(path), "--format", "csv", "--out", str(out)])
+        assert code == 0, (kind, err)
+        result, prov = read(path)
+        written = [line.removeprefix("wrote ") for line in text.splitlines()]
+        assert all(p.startswith(str(tmp_path / kind)) for p in written)
+        with open(tmp_path / f"{kind}_provenance.json") as f:
+            assert json.load(f)["kind"] == kind
+        if kind == "solution":
+            header, rows = _read_csv(tmp_path / "solution_trajectory.csv")
+            assert header[:3] == ["t [s]", "phase", "q_stance [rad]"]
+            assert_allclose(
+                _column(header, rows, "qd_swing"), result.record.x[:, 3], rtol=0, atol=0
+            )
+            header, rows = _read_csv(tmp_path / "solution_events.csv")
+            assert_allclose(_column(header, rows, "t"), result.events.t, rtol=0, atol=0)
+        elif kind == "branch":
+            header, rows = _read_csv(tmp_path / "branch_branch.csv")
+            assert header[0] == "slope [rad]"
+            assert_allclose(_column(header, rows, "slope"), result.parameter, rtol=0, atol=0)
+            assert_allclose(
+                _column(header, rows, "cost_of_transport"),
+                np.sin(result.parameter),
+                atol=1e-9,
+                rtol=0,
+            )
+        elif kind == "basin":
+            header, rows = _read_csv(tmp_path / "basin_basin.csv")
+            assert len(rows) == result.outcome.size
+            assert_allclose(
+                _column(header, rows, "outcome"), result.outcome.ravel(), rtol=0, atol=0
+            )
+        elif kind == "sweep":
+            header, rows = _read_csv(tmp_path / "sweep_sweep.csv")
+            assert "section_qd_stance [rad/s]" in header and "speed [m/s]" in header
+            assert_allclose(
+                _column(header, rows, "step_time"), result.columns["step_time"], rtol=0, atol=0
+            )
+        elif kind == "fixed_point":
+            header, rows = _read_csv(tmp_path / "fixed_point_summary.csv")
+            assert_allclose(
+                _column(header, rows, "state_q_stance"), result.state[:1], rtol=0, atol=0
+            )
+            assert "measure_speed [m/s]" in header
+        elif kind == "orbit_diagram":
+            header, rows = _read_csv(tmp_path / "orbit_diagram_orbit.csv")
+            assert header[0] == "slope [rad]" and len(rows) == len(result.parameter)
+
+
+def test_export_mat_of_every_kind(result_files, tmp_path, capsys):
+    from scipy.io import loadmat
+
+    for kind, path in result_files.items():
+        out = tmp_path / f"{kind}.mat"
+        code, _, err = _run(capsys, ["export", str(path), "--format", "mat", "--out", str(out)])
+        assert code == 0, (kind, err)
+        mat = loadmat(out, squeeze_me=True, struct_as_record=False)
+        assert mat["kind"] == kind
+        assert json.loads(mat["provenance"])["model"]
+        result, _ = read(path)
+        if kind == "solution":
+            assert_allclose(mat["trajectory"].q_swing, result.record.x[:, 1], rtol=0, atol=0)
+            assert mat["units"].trajectory.q_swing == "rad"
+        elif kind == "branch":
+            assert_allclose(mat["branch"].slope, result.parameter, rtol=0, atol=0)
+            assert_allclose(mat["branch"].multiplier_0_re, result.multipliers[:, 0].real, atol=0)
+        elif kind == "sweep":
+            assert_allclose(mat["sweep"].status, result.columns["status"], rtol=0, atol=0)
+
+
+def test_export_json_of_every_kind(result_files, tmp_path, capsys):
+    for kind, path in result_files.items():
+        out = tmp_path / f"{kind}.json"
+        code, _, err = _run(capsys, ["export", str(path), "--format", "json", "--out", str(out)])
+        assert code == 0, (kind, err)
+        with open(out) as f:
+            rec = json.load(f)
+        assert rec["kind"] == kind and rec["tables"]
+        if kind == "fixed_point":
+            summary = rec["tables"]["summary"]
+            result, _ = read(path)
+            assert summary["columns"]["step_time"] == [result.step_time]
+            assert summary["units"]["step_time"] == "s"
+
+
+def test_export_refuses_to_overwrite_and_names_the_flag(result_files, tmp_path, capsys):
+    out = tmp_path / "gait.json"
+    argv = ["export", str(result_files["fixed_point"]), "--format", "json", "--out", str(out)]
+    assert _run(capsys, argv)[0] == 0
+    code, _, err = _run(capsys, argv)
+    assert code == 2 and "--out" in err
+    assert _run(capsys, [*argv, "--overwrite"])[0] == 0
+    code, _, err = _run(capsys, ["export", str(tmp_path / "missing.h5")])
+    assert code == 2
+
+
+def test_export_of_a_file_without_state_names_uses_the_model(tmp_path):
+    """Files written before `state_names` existed still export with named columns."""
+    from walker.export import result_tables
+    from walker.results import Trajectory
+
+    scene = load_scene("gaits/compass_goswami.toml")
+    from walker.stride import simulate
+
+    sol = simulate("compass", scene.params, scene.state, n_strides=1, output="full")
+    tables = result_tables(sol, {"model": "compass"})
+    assert list(tables["trajectory"])[2:4] == ["q_stance", "q_swing"]
+    assert tables["trajectory"]["qd_swing"][1] == "rad/s"
+    assert isinstance(sol.record, Trajectory)
