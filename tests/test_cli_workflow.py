@@ -370,3 +370,34 @@ def test_export_of_a_file_without_state_names_uses_the_model(tmp_path):
     assert list(tables["trajectory"])[2:4] == ["q_stance", "q_swing"]
     assert tables["trajectory"]["qd_swing"][1] == "rad/s"
     assert isinstance(sol.record, Trajectory)
+
+
+# ----------------------------------------------------------------------------------------
+# continuation results that say what happened
+
+
+@pytest.mark.slow
+def test_branch_to_slope_zero_reports_the_vanishing_step(tmp_path, capsys):
+    out = tmp_path / "to_zero.h5"
+    argv = ["continue", "gaits/compass_goswami.toml", "--range", "0:0.06", "--json"]
+    code, text, _ = _run(capsys, [*argv, "--out", str(out)])
+    rec = json.loads(text)
+    assert code == 0
+    assert rec["ends"][0]["at"] == "step_length_vanishes" and rec["ends"][1]["at"] == "bound"
+    assert "step length vanishes" in rec["message"] and "Fold" not in rec["message"]
+    assert not any(b["kind"] == "fold" for b in rec["bifurcations"])
+    br, prov = read(out)
+    assert prov["ends"][0]["at"] == "step_length_vanishes"
+    lengths = br.measures["step_length"]
+    assert lengths[0] < 0.01 * lengths.max() and br.parameter[0] < 1e-6
+
+
+@pytest.mark.slow
+def test_branch_ending_in_a_trip_is_a_result(tmp_path, capsys):
+    out = tmp_path / "trip.h5"
+    argv = ["continue", "gaits/kneed_hsu.toml", "--range", "0:0.3"]
+    code, text, _ = _run(capsys, [*argv, "--out", str(out)])
+    assert code == 0
+    assert "(tripped)" in text and "Try a state" not in text
+    _, prov = read(out)
+    assert prov["ends"][1]["at"] == "tripped"
