@@ -401,3 +401,91 @@ def test_branch_ending_in_a_trip_is_a_result(tmp_path, capsys):
     assert "(tripped)" in text and "Try a state" not in text
     _, prov = read(out)
     assert prov["ends"][1]["at"] == "tripped"
+
+
+# ----------------------------------------------------------------------------------------
+# finding your way
+
+
+@pytest.mark.parametrize(
+    ("argv", "suggestion"),
+    [
+        (["find", "gaits/kneed_hsu.toml", "--set", "slpe=0.05"], "did you mean `slope`?"),
+        (["continue", "gaits/kneed_hsu.toml", "--param", "slop", "--range", "0:1"], "`slope`"),
+        (["params", "kneeed"], "did you mean 'kneed'?"),
+        (["scene", "new", "kneed", "--preset", "mcger"], "did you mean `mcgeer`?"),
+        (
+            [
+                "sweep",
+                "gaits/kneed_hsu.toml",
+                "--kind",
+                "fixed_pont",
+                "--param",
+                "slope=0:1:2",
+                "--out",
+                "x.h5",
+            ],
+            "did you mean 'fixed_point'?",
+        ),
+    ],
+)
+def test_misspelt_names_get_a_suggestion(capsys, argv, suggestion):
+    code, _, err = _run_exit(capsys, argv)
+    assert code == 2 and suggestion in err
+
+
+def _run_exit(capsys, argv):
+    try:
+        code = main(argv)
+    except SystemExit as exc:  # argparse's own errors
+        code = exc.code
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_misspelt_scene_keys_get_a_suggestion(tmp_path, capsys):
+    scene = tmp_path / "typo.toml"
+    scene.write_text(
+        '[scene]\nmodel = "compas"\n[parameters]\npreset = "goswami"\n'
+        "[initial]\nstate = [0.2, -0.3, -1.0, -0.4]\n"
+    )
+    code, _, err = _run(capsys, ["find", str(scene)])
+    assert code == 2 and "did you mean `compass`?" in err
+    scene.write_text(scene.read_text().replace("compas", "compass").replace("preset", "prest"))
+    code, _, err = _run(capsys, ["find", str(scene)])
+    assert code == 2 and "did you mean `preset`?" in err
+
+
+def test_set_errors_name_set(capsys):
+    code, _, err = _run(capsys, ["find", "gaits/kneed_hsu.toml", "--set", "slope=5"])
+    assert code == 2 and "--set" in err and "overrides" not in err
+    code, _, err = _run(capsys, ["find", "gaits/kneed_hsu.toml", "--set", "slpe=0.05"])
+    assert code == 2 and "--set" in err and "overrides" not in err
+
+
+def test_a_rerun_says_it_resumes(tmp_path, capsys):
+    out = tmp_path / "sweep.h5"
+    argv = ["sweep", "gaits/simplest_garcia.toml", "--param", "slope=0.008:0.01:3"]
+    argv += ["--jobs", "1", "--quiet", "--out", str(out)]
+    code, _, err = _run(capsys, argv)
+    assert code == 0 and "resuming" not in err
+    code, _, err = _run(capsys, argv)
+    assert code == 0 and "resuming" in err and "3 of 3 chunks kept" in err
+
+
+def test_basin_takes_absolute_bounds_per_axis(tmp_path, capsys):
+    out = tmp_path / "basin.h5"
+    argv = ["basin", "gaits/compass_goswami.toml", "--n", "3", "--strides", "2", "--jobs", "1"]
+    code, _, err = _run(
+        capsys, [*argv, "--quiet", "--lo=0.2,-1.2", "--hi=0.25,-1.0", "--out", str(out)]
+    )
+    assert code == 0, err
+    basin, _ = read(out)
+    assert basin.x.tolist() == [0.2, 0.225, 0.25] and basin.y.tolist() == [-1.2, -1.1, -1.0]
+    for extra, words in (
+        (["--lo=0.2,-1.2"], "--lo needs --hi"),
+        (["--lo=0.3,-1.2", "--hi=0.25,-1.0"], "--lo must be below --hi"),
+        (["--lo=0.2", "--hi=0.25,-1.0"], "--lo expects two finite numbers"),
+    ):
+        code, _, err = _run(capsys, [*argv, *extra, "--out", str(tmp_path / "other.h5")])
+        assert code == 2 and words in err

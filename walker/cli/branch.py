@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from walker._suggest import did_you_mean
+
 from ._common import (
     EXIT_OK,
     EXIT_OUTCOME,
@@ -55,6 +57,7 @@ def check_param(scene, name: str) -> None:
     if name not in names:
         raise UsageError(
             f"--param must be a parameter of {scene.model} ({', '.join(names)}), got {name!r}"
+            f"{did_you_mean(name, names)}"
         )
 
 
