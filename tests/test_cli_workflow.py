@@ -489,3 +489,21 @@ def test_basin_takes_absolute_bounds_per_axis(tmp_path, capsys):
     ):
         code, _, err = _run(capsys, [*argv, *extra, "--out", str(tmp_path / "other.h5")])
         assert code == 2 and words in err
+
+
+def test_a_file_written_from_python_names_its_state_columns(tmp_path):
+    """storage.write with a caller's provenance that names only the model: the file still
+    carries the state's names and units, read here with h5py alone."""
+    import h5py
+
+    from walker.results import OrbitDiagram
+    from walker.storage import write
+
+    path = tmp_path / "orbit.h5"
+    result = OrbitDiagram("slope", np.array([0.01]), np.array([[0.2]]))
+    write(path, result, provenance={"model": "kneed"})
+    with h5py.File(path, "r") as f:
+        assert json.loads(f.attrs["state_names"]) == ["q1", "q2", "q3", "qd1", "qd2", "qd3"]
+        assert json.loads(f.attrs["state_units"])[3] == "rad/s"
+    _, prov = read(path)
+    assert "state_names" not in prov  # the caller's provenance reads back unchanged
