@@ -41,15 +41,27 @@ SANITIZE_FLAGS = ["-fsanitize=address,undefined", "-fno-omit-frame-pointer", "-g
 SANITIZE = os.environ.get("WALKER_SANITIZE", "") == "1"
 
 
+def _c_string(text: str) -> str:
+    """``text`` as a C string literal for a ``-D`` macro."""
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
 class BuildExt(build_ext):
     def build_extensions(self):
         msvc = self.compiler.compiler_type == "msvc"
         flags = MSVC_FLAGS if msvc else UNIX_FLAGS + UNIX_WARNINGS
         if SANITIZE and not msvc:
             flags = flags + SANITIZE_FLAGS
+        # The compiler command with its own and walker's flags, compiled into the extension
+        # (_hybrid.COMPILE_FLAGS) so that every result file can record it.
+        command = [*getattr(self.compiler, "compiler_so", [self.compiler.compiler_type]), *flags]
         for ext in self.extensions:
             ext.extra_compile_args = list(flags)
             ext.extra_link_args = list(SANITIZE_FLAGS) if SANITIZE and not msvc else []
+            ext.define_macros = [
+                *(m for m in ext.define_macros if m[0] != "WK_COMPILE_FLAGS"),
+                ("WK_COMPILE_FLAGS", _c_string(" ".join(command))),
+            ]
         super().build_extensions()
 
 

@@ -8,6 +8,7 @@ one column of each kind walker stores (float, integer, complex with a shape, boo
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -94,15 +95,20 @@ def small_basin_file(path):
 
 def hdf5_items(path: Path) -> dict[str, object]:
     """Every attribute and dataset of an HDF5 file, as comparable values (raw bytes for
-    datasets), except the root attributes ``created`` (the time of writing) and
-    ``checksum``."""
+    datasets), except the root attributes ``created`` (the time of writing), ``checksum``
+    and ``command_line`` (the command that wrote the file, which names its --out), which is
+    also left out of the ``provenance`` JSON."""
     items: dict[str, object] = {}
     with h5py.File(path, "r") as f:
 
         def attrs(name, obj):
             for key, value in obj.attrs.items():
-                if name == "/" and key in ("created", "checksum"):
+                if name == "/" and key in ("created", "checksum", "command_line"):
                     continue
+                if name == "/" and key == "provenance":
+                    prov = json.loads(value)
+                    prov.pop("command_line", None)
+                    value = json.dumps(prov, sort_keys=True)
                 v = np.asarray(value)
                 items[f"{name}@{key}"] = (v.dtype.str, v.shape, v.tobytes())
 

@@ -412,6 +412,7 @@ def test_continue_messages_speak_in_flags(tmp_path, capsys):
     options = ["--max-points", "3", "--json", "--out", str(tmp_path / "c.h5")]
     code = main(_over_slopes("continue", "0.04:0.06", *options))
     rec = json.loads(capsys.readouterr().out)
-    assert code == 1 and rec["status"] == "MAX_STEPS"
+    # a branch cut short by --max-points is still a result: exit 0 (issue 31)
+    assert code == 0 and rec["status"] == "MAX_STEPS" and rec["ends"][1]["at"] == "max_points"
     assert "Increase --max-points." in rec["message"]
     assert "max_points" not in rec["message"] and "max_step" not in rec["message"]

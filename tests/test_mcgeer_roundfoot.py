@@ -152,3 +152,44 @@ def test_at_mcgeers_slope_only_a_backward_shank_offset_walks():
     folds = [b for b in br.bifurcations if b.kind == "fold"]
     assert len(folds) == 1, br.message
     assert folds[0].parameter_value == pytest.approx(-0.0070138640, abs=1e-8)
+
+
+def test_the_description_gives_the_trip_time_walker_computes():
+    """The scene's description says when the swing foot first goes below the slope from the
+    scene's guess (issue 31: it said 1.24 s; walker and an independent model both trip at
+    1.1727 s).  Under "trip" walker ends the run there (its swing-contact guard); under
+    "ignore" the drawn swing foot's height above the slope (sampled every 10 us near there)
+    first turns
+    negative at the same time; the knee then locks at 1.50 s with the foot 21 mm below."""
+    import re
+
+    scene = load_scene(SCENE)
+    said = float(re.search(r"below the slope at t = ([0-9.]+)", scene.description)[1])
+    tripped = simulate(TRIP, scene.params, scene.state, n_strides=1, rtol=RTOL, atol=RTOL)
+    assert tripped.status == Status.TRIPPED
+    assert abs(tripped.t - said) < 5e-5
+    p = scene.params.as_array()
+    normal = np.array([math.sin(scene.params.slope), math.cos(scene.params.slope)])
+    run = simulate(
+        IGNORE, scene.params, scene.state, n_strides=1, output="events", rtol=RTOL, atol=RTOL
+    )
+    # every 1 ms, and every 10 us near the trip
+    fine = np.arange(said - 0.01, said + 0.01, 1e-5)
+    times = np.union1d(np.arange(0.0, run.events.t[0], 1e-3), fine)
+    sampled = simulate(
+        IGNORE,
+        scene.params,
+        scene.state,
+        n_strides=1,
+        output="samples",
+        sample_times=times,
+        rtol=RTOL,
+        atol=RTOL,
+    )
+    height = np.array([IGNORE.points(x, p)[-1] @ normal for x in sampled.samples.x])
+    first_below = sampled.samples.t[np.argmax(height < 0)]
+    assert abs(first_below - tripped.t) <= 1e-5
+    lock = run.events
+    assert IGNORE.guard_names[lock.guard[0]] == "knee_lock" and abs(lock.t[0] - 1.50) < 5e-3
+    depth = -(IGNORE.points(lock.x_pre[0], p)[-1] @ normal)
+    assert abs(depth - 0.021) < 5e-4

@@ -188,7 +188,7 @@ def test_presets_round_trip(cls, preset):
 def test_preset_unknown_name_and_overrides():
     with pytest.raises(
         ValueError,
-        match=r"unknown KneedParams preset `hsu`; valid presets: "
+        match=r"unknown KneedParams preset `hsu` \(did you mean `hsu_chen`\?\); valid presets: "
         r"hsu_chen, mcgeer",
     ):
         KneedParams.preset("hsu")
@@ -579,7 +579,8 @@ def test_frozen_and_replace_copies():
 def test_replace_unknown_name():
     with pytest.raises(
         ValueError,
-        match=r"unknown CompassParams parameter\(s\) `mas_hip`; valid names: mass_hip, mass_leg,",
+        match=r"unknown CompassParams parameter\(s\) `mas_hip` \(did you mean `mass_hip`\?\); "
+        r"valid names: mass_hip, mass_leg,",
     ):
         CompassParams.goswami().replace(mas_hip=1.0)
 

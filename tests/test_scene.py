@@ -216,7 +216,8 @@ def test_overrides_can_repair_and_are_validated(tmp_path):
     )
     _fails(
         tmp_path,
-        r"\[overrides\] unknown parameter `mas_hip` for model compass; valid names: mass_hip,",
+        r"\[overrides\] unknown parameter `mas_hip` for model compass "
+        r"\(did you mean `mass_hip`\?\); valid names: mass_hip,",
         overrides={"mas_hip": 1.0},
     )
     _fails(
@@ -349,7 +350,7 @@ def test_model_table_swing_scuff(tmp_path):
 def test_model_table_errors(tmp_path):
     _fails(
         tmp_path,
-        r"\[model\] unknown key `swing`; valid keys: swing_scuff$",
+        r"\[model\] unknown key `swing` \(did you mean `swing_scuff`\?\); valid keys: swing_scuff$",
         {**KNEED_BASE, "model": 'swing = "ignore"'},
     )
     _fails(
@@ -376,7 +377,8 @@ def test_model_table_errors(tmp_path):
 def test_parameters_table_errors(tmp_path):
     _fails(
         tmp_path,
-        r"\[parameters\] unknown key `mas_hip`; valid keys: mass_hip, mass_leg, .*, g, "
+        r"\[parameters\] unknown key `mas_hip` \(did you mean `mass_hip`\?\); "
+        r"valid keys: mass_hip, mass_leg, .*, g, "
         r"damping_hip, damping_ankle, preset$",
         {"parameters": COMPASS_FULL + "\nmas_hip = 1.0"},
     )
@@ -515,7 +517,8 @@ COMPUTE_CASES = [
     ("first_step = -0.1", r"`first_step` must be a finite number > 0, got -0.1$"),
     (
         "tmax = 3",
-        r"unknown key `tmax`; valid keys: task, strides, method, rtol, atol, t_max, "
+        r"unknown key `tmax` \(did you mean `t_max`\?\); valid keys: task, strides, method, rtol, "
+        r"atol, t_max, "
         r"first_step, tol$",
     ),
 ]

@@ -24,6 +24,7 @@ from test_storage import PROVENANCE, RESULTS, assert_same
 
 from walker import storage
 from walker.storage import BasinStore, CheckpointMismatch, StorageError, read, write
+from walker.storage.provenance import ENVIRONMENT_KEYS
 
 REPO = Path(__file__).resolve().parents[1]
 COMPASS = REPO / "gaits" / "compass_goswami.toml"
@@ -43,12 +44,15 @@ def issue_files(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("issue")
     assert main(["find", str(COMPASS), "--out", str(tmp / "find.h5")]) == 0
     assert main(["basin", str(COMPASS), "--n", "8", "--out", str(tmp / "basin.h5")]) == 0
+    # the provenance of then: without the keys added since (the environment, the state's
+    # names), so that the files are the same bytes from any checkout and machine
+    then = (*storage.AUTOMATIC_KEYS, *ENVIRONMENT_KEYS)
     fp, prov = read(tmp / "find.h5")
-    prov = {k: v for k, v in prov.items() if k not in storage.AUTOMATIC_KEYS}
+    prov = {k: v for k, v in prov.items() if k not in then}
     prov["scene"] = "gaits/compass_goswami.toml"
     find_v1 = write_v1(tmp / "find_v1.h5", fp, prov)
     basin, bprov = read(tmp / "basin.h5")
-    bprov = {k: v for k, v in bprov.items() if k not in storage.AUTOMATIC_KEYS}
+    bprov = {k: v for k, v in bprov.items() if k not in then}
     bprov["scene"] = "gaits/compass_goswami.toml"  # the same bytes from any checkout
     with h5py.File(tmp / "basin.h5") as f:
         k = f["checkpoint"].attrs

@@ -79,7 +79,7 @@ from walker.params import (  # noqa: E402
 )
 from walker.results import FixedPoint, MapResult, Solution  # noqa: E402
 from walker.scene import Scene, load_scene  # noqa: E402
-from walker.status import Status  # noqa: E402
+from walker.status import EVENT_CONTINUE, EVENT_STRIDE, EVENT_TERMINAL, Status  # noqa: E402
 from walker.terrain import Terrain  # noqa: E402
 
 
@@ -93,14 +93,30 @@ def __getattr__(name):
         from walker.fixedpoint import find_fixed_point
 
         return find_fixed_point
+    if name == "continue_branch":
+        from walker.continuation import continue_branch
+
+        return continue_branch
+    if name == "HybridSystem":
+        from walker.hybrid_system import HybridSystem
+
+        return HybridSystem
+    if name == "SystemMap":
+        from walker.system_map import SystemMap
+
+        return SystemMap
     raise AttributeError(f"module 'walker' has no attribute {name!r}")
 
 
 __all__ = [
+    "EVENT_CONTINUE",
+    "EVENT_STRIDE",
+    "EVENT_TERMINAL",
     "MODEL_NAMES",
     "CompassParams",
     "DoublePendulumParams",
     "FixedPoint",
+    "HybridSystem",
     "KneedParams",
     "MapResult",
     "Scene",
@@ -108,7 +124,9 @@ __all__ = [
     "Solution",
     "Status",
     "StrideMap",
+    "SystemMap",
     "Terrain",
+    "continue_branch",
     "find_fixed_point",
     "get_model",
     "load_scene",

@@ -34,7 +34,11 @@ Definitions (each gait cycle of ``period`` strides; step ``j`` is stride ``j`` o
   released: the centre of mass descends ``d sin(slope)`` per step, ``E = m g d sin(slope)``,
   hence ``c = sin(slope)`` exactly, whatever the masses, the step or the dissipation (with
   ``d`` measured horizontally it would be ``tan(slope)``).  Walkers with actuators (models
-  ``three_link``, ``five_link``) are not passive: their ``c`` is left NaN here.
+  ``three_link``, ``five_link``) are not passive: their ``c`` is the positive actuator work
+  per weight and distance when the branch carries its measures (``Branch.measures``,
+  :mod:`walker.measures`, written by ``walker continue``), else NaN.  A passive branch
+  with measures draws its stored cost of transport, the energy lost per weight and
+  distance (``sin(slope)`` again, now computed from the energies).
 * **largest |multiplier|** [1]: the modulus of the largest Floquet multiplier; the gait is
   stable where it is below 1.
 
@@ -227,9 +231,18 @@ def branch_measures(
             times[i, j] = sol.t
             lengths[i, j] = float(np.linalg.norm(landing - start))
             x = sol.x
+    stored = getattr(branch, "measures", None) or {}
     if model.name in ACTUATED_MODELS or "slope" not in units:
-        cot = np.full(param.size, np.nan)
-        notes = [f"{model.name} is actuated: no passive cost of transport"]
+        cot = np.asarray(stored.get("cost_of_transport_positive", np.full(param.size, np.nan)))
+        notes = (
+            ["cost of transport: positive actuator work per weight and distance"]
+            if "cost_of_transport_positive" in stored
+            else [f"{model.name} is actuated: no passive cost of transport"]
+        )
+    elif "cost_of_transport" in stored:
+        # energy lost per weight and distance (walker.measures), stored by `walker continue`
+        cot = np.asarray(stored["cost_of_transport"], dtype=float)
+        notes = []
     else:
         slope = param if name == "slope" else np.full(param.size, float(params.slope))
         cot = np.sin(slope)

@@ -79,6 +79,7 @@ from typing import Any
 
 import numpy as np
 
+from walker._suggest import did_you_mean
 from walker.integrate import METHODS, check_solver_settings
 from walker.params import HAS_STRIDES, PARAMS, STATE_NAMES
 
@@ -314,7 +315,8 @@ class _Reader:
             raise self.error(
                 where,
                 f"unknown key{'s' if len(unknown) > 1 else ''} "
-                f"{', '.join(f'`{k}`' for k in unknown)}; valid keys: {', '.join(valid)}",
+                f"{', '.join(f'`{k}`' for k in unknown)}{did_you_mean(unknown[0], valid)}; "
+                f"valid keys: {', '.join(valid)}",
             )
 
     def string(self, where: str, table: Mapping[str, Any], key: str, required: bool) -> str:
@@ -361,7 +363,7 @@ def _parameters(
             raise reader.error(
                 where,
                 f"`preset` must be one of {', '.join(cls.PRESETS)} for model {model}, "
-                f"got {preset!r}",
+                f"got {preset!r}{did_you_mean(preset, cls.PRESETS)}",
             )
         reader.keys(where, values, names)
         values = {**cls.preset(preset).to_dict(), **values}
@@ -401,7 +403,8 @@ def _overrides(reader: _Reader, model: str, overrides: Any) -> dict[str, float]:
         if name not in names:
             raise reader.error(
                 "overrides",
-                f"unknown parameter `{name}` for model {model}; valid names: {', '.join(names)}",
+                f"unknown parameter `{name}` for model {model}{did_you_mean(name, names)}; "
+                f"valid names: {', '.join(names)}",
             )
         if isinstance(value, str):
             try:
@@ -561,7 +564,8 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
         raise reader.error(
             "",
             f"unknown table{'s' if len(unknown) > 1 else ''} "
-            f"{', '.join(f'[{k}]' for k in unknown)}; valid tables: "
+            f"{', '.join(f'[{k}]' for k in unknown)}{did_you_mean(unknown[0], _TABLES)}; "
+            "valid tables: "
             f"{', '.join(f'[{k}]' for k in _TABLES)}",
         )
     scene_t = reader.table(doc, "scene")
@@ -574,7 +578,11 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
     reader.keys("scene", scene_t, _SCENE_KEYS)
     model = reader.string("scene", scene_t, "model", required=True)
     if model not in PARAMS:
-        raise reader.error("scene", f"`model` must be one of {', '.join(PARAMS)}, got {model!r}")
+        raise reader.error(
+            "scene",
+            f"`model` must be one of {', '.join(PARAMS)}, got {model!r}"
+            f"{did_you_mean(model, PARAMS)}",
+        )
     description = reader.string("scene", scene_t, "description", required=False)
     source = reader.string("scene", scene_t, "source", required=False)
 

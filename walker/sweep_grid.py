@@ -353,8 +353,21 @@ def table_columns(kind: str, n_z: int) -> dict[str, tuple[str, tuple[int, ...]]]
             stable=("i8", ()),
             n_iter=("i8", ()),
             jump=("i8", ()),
+            **dict.fromkeys(MEASURE_COLUMNS, ("f8", ())),
         )
     return cols
+
+
+MEASURE_COLUMNS = (
+    "step_length",
+    "speed",
+    "energy_lost",
+    "cost_of_transport",
+    "cost_of_transport_positive",
+    "cost_of_transport_absolute",
+)
+"""The gait measures a fixed-point sweep's table holds per point
+(:meth:`walker.measures.GaitMeasures.to_dict`; NaN where there is no gait)."""
 
 
 def default_chunk_size(n_points: int, kind: str) -> int:

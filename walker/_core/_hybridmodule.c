@@ -33,6 +33,9 @@
 #ifndef WK_SOURCE_HASH
 #define WK_SOURCE_HASH "unknown"
 #endif
+#ifndef WK_COMPILE_FLAGS
+#define WK_COMPILE_FLAGS "unknown"
+#endif
 #include "wk_common.h"
 #include "wk_models.h"
 #include "wk_system.h"
@@ -636,6 +639,11 @@ PyMODINIT_FUNC PyInit__hybrid(void)
     }
     /* Fingerprint of the sources this was built from (setup.py, walker/_build.py). */
     if (PyModule_AddStringConstant(m, "SOURCE_HASH", WK_SOURCE_HASH) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    /* The compiler command and flags it was built with (setup.py), for provenance. */
+    if (PyModule_AddStringConstant(m, "COMPILE_FLAGS", WK_COMPILE_FLAGS) < 0) {
         Py_DECREF(m);
         return NULL;
     }

@@ -56,7 +56,7 @@ from pathlib import Path
 
 from walker._startup import restore_interrupts
 
-from . import basin, branch, find, info, orbit, plot, run, sweep
+from . import basin, branch, export, find, info, orbit, plot, run, sweep
 from ._common import (
     BASIN_TOL,
     EXIT_BROKEN_PIPE,
@@ -88,7 +88,7 @@ __all__ = [
     "provenance",
 ]
 
-_COMMANDS = (find, run, branch, basin, sweep, plot, orbit, info)
+_COMMANDS = (find, run, branch, basin, sweep, plot, export, orbit, info)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -134,8 +134,11 @@ def _interrupted_line(args, before: tuple | None) -> str:
 
 def main(argv=None) -> int:
     stdout_closed = _open_standard_streams()
+    from walker.storage.provenance import set_command_line
+
     parser = build_parser()
     args = parser.parse_args(argv)
+    set_command_line(sys.argv[1:] if argv is None else argv)  # recorded in every file
 
     try:
         restore_interrupts()  # from here on, Ctrl-C is a KeyboardInterrupt handled below

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import functools
 import json
 import math
 import os
@@ -16,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._help import HelpFormatter
+from ._help import HelpFormatter, _error_with_suggestion
 
 EXIT_OK, EXIT_OUTCOME, EXIT_USAGE = 0, 1, 2
 EXIT_INTERNAL = 3
@@ -172,7 +173,16 @@ def _positive_flag(value, flag: str, *, minimum: float = 0.0, integer: bool = Fa
 def _load(args):
     from walker.scene import load_scene
 
-    return load_scene(args.scene, overrides=_parse_set(getattr(args, "set", None)))
+    overrides = _parse_set(getattr(args, "set", None))
+    try:
+        return load_scene(args.scene, overrides=overrides)
+    except ValueError as exc:
+        if not overrides:
+            raise
+        # the scene loader names its argument `overrides`; on the command line it is --set
+        text = str(exc).replace("[overrides] ", "--set: ")
+        text = text.replace("(with overrides ", "(with --set ")
+        raise type(exc)(text) from None
 
 
 def _stride_map(scene, parameter_name="slope"):
@@ -290,6 +300,17 @@ def _check_figure_path(out: Path, path) -> Path:
     return out
 
 
+def say_resuming(out, done: int, total: int) -> None:
+    """Tell (on standard error) that a rerun resumes the checkpoint ``out``."""
+    left = total - done
+    tail = "nothing left to compute" if not left else f"{left} left to compute"
+    print(
+        f"walker: resuming {out}: {done} of {total} chunks kept from the earlier run, {tail}",
+        file=sys.stderr,
+        flush=True,
+    )
+
+
 def _resume_hint(exc, flag: str = "--out") -> UsageError:
     """A CheckpointMismatch as the one-line usage error naming --overwrite."""
     return UsageError(f"{flag} {exc.path} exists and {exc.reason}; pass --overwrite to replace it")
@@ -331,8 +352,28 @@ def out_flags(p: argparse.ArgumentParser, help_: str) -> None:
 def scene_cmd(sub, name: str, help_: str) -> argparse.ArgumentParser:
     """A subcommand that takes a scene file and ``--set NAME=VALUE`` overrides."""
     p = sub.add_parser(name, help=help_, formatter_class=HelpFormatter)
+    p.error = functools.partial(_error_with_suggestion, p)
     p.add_argument("scene", help="scene file (gaits/*.toml)")
     p.add_argument(
         "--set", action="append", metavar="NAME=VALUE", help="override a parameter (repeatable)"
     )
     return p
+
+
+def print_measures(
+    measures: dict, title: str = "gait measures (energies and costs per step):"
+) -> None:
+    """Print the gait measures of a result (:meth:`walker.measures.GaitMeasures.to_dict`),
+    each with its unit; nothing when there are none."""
+    import math
+
+    from walker.measures import unit_of
+
+    if not measures or not measures.get("n_steps"):
+        return
+    print(title)
+    for key, value in measures.items():
+        if key in ("n_steps", "weight") or (isinstance(value, float) and math.isnan(value)):
+            continue
+        unit = unit_of(key)
+        print(f"  {key:<32s} {value:.10g}{'' if unit == '1' else ' ' + unit}")

@@ -4,6 +4,8 @@ option's default; :func:`add_parser` makes a subcommand parser with it."""
 from __future__ import annotations
 
 import argparse
+import functools
+import re
 
 __all__ = ["HelpFormatter", "add_parser"]
 
@@ -40,8 +42,25 @@ class HelpFormatter(argparse.HelpFormatter):
         return f"{text} (default: {shown})" if text else f"default: {shown}"
 
 
+_INVALID_CHOICE = re.compile(r"invalid choice: '(?P<name>[^']*)' \(choose from (?P<choices>.*)\)")
+
+
+def _error_with_suggestion(parser: argparse.ArgumentParser, message: str):
+    """``parser.error`` that adds a "did you mean" to an invalid choice (a misspelt model)."""
+    from walker._suggest import did_you_mean
+
+    found = _INVALID_CHOICE.search(message)
+    if found:
+        choices = [c.strip().strip("'") for c in found["choices"].split(",")]
+        message += did_you_mean(found["name"], choices, quote="'")
+    return argparse.ArgumentParser.error(parser, message)
+
+
 def add_parser(sub, name: str, help_: str, description: str | None = None):
-    """A subcommand parser with :class:`HelpFormatter`."""
-    return sub.add_parser(
+    """A subcommand parser with :class:`HelpFormatter`, whose error for an invalid choice
+    suggests the nearest one."""
+    parser = sub.add_parser(
         name, help=help_, description=description or help_, formatter_class=HelpFormatter
     )
+    parser.error = functools.partial(_error_with_suggestion, parser)
+    return parser

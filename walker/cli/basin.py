@@ -20,6 +20,7 @@ from ._common import (
     jobs_option,
     provenance,
     resumable_options,
+    say_resuming,
     scene_cmd,
 )
 
@@ -28,7 +29,7 @@ def cmd_basin(args) -> int:
     from walker.basin import basin_map
     from walker.fixedpoint import find_fixed_point
     from walker.results import too_large
-    from walker.storage import BasinStore, CheckpointMismatch
+    from walker.storage import BasinStore, CheckpointMismatch, checkpoint_progress
 
     if args.n < 2:
         raise UsageError(f"--n must be >= 2, got {args.n}")
@@ -41,6 +42,7 @@ def cmd_basin(args) -> int:
     _positive_flag(args.strides, "--strides", minimum=1, integer=True)
     if not (math.isfinite(args.span) and args.span > 0):
         raise UsageError(f"--span must be a positive number, got {args.span}")
+    bounds = _absolute_bounds(args.lo, args.hi)
     if args.jobs is not None and args.jobs < 1:
         raise UsageError(f"--jobs must be >= 1, got {args.jobs}")
     if args.jobs is not None and args.scheduler is not None:
@@ -99,12 +101,15 @@ def cmd_basin(args) -> int:
             )
         except CheckpointMismatch as exc:
             raise _resume_hint(exc) from None
+        progress = checkpoint_progress(out) if out.exists() else None
+        if progress is not None:
+            say_resuming(out, *progress)
     fp = find_fixed_point(P, P.project(scene.state))
     if not fp.success:
         print(f"status {fp.status.name}: no gait to map the basin of: {fp.message}")
         return EXIT_OUTCOME
     span = args.span
-    ranges = tuple(
+    ranges = bounds or tuple(
         (
             fp.section[a] - span * max(abs(fp.section[a]), 0.1),
             fp.section[a] + span * max(abs(fp.section[a]), 0.1),
@@ -139,6 +144,34 @@ def cmd_basin(args) -> int:
     return EXIT_OK
 
 
+def _absolute_bounds(lo, hi):
+    """``--lo A,B`` and ``--hi C,D``: the two axes' ranges ``((A, C), (B, D))``, or None
+    when neither is given (``--span`` then sets them)."""
+    if lo is None and hi is None:
+        return None
+    if lo is None or hi is None:
+        given, missing = ("--lo", "--hi") if hi is None else ("--hi", "--lo")
+        raise UsageError(f"{given} needs {missing} too (one value per axis each)")
+    parsed = []
+    for flag, text in (("--lo", lo), ("--hi", hi)):
+        try:
+            values = [float(v) for v in str(text).split(",")]
+        except ValueError:
+            raise UsageError(
+                f"{flag} expects two numbers A,B (one per axis), got {text!r}"
+            ) from None
+        if len(values) != 2 or not all(math.isfinite(v) for v in values):
+            raise UsageError(f"{flag} expects two finite numbers A,B (one per axis), got {text!r}")
+        parsed.append(values)
+    (lo_x, lo_y), (hi_x, hi_y) = parsed
+    for k, (a, b) in enumerate(((lo_x, hi_x), (lo_y, hi_y))):
+        if not a < b:
+            raise UsageError(
+                f"--lo must be below --hi on each axis, got {a:g} >= {b:g} on axis {k}"
+            )
+    return ((lo_x, hi_x), (lo_y, hi_y))
+
+
 def register(sub) -> None:
     p = scene_cmd(sub, "basin", "map the basin of attraction on a 2-D slice of the section")
     p.add_argument(
@@ -161,7 +194,20 @@ def register(sub) -> None:
         type=float,
         default=0.5,
         help="half-width of each axis: SPAN times the size of the fixed point's coordinate "
-        "(its magnitude, or 0.1 where that is smaller)",
+        "(its magnitude, or 0.1 where that is smaller); --lo/--hi replace it",
+    )
+    p.add_argument(
+        "--lo",
+        metavar="A,B",
+        default=None,
+        help="absolute lower ends of the two axes, in --axes order and the coordinates' units "
+        "(with --hi; write --lo=-1,0 when the first is negative) (default: from --span)",
+    )
+    p.add_argument(
+        "--hi",
+        metavar="A,B",
+        default=None,
+        help="absolute upper ends of the two axes (with --lo) (default: from --span)",
     )
     p.add_argument(
         "--strides",

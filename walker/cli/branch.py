@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from walker._suggest import did_you_mean
+
 from ._common import (
     EXIT_OK,
     EXIT_OUTCOME,
@@ -55,6 +57,7 @@ def check_param(scene, name: str) -> None:
     if name not in names:
         raise UsageError(
             f"--param must be a parameter of {scene.model} ({', '.join(names)}), got {name!r}"
+            f"{did_you_mean(name, names)}"
         )
 
 
@@ -154,6 +157,8 @@ def _parts(branch, stable: bool) -> list[list[float]]:
 def _end_kind(branch, index: int, start_index: int, bounds) -> str:
     mu = float(branch.parameter[index])
     z = branch.sections[index]
+    if _vanishing_end(branch, index):
+        return "step_length_vanishes"
     for b in branch.bifurcations:
         if b.kind == "fold" and b.parameter_value == mu and np.array_equal(b.section, z):
             return "fold"
@@ -161,7 +166,95 @@ def _end_kind(branch, index: int, start_index: int, bounds) -> str:
         return "start"
     if mu in bounds:
         return "bound"
-    return "stopped"
+    return _stop_reason(_leg_message(branch, index))[0]
+
+
+VANISHING_STEP = 0.01
+"""An end of a branch where the step length is below this fraction of the longest step on
+the branch, and shrinking toward the end, is reported as "the step length vanishes" (a
+passive walker's gait as the slope goes to 0), not as a fold or a failure."""
+
+
+def _vanishing_end(branch, index: int) -> bool:
+    """Whether the branch end ``index`` (0 or -1) is a gait whose step shrinks to nothing."""
+    lengths = np.asarray(branch.measures.get("step_length", ()), dtype=float)
+    if lengths.size < 3 or not np.all(np.isfinite(lengths)):
+        return False
+    tail = lengths[:3] if index == 0 else lengths[::-1][:3]
+    return bool(tail[0] <= VANISHING_STEP * np.max(lengths) and tail[0] < tail[1] < tail[2])
+
+
+def _leg_message(branch, index: int) -> str:
+    """The part of the branch's message about the leg that ends at ``index`` (0: the leg
+    going down, -1 or n - 1: going up); the whole message for a one-way branch."""
+    message = str(branch.message)
+    if not message.startswith("Going "):
+        return message
+    down, _, up = message.partition(" Going up: ")
+    down = down.removeprefix("Going down: ") if down.startswith("Going down: ") else ""
+    if message.startswith("Going up: "):
+        down, up = "", message.removeprefix("Going up: ")
+    return down if index == 0 else up
+
+
+def _stop_reason(message: str) -> tuple[str, str]:
+    """Why a leg of a branch stopped, from its message: (a short key, what happened in
+    the continuation's words, without the advice meant for a single run)."""
+    from walker.status import Status
+
+    if "`max_points`" in message or "--max-points" in message:
+        return "max_points", "the --max-points budget ran out before the end of --range"
+    if message.startswith("The corrector failed"):
+        return "corrector_failed", "the corrector did not converge even with the smallest step"
+    for status in Status:
+        first = status.message.split(". ")[0].rstrip(".")
+        if status != Status.COMPLETED and first in message:
+            return status.name.lower(), f"the stride beyond it fails ({status.name}): {first}"
+    return "stopped", message
+
+
+def _explain_ends(branch, name: str):
+    """``branch`` with each leg's message in the continuation's words: a leg that ends
+    where the step length vanishes says so (and the spurious fold found there, where the
+    stride map degenerates, is dropped); a leg that ends because the gait stops walking
+    says what happens beyond its end, without the advice meant for a single run."""
+    import dataclasses
+
+    n = len(branch.parameter)
+    if not n:
+        return branch
+    legs = {}
+    for index in (0, n - 1):
+        leg = _leg_message(branch, index)
+        if _vanishing_end(branch, index):
+            mu = float(branch.parameter[index])
+            length = float(branch.measures["step_length"][index])
+            legs[index] = (
+                leg,
+                f"The step length vanishes toward {name} = {mu:.10g} (it is {length:.3g} m "
+                "there): the gait shrinks toward standing still, where no stride is left to "
+                "follow.",
+            )
+        else:
+            key, words = _stop_reason(leg)
+            if key not in ("stopped", "max_points", "corrector_failed") and ": " in leg:
+                head = leg.split(": ", 1)[0]
+                legs[index] = (leg, f"{head}: {words}.")
+    message = str(branch.message)
+    for old, new in legs.values():
+        if old:
+            message = message.replace(old, new, 1)
+
+    def at_vanishing_end(b) -> bool:
+        for i, third in ((0, 2), (n - 1, n - 3)):
+            reach = abs(float(branch.parameter[third]) - float(branch.parameter[i]))
+            near = abs(b.parameter_value - float(branch.parameter[i])) <= reach
+            if _vanishing_end(branch, i) and near:
+                return True
+        return False
+
+    keep = [b for b in branch.bifurcations if not at_vanishing_end(b)]
+    return dataclasses.replace(branch, message=message, bifurcations=keep)
 
 
 _FLAG_WORDS = (
@@ -237,6 +330,18 @@ def _print_summary(rec: dict, label: str = "") -> None:
         print("  stopped at the fold: pass --through-folds to follow the branch round it")
 
 
+def _with_measures(P, branch):
+    """``branch`` with the gait measures of each of its points
+    (:func:`walker.measures.branch_measures`)."""
+    import dataclasses
+
+    from walker.measures import branch_measures
+
+    if not len(branch.parameter):
+        return branch
+    return dataclasses.replace(branch, measures=branch_measures(P, branch))
+
+
 def cmd_continue(args) -> int:
     from walker.continuation import continue_branch
     from walker.fixedpoint import find_fixed_point
@@ -276,25 +381,34 @@ def cmd_continue(args) -> int:
     if args.step is not None:
         options["step"] = args.step
     branch = continue_branch(P, fp.section, bounds=bounds, **options)
+    branch = _with_measures(P, branch)
     start = None
     if len(branch.parameter):
         dist = np.abs(branch.parameter - mu0) + np.max(np.abs(branch.sections - fp.section), axis=1)
         start = int(np.argmin(dist))
+    branch = _explain_ends(branch, args.param)
     record = _summary(branch, args.param, start, bounds)
+    record["measures"] = {
+        args.param: [float(v) for v in branch.parameter],
+        **{key: col.tolist() for key, col in branch.measures.items()},
+    }
     extra = {
         "status": branch.status.name,
         "period": period,
         "range": list(bounds),
         "start": mu0,
         "stop_at_fold": not args.through_folds,
+        "ends": record["ends"],
     }
 
-    ok = branch.success
+    # A branch that ends in a fold, a trip or a fall is a result: an outcome (exit 1) only
+    # when no point was computed.
+    ok = len(branch.parameter) > 0
     switched = None
     if args.switch:
         switched, switch_rec = _switch(P, branch, bounds, options, period, mu0, args.param)
         record["period_doubled"] = switch_rec
-        ok = ok and switched is not None and switched.success
+        ok = ok and switched is not None and len(switched.parameter) > 0
     if out is not None:
         from walker.storage import write
 
@@ -383,6 +497,7 @@ def _switch(P, branch, bounds, options, period, mu0, name):
     br2 = continue_branch(
         P.with_parameter(mu2), fp2.section, bounds=side, **dict(options, period=2 * period)
     )
+    br2 = _explain_ends(_with_measures(P, br2), name)
     start = 0 if mu2 == side[0] else len(br2.parameter) - 1
     rec = _summary(br2, name, start, side)
     rec["doubling"] = mu_pd

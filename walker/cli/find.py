@@ -14,6 +14,7 @@ from ._common import (
     _stride_map,
     json_flag,
     out_flags,
+    print_measures,
     scene_cmd,
     write_result,
 )
@@ -25,7 +26,11 @@ in reasonable time and is refused before any work (exit 2)."""
 
 
 def cmd_find(args) -> int:
+    import dataclasses
+
     from walker.fixedpoint import find_fixed_point
+    from walker.measures import cycle_measures
+    from walker.stride import solver_settings
 
     _positive_flag(args.period, "--period", minimum=1, integer=True)
     if args.tol is not None:
@@ -49,6 +54,11 @@ def cmd_find(args) -> int:
         tol=scene.compute.tol if args.tol is None else args.tol,
         jacobian="fd" if args.fd else "exact",
     )
+    if fp.success:
+        measures = cycle_measures(
+            P.model, P.params, fp.state, period=int(fp.period), settings=solver_settings(P)
+        )
+        fp = dataclasses.replace(fp, measures=measures.to_dict())
     record = {
         "status": fp.status.name,
         "success": bool(fp.success),
@@ -65,6 +75,7 @@ def cmd_find(args) -> int:
         "residual": float(fp.residual),
         "n_iter": int(fp.n_iter),
         "period": int(fp.period),
+        "measures": dict(fp.measures),
         "parameters": scene.params.to_dict(),
     }
     if out is not None:
@@ -92,6 +103,7 @@ def _print_fixed_point(scene, P, fp) -> None:
     for m in fp.multipliers:
         print(f"  {m.real: .12f} {m.imag:+.12f}i   |.| = {abs(m):.12f}")
     print(f"stable     {fp.stable}")
+    print_measures(fp.measures)
 
 
 def register(sub) -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 
 import numpy as np
@@ -14,6 +15,7 @@ from ._common import (
     UsageError,
     _check_out,
     _load,
+    print_measures,
     scene_cmd,
     write_result,
 )
@@ -55,15 +57,30 @@ def cmd_run(args) -> int:
         raise UsageError(f"--max-steps must be an integer in [1, 2**62], got {args.max_steps}")
     scene = _load(args)
     terrain = _terrain(scene, args)
+    state = _given_state(args.state, scene) if args.state is not None else None
+    if args.from_gait and not scene.walker_model.has_strides:
+        raise UsageError(f"--from-gait: model `{scene.model}` has no gait (no strides)")
     out = _check_out(args.out, overwrite=args.overwrite)
     c = scene.compute
     strides = c.strides if args.strides is None else args.strides
+    start = "scene"
+    if args.from_gait:
+        fp = _gait(scene)
+        if not fp.success:
+            print(f"status {fp.status.name}: no gait to start from: {fp.message}")
+            return EXIT_OUTCOME
+        state, start = fp.state, "gait"
+        print(f"starting from the gait found by `walker find` (residual {fp.residual:.2e})")
+    elif state is not None:
+        start = "state"
+    if state is not None:
+        scene = dataclasses.replace(scene, state=np.asarray(state, dtype=float))
     budget = run_budget(scene, strides) if args.max_steps is None else args.max_steps
     depth = args.swing_depth if args.swing_depth is not None else strides <= BLOCK_STRIDES
     common = {
         **solver_settings(c),
         "t_max": c.t_max * max(1, strides),
-        "phase0": scene.phase,
+        "phase0": scene.phase if start == "scene" else None,
         "max_steps": budget,
     }
     if not terrain.is_plane:
@@ -74,8 +91,15 @@ def cmd_run(args) -> int:
     if strides <= BLOCK_STRIDES or not terrain.is_plane:
         sol = _one_block(scene, args, dict(common, n_strides=strides), "full", 0)[0]
         pen = _penetration(scene, sol) if depth else None
+        if scene.walker_model.has_strides and sol.events is not None:
+            from walker.measures import run_measures
+
+            measures = run_measures(scene.walker_model, scene.params, sol, scene.state)
+            sol = dataclasses.replace(sol, measures=measures.to_dict())
         if out is not None:
-            extra = {"status": sol.status.name}
+            extra = {"status": sol.status.name, "start": start}
+            if start != "scene":
+                extra["initial_state"] = [float(v) for v in scene.state]
             if not terrain.is_plane:
                 extra["terrain"] = terrain.as_dict()
             write_result(out, sol, scene, args, extra)
@@ -88,9 +112,41 @@ def cmd_run(args) -> int:
     )
     if pen is not None:
         _print_penetration(scene, pen)
+    print_measures(sol.measures, "gait measures up to the last step (energy per step):")
     if out is not None:
         print(f"wrote {out}")
     return EXIT_OK if sol.success else EXIT_OUTCOME
+
+
+def _given_state(text: str, scene) -> np.ndarray:
+    """``--state v1,v2,...``: as many finite numbers as the model has state entries."""
+    names = tuple(scene.state_names)
+    try:
+        values = [float(v) for v in str(text).split(",")]
+    except ValueError:
+        raise UsageError(
+            f"--state expects {len(names)} comma-separated numbers ({', '.join(names)}), "
+            f"got {text!r}"
+        ) from None
+    if len(values) != len(names):
+        raise UsageError(
+            f"--state must have {len(names)} values for model {scene.model} "
+            f"({', '.join(names)}), got {len(values)}"
+        )
+    bad = [name for name, v in zip(names, values, strict=True) if not math.isfinite(v)]
+    if bad:
+        raise UsageError(f"--state must be finite, got {text!r} (at {', '.join(bad)})")
+    return np.array(values)
+
+
+def _gait(scene):
+    """The scene's gait, as ``walker find`` gives it (period: the scene's strides)."""
+    from walker.fixedpoint import find_fixed_point
+    from walker.stride import StrideMap
+
+    P = StrideMap.from_scene(scene)
+    period = max(1, scene.compute.strides)
+    return find_fixed_point(P, P.project(scene.state), period=period, tol=scene.compute.tol)
 
 
 TERRAIN_ROWS = 10_000
@@ -294,6 +350,21 @@ def register(sub) -> None:
         default=None,
         help="report how deep the kneed walker's swing foot went below the slope (default: "
         f"for runs of at most {BLOCK_STRIDES} strides)",
+    )
+    start = p.add_mutually_exclusive_group()
+    start.add_argument(
+        "--from-gait",
+        action="store_true",
+        help="start from the scene's gait, the fixed point `walker find` gives, instead of "
+        "the scene's [initial] state (default: the scene's state)",
+    )
+    start.add_argument(
+        "--state",
+        metavar="V1,V2,...",
+        default=None,
+        help="start from this full state, one number per state entry in the model's order "
+        "(`walker models MODEL`); write --state=-0.1,... when the first is negative "
+        "(default: the scene's [initial] state)",
     )
     p.add_argument(
         "--terrain-std",

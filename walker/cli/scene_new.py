@@ -240,6 +240,7 @@ def _write_atomically(out: Path, text: str, overwrite: bool) -> None:
 
 
 def cmd_scene_new(args) -> int:
+    from walker._suggest import did_you_mean
     from walker.params import MODELS
 
     presets = MODELS[args.model].params_class.PRESETS
@@ -247,7 +248,7 @@ def cmd_scene_new(args) -> int:
     if preset not in presets:
         raise UsageError(
             f"--preset must be one of {', '.join(presets)} for model {args.model}, "
-            f"got {args.preset!r}"
+            f"got {args.preset!r}{did_you_mean(args.preset, presets)}"
         )
     out = _check_out(args.out, overwrite=args.overwrite)
     text = scene_text(args.model, preset)

@@ -23,6 +23,7 @@ from ._common import (
     _stride_map,
     jobs_option,
     resumable_options,
+    say_resuming,
 )
 from ._extras import require
 from ._help import add_parser
@@ -202,6 +203,7 @@ def run_sweep_command(
     if scheduler is not None and jobs is not None:
         warnings.warn("`jobs` has no effect with `scheduler` (the cluster decides)", stacklevel=2)
         jobs = None
+    resuming = out is not None and not overwrite and Path(out).exists()
     # Validate and open (or create) the checkpoint before any work or connection.
     plan = _prepare(
         stride_map,
@@ -217,6 +219,9 @@ def run_sweep_command(
         provenance=provenance,
         tol=1e-10,
     )
+    if resuming:
+        total = -(-len(plan.points) // plan.chunk)
+        say_resuming(out, total - len(plan.pending), total)
     if scheduler is None or not plan.pending:
         return _execute(plan, "processes" if processes else None, not quiet)
     with _connect(scheduler) as client:

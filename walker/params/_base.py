@@ -15,6 +15,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from walker._suggest import did_you_mean
+
 _HALF_PI = 0.5 * math.pi
 
 
@@ -202,8 +204,8 @@ class _Params:
         missing = [n for n in names if n not in d]
         if unknown:
             raise ValueError(
-                f"unknown {cls.__name__} key(s) {', '.join(f'`{k}`' for k in unknown)}; "
-                f"valid keys: {', '.join(names)}"
+                f"unknown {cls.__name__} key(s) {', '.join(f'`{k}`' for k in unknown)}"
+                f"{did_you_mean(unknown[0], names)}; valid keys: {', '.join(names)}"
             )
         if missing:
             raise ValueError(
@@ -218,7 +220,8 @@ class _Params:
         if unknown:
             raise ValueError(
                 f"unknown {type(self).__name__} parameter(s) "
-                f"{', '.join(f'`{k}`' for k in unknown)}; valid names: {', '.join(names)}"
+                f"{', '.join(f'`{k}`' for k in unknown)}{did_you_mean(unknown[0], names)}; "
+                f"valid names: {', '.join(names)}"
             )
         return dataclasses.replace(self, **changes)  # type: ignore[type-var]
 
@@ -242,7 +245,8 @@ class _Params:
         """The published parameter set ``name`` (one of ``PRESETS``), with ``changes`` applied."""
         if name not in cls.PRESETS:
             raise ValueError(
-                f"unknown {cls.__name__} preset `{name}`; valid presets: {', '.join(cls.PRESETS)}"
+                f"unknown {cls.__name__} preset `{name}`{did_you_mean(name, cls.PRESETS)}; "
+                f"valid presets: {', '.join(cls.PRESETS)}"
             )
         base = getattr(cls, name)()
         return base.replace(**changes) if changes else base

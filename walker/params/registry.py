@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import dataclasses
 
+from walker._suggest import did_you_mean
 from walker.params._base import _Params
 from walker.params.actuated import FiveLinkParams, ThreeLinkParams
 from walker.params.coulomb import CompassCoulombParams, KneedCoulombParams
@@ -197,5 +198,6 @@ def params_class(model_name: str) -> type[_Params]:
         return PARAMS[model_name]
     except (KeyError, TypeError):
         raise ValueError(
-            f"unknown model {model_name!r}; valid models: {', '.join(PARAMS)}"
+            f"unknown model {model_name!r}{did_you_mean(model_name, PARAMS)}; "
+            f"valid models: {', '.join(PARAMS)}"
         ) from None

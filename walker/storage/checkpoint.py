@@ -32,6 +32,7 @@ from walker.storage.disk import (
 from walker.storage.encode import _chunked_dataset, _provenance_attrs
 from walker.storage.isolated import _check_path
 from walker.storage.loader import _dynamic_fill, _first_line, _int_attr
+from walker.storage.provenance import ENVIRONMENT_KEYS
 from walker.storage.schema import (
     _CHECKPOINT_GROUP,
     _CHUNK_SHA,
@@ -199,7 +200,13 @@ class _ChunkedStore:
         one line, or empty)."""
         if stored == wanted:
             return []
-        keys = sorted(k for k in set(stored) | set(wanted) if stored.get(k) != wanted.get(k))
+        keys = sorted(
+            k
+            for k in set(stored) | set(wanted)
+            if stored.get(k) != wanted.get(k) and k not in ENVIRONMENT_KEYS
+        )
+        if not keys:
+            return []
         return [f"provenance differs in {keys}"]
 
     def _resume(self, loaded: _Loaded) -> None:

@@ -118,7 +118,9 @@ def _decode_field(node: dict, name: str, codec: Any, where: str) -> Any:
         return _dataset(node, name, where) if name in node["datasets"] else None
     if codec == "array":
         return _dataset(node, name, where)
-    if codec == "array_dict":
+    if codec == "optional_array_dict" and name not in node["groups"]:
+        return {}
+    if codec in ("array_dict", "optional_array_dict"):
         sub = _subgroup(node, name, where)
         keys = _names_attr(sub, "names", sub_where)
         if len(set(keys)) != len(keys):

@@ -111,7 +111,9 @@ def _encode_field(tree: dict, name: str, value: Any, codec: Any, where: str) -> 
         if not isinstance(value, dict):
             raise TypeError(f"`{where}` must be a dict, got {type(value).__name__}")
         attrs[name] = json.dumps(_to_json(value, where))
-    elif codec == "array_dict":
+    elif codec == "optional_array_dict" and isinstance(value, dict) and not value:
+        pass
+    elif codec in ("array_dict", "optional_array_dict"):
         if not isinstance(value, dict):
             raise TypeError(f"`{where}` must be a dict name -> ndarray, got {type(value).__name__}")
         sub = _new_tree()
@@ -180,6 +182,14 @@ def _provenance_attrs(provenance_json: dict, kind: str) -> dict[str, Any]:
             attrs[key] = value
         elif value is not None:
             attrs[key] = json.dumps(value)
+    if "state_names" not in provenance_json:
+        # a caller's provenance without them: the model's, as readable attributes only
+        from walker.params.registry import STATE_NAMES, STATE_UNITS
+
+        model = provenance_json.get("model")
+        if isinstance(model, str) and model in STATE_NAMES:
+            attrs["state_names"] = json.dumps(list(STATE_NAMES[model]))
+            attrs["state_units"] = json.dumps(list(STATE_UNITS[model]))
     for name, entry in (provenance_json.get("parameters") or {}).items():
         if isinstance(entry["value"], int | float) and not isinstance(entry["value"], bool):
             attrs[f"parameters.{name}"] = entry["value"]

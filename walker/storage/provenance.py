@@ -33,6 +33,126 @@ def walker_version() -> str:
         return "unknown"
 
 
+SCENE_TEXT_LIMIT = 32_768
+"""Largest scene file (in characters) whose text a file's provenance holds in full
+(``scene_text``); a larger one is recorded by its ``scene_sha256`` only."""
+
+ENVIRONMENT_KEYS = (
+    "command_line",
+    "versions",
+    "git_commit",
+    "compiler_flags",
+    "scene_text",
+    "scene_sha256",
+    "state_names",
+    "state_units",
+    "section_names",
+)
+"""Provenance keys that describe how and where a result was computed, not what: a
+checkpoint resumed by another command line, another installation or from a file written
+before these keys existed is still the same computation (they are left out of the
+comparison on resuming)."""
+
+_COMMAND_LINE: list[str] | None = None
+
+
+def set_command_line(argv) -> None:
+    """Record the command line of this process as the command-line interface received it
+    (``walker`` followed by its arguments); :func:`environment_provenance` reports it."""
+    global _COMMAND_LINE
+    _COMMAND_LINE = None if argv is None else ["walker", *(str(a) for a in argv)]
+
+
+def command_line() -> str:
+    """The command line of this process, shell-quoted: the one :func:`set_command_line`
+    recorded (``walker find gaits/kneed_hsu.toml --out gait.h5``), else ``sys.argv``
+    (``walker`` in place of the program when that is walker's own entry point)."""
+    import shlex
+    import sys
+
+    if _COMMAND_LINE is not None:
+        return shlex.join(_COMMAND_LINE)
+    argv = [str(a) for a in sys.argv] or [""]
+    program = argv[0].replace("\\", "/")
+    if program.endswith(("walker/__main__.py", "/walker")) or program == "walker":
+        argv[0] = "walker"
+    return shlex.join(argv)
+
+
+def _version(name: str) -> str | None:
+    try:
+        from importlib.metadata import PackageNotFoundError
+        from importlib.metadata import version as dist_version
+
+        return dist_version(name)
+    except (ImportError, PackageNotFoundError, ValueError):
+        return None
+
+
+def _git_commit() -> str | None:
+    """The commit checked out in walker's source tree when walker runs from a git checkout
+    (``git rev-parse HEAD`` there, with ``+dirty`` when tracked files differ from it);
+    None when it is not a checkout, git is missing or fails: never an error."""
+    import subprocess
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    if not (root / ".git").exists() or not (root / "walker" / "__init__.py").exists():
+        return None
+    try:
+
+        def git(*args: str) -> str:
+            done = subprocess.run(
+                ["git", "-C", str(root), *args],
+                capture_output=True,
+                text=True,
+                timeout=5,
+                check=True,
+            )
+            return done.stdout.strip()
+
+        commit = git("rev-parse", "HEAD")
+        dirty = git("status", "--porcelain", "--untracked-files=no")
+    except (OSError, subprocess.SubprocessError, ValueError):
+        return None
+    if len(commit) < 7 or not all(c in "0123456789abcdef" for c in commit):
+        return None
+    return commit + ("+dirty" if dirty else "")
+
+
+_ENVIRONMENT: dict[str, Any] | None = None
+
+
+def environment_provenance() -> dict[str, Any]:
+    """How a result was computed: ``command_line`` (:func:`command_line`), ``versions``
+    (``walker``, ``python``, ``numpy``, ``scipy``, ``h5py``), ``git_commit`` (only when
+    walker runs from a git checkout) and ``compiler_flags`` (the compiler command the
+    extension was built with, ``walker._hybrid.COMPILE_FLAGS``; ``"unknown"`` for an
+    extension built before it was recorded).  Never raises."""
+    global _ENVIRONMENT
+    if _ENVIRONMENT is None:
+        import platform
+
+        env: dict[str, Any] = {
+            "versions": {
+                "walker": walker_version(),
+                "python": platform.python_version(),
+                **{name: _version(name) or "unknown" for name in ("numpy", "scipy", "h5py")},
+            }
+        }
+        commit = _git_commit()
+        if commit is not None:
+            env["git_commit"] = commit
+        try:
+            from walker import _hybrid
+
+            env["compiler_flags"] = str(getattr(_hybrid, "COMPILE_FLAGS", "unknown"))
+        except ImportError:  # pragma: no cover - walker does not run without it
+            env["compiler_flags"] = "unknown"
+        _ENVIRONMENT = env
+    return {"command_line": command_line(), **_ENVIRONMENT}
+
+
 def parameters_with_units(params: Any) -> dict[str, dict[str, Any]]:
     """Provenance ``parameters`` entry from a :mod:`walker.params` dataclass.
 
@@ -94,7 +214,9 @@ def solver_provenance(
     dict
         ``model``, ``parameters`` (:func:`parameters_with_units`), ``method``, ``rtol``,
         ``atol``, ``t_max``, ``first_step``, ``kernel_hash``, then one key per convention of
-        the model (``swing_scuff`` for the kneed walkers).
+        the model (``swing_scuff`` for the kneed walkers), the state's ``state_names``,
+        ``state_units`` and ``section_names``, and :func:`environment_provenance`
+        (``command_line``, ``versions``, ``git_commit``, ``compiler_flags``).
 
     Examples
     --------
@@ -103,10 +225,14 @@ def solver_provenance(
     >>> prov = solver_provenance(get_model("simplest"), SimplestParams.garcia(),
     ...                          method="dop853", rtol=1e-10, atol=1e-12, t_max=20.0,
     ...                          first_step=None)
-    >>> list(prov)
+    >>> list(prov)[:8]
     ['model', 'parameters', 'method', 'rtol', 'atol', 't_max', 'first_step', 'kernel_hash']
+    >>> prov["state_names"], prov["state_units"]
+    (['theta', 'phi', 'theta_dot', 'phi_dot'], ['rad', 'rad', 'rad/s', 'rad/s'])
+    >>> sorted(prov["versions"])
+    ['h5py', 'numpy', 'python', 'scipy', 'walker']
     """
-    return {
+    prov = {
         "model": model.name,
         "parameters": parameters_with_units(params),
         "method": method,
@@ -117,6 +243,14 @@ def solver_provenance(
         "kernel_hash": model.kernel_hash,
         **model.conventions,
     }
+    names = getattr(model, "state_names", None)
+    units = getattr(model, "state_units", None)
+    if names is not None and units is not None:
+        prov["state_names"] = [str(v) for v in names]
+        prov["state_units"] = [str(v) for v in units]
+        prov["section_names"] = [str(v) for v in getattr(model, "section_names", ())]
+    prov.update(environment_provenance())
+    return prov
 
 
 def scene_provenance(
@@ -142,8 +276,10 @@ def scene_provenance(
         ``scene`` (the scene file's path, as given or relative to ``relative_to``), then
         :func:`solver_provenance` of the scene's model, parameters and ``[compute]``
         settings: ``model``, ``parameters``, ``method``, ``rtol``, ``atol``, ``t_max``,
-        ``first_step``, ``kernel_hash`` and the model's conventions (``swing_scuff``); then
-        ``extra``.
+        ``first_step``, ``kernel_hash``, the model's conventions (``swing_scuff``), the
+        state's names and units and the environment (command line, versions, git commit,
+        compiler flags); then ``scene_sha256`` and ``scene_text``, the scene file's text
+        (up to :data:`SCENE_TEXT_LIMIT` characters); then ``extra``.
 
     Examples
     --------
@@ -160,9 +296,27 @@ def scene_provenance(
     prov = {
         "scene": where,
         **solver_provenance(scene.walker_model, scene.params, **solver_settings(scene.compute)),
+        **_scene_text(scene.path),
     }
     prov.update(extra)
     return prov
+
+
+def _scene_text(path) -> dict[str, str]:
+    """``scene_sha256`` of the scene file's bytes and, up to :data:`SCENE_TEXT_LIMIT`
+    characters, its ``scene_text``; empty when the file cannot be read (never an error)."""
+    import hashlib
+
+    try:
+        with open(path, "rb") as f:
+            data = f.read(4 * SCENE_TEXT_LIMIT + 1)
+        text = data.decode("utf-8")
+    except (OSError, TypeError, ValueError):
+        return {}
+    out = {"scene_sha256": hashlib.sha256(data).hexdigest()}
+    if len(text) <= SCENE_TEXT_LIMIT:
+        out["scene_text"] = text
+    return out
 
 
 def _is_dunder(key: str) -> bool:

@@ -128,6 +128,8 @@ class _Corrupt(Exception):
 #   "optional_json"   the same, absent in files written before the field existed (read as {})
 #   ("group", cls) / ("optional_group", cls) / ("group_list", cls)   subgroups
 #   "array_dict"      subgroup with one dataset per key, key order in attribute "names"
+#   "optional_array_dict"  the same, absent in files written before the field existed
+#                     (read as {}) and when the dict is empty
 # ---------------------------------------------------------------------------------------------
 
 _SPECS: dict[type, dict[str, Any]] = {
@@ -162,6 +164,7 @@ _SPECS: dict[type, dict[str, Any]] = {
         "phase_names": "names",
         "guard_names": "names",
         "conventions": "optional_json",
+        "measures": "optional_json",
     },
     MapResult: {
         "status": "status",
@@ -188,6 +191,7 @@ _SPECS: dict[type, dict[str, Any]] = {
         "stable": "bool",
         "parameters": "json",
         "conventions": "optional_json",
+        "measures": "optional_json",
     },
     Bifurcation: {
         "kind": "str",
@@ -207,6 +211,7 @@ _SPECS: dict[type, dict[str, Any]] = {
         "message": "str",
         "success": "bool",
         "period": "int",
+        "measures": "optional_array_dict",
     },
     OrbitDiagram: {
         "parameter_name": "str",
@@ -344,6 +349,14 @@ def _shape_problem(cls: type, v: dict[str, Any]) -> tuple[str, str] | None:
             lambda n: vector("step_times", n),
             lambda n: matrix("multipliers", n),
             lambda n: vector("stable", n, "b"),
+            lambda n: next(
+                (
+                    (f"measures/{key}", f"must be of shape ({n},), got shape {col.shape}")
+                    for key, col in v["measures"].items()
+                    if col.shape != (n,) or col.dtype.kind not in "biuf"
+                ),
+                None,
+            ),
         )
     if cls is OrbitDiagram:
         return along("parameter", lambda n: matrix("values", n))
