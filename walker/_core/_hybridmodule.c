@@ -422,9 +422,11 @@ static PyObject *py_call_state_fn(PyObject *self, PyObject *const *args, Py_ssiz
                      (long long)n_in, sizes->name, vx.shape[0]);
         goto out;
     }
-    if (vp.shape[0] != sizes->n_p) {
-        PyErr_Format(PyExc_ValueError, "`p` must have length n_p = %lld for %s, got %zd",
-                     (long long)sizes->n_p, sizes->name, vp.shape[0]);
+    /* At least the function's parameters: the Coulomb walkers call their base walker's
+     * energy and points with their longer vector, whose first entries are the base's. */
+    if (vp.shape[0] < sizes->n_p) {
+        PyErr_Format(PyExc_ValueError, "`p` must have length at least n_p = %lld for %s, "
+                     "got %zd", (long long)sizes->n_p, sizes->name, vp.shape[0]);
         goto out;
     }
     out = PyMem_Calloc((size_t)n_max + 1, sizeof(double));
