@@ -254,6 +254,7 @@ static PyObject *model_entry(const void *table, int64_t i, const char **key)
         set_item(entry, "start_phase", ADDRESS(e->start_phase)) ||
         set_item(entry, "lift", ADDRESS(e->lift)) ||
         set_item(entry, "lift_jacobian", ADDRESS(e->lift_jacobian)) ||
+        set_item(entry, "torques", ADDRESS(e->torques)) ||
         set_item(entry, "rhs_jac", ADDRESS(e->fn.rhs_jac))) {
         Py_DECREF(entry);
         return NULL;
@@ -266,15 +267,28 @@ static PyObject *kernel_entry(const void *table, int64_t i, const char **key)
 {
     const wk_kernel_entry *k = (const wk_kernel_entry *)table + i;
     *key = k->name;
-    return Py_BuildValue("(sN)", k->sig, ADDRESS(k->address));
+    PyObject *shape = PyTuple_New(0);
+    for (int d = 0; shape != NULL && d < 3 && k->shape[d] > 0; d++) {
+        PyObject *dim = PyLong_FromLongLong((long long)k->shape[d]);
+        if (dim == NULL || _PyTuple_Resize(&shape, d + 1)) {
+            Py_XDECREF(dim);
+            Py_CLEAR(shape);
+            break;
+        }
+        PyTuple_SET_ITEM(shape, d, dim);
+    }
+    if (shape == NULL) return NULL;
+    return Py_BuildValue("(sNLLN)", k->sig, ADDRESS(k->address), (long long)k->n_q,
+                         (long long)k->n_p, shape);
 }
 
 PyDoc_STRVAR(models_doc,
              "models()\n--\n\n"
              "walker's compiled models: dict name -> dict of int addresses {'rhs', 'guards',\n"
              "'reset', 'jac', 'ctx', 'energy', 'points', 'start_phase', 'lift',\n"
-             "'lift_jacobian', 'rhs_jac'} (0 for NULL; 'lift' and 'lift_jacobian' a section\n"
-             "lift that is not affine; 'rhs_jac', the fused rhs and Jacobian the integrator\n"
+             "'lift_jacobian', 'torques', 'rhs_jac'} (0 for NULL; 'lift' and 'lift_jacobian' a\n"
+             "section lift that is not affine; 'torques' the actuated walkers' controller\n"
+             "torques; 'rhs_jac', the fused rhs and Jacobian the integrator\n"
              "uses by itself for this (rhs, jac) pair, is informational).");
 
 static PyObject *py_models(PyObject *self, PyObject *unused)
@@ -288,8 +302,10 @@ static PyObject *py_models(PyObject *self, PyObject *unused)
 
 PyDoc_STRVAR(kernels_doc,
              "kernels()\n--\n\n"
-             "walker's generated C kernels: dict '<model>.<kernel>' -> (signature, address),\n"
-             "signatures as in wk_models.h ('qqdp_v', 'qp_v', 'qqdp_s', 'qp_s').");
+             "walker's generated C kernels: dict '<model>.<kernel>' -> (signature, address,\n"
+             "n_q, n_p, shape): signatures as in wk_models.h ('qqdp_v', 'qp_v', 'qqdp_s',\n"
+             "'qp_s', 'qqdqddp_v'); n_q the length of q (and qd, qdd), n_p the parameters\n"
+             "read, shape that of out (() for a kernel returning a double).");
 
 static PyObject *py_kernels(PyObject *self, PyObject *unused)
 {

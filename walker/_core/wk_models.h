@@ -29,6 +29,9 @@ typedef struct {
      * Python lift and lift_jacobian. */
     wk_state_fn lift;
     wk_state_fn lift_jacobian;
+    /* The controller's torques u (n_inputs) at x (the actuated walkers; NULL elsewhere):
+     * what the integrator's rhs applies, before any joint friction. */
+    wk_state_fn torques;
 } wk_model_entry;
 
 /* Generated kernel signatures: "qqdp_v" f(q, qd, p, out); "qp_v" f(q, p, out);
@@ -39,6 +42,9 @@ typedef struct {
     const char *name;  /* "<model>.<kernel>", variants "<model>/plain.<kernel>" */
     const char *sig;
     void *address;
+    int64_t n_q;      /* length of q (and of qd, qdd where the kernel takes them) */
+    int64_t n_p;      /* the kernel reads p[0 .. n_p) */
+    int64_t shape[3]; /* shape of out, 0 past its last dimension (all 0: returns a double) */
 } wk_kernel_entry;
 
 /* The registry: an array of pointers to entries, so that each model file can export its own

@@ -18,6 +18,7 @@ from sympy.printing.c import C99CodePrinter
 
 from walker.symbolic.codegen import (
     REGENERATE,
+    AccelAndJacobianKernel,
     AccelJacobianKernel,
     AccelKernel,
     Lowered,
@@ -227,6 +228,24 @@ def render_c_module(
     return "\n".join(source) + "\n" + body, "\n".join(header)
 
 
+def kernel_sizes(kernel) -> tuple[int, int, tuple[int, ...]]:
+    """``(n_q, n_p, shape)`` of a kernel: the length of its coordinate arguments (``q``, and
+    ``qd`` and ``qdd`` where it takes them), of the parameters it reads (``p[:n_p]``) and the
+    shape of its output (``()`` for a kernel that returns a double); the registry's entry
+    carries them so that walker.models checks every call's lengths."""
+    sizes = dict((name, len(values)) for name, values in kernel.args)
+    n = sizes["q"]
+    if isinstance(kernel, AccelAndJacobianKernel):
+        shape = (n, 2 * n + 1)
+    elif isinstance(kernel, AccelJacobianKernel):
+        shape = (n, 2 * n)
+    elif isinstance(kernel, AccelKernel):
+        shape = (n,)
+    else:
+        shape = _shape(kernel.expr)
+    return n, sizes["p"], tuple(int(d) for d in shape)
+
+
 def render_kernel_table(modules) -> str:
     """``kernel_table.c``: the registry ``wk_kernel_table`` (walker/_core/wk_models.h).
 
@@ -248,8 +267,11 @@ def render_kernel_table(modules) -> str:
     ]
     for cname, prefix, kernels in modules:
         for k in kernels:
+            n_q, n_p, shape = kernel_sizes(k)
+            dims = ", ".join(str(d) for d in (*shape, 0, 0, 0)[:3])
             lines.append(
-                f'    {{"{prefix}.{k.name}", "{c_signature(k)}", (void *)wk_{cname}_{k.name}}},'
+                f'    {{"{prefix}.{k.name}", "{c_signature(k)}", (void *)wk_{cname}_{k.name}, '
+                f"{n_q}, {n_p}, {{{dims}}}}},"
             )
     lines += [
         "};",
