@@ -10,7 +10,7 @@
 import math
 
 import numpy as np
-from numba import njit
+import pytest
 
 from walker.integrate import HybridSystem
 from walker.status import (
@@ -20,6 +20,10 @@ from walker.status import (
     EVENT_TERMINAL,
     Status,
 )
+
+# A user's own @njit systems: numba is the optional extra ``numba``, so the tests that
+# import this module are skipped without it.
+njit = pytest.importorskip("numba").njit
 
 FELL_FORWARD = int(Status.FELL_FORWARD)
 FELL_BACKWARD = int(Status.FELL_BACKWARD)

@@ -11,8 +11,6 @@ from numpy.testing import assert_allclose
 
 from walker import get_model, load_scene, simulate
 from walker.models import MODEL_NAMES
-from walker.models import compass as C
-from walker.models import kneed as KN
 from walker.models._common import BASE_EXPORTS
 from walker.params import MODELS, CompassParams, KneedParams, SimplestParams
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, Status
@@ -54,6 +52,9 @@ def _heel_strike_state_compass(p, rng):
     return np.array([q_st, q_sw, rng.uniform(-2, -0.5), rng.uniform(-1, 1)])
 
 
+COMPASS, KNEED = get_model("compass"), get_model("kneed")
+
+
 # ------------------------------------------------------------------------------ compass gait
 def test_compass_heel_strike_conserves_angular_momenta():
     params = CompassParams.goswami()
@@ -62,9 +63,7 @@ def test_compass_heel_strike_conserves_angular_momenta():
     bodies = body_functions(model)
     for _ in range(50):
         x = _heel_strike_state_compass(p, RNG)
-        x_new = np.empty(4)
-        imp = np.empty(2)
-        action, phase, status = C.reset(0, 0, 0.0, x, p, x_new, imp)
+        action, phase, status, x_new, imp = COMPASS.reset(0, 0, x, p)
         # Wide steps can leave the trailing foot pressed into the ground: then the reset
         # reports NONPHYSICAL_IMPACT, but the impact it solved must still conserve momenta.
         assert (action, status) in ((EVENT_STRIDE, 0), (3, Status.NONPHYSICAL_IMPACT))
@@ -83,7 +82,7 @@ def test_compass_heel_strike_conserves_angular_momenta():
         la = angular_momentum(bodies, qn, qdn, p, hip_new, names={"swing_leg"})
         assert_allclose(la, lb, rtol=1e-12, atol=1e-12)
         # Kinetic energy never increases; the normal impulse is positive.
-        assert C.energy(x_new, p)[0] <= C.energy(x, p)[0]
+        assert COMPASS.energy(x_new, p)[0] <= COMPASS.energy(x, p)[0]
         if action == EVENT_STRIDE:
             assert imp[1] > 0
 
@@ -114,8 +113,7 @@ def test_compass_impact_equals_goswami_closed_form():
     p = params.as_array()
     for _ in range(50):
         x = _heel_strike_state_compass(p, RNG)
-        x_new = np.empty(4)
-        C.reset(0, 0, 0.0, x, p, x_new, np.empty(2))
+        x_new = COMPASS.reset(0, 0, x, p)[3]
         assert_allclose(x_new, _goswami_transition(x, params), rtol=1e-12, atol=1e-12)
 
 
@@ -123,8 +121,10 @@ def test_compass_scuff_behind_is_ignored_not_a_strike():
     p = CompassParams.goswami().as_array()
     # Mid-stance: legs nearly together, swing foot slightly behind the stance foot.
     x = np.array([0.02, 0.01, -1.0, 2.0])
-    assert C.swing_foot(x, p)[1] < 0
-    action, _, _ = C.reset(0, 0, 0.0, x, p, np.empty(4), np.empty(2))
+    stance, _, swing = COMPASS.points(x, p)
+    step = swing - stance  # along the slope: (cos slope, -sin slope)
+    assert step[0] * math.cos(p[6]) - step[1] * math.sin(p[6]) < 0
+    action = COMPASS.reset(0, 0, x, p)[0]
     assert action == EVENT_IGNORE
 
 
@@ -191,11 +191,9 @@ def test_knee_lock_conserves_angular_momenta(offsets):
         qd = np.array([RNG.uniform(-2, 0), RNG.uniform(-1, 3), RNG.uniform(0, 4)])
         qd[2] = qd[1] + abs(qd[2])  # shank catching up with the thigh
         x = np.concatenate([q, qd])
-        if KN.swing_foot(x, p)[0] <= 0:  # a real run trips before reaching such a state
+        if KNEED.guards(0, x, p)[1] <= 0:  # swing foot below: a real run trips before
             continue
-        x_new = np.empty(6)
-        imp = np.empty(2)
-        action, phase, status = KN.reset(0, 0, 0.0, x, p, x_new, imp)
+        action, phase, status, x_new, imp = KNEED.reset(0, 0, x, p)
         assert (action, phase, status) == (EVENT_CONTINUE, 1, 0)
         qn, qdn = x_new[:3], x_new[3:]
         assert qdn[1] == qdn[2] and qn[1] == qn[2]
@@ -214,7 +212,7 @@ def test_knee_lock_conserves_angular_momenta(offsets):
             rtol=1e-12,
             atol=1e-12,
         )
-        assert KN.energy(x_new, p)[0] <= KN.energy(x, p)[0]
+        assert KNEED.energy(x_new, p)[0] <= KNEED.energy(x, p)[0]
 
 
 def test_kneed_heel_strike_conserves_angular_momenta():
@@ -228,9 +226,7 @@ def test_kneed_heel_strike_conserves_angular_momenta():
         q = np.array([-slope - alpha, -slope + alpha, -slope + alpha])
         w = np.array([RNG.uniform(-1.5, -0.8), RNG.uniform(-0.5, 0.3)])
         x = np.array([q[0], q[1], q[2], w[0], w[1], w[1]])
-        x_new = np.empty(6)
-        imp = np.empty(2)
-        action, phase, status = KN.reset(1, 1, 0.0, x, p, x_new, imp)
+        action, phase, status, x_new, imp = KNEED.reset(1, 1, x, p)
         assert (action, status) in ((EVENT_STRIDE, 0), (3, Status.NONPHYSICAL_IMPACT))
         n_checked += action == EVENT_STRIDE
         qn, qdn = x_new[:3], x_new[3:]
@@ -249,7 +245,7 @@ def test_kneed_heel_strike_conserves_angular_momenta():
             rtol=1e-12,
             atol=1e-12,
         )
-        assert KN.energy(x_new, p)[0] <= KN.energy(x, p)[0]
+        assert KNEED.energy(x_new, p)[0] <= KNEED.energy(x, p)[0]
     assert n_checked > 10
 
 

@@ -3,8 +3,9 @@
  * solve(...)          one run of the hybrid integrator (hybrid.c), without the GIL, as a
  *                     SolveResult record (_hybridresult.c);
  * models()            walker's compiled models (wk_model_table) as integer addresses;
- * kernels()           the generated kernels (wk_kernel_table) as (signature, address);
- * call_state_fn(...)  calls a model's energy / points / start_phase function;
+ * kernels()           the generated kernels (wk_kernel_table) as (signature, address,
+ *                     n_q, n_p, shape); kernel_hashes() the generated modules' hashes;
+ * call_state_fn(...)  calls a model's energy / points / start_phase / torques function;
  * basin_points(...)   many starts of a walker's stride map (batch.c), without the GIL;
  * PreparedMap(...)    one start of a walker's stride map per map() call, its settings
  *                     parsed once (_hybridmap.c);
@@ -316,6 +317,28 @@ static PyObject *py_kernels(PyObject *self, PyObject *unused)
     return registry(table, count, kernel_entry);
 }
 
+/* A generated module's hash: its name -> the hash string. */
+static PyObject *hash_entry(const void *table, int64_t i, const char **key)
+{
+    const wk_kernel_hash_entry *k = (const wk_kernel_hash_entry *)table + i;
+    *key = k->module;
+    return PyUnicode_FromString(k->hash);
+}
+
+PyDoc_STRVAR(kernel_hashes_doc,
+             "kernel_hashes()\n--\n\n"
+             "The hash stamped on each generated C module: dict '<model>' (variants\n"
+             "'<model>/<variant>') -> hex string (the symbolic model's sha256).");
+
+static PyObject *py_kernel_hashes(PyObject *self, PyObject *unused)
+{
+    (void)self;
+    (void)unused;
+    int64_t count = 0;
+    const wk_kernel_hash_entry *table = wk_kernel_hash_table(&count);
+    return registry(table, count, hash_entry);
+}
+
 /* ------------------------------------------------------------------------------------------
  * call_state_fn
  * ------------------------------------------------------------------------------------------ */
@@ -497,6 +520,7 @@ static PyMethodDef methods[] = {
     {"solve", (PyCFunction)(void (*)(void))py_solve, METH_FASTCALL, solve_doc},
     {"models", py_models, METH_NOARGS, models_doc},
     {"kernels", py_kernels, METH_NOARGS, kernels_doc},
+    {"kernel_hashes", py_kernel_hashes, METH_NOARGS, kernel_hashes_doc},
     {"basin_points", (PyCFunction)(void (*)(void))py_basin_points, METH_FASTCALL,
      basin_points_doc},
     {"call_state_fn", (PyCFunction)(void (*)(void))py_call_state_fn, METH_FASTCALL,

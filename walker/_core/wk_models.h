@@ -52,6 +52,14 @@ typedef struct {
 const wk_model_entry *const *wk_model_table(int64_t *count);
 const wk_kernel_entry *wk_kernel_table(int64_t *count);
 
+/* The hash stamped on each generated C module (its WK_<MODULE>_KERNEL_HASH): what a result's
+ * provenance records as the model's kernel_hash. */
+typedef struct {
+    const char *module; /* "compass", variants "compass/plain" */
+    const char *hash;
+} wk_kernel_hash_entry;
+const wk_kernel_hash_entry *wk_kernel_hash_table(int64_t *count);
+
 /* The fused rhs and Jacobian of the registry entry whose fn has this (rhs, jac) pair; NULL
  * when no entry has it (a user system) or the entry has none.  What the binding sets
  * wk_functions.rhs_jac to when a run is set up. */

@@ -136,8 +136,25 @@ static const wk_kernel_entry KERNELS[] = {
     {"five_link.ext_stance_contact_jac", "qp_v", (void *)wk_five_link_ext_stance_contact_jac, 7, 13, {2, 7, 0}},
 };
 
+static const wk_kernel_hash_entry HASHES[] = {
+    {"simplest", WK_SIMPLEST_KERNEL_HASH},
+    {"compass", WK_COMPASS_KERNEL_HASH},
+    {"compass/plain", WK_COMPASS_PLAIN_KERNEL_HASH},
+    {"kneed", WK_KNEED_KERNEL_HASH},
+    {"kneed/plain", WK_KNEED_PLAIN_KERNEL_HASH},
+    {"double_pendulum", WK_DOUBLE_PENDULUM_KERNEL_HASH},
+    {"three_link", WK_THREE_LINK_KERNEL_HASH},
+    {"five_link", WK_FIVE_LINK_KERNEL_HASH},
+};
+
 const wk_kernel_entry *wk_kernel_table(int64_t *count)
 {
     *count = (int64_t)(sizeof(KERNELS) / sizeof(KERNELS[0]));
     return KERNELS;
+}
+
+const wk_kernel_hash_entry *wk_kernel_hash_table(int64_t *count)
+{
+    *count = (int64_t)(sizeof(HASHES) / sizeof(HASHES[0]));
+    return HASHES;
 }

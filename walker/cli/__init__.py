@@ -213,10 +213,9 @@ def _path_label(args, filename) -> str:
 
 def _input_error_line(args, exc: Exception) -> str | None:
     """The one line for an error of the input, or None for an internal error."""
-    from walker._jit import NumbaMissing
     from walker.storage import StorageError
 
-    if isinstance(exc, UsageError | StorageError | NumbaMissing):
+    if isinstance(exc, UsageError | StorageError):
         return _first_line(exc)
     if isinstance(exc, OSError) and exc.filename is not None:
         # An OSError of a named file: the path, the flag it came from and the reason.

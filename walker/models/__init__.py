@@ -1,5 +1,6 @@
-"""The walkers walker ships, each a :class:`WalkerModel`: compiled phase functions plus the
-Python-side description (state, phases, guards, section coordinates).
+"""The walkers walker ships, each a :class:`WalkerModel`: a model compiled into the extension
+(walker/_core/model_<name>.c, registered in walker/_core/models.c) plus its Python-side
+description (state, phases, guards, section coordinates).
 
 A model module (``walker/models/<name>.py``) provides, per the contract of
 :class:`walker.integrate.HybridSystem`:
@@ -8,25 +9,29 @@ A model module (``walker/models/<name>.py``) provides, per the contract of
    from the model's record in the model registry :data:`walker.params.MODELS` (which also
    holds its parameter class, state units and whether it has strides); ``N_X``, its length,
    is written out for the compiled code (``tests/test_models.py`` checks that they agree).
-2. ``PHASE_NAMES``, ``GUARD_NAMES``, ``DIRECTIONS`` (n_phases, n_guards) and compiled
-   ``rhs``, ``guards``, ``reset``, ``jac`` (vector field Jacobian for the variational
-   equations), ``N_IMPULSE``.
+2. ``PHASE_NAMES``, ``GUARD_NAMES``, ``DIRECTIONS`` (n_phases, n_guards) and ``N_IMPULSE``
+   of the compiled ``rhs``, ``guards``, ``reset`` and ``jac`` (the model's registry entry,
+   ``walker._hybrid.models()``).
 3. ``SECTION_NAMES`` and ``lift(z, p)`` / ``project(x, p)`` / ``lift_jacobian(z, p)``
    between the Poincare section just after heel strike and the full state (walkers only).
-4. ``energy(x, p) -> (kinetic, potential)``, ``points(x, p)`` and ``SEGMENTS`` for drawing.
-5. Optionally ``start_phase(x, p) -> int``: the phase a run from state ``x`` starts in, for
-   models whose phase depends on the state (joint friction modes: a joint at rest sticks or
-   slips depending on the forces).  Without it a run starts in phase 0.
-6. Optionally ``SWING_SCUFF``: the swing-foot scuffing conventions the model offers
-   (``("trip", "ignore")``, the default first) and ``reset_ignore_scuff``, the reset map
-   under ``"ignore"``, compiled as the registry variants ``<model>/ignore_scuff`` and
-   ``<model>/<variant>/ignore_scuff`` (:func:`get_model` ``swing_scuff``).
-7. Optionally ``VARIANTS``: compiled structural variants (walker/_core/models.c), name ->
+4. ``SEGMENTS``: the pairs of the compiled ``points`` drawn as links.
+5. Optionally ``SWING_SCUFF``: the swing-foot scuffing conventions the model offers
+   (``("trip", "ignore")``, the default first), compiled as the registry variants
+   ``<model>/ignore_scuff`` and ``<model>/<variant>/ignore_scuff`` (:func:`get_model`
+   ``swing_scuff``).
+6. Optionally ``VARIANTS``: compiled structural variants (walker/_core/models.c), name ->
    parameters.  A variant runs kernels generated with these parameters fixed at exactly
    zero, so scenes that leave them at zero pay no arithmetic for them;
    :meth:`WalkerModel.variant_for` picks it.
+7. Optionally ``KERNEL_MODULE``, the generated kernels it runs on when they are another
+   model's (the friction variants: ``"compass"``, ``"kneed"``), and ``KERNEL_HASH`` for a
+   model without generated kernels (the rimless wheel).
 
-Importing a model compiles nothing; a compass-gait run never loads the kneed kernels.
+The compiled functions are called from Python through the checked methods of
+:class:`WalkerModel` (``rhs``, ``guards``, ``jac``, ``reset``, ``energy``, ``points``,
+``start_phase``, ``torques``, ``kernel``; walker/models/_compiled.py): every length and dtype
+is checked before the call, and an error names the argument.  Nothing here is compiled at
+run time, and numba is never imported.
 """
 
 from __future__ import annotations
@@ -37,7 +42,14 @@ from functools import cached_property
 
 import numpy as np
 
-from walker.models._compiled import as_index, as_vector, call_kernel, call_phase_fn, call_reset
+from walker.models._compiled import (
+    _kernel_table,
+    as_index,
+    as_vector,
+    call_kernel,
+    call_phase_fn,
+    call_reset,
+)
 from walker.params import MODELS, ModelSpec
 
 __all__ = ["WalkerModel", "get_model", "MODEL_NAMES"]
@@ -192,8 +204,19 @@ class WalkerModel:
     section_names = _module_attr("SECTION_NAMES", "Names of the section coordinates.")
     phase_names = _module_attr("PHASE_NAMES", "Name of each phase.")
     guard_names = _module_attr("GUARD_NAMES", "Name of each guard, in priority order.")
-    kernel_hash = _module_attr("KERNEL_HASH", "Hash of the model's generated kernels.")
     segments = _module_attr("SEGMENTS", "Pairs of :meth:`points` rows joined for drawing.")
+
+    @cached_property
+    def kernel_hash(self) -> str:
+        """Hash of the model's generated kernels (the one stamped on its generated C module,
+        ``walker._hybrid.kernel_hashes()``), or of its hand-written equations (``KERNEL_HASH``
+        of a model without generated kernels, the rimless wheel)."""
+        declared = getattr(self.module, "KERNEL_HASH", None)
+        if declared is not None:
+            return declared
+        from walker import _hybrid
+
+        return _hybrid.kernel_hashes()[self._kernel_module]
 
     @cached_property
     def n_z(self) -> int:
@@ -341,10 +364,8 @@ class WalkerModel:
     @cached_property
     def kernel_names(self) -> tuple[str, ...]:
         """The generated C kernels of this model (:meth:`kernel`)."""
-        from walker import _hybrid
-
         prefix = f"{self._kernel_module}."
-        return tuple(k[len(prefix) :] for k in _hybrid.kernels() if k.startswith(prefix))
+        return tuple(k[len(prefix) :] for k in _kernel_table() if k.startswith(prefix))
 
 
 def _p(p) -> np.ndarray:

@@ -12,6 +12,7 @@ call the compiled model through them.
 from __future__ import annotations
 
 import ctypes
+import functools
 import math
 import operator
 
@@ -107,9 +108,14 @@ def call_reset(address: int, phase: int, k: int, t, x, p, n_impulse: int, ctx=No
 def kernel_info(key: str):
     """``(signature, address, n_q, n_p, shape)`` of generated kernel ``key`` ("<model>.<name>",
     variants "<model>/<variant>.<name>"), or None."""
+    return _kernel_table().get(key)
+
+
+@functools.cache
+def _kernel_table() -> dict:
     from walker import _hybrid
 
-    return _hybrid.kernels().get(key)
+    return _hybrid.kernels()
 
 
 def call_kernel(key: str, p, q, qd=None, qdd=None):
