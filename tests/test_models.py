@@ -415,3 +415,66 @@ def test_friction_walker_lists_its_base_models_names(name):
     for attr in module.__all__:
         assert attr in listed, attr
     assert "__getattr__" in listed and "np" in listed  # the module's own names stay
+
+
+# ------------------------------------------------------------ the checked compiled calls
+@pytest.mark.parametrize(
+    ("call", "error", "message"),
+    [
+        (lambda m, x, p: m.rhs(0, x[:3], p), ValueError, r"^`x` must have 6 entries, got 3$"),
+        (lambda m, x, p: m.guards(0, x, p[:-1]), ValueError, r"^`p` must have 17 entries"),
+        (lambda m, x, p: m.jac(2, x, p), ValueError, r"^`phase` must be in \[0, 2\), got 2$"),
+        (lambda m, x, p: m.rhs(0.0, x, p), TypeError, r"^`phase` must be an int"),
+        (lambda m, x, p: m.reset(0, 4, x, p), ValueError, r"^`k` must be in \[0, 4\)"),
+        (lambda m, x, p: m.energy(x.reshape(2, 3), p), ValueError, r"^`x` must be 1-dim"),
+        (lambda m, x, p: m.points(x.astype(str), p), TypeError, r"^`x` must hold real"),
+        (lambda m, x, p: m.rhs(0, x, p, t=float("nan")), ValueError, r"^`t` must be finite"),
+        (lambda m, x, p: m.kernel("bias", p, x[:3]), ValueError, r"^`name` must be one of"),
+        (
+            lambda m, x, p: m.kernel("unlocked_bias", p, x[:3]),
+            TypeError,
+            r"^`qd` is required by kernel kneed\.unlocked_bias",
+        ),
+        (
+            lambda m, x, p: m.kernel("unlocked_mass_matrix", p, x[:3], x[3:]),
+            TypeError,
+            r"^`qd` is not taken by kernel kneed\.unlocked_mass_matrix",
+        ),
+        (
+            lambda m, x, p: m.kernel("locked_mass_matrix", p, x[:3]),
+            ValueError,
+            r"^`q` must have 2 entries, got 3$",
+        ),
+        (lambda m, x, p: m.kernel("locked_kinetic", p[:5], x[:2], x[3:5]), ValueError, r"^`p`"),
+        (lambda m, x, p: m.torques(x, p), ValueError, r"^model kneed has no actuators"),
+    ],
+)
+def test_compiled_calls_check_every_argument(call, error, message):
+    """Every call into the compiled model checks lengths, dtypes and indices first and names
+    the argument (the C reads the model's lengths unchecked)."""
+    scene = load_scene("gaits/kneed_hsu.toml")
+    with pytest.raises(error, match=message):
+        call(KNEED, scene.state, scene.params.as_array())
+
+
+def test_compiled_calls_are_the_integrators_functions():
+    """The checked calls reach the functions the integrator runs: a run's final state is a
+    heel strike where the swing-foot guard is zero, the reset maps the event's pre-state to
+    its post-state (to round-off: the run took the scene's ``plain`` variant, the checked
+    calls the general kernels), and the kernels agree with the energy (kinetic + potential
+    of the unlocked kernels)."""
+    scene = load_scene("gaits/kneed_hsu.toml")
+    p = scene.params.as_array()
+    sol = simulate("kneed", scene.params, scene.state, output="events")
+    ev = sol.events
+    last = len(ev) - 1
+    assert abs(KNEED.guards(int(ev.phase_before[last]), ev.x_pre[last], p)[1]) < 1e-9
+    action, phase, status, x_new, _ = KNEED.reset(
+        int(ev.phase_before[last]), int(ev.guard[last]), ev.x_pre[last], p, float(ev.t[last])
+    )
+    assert (action, phase, status) == (EVENT_STRIDE, int(ev.phase_after[last]), 0)
+    np.testing.assert_allclose(x_new, ev.x_post[last], rtol=1e-13, atol=1e-13)
+    x = scene.state
+    kinetic = KNEED.kernel("unlocked_kinetic", p, x[:3], x[3:])
+    potential = KNEED.kernel("unlocked_potential", p, x[:3])
+    assert KNEED.energy(x, p) == (kinetic, potential)

@@ -2,11 +2,11 @@
 
 The C form of a kernel ``k`` of model ``m`` is ``wk_<m>_<k>`` with the same arguments as
 ``const double *`` arrays and ``double *out`` (matrices row-major, ``(k, i, j)`` tensors
-flattened the same way); scalar kernels return ``double``.  It is printed from the same
-lowering as the numba twin (:func:`walker.symbolic.codegen.lower`), and without a rewrite
-every expression is checked to spell the numba expression's operations in the same order
-(:func:`_same_arithmetic`).  :func:`render_c_module` prints a module's ``.c`` and ``.h``,
-:func:`render_kernel_table` the registry ``kernel_table.c``.
+flattened the same way); scalar kernels return ``double``.  It is printed from one lowering
+(:func:`walker.symbolic.codegen.lower`), and without a rewrite every expression is checked to
+spell the plain-Python expression's operations in the same order (:func:`_same_arithmetic`).
+:func:`render_c_module` prints a module's ``.c`` and ``.h``, :func:`render_kernel_table` the
+registry ``kernel_table.c``.
 """
 
 from __future__ import annotations
@@ -133,7 +133,7 @@ def _render_c(cname: str, kernel, low: Lowered, check: bool) -> str:
     def expr(e):
         text = printer.doprint(e)
         if check and not _same_arithmetic(pyprinter.doprint(e), text):
-            raise AssertionError(f"{cname}.{low.name}: C `{text}` is not the numba expression")
+            raise AssertionError(f"{cname}.{low.name}: C `{text}` is not the Python expression")
         return text
 
     lines = [f"/* {_comment(low.doc or low.name)} */", _c_prototype(cname, kernel), "{"]
@@ -178,11 +178,10 @@ def render_c_module(
     doc : str
         one-paragraph description for the header.
     digest : str, optional
-        input hash to stamp; default :func:`symbolic_hash` of ``kernels`` (the hash of the
-        numba module of the same kernels).
+        input hash to stamp; default :func:`symbolic_hash` of ``kernels``.
     rewrite : callable, optional
         passed to :func:`lower` (e.g. :func:`share_trig`).  Without it every expression is
-        checked to be the numba module's, operation for operation.
+        checked to be the plain-Python expression's, operation for operation.
     notes : sequence of str
         extra header lines (what a structural variant fixes).
     """
