@@ -1,8 +1,8 @@
 /* walker's actuated walkers compiled in C: three_link (walker/models/three_link.py) and
  * five_link (walker/models/five_link.py), closed loop with the controllers of wk_control.h
- * and the joint friction of wk_friction.h.  model_three_link.c and model_five_link.c port
- * the numba phase functions with the same operations in the same order; what the two share
- * is written once in wk_actuated.c (declared at the end of this file).
+ * and the joint friction of wk_friction.h.  model_three_link.c and model_five_link.c keep
+ * the operations of walker's former numba phase functions in the same order; what the two
+ * share is written once in wk_actuated.c (declared at the end of this file).
  *
  * Registry entries (wk_models.h): wk_entry_three_link ("three_link") and
  * wk_entry_five_link ("five_link"), whose fn.ctx is NULL (the built-in controller); the same
