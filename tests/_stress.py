@@ -11,26 +11,17 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import _toy_systems
 import numpy as np
-import pytest
+from _toy_systems import njit
 from scipy.integrate import solve_ivp
 
 from walker import load_scene
 from walker.fixedpoint import find_fixed_point
-from walker.integrate import HybridSystem, hybrid_solve
+from walker.integrate import hybrid_solve
 from walker.models import get_model
 from walker.status import EVENT_STRIDE, Status
 from walker.stride import StrideMap, simulate
-
-try:  # numba is optional (a user's @njit systems): the toy systems' tests skip without it
-    from numba import njit as _njit
-except ImportError:
-    _njit = None
-
-
-def _user_jit(fn):
-    return _njit(cache=True)(fn) if _njit is not None else fn
-
 
 GAITS = Path(__file__).resolve().parents[1] / "gaits"
 SCENE_OF = {"compass": "compass_goswami.toml", "kneed": "kneed_hsu.toml"}
@@ -108,54 +99,49 @@ def long_run(model: str, n_strides: int, chunk: int = 1000, restart_time: bool =
 # Either reset ends the run as one completed stride.
 
 
-@_user_jit
+@njit(cache=True)
 def _circle_rhs(phase, t, x, p, dx):
     dx[0], dx[1] = x[1], -x[0]
 
 
-@_user_jit
+@njit(cache=True)
 def _circle_jac(phase, t, x, p, J):
     J[0, 0], J[0, 1], J[1, 0], J[1, 1] = 0.0, 1.0, -1.0, 0.0
 
 
-@_user_jit
+@njit(cache=True)
 def _circle_guard(phase, t, x, p, g):
     g[0] = p[0] - x[0]
 
 
-@_user_jit
+@njit(cache=True)
 def _line_rhs(phase, t, x, p, dx):
     dx[0], dx[1] = 1.0, 0.0
 
 
-@_user_jit
+@njit(cache=True)
 def _line_jac(phase, t, x, p, J):
     J[:, :] = 0.0
 
 
-@_user_jit
+@njit(cache=True)
 def _line_guard(phase, t, x, p, g):
     g[0] = (x[0] - 1.0) ** 2 - p[0] ** 2
 
 
-@_user_jit
+@njit(cache=True)
 def _one_stride(phase, k, t, x, p, x_new, impulse):
     return EVENT_STRIDE, phase, 0
 
 
 def _toy(name, rhs, jac, guard):
-    """A toy HybridSystem of @njit functions: a user's own system, so these need numba (the
-    optional extra ``numba``; :func:`toy_system` skips the test without it)."""
+    """A toy HybridSystem (tests/_toy_systems.py: numba's or ctypes' bridge)."""
     down = np.full((1, 1), -1, dtype=np.int64)
-    return HybridSystem(
-        name=name, n_x=2, n_phases=1, n_guards=1, n_impulse=1, rhs=rhs, guards=guard,
-        reset=_one_stride, jac=jac, directions=down, phase_names=(name,), guard_names=("dip",),
-    )  # fmt: skip
+    return _toy_systems.toy_system(name, 2, (rhs, guard, _one_stride, jac), down, (name,), ("dip",))
 
 
 def toy_system(kind: str):
-    """The ``kind`` toy ("oscillator" or "parabola"); skips the calling test without numba."""
-    pytest.importorskip("numba")
+    """The ``kind`` toy ("oscillator" or "parabola")."""
     if kind == "oscillator":
         return _toy("oscillator", _circle_rhs, _circle_jac, _circle_guard)
     return _toy("parabola", _line_rhs, _line_jac, _line_guard)

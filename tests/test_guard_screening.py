@@ -15,15 +15,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _toy_systems import toy_system
+from _toy_systems import njit, toy_system
 
 from walker import load_scene
 from walker.integrate import hybrid_solve
 from walker.status import EVENT_TERMINAL, Status
-
-# HybridSystem's numba bridge (a user's own @njit or cfunc system): numba is the optional
-# extra ``numba``, so this module is skipped without it.
-njit = pytest.importorskip("numba").njit
 
 GAITS = Path(__file__).resolve().parents[1] / "gaits"
 WALKER_SCENES = sorted(
