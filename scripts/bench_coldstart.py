@@ -363,8 +363,8 @@ def main(argv=None):
         summary,
         "",
         "walker's compiled core is the C extension `walker._hybrid`, built when the package "
-        "is installed. The `@njit` versions of the models and of a few helpers are compiled "
-        "by numba on their first call (`walker/_jit.py`), and numba is imported only then: "
+        "is installed; walker has no numba functions (numba is only the optional extra for a "
+        "user's own @njit system): "
         "the column *numba imported* comes from one more untimed run of each command under "
         "`python -X importtime`. The method below also shows, by name, any numba function a "
         "command still compiles at run time (last column).",

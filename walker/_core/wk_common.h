@@ -48,15 +48,16 @@ static inline void wk_reset_out(int64_t *out, int64_t action, int64_t next_phase
     out[2] = status;
 }
 
-/* walker._linalg.solve_inplace for one right-hand side: solves A x = b (A n x n,
- * row-major, destroyed; b overwritten with x) by Gaussian elimination with partial
- * pivoting.  Returns 0 when a pivot is zero or not finite, or the solution is not finite. */
+/* One right-hand side (the operations of walker's former _linalg.solve_inplace): solves
+ * A x = b (A n x n, row-major, destroyed; b overwritten with x) by Gaussian elimination with
+ * partial pivoting.  Returns 0 when a pivot is zero or not finite, or the solution is not
+ * finite. */
 int wk_solve_inplace(double *A, double *b, int n);
 
-/* walker._linalg.solve_inplace for nc right-hand sides: solves A X = B (A n x n, row-major,
- * destroyed; B n x nc, row-major, overwritten with X) by Gaussian elimination with partial
- * pivoting; returns 0 when a pivot is zero or not finite, or X is not finite.  wk_solve_inplace
- * is its case nc = 1. */
+/* nc right-hand sides (the operations of walker's former _linalg.solve_inplace): solves
+ * A X = B (A n x n, row-major, destroyed; B n x nc, row-major, overwritten with X) by
+ * Gaussian elimination with partial pivoting; returns 0 when a pivot is zero or not finite,
+ * or X is not finite.  wk_solve_inplace is its case nc = 1. */
 int wk_solve_columns(double *A, double *B, int n, int nc);
 
 /* walker.models._common.impact: solves [M, -J^T; J, 0] [qd_plus; impulse] = [M qd_minus; 0]
