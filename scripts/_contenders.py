@@ -294,6 +294,38 @@ class _ScipyKneed:
         return x6.copy(), t2, nfev
 
 
+class _array_api:  # noqa: N801 - a namespace of functions, as a model module was
+    """A walker model's compiled functions in the array form the contenders call them in
+    (``rhs(phase, t, x, p, out)``, ``guards(...)``, ``reset(phase, k, t, x, p, x_new,
+    impulse) -> (action, next phase, status)``), through the checked calls of
+    :class:`walker.models.WalkerModel`."""
+
+    def __init__(self, model):
+        self.model = model
+        self.guard_names = model.guard_names
+
+    def rhs(self, phase, t, x, p, out):
+        out[:] = self.model.rhs(phase, x, p, t)
+
+    def guards(self, phase, t, x, p, out):
+        out[:] = self.model.guards(phase, x, p, t)
+
+    def reset(self, phase, k, t, x, p, x_new, impulse):
+        action, next_phase, status, new, imp = self.model.reset(phase, k, x, p, t)
+        x_new[:] = new
+        impulse[: len(imp)] = imp
+        return action, next_phase, status
+
+    def swing_foot(self, x, p):
+        """(height above the slope, distance ahead along it) of the kneed walker's swing
+        foot: its compiled contact guard and drawing points."""
+        pts = self.model.points(x, p)
+        d = pts[-1] - pts[0]
+        slope = p[self.model.params_class.names().index("slope")]
+        ahead = d[0] * math.cos(slope) - d[1] * math.sin(slope)
+        return self.model.guards(0, x, p)[1], ahead
+
+
 class NumpyKneed(_ScipyKneed):
     """The hand-written kneed walker as a solve_ivp user writes it: scalar math in the
     vector fields (:func:`kneed_source`), the knee-lock and heel-strike guards in closed
@@ -306,7 +338,7 @@ class NumpyKneed(_ScipyKneed):
         make, self.source = kneed_factory()
         f3, f2 = make(pv, math.cos, math.sin, np.array)
         self.p = params.as_array()
-        self.reset = get_model("kneed").module.reset
+        self.reset = _array_api(get_model("kneed")).reset
         slope = float(params.slope)
         L = params.shank_length + params.thigh_length
         cos, sin = math.cos, math.sin
@@ -351,11 +383,11 @@ class CompiledKneed(_ScipyKneed):
     def __init__(self, params):
         from walker.models import get_model
 
-        m = get_model("kneed").module
+        m = _array_api(get_model("kneed"))
         self.p = p = params.as_array()
         self.reset = m.reset
         rhs, guards = m.rhs, m.guards
-        g = np.empty(len(m.GUARD_NAMES))
+        g = np.empty(len(m.guard_names))
 
         def f0(t, y):
             dy = np.empty(6)
@@ -392,7 +424,7 @@ def _impact_parts(obj, t0, params, name):
 
     obj.compile_seconds = time.perf_counter() - t0
     obj.p = params.as_array()
-    obj.reset = get_model(name).module.reset
+    obj.reset = _array_api(get_model(name)).reset
     obj._imp = np.zeros(2)
     obj._x = np.empty(get_model(name).n_x)
 
@@ -561,7 +593,7 @@ class CompiledSimple:
         from walker.models import get_model
 
         model = get_model(name)
-        m = model.module
+        m = _array_api(model)
         self.model = model
         self.p = p = params.as_array()
         self.reset = m.reset

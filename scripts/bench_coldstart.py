@@ -6,9 +6,9 @@ For every scene in gaits/: ``walker find SCENE`` when its ``[compute] task`` is
 ``fixed_point`` (and the model has strides), ``walker run SCENE`` otherwise.
 
 walker's compiled core is a C extension (``walker._hybrid``) built when the package is
-installed.  The ``@njit`` versions of the models and of a few helpers are compiled by numba on
-their first call (walker/_jit.py), and numba is imported only then: one more untimed run per
-scene under ``python -X importtime`` tells whether the command imported numba at all.  The
+installed; walker has no numba functions (numba is only an optional extra for a user's own
+@njit system): one more untimed run per scene under ``python -X importtime`` checks that the
+command imported numba not at all.  The
 method also shows any numba function a command still compiles at
 run time, by name: every run gets ``NUMBA_CACHE_DIR`` set
 to a new empty directory (one per scene); with it set, numba reads and writes compiled
@@ -363,8 +363,8 @@ def main(argv=None):
         summary,
         "",
         "walker's compiled core is the C extension `walker._hybrid`, built when the package "
-        "is installed. The `@njit` versions of the models and of a few helpers are compiled "
-        "by numba on their first call (`walker/_jit.py`), and numba is imported only then: "
+        "is installed; walker has no numba functions (numba is only the optional extra for a "
+        "user's own @njit system): "
         "the column *numba imported* comes from one more untimed run of each command under "
         "`python -X importtime`. The method below also shows, by name, any numba function a "
         "command still compiles at run time (last column).",

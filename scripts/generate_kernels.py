@@ -1,7 +1,8 @@
-"""Regenerate walker/_generated/ from the symbolic models (run after changing them): the numba
-modules ``<module>.py``; for the modules compiled into walker._hybrid also the C kernels
-``<module>.c``/``.h``, their structural variants ``<module>_<variant>.c``/``.h`` and the
-registry ``kernel_table.c``; and the named indices of every model, ``indices.py`` and
+"""Regenerate walker/_generated/ from the symbolic models (run after changing them): the C
+kernels ``<module>.c``/``.h`` compiled into walker._hybrid, their structural variants
+``<module>_<variant>.c``/``.h`` and the registry ``kernel_table.c`` (with each kernel's
+argument lengths and output shape, which walker.models checks calls against); and the named
+indices of every model, ``indices.py`` and
 ``indices.h`` (:mod:`walker.symbolic.indices`; ``--indices`` writes only these, in a second).
 
 Usage: python scripts/generate_kernels.py [--indices] [MODULE ...]
@@ -15,12 +16,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from walker.symbolic.codegen import (
-    render_module,
-    share_trig,
-    symbolic_hash,
-    variant_hash,
-)
+from walker.symbolic.codegen import share_trig, symbolic_hash, variant_hash
 from walker.symbolic.codegen_c import render_c_module, render_kernel_table
 from walker.symbolic.indices import render_indices_h, render_indices_py
 from walker.symbolic.kernels import (
@@ -29,7 +25,6 @@ from walker.symbolic.kernels import (
     GENERATED_MODULES,
     VARIANT_SIMPLIFICATION,
     kernels_for,
-    module_extra,
     variant_kernels,
 )
 
@@ -101,12 +96,10 @@ def render_c(name: str, kernels) -> list[tuple[str, str, str]]:
 
 
 def generate(name: str) -> list[Path]:
-    """Write one generated module (and its C forms) atomically; return the paths."""
-    kernels = kernels_for(name)
-    source = render_module(name, kernels, doc=GENERATED_MODULES[name], extra=module_extra(name))
-    paths = [write(OUT / f"{name}.py", source)]
+    """Write one generated module's C forms atomically; return the paths."""
+    paths = []
     if name in C_MODULES:
-        for cname, c, h in render_c(name, kernels):
+        for cname, c, h in render_c(name, kernels_for(name)):
             # the header first: a source never sees an older header of its own
             paths.append(write(OUT / f"{cname}.h", h))
             paths.append(write(OUT / f"{cname}.c", c))
@@ -127,19 +120,6 @@ def generate_indices() -> list[Path]:
     ]
 
 
-def clear_numba_cache() -> int:
-    """Delete numba's cache files under walker/.
-
-    numba keys a cached function on its own source file only, so a model function that
-    calls a regenerated kernel would keep running the old kernel from its cache.
-    """
-    n = 0
-    for path in OUT.parent.rglob("__pycache__/*.nb[ic]"):
-        path.unlink()
-        n += 1
-    return n
-
-
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("modules", nargs="*", default=sorted(GENERATED_MODULES))
@@ -154,7 +134,6 @@ def main(argv=None) -> None:
     root = OUT.parents[1]
     print(", ".join(str(p.relative_to(root)) for p in generate_indices()))
     if args.indices:
-        print(f"cleared {clear_numba_cache()} numba cache files (callers cache old indices)")
         print("rebuild the extension: python setup.py build_ext --inplace (or pip install -e .)")
         return
     for name in args.modules:
@@ -164,7 +143,6 @@ def main(argv=None) -> None:
             f"{', '.join(str(p.relative_to(root)) for p in paths)}: {time.perf_counter() - t:.1f} s"
         )
     print(f"{generate_table().relative_to(root)}")
-    print(f"cleared {clear_numba_cache()} numba cache files (callers cache stale kernels)")
     print("rebuild the extension: python setup.py build_ext --inplace (or pip install -e .)")
 
 

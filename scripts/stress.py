@@ -28,7 +28,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from numba import njit
+from numba import njit  # the graze toy below is a user's own @njit system
 
 from walker import load_scene
 from walker.fixedpoint import find_fixed_point
@@ -455,18 +455,13 @@ def scipy_stride(model_name, params, x0, rtol):
     from scipy.integrate import solve_ivp
 
     model = get_model(model_name)
-    m = model.module
     p = params.as_array()
-    g = np.empty(3)
 
     def f(t, y):
-        dy = np.empty(4)
-        m.rhs(0, t, y, p, dy)
-        return dy
+        return model.rhs(0, y, p, t)
 
     def heel(t, y):
-        m.guards(0, t, y, p, g)
-        return g[0]
+        return model.guards(0, y, p, t)[0]
 
     heel.direction = -1
     t0 = 0.0
@@ -478,10 +473,8 @@ def scipy_stride(model_name, params, x0, rtol):
         heel.terminal = True
         sol = solve_ivp(f, (t0, t0 + 10.0), y, method="DOP853", rtol=rtol, atol=rtol, events=heel)
         te, ye = sol.t_events[0][0], sol.y_events[0][0]
-        if m.swing_foot(ye, p)[1] > 0.0:
-            x_new = ye.copy()
-            imp = np.zeros(2)
-            action, _, _ = m.reset(0, 0, te, ye, p, x_new, imp)
+        action, _, _, x_new, _ = model.reset(0, 0, ye, p, te)
+        if action == EVENT_STRIDE:  # else a scuff behind the stance foot
             return x_new, te
         # scuff behind the stance foot: continue past it
         t0, y = te + 1e-9, sol.sol(te + 1e-9) if sol.sol is not None else ye

@@ -11,13 +11,14 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import _toy_systems
 import numpy as np
-from numba import njit
+from _toy_systems import njit
 from scipy.integrate import solve_ivp
 
 from walker import load_scene
 from walker.fixedpoint import find_fixed_point
-from walker.integrate import HybridSystem, hybrid_solve
+from walker.integrate import hybrid_solve
 from walker.models import get_model
 from walker.status import EVENT_STRIDE, Status
 from walker.stride import StrideMap, simulate
@@ -134,24 +135,26 @@ def _one_stride(phase, k, t, x, p, x_new, impulse):
 
 
 def _toy(name, rhs, jac, guard):
+    """A toy HybridSystem (tests/_toy_systems.py: numba's or ctypes' bridge)."""
     down = np.full((1, 1), -1, dtype=np.int64)
-    return HybridSystem(
-        name=name, n_x=2, n_phases=1, n_guards=1, n_impulse=1, rhs=rhs, guards=guard,
-        reset=_one_stride, jac=jac, directions=down, phase_names=(name,), guard_names=("dip",),
-    )  # fmt: skip
+    return _toy_systems.toy_system(name, 2, (rhs, guard, _one_stride, jac), down, (name,), ("dip",))
 
 
-OSCILLATOR = _toy("oscillator", _circle_rhs, _circle_jac, _circle_guard)
-PARABOLA = _toy("parabola", _line_rhs, _line_jac, _line_guard)
+def toy_system(kind: str):
+    """The ``kind`` toy ("oscillator" or "parabola")."""
+    if kind == "oscillator":
+        return _toy("oscillator", _circle_rhs, _circle_jac, _circle_guard)
+    return _toy("parabola", _line_rhs, _line_jac, _line_guard)
 
 
 def graze_found(kind: str, duration: float, tol: float) -> tuple[bool, float]:
     """(guard crossing found, its time) for a dip of ``duration`` [s] of the ``kind`` toy
     ("oscillator": centred at t = pi; "parabola": at t = 1), at ``rtol = atol = tol``."""
+    system = toy_system(kind)
     if kind == "oscillator":
-        system, x0, c, t_max = OSCILLATOR, [-1.0, 0.0], math.cos(duration / 2), 2 * math.pi
+        x0, c, t_max = [-1.0, 0.0], math.cos(duration / 2), 2 * math.pi
     else:
-        system, x0, c, t_max = PARABOLA, [0.0, 0.0], duration / 2, 3.0
+        x0, c, t_max = [0.0, 0.0], duration / 2, 3.0
     sol = hybrid_solve(system, x0, [c], t_max=t_max, rtol=tol, atol=tol, n_interior=4)
     return sol.status == Status.COMPLETED, float(sol.t)
 
@@ -184,30 +187,21 @@ def scipy_compass_stride(params, x0, tol: float):
     """(state just after heel strike, step time) of one compass stride from ``x0`` with
     scipy's DOP853 at ``rtol = atol = tol``: the first downward zero of the swing foot's
     height while it is ahead of the stance foot (the mid-stance scuff behind it is no heel
-    strike), then the model's own compiled reset."""
-    m = get_model("compass").module
+    strike: the compiled reset ignores it), then the model's own compiled reset."""
+    m = get_model("compass")
     p = params.as_array()
 
-    def in_stance(kernel, n_out):  # a compiled phase-0 kernel as a function of (t, y)
-        def call(t, y):
-            out = np.empty(n_out)
-            kernel(0, t, y, p, out)
-            return out
-
-        return call
-
-    rhs = in_stance(m.rhs, 4)
-    guards = in_stance(m.guards, 3)
+    def rhs(t, y):
+        return m.rhs(0, y, p, t)
 
     def height(t, y):
-        return guards(t, y)[0]
+        return m.guards(0, y, p, t)[0]
 
     height.direction = -1
     run = solve_ivp(rhs, (0.0, 5.0), x0, method="DOP853", rtol=tol, atol=tol, events=height)
     for te, ye in zip(run.t_events[0], run.y_events[0], strict=True):
-        if m.swing_foot(ye, p)[1] > 0.0:
-            x_new = ye.copy()
-            m.reset(0, 0, te, ye, p, x_new, np.zeros(2))
+        action, _, _, x_new, _ = m.reset(0, 0, ye, p, te)
+        if action == EVENT_STRIDE:
             return x_new, float(te)
     raise AssertionError("scipy found no heel strike")
 

@@ -1,5 +1,8 @@
-"""Small hybrid systems for the integrator tests (module-level njit functions), each built by
-``toy_system`` (also the other tests' toy systems).
+"""Small hybrid systems for the integrator tests, each built by ``toy_system`` (also the other
+tests' toy systems).  Their functions have the array form of :class:`HybridSystem`; with
+numba installed they are ``@njit`` functions (a user's own system, bridged by a numba
+cfunc), without it plain Python functions handed to the integrator as ctypes callbacks
+(:func:`ctypes_functions`), so the integrator's tests never need numba.
 
 * ``ODE``: plain ODEs with exact solutions selected by phase (no guards).
 * ``BALL``: bouncing ball with restitution, closed-form impact times.
@@ -7,10 +10,10 @@
 * ``WALKER``: the simplest walking model (Garcia et al. 1998), nonlinear with a scuff.
 """
 
+import ctypes
 import math
 
 import numpy as np
-from numba import njit
 
 from walker.integrate import HybridSystem
 from walker.status import (
@@ -20,6 +23,67 @@ from walker.status import (
     EVENT_TERMINAL,
     Status,
 )
+
+try:  # numba is optional (the extra ``numba``): without it, ctypes callbacks
+    from numba import njit as _numba_njit
+except ImportError:
+    _numba_njit = None
+
+
+def njit(*args, **options):
+    """numba's ``njit`` when numba is installed, else the function unchanged (called
+    through :func:`ctypes_functions`)."""
+    if _numba_njit is not None:
+        return _numba_njit(*args, **options)
+    if args:
+        return args[0]
+    return lambda fn: fn
+
+
+_F64 = ctypes.POINTER(ctypes.c_double)
+_I64 = ctypes.POINTER(ctypes.c_int64)
+_PHASE_FN = ctypes.CFUNCTYPE(
+    None, ctypes.c_int64, ctypes.c_double, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p,
+    ctypes.c_void_p,
+)  # fmt: skip
+_RESET_FN = ctypes.CFUNCTYPE(
+    None, ctypes.c_int64, ctypes.c_int64, ctypes.c_double, *(6 * [ctypes.c_void_p])
+)
+_P_VIEW = 16  # entries of p a toy function may index (a view: only what it reads is read)
+
+
+def _array(address, shape, kind=_F64):
+    return np.ctypeslib.as_array(ctypes.cast(address, kind), shape)
+
+
+def ctypes_functions(n_x, n_guards, n_impulse, rhs, guards, reset, jac):
+    """``(rhs, guards, reset, jac)`` of the array form as ctypes callbacks with the C
+    signatures of ``walker/_core/wk_system.h`` (None stays None)."""
+
+    def phase_fn(fn, shape):
+        def call(phase, t, x, p, out, ctx):
+            with np.errstate(all="ignore"):  # IEEE semantics, as compiled code has them
+                fn(phase, t, _array(x, (n_x,)), _array(p, (_P_VIEW,)), _array(out, shape))
+
+        return _PHASE_FN(call)
+
+    def reset_fn(fn):
+        def call(phase, k, t, x, p, x_new, impulse, out, ctx):
+            result = fn(
+                phase, k, t, _array(x, (n_x,)), _array(p, (_P_VIEW,)), _array(x_new, (n_x,)),
+                _array(impulse, (max(n_impulse, 1),)),
+            )  # fmt: skip
+            _array(out, (3,), _I64)[:] = [int(v) for v in result]
+
+        return _RESET_FN(call)
+
+    return (
+        phase_fn(rhs, (n_x,)),
+        phase_fn(guards, (max(n_guards, 1),)),
+        reset_fn(reset),
+        None if jac is None else phase_fn(jac, (n_x, n_x)),
+    )
+
 
 FELL_FORWARD = int(Status.FELL_FORWARD)
 FELL_BACKWARD = int(Status.FELL_BACKWARD)
@@ -31,6 +95,11 @@ def toy_fields(name, n_x, functions, directions, phase_names, guard_names, **opt
     component unless ``options`` (more fields) say otherwise."""
     rhs, guards, reset, jac = functions
     fields = dict(n_phases=len(phase_names), n_guards=len(guard_names), n_impulse=1)
+    fields.update(options)
+    if _numba_njit is None:  # plain Python functions: as ctypes callbacks
+        rhs, guards, reset, jac = ctypes_functions(
+            n_x, fields["n_guards"], fields["n_impulse"], rhs, guards, reset, jac
+        )
     fields.update(rhs=rhs, guards=guards, reset=reset, jac=jac, directions=directions)
     fields.update(phase_names=phase_names, guard_names=guard_names, **options)
     return dict(name=name, n_x=n_x, **fields)

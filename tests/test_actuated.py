@@ -11,10 +11,9 @@ from _chains import assert_three_link_torques, three_link_chains
 from numpy.testing import assert_allclose
 
 from walker import hzd
-from walker._generated import compass as KC
-from walker._generated import three_link as K3
 from walker.control import bezier
 from walker.fixedpoint import find_fixed_point
+from walker.models import get_model
 from walker.models import three_link as TL
 from walker.params import CompassParams, ThreeLinkParams
 from walker.status import Status
@@ -134,8 +133,7 @@ def test_ground_reaction_is_newton_law():
     p = P.as_array()
     x = full_orbit().state.copy()
     x[3:6] *= 1.1
-    dx = np.empty(8)
-    TL.rhs(0, 0.0, x, p, dx)
+    dx = get_model("three_link").rhs(0, x, p)
     masses = np.array([P.mass_hip, P.mass_leg, P.mass_leg, P.mass_torso])
 
     def momentum(xx):
@@ -243,14 +241,13 @@ def test_massless_torso_reduces_to_compass_matrices():
     for _ in range(20):
         q = RNG.uniform(-1, 1, 3)
         qd = RNG.uniform(-2, 2, 3)
-        D3, C3, G3 = np.empty((3, 3)), np.empty((3, 3)), np.empty(3)
-        K3.mass_matrix(q, p3, D3)
-        K3.coriolis(q, qd, p3, C3)
-        K3.gravity(q, p3, G3)
-        D2, C2, G2 = np.empty((2, 2)), np.empty((2, 2)), np.empty(2)
-        KC.mass_matrix(q[:2], pc, D2)
-        KC.coriolis(q[:2], qd[:2], pc, C2)
-        KC.gravity(q[:2], pc, G2)
+        three, two = get_model("three_link"), get_model("compass")
+        D3 = three.kernel("mass_matrix", p3, q)
+        C3 = three.kernel("coriolis", p3, q, qd)
+        G3 = three.kernel("gravity", p3, q)
+        D2 = two.kernel("mass_matrix", pc, q[:2])
+        C2 = two.kernel("coriolis", pc, q[:2], qd[:2])
+        G2 = two.kernel("gravity", pc, q[:2])
         assert_allclose(D3[:2, :2], D2, rtol=1e-14, atol=1e-14)
         assert_allclose(C3[:2, :2], C2, rtol=1e-14, atol=1e-14)
         assert_allclose(G3[:2], G2, rtol=1e-14, atol=1e-13)
@@ -294,8 +291,8 @@ def test_newton_euler_reproduces_applied_torques():
     gravity = (0.0, -P.g)
     n_checked = 0
     for x in sol.samples.x:
-        dx = np.empty(8)
-        TL.rhs(0, 0.0, x, p, dx)
-        assert_three_link_torques(chains, x, dx, TL.torques(x, p), gravity)
+        model = get_model("three_link")
+        dx = model.rhs(0, x, p)
+        assert_three_link_torques(chains, x, dx, model.torques(x, p), gravity)
         n_checked += 1
     assert n_checked == len(times)

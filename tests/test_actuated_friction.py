@@ -5,9 +5,8 @@ bad parameters.
 
 Measured (DOP853, rtol = atol = 1e-12, from the shipped scenes' states):
 
-* zero friction: the models and a copy of the frictionless closed loop (this module's
-  ``_REFERENCE`` systems: ``qdd = D^-1 (B u - h)``, the six/seven guards and resets of the
-  frictionless models) give bit-identical strides (difference 0.0; asserted to 1e-12).
+* zero friction: in every slip phase the compiled vector field solves ``D qdd = B u - h``
+  (the generated kernels and the compiled controller's torques) to 1e-12.
 * Coulomb friction only (three-link ``coulomb_hip = 2``; five-link ``coulomb_hip =
   coulomb_knee = 2`` N m), three strides: per segment between events ``E(end) - E(start) =
   W - sum_slip F |delta theta_j|`` to <= 1e-12 (three-link, 6 segments) and <= 3e-10
@@ -27,7 +26,6 @@ Measured (DOP853, rtol = atol = 1e-12, from the shipped scenes' states):
   reproduces ``u + joint friction torque`` to 1e-10 N m.
 """
 
-import math
 from functools import cache
 
 import numpy as np
@@ -38,24 +36,19 @@ from _chains import (
     five_link_chains,
     three_link_chains,
 )
-from _toy_systems import toy_system
-from numba import njit
+from _joint_torques import joint_torques
 from numpy.testing import assert_allclose
 from test_params import BOUND_CASES
 
 from walker import friction as fr
 from walker import hzd
-from walker._generated import five_link as K5
-from walker._generated import three_link as K3
-from walker._linalg import solve_inplace
-from walker.control import controller_torque
 from walker.fixedpoint import find_fixed_point
-from walker.integrate import hybrid_solve
 from walker.models import five_link as FL
+from walker.models import get_model
 from walker.models import three_link as TL
 from walker.params import FiveLinkParams, ThreeLinkParams
 from walker.scene import load_scene
-from walker.status import EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
+from walker.status import Status
 from walker.stride import StrideMap, simulate
 
 TIGHT = dict(rtol=1e-12, atol=1e-12)
@@ -67,11 +60,6 @@ COULOMB_ONLY = {
     "five_link": {"coulomb_hip": 2.0, "coulomb_knee": 2.0},
 }
 SMALL_FRICTION = {"damping_hip": 0.5, "coulomb_hip": 1.0}
-
-# The five-link case of the tests comparing with the numba reference functions runs with
-# the slow tests: compiling those functions takes most of its time on a machine without
-# numba's cache; the three-link case checks the same glue in the default suite.
-FIVE_LINK_SLOW = pytest.param("five_link", marks=pytest.mark.slow)
 
 
 @cache
@@ -87,192 +75,8 @@ def _dry(name, params):
 
 
 def _energy(module, x, p):
-    kinetic, potential = module.energy(np.ascontiguousarray(x), p)
+    kinetic, potential = get_model(module.__name__.rsplit(".", 1)[1]).energy(x, p)
     return kinetic + potential
-
-
-# ------------------------------------------------------------- frictionless reference systems
-# The closed loops as they were before joint friction: qdd = D^-1 (B u - h), the ground
-# reaction from those accelerations, the same guards and resets.  Constants are literals.
-_B3 = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, -1.0]])
-_B5 = np.array(
-    [
-        [1.0, 0.0, 0.0, 0.0],
-        [0.5, 0.0, -1.0, 0.0],
-        [-1.0, -1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0, -1.0],
-        [0.0, 0.0, 0.0, 1.0],
-    ]
-)
-_FELL_FORWARD = int(Status.FELL_FORWARD)
-_FELL_BACKWARD = int(Status.FELL_BACKWARD)
-_NONPHYSICAL = int(Status.NONPHYSICAL_IMPACT)
-_TRIPPED = int(Status.TRIPPED)
-
-
-@njit(cache=True, error_model="numpy")
-def _tl_closed_loop(x, p, qdd, u):
-    q = x[:3]
-    qd = x[3:6]
-    D = np.empty((3, 3))
-    h = np.empty(3)
-    K3.mass_matrix(q, p, D)
-    K3.bias(q, qd, p, h)
-    sat = controller_torque(q, qd, D, h, _B3, p[11:], u)
-    for i in range(3):
-        qdd[i] = _B3[i, 0] * u[0] + _B3[i, 1] * u[1] - h[i]
-    solve_inplace(D, qdd)
-    return sat
-
-
-@njit(cache=True, error_model="numpy")
-def _tl_rhs(phase, t, x, p, dx):
-    qdd = np.empty(3)
-    u = np.empty(2)
-    sat = _tl_closed_loop(x, p, qdd, u)
-    for i in range(3):
-        dx[i] = x[3 + i]
-        dx[3 + i] = qdd[i]
-    dx[6] = u[0] * (x[3] - x[5]) + u[1] * (x[4] - x[5])
-    dx[7] = 1.0 if sat else 0.0
-
-
-@njit(cache=True, error_model="numpy")
-def _tl_guards(phase, t, x, p, g):
-    psi1 = x[0] + p[8]
-    g[0] = TL.swing_foot(x, p)[0]
-    g[1] = psi1 + 1.2217304763960306
-    g[2] = psi1 - 1.2217304763960306
-    qdd = np.empty(3)
-    u = np.empty(2)
-    _tl_closed_loop(x, p, qdd, u)
-    F = np.empty(2)
-    K3.ground_reaction(x[:3], x[3:6], qdd, p, F)
-    ft = F[0] * math.cos(p[8]) - F[1] * math.sin(p[8])
-    fn = F[0] * math.sin(p[8]) + F[1] * math.cos(p[8])
-    g[3] = p[10] * fn - ft
-    g[4] = p[10] * fn + ft
-    g[5] = fn
-
-
-@njit(cache=True, error_model="numpy")
-def _tl_reset(phase, k, t, x, p, x_new, impulse):
-    for i in range(x.shape[0]):
-        x_new[i] = x[i]
-    if k == 0:
-        if TL.swing_foot(x, p)[1] <= 1e-8 * (p[3] + p[4]):
-            return EVENT_IGNORE, phase, 0
-        status = TL.heel_strike(x, p, x_new, impulse)
-        if status != 0:
-            return EVENT_TERMINAL, phase, status
-        return EVENT_STRIDE, 0, 0
-    if k == 1:
-        return EVENT_TERMINAL, phase, _FELL_FORWARD
-    if k == 2:
-        return EVENT_TERMINAL, phase, _FELL_BACKWARD
-    return EVENT_TERMINAL, phase, _NONPHYSICAL
-
-
-@njit(cache=True, error_model="numpy")
-def _fl_closed_loop(x, p, qdd, u):
-    q = x[:5]
-    qd = x[5:10]
-    D = np.empty((5, 5))
-    h = np.empty(5)
-    K5.mass_matrix(q, p, D)
-    K5.bias(q, qd, p, h)
-    sat = controller_torque(q, qd, D, h, _B5, p[14:], u)
-    for i in range(5):
-        s = -h[i]
-        for j in range(4):
-            s += _B5[i, j] * u[j]
-        qdd[i] = s
-    solve_inplace(D, qdd)
-    return sat
-
-
-@njit(cache=True, error_model="numpy")
-def _fl_rhs(phase, t, x, p, dx):
-    qdd = np.empty(5)
-    u = np.empty(4)
-    sat = _fl_closed_loop(x, p, qdd, u)
-    power = 0.0
-    for i in range(5):
-        dx[i] = x[5 + i]
-        dx[5 + i] = qdd[i]
-        for j in range(4):
-            power += u[j] * _B5[i, j] * x[5 + i]
-    dx[10] = power
-    dx[11] = 1.0 if sat else 0.0
-
-
-@njit(cache=True, error_model="numpy")
-def _slope_frame(v, slope):
-    return (
-        v[0] * math.cos(slope) - v[1] * math.sin(slope),
-        v[0] * math.sin(slope) + v[1] * math.cos(slope),
-    )
-
-
-@njit(cache=True, error_model="numpy")
-def _fl_guards(phase, t, x, p, g):
-    pts = np.empty((6, 2))
-    K5.points(x[:5], p, pts)
-    g[0] = _slope_frame(pts[4], p[11])[1]
-    ht, hn = _slope_frame(pts[2], p[11])
-    psi = math.atan2(-ht, hn)
-    g[1] = psi + 1.2217304763960306
-    g[2] = psi - 1.2217304763960306
-    qdd = np.empty(5)
-    u = np.empty(4)
-    _fl_closed_loop(x, p, qdd, u)
-    F = np.empty(2)
-    K5.ground_reaction(x[:5], x[5:10], qdd, p, F)
-    ft, fn = _slope_frame(F, p[11])
-    g[3] = p[13] * fn - ft
-    g[4] = p[13] * fn + ft
-    g[5] = fn
-    g[6] = hn
-
-
-@njit(cache=True, error_model="numpy")
-def _fl_reset(phase, k, t, x, p, x_new, impulse):
-    for i in range(x.shape[0]):
-        x_new[i] = x[i]
-    if k == 0:
-        if FL.swing_foot(x, p)[1] <= 1e-8 * (p[3] + p[4]):
-            return EVENT_TERMINAL, phase, _TRIPPED
-        status = FL.heel_strike(x, p, x_new, impulse)
-        if status != 0:
-            return EVENT_TERMINAL, phase, status
-        return EVENT_STRIDE, 0, 0
-    if k == 1:
-        return EVENT_TERMINAL, phase, _FELL_FORWARD
-    if k == 2 or k == 6:
-        return EVENT_TERMINAL, phase, _FELL_BACKWARD
-    return EVENT_TERMINAL, phase, _NONPHYSICAL
-
-
-_REFERENCE = {
-    "three_link": toy_system(
-        "three_link_frictionless",
-        8,
-        (_tl_rhs, _tl_guards, _tl_reset, None),
-        np.array([[-1, -1, 1, -1, -1, -1]]),
-        ("stance",),
-        TL.GUARD_NAMES[:6],
-        n_impulse=2,
-    ),
-    "five_link": toy_system(
-        "five_link_frictionless",
-        12,
-        (_fl_rhs, _fl_guards, _fl_reset, None),
-        np.array([[-1, -1, 1, -1, -1, -1, -1]]),
-        ("stance",),
-        FL.GUARD_NAMES[:7],
-        n_impulse=2,
-    ),
-}
 
 
 # ------------------------------------------------------------------------------- layout
@@ -305,47 +109,32 @@ def test_layout_and_phase_table(name):
 
 
 # ------------------------------------------------------------------ the frictionless limit
-@pytest.mark.parametrize("name", ["three_link", FIVE_LINK_SLOW])
+@pytest.mark.parametrize("name", ["three_link", "five_link"])
 def test_zero_friction_vector_field_is_the_frictionless_closed_loop(name):
-    """At random states, in every slip phase: D qdd = B u - h exactly as before (1e-12)."""
+    """At random states, in every slip phase: ``D qdd = B u - h`` (1e-12, with ``D``, ``h``
+    the generated kernels and ``u`` the compiled controller's torques), the rates integrate
+    to the coordinates and the actuator power is ``u . (B^T qd)``."""
     M = MODELS[name]
+    model = get_model(name)
     scene = _scene(name)
     p = scene.params.as_array()
     n = M.N_Q
-    reference = {"three_link": _tl_rhs, "five_link": _fl_rhs}[name]
     for _ in range(5):
         x = scene.state + np.r_[RNG.normal(0.0, 0.1, 2 * n), 0.0, 0.0]
-        expected = np.empty(M.N_X)
-        reference(0, 0.0, x, p, expected)
+        q, qd = x[:n], x[n : 2 * n]
+        u = model.torques(x, p)
+        D = model.kernel("mass_matrix", p, q)
+        force = M.B_MATRIX @ u - model.kernel("bias", p, q, qd)
         slip_codes = [c for c in range(M.N_CODES) if "stick" not in M.modes_of(c).values()]
         assert len(slip_codes) == 2**M.N_JOINTS
         for code in slip_codes:
-            dx = np.empty(M.N_X)
-            M.rhs(code, 0.0, x, p, dx)
-            assert_allclose(dx, expected, rtol=1e-12, atol=1e-12)
-        assert_allclose(M.joint_torques(M.start_phase(x, p), x, p), 0.0, rtol=0, atol=0)
-
-
-@pytest.mark.parametrize("name", ["three_link", FIVE_LINK_SLOW])
-def test_zero_friction_reproduces_frictionless_strides(name):
-    """Two strides from the scene's gait and from a perturbed state: the same events, times
-    and states as the frictionless closed loop (1e-12; measured: identical)."""
-    M = MODELS[name]
-    scene = _scene(name)
-    p = scene.params.as_array()
-    t_max = 10.0
-    perturbed = scene.state + np.r_[np.zeros(M.N_Q), RNG.normal(0.0, 0.05, M.N_Q), 0.0, 0.0]
-    for x0 in (scene.state, perturbed):
-        ours = simulate(name, scene.params, x0, n_strides=2, t_max=t_max, output="events", **TIGHT)
-        ref = hybrid_solve(
-            _REFERENCE[name], x0, p, n_strides=2, t_max=t_max, output="events", **TIGHT
-        )
-        assert ours.status == ref.status == Status.COMPLETED
-        assert list(ours.events.guard) == list(ref.events.guard) == [0, 0]
-        assert_allclose(ours.events.t, ref.events.t, rtol=0, atol=1e-12)
-        assert_allclose(ours.events.x_pre, ref.events.x_pre, rtol=0, atol=1e-12)
-        assert_allclose(ours.x, ref.x, rtol=0, atol=1e-12)
-        assert ours.n_steps == ref.n_steps
+            dx = model.rhs(code, x, p)
+            assert_allclose(dx[:n], qd, rtol=0, atol=0)
+            scale = np.abs(force).max()
+            assert_allclose(D @ dx[n : 2 * n], force, rtol=1e-12, atol=1e-12 * scale)
+            assert_allclose(dx[2 * n], u @ (M.S_MATRIX @ qd), rtol=1e-12, atol=1e-12)
+        tau = joint_torques(name, model.start_phase(x, p), x, p)
+        assert_allclose(tau, 0.0, rtol=0, atol=1e-9 * np.abs(force).max())
 
 
 # ------------------------------------------------------------------------ energy balance
@@ -467,9 +256,9 @@ def test_hip_at_rest_sticks_until_its_holding_torque_reaches_f(controller, coulo
     p = params.as_array()
     j = TL.JOINTS.index(joint)
     x0 = _stuck_state(joint)
-    phase0 = TL.start_phase(x0, p)
+    phase0 = get_model("three_link").start_phase(x0, p)
     assert TL.modes_of(phase0)[joint] == "stick"
-    holding = TL.joint_torques(phase0, x0, p)[j]
+    holding = joint_torques("three_link", phase0, x0, p)[j]
     assert 0.0 < abs(holding) < coulomb
     sol = simulate("three_link", params, x0, output="events", **TIGHT)
     ev = sol.events
@@ -480,7 +269,7 @@ def test_hip_at_rest_sticks_until_its_holding_torque_reaches_f(controller, coulo
     assert all(TL.modes_of(int(ph))[joint] == "stick" for ph in ev.phase_before[: leaves + 1])
     assert TL.GUARD_NAMES[ev.guard[leaves]] == f"{joint}_stick_breaks"
     assert_allclose(
-        abs(TL.joint_torques(int(ev.phase_before[leaves]), ev.x_pre[leaves], p)[j]),
+        abs(joint_torques("three_link", int(ev.phase_before[leaves]), ev.x_pre[leaves], p)[j]),
         coulomb,
         rtol=0,
         atol=1e-8,
@@ -498,7 +287,7 @@ def test_hip_at_rest_sticks_until_its_holding_torque_reaches_f(controller, coulo
     after = TL.modes_of(int(ev.phase_after[leaves]))[joint]
     assert after == (
         "slip-"
-        if TL.joint_torques(int(ev.phase_before[leaves]), ev.x_pre[leaves], p)[j] > 0
+        if joint_torques("three_link", int(ev.phase_before[leaves]), ev.x_pre[leaves], p)[j] > 0
         else "slip+"
     )
 
@@ -511,9 +300,9 @@ def _check_three_link_newton_euler(P, samples):
     chains = three_link_chains(P)
     gravity = (0.0, -P.g)
     for x, phase in zip(samples.x, samples.phase, strict=True):
-        dx = np.empty(8)
-        TL.rhs(int(phase), 0.0, x, p, dx)
-        tau = TL.torques(x, p) + TL.joint_torques(int(phase), x, p)
+        model = get_model("three_link")
+        dx = model.rhs(int(phase), x, p)
+        tau = model.torques(x, p) + joint_torques("three_link", int(phase), x, p)
         assert_three_link_torques(chains, x, dx, tau, gravity)
 
 
@@ -558,9 +347,9 @@ def test_newton_euler_five_link_with_friction():
     chains = five_link_chains(P)
     gravity = (0.0, -P.g)
     for x, phase in zip(samples.x, samples.phase, strict=True):
-        dx = np.empty(12)
-        FL.rhs(int(phase), 0.0, x, p, dx)
-        tau = FL.torques(x, p) + FL.joint_torques(int(phase), x, p)
+        model = get_model("five_link")
+        dx = model.rhs(int(phase), x, p)
+        tau = model.torques(x, p) + joint_torques("five_link", int(phase), x, p)
         assert_five_link_torques(chains, x, dx, tau, gravity)
 
 

@@ -53,9 +53,10 @@ from numpy.testing import assert_allclose
 from walker import StrideMap
 from walker.continuation import continue_branch
 from walker.fixedpoint import find_fixed_point
+from walker.models import get_model
 from walker.params import CompassParams, DoublePendulumParams, KneedParams, SimplestParams
 from walker.scene import load_scene
-from walker.status import Status
+from walker.status import EVENT_CONTINUE, EVENT_STRIDE, EVENT_TERMINAL, Status
 from walker.stride import simulate
 from walker.symbolic import models
 
@@ -211,23 +212,17 @@ def test_symbolic_energy_rate_is_the_damper_power(name, damped):
         assert largest > 1.0  # the dampers did dissipate: the check above is not 0 = 0
 
 
-def _generated_rate(K, prefix, q, qd, p):
-    """``dE/dt = qd.(D qdd) + 1/2 qd.(D_dot qd) + qd.g`` from the generated kernels, with
-    ``qdd`` from the (damped) ``accel`` kernel; also ``Q.qd`` from the ``forcing`` kernel
-    and ``qdd`` recomputed from ``mass_matrix``, ``bias`` and ``forcing``."""
-    n = len(q)
-    qdd = np.empty(n)
-    getattr(K, f"{prefix}accel")(q, qd, p, qdd)
-    D = np.empty((n, n))
-    getattr(K, f"{prefix}mass_matrix")(q, p, D)
-    dD = np.empty((n, n, n))
-    getattr(K, f"{prefix}dmass")(q, p, dD)
-    g = np.empty(n)
-    getattr(K, f"{prefix}gravity")(q, p, g)
-    h = np.empty(n)
-    getattr(K, f"{prefix}bias")(q, qd, p, h)
-    Q = np.empty(n)
-    getattr(K, f"{prefix}forcing")(q, qd, p, Q)
+def _generated_rate(model, prefix, q, qd, p):
+    """``dE/dt = qd.(D qdd) + 1/2 qd.(D_dot qd) + qd.g`` from the generated C kernels of
+    ``model`` (a :class:`walker.models.WalkerModel`), with ``qdd`` from the (damped)
+    ``accel`` kernel; also ``Q.qd`` from the ``forcing`` kernel and ``qdd`` recomputed from
+    ``mass_matrix``, ``bias`` and ``forcing``."""
+    qdd = model.kernel(f"{prefix}accel", p, q, qd)
+    D = model.kernel(f"{prefix}mass_matrix", p, q)
+    dD = model.kernel(f"{prefix}dmass", p, q)
+    g = model.kernel(f"{prefix}gravity", p, q)
+    h = model.kernel(f"{prefix}bias", p, q, qd)
+    Q = model.kernel(f"{prefix}forcing", p, q, qd)
     Ddot = np.tensordot(qd, dD, axes=1)
     terms = np.array([qd @ D @ qdd, 0.5 * qd @ Ddot @ qd, qd @ g])
     return terms.sum(), np.abs(terms).sum(), Q @ qd, qdd, np.linalg.solve(D, Q - h)
@@ -238,18 +233,11 @@ def test_generated_kernels_dissipate_the_damper_power(name):
     """The compiled ``accel`` includes the damping exactly: ``dE/dt`` from the generated
     mass matrix, its derivatives and gravity equals ``-sum b_j w_j^2``; the ``forcing``
     kernel's power is the same; ``accel`` equals ``D^-1 (Q - h)`` from the other kernels."""
-    if name == "compass":
-        from walker._generated import compass as K
-
-        prefix, family = "", "compass"
-    elif name == "double_pendulum":
-        from walker._generated import double_pendulum as K
-
-        prefix, family = "", "double_pendulum"
+    if name in ("compass", "double_pendulum"):
+        prefix, family = "", name
     else:
-        from walker._generated import kneed as K
-
         prefix, family = name.split("_")[1] + "_", "kneed"
+    K = get_model(family)
     n = 2 if name != "kneed_unlocked" else 3
     rng = np.random.default_rng(80 + n)
     for k in range(N_STATES):
@@ -287,16 +275,14 @@ def test_locked_forcing_is_the_projected_unlocked_forcing():
 def test_impacts_do_not_depend_on_damping():
     """Heel strike (compass, kneed) and knee lock are impulsive: the finite damping torques
     transmit no impulse, so the post-impact state and impulses are identical."""
-    from walker.models import compass as MC
-    from walker.models import kneed as MK
-
+    compass, kneed = get_model("compass"), get_model("kneed")
     xc = np.array([-0.3234, 0.2187, -1.0918, -0.3772])  # legs symmetric about the normal
     xc[0] = -2 * CompassParams.goswami().slope - xc[1]
     out = []
     for b in (0.0, 3.0):
         p = CompassParams.goswami().replace(damping_hip=b, damping_ankle=2 * b).as_array()
-        x_new, imp = np.empty(4), np.empty(2)
-        status = MC.heel_strike(xc, p, x_new, imp)
+        action, _, status, x_new, imp = compass.reset(0, 0, xc, p)  # heel strike
+        assert action == EVENT_STRIDE
         out.append((status, x_new, imp))
     assert out[0][0] == out[1][0] == 0
     assert_allclose(out[1][1], out[0][1], rtol=0, atol=0)
@@ -307,12 +293,13 @@ def test_impacts_do_not_depend_on_damping():
     for bh, bk, ba in ((0.0, 0.0, 0.0), (2.0, 3.0, 4.0)):
         p = KneedParams.hsu_chen().replace(damping_hip=bh, damping_knee=bk, damping_ankle=ba)
         p = p.as_array()
-        x_lock, imp_lock = np.empty(6), np.empty(2)
-        s1 = MK.knee_lock(xk, p, x_lock, imp_lock)
-        x_hs, imp_hs = np.empty(6), np.empty(2)
-        xh = x_lock.copy()
+        action, phase, s1, x_lock, imp_lock = kneed.reset(0, 0, xk, p)  # knee lock
+        assert (action, phase) == (EVENT_CONTINUE, 1)
+        xh = x_lock.copy()  # then a heel strike, the swing foot ahead on the slope
+        xh[0] = -abs(xh[0]) - KneedParams.hsu_chen().slope
         xh[1] = xh[2] = -2 * KneedParams.hsu_chen().slope - xh[0]
-        s2 = MK.heel_strike(xh, p, x_hs, imp_hs)
+        action, _, s2, x_hs, imp_hs = kneed.reset(1, 1, xh, p)
+        assert action in (EVENT_STRIDE, EVENT_TERMINAL)
         res.append((s1, x_lock, imp_lock, s2, x_hs, imp_hs))
     assert res[0][0] == res[1][0] == 0
     for a, b in zip(res[0][1:3] + res[0][4:], res[1][1:3] + res[1][4:], strict=True):
@@ -534,8 +521,7 @@ def test_simplest_walker_energy_rate_is_the_ankle_damper_power():
     per unit hip mass, and along the compiled vector field (the generated ``accel``
     kernel, through the model's ``rhs``) ``dE/dt = -b l^2 sqrt(g/l) theta_dot^2``, to 1e-12
     of the magnitude of the terms; zero for b = 0.  With g = l = 1: ``-b theta_dot^2``."""
-    from walker.models import simplest as MS
-
+    simplest = get_model("simplest")
     rng = np.random.default_rng(1998)
     largest = 0.0
     for k in range(N_STATES):
@@ -546,11 +532,10 @@ def test_simplest_walker_energy_rate_is_the_ankle_damper_power():
         p = SimplestParams(slope=slope, g=g, leg_length=l, damping_ankle=b).as_array()
         x = np.concatenate([rng.uniform(-1.0, 1.0, 2), rng.normal(0.0, 1.0, 2)])
         theta, theta_d = x[0], x[2]
-        kinetic, potential = MS.energy(x, p)
+        kinetic, potential = simplest.energy(x, p)
         assert_allclose(kinetic, 0.5 * l * l * theta_d**2, rtol=1e-15, atol=0)
         assert_allclose(potential, g * l * math.cos(theta - slope), rtol=1e-15, atol=1e-15)
-        dx = np.empty(4)
-        MS.rhs(0, 0.0, x, p, dx)
+        dx = simplest.rhs(0, x, p)
         terms = np.array([l * l * theta_d * dx[2], -g * l * math.sin(theta - slope) * theta_d])
         expected = -b * l * l * math.sqrt(g / l) * theta_d**2
         assert_allclose(terms.sum(), expected, rtol=0, atol=TOL * np.abs(terms).sum())

@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from _fd import rhs_jacobian_fd
+from _joint_torques import joint_torques
 from numpy.testing import assert_allclose
 from scipy.integrate import cumulative_simpson
 
@@ -34,7 +35,6 @@ from scipy.integrate import cumulative_simpson
 from test_reference_runs import COURSE_STATE, release
 
 from walker import friction as fr
-from walker._generated import double_pendulum as K
 from walker.models import double_pendulum as M
 from walker.models import get_model
 from walker.params import DoublePendulumParams
@@ -54,15 +54,12 @@ def _energy(x, params) -> float:
 
 def _gravity_torques(x, params) -> np.ndarray:
     """``g(q) = dP/dq`` [N m]: the torque each joint must hold to keep the pendulum at rest."""
-    out = np.empty(2)
-    K.gravity(np.ascontiguousarray(x[:2]), params.as_array(), out)
-    return out
+    return MODEL.kernel("gravity", params, x[:2])
 
 
 # ------------------------------------------------------------------------- layout
 def test_parameter_layout_read_by_the_compiled_model():
-    """The index the compiled functions read (a literal: numba freezes globals into its
-    cache, keyed on the model's file alone) is the params class's."""
+    """The index the compiled functions read is the params class's."""
     names = DoublePendulumParams.names()
     assert names.index("coulomb_1") == M.I_COULOMB
     assert names[M.I_COULOMB :] == ("coulomb_1", "coulomb_2")
@@ -70,9 +67,7 @@ def test_parameter_layout_read_by_the_compiled_model():
     p = _params(damping_1=0.1, damping_2=0.2, coulomb_1=0.3, coulomb_2=0.4).as_array()
     assert list(p[M.I_COULOMB : M.I_COULOMB + 2]) == [0.3, 0.4]
     # the generated kernels read the dampers where the params class puts them
-    assert K.ARGUMENT_ORDER["forcing"]["p"] == names
-    Q = np.empty(2)
-    K.forcing(np.zeros(2), np.array([2.0, -3.0]), p, Q)
+    Q = MODEL.kernel("forcing", p, np.zeros(2), np.array([2.0, -3.0]))
     assert_allclose(Q, [-0.2, 0.6], rtol=1e-15, atol=0)
 
 
@@ -122,17 +117,18 @@ SLIP_PHASES = [k for k in range(9) if "stick" not in M.modes_of(k).values()]
 
 
 def _layer_accelerations(phase, x, p):
-    """``qdd`` by the friction layer's augmented solve (:func:`walker.friction.accelerations`)
-    from the generated ``mass_matrix``, ``bias`` and ``forcing`` kernels."""
-    q, qd = np.ascontiguousarray(x[:2]), np.ascontiguousarray(x[2:])
-    D, h, Q = np.empty((2, 2)), np.empty(2), np.empty(2)
-    K.mass_matrix(q, p, D)
-    K.bias(q, qd, p, h)
-    K.forcing(q, qd, p, Q)
-    modes = np.array([phase % 3, phase // 3], dtype=np.int64)
-    qdd, lam = np.empty(2), np.empty(2)
-    assert fr.accelerations(D, Q - h, np.eye(2), p[M.I_COULOMB :].copy(), modes, qdd, lam)
-    return qdd
+    """``qdd`` of a phase without stuck joints, by hand: ``D qdd = Q - h + tau`` with the
+    slip torques ``tau_j = -F_j`` (slip+) or ``+F_j`` (slip-), from the generated
+    ``mass_matrix``, ``bias`` and ``forcing`` kernels."""
+    q, qd = x[:2], x[2:]
+    D = MODEL.kernel("mass_matrix", p, q)
+    h = MODEL.kernel("bias", p, q, qd)
+    Q = MODEL.kernel("forcing", p, q, qd)
+    modes = np.array([phase % 3, phase // 3])
+    assert not (modes == 2).any()
+    F = p[M.I_COULOMB : M.I_COULOMB + 2]
+    tau = np.where(modes == 0, -F, F)
+    return np.linalg.solve(D, Q - h + tau)
 
 
 def test_slip_phases_use_the_generated_field():
@@ -147,11 +143,9 @@ def test_slip_phases_use_the_generated_field():
         params = _params(damping_1=rng.uniform(0, 5), damping_2=rng.uniform(0, 5), **dry)
         p = params.as_array()
         x = np.concatenate([rng.uniform(-np.pi, np.pi, 2), rng.normal(0.0, 3.0, 2)])
-        kernel = np.empty(2)
-        K.accel(x[:2], x[2:], p, kernel)
+        kernel = MODEL.kernel("accel", p, x[:2], x[2:])
         for phase in SLIP_PHASES:
-            dx = np.empty(4)
-            M.rhs(phase, 0.0, x, p, dx)
+            dx = MODEL.rhs(phase, x, p)
             assert_allclose(dx[:2], x[2:], rtol=0, atol=0)
             if not dry:
                 assert_allclose(dx[2:], kernel, rtol=0, atol=0)
@@ -232,7 +226,9 @@ def test_friction_that_can_hold_the_pendulum_keeps_it_stuck():
     both = M.phase_of(joint_1="stick", joint_2="stick")
     assert MODEL.start_phase(COURSE_STATE, params) == both
     # the holding torques are the gravity torques, inside the frictions
-    assert_allclose(M.joint_torques(both, COURSE_STATE, params.as_array()), g, rtol=0, atol=1e-12)
+    assert_allclose(
+        joint_torques("double_pendulum", both, COURSE_STATE, params), g, rtol=0, atol=1e-12
+    )
     times = np.linspace(0.0, 5.0, 11)
     sol = release(params, 5.0, output="samples", sample_times=times)
     assert sol.status == Status.COMPLETED and sol.success
@@ -277,7 +273,7 @@ def test_moderate_friction_slips_swings_and_sticks_at_rest():
     g = _gravity_torques(sol.x, params)
     assert np.all(np.abs(g) <= [params.coulomb_1, params.coulomb_2])
     assert np.abs(g).max() > 0.1  # at rest off the equilibrium: friction does hold it
-    assert_allclose(M.joint_torques(both, sol.x, params.as_array()), g, rtol=0, atol=1e-12)
+    assert_allclose(joint_torques("double_pendulum", both, sol.x, params), g, rtol=0, atol=1e-12)
     # nothing moves after the last event
     assert_allclose(sol.x[:2], ev.x_post[-1][:2], rtol=0, atol=1e-12)
 
@@ -289,7 +285,6 @@ def test_jac_matches_central_differences(phase):
     rng = np.random.default_rng(phase)
     for _ in range(5):
         x = np.concatenate([rng.uniform(-np.pi, np.pi, 2), rng.normal(0.0, 2.0, 2)])
-        J = np.empty((4, 4))
-        M.jac(phase, 0.0, x, p, J)
-        fd = rhs_jacobian_fd(M.rhs, phase, x, p)
+        J = MODEL.jac(phase, x, p)
+        fd = rhs_jacobian_fd(MODEL, phase, x, p)
         assert_allclose(J, fd, rtol=1e-6, atol=1e-6)

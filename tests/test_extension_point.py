@@ -13,7 +13,6 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 from _toy_systems import toy_system
-from numba import carray, cfunc, types
 
 from walker import _hybrid, load_scene
 from walker.hybrid_system import _compiled
@@ -27,6 +26,11 @@ from walker.status import (
     OUTPUT_FULL,
     Status,
 )
+
+# HybridSystem's numba bridge (a user's own @njit or cfunc system): numba is the optional
+# extra ``numba``, so this module is skipped without it.
+numba = pytest.importorskip("numba")
+carray, cfunc, types = numba.carray, numba.cfunc, numba.types
 
 # ---------------------------------------------------------------------------------------------
 # Bouncing ball as numba cfuncs: x = (height, velocity), p = (gravity, restitution).

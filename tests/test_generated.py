@@ -1,10 +1,14 @@
-"""The generated kernels in walker/_generated/ against a fresh derivation, by numbers.
+"""The generated C kernels in walker/_generated/ (compiled into walker._hybrid) against a
+fresh derivation, by numbers.
 
-Staleness is caught by evaluating every compiled kernel and a fresh ``sympy.lambdify`` of the
-same symbolic expression (re-derived now by :func:`walker.symbolic.kernels.kernels_for`) at
-random states and parameter vectors — never by comparing text, which changes between sympy
-versions.  The stamp in each file's header is checked too, and the course's double pendulum
-is simulated with the generated kernels to check energy conservation.
+Staleness is caught by evaluating every compiled kernel (through the kernel registry
+``walker._hybrid.kernels()`` and the checked calls of walker/models/_compiled.py) and a fresh
+``sympy.lambdify`` of the same symbolic expression (re-derived now by
+:func:`walker.symbolic.kernels.kernels_for`) at random states and parameter vectors — never
+by comparing text, which changes between sympy versions.  The structural variants
+("compass/plain.accel", ...) are compared with the general expression at parameter vectors
+whose zeroed entries are 0.  The stamp in each file's header is checked too, and the course's
+double pendulum is simulated with the generated kernels to check energy conservation.
 """
 
 from __future__ import annotations
@@ -20,12 +24,16 @@ import sympy as sp
 from numpy.testing import assert_allclose
 from scipy.integrate import solve_ivp
 
-from walker.symbolic import codegen
+from walker.models import get_model
+from walker.models._compiled import _kernel_table as kernel_table
+from walker.models._compiled import call_kernel
+from walker.symbolic import codegen, codegen_c
 from walker.symbolic.kernels import (
     C_MODULES,
     C_VARIANTS,
     GENERATED_MODULES,
     VARIANT_SIMPLIFICATION,
+    fused_name,
     kernels_for,
     variant_kernels,
 )
@@ -158,20 +166,28 @@ def _evaluate(args, expr, arrays, n_samples):
     return np.stack(values, axis=-1).reshape((n_samples, *shape))
 
 
-def _compiled(module, kernel, arrays, shape, k):
-    fun = getattr(module, kernel.name)
-    args = [np.ascontiguousarray(a[k]) for a in arrays]
-    if shape == ():
-        return np.float64(fun(*args))
-    out = np.empty(shape)
-    fun(*args, out)
-    return out
+def _compiled(key, kernel, arrays, k):
+    """The compiled kernel ``key`` ("<model>.<kernel>") at sample ``k`` of ``arrays``."""
+    args = {name: a[k] for (name, _), a in zip(kernel.args, arrays, strict=True)}
+    out = call_kernel(key, args.pop("p"), **args)
+    return np.float64(out) if np.ndim(out) == 0 else out
+
+
+def _p_order(cname: str) -> tuple:
+    """The parameter order the kernels of C module ``cname`` take: the ``p = [...]`` line of
+    the argument order in its header (the same for every kernel)."""
+    orders = {
+        tuple(line.split("[", 1)[1].rstrip("]").split(", "))
+        for line in (GENERATED_DIR / f"{cname}.h").read_text().splitlines()
+        if line.startswith(" *   p = [")
+    }
+    assert len(orders) == 1, orders
+    return orders.pop()
 
 
 @pytest.mark.parametrize("name", sorted(GENERATED_MODULES))
 def test_every_parameter_has_a_sampling_range(name):
-    module = importlib.import_module(f"walker._generated.{name}")
-    names = {n for args in module.ARGUMENT_ORDER.values() for n in args.get("p", ())}
+    names = set(_p_order(name))
     assert names, f"{name} has no parameter vector"
     missing = sorted(names - set(PARAM_RANGES))
     assert not missing, f"no PARAM_RANGES entry for {missing}"
@@ -192,37 +208,65 @@ _SLOW_DERIVATIONS = ("five_link", "kneed")
     ],
 )
 def test_generated_kernels_equal_fresh_derivation(name):
-    """Every kernel of every generated module equals a fresh lambdify of its expression at
-    100 random (state, parameter) samples: rtol 1e-12, atol 1e-12 times the largest entry
-    of that sample's output (entries that cancel to ~0 carry the rounding of the others)."""
-    module = importlib.import_module(f"walker._generated.{name}")
+    """Every compiled kernel of every generated module equals a fresh lambdify of its
+    expression at 100 random (state, parameter) samples: rtol 1e-12, atol 1e-12 times the
+    largest entry of that sample's output (entries that cancel to ~0 carry the rounding of
+    the others).  Each structural variant's kernels likewise, at samples whose zeroed
+    parameters are 0 (a variant's fused ``accel_and_jac``: its Jacobian columns and its
+    accelerations as the last column)."""
     rng = np.random.default_rng(sum(map(ord, name)))
+    p_names = _p_order(name)
+    registry = kernel_table()
+    prefixes = {name: ()} | {f"{name}/{v}": tuple(z) for v, z in C_VARIANTS.get(name, {}).items()}
+    checked = set()
     for kernel in kernels(name):
         arrays = _sample_args(kernel, rng, N_SAMPLES)
-        ref = _reference(kernel, arrays, N_SAMPLES)
-        shape = ref.shape[1:]
-        for k in range(N_SAMPLES):
-            got = _compiled(module, kernel, arrays, shape, k)
-            scale = np.abs(ref[k]).max() if ref[k].size else 0.0
-            assert_allclose(
-                got,
-                ref[k],
-                rtol=RTOL,
-                atol=RTOL * scale,
-                err_msg=f"{name}.{kernel.name} at sample {k}",
-            )
+        for prefix, zeros in prefixes.items():
+            zeroed = [a.copy() for a in arrays]
+            for z in zeros:
+                zeroed[-1][:, p_names.index(z)] = 0.0
+            ref = _reference(kernel, zeroed, N_SAMPLES)
+            fused = f"{prefix}.{codegen_fused(kernel.name)}"
+            targets = [(f"{prefix}.{kernel.name}", ref)]
+            if fused in registry:
+                accel = _reference(_accel_of(name, kernel), zeroed, N_SAMPLES)
+                targets.append((fused, np.concatenate([ref, accel[..., None]], axis=-1)))
+            for key, want in targets:
+                if key not in registry:
+                    continue
+                checked.add(key)
+                for k in range(N_SAMPLES):
+                    got = _compiled(key, kernel, zeroed, k)
+                    scale = np.abs(want[k]).max() if want[k].size else 0.0
+                    assert_allclose(
+                        got, want[k], rtol=RTOL, atol=RTOL * scale, err_msg=f"{key} at sample {k}"
+                    )
+    listed = {k for k in registry if k.split(".", 1)[0] in prefixes}
+    assert checked == listed, sorted(listed - checked)
+
+
+def codegen_fused(kernel_name: str) -> str:
+    """The fused kernel (accelerations and their Jacobian) a variant prints beside an
+    ``accel_jac`` kernel (:func:`walker.symbolic.kernels.fused_name`)."""
+    return fused_name(kernel_name) if kernel_name.endswith("accel_jac") else ""
+
+
+def _accel_of(name, jac_kernel):
+    """The ``accel`` kernel of the same ``D`` and ``h`` as ``jac_kernel``."""
+    target = jac_kernel.name[: -len("_jac")]
+    return next(k for k in kernels(name) if k.name == target)
 
 
 @pytest.mark.parametrize("name", sorted(GENERATED_MODULES))
 def test_every_kernel_is_generated(name):
-    """The module holds exactly the kernels the generator lists (none missing, none stale)."""
-    module = importlib.import_module(f"walker._generated.{name}")
+    """The extension holds exactly the kernels the generator lists (none missing, none stale),
+    each with the argument lengths and output shape of its symbolic kernel."""
+    registry = kernel_table()
     expected = [k.name for k in kernels(name)]
-    assert list(module.ARGUMENT_ORDER) == expected
+    assert [k.split(".", 1)[1] for k in registry if k.split(".", 1)[0] == name] == expected
     for kernel in kernels(name):
-        assert module.ARGUMENT_ORDER[kernel.name] == {
-            n: tuple(str(s) for s in syms) for n, syms in kernel.args
-        }
+        _, _, n_q, n_p, shape = registry[f"{name}.{kernel.name}"]
+        assert (n_q, n_p, shape) == codegen_c.kernel_sizes(kernel), kernel.name
 
 
 @pytest.mark.parametrize("name", sorted(GENERATED_MODULES))
@@ -232,34 +276,23 @@ def test_kernel_parameter_order_is_the_params_class_order(name):
     so ``params.as_array()`` is what the kernels expect."""
     from walker.params import PARAMS
 
-    module = importlib.import_module(f"walker._generated.{name}")
     names = PARAMS[name].names()
-    orders = {args["p"] for args in module.ARGUMENT_ORDER.values() if "p" in args}
-    assert orders
-    for order in orders:
-        assert names[: len(order)] == order
-
-
-def _header(name: str) -> dict:
-    text = (GENERATED_DIR / f"{name}.py").read_text()
-    lines = text.splitlines()
-    hash_match = re.search(r"^# input hash: sha256:([0-9a-f]{64})$", text, re.M)
-    version_match = re.search(r"^# sympy (\S+);", text, re.M)
-    return {
-        "first": lines[0],
-        "hash": hash_match.group(1) if hash_match else None,
-        "sympy": version_match.group(1) if version_match else None,
-    }
+    order = _p_order(name)
+    assert names[: len(order)] == order
 
 
 @pytest.mark.parametrize("name", sorted(GENERATED_MODULES))
 def test_generated_header_is_stamped(name):
-    header = _header(name)
-    assert "generated, do not edit" in header["first"]
-    assert header["sympy"] is not None, "header lacks the sympy version"
-    assert header["hash"] is not None, "header lacks the input hash"
-    module = importlib.import_module(f"walker._generated.{name}")
-    assert module.KERNEL_HASH == header["hash"]
+    """The C files carry the input hash and the sympy version, and the hash compiled into
+    the extension (``walker._hybrid.kernel_hashes()``, what results record as the model's
+    ``kernel_hash``) is the one stamped on the file."""
+    from walker import _hybrid
+
+    stamp = _c_stamp(name)
+    assert "generated, do not edit" in stamp["first"]
+    assert stamp["sympy"] is not None, "header lacks the sympy version"
+    assert stamp["hash"] is not None, "header lacks the input hash"
+    assert _hybrid.kernel_hashes()[name] == stamp["hash"]
 
 
 @pytest.mark.parametrize("name", sorted(GENERATED_MODULES))
@@ -268,13 +301,13 @@ def test_generated_hash_matches_symbolic_input(name):
     hash) may legitimately change between sympy versions, so this is only asserted when the
     running sympy is the one that generated the file; the numeric test above is the real
     staleness check either way."""
-    header = _header(name)
-    if header["sympy"] != sp.__version__:
+    stamp = _c_stamp(name)
+    if stamp["sympy"] != sp.__version__:
         pytest.skip(
-            f"{name}.py was generated with sympy {header['sympy']}, running "
+            f"{name}.c was generated with sympy {stamp['sympy']}, running "
             f"{sp.__version__}: hashes of srepr are not comparable across versions"
         )
-    assert header["hash"] == codegen.symbolic_hash(kernels(name))
+    assert stamp["hash"] == codegen.symbolic_hash(kernels(name))
 
 
 def _c_stamp(cname: str) -> dict:
@@ -296,10 +329,9 @@ def _c_stamp(cname: str) -> dict:
 
 
 def _c_expected_hashes(name: str, digest: str) -> dict:
-    """C module name -> the input hash it must carry, given the numba module's ``digest``:
-    the general C module is printed from the same kernels; a variant's hash is derived from
-    it (:func:`codegen.variant_hash`)."""
-    out = {name: digest}
+    """Variant C module name -> the input hash it must carry, given the general C module's
+    ``digest`` (:func:`codegen.variant_hash`)."""
+    out = {}
     for variant, zeros in C_VARIANTS.get(name, {}).items():
         names = [k.name for k in variant_kernels(name, variant, kernels(name), simplify=False)]
         out[f"{name}_{variant}"] = codegen.variant_hash(
@@ -310,18 +342,55 @@ def _c_expected_hashes(name: str, digest: str) -> dict:
 
 @pytest.mark.parametrize("name", C_MODULES)
 def test_c_files_are_stamped_with_the_input_hash(name):
-    """walker/_generated/<name>.c/.h (and the variants' files) are stamped like the numba
-    module, with the hash of the same symbolic input: the general C files carry the numba
-    module's hash, a variant the hash derived from it and from the variant's definition, so
-    a C file printed from other kernels than the numba module beside it is caught without
-    re-deriving anything (the numba stamp itself is checked above; the C kernels' values
-    in tests/test_generated_c.py)."""
-    py = _header(name)
-    for cname, digest in _c_expected_hashes(name, py["hash"]).items():
+    """The variants' C files (walker/_generated/<name>_<variant>.c/.h) carry the hash derived
+    from the general module's and from the variant's definition, so a variant printed from
+    other kernels than the general module beside it is caught without re-deriving anything
+    (the general stamp itself is checked above, the kernels' values by the fresh
+    derivation)."""
+    general = _c_stamp(name)
+    for cname, digest in _c_expected_hashes(name, general["hash"]).items():
         stamp = _c_stamp(cname)
         assert "generated, do not edit" in stamp["first"], cname
-        assert stamp["sympy"] == py["sympy"], f"{cname} and {name}.py: different sympy"
+        assert stamp["sympy"] == general["sympy"], f"{cname} and {name}.c: different sympy"
         assert stamp["hash"] == digest, f"{cname}: stale (regenerate)"
+
+
+@pytest.mark.parametrize("name", sorted(C_VARIANTS))
+def test_variants_are_the_models_variants(name):
+    """The generator's structural variants fix exactly the parameters the model declares
+    (``VARIANTS`` of walker.models.<name>, which picks the variant at run time)."""
+    model = importlib.import_module(f"walker.models.{name}")
+    assert {v: set(z) for v, z in C_VARIANTS[name].items()} == {
+        v: set(z) for v, z in model.VARIANTS.items()
+    }
+
+
+@pytest.mark.parametrize(
+    "cname", sorted(f"{n}_{v}" for n, variants in C_VARIANTS.items() for v in variants)
+)
+def test_variant_reads_no_zero_parameter_and_shares_trigonometry(cname):
+    """A structural variant never reads its zeroed parameters (they contribute no
+    arithmetic), and calls ``sin``/``cos`` only once per angle, as
+    ``const double sin_<angle> = sin(<angle>);``."""
+    name, variant = next(
+        (n, v) for n, variants in C_VARIANTS.items() for v in variants if f"{n}_{v}" == cname
+    )
+    zeros = C_VARIANTS[name][variant]
+    text = (GENERATED_DIR / f"{cname}.c").read_text()
+    bodies = re.findall(r"^(?:void|double) wk_\w+\(.*?\)\n\{\n(.*?)^\}", text, re.M | re.S)
+    prototypes = re.findall(
+        r"^(?:void|double) wk_\w+\([^)]*\);$", (GENERATED_DIR / f"{cname}.h").read_text(), re.M
+    )
+    assert len(bodies) == len(prototypes)
+    p_names = _p_order(cname)
+    zero_index = {p_names.index(z) for z in zeros}
+    for body in bodies:
+        read = {int(i) for i in re.findall(r"= p\[(\d+)\];", body)}
+        assert not read & zero_index, [p_names[i] for i in read & zero_index]
+        calls = re.findall(r"\b(sin|cos)\(([^()]*)\)", body)
+        assert len(calls) == len(set(calls))
+        for fun, arg in calls:
+            assert re.search(rf"const double {fun}_{arg} = {fun}\({arg}\);", body), (fun, arg)
 
 
 @pytest.mark.slow
@@ -358,17 +427,15 @@ COURSE_P = np.array([1.0, 1.0, 0.5, 0.5, 1.0, 1.0, 0.5, 0.5, 10.0, 0.0, 0.0, 0.0
 COURSE_Q0 = np.array([np.pi / 2 - 0.1 - np.pi / 2, np.pi - (np.pi / 2 - 0.1)])
 
 
-def passive_rhs(module, p):
-    """``x_dot = [qd; D(q)^-1 (-h(q, qd))]`` from a generated module's ``mass_matrix`` and
+def passive_rhs(model, p):
+    """``x_dot = [qd; D(q)^-1 (-h(q, qd))]`` from a model's generated ``mass_matrix`` and
     ``bias`` kernels; returns ``f(t, x)`` for any integrator taking that signature."""
-    n = len(module.ARGUMENT_ORDER["mass_matrix"]["q"])
-    D = np.empty((n, n))
-    h = np.empty(n)
+    n = model.n_x // 2
 
     def rhs(t, x):
         q, qd = x[:n], x[n:]
-        module.mass_matrix(q, p, D)
-        module.bias(q, qd, p, h)
+        D = model.kernel("mass_matrix", p, q)
+        h = model.kernel("bias", p, q, qd)
         return np.concatenate([qd, np.linalg.solve(D, -h)])
 
     return rhs
@@ -378,7 +445,7 @@ def test_course_double_pendulum_conserves_energy():
     """Total energy K + P over 10 s with DOP853 at rtol = atol = 1e-12 stays within 1e-9 of
     its initial value, relative to |E0| (the course plots the per-step energy difference of
     an ode113 run at tolerance 1e-9)."""
-    dp = importlib.import_module("walker._generated.double_pendulum")
+    dp = get_model("double_pendulum")
     x0 = np.concatenate([COURSE_Q0, [0.0, 0.0]])
     sol = solve_ivp(
         passive_rhs(dp, COURSE_P),
@@ -390,10 +457,9 @@ def test_course_double_pendulum_conserves_energy():
         t_eval=np.linspace(0.0, 10.0, 501),
     )
     assert sol.success, sol.message
-    energy = np.array(
-        [dp.kinetic(x[:2], x[2:], COURSE_P) + dp.potential(x[:2], COURSE_P) for x in sol.y.T]
-    )
-    kinetic = np.array([dp.kinetic(x[:2], x[2:], COURSE_P) for x in sol.y.T])
+    kinetic = np.array([dp.kernel("kinetic", COURSE_P, x[:2], x[2:]) for x in sol.y.T])
+    potential = np.array([dp.kernel("potential", COURSE_P, x[:2]) for x in sol.y.T])
+    energy = kinetic + potential
     # the motion is far from trivial: most of the potential energy changes hands
     assert kinetic.max() > 10.0
     drift = np.abs(energy - energy[0]).max() / abs(energy[0])

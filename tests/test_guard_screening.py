@@ -15,8 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _toy_systems import toy_system
-from numba import njit
+from _toy_systems import njit, toy_system
 
 from walker import load_scene
 from walker.integrate import hybrid_solve

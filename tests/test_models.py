@@ -11,8 +11,6 @@ from numpy.testing import assert_allclose
 
 from walker import get_model, load_scene, simulate
 from walker.models import MODEL_NAMES
-from walker.models import compass as C
-from walker.models import kneed as KN
 from walker.models._common import BASE_EXPORTS
 from walker.params import MODELS, CompassParams, KneedParams, SimplestParams
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, Status
@@ -54,6 +52,9 @@ def _heel_strike_state_compass(p, rng):
     return np.array([q_st, q_sw, rng.uniform(-2, -0.5), rng.uniform(-1, 1)])
 
 
+COMPASS, KNEED = get_model("compass"), get_model("kneed")
+
+
 # ------------------------------------------------------------------------------ compass gait
 def test_compass_heel_strike_conserves_angular_momenta():
     params = CompassParams.goswami()
@@ -62,9 +63,7 @@ def test_compass_heel_strike_conserves_angular_momenta():
     bodies = body_functions(model)
     for _ in range(50):
         x = _heel_strike_state_compass(p, RNG)
-        x_new = np.empty(4)
-        imp = np.empty(2)
-        action, phase, status = C.reset(0, 0, 0.0, x, p, x_new, imp)
+        action, phase, status, x_new, imp = COMPASS.reset(0, 0, x, p)
         # Wide steps can leave the trailing foot pressed into the ground: then the reset
         # reports NONPHYSICAL_IMPACT, but the impact it solved must still conserve momenta.
         assert (action, status) in ((EVENT_STRIDE, 0), (3, Status.NONPHYSICAL_IMPACT))
@@ -83,7 +82,7 @@ def test_compass_heel_strike_conserves_angular_momenta():
         la = angular_momentum(bodies, qn, qdn, p, hip_new, names={"swing_leg"})
         assert_allclose(la, lb, rtol=1e-12, atol=1e-12)
         # Kinetic energy never increases; the normal impulse is positive.
-        assert C.energy(x_new, p)[0] <= C.energy(x, p)[0]
+        assert COMPASS.energy(x_new, p)[0] <= COMPASS.energy(x, p)[0]
         if action == EVENT_STRIDE:
             assert imp[1] > 0
 
@@ -114,8 +113,7 @@ def test_compass_impact_equals_goswami_closed_form():
     p = params.as_array()
     for _ in range(50):
         x = _heel_strike_state_compass(p, RNG)
-        x_new = np.empty(4)
-        C.reset(0, 0, 0.0, x, p, x_new, np.empty(2))
+        x_new = COMPASS.reset(0, 0, x, p)[3]
         assert_allclose(x_new, _goswami_transition(x, params), rtol=1e-12, atol=1e-12)
 
 
@@ -123,8 +121,10 @@ def test_compass_scuff_behind_is_ignored_not_a_strike():
     p = CompassParams.goswami().as_array()
     # Mid-stance: legs nearly together, swing foot slightly behind the stance foot.
     x = np.array([0.02, 0.01, -1.0, 2.0])
-    assert C.swing_foot(x, p)[1] < 0
-    action, _, _ = C.reset(0, 0, 0.0, x, p, np.empty(4), np.empty(2))
+    stance, _, swing = COMPASS.points(x, p)
+    step = swing - stance  # along the slope: (cos slope, -sin slope)
+    assert step[0] * math.cos(p[6]) - step[1] * math.sin(p[6]) < 0
+    action = COMPASS.reset(0, 0, x, p)[0]
     assert action == EVENT_IGNORE
 
 
@@ -191,11 +191,9 @@ def test_knee_lock_conserves_angular_momenta(offsets):
         qd = np.array([RNG.uniform(-2, 0), RNG.uniform(-1, 3), RNG.uniform(0, 4)])
         qd[2] = qd[1] + abs(qd[2])  # shank catching up with the thigh
         x = np.concatenate([q, qd])
-        if KN.swing_foot(x, p)[0] <= 0:  # a real run trips before reaching such a state
+        if KNEED.guards(0, x, p)[1] <= 0:  # swing foot below: a real run trips before
             continue
-        x_new = np.empty(6)
-        imp = np.empty(2)
-        action, phase, status = KN.reset(0, 0, 0.0, x, p, x_new, imp)
+        action, phase, status, x_new, imp = KNEED.reset(0, 0, x, p)
         assert (action, phase, status) == (EVENT_CONTINUE, 1, 0)
         qn, qdn = x_new[:3], x_new[3:]
         assert qdn[1] == qdn[2] and qn[1] == qn[2]
@@ -214,7 +212,7 @@ def test_knee_lock_conserves_angular_momenta(offsets):
             rtol=1e-12,
             atol=1e-12,
         )
-        assert KN.energy(x_new, p)[0] <= KN.energy(x, p)[0]
+        assert KNEED.energy(x_new, p)[0] <= KNEED.energy(x, p)[0]
 
 
 def test_kneed_heel_strike_conserves_angular_momenta():
@@ -228,9 +226,7 @@ def test_kneed_heel_strike_conserves_angular_momenta():
         q = np.array([-slope - alpha, -slope + alpha, -slope + alpha])
         w = np.array([RNG.uniform(-1.5, -0.8), RNG.uniform(-0.5, 0.3)])
         x = np.array([q[0], q[1], q[2], w[0], w[1], w[1]])
-        x_new = np.empty(6)
-        imp = np.empty(2)
-        action, phase, status = KN.reset(1, 1, 0.0, x, p, x_new, imp)
+        action, phase, status, x_new, imp = KNEED.reset(1, 1, x, p)
         assert (action, status) in ((EVENT_STRIDE, 0), (3, Status.NONPHYSICAL_IMPACT))
         n_checked += action == EVENT_STRIDE
         qn, qdn = x_new[:3], x_new[3:]
@@ -249,7 +245,7 @@ def test_kneed_heel_strike_conserves_angular_momenta():
             rtol=1e-12,
             atol=1e-12,
         )
-        assert KN.energy(x_new, p)[0] <= KN.energy(x, p)[0]
+        assert KNEED.energy(x_new, p)[0] <= KNEED.energy(x, p)[0]
     assert n_checked > 10
 
 
@@ -419,3 +415,66 @@ def test_friction_walker_lists_its_base_models_names(name):
     for attr in module.__all__:
         assert attr in listed, attr
     assert "__getattr__" in listed and "np" in listed  # the module's own names stay
+
+
+# ------------------------------------------------------------ the checked compiled calls
+@pytest.mark.parametrize(
+    ("call", "error", "message"),
+    [
+        (lambda m, x, p: m.rhs(0, x[:3], p), ValueError, r"^`x` must have 6 entries, got 3$"),
+        (lambda m, x, p: m.guards(0, x, p[:-1]), ValueError, r"^`p` must have 17 entries"),
+        (lambda m, x, p: m.jac(2, x, p), ValueError, r"^`phase` must be in \[0, 2\), got 2$"),
+        (lambda m, x, p: m.rhs(0.0, x, p), TypeError, r"^`phase` must be an int"),
+        (lambda m, x, p: m.reset(0, 4, x, p), ValueError, r"^`k` must be in \[0, 4\)"),
+        (lambda m, x, p: m.energy(x.reshape(2, 3), p), ValueError, r"^`x` must be 1-dim"),
+        (lambda m, x, p: m.points(x.astype(str), p), TypeError, r"^`x` must hold real"),
+        (lambda m, x, p: m.rhs(0, x, p, t=float("nan")), ValueError, r"^`t` must be finite"),
+        (lambda m, x, p: m.kernel("bias", p, x[:3]), ValueError, r"^`name` must be one of"),
+        (
+            lambda m, x, p: m.kernel("unlocked_bias", p, x[:3]),
+            TypeError,
+            r"^`qd` is required by kernel kneed\.unlocked_bias",
+        ),
+        (
+            lambda m, x, p: m.kernel("unlocked_mass_matrix", p, x[:3], x[3:]),
+            TypeError,
+            r"^`qd` is not taken by kernel kneed\.unlocked_mass_matrix",
+        ),
+        (
+            lambda m, x, p: m.kernel("locked_mass_matrix", p, x[:3]),
+            ValueError,
+            r"^`q` must have 2 entries, got 3$",
+        ),
+        (lambda m, x, p: m.kernel("locked_kinetic", p[:5], x[:2], x[3:5]), ValueError, r"^`p`"),
+        (lambda m, x, p: m.torques(x, p), ValueError, r"^model kneed has no actuators"),
+    ],
+)
+def test_compiled_calls_check_every_argument(call, error, message):
+    """Every call into the compiled model checks lengths, dtypes and indices first and names
+    the argument (the C reads the model's lengths unchecked)."""
+    scene = load_scene("gaits/kneed_hsu.toml")
+    with pytest.raises(error, match=message):
+        call(KNEED, scene.state, scene.params.as_array())
+
+
+def test_compiled_calls_are_the_integrators_functions():
+    """The checked calls reach the functions the integrator runs: a run's final state is a
+    heel strike where the swing-foot guard is zero, the reset maps the event's pre-state to
+    its post-state (to round-off: the run took the scene's ``plain`` variant, the checked
+    calls the general kernels), and the kernels agree with the energy (kinetic + potential
+    of the unlocked kernels)."""
+    scene = load_scene("gaits/kneed_hsu.toml")
+    p = scene.params.as_array()
+    sol = simulate("kneed", scene.params, scene.state, output="events")
+    ev = sol.events
+    last = len(ev) - 1
+    assert abs(KNEED.guards(int(ev.phase_before[last]), ev.x_pre[last], p)[1]) < 1e-9
+    action, phase, status, x_new, _ = KNEED.reset(
+        int(ev.phase_before[last]), int(ev.guard[last]), ev.x_pre[last], p, float(ev.t[last])
+    )
+    assert (action, phase, status) == (EVENT_STRIDE, int(ev.phase_after[last]), 0)
+    np.testing.assert_allclose(x_new, ev.x_post[last], rtol=1e-13, atol=1e-13)
+    x = scene.state
+    kinetic = KNEED.kernel("unlocked_kinetic", p, x[:3], x[3:])
+    potential = KNEED.kernel("unlocked_potential", p, x[:3])
+    assert KNEED.energy(x, p) == (kinetic, potential)

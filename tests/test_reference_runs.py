@@ -6,7 +6,6 @@ from numpy.testing import assert_allclose
 from scipy.integrate import solve_ivp
 
 from walker import get_model, load_scene, simulate
-from walker.models import kneed as K
 from walker.params import DoublePendulumParams
 
 # The course's double pendulum (its double-pendulum exercise): q1 = pi/2 - 0.1 and q2 = pi in
@@ -34,29 +33,27 @@ def test_course_double_pendulum_energy_with_walkers_integrator():
     assert drift <= 1e-9, drift
 
 
+KNEED = get_model("kneed")
+
+
 def _stride_solve_ivp(x0, p, rtol):
     """One kneed stride with solve_ivp's own event handling and walker's compiled vector
     field and impact maps: unlocked phase to knee lock, locked phase to heel strike."""
     x, t0 = np.array(x0, dtype=float), 0.0
     for phase, guard, direction in ((0, 0, 1.0), (1, 1, -1.0)):
-        g = np.empty(4)
 
         def f(t, y, phase=phase):
-            dy = np.empty(6)
-            K.rhs(phase, t, y, p, dy)
-            return dy
+            return KNEED.rhs(phase, y, p, t)
 
-        def event(t, y, phase=phase, guard=guard, g=g):
-            K.guards(phase, t, y, p, g)
-            return g[guard]
+        def event(t, y, phase=phase, guard=guard):
+            return KNEED.guards(phase, y, p, t)[guard]
 
         event.terminal = True
         event.direction = direction
         sol = solve_ivp(f, (t0, t0 + 5.0), x, method="DOP853", rtol=rtol, atol=rtol, events=event)
         assert sol.status == 1
         te, xe = sol.t_events[0][0], sol.y_events[0][0]
-        x_new = np.empty(6)
-        K.reset(phase, guard, te, xe, p, x_new, np.empty(2))
+        x_new = KNEED.reset(phase, guard, xe, p, te)[3]
         x, t0 = x_new, te
     return x, t0
 

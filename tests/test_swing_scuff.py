@@ -2,8 +2,9 @@
 
 Under "trip" (default) a swing foot reaching the ground with the knee bent ends the run
 TRIPPED; under "ignore" it passes through, as in McGeer's analysis and most published
-kneed-walker codes.  The C reset of both conventions is checked against its numba twin on
-every branch in tests/test_models_c.py.
+kneed-walker codes.  The swing foot's height and position come from the compiled model
+(its swing-foot guard and drawing points), independently of the numpy formulas of
+``walker.models.kneed.deepest_penetration``.
 """
 
 import functools
@@ -19,7 +20,7 @@ from numpy.testing import assert_allclose
 from walker import load_scene
 from walker.fixedpoint import find_fixed_point
 from walker.models import get_model
-from walker.models.kneed import deepest_penetration, swing_foot
+from walker.models.kneed import deepest_penetration
 from walker.status import Status
 from walker.storage import read, write
 from walker.stride import StrideMap, simulate
@@ -57,6 +58,17 @@ def test_pointmass_gait_under_ignore_regression_pin():
     assert_allclose(fp.multipliers, ref["multipliers"], rtol=0, atol=1e-8)
     assert fp.stable
     assert fp.conventions == {"swing_scuff": "ignore"}
+
+
+def swing_foot(x, p):
+    """(height above the slope, distance ahead of the stance foot along it) [m] of the swing
+    foot's lowest point: the compiled model's swing-foot guard and drawing points (the
+    numpy formulas of ``deepest_penetration`` are the ones under test)."""
+    model = get_model("kneed")
+    pts = model.points(x, p)
+    d = pts[3] - pts[0]
+    slope = p[model.params_class.names().index("slope")]
+    return model.guards(0, x, p)[1], d[0] * math.cos(slope) - d[1] * math.sin(slope)
 
 
 @pytest.mark.regression_pin

@@ -9,10 +9,10 @@ The pipeline, from a scene file to pictures::
                  ──► symbolic/codegen.py + scripts/generate_kernels.py
                                      cse + printing -> walker/_generated/<model>.c (C kernels,
                                      general and "plain" variants with zero parameters
-                                     removed) and <model>.py (the same kernels for numba),
-                                     committed, stamped with a hash; symbolic/indices.py ->
-                                     _generated/indices.py|.h, the named parameter, phase
-                                     and guard indices every model reads
+                                     removed), committed, stamped with a hash;
+                                     symbolic/indices.py -> _generated/indices.py|.h, the
+                                     named parameter, phase and guard indices every model
+                                     reads
     (install)    ──► setup.py        compiles walker/_core/*.c + walker/_generated/*.c into the
                                      extension walker._hybrid:
                      _core/hybrid*.c the integrator: the hybrid loop (hybrid.c), DOP853 / RK45 /
@@ -29,7 +29,9 @@ The pipeline, from a scene file to pictures::
                                      (_hybridmap.c; lift, start checks, run in batch.c)
                                      and the whole gait search (newton.c)
     (run time)   ──► models/         per walker: names, phases, guards, section lift/project;
-                                     WalkerModel.system_for(p) picks the compiled variant once
+                                     WalkerModel.system_for(p) picks the compiled variant once;
+                                     WalkerModel.rhs/guards/reset/energy/torques/kernel call
+                                     the compiled model with every argument checked
                  ──► integrate.py    hybrid_solve, PreparedRun -> Solution; the C contract
                                      HybridSystem (also for user-supplied C functions) in
                                      hybrid_system.py
@@ -49,12 +51,9 @@ The pipeline, from a scene file to pictures::
     cli/ sits on top (``walker find|run|continue|basin|sweep|plot``, one module per command)
     and only orchestrates.
 
-The numba versions of the models (walker/models/<name>.py, walker/friction.py and
-walker/friction_phases.py, walker/control.py) are the reference the C ports are tested
-against bit for bit, and what the HZD analysis tools (hzd.py) and the actuated walkers'
-torque plots still call.  numba, an optional dependency, compiles them on their first call
-(``walker/_jit.py``), so the compiled path (``walker find``, ``walker basin``, worker
-processes) never imports it.
+Each model is implemented once, in C; the analysis tools (hzd.py), the figures and the
+tests call it through the checked methods of WalkerModel.  numba is an optional extra, only
+for a user's own ``@njit`` system bridged through HybridSystem; walker never imports it.
 
 Only ``symbolic`` imports sympy; a simulation derives nothing.
 """

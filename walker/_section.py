@@ -71,17 +71,12 @@ def compiled_call_fits(model, p, t_max, fast) -> bool:
     """Can one compiled call (``walker._hybrid.PreparedMap``) do what
     ``StrideMap.__call__`` does, with the same operations?  It can for a model whose
     projection selects components and whose lift is affine (``fast``, :func:`fast_parts`) or
-    compiled (:func:`compiled_lift`), whose start phase, if any, is compiled, and a
-    ``t_max`` that a double times ``n_strides`` gives as the Python product does (a float, or
-    an int below 2**53)."""
+    compiled (:func:`compiled_lift`), and a ``t_max`` that a double times ``n_strides``
+    gives as the Python product does (a float, or an int below 2**53)."""
     lift_fits = fast[1] is not None or (
         compiled_lift(model) is not None and selected_components(model, p) is not None
     )
-    return (
-        lift_fits
-        and (model._state_fn("start_phase") is not None or not hasattr(model.module, "start_phase"))
-        and (isinstance(t_max, float) or (type(t_max) is int and abs(t_max) < 2**53))
-    )
+    return lift_fits and (isinstance(t_max, float) or (type(t_max) is int and abs(t_max) < 2**53))
 
 
 def section_args(model, t_max, cached, run, lift_a=None, proj=None) -> tuple:

@@ -15,7 +15,6 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from walker import plotting
-from walker._jit import NumbaMissing
 from walker.results import Branch, Solution, Trajectory
 
 __all__ = ["phase_labels", "plot_file", "plot_solution", "solution_figures", "walker_frames"]
@@ -274,15 +273,11 @@ def solution_figures(sol: Solution, model, params) -> dict[str, Figure]:
     figures["phase_portrait"] = plotting.plot_phase_portrait(
         traj, 0, n_q, state_names=model.state_names
     )
-    if hasattr(model.module, "torques"):
+    if model.has_torques:
         pp = params.as_array()
-        try:
-            u = np.array([model.module.torques(np.ascontiguousarray(row), pp) for row in traj.x])
-        except NumbaMissing as exc:  # the torques come from the numba twin
-            warnings.warn(f"no torque figure: {exc}", stacklevel=2)
-        else:
-            limit = getattr(params, "torque_limit", None)
-            figures["torques"] = plotting.plot_torques(traj.t, u, limit=limit, event_times=events)
+        u = np.array([model.torques(row, pp) for row in traj.x])
+        limit = getattr(params, "torque_limit", None)
+        figures["torques"] = plotting.plot_torques(traj.t, u, limit=limit, event_times=events)
         tp, tm = getattr(params, "theta_plus", None), getattr(params, "theta_minus", None)
         figures["zero_dynamics"] = plotting.plot_zero_dynamics(
             traj.x[:, 0], traj.x[:, n_q], theta_plus=tp, theta_minus=tm

@@ -13,13 +13,15 @@ functions ``rhs``, ``guards``, ``reset``, ``jac`` and an opaque ``ctx`` pointer 
 every call.  Each function of a :class:`HybridSystem` may be given as
 
 * a numba ``@njit`` function with the array signature documented in :class:`HybridSystem`
-  (walker's own models and the test systems): it is bridged once per system into a C
-  callback (a ``numba.cfunc`` that views the C pointers as arrays and calls it);
+  (a user's own system; numba is the optional extra ``numba``): it is bridged once per
+  system into a C callback (a ``numba.cfunc`` that views the C pointers as arrays and calls
+  it);
 * a ``numba.cfunc`` compiled with the C signature of ``wk_system.h``;
 * a ``ctypes`` function pointer with that signature (e.g. a ``CFUNCTYPE`` Python callback:
   slow, but handy for tests);
 * a plain int address of such a function (from cffi, another extension module, or
-  ``walker._hybrid.models()``, walker's models compiled into the extension).
+  ``walker._hybrid.models()``, walker's models compiled into the extension, which is how
+  :class:`walker.models.WalkerModel` builds its systems).
 
 A system's addresses are computed on first use (:func:`_compiled`) and kept on the instance
 with the objects that keep them alive; a bridge is shared by every system built from the same
@@ -34,8 +36,6 @@ import threading
 from dataclasses import dataclass
 
 import numpy as np
-
-from walker import _jit
 
 __all__ = ["HybridSystem"]
 
@@ -69,8 +69,6 @@ def _kind_of(fn, name):
         return "int"
     if isinstance(fn, ctypes._CFuncPtr):
         return "ctypes"
-    if isinstance(fn, _jit.LazyJit):  # a walker numba twin, compiled when first bridged
-        return "dispatcher"
     dispatcher = _numba_class("numba.core.dispatcher", "Dispatcher")
     if dispatcher is not None and isinstance(fn, dispatcher):
         return "dispatcher"
@@ -156,8 +154,7 @@ def _compiled(system):
         addresses = []
         keep = []
         for name in _FUNCTIONS:
-            # a walker numba twin not yet compiled (walker._jit): its numba dispatcher
-            fn = _jit.dispatcher(getattr(system, name))
+            fn = getattr(system, name)
             if fn is None:
                 addresses.append(0)
                 continue

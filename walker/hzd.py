@@ -76,17 +76,25 @@ BETA_FIVE_LINK = np.array([1.0, 0.0, 1.0, 1.0, 1.0])
 
 
 class _Model:
-    """What the HZD routines need of a model: its compiled module and kernels, ``beta``, the
-    names of its joint-friction parameters."""
+    """What the HZD routines need of a model: its module, its compiled kernels (through the
+    checked :meth:`walker.models.WalkerModel.kernel`), ``beta``, the names of its
+    joint-friction parameters."""
 
     def __init__(self, name, module, beta, friction_names):
         self.name = name
         self.module = module
-        self.K = module.K
         self.beta = beta
         self.n = module.N_Q
         self.offset = module.CONTROL_OFFSET
         self.friction_names = friction_names
+
+    def mass_matrix(self, q, p) -> np.ndarray:
+        """The pinned model's mass matrix ``D(q)`` (n, n)."""
+        return get_model(self.name).kernel("mass_matrix", p, q)
+
+    def bias(self, q, qd, p) -> np.ndarray:
+        """``h(q, qd) = C(q, qd) qd + g(q)`` (n,)."""
+        return get_model(self.name).kernel("bias", p, q, qd)
 
 
 _MODELS = {
@@ -183,10 +191,8 @@ def _surface(p, theta, mdl):
 
 def _accel(p, theta, theta_dot, mdl):
     q, sigma, dsigma = _surface(p, theta, mdl)
-    D = np.empty((mdl.n, mdl.n))
-    h = np.empty(mdl.n)
-    mdl.K.mass_matrix(q, p, D)
-    mdl.K.bias(q, sigma * theta_dot, p, h)
+    D = mdl.mass_matrix(q, p)
+    h = mdl.bias(q, sigma * theta_dot, p)
     bD = mdl.beta @ D
     return -(bD @ dsigma * theta_dot**2 + mdl.beta @ h) / (bD @ sigma)
 
@@ -338,10 +344,8 @@ def impact_momentum_ratio(params) -> float:
     tm = p[mdl.offset + 5]
     q, sigma, _ = _surface(p, tm, mdl)
     x, _, _ = _impact(p, tm, -1.0, mdl)
-    D = np.empty((n, n))
-    mdl.K.mass_matrix(q, p, D)
-    before = mdl.beta @ D @ (-sigma)
-    mdl.K.mass_matrix(np.ascontiguousarray(x[:n]), p, D)
+    before = mdl.beta @ mdl.mass_matrix(q, p) @ (-sigma)
+    D = mdl.mass_matrix(x[:n], p)
     after = mdl.beta @ D @ x[n : 2 * n]
     return float(after / before)
 

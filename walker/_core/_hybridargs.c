@@ -262,16 +262,16 @@ int wkpy_arg_buffer_pair(PyObject *const *args, const char *name0, int ndim0, co
  * (its variants share them).  The parameter counts are the generated indices' (indices.h);
  * tests/test_binding_safety.py checks every row against the Python model (walker.models). */
 static const wkpy_model_sizes SIZES[] = {
-    /* name, n_x, n_p, n_phases, n_guards, n_impulse, n_points, n_z */
-    {"simplest", 4, WK_SIMPLEST_N_P, 1, 3, 1, 3, 2},
-    {"compass", 4, WK_COMPASS_N_P, 1, 3, 2, 3, 3},
-    {"kneed", 6, WK_KNEED_N_P, 2, 4, 2, 4, 3},
-    {"compass_coulomb", 4, WK_COMPASS_COULOMB_N_P, 9, 7, 2, 3, 3},
-    {"double_pendulum", 4, WK_DOUBLE_PENDULUM_N_P, 9, 4, 1, 3, 0},
-    {"kneed_coulomb", 6, WK_KNEED_COULOMB_N_P, 36, 10, 2, 4, 3},
-    {"three_link", 8, WK_THREE_LINK_N_P, 9, 10, 2, 4, 5},
-    {"five_link", 12, WK_FIVE_LINK_N_P, 81, 15, 2, 6, 9},
-    {"rimless_wheel", 2, WK_RIMLESS_WHEEL_N_P, 2, 4, 2, 4, 1},
+    /* name, n_x, n_p, n_phases, n_guards, n_impulse, n_points, n_z, n_inputs */
+    {"simplest", 4, WK_SIMPLEST_N_P, 1, 3, 1, 3, 2, 0},
+    {"compass", 4, WK_COMPASS_N_P, 1, 3, 2, 3, 3, 0},
+    {"kneed", 6, WK_KNEED_N_P, 2, 4, 2, 4, 3, 0},
+    {"compass_coulomb", 4, WK_COMPASS_COULOMB_N_P, 9, 7, 2, 3, 3, 0},
+    {"double_pendulum", 4, WK_DOUBLE_PENDULUM_N_P, 9, 4, 1, 3, 0, 0},
+    {"kneed_coulomb", 6, WK_KNEED_COULOMB_N_P, 36, 10, 2, 4, 3, 0},
+    {"three_link", 8, WK_THREE_LINK_N_P, 9, 10, 2, 4, 5, 2},
+    {"five_link", 12, WK_FIVE_LINK_N_P, 81, 15, 2, 6, 9, 4},
+    {"rimless_wheel", 2, WK_RIMLESS_WHEEL_N_P, 2, 4, 2, 4, 1, 0},
 };
 
 const wkpy_model_sizes *wkpy_sizes_named(const char *entry_name)
@@ -295,6 +295,7 @@ const wkpy_model_sizes *wkpy_sizes_of(uintptr_t address, int *role)
             (uintptr_t)e->fn.rhs,       (uintptr_t)e->fn.guards,     (uintptr_t)e->fn.reset,
             (uintptr_t)e->fn.jac,       (uintptr_t)e->energy,        (uintptr_t)e->points,
             (uintptr_t)e->start_phase,  (uintptr_t)e->lift,          (uintptr_t)e->lift_jacobian,
+            (uintptr_t)e->torques,
         };
         for (int k = 0; k < WKPY_FN_NONE; k++)
             if (fns[k] == address) {
@@ -307,6 +308,7 @@ const wkpy_model_sizes *wkpy_sizes_of(uintptr_t address, int *role)
 
 static const char *const ROLE_NAMES[WKPY_FN_NONE] = {
     "rhs", "guards", "reset", "jac", "energy", "points", "start_phase", "lift", "lift_jacobian",
+    "torques",
 };
 
 int wkpy_state_fn_lengths(const wkpy_model_sizes *s, int role, int64_t *n_in, int64_t *n_out)
@@ -317,6 +319,7 @@ int wkpy_state_fn_lengths(const wkpy_model_sizes *s, int role, int64_t *n_in, in
     case WKPY_FN_START: *n_in = s->n_x; *n_out = 1; return 0;
     case WKPY_FN_LIFT: *n_in = s->n_z; *n_out = s->n_x; return 0;
     case WKPY_FN_LIFT_JAC: *n_in = s->n_z; *n_out = s->n_x * s->n_z; return 0;
+    case WKPY_FN_TORQUES: *n_in = s->n_x; *n_out = s->n_inputs; return 0;
     default: return -1;
     }
 }

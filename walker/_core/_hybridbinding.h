@@ -130,13 +130,13 @@ void wkpy_section_free(wkpy_section *s);
  * phases, guards, impulse components, drawing points, section coordinates. */
 typedef struct {
     const char *name;
-    int64_t n_x, n_p, n_phases, n_guards, n_impulse, n_points, n_z;
+    int64_t n_x, n_p, n_phases, n_guards, n_impulse, n_points, n_z, n_inputs;
 } wkpy_model_sizes;
 
 /* The functions of a registry entry, as the slots they fill. */
 enum {
     WKPY_FN_RHS, WKPY_FN_GUARDS, WKPY_FN_RESET, WKPY_FN_JAC, WKPY_FN_ENERGY, WKPY_FN_POINTS,
-    WKPY_FN_START, WKPY_FN_LIFT, WKPY_FN_LIFT_JAC, WKPY_FN_NONE
+    WKPY_FN_START, WKPY_FN_LIFT, WKPY_FN_LIFT_JAC, WKPY_FN_TORQUES, WKPY_FN_NONE
 };
 
 /* The sizes of the registry entry named ``entry_name`` ("kneed/plain": kneed's); NULL when

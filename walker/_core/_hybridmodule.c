@@ -3,8 +3,9 @@
  * solve(...)          one run of the hybrid integrator (hybrid.c), without the GIL, as a
  *                     SolveResult record (_hybridresult.c);
  * models()            walker's compiled models (wk_model_table) as integer addresses;
- * kernels()           the generated kernels (wk_kernel_table) as (signature, address);
- * call_state_fn(...)  calls a model's energy / points / start_phase function;
+ * kernels()           the generated kernels (wk_kernel_table) as (signature, address,
+ *                     n_q, n_p, shape); kernel_hashes() the generated modules' hashes;
+ * call_state_fn(...)  calls a model's energy / points / start_phase / torques function;
  * basin_points(...)   many starts of a walker's stride map (batch.c), without the GIL;
  * PreparedMap(...)    one start of a walker's stride map per map() call, its settings
  *                     parsed once (_hybridmap.c);
@@ -309,6 +310,7 @@ static PyObject *model_entry(const void *table, int64_t i, const char **key)
         set_item(entry, "start_phase", ADDRESS(e->start_phase)) ||
         set_item(entry, "lift", ADDRESS(e->lift)) ||
         set_item(entry, "lift_jacobian", ADDRESS(e->lift_jacobian)) ||
+        set_item(entry, "torques", ADDRESS(e->torques)) ||
         set_item(entry, "rhs_jac", ADDRESS(e->fn.rhs_jac))) {
         Py_DECREF(entry);
         return NULL;
@@ -325,7 +327,8 @@ static PyObject *model_entry(const void *table, int64_t i, const char **key)
         set_item(entry, "n_guards", PyLong_FromLongLong(z->n_guards)) ||
         set_item(entry, "n_impulse", PyLong_FromLongLong(z->n_impulse)) ||
         set_item(entry, "n_points", PyLong_FromLongLong(z->n_points)) ||
-        set_item(entry, "n_z", PyLong_FromLongLong(z->n_z))) {
+        set_item(entry, "n_z", PyLong_FromLongLong(z->n_z)) ||
+        set_item(entry, "n_inputs", PyLong_FromLongLong(z->n_inputs))) {
         Py_DECREF(entry);
         return NULL;
     }
@@ -337,19 +340,33 @@ static PyObject *kernel_entry(const void *table, int64_t i, const char **key)
 {
     const wk_kernel_entry *k = (const wk_kernel_entry *)table + i;
     *key = k->name;
-    return Py_BuildValue("(sN)", k->sig, ADDRESS(k->address));
+    PyObject *shape = PyTuple_New(0);
+    for (int d = 0; shape != NULL && d < 3 && k->shape[d] > 0; d++) {
+        PyObject *dim = PyLong_FromLongLong((long long)k->shape[d]);
+        if (dim == NULL || _PyTuple_Resize(&shape, d + 1)) {
+            Py_XDECREF(dim);
+            Py_CLEAR(shape);
+            break;
+        }
+        PyTuple_SET_ITEM(shape, d, dim);
+    }
+    if (shape == NULL) return NULL;
+    return Py_BuildValue("(sNLLN)", k->sig, ADDRESS(k->address), (long long)k->n_q,
+                         (long long)k->n_p, shape);
 }
 
 PyDoc_STRVAR(models_doc,
              "models()\n--\n\n"
              "walker's compiled models: dict name -> dict of int addresses {'rhs', 'guards',\n"
              "'reset', 'jac', 'ctx', 'energy', 'points', 'start_phase', 'lift',\n"
-             "'lift_jacobian', 'rhs_jac'} (0 for NULL; 'lift' and 'lift_jacobian' a section\n"
-             "lift that is not affine; 'rhs_jac', the fused rhs and Jacobian the integrator\n"
-             "uses by itself for this (rhs, jac) pair, is informational) and its sizes as\n"
-             "ints {'n_x', 'n_p', 'n_phases', 'n_guards', 'n_impulse', 'n_points', 'n_z'}\n"
-             "(state, parameters, phases, guards, impulse components, drawing points,\n"
-             "section coordinates), which the binding checks every call against.");
+             "'lift_jacobian', 'torques', 'rhs_jac'} (0 for NULL; 'lift' and 'lift_jacobian' a\n"
+             "section lift that is not affine; 'torques' the actuated walkers' controller\n"
+             "torques; 'rhs_jac', the fused rhs and Jacobian the integrator uses by itself for\n"
+             "this (rhs, jac) pair, is informational) and its sizes as ints {'n_x', 'n_p',\n"
+             "'n_phases', 'n_guards', 'n_impulse', 'n_points', 'n_z', 'n_inputs'} (state,\n"
+             "parameters, phases, guards, impulse components, drawing points, section\n"
+             "coordinates, actuator torques),\n"
+             "which the binding checks every call against.");
 
 static PyObject *py_models(PyObject *self, PyObject *unused)
 {
@@ -362,8 +379,10 @@ static PyObject *py_models(PyObject *self, PyObject *unused)
 
 PyDoc_STRVAR(kernels_doc,
              "kernels()\n--\n\n"
-             "walker's generated C kernels: dict '<model>.<kernel>' -> (signature, address),\n"
-             "signatures as in wk_models.h ('qqdp_v', 'qp_v', 'qqdp_s', 'qp_s').");
+             "walker's generated C kernels: dict '<model>.<kernel>' -> (signature, address,\n"
+             "n_q, n_p, shape): signatures as in wk_models.h ('qqdp_v', 'qp_v', 'qqdp_s',\n"
+             "'qp_s', 'qqdqddp_v'); n_q the length of q (and qd, qdd), n_p the parameters\n"
+             "read, shape that of out (() for a kernel returning a double).");
 
 static PyObject *py_kernels(PyObject *self, PyObject *unused)
 {
@@ -372,6 +391,28 @@ static PyObject *py_kernels(PyObject *self, PyObject *unused)
     int64_t count = 0;
     const wk_kernel_entry *table = wk_kernel_table(&count);
     return registry(table, count, kernel_entry);
+}
+
+/* A generated module's hash: its name -> the hash string. */
+static PyObject *hash_entry(const void *table, int64_t i, const char **key)
+{
+    const wk_kernel_hash_entry *k = (const wk_kernel_hash_entry *)table + i;
+    *key = k->module;
+    return PyUnicode_FromString(k->hash);
+}
+
+PyDoc_STRVAR(kernel_hashes_doc,
+             "kernel_hashes()\n--\n\n"
+             "The hash stamped on each generated C module: dict '<model>' (variants\n"
+             "'<model>/<variant>') -> hex string (the symbolic model's sha256).");
+
+static PyObject *py_kernel_hashes(PyObject *self, PyObject *unused)
+{
+    (void)self;
+    (void)unused;
+    int64_t count = 0;
+    const wk_kernel_hash_entry *table = wk_kernel_hash_table(&count);
+    return registry(table, count, hash_entry);
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -404,7 +445,8 @@ static PyObject *py_call_state_fn(PyObject *self, PyObject *const *args, Py_ssiz
     const wkpy_model_sizes *sizes = wkpy_sizes_of(address, &role);
     if (sizes == NULL || wkpy_state_fn_lengths(sizes, role, &n_in, &n_max)) {
         PyErr_SetString(PyExc_ValueError, "`address` must be the energy, points, start_phase, "
-                                          "lift or lift_jacobian function of a compiled model "
+                                          "lift, lift_jacobian or torques function of a "
+                                          "compiled model "
                                           "(walker._hybrid.models())");
         return NULL;
     }
@@ -589,6 +631,7 @@ static PyMethodDef methods[] = {
      terrain_solve_doc},
     {"models", py_models, METH_NOARGS, models_doc},
     {"kernels", py_kernels, METH_NOARGS, kernels_doc},
+    {"kernel_hashes", py_kernel_hashes, METH_NOARGS, kernel_hashes_doc},
     {"basin_points", (PyCFunction)(void (*)(void))py_basin_points, METH_FASTCALL,
      basin_points_doc},
     {"call_state_fn", (PyCFunction)(void (*)(void))py_call_state_fn, METH_FASTCALL,

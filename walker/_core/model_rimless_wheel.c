@@ -1,5 +1,5 @@
 /* The rimless wheel: a point mass at the hub on massless spokes of length l, rolling down a
- * slope from spoke to spoke.  Written in C only (no numba twin); the model's description,
+ * slope from spoke to spoke.  Written in C only; the model's description,
  * conventions and the derivation of the impact map are in walker/models/rimless_wheel.py.
  *
  * State (theta, theta_dot): theta is the stance spoke's angle from the slope normal,

@@ -1,12 +1,13 @@
-/* Grizzle's three-link walker in closed loop with hip friction: C port of the compiled phase
- * functions in walker/models/three_link.py (same operations in the same order).  State
+/* Grizzle's three-link walker in closed loop with hip friction (described in
+ * walker/models/three_link.py; the operations of walker's former numba phase functions, in
+ * the same order).  State
  * (q_stance, q_swing, q_torso, qd_stance, qd_swing, qd_torso, actuator_work,
  * saturated_time); phase = joint-mode code of (hip_stance, hip_swing) (wk_friction.h);
  * guards heel_strike, fall_forward, fall_backward, slip_forward, slip_backward, lift_off,
  * then slip_stops / stick_breaks per joint.  The controller comes from ctx (wk_actuated.h).
- * Compiled C only, no numba twin: controller mode 3 (the finite-time controller on polynomial
- * outputs, wk_control_finite_time_torque, with its own Jacobian treatment in jac) and
- * step_event = 1 (guard 0 is q_stance - theta_minus; the numba guards follow it). */
+ * Also controller mode 3 (the finite-time controller on polynomial outputs,
+ * wk_control_finite_time_torque, with its own Jacobian treatment in jac) and step_event = 1
+ * (guard 0 is q_stance - theta_minus). */
 #include <math.h>
 #include <stddef.h>
 #include "wk_common.h"

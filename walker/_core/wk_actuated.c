@@ -34,6 +34,13 @@ static int forces(const wk_actuated_model *M, const double *x, const double *p, 
     return M->force(x, qd, D, h, p, f, u, ctx);
 }
 
+void wk_actuated_torques(const wk_actuated_model *M, const double *x, const double *p, double *u,
+                         void *ctx)
+{
+    double D[MAX_Q * MAX_Q], f[MAX_Q];
+    forces(M, x, p, D, f, u, ctx);
+}
+
 int wk_actuated_closed_loop(const wk_actuated_model *M, int64_t phase, const double *x,
                             const double *p, double *qdd, double *u, double *lam, void *ctx)
 {

@@ -1,8 +1,8 @@
 /* walker's actuated walkers compiled in C: three_link (walker/models/three_link.py) and
  * five_link (walker/models/five_link.py), closed loop with the controllers of wk_control.h
- * and the joint friction of wk_friction.h.  model_three_link.c and model_five_link.c port
- * the numba phase functions with the same operations in the same order; what the two share
- * is written once in wk_actuated.c (declared at the end of this file).
+ * and the joint friction of wk_friction.h.  model_three_link.c and model_five_link.c keep
+ * the operations of walker's former numba phase functions in the same order; what the two
+ * share is written once in wk_actuated.c (declared at the end of this file).
  *
  * Registry entries (wk_models.h): wk_entry_three_link ("three_link") and
  * wk_entry_five_link ("five_link"), whose fn.ctx is NULL (the built-in controller); the same
@@ -131,6 +131,11 @@ int wk_actuated_torque(void *ctx, const double *q, const double *qd, const doubl
                        const double *h, const double *B, const double *p, int control_offset,
                        double *u, int n);
 
+/* The controller's torques u (m) at x, as the rhs computes them (the controller sees no
+ * friction, so they do not depend on the phase). */
+void wk_actuated_torques(const wk_actuated_model *M, const double *x, const double *p, double *u,
+                         void *ctx);
+
 /* actuated_closed_loop: closed-loop accelerations qdd (n), torques u (m) and dry-friction
  * torques lam (m) in phase; returns 1 when the controller saturated. */
 int wk_actuated_closed_loop(const wk_actuated_model *M, int64_t phase, const double *x,
@@ -222,6 +227,10 @@ int64_t wk_actuated_start_phase(const wk_actuated_model *M, const double *x, con
         (void)ctx;                                                                          \
         wk_##name##_points(x, p, out);                                                      \
     }                                                                                       \
+    void wk_model_##name##_torques(const double *x, const double *p, double *out, void *ctx)\
+    {                                                                                       \
+        wk_actuated_torques(&(M), x, p, out, ctx);                                          \
+    }                                                                                       \
     const wk_model_entry wk_entry_##name = {                                                \
         #name,                                                                              \
         {wk_model_##name##_rhs, wk_model_##name##_guards, wk_model_##name##_reset,          \
@@ -229,6 +238,9 @@ int64_t wk_actuated_start_phase(const wk_actuated_model *M, const double *x, con
         wk_model_##name##_energy,                                                           \
         wk_model_##name##_points,                                                           \
         wk_model_##name##_start_phase,                                                      \
+        NULL,                                                                               \
+        NULL,                                                                               \
+        wk_model_##name##_torques,                                                          \
     };
 
 #endif

@@ -2,8 +2,8 @@
 #include <math.h>
 #include "wk_common.h"
 
-/* walker._linalg.solve_inplace for nc right-hand sides (declared in wk_friction.h, whose
- * Jacobians use it). */
+/* Gaussian elimination for nc right-hand sides, the operations of walker's former
+ * _linalg.solve_inplace (declared in wk_friction.h, whose Jacobians use it). */
 int wk_solve_columns(double *A, double *B, int n, int nc)
 {
     double scale = 0.0;

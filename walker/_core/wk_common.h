@@ -1,7 +1,8 @@
 /* Pieces shared by walker's hand-written C models (model_simplest.c, model_compass.c,
  * model_kneed.c): the fall threshold, the least step, the status codes, and impacts as
- * augmented linear systems.  C ports of walker/models/_common.py and walker/_linalg.py,
- * with the same order of operations so that results agree with the numba functions.
+ * augmented linear systems.  Written as ports of walker's former numba functions (in the
+ * git history of walker/models/_common.py and walker/_linalg.py), whose order of operations
+ * they keep: results stay bit-identical to the ones walker has always produced.
  */
 #ifndef WK_COMMON_H
 #define WK_COMMON_H
@@ -49,20 +50,21 @@ static inline void wk_reset_out(int64_t *out, int64_t action, int64_t next_phase
     out[2] = status;
 }
 
-/* walker._linalg.solve_inplace for one right-hand side: solves A x = b (A n x n,
- * row-major, destroyed; b overwritten with x) by Gaussian elimination with partial
- * pivoting.  Returns 0 when a pivot is zero or not finite, or the solution is not finite. */
+/* One right-hand side (the operations of walker's former _linalg.solve_inplace): solves
+ * A x = b (A n x n, row-major, destroyed; b overwritten with x) by Gaussian elimination with
+ * partial pivoting.  Returns 0 when a pivot is zero or not finite, or the solution is not
+ * finite. */
 int wk_solve_inplace(double *A, double *b, int n);
 
-/* walker._linalg.solve_inplace for nc right-hand sides: solves A X = B (A n x n, row-major,
- * destroyed; B n x nc, row-major, overwritten with X) by Gaussian elimination with partial
- * pivoting; returns 0 when a pivot is zero or not finite, or X is not finite.  wk_solve_inplace
- * is its case nc = 1. */
+/* nc right-hand sides (the operations of walker's former _linalg.solve_inplace): solves
+ * A X = B (A n x n, row-major, destroyed; B n x nc, row-major, overwritten with X) by
+ * Gaussian elimination with partial pivoting; returns 0 when a pivot is zero or not finite,
+ * or X is not finite.  wk_solve_inplace is its case nc = 1. */
 int wk_solve_columns(double *A, double *B, int n, int nc);
 
 /* walker.models._common.impact: solves [M, -J^T; J, 0] [qd_plus; impulse] = [M qd_minus; 0]
  * for M (n x n) and J (m x n), row-major; n + m <= WK_IMPACT_MAX.  Returns 0 for a
- * singular system (qd_plus and impulse then hold garbage, as in the numba function). */
+ * singular system (qd_plus and impulse then hold garbage). */
 int wk_impact(const double *M, const double *J, const double *qd_minus, double *qd_plus,
               double *impulse, int n, int m);
 

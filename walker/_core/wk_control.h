@@ -1,6 +1,6 @@
-/* The feedback controllers of walker's actuated walkers: C port of the compiled functions in
- * walker/control.py (same operations in the same order, so that the torques agree with the
- * numba functions to the bit).
+/* The feedback controllers of walker's actuated walkers (the block layout and the Bezier
+ * polynomials in walker/control.py); the operations are those of walker's former numba
+ * controller, in the same order, so that the torques stay bit-identical.
  *
  * The controller block ``c`` is a slice of a model's parameter vector (three_link:
  * p + 11, five_link: p + 14); its layout is the one documented in walker/control.py:
@@ -18,7 +18,7 @@
 #define WK_CONTROL_MODE_OFF 0
 #define WK_CONTROL_MODE_PD 1
 #define WK_CONTROL_MODE_VIRTUAL_CONSTRAINTS 2
-/* Mode 3, compiled C only (no numba twin): the finite-time controller of Bhat and Bernstein
+/* Mode 3: the finite-time controller of Bhat and Bernstein
  * on outputs that are plain polynomials in the stance angle, as in the three-link example of
  * Westervelt, Grizzle, Chevallereau, Choi and Morris (2007); see
  * wk_control_finite_time_torque.  Its settings are a second block ``f`` of the model's

@@ -1,6 +1,5 @@
-/* Dry (Coulomb) joint friction with stick and slip as phases and events: C port of the
- * compiled functions of walker/friction.py, with the same operations in the same order so
- * that results agree with the numba functions to the bit.  See walker/friction.py for the
+/* Dry (Coulomb) joint friction with stick and slip as phases and events, with the operations
+ * of walker's former numba friction layer in the same order (results stay bit-identical).  See walker/friction.py for the
  * mechanics (joint rates w = S qd, the augmented system [D, -S_k^T; S_k, 0] of the stuck
  * joints k, the mode code sum_j mode_j 3**j, the guards 2 j slip_stops and 2 j + 1
  * stick_breaks).

@@ -29,6 +29,9 @@ typedef struct {
      * Python lift and lift_jacobian. */
     wk_state_fn lift;
     wk_state_fn lift_jacobian;
+    /* The controller's torques u (n_inputs) at x (the actuated walkers; NULL elsewhere):
+     * what the integrator's rhs applies, before any joint friction. */
+    wk_state_fn torques;
 } wk_model_entry;
 
 /* Generated kernel signatures: "qqdp_v" f(q, qd, p, out); "qp_v" f(q, p, out);
@@ -39,12 +42,23 @@ typedef struct {
     const char *name;  /* "<model>.<kernel>", variants "<model>/plain.<kernel>" */
     const char *sig;
     void *address;
+    int64_t n_q;      /* length of q (and of qd, qdd where the kernel takes them) */
+    int64_t n_p;      /* the kernel reads p[0 .. n_p) */
+    int64_t shape[3]; /* shape of out, 0 past its last dimension (all 0: returns a double) */
 } wk_kernel_entry;
 
 /* The registry: an array of pointers to entries, so that each model file can export its own
  * entry (``const wk_model_entry wk_entry_<model>``). */
 const wk_model_entry *const *wk_model_table(int64_t *count);
 const wk_kernel_entry *wk_kernel_table(int64_t *count);
+
+/* The hash stamped on each generated C module (its WK_<MODULE>_KERNEL_HASH): what a result's
+ * provenance records as the model's kernel_hash. */
+typedef struct {
+    const char *module; /* "compass", variants "compass/plain" */
+    const char *hash;
+} wk_kernel_hash_entry;
+const wk_kernel_hash_entry *wk_kernel_hash_table(int64_t *count);
 
 /* The fused rhs and Jacobian of the registry entry whose fn has this (rhs, jac) pair; NULL
  * when no entry has it (a user system) or the entry has none.  What the binding sets

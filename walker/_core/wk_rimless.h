@@ -1,4 +1,4 @@
-/* The rimless wheel (walker/models/rimless_wheel.py), written in C only: no numba twin.
+/* The rimless wheel (walker/models/rimless_wheel.py), written in C only.
  * model_rimless_wheel.c holds its phase functions and helpers, exported as
  * wk_model_rimless_wheel_{rhs, guards, reset, jac, energy, points, start_phase}, and its
  * registry entry wk_entry_rimless_wheel ("rimless_wheel", fn.ctx NULL).

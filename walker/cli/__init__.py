@@ -253,10 +253,9 @@ def _path_label(args, filename) -> str:
 
 def _input_error_line(args, exc: Exception) -> str | None:
     """The one line for an error of the input, or None for an internal error."""
-    from walker._jit import NumbaMissing
     from walker.storage import StorageError
 
-    if isinstance(exc, UsageError | StorageError | NumbaMissing):
+    if isinstance(exc, UsageError | StorageError):
         return _first_line(exc)
     missing = missing_extra_line(exc)
     if missing is not None:  # an optional dependency (dask, numba, ...) is not installed

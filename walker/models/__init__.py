@@ -1,5 +1,6 @@
-"""The walkers walker ships, each a :class:`WalkerModel`: compiled phase functions plus the
-Python-side description (state, phases, guards, section coordinates).
+"""The walkers walker ships, each a :class:`WalkerModel`: a model compiled into the extension
+(walker/_core/model_<name>.c, registered in walker/_core/models.c) plus its Python-side
+description (state, phases, guards, section coordinates).
 
 A model module (``walker/models/<name>.py``) provides, per the contract of
 :class:`walker.integrate.HybridSystem`:
@@ -8,25 +9,29 @@ A model module (``walker/models/<name>.py``) provides, per the contract of
    from the model's record in the model registry :data:`walker.params.MODELS` (which also
    holds its parameter class, state units and whether it has strides); ``N_X``, its length,
    is written out for the compiled code (``tests/test_models.py`` checks that they agree).
-2. ``PHASE_NAMES``, ``GUARD_NAMES``, ``DIRECTIONS`` (n_phases, n_guards) and compiled
-   ``rhs``, ``guards``, ``reset``, ``jac`` (vector field Jacobian for the variational
-   equations), ``N_IMPULSE``.
+2. ``PHASE_NAMES``, ``GUARD_NAMES``, ``DIRECTIONS`` (n_phases, n_guards) and ``N_IMPULSE``
+   of the compiled ``rhs``, ``guards``, ``reset`` and ``jac`` (the model's registry entry,
+   ``walker._hybrid.models()``).
 3. ``SECTION_NAMES`` and ``lift(z, p)`` / ``project(x, p)`` / ``lift_jacobian(z, p)``
    between the Poincare section just after heel strike and the full state (walkers only).
-4. ``energy(x, p) -> (kinetic, potential)``, ``points(x, p)`` and ``SEGMENTS`` for drawing.
-5. Optionally ``start_phase(x, p) -> int``: the phase a run from state ``x`` starts in, for
-   models whose phase depends on the state (joint friction modes: a joint at rest sticks or
-   slips depending on the forces).  Without it a run starts in phase 0.
-6. Optionally ``SWING_SCUFF``: the swing-foot scuffing conventions the model offers
-   (``("trip", "ignore")``, the default first) and ``reset_ignore_scuff``, the reset map
-   under ``"ignore"``, compiled as the registry variants ``<model>/ignore_scuff`` and
-   ``<model>/<variant>/ignore_scuff`` (:func:`get_model` ``swing_scuff``).
-7. Optionally ``VARIANTS``: compiled structural variants (walker/_core/models.c), name ->
+4. ``SEGMENTS``: the pairs of the compiled ``points`` drawn as links.
+5. Optionally ``SWING_SCUFF``: the swing-foot scuffing conventions the model offers
+   (``("trip", "ignore")``, the default first), compiled as the registry variants
+   ``<model>/ignore_scuff`` and ``<model>/<variant>/ignore_scuff`` (:func:`get_model`
+   ``swing_scuff``).
+6. Optionally ``VARIANTS``: compiled structural variants (walker/_core/models.c), name ->
    parameters.  A variant runs kernels generated with these parameters fixed at exactly
    zero, so scenes that leave them at zero pay no arithmetic for them;
    :meth:`WalkerModel.variant_for` picks it.
+7. Optionally ``KERNEL_MODULE``, the generated kernels it runs on when they are another
+   model's (the friction variants: ``"compass"``, ``"kneed"``), and ``KERNEL_HASH`` for a
+   model without generated kernels (the rimless wheel).
 
-Importing a model compiles nothing; a compass-gait run never loads the kneed kernels.
+The compiled functions are called from Python through the checked methods of
+:class:`WalkerModel` (``rhs``, ``guards``, ``jac``, ``reset``, ``energy``, ``points``,
+``start_phase``, ``torques``, ``kernel``; walker/models/_compiled.py): every length and dtype
+is checked before the call, and an error names the argument.  Nothing here is compiled at
+run time, and numba is never imported.
 """
 
 from __future__ import annotations
@@ -37,6 +42,14 @@ from functools import cached_property
 
 import numpy as np
 
+from walker.models._compiled import (
+    _kernel_table,
+    as_index,
+    as_vector,
+    call_kernel,
+    call_phase_fn,
+    call_reset,
+)
 from walker.params import MODELS, ModelSpec
 
 __all__ = ["WalkerModel", "get_model", "MODEL_NAMES"]
@@ -151,12 +164,8 @@ class WalkerModel:
             from walker.integrate import HybridSystem
 
             m = self.module
-            compiled = self._compiled.get(variant)
-            if compiled is not None:
-                fns = {k: compiled[k] for k in ("rhs", "guards", "reset", "jac")}
-            else:  # a model still written with numba: bridged to the C integrator
-                reset = m.reset_ignore_scuff if variant.endswith("ignore_scuff") else m.reset
-                fns = {"rhs": m.rhs, "guards": m.guards, "reset": reset, "jac": m.jac}
+            compiled = self._compiled[variant]
+            fns = {k: compiled[k] for k in ("rhs", "guards", "reset", "jac")}
             cache[variant] = HybridSystem(
                 name=self.name if not variant else f"{self.name}/{variant}",
                 n_x=m.N_X,
@@ -195,8 +204,19 @@ class WalkerModel:
     section_names = _module_attr("SECTION_NAMES", "Names of the section coordinates.")
     phase_names = _module_attr("PHASE_NAMES", "Name of each phase.")
     guard_names = _module_attr("GUARD_NAMES", "Name of each guard, in priority order.")
-    kernel_hash = _module_attr("KERNEL_HASH", "Hash of the model's generated kernels.")
     segments = _module_attr("SEGMENTS", "Pairs of :meth:`points` rows joined for drawing.")
+
+    @cached_property
+    def kernel_hash(self) -> str:
+        """Hash of the model's generated kernels (the one stamped on its generated C module,
+        ``walker._hybrid.kernel_hashes()``), or of its hand-written equations (``KERNEL_HASH``
+        of a model without generated kernels, the rimless wheel)."""
+        declared = getattr(self.module, "KERNEL_HASH", None)
+        if declared is not None:
+            return declared
+        from walker import _hybrid
+
+        return _hybrid.kernel_hashes()[self._kernel_module]
 
     @cached_property
     def n_z(self) -> int:
@@ -213,30 +233,63 @@ class WalkerModel:
         """Full state -> section coordinates."""
         return self.module.project(np.asarray(x, dtype=float), _p(p))
 
+    # -- the compiled model, called through checked interfaces (walker/models/_compiled.py):
+    # every length and dtype is checked before the call, an error names the argument.
+
     def _state_fn(self, name: str):
-        """The compiled helper ``name`` (energy, points, start_phase, lift, lift_jacobian)
-        of the general entry, or None when the model has no C entry or no such helper."""
+        """The compiled helper ``name`` (energy, points, start_phase, lift, lift_jacobian,
+        torques) of the general entry, or None when the model has no such helper."""
         address = self._compiled.get("", {}).get(name, 0)
         return address or None
 
+    @cached_property
+    def n_params(self) -> int:
+        """Length of the parameter array ``p``."""
+        return len(self.params_class.names())
+
     def _state_args(self, x, p) -> tuple[np.ndarray, np.ndarray]:
-        x = np.ascontiguousarray(x, dtype=np.float64)
-        pp = _p(p)
-        if x.shape != (self.n_x,):
-            raise ValueError(f"`x` must have shape ({self.n_x},), got {x.shape}")
-        n_p = len(self.params_class.names())
-        if pp.shape != (n_p,):
-            raise ValueError(f"`p` must have shape ({n_p},), got {pp.shape}")
-        return x, pp
+        return as_vector(x, "x", self.n_x), as_vector(p, "p", self.n_params)
+
+    def _phase_args(self, phase, x, p):
+        phase = as_index(phase, "phase", len(self.phase_names))
+        return (phase, *self._state_args(x, p))
+
+    def rhs(self, phase: int, x, p, t: float = 0.0) -> np.ndarray:
+        """The vector field ``dx/dt`` (n_x,) in ``phase`` at state ``x`` (the compiled
+        function the integrator runs)."""
+        phase, x, p = self._phase_args(phase, x, p)
+        return call_phase_fn(self.system.rhs, phase, t, x, p, (self.n_x,))
+
+    def guards(self, phase: int, x, p, t: float = 0.0) -> np.ndarray:
+        """The guard values (n_guards,) in ``phase`` at state ``x``."""
+        phase, x, p = self._phase_args(phase, x, p)
+        return call_phase_fn(self.system.guards, phase, t, x, p, (len(self.guard_names),))
+
+    def jac(self, phase: int, x, p, t: float = 0.0) -> np.ndarray:
+        """The Jacobian ``d(dx/dt)/dx`` (n_x, n_x) in ``phase`` at state ``x``."""
+        phase, x, p = self._phase_args(phase, x, p)
+        return call_phase_fn(self.system.jac, phase, t, x, p, (self.n_x, self.n_x))
+
+    def reset(self, phase: int, k: int, x, p, t: float = 0.0):
+        """Run the compiled reset map the integrator runs (under this model's conventions),
+        for guard ``k`` firing at state ``x`` in ``phase``.
+
+        Returns ``(action, next_phase, status, x_new, impulse)``: ``action`` one of the
+        ``walker.status.EVENT_*`` values, ``status`` a :class:`walker.status.Status` value.
+        """
+        phase, x, p = self._phase_args(phase, x, p)
+        k = as_index(k, "k", len(self.guard_names))
+        return call_reset(self.system.reset, phase, k, t, x, p, self.module.N_IMPULSE)
+
+    apply_reset = reset  # the former name
 
     def energy(self, x, p) -> tuple[float, float]:
         """(kinetic, potential) energy of one state [J]."""
-        address = self._state_fn("energy")
-        if address is None:
-            return self.module.energy(np.ascontiguousarray(x, dtype=np.float64), _p(p))
         from walker import _hybrid
 
-        kinetic, potential = _hybrid.call_state_fn(address, *self._state_args(x, p), 2)
+        kinetic, potential = _hybrid.call_state_fn(
+            self._state_fn("energy"), *self._state_args(x, p), 2
+        )
         return kinetic, potential
 
     def energies(self, x, p) -> tuple[np.ndarray, np.ndarray]:
@@ -248,77 +301,71 @@ class WalkerModel:
     def start_phase(self, x, p) -> int:
         """The phase consistent with state ``x`` (0 for models with one choice)."""
         address = self._state_fn("start_phase")
-        if address is not None:
-            from walker import _hybrid
-
-            return int(_hybrid.call_state_fn(address, *self._state_args(x, p), 1)[0])
-        fn = getattr(self.module, "start_phase", None)
-        if fn is None:
+        x, p = self._state_args(x, p)
+        if address is None:
             return 0
-        return int(fn(np.ascontiguousarray(x, dtype=np.float64), _p(p)))
+        from walker import _hybrid
+
+        return int(_hybrid.call_state_fn(address, x, p, 1)[0])
 
     def start_phase_fn(self):
         """The phase choice for the hot path: ``(x, p) -> int`` on arrays already checked
         (C-contiguous float64 of the model's lengths), no conversion or shape check per call;
         None when every state starts in phase 0.  :meth:`start_phase` is the checked form."""
         address = self._state_fn("start_phase")
-        if address is not None:
-            from walker import _hybrid
-
-            call = _hybrid.call_state_fn
-            return lambda x, p: int(call(address, x, p, 1)[0])
-        fn = getattr(self.module, "start_phase", None)
-        if fn is None:
+        if address is None:
             return None
-        return lambda x, p: int(fn(x, p))
+        from walker import _hybrid
 
-    def apply_reset(self, phase: int, k: int, x, p, t: float = 0.0):
-        """Run the compiled reset map the integrator runs, for guard ``k`` firing at state
-        ``x`` in ``phase`` (analysis tools; the integrator calls it itself).
-
-        Returns ``(action, next_phase, status, x_new, impulse)``: ``action`` one of the
-        ``walker.status.EVENT_*`` values, ``status`` a :class:`walker.status.Status` value.
-        """
-        import ctypes
-
-        from walker.integrate import _compiled
-
-        x, pp = self._state_args(x, p)
-        system = self.system
-        if not (0 <= phase < system.n_phases and 0 <= k < system.n_guards):
-            raise ValueError(
-                f"`phase` must be in [0, {system.n_phases}) and `k` in [0, {system.n_guards}), "
-                f"got {phase}, {k}"
-            )
-        dbl = ctypes.POINTER(ctypes.c_double)
-        i64 = ctypes.POINTER(ctypes.c_int64)
-        fn = _RESET_TYPE(_compiled(system)[2])
-        x_new = x.copy()
-        impulse = np.zeros(system.n_impulse)
-        out = np.zeros(3, dtype=np.int64)
-        fn(
-            phase,
-            k,
-            float(t),
-            x.ctypes.data_as(dbl),
-            pp.ctypes.data_as(dbl),
-            x_new.ctypes.data_as(dbl),
-            impulse.ctypes.data_as(dbl),
-            out.ctypes.data_as(i64),
-            None,
-        )
-        return int(out[0]), int(out[1]), int(out[2]), x_new, impulse
+        call = _hybrid.call_state_fn
+        return lambda x, p: int(call(address, x, p, 1)[0])
 
     def points(self, x, p) -> np.ndarray:
         """Joint positions (n_points, 2) for drawing the walker at state ``x``."""
-        address = self._state_fn("points")
-        if address is None:
-            return self.module.points(np.asarray(x, dtype=float), _p(p))
         from walker import _hybrid
 
         n_points = 1 + max(max(segment) for segment in self.segments)
-        flat = _hybrid.call_state_fn(address, *self._state_args(x, p), 2 * n_points)
+        flat = _hybrid.call_state_fn(
+            self._state_fn("points"), *self._state_args(x, p), 2 * n_points
+        )
         return np.array(flat).reshape(n_points, 2)
+
+    @property
+    def has_torques(self) -> bool:
+        """Whether the model has actuators (:meth:`torques`)."""
+        return self._state_fn("torques") is not None
+
+    def torques(self, x, p) -> np.ndarray:
+        """The controller's torques (n_inputs,) [N m] at state ``x``, as the compiled rhs
+        applies them before any joint friction (actuated walkers only)."""
+        address = self._state_fn("torques")
+        if address is None:
+            raise ValueError(f"model {self.name} has no actuators (no `torques`)")
+        from walker import _hybrid
+
+        n_inputs = len(self.module.JOINTS)
+        return np.array(_hybrid.call_state_fn(address, *self._state_args(x, p), n_inputs))
+
+    def kernel(self, name: str, p, q, qd=None, qdd=None):
+        """The generated C kernel ``name`` of this model (``"mass_matrix"``, ``"bias"``,
+        ``"points"``, ...; the list is :attr:`kernel_names`) at coordinates ``q`` (and rates
+        ``qd``, accelerations ``qdd`` where it takes them) and parameters ``p``: an ndarray of
+        the kernel's output shape, or a float (``kinetic``, ``potential``)."""
+        if not isinstance(name, str):
+            raise TypeError(f"`name` must be a str, got {name!r}")
+        if name not in self.kernel_names:
+            raise ValueError(f"`name` must be one of {list(self.kernel_names)}, got {name!r}")
+        return call_kernel(f"{self._kernel_module}.{name}", _p(p), q, qd, qdd)
+
+    @cached_property
+    def _kernel_module(self) -> str:
+        return getattr(self.module, "KERNEL_MODULE", self.name)
+
+    @cached_property
+    def kernel_names(self) -> tuple[str, ...]:
+        """The generated C kernels of this model (:meth:`kernel`)."""
+        prefix = f"{self._kernel_module}."
+        return tuple(k[len(prefix) :] for k in _kernel_table() if k.startswith(prefix))
 
 
 def _p(p) -> np.ndarray:
@@ -326,27 +373,6 @@ def _p(p) -> np.ndarray:
         return p.as_array()
     return np.ascontiguousarray(p, dtype=np.float64)
 
-
-def _reset_type():
-    import ctypes
-
-    dbl = ctypes.POINTER(ctypes.c_double)
-    return ctypes.CFUNCTYPE(
-        None,
-        ctypes.c_int64,
-        ctypes.c_int64,
-        ctypes.c_double,
-        dbl,
-        dbl,
-        dbl,
-        dbl,
-        ctypes.POINTER(ctypes.c_int64),
-        ctypes.c_void_p,
-    )
-
-
-_RESET_TYPE = _reset_type()
-"""ctypes prototype of a reset map (walker/_core/wk_system.h)."""
 
 _CACHE: dict[tuple[str, str], WalkerModel] = {}
 

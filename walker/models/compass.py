@@ -16,22 +16,9 @@ priority order:
 2. ``fall_backward``: the stance leg passes ``FALL_ANGLE`` behind it.
 """
 
-import math
-
 import numpy as np
 
-from walker._generated import compass as K
 from walker._generated import indices as ix
-from walker._jit import njit
-from walker.models._common import (
-    FALL_ANGLE,
-    LINEAR_SOLVE_FAILED,
-    fell,
-    floating_base_heel_strike,
-    passive_impact_status,
-    relabel,
-    touchdown,
-)
 from walker.params import MODELS
 
 N_X = 4
@@ -56,85 +43,6 @@ _I_R, _I_SLOPE = ix.COMPASS_P_FOOT_RADIUS, ix.COMPASS_P_SLOPE
 _I_LEG_A, _I_LEG_B = ix.COMPASS_P_COM_FROM_FOOT, ix.COMPASS_P_COM_TO_HIP
 
 
-@njit(cache=True, error_model="numpy")
-def rhs(phase, t, x, p, dx):
-    dx[0] = x[2]
-    dx[1] = x[3]
-    K.accel(x[:2], x[2:], p, dx[2:])
-
-
-@njit(cache=True, error_model="numpy")
-def jac(phase, t, x, p, J):
-    J[:, :] = 0.0
-    J[0, 2] = 1.0
-    J[1, 3] = 1.0
-    K.accel_jac(x[:2], x[2:], p, J[2:, :])
-
-
-@njit(cache=True, error_model="numpy")
-def swing_foot(x, p):
-    """(height above the slope, distance ahead of the stance foot along the slope) [m]."""
-    L = p[_I_LEG_A] + p[_I_LEG_B]
-    R = p[_I_R]
-    slope = p[_I_SLOPE]
-    psi1 = x[0] + slope
-    psi2 = x[1] + slope
-    return (L - R) * (math.cos(psi1) - math.cos(psi2)), (L - R) * (math.sin(psi2) - math.sin(psi1))
-
-
-@njit(cache=True, error_model="numpy")
-def guards(phase, t, x, p, g):
-    psi1 = x[0] + p[_I_SLOPE]
-    g[ix.COMPASS_GUARD_HEEL_STRIKE] = swing_foot(x, p)[0]
-    g[ix.COMPASS_GUARD_FALL_FORWARD] = psi1 + FALL_ANGLE
-    g[ix.COMPASS_GUARD_FALL_BACKWARD] = psi1 - FALL_ANGLE
-
-
-@njit(cache=True, error_model="numpy")
-def heel_strike(x, p, x_new, impulse):
-    """Floating-base heel-strike impact and leg swap.
-
-    Returns a Status value: COMPLETED for a physical impact.  ``impulse`` receives the
-    impulse on the new stance foot (along the slope, normal to it) [N s].
-    """
-    qdf_plus = np.empty(4)
-    ok, lift = floating_base_heel_strike(
-        K.points,
-        K.hip_jac,
-        K.ext_mass_matrix,
-        K.ext_swing_contact_jac,
-        K.ext_stance_contact_jac,
-        x[:2],
-        x[2:],
-        p,
-        4,
-        1,
-        p[_I_SLOPE],
-        qdf_plus,
-        impulse,
-    )
-    if not ok:
-        return LINEAR_SOLVE_FAILED
-    relabel(x, qdf_plus, (1, 0), x_new)  # the legs swap
-    return passive_impact_status(impulse, lift)
-
-
-@njit(cache=True, error_model="numpy")
-def reset(phase, k, t, x, p, x_new, impulse):
-    for i in range(x.shape[0]):
-        x_new[i] = x[i]
-    if k == 0:
-        leg_length = p[_I_LEG_A] + p[_I_LEG_B]
-        return touchdown(swing_foot, heel_strike, leg_length, phase, x, p, x_new, impulse)
-    return fell(phase, k == 1)
-
-
-@njit(cache=True, error_model="numpy")
-def energy(x, p):
-    """(kinetic, potential) [J]; potential is zero with the stance contact at height 0."""
-    return K.kinetic(x[:2], x[2:], p), K.potential(x[:2], p)
-
-
 LIFT_AFFINE = True
 """``lift`` is ``lift(0, p) + lift_jacobian(0, p) z``, each row one term (basin batches,
 :meth:`walker.stride.StrideMap.basin_batch`, rely on it; tests/test_basin.py checks it)."""
@@ -154,12 +62,4 @@ def project(x, p):
     return np.array([x[0], x[2], x[3]])
 
 
-def points(x, p):
-    """Joint positions for drawing: rows stance contact, hip, swing contact [m]."""
-    pts = np.empty((4, 2))
-    K.points(np.ascontiguousarray(x[:2], dtype=np.float64), p, pts)
-    return pts[[0, 1, 3]]
-
-
 SEGMENTS = ((0, 1), (1, 2))
-KERNEL_HASH = K.KERNEL_HASH

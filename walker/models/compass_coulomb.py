@@ -51,16 +51,15 @@ References
 import numpy as np
 
 from walker import friction as fr
-from walker import friction_phases as frp
-from walker._generated import compass as K
 from walker._generated import indices as ix
-from walker._jit import njit
 from walker.models import compass as _compass
-from walker.models._common import after_base_reset, joint_friction_walker
+from walker.models._common import joint_friction_walker
 from walker.params import MODELS
 
 __all__, __getattr__, __dir__ = joint_friction_walker(__name__, _compass)
 
+KERNEL_MODULE = "compass"
+"""The generated kernels are the compass model's (:meth:`walker.models.WalkerModel.kernel`)."""
 N_X = 4
 N_IMPULSE = 2
 STATE_NAMES = MODELS["compass_coulomb"].state_names  # the model registry (walker.params)
@@ -68,9 +67,7 @@ JOINTS = ("ankle", "hip")
 N_JOINTS = 2
 I_COULOMB = ix.COMPASS_COULOMB_P_COULOMB_ANKLE
 """Index of ``coulomb_ankle`` in the parameter vector (``coulomb_hip`` follows), from the
-generated :mod:`walker._generated.indices` (numba freezes it into its disk cache, keyed on
-this file: ``scripts/generate_kernels.py --indices`` clears that cache when it prints new
-indices)."""
+generated :mod:`walker._generated.indices`."""
 N_BASE_GUARDS = 3
 
 PHASE_NAMES = tuple(f"swing {fr.mode_names(c, JOINTS)}" for c in range(fr.N_MODES**N_JOINTS))
@@ -81,78 +78,6 @@ DIRECTIONS = np.array(
     [list(_compass.DIRECTIONS[0]) + fr.directions(c, N_JOINTS) for c in range(len(PHASE_NAMES))],
     dtype=np.int64,
 )
-
-_S = np.array([[1.0, 0.0], [-1.0, 1.0]])
-KERNEL_HASH = K.KERNEL_HASH
-
-# The phase functions are walker.friction's, over the compass gait's kernels: the joint rows
-# _S, the dry frictions p[I_COULOMB:], the rates x[2:4].
-
-
-@njit(cache=True, error_model="numpy")
-def _dynamics(x, p):
-    """(D, f, qd): ``f = Q_viscous - C qd - g`` (:func:`walker.friction_phases.dynamics`)."""
-    return frp.dynamics(K.mass_matrix, K.bias, K.forcing, x, 2, p, 2)
-
-
-@njit(cache=True, error_model="numpy")
-def _matrices(x, p):
-    """(D, f, F, qd): ``f = Q_viscous - C qd - g``, ``F`` the dry frictions."""
-    D, f, qd = _dynamics(x, p)
-    return D, f, p[I_COULOMB : I_COULOMB + N_JOINTS].copy(), qd
-
-
-@njit(cache=True, error_model="numpy")
-def rhs(phase, t, x, p, dx):
-    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
-    frp.phase_rhs(_dynamics, K.mass_matrix, K.accel, _S, F, modes, x, p, dx)
-
-
-@njit(cache=True, error_model="numpy")
-def jac(phase, t, x, p, J):
-    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
-    frp.phase_jac(_dynamics, K.forcing, K.dmass, K.dbias_dq, K.dbias_dqd, _S, F, modes, x, p, J)
-
-
-@njit(cache=True, error_model="numpy")
-def guards(phase, t, x, p, g):
-    _compass.guards(0, t, x, p, g)
-    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
-    frp.phase_guards(_dynamics, _S, F, modes, x, 2, p, g[N_BASE_GUARDS:])
-
-
-@njit(cache=True, error_model="numpy")
-def _start(base, x, p):
-    """Choose both joints' modes for state ``x`` (velocities projected in place onto the
-    stuck joints) and return the phase; -1 if a solve is singular.  (One base phase:
-    ``base`` is unused.)"""
-    modes, F = frp.joints(0, p, I_COULOMB, N_JOINTS)
-    return frp.phase_start(_dynamics, _S, F, modes, 0, x, 2, p)
-
-
-@njit(cache=True, error_model="numpy")
-def reset(phase, k, t, x, p, x_new, impulse):
-    if k < N_BASE_GUARDS:
-        action, _, status = _compass.reset(0, k, t, x, p, x_new, impulse)
-        return after_base_reset(_start, phase, action, 0, status, x_new, p)
-    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
-    return frp.phase_reset(_dynamics, _S, F, modes, phase, 0, k - N_BASE_GUARDS, x, 2, p, x_new)
-
-
-@njit(cache=True, error_model="numpy")
-def joint_torques(phase, x, p):
-    """Friction torque at each joint (ankle, hip) [N m]: ``-+F_s`` while slipping, the
-    holding torque while stuck.  The hip's acts on the swing leg (its opposite on the
-    stance leg)."""
-    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
-    return frp.phase_torques(_dynamics, _S, F, modes, x, p)
-
-
-@njit(cache=True, error_model="numpy")
-def start_phase(x, p):
-    """The phase consistent with state ``x`` (joint modes from the rates, and for the joints
-    at rest from the friction; see :func:`walker.friction.choose_modes`)."""
-    return _start(0, x.copy(), p)
 
 
 def phase_of(**modes: str) -> int:

@@ -59,14 +59,11 @@ References
 import numpy as np
 
 from walker import friction as fr
-from walker import friction_phases as frp
-from walker._generated import double_pendulum as K
 from walker._generated import indices as ix
-from walker._jit import njit
 from walker.models._common import JOINT_FRICTION_EXPORTS
 from walker.params import MODELS
 
-__all__ = [*JOINT_FRICTION_EXPORTS, "SECTION_NAMES", "SEGMENTS", "energy", "points"]
+__all__ = [*JOINT_FRICTION_EXPORTS, "SECTION_NAMES", "SEGMENTS"]
 
 N_X = 4
 N_IMPULSE = 1
@@ -74,9 +71,7 @@ JOINTS = ("joint_1", "joint_2")
 N_JOINTS = 2
 I_COULOMB = ix.DOUBLE_PENDULUM_P_COULOMB_1
 """Index of ``coulomb_1`` in the parameter vector (``coulomb_2`` follows), from the
-generated :mod:`walker._generated.indices` (numba freezes it into its disk cache, keyed on
-this file: ``scripts/generate_kernels.py --indices`` clears that cache when it prints new
-indices)."""
+generated :mod:`walker._generated.indices`."""
 
 PHASE_NAMES = tuple(f"free {fr.mode_names(c, JOINTS)}" for c in range(fr.N_MODES**N_JOINTS))
 GUARD_NAMES = tuple(f"{j}_{kind}" for j in JOINTS for kind in ("slip_stops", "stick_breaks"))
@@ -90,63 +85,6 @@ _S = np.array([[1.0, 0.0], [0.0, 1.0]])
 # the dry frictions p[I_COULOMB:], the rates x[2:4].
 
 
-@njit(cache=True, error_model="numpy")
-def _dynamics(x, p):
-    """(D, f, qd): ``f = Q_viscous - C qd - g`` (:func:`walker.friction_phases.dynamics`)."""
-    return frp.dynamics(K.mass_matrix, K.bias, K.forcing, x, 2, p, 2)
-
-
-@njit(cache=True, error_model="numpy")
-def _matrices(x, p):
-    """(D, f, F, qd): ``f = Q_viscous - C qd - g``, ``F`` the dry frictions."""
-    D, f, qd = _dynamics(x, p)
-    return D, f, p[I_COULOMB : I_COULOMB + N_JOINTS].copy(), qd
-
-
-@njit(cache=True, error_model="numpy")
-def rhs(phase, t, x, p, dx):
-    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
-    frp.phase_rhs(_dynamics, K.mass_matrix, K.accel, _S, F, modes, x, p, dx)
-
-
-@njit(cache=True, error_model="numpy")
-def jac(phase, t, x, p, J):
-    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
-    frp.phase_jac(_dynamics, K.forcing, K.dmass, K.dbias_dq, K.dbias_dqd, _S, F, modes, x, p, J)
-
-
-@njit(cache=True, error_model="numpy")
-def guards(phase, t, x, p, g):
-    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
-    frp.phase_guards(_dynamics, _S, F, modes, x, 2, p, g)
-
-
-@njit(cache=True, error_model="numpy")
-def reset(phase, k, t, x, p, x_new, impulse):
-    for i in range(x.shape[0]):
-        x_new[i] = x[i]
-    impulse[0] = 0.0
-    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
-    return frp.phase_reset(_dynamics, _S, F, modes, phase, 0, k, x, 2, p, x_new)
-
-
-@njit(cache=True, error_model="numpy")
-def joint_torques(phase, x, p):
-    """Dry-friction torque at each joint (joint_1, joint_2) [N m]: ``-+F_s`` while slipping,
-    the holding torque while stuck.  Each acts on the distal link (its opposite on the
-    proximal one)."""
-    modes, F = frp.joints(phase, p, I_COULOMB, N_JOINTS)
-    return frp.phase_torques(_dynamics, _S, F, modes, x, p)
-
-
-@njit(cache=True, error_model="numpy")
-def start_phase(x, p):
-    """The phase consistent with state ``x`` (joint modes from the rates, and for the joints
-    at rest from the friction; see :func:`walker.friction.choose_modes`)."""
-    modes, F = frp.joints(0, p, I_COULOMB, N_JOINTS)
-    return frp.phase_start(_dynamics, _S, F, modes, 0, x.copy(), 2, p)
-
-
 def phase_of(**modes: str) -> int:
     """Phase index from joint modes (``"slip+"``, ``"slip-"``, ``"stick"``; default
     ``"slip+"``), e.g. ``phase_of(joint_1="slip-", joint_2="stick")``."""
@@ -158,18 +96,4 @@ def modes_of(phase: int) -> dict[str, str]:
     return fr.labels_of(phase, JOINTS)
 
 
-@njit(cache=True, error_model="numpy")
-def energy(x, p):
-    """(kinetic, potential) [J]."""
-    return K.kinetic(x[:2], x[2:], p), K.potential(x[:2], p)
-
-
-def points(x, p):
-    """Base, elbow, tip [m]."""
-    pts = np.empty((2, 2))
-    K.points(np.ascontiguousarray(x[:2], dtype=np.float64), p, pts)
-    return np.vstack([np.zeros((1, 2)), pts])
-
-
 SEGMENTS = ((0, 1), (1, 2))
-KERNEL_HASH = K.KERNEL_HASH

@@ -1,6 +1,6 @@
 """The five-link walker (torso, femurs, tibias; hip and knee actuators; point feet) in closed
-loop, with viscous and dry (Coulomb) friction at the four actuated joints: compiled phase
-functions for the hybrid integrator.
+loop, with viscous and dry (Coulomb) friction at the four actuated joints: the Python
+description of its compiled model (walker/_core/model_five_link.c).
 
 State ``x`` (12): ``(q_leg, q_knee, q_torso, q_femur_sw, q_tibia_sw, qd_leg, qd_knee,
 qd_torso, qd_femur_sw, qd_tibia_sw, actuator_work, saturated_time)``: the coordinates of
@@ -9,7 +9,7 @@ angles from the vertical, counterclockwise positive), their rates, and two accum
 the dynamics integrate and the impact carries over unchanged: the actuators' work since
 ``t0``, ``int u . (B^T qd) dt`` [J], and the time during which some torque was clipped to
 the limit [s].  The torque ``u`` is computed inside ``rhs`` by
-:func:`walker.control.controller_torque` (phase variable ``q_leg``, outputs ``q[1:]``) from
+the controller of ``walker/_core/wk_control.c`` (phase variable ``q_leg``, outputs ``q[1:]``) from
 the controller block ``p[CONTROL_OFFSET:]`` of :class:`walker.params.FiveLinkParams`.
 
 Dynamics (``D qdd + C qd + g = B u - F_v qd - F_s sgn(qd) + J^T F`` with the
@@ -73,32 +73,11 @@ import math
 import numpy as np
 
 from walker import friction as fr
-from walker._generated import five_link as K
 from walker._generated import indices as ix
-from walker._jit import njit
-from walker.control import controller_torque
 from walker.models._common import (
-    FALL_ANGLE,
-    FELL_BACKWARD,
-    FELL_FORWARD,
-    LINEAR_SOLVE_FAILED,
-    NONPHYSICAL_IMPACT,
-    TRIPPED,
-    actuated_after_heel_strike,
-    actuated_closed_loop,
-    actuated_force_guards,
-    actuated_ground_reaction,
-    actuated_joint_event,
-    actuated_start_phase,
-    actuated_torques,
-    central_difference_jac,
-    floating_base_heel_strike,
     ground_reaction_at,
-    impact_status,
-    slope_frame,
 )
 from walker.params import MODELS
-from walker.status import EVENT_TERMINAL
 
 N_X = 12
 N_Q = 5
@@ -185,94 +164,6 @@ JAC_STEP = 1e-6
 """Relative step of the central differences that give the vector field's Jacobian."""
 
 
-@njit(cache=True, error_model="numpy")
-def _forces(x, p, D, f, u):
-    """Mass matrix, generalized force without dry friction and controller torque.
-
-    ``D`` (5, 5), ``f = B u - h - S^T F_v S qd`` (5,) and ``u`` (4,) are outputs; returns
-    True when the torque saturated.
-    """
-    q = x[:5]
-    qd = x[5:10]
-    h = np.empty(5)
-    K.mass_matrix(q, p, D)
-    K.bias(q, qd, p, h)
-    sat = controller_torque(q, qd, D, h, B_MATRIX, p[CONTROL_OFFSET:], u)
-    for i in range(5):
-        s = -h[i]
-        for j in range(4):
-            s += B_MATRIX[i, j] * u[j]
-        f[i] = s
-    for j in range(N_JOINTS):
-        damping = p[I_DAMPING_HIP] if j < 2 else p[I_DAMPING_KNEE]
-        if damping != 0.0:
-            w = 0.0
-            for i in range(5):
-                w += S_MATRIX[j, i] * qd[i]
-            for i in range(5):
-                f[i] -= damping * S_MATRIX[j, i] * w
-    return sat
-
-
-@njit(cache=True, error_model="numpy")
-def _dry(p):
-    """Dry-friction magnitudes of the joints (``JOINTS`` order) [N m]."""
-    F = np.empty(N_JOINTS)
-    F[0] = F[1] = p[I_COULOMB_HIP]
-    F[2] = F[3] = p[I_COULOMB_KNEE]
-    return F
-
-
-@njit(cache=True, error_model="numpy")
-def closed_loop(phase, x, p, qdd, u, lam):
-    """Closed-loop accelerations, torques and dry-friction torques at state ``x`` in
-    ``phase``; returns True when the controller saturated.
-
-    Parameters
-    ----------
-    phase : int
-        phase index (the joint-mode code).
-    x : ndarray, shape (>= 10,)
-    p : ndarray
-        the ``FiveLinkParams`` vector.
-    qdd : ndarray, shape (5,)   (output) [rad/s^2]
-    u : ndarray, shape (4,)   (output) controller torques (hip stance, hip swing, knee
-        stance, knee swing) [N m]
-    lam : ndarray, shape (4,)   (output) dry-friction torque of each joint [N m]: ``-+F_s``
-        while slipping, the holding torque while stuck
-    """
-    return actuated_closed_loop(_forces, S_MATRIX, _dry(p), phase, x, p, qdd, u, lam)
-
-
-@njit(cache=True, error_model="numpy")
-def rhs(phase, t, x, p, dx):
-    qdd = np.empty(5)
-    u = np.empty(4)
-    lam = np.empty(N_JOINTS)
-    sat = closed_loop(phase, x, p, qdd, u, lam)
-    power = 0.0
-    for i in range(5):
-        dx[i] = x[5 + i]
-        dx[5 + i] = qdd[i]
-        for j in range(4):
-            power += u[j] * B_MATRIX[i, j] * x[5 + i]
-    dx[10] = power  # u . (B^T qd)
-    dx[11] = 1.0 if sat else 0.0
-
-
-@njit(cache=True, error_model="numpy")
-def jac(phase, t, x, p, J):
-    """df/dx by central differences (step ``JAC_STEP * max(1, |x_j|)``) in ``phase``."""
-    central_difference_jac(rhs, phase, t, x, p, J, JAC_STEP)
-
-
-@njit(cache=True, error_model="numpy")
-def _ground_reaction(phase, x, p):
-    return actuated_ground_reaction(
-        _forces, K.ground_reaction, S_MATRIX, _dry(p), phase, x, p, p[I_SLOPE]
-    )
-
-
 def ground_reaction(x, p, phase=None):
     """Ground force on the stance foot ``(F_t, F_n)`` along and normal to the slope [N].
 
@@ -282,140 +173,10 @@ def ground_reaction(x, p, phase=None):
     p : ndarray
         the ``FiveLinkParams`` vector.
     phase : int, optional
-        joint-mode phase; default the phase consistent with ``x`` (:func:`start_phase`).
+        joint-mode phase; default the phase consistent with ``x``
+        (:meth:`walker.models.WalkerModel.start_phase`).
     """
-    return ground_reaction_at(_ground_reaction, start_phase, x, p, phase)
-
-
-@njit(cache=True, error_model="numpy")
-def swing_foot(x, p):
-    """(height above the slope, distance ahead of the stance foot along the slope) [m]."""
-    pts = np.empty((6, 2))
-    K.points(x[:5], p, pts)
-    t, n = slope_frame(pts[4], p[I_SLOPE])
-    return n, t
-
-
-@njit(cache=True, error_model="numpy")
-def guards(phase, t, x, p, g):
-    pts = np.empty((6, 2))
-    K.points(x[:5], p, pts)
-    slope = p[I_SLOPE]
-    g[ix.FIVE_LINK_GUARD_HEEL_STRIKE] = slope_frame(pts[4], slope)[1]
-    ht, hn = slope_frame(pts[2], slope)
-    psi = math.atan2(-ht, hn)  # stance foot -> hip, from the slope normal
-    g[ix.FIVE_LINK_GUARD_FALL_FORWARD] = psi + FALL_ANGLE
-    g[ix.FIVE_LINK_GUARD_FALL_BACKWARD] = psi - FALL_ANGLE
-    g[ix.FIVE_LINK_GUARD_HIP_DOWN] = hn
-    actuated_force_guards(
-        _forces,
-        K.ground_reaction,
-        S_MATRIX,
-        _dry(p),
-        phase,
-        x,
-        p,
-        p[I_FRICTION],
-        slope,
-        g[ix.FIVE_LINK_GUARD_SLIP_FORWARD : ix.FIVE_LINK_GUARD_LIFT_OFF + 1],
-        g[N_BASE_GUARDS : N_BASE_GUARDS + 2 * N_JOINTS],
-    )
-
-
-@njit(cache=True, error_model="numpy")
-def heel_strike(x, p, x_new, impulse):
-    """Floating-base heel-strike impact and leg swap.
-
-    Returns a Status value: 0 (COMPLETED) for a physical impact.  ``impulse`` receives the
-    impulse on the new stance foot, ``(along the slope, normal to it)`` [N s].
-    """
-    qdf_plus = np.empty(7)
-    ok, lift = floating_base_heel_strike(  # the hip at row 2 of the 6 points
-        K.points,
-        K.hip_jac,
-        K.ext_mass_matrix,
-        K.ext_swing_contact_jac,
-        K.ext_stance_contact_jac,
-        x[:5],
-        x[5:10],
-        p,
-        6,
-        2,
-        p[I_SLOPE],
-        qdf_plus,
-        impulse,
-    )
-    if not ok:
-        return LINEAR_SOLVE_FAILED
-    for i in range(5):
-        sq = 0.0
-        sv = 0.0
-        for j in range(5):
-            sq += RELABEL[i, j] * x[j]
-            sv += RELABEL[i, j] * qdf_plus[j]
-        x_new[i] = sq
-        x_new[5 + i] = sv
-    return impact_status(impulse, lift, p[I_FRICTION])
-
-
-@njit(cache=True, error_model="numpy")
-def reset(phase, k, t, x, p, x_new, impulse):
-    for i in range(x.shape[0]):
-        x_new[i] = x[i]
-    if k == 0:
-        if swing_foot(x, p)[1] <= MIN_STEP * (p[I_LENGTH_FEMUR] + p[I_LENGTH_TIBIA]):
-            return EVENT_TERMINAL, phase, TRIPPED
-        status = heel_strike(x, p, x_new, impulse)
-        # every joint's mode afresh for the post-impact state
-        return actuated_after_heel_strike(_forces, S_MATRIX, _dry(p), phase, status, x_new, p)
-    if k == 1:
-        return EVENT_TERMINAL, phase, FELL_FORWARD
-    if k == 2 or k == 6:
-        return EVENT_TERMINAL, phase, FELL_BACKWARD
-    if k < N_BASE_GUARDS:
-        return EVENT_TERMINAL, phase, NONPHYSICAL_IMPACT
-    # joint j's slip_stops or stick_breaks
-    return actuated_joint_event(_forces, S_MATRIX, _dry(p), phase, k - N_BASE_GUARDS, x, p, x_new)
-
-
-@njit(cache=True, error_model="numpy")
-def start_phase(x, p):
-    """The phase consistent with state ``x``: the joints that move slip with the sign of
-    their rate, the joints at rest stick or slip as the forces decide
-    (:func:`walker.friction.choose_modes`)."""
-    return actuated_start_phase(_forces, S_MATRIX, _dry(p), x, p)
-
-
-@njit(cache=True, error_model="numpy")
-def energy(x, p):
-    """(kinetic, potential) [J]; potential zero at the stance foot's height."""
-    return K.kinetic(x[:5], x[5:10], p), K.potential(x[:5], p)
-
-
-@njit(cache=True, error_model="numpy")
-def torques(x, p):
-    """Torques ``(hip stance, hip swing, knee stance, knee swing)`` [N m] the controller
-    applies at ``x`` (the controller does not see the friction, so they do not depend on
-    the joint modes)."""
-    return actuated_torques(_forces, S_MATRIX, x, p)
-
-
-@njit(cache=True, error_model="numpy")
-def joint_torques(phase, x, p):
-    """Friction torque at each joint (``JOINTS`` order) in ``phase`` [N m]: the viscous
-    ``-F_v w_j`` plus the dry ``-+F_s`` while slipping or the holding torque while stuck.
-    The joint's total torque is ``torques(x, p) + joint_torques(phase, x, p)``."""
-    qdd = np.empty(5)
-    u = np.empty(4)
-    lam = np.empty(N_JOINTS)
-    closed_loop(phase, x, p, qdd, u, lam)
-    for j in range(N_JOINTS):
-        damping = p[I_DAMPING_HIP] if j < 2 else p[I_DAMPING_KNEE]
-        w = 0.0
-        for i in range(5):
-            w += S_MATRIX[j, i] * x[5 + i]
-        lam[j] -= damping * w
-    return lam
+    return ground_reaction_at("five_link", x, p, phase)
 
 
 def phase_of(**modes: str) -> int:
@@ -473,14 +234,5 @@ def project(x, p):
     return np.array([x[0], x[1], x[2], x[3], x[5], x[6], x[7], x[8], x[9]])
 
 
-def points(x, p):
-    """Positions for drawing: rows stance foot, stance knee, hip, swing knee, swing foot,
-    torso centre of mass [m]."""
-    pts = np.empty((6, 2))
-    K.points(np.ascontiguousarray(x[:5], dtype=np.float64), np.asarray(p, dtype=float), pts)
-    return pts
-
-
 SEGMENTS = ((0, 1), (1, 2), (2, 3), (3, 4), (2, 5))
 SWING_FOOT = 4  # row of the swing foot in points()
-KERNEL_HASH = K.KERNEL_HASH

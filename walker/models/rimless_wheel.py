@@ -8,7 +8,7 @@ not depend on the mass.  Parameters: :class:`walker.params.RimlessWheelParams`
 ``(spokes, leg_length, g, slope)``, ``alpha = pi / spokes`` the half-angle between spokes.
 
 This is the first model written in C only: the phase functions, energy, drawing points and
-start phase are in ``walker/_core/model_rimless_wheel.c`` (no numba twin); this module holds
+start phase are in ``walker/_core/model_rimless_wheel.c`` ; this module holds
 the description and the section maps.
 
 State and convention

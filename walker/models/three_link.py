@@ -1,6 +1,6 @@
 """Grizzle's three-link walker (two legs, torso, two hip actuators) in closed loop, with
-viscous and dry (Coulomb) friction at the two hip joints: compiled phase functions for the
-hybrid integrator.
+viscous and dry (Coulomb) friction at the two hip joints: the Python description of its
+compiled model (walker/_core/model_three_link.c).
 
 State ``x`` (8): ``(q_stance, q_swing, q_torso, qd_stance, qd_swing, qd_torso,
 actuator_work, saturated_time)``: absolute angles from the vertical, counterclockwise positive
@@ -8,7 +8,7 @@ actuator_work, saturated_time)``: absolute angles from the vertical, countercloc
 impact carries over unchanged: the work done by the actuators since ``t0``,
 ``int u . (B^T qd) dt`` [J], and the time during which some torque was clipped to the limit
 [s] (the saturation report; 0 when the limit was never reached).  The torque ``u`` is
-computed inside ``rhs`` by :func:`walker.control.controller_torque` from the state and the
+computed inside ``rhs`` by the controller of ``walker/_core/wk_control.c`` from the state and the
 controller block ``p[CONTROL_OFFSET:]`` of :class:`walker.params.ThreeLinkParams`.
 
 Dynamics (``D qdd + C qd + g = B u - F_v qd - F_s sgn(qd) + J^T F`` with the
@@ -67,40 +67,17 @@ The book's variant (Westervelt, Grizzle, Chevallereau, Choi, Morris 2007, three-
 guard 0 ``q_stance - theta_minus`` (the step ends where the stance angle falls through
 ``theta_minus``, wherever the swing foot is; same impact map and leg swap), and the section's
 ``q_swing`` is then ``theta_minus``.  ``controller = 3``, the finite-time controller on
-polynomial outputs, exists in the compiled C model only (``walker/_core/wk_control.c``):
-the numba functions here (``torques``, ``ground_reaction``, ...) return NaN torques for it.
+polynomial outputs, is in ``walker/_core/wk_control.c`` as the others are.
 """
-
-import math
 
 import numpy as np
 
 from walker import friction as fr
 from walker._generated import indices as ix
-from walker._generated import three_link as K
-from walker._jit import njit
-from walker.control import controller_torque
 from walker.models._common import (
-    FALL_ANGLE,
-    FELL_BACKWARD,
-    FELL_FORWARD,
-    LINEAR_SOLVE_FAILED,
-    NONPHYSICAL_IMPACT,
-    actuated_after_heel_strike,
-    actuated_closed_loop,
-    actuated_force_guards,
-    actuated_ground_reaction,
-    actuated_joint_event,
-    actuated_start_phase,
-    actuated_torques,
-    central_difference_jac,
-    floating_base_heel_strike,
     ground_reaction_at,
-    impact_status,
-    relabel,
 )
 from walker.params import MODELS
-from walker.status import EVENT_IGNORE, EVENT_TERMINAL
 
 N_X = 8
 N_Q = 3
@@ -155,84 +132,6 @@ JAC_STEP = 1e-6
 """Relative step of the central differences that give the vector field's Jacobian."""
 
 
-@njit(cache=True, error_model="numpy")
-def _forces(x, p, D, f, u):
-    """Mass matrix, generalized force without dry friction and controller torque.
-
-    ``D`` (3, 3), ``f = B u - h - F_v S^T S qd`` (3,) and ``u`` (2,) are outputs; returns
-    True when the torque saturated.
-    """
-    q = x[:3]
-    qd = x[3:6]
-    h = np.empty(3)
-    K.mass_matrix(q, p, D)
-    K.bias(q, qd, p, h)
-    sat = controller_torque(q, qd, D, h, B_MATRIX, p[CONTROL_OFFSET:], u)
-    for i in range(3):
-        f[i] = B_MATRIX[i, 0] * u[0] + B_MATRIX[i, 1] * u[1] - h[i]
-    damping = p[I_DAMPING_HIP]
-    if damping != 0.0:
-        for j in range(N_JOINTS):
-            w = S_MATRIX[j, 0] * qd[0] + S_MATRIX[j, 1] * qd[1] + S_MATRIX[j, 2] * qd[2]
-            for i in range(3):
-                f[i] -= damping * S_MATRIX[j, i] * w
-    return sat
-
-
-@njit(cache=True, error_model="numpy")
-def _dry(p):
-    """Dry-friction magnitudes of the joints [N m]."""
-    return np.full(N_JOINTS, p[I_COULOMB_HIP])
-
-
-@njit(cache=True, error_model="numpy")
-def closed_loop(phase, x, p, qdd, u, lam):
-    """Closed-loop accelerations, torques and dry-friction torques at state ``x`` in
-    ``phase``; returns True when the controller saturated.
-
-    Parameters
-    ----------
-    phase : int
-        phase index (the joint-mode code).
-    x : ndarray, shape (>= 6,)
-    p : ndarray
-        the ``ThreeLinkParams`` vector.
-    qdd : ndarray, shape (3,)   (output) [rad/s^2]
-    u : ndarray, shape (2,)   (output) controller torques at the hip joints, on the stance
-        and the swing leg [N m]
-    lam : ndarray, shape (2,)   (output) dry-friction torque of each joint [N m]: ``-+F_s``
-        while slipping, the holding torque while stuck
-    """
-    return actuated_closed_loop(_forces, S_MATRIX, _dry(p), phase, x, p, qdd, u, lam)
-
-
-@njit(cache=True, error_model="numpy")
-def rhs(phase, t, x, p, dx):
-    qdd = np.empty(3)
-    u = np.empty(2)
-    lam = np.empty(N_JOINTS)
-    sat = closed_loop(phase, x, p, qdd, u, lam)
-    for i in range(3):
-        dx[i] = x[3 + i]
-        dx[3 + i] = qdd[i]
-    # actuator power: u . (B^T qd), B^T qd = relative hip rates
-    dx[6] = u[0] * (x[3] - x[5]) + u[1] * (x[4] - x[5])
-    dx[7] = 1.0 if sat else 0.0
-
-
-@njit(cache=True, error_model="numpy")
-def jac(phase, t, x, p, J):
-    """df/dx by central differences (step ``JAC_STEP * max(1, |x_j|)``) in ``phase``."""
-    central_difference_jac(rhs, phase, t, x, p, J, JAC_STEP)
-
-
-@njit(cache=True, error_model="numpy")
-def _ground_reaction(phase, x, p):
-    return actuated_ground_reaction(
-        _forces, K.ground_reaction, S_MATRIX, _dry(p), phase, x, p, p[I_SLOPE]
-    )
-
-
 def ground_reaction(x, p, phase=None):
     """Ground force on the stance foot ``(F_t, F_n)`` along and normal to the slope [N].
 
@@ -242,127 +141,10 @@ def ground_reaction(x, p, phase=None):
     p : ndarray
         the ``ThreeLinkParams`` vector.
     phase : int, optional
-        joint-mode phase; default the phase consistent with ``x`` (:func:`start_phase`).
+        joint-mode phase; default the phase consistent with ``x``
+        (:meth:`walker.models.WalkerModel.start_phase`).
     """
-    return ground_reaction_at(_ground_reaction, start_phase, x, p, phase)
-
-
-@njit(cache=True, error_model="numpy")
-def swing_foot(x, p):
-    """(height above the slope, distance ahead of the stance foot along the slope) [m]."""
-    r = p[I_LEG_A] + p[I_LEG_B]
-    psi1 = x[0] + p[I_SLOPE]
-    psi2 = x[1] + p[I_SLOPE]
-    return r * (math.cos(psi1) - math.cos(psi2)), r * (math.sin(psi2) - math.sin(psi1))
-
-
-@njit(cache=True, error_model="numpy")
-def guards(phase, t, x, p, g):
-    psi1 = x[0] + p[I_SLOPE]
-    g[ix.THREE_LINK_GUARD_HEEL_STRIKE] = (
-        x[0] - p[I_THETA_MINUS] if p[I_STEP_EVENT] == 1.0 else swing_foot(x, p)[0]
-    )
-    g[ix.THREE_LINK_GUARD_FALL_FORWARD] = psi1 + FALL_ANGLE
-    g[ix.THREE_LINK_GUARD_FALL_BACKWARD] = psi1 - FALL_ANGLE
-    actuated_force_guards(
-        _forces,
-        K.ground_reaction,
-        S_MATRIX,
-        _dry(p),
-        phase,
-        x,
-        p,
-        p[I_FRICTION],
-        p[I_SLOPE],
-        g[ix.THREE_LINK_GUARD_SLIP_FORWARD : ix.THREE_LINK_GUARD_LIFT_OFF + 1],
-        g[N_BASE_GUARDS : N_BASE_GUARDS + 2 * N_JOINTS],
-    )
-
-
-@njit(cache=True, error_model="numpy")
-def heel_strike(x, p, x_new, impulse):
-    """Floating-base heel-strike impact and leg swap.
-
-    Returns a Status value: 0 (COMPLETED) for a physical impact.  ``impulse`` receives the
-    impulse on the new stance foot, ``(along the slope, normal to it)`` [N s].
-    """
-    qdf_plus = np.empty(5)
-    ok, lift = floating_base_heel_strike(  # the hip at row 1 of the 4 points
-        K.points,
-        K.hip_jac,
-        K.ext_mass_matrix,
-        K.ext_swing_contact_jac,
-        K.ext_stance_contact_jac,
-        x[:3],
-        x[3:6],
-        p,
-        4,
-        1,
-        p[I_SLOPE],
-        qdf_plus,
-        impulse,
-    )
-    if not ok:
-        return LINEAR_SOLVE_FAILED
-    relabel(x, qdf_plus, (1, 0, 2), x_new)  # the legs swap, the torso keeps its angle
-    return impact_status(impulse, lift, p[I_FRICTION])
-
-
-@njit(cache=True, error_model="numpy")
-def reset(phase, k, t, x, p, x_new, impulse):
-    for i in range(x.shape[0]):
-        x_new[i] = x[i]
-    if k == 0:
-        if swing_foot(x, p)[1] <= MIN_STEP * (p[I_LEG_A] + p[I_LEG_B]):
-            return EVENT_IGNORE, phase, 0
-        status = heel_strike(x, p, x_new, impulse)
-        # every joint's mode afresh for the post-impact state
-        return actuated_after_heel_strike(_forces, S_MATRIX, _dry(p), phase, status, x_new, p)
-    if k == 1:
-        return EVENT_TERMINAL, phase, FELL_FORWARD
-    if k == 2:
-        return EVENT_TERMINAL, phase, FELL_BACKWARD
-    if k < N_BASE_GUARDS:
-        return EVENT_TERMINAL, phase, NONPHYSICAL_IMPACT
-    # joint j's slip_stops or stick_breaks
-    return actuated_joint_event(_forces, S_MATRIX, _dry(p), phase, k - N_BASE_GUARDS, x, p, x_new)
-
-
-@njit(cache=True, error_model="numpy")
-def start_phase(x, p):
-    """The phase consistent with state ``x``: the joints that move slip with the sign of
-    their rate, the joints at rest stick or slip as the forces decide
-    (:func:`walker.friction.choose_modes`)."""
-    return actuated_start_phase(_forces, S_MATRIX, _dry(p), x, p)
-
-
-@njit(cache=True, error_model="numpy")
-def energy(x, p):
-    """(kinetic, potential) [J]; potential zero at the stance foot's height."""
-    return K.kinetic(x[:3], x[3:6], p), K.potential(x[:3], p)
-
-
-@njit(cache=True, error_model="numpy")
-def torques(x, p):
-    """Hip torques ``(tau_stance, tau_swing)`` [N m] the controller applies at ``x`` (the
-    controller does not see the friction, so they do not depend on the joint modes)."""
-    return actuated_torques(_forces, S_MATRIX, x, p)
-
-
-@njit(cache=True, error_model="numpy")
-def joint_torques(phase, x, p):
-    """Friction torque at each hip joint (``JOINTS`` order) in ``phase`` [N m]: the viscous
-    ``-F_v w_j`` plus the dry ``-+F_s`` while slipping or the holding torque while stuck.
-    The joint's total torque is ``torques(x, p) + joint_torques(phase, x, p)``."""
-    qdd = np.empty(3)
-    u = np.empty(2)
-    lam = np.empty(N_JOINTS)
-    closed_loop(phase, x, p, qdd, u, lam)
-    damping = p[I_DAMPING_HIP]
-    for j in range(N_JOINTS):
-        w = S_MATRIX[j, 0] * x[3] + S_MATRIX[j, 1] * x[4] + S_MATRIX[j, 2] * x[5]
-        lam[j] -= damping * w
-    return lam
+    return ground_reaction_at("three_link", x, p, phase)
 
 
 def phase_of(**modes: str) -> int:
@@ -407,13 +189,5 @@ def project(x, p):
     return np.array([x[0], x[2], x[3], x[4], x[5]])
 
 
-def points(x, p):
-    """Positions for drawing: rows stance foot, hip, swing foot, torso mass [m]."""
-    pts = np.empty((4, 2))
-    K.points(np.ascontiguousarray(x[:3], dtype=np.float64), np.asarray(p, dtype=float), pts)
-    return pts
-
-
 SEGMENTS = ((0, 1), (1, 2), (1, 3))
 SWING_FOOT = 2  # row of the swing foot in points()
-KERNEL_HASH = K.KERNEL_HASH

@@ -48,7 +48,6 @@ __all__ = [
     "three_link",
     "three_link_extended",
     "three_link_kernels",
-    "three_link_extra",
     "actuated_kernels",
 ]
 
@@ -204,8 +203,3 @@ def actuated_kernels(m: LagrangianModel, ext: LagrangianModel, qdd) -> list[Kern
             f"Jacobian of the stance foot position, out (2, {n}).",
         ),
     ]
-
-
-def three_link_extra() -> str:
-    """Module-level constants of the generated module (point names)."""
-    return f"POINTS = {tuple(three_link().points)!r}\n"

@@ -1,20 +1,18 @@
-"""Turn symbolic matrices into compiled kernels (common subexpressions + printing): numba
-``@njit`` functions in ``walker/_generated/<model>.py`` and C99 functions in
-``walker/_generated/<model>.c`` / ``.h``.
+"""Turn symbolic matrices into compiled kernels (common subexpressions + lowering): the C99
+functions in ``walker/_generated/<model>.c`` / ``.h`` (printed by
+:mod:`walker.symbolic.codegen_c`).
 
-A generated Python module holds one ``@njit(cache=True)`` function per :class:`Kernel`.
 Arguments are whole arrays (``q``, ``qd``, ``p``) unpacked at the top, so the parameters
 stay arguments and changing one never regenerates anything.  Matrix outputs are written
 into a caller-provided ``out`` array (no allocation on the hot path); scalars are returned.
 
 The C form of a kernel ``k`` of model ``m`` is ``wk_<m>_<k>`` with the same arguments as
 ``const double *`` arrays and ``double *out`` (matrices row-major, ``(k, i, j)`` tensors
-flattened the same way); scalar kernels return ``double``.  Both forms are printed from one
-lowering (:func:`lower`): the same common subexpressions in the same order, so a C kernel
-evaluates the same floating-point operations as its numba twin (squares as ``x*x``, never
-``pow``; integer constants as doubles).  The generator checks that the two printed forms of
-every expression differ only in spelling (the C printing is in
-:mod:`walker.symbolic.codegen_c`).
+flattened the same way); scalar kernels return ``double``.  It is printed from one lowering
+(:func:`lower`): the common subexpressions in a fixed order, squares as ``x*x``, never
+``pow``, integer constants as doubles.  The C printer checks every expression against the
+plain-Python spelling of :class:`_Printer` (the same operations in the same order), so a
+printing slip of sympy's C printer cannot change the arithmetic.
 
 A structural variant (e.g. ``compass_plain``) is printed only in C, from kernels whose zero
 parameters were substituted before the common-subexpression pass; with ``share_trig`` the
@@ -25,8 +23,8 @@ kernels solve with the mass matrix in closed form (``solve="adjugate"``,
 entries, one division per call instead of a Cholesky factorization's chain of square roots
 and divisions.
 
-Kernels use IEEE semantics (numba's numpy error model): a singular or indefinite mass
-matrix gives NaN (reported by the integrator as a status), never an exception.
+Kernels use IEEE semantics: a singular or indefinite mass matrix gives NaN (reported by
+the integrator as a status), never an exception.
 
 Each file is stamped "generated, do not edit" with the argument order, the sympy version
 and a SHA-256 hash of its symbolic input; ``scripts/generate_kernels.py`` rewrites them.
@@ -52,7 +50,6 @@ __all__ = [
     "AccelKernel",
     "Kernel",
     "lower",
-    "render_module",
     "share_trig",
     "symbolic_hash",
     "variant_hash",
@@ -469,7 +466,8 @@ def share_trig(kernel, entries):
 
 # ------------------------------------------------------------------------------ printers
 class _Printer(PythonCodePrinter):
-    """Python printer whose output numba compiles (math module, plain floats)."""
+    """Plain-Python spelling of an expression (math module, plain floats): the reference the
+    C printer's output is checked against, operation for operation."""
 
     def __init__(self):
         super().__init__({"fully_qualified_modules": True, "standard": "python3"})
@@ -483,7 +481,7 @@ class _Printer(PythonCodePrinter):
 
 def _small_power(printer, expr) -> str | None:
     """``b*b``, ``b*b*b``, ``b*b*b*b`` for the integer powers 2 to 4 of ``b`` and
-    ``1.0/(b)`` for the power -1, as the numba and the C printers both spell them (the same
+    ``1.0/(b)`` for the power -1, as the Python and the C printers both spell them (the same
     operations in the same order); None for any other power."""
     base, e = expr.as_base_exp()
     if e.is_Integer and 1 < int(e) <= 4:
@@ -494,43 +492,6 @@ def _small_power(printer, expr) -> str | None:
     if e == -1:
         return f"1.0/({printer._print(base)})"
     return None
-
-
-# ----------------------------------------------------------------------- Python (numba)
-def _render_python(low: Lowered, printer: _Printer | None = None) -> str:
-    printer = printer or _Printer()
-    arg_names = [name for name, _ in low.args]
-    sig = ", ".join(arg_names + ([] if low.shape == () else ["out"]))
-    lines = ['@njit(cache=True, error_model="numpy")', f"def {low.name}({sig}):"]
-    lines.append(f'    """{low.doc or low.name}"""')
-    for s, name, i in low.loads:
-        lines.append(f"    {s} = {name}[{i}]")
-    for sym, e in low.assigns:
-        lines.append(f"    {sym} = {printer.doprint(e)}")
-    for name, rhs, is_sqrt in low.steps:
-        lines.append(f"    {name} = math.sqrt({rhs})" if is_sqrt else f"    {name} = {rhs}")
-    if low.shape == ():
-        lines.append(f"    return {printer.doprint(low.outputs[0][1])}")
-    else:
-        for index, e in low.outputs:
-            value = e if isinstance(e, str) else printer.doprint(e)
-            lines.append(f"    out[{', '.join(map(str, index))}] = {value}")
-    return "\n".join(lines) + "\n"
-
-
-def render_accel_kernel(kernel: AccelKernel, printer: _Printer | None = None) -> str:
-    """Source text of a fused acceleration kernel (see :class:`AccelKernel`)."""
-    return _render_python(_lower_accel(kernel), printer)
-
-
-def render_accel_jacobian_kernel(kernel: AccelJacobianKernel, printer=None) -> str:
-    """Source text of a fused acceleration-Jacobian kernel."""
-    return _render_python(_lower_accel_jacobian(kernel), printer)
-
-
-def render_kernel(kernel: Kernel, printer: _Printer | None = None) -> str:
-    """Source text of one kernel; raises ``ValueError`` naming any stray symbol."""
-    return _render_python(_lower_kernel(kernel), printer)
 
 
 def symbolic_hash(kernels) -> str:
@@ -576,49 +537,3 @@ def _argument_order(kernels):
             if line not in distinct:
                 distinct.append(line)
     return seen, distinct
-
-
-def render_module(name: str, kernels, *, doc: str = "", extra: str = "") -> str:
-    """Source text of a whole generated module.
-
-    Parameters
-    ----------
-    name : str
-        model name, for the header.
-    kernels : sequence of Kernel
-    doc : str
-        module docstring body.
-    extra : str
-        module-level constants to append (plain Python).
-    """
-    kernels = list(kernels)
-    digest = symbolic_hash(kernels)
-    arg_lines = []
-    for k in kernels:
-        arg_lines.append(f"#   {k.name}(" + ", ".join(n for n, _ in k.args) + ")")
-    seen, distinct = _argument_order(kernels)
-    header = [
-        f"# generated, do not edit: walker kernels for `{name}`",
-        f"# input hash: sha256:{digest}",
-        f"# sympy {sp.__version__}; regenerate with `{REGENERATE}`",
-        "# argument order:",
-        *(f"#   {line}" for line in distinct),
-        "# kernels:",
-        *arg_lines,
-        f'"""Generated numba kernels for the `{name}` model.\n\n{doc}\n"""',
-        "",
-        "import math  # noqa: F401",
-        "",
-        "from walker._jit import njit",
-        "",
-        f'KERNEL_HASH = "{digest}"',
-        f"ARGUMENT_ORDER = {seen!r}",
-        "",
-    ]
-    body = "\n\n".join(render(k) for k in kernels)
-    return "\n".join(header) + "\n" + body + ("\n" + extra if extra else "")
-
-
-def render(k) -> str:
-    """Python source of one kernel of any kind."""
-    return _render_python(lower(k))

@@ -2,11 +2,11 @@
 
 The C form of a kernel ``k`` of model ``m`` is ``wk_<m>_<k>`` with the same arguments as
 ``const double *`` arrays and ``double *out`` (matrices row-major, ``(k, i, j)`` tensors
-flattened the same way); scalar kernels return ``double``.  It is printed from the same
-lowering as the numba twin (:func:`walker.symbolic.codegen.lower`), and without a rewrite
-every expression is checked to spell the numba expression's operations in the same order
-(:func:`_same_arithmetic`).  :func:`render_c_module` prints a module's ``.c`` and ``.h``,
-:func:`render_kernel_table` the registry ``kernel_table.c``.
+flattened the same way); scalar kernels return ``double``.  It is printed from one lowering
+(:func:`walker.symbolic.codegen.lower`), and without a rewrite every expression is checked to
+spell the plain-Python expression's operations in the same order (:func:`_same_arithmetic`).
+:func:`render_c_module` prints a module's ``.c`` and ``.h``, :func:`render_kernel_table` the
+registry ``kernel_table.c``.
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from sympy.printing.c import C99CodePrinter
 
 from walker.symbolic.codegen import (
     REGENERATE,
+    AccelAndJacobianKernel,
     AccelJacobianKernel,
     AccelKernel,
     Lowered,
@@ -132,7 +133,7 @@ def _render_c(cname: str, kernel, low: Lowered, check: bool) -> str:
     def expr(e):
         text = printer.doprint(e)
         if check and not _same_arithmetic(pyprinter.doprint(e), text):
-            raise AssertionError(f"{cname}.{low.name}: C `{text}` is not the numba expression")
+            raise AssertionError(f"{cname}.{low.name}: C `{text}` is not the Python expression")
         return text
 
     lines = [f"/* {_comment(low.doc or low.name)} */", _c_prototype(cname, kernel), "{"]
@@ -177,11 +178,10 @@ def render_c_module(
     doc : str
         one-paragraph description for the header.
     digest : str, optional
-        input hash to stamp; default :func:`symbolic_hash` of ``kernels`` (the hash of the
-        numba module of the same kernels).
+        input hash to stamp; default :func:`symbolic_hash` of ``kernels``.
     rewrite : callable, optional
         passed to :func:`lower` (e.g. :func:`share_trig`).  Without it every expression is
-        checked to be the numba module's, operation for operation.
+        checked to be the plain-Python expression's, operation for operation.
     notes : sequence of str
         extra header lines (what a structural variant fixes).
     """
@@ -227,6 +227,24 @@ def render_c_module(
     return "\n".join(source) + "\n" + body, "\n".join(header)
 
 
+def kernel_sizes(kernel) -> tuple[int, int, tuple[int, ...]]:
+    """``(n_q, n_p, shape)`` of a kernel: the length of its coordinate arguments (``q``, and
+    ``qd`` and ``qdd`` where it takes them), of the parameters it reads (``p[:n_p]``) and the
+    shape of its output (``()`` for a kernel that returns a double); the registry's entry
+    carries them so that walker.models checks every call's lengths."""
+    sizes = dict((name, len(values)) for name, values in kernel.args)
+    n = sizes["q"]
+    if isinstance(kernel, AccelAndJacobianKernel):
+        shape = (n, 2 * n + 1)
+    elif isinstance(kernel, AccelJacobianKernel):
+        shape = (n, 2 * n)
+    elif isinstance(kernel, AccelKernel):
+        shape = (n,)
+    else:
+        shape = _shape(kernel.expr)
+    return n, sizes["p"], tuple(int(d) for d in shape)
+
+
 def render_kernel_table(modules) -> str:
     """``kernel_table.c``: the registry ``wk_kernel_table`` (walker/_core/wk_models.h).
 
@@ -248,16 +266,29 @@ def render_kernel_table(modules) -> str:
     ]
     for cname, prefix, kernels in modules:
         for k in kernels:
+            n_q, n_p, shape = kernel_sizes(k)
+            dims = ", ".join(str(d) for d in (*shape, 0, 0, 0)[:3])
             lines.append(
-                f'    {{"{prefix}.{k.name}", "{c_signature(k)}", (void *)wk_{cname}_{k.name}}},'
+                f'    {{"{prefix}.{k.name}", "{c_signature(k)}", (void *)wk_{cname}_{k.name}, '
+                f"{n_q}, {n_p}, {{{dims}}}}},"
             )
     lines += [
+        "};",
+        "",
+        "static const wk_kernel_hash_entry HASHES[] = {",
+        *(f'    {{"{prefix}", WK_{cname.upper()}_KERNEL_HASH}},' for cname, prefix, _ in modules),
         "};",
         "",
         "const wk_kernel_entry *wk_kernel_table(int64_t *count)",
         "{",
         "    *count = (int64_t)(sizeof(KERNELS) / sizeof(KERNELS[0]));",
         "    return KERNELS;",
+        "}",
+        "",
+        "const wk_kernel_hash_entry *wk_kernel_hash_table(int64_t *count)",
+        "{",
+        "    *count = (int64_t)(sizeof(HASHES) / sizeof(HASHES[0]));",
+        "    return HASHES;",
         "}",
         "",
     ]

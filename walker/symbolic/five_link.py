@@ -59,7 +59,6 @@ __all__ = [
     "five_link",
     "five_link_extended",
     "five_link_kernels",
-    "five_link_extra",
 ]
 
 FIVE_LINK_PARAMS = (
@@ -170,8 +169,3 @@ def five_link_kernels() -> list[Kernel]:
 
     qdd = sp.symbols(" ".join(f"{n}_ddot" for n in COORDINATES), real=True)
     return actuated_kernels(five_link(), five_link_extended(), qdd)
-
-
-def five_link_extra() -> str:
-    """Module-level constants of the generated module (point names)."""
-    return f"POINTS = {tuple(five_link().points)!r}\n"

@@ -6,8 +6,7 @@ A model's parameter vector is its parameter class's fields in order
 tie itself to an order that nothing checks; instead it reads the constants printed here:
 
 * ``walker/_generated/indices.py``: ``KNEED_P_SLOPE = 12``, ``KNEED_N_P = 17``,
-  ``KNEED_PHASE_LOCKED = 1``, ``KNEED_GUARD_KNEE_LOCK = 0``, ... (plain integers, so numba
-  folds them as constants);
+  ``KNEED_PHASE_LOCKED = 1``, ``KNEED_GUARD_KNEE_LOCK = 0``, ... (plain integers);
 * ``walker/_generated/indices.h``: the same as ``#define WK_KNEED_P_SLOPE 12``, ...
 
 Phases are printed for the models whose phase names are identifiers (the friction models

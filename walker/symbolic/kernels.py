@@ -1,9 +1,8 @@
 """Which kernels each generated module holds: the one list shared by the generator script
 and the staleness test (which re-derives them and compares by numbers).
 
-Every module is printed for numba (``walker/_generated/<name>.py``); those in
-:data:`C_MODULES` also in C (``<name>.c``/``.h``), and their structural variants
-(:data:`C_VARIANTS`, see :func:`variant_kernels`) only in C."""
+Every module in :data:`C_MODULES` is printed in C (``walker/_generated/<name>.c``/``.h``),
+with its structural variants (:data:`C_VARIANTS`, see :func:`variant_kernels`)."""
 
 from __future__ import annotations
 
@@ -34,7 +33,6 @@ __all__ = [
     "fused_name",
     "is_variant_kernel",
     "kernels_for",
-    "module_extra",
     "variant_kernels",
 ]
 
@@ -107,28 +105,6 @@ def kernels_for(name: str) -> list[Kernel]:
 
         return five_link.five_link_kernels()
     raise ValueError(f"unknown generated module `{name}`; valid: {sorted(GENERATED_MODULES)}")
-
-
-def module_extra(name: str) -> str:
-    """Module-level constants appended to a generated module (point names)."""
-    if name == "compass":
-        return f"POINTS = {tuple(models.compass().points)!r}\n"
-    if name == "kneed":
-        return (
-            f"UNLOCKED_POINTS = {tuple(models.kneed_unlocked().points)!r}\n"
-            f"LOCKED_POINTS = {tuple(models.kneed_locked().points)!r}\n"
-        )
-    if name == "double_pendulum":
-        return f"POINTS = {tuple(models.double_pendulum().points)!r}\n"
-    if name == "three_link":
-        from walker.symbolic import actuated
-
-        return actuated.three_link_extra()
-    if name == "five_link":
-        from walker.symbolic import five_link
-
-        return five_link.five_link_extra()
-    return ""
 
 
 GENERATED_MODULES = {
@@ -241,8 +217,8 @@ def variant_kernels(name: str, variant: str, kernels=None, *, simplify: bool = T
     fused kernels solve in closed form (:data:`walker.symbolic.codegen.VARIANT_SOLVE`, one
     division; their docs :data:`VARIANT_SOLVE_DOCS`).  Each ``accel_jac`` kernel is
     followed by an :class:`~walker.symbolic.codegen.AccelAndJacobianKernel` of the same
-    ``D`` and ``h``, named :func:`fused_name` (no numba twin: the integrator's rhs and
-    Jacobian in one call).  Arguments are unchanged: the full parameter vector, whose
+    ``D`` and ``h``, named :func:`fused_name` (the integrator's rhs and Jacobian in one
+    call).  Arguments are unchanged: the full parameter vector, whose
     zeroed entries are never read."""
     zeros = set(C_VARIANTS[name][variant])
     kernels = kernels_for(name) if kernels is None else kernels
