@@ -7,7 +7,9 @@ editing a file :func:`walker.storage.write` made.
 
 from __future__ import annotations
 
+import functools
 import json
+import zlib
 from pathlib import Path
 
 import h5py
@@ -219,7 +221,6 @@ def bomb(src, dst, *, declared: int, dataset: str = "result/values", signed: boo
     bombed content (streamed over a broadcast zero array), so that only a size cap can
     refuse it; else the old checksum is left, stale."""
     import shutil
-    import zlib
 
     shutil.copyfile(src, dst)
     chunk_cols = 1 << 17  # 1 MiB of float64
@@ -248,6 +249,27 @@ def bomb(src, dst, *, declared: int, dataset: str = "result/values", signed: boo
 
 # --------------------------------------------------------------------------------------------
 # A corpus of hostile files made from any walker file
+
+
+@functools.lru_cache(maxsize=1)
+def _zeros_stream(mib: int) -> bytes:
+    packer = zlib.compressobj(9)
+    return b"".join(packer.compress(bytes(1 << 20)) for _ in range(mib)) + packer.flush()
+
+
+def chunk_bomb(src, dst, *, dataset: str, mib: int = 64) -> Path:
+    """``src`` with ``dataset`` (float64) stored in one deflated chunk of its own shape
+    whose stream inflates to ``mib`` MiB of zeros: the declared size is right, the stream
+    is not (HDF5's filter would inflate all of it)."""
+    import shutil
+
+    shutil.copyfile(src, dst)
+    with h5py.File(dst, "r+") as f:
+        shape = f[dataset].shape
+        del f[dataset]
+        ds = f.create_dataset(dataset, shape=shape, dtype="f8", chunks=shape, compression="gzip")
+        ds.id.write_direct_chunk((0,) * len(shape), _zeros_stream(mib))
+    return Path(dst)
 
 
 def _datasets(path) -> list[tuple[str, tuple, str]]:
@@ -332,10 +354,11 @@ def corpus(
     swapped kind, a newer or downgraded schema, garbage provenance, a wrong dataclass),
     ``link-*`` (soft, external, a second hard link, a group linked into itself),
     ``external-storage``, ``virtual``, ``filter-*`` (lzf, scale-offset: filters walker never
-    writes), ``bomb-stale`` and ``bomb-signed`` (a deflated dataset declaring ``bomb_bytes``
-    at about 1000:1; the second with a valid checksum).  None is re-signed but the bomb:
-    each must be refused or read back equal to ``src``.  ``only``: a predicate on the name,
-    to make a sample."""
+    writes), ``bomb-chunk`` (one chunk of the dataset's own size whose deflate stream
+    inflates to 64 MiB), ``bomb-stale`` and ``bomb-signed`` (a deflated dataset declaring
+    ``bomb_bytes`` at about 1000:1; the second with a valid checksum).  None is re-signed
+    but that bomb: each must be refused or read back equal to ``src``.  ``only``: a
+    predicate on the name, to make a sample."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     src = Path(src)
@@ -402,6 +425,7 @@ def corpus(
         "filter-scaleoffset",
         lambda dst: _edit(src, dst, lambda f: _replace(f, target, scaleoffset=4)),
     )
+    put("bomb-chunk", lambda dst: chunk_bomb(src, dst, dataset=target))
     put("bomb-stale", lambda dst: bomb(src, dst, declared=bomb_bytes, dataset=target))
     put(
         "bomb-signed",

@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import re
 import subprocess
 import sys
 import textwrap
@@ -167,6 +168,42 @@ def test_chunk_larger_than_the_dataset_is_refused(tmp_path, orbit_file):
         ds.id.write_direct_chunk((0, 0), zipped)
     with pytest.raises(StorageError, match=r"in chunks of \(4194304, 3\), larger than the dataset"):
         read(path, isolate=False)
+
+
+def _one_chunk_stream(path, orbit_file, *, cols, mib_of_zeros):
+    """``orbit_file`` with ``result/values`` of shape (1, cols) in one deflated chunk whose
+    stream inflates to ``mib_of_zeros`` MiB of zeros, written raw."""
+    import zlib
+
+    path.write_bytes(Path(orbit_file).read_bytes())
+    packer = zlib.compressobj(9)
+    stream = b"".join(packer.compress(bytes(MiB)) for _ in range(mib_of_zeros))
+    stream += packer.flush()
+    with h5py.File(path, "r+") as f:
+        del f["result/values"]
+        ds = f.create_dataset(
+            "result/values", shape=(1, cols), dtype="f8", chunks=(1, cols), compression="gzip"
+        )
+        ds.id.write_direct_chunk((0, 0), stream)
+    return path
+
+
+@pytest.mark.parametrize("cols", [40, 1 << 17], ids=["chunk-320-B", "chunk-1-MiB"])
+def test_chunk_stream_larger_than_its_chunk_is_refused(tmp_path, orbit_file, cols):
+    """HDF5's deflate filter grows its output buffer until the stream ends: a 1 MB stream
+    in one chunk of 320 bytes was read after allocating 1 GiB (10.8 s), the dataset's
+    declared size (320 bytes) bounding nothing.  Now each chunk is inflated here first, at
+    most one byte beyond its size: a stream longer than a chunk can be (320 B) or one
+    expanding beyond it (1 MiB chunk) is refused.  (The streams here inflate to 64 MiB:
+    the mechanism is the same at any size, and making a 1 GiB one takes 10 s.)"""
+    path = _one_chunk_stream(tmp_path / "c.h5", orbit_file, cols=cols, mib_of_zeros=64)
+    with pytest.raises(StorageError) as info:
+        read(path, isolate=False)
+    text = str(info.value)
+    if cols == 40:
+        assert re.search(r"stores \d+ bytes for a chunk of 320, more than deflate", text), text
+    else:
+        assert "expands beyond the chunk's 1048576 bytes" in text, text
 
 
 @pytest.mark.parametrize(
@@ -382,3 +419,33 @@ def test_progress_without_verifying_reads_only_the_bookkeeping(tmp_path, monkeyp
     monkeypatch.undo()
     assert checkpoint_progress(not_a_checkpoint, verify=False) is None
     assert checkpoint_progress(tmp_path / "missing.h5", verify=False) is None
+
+
+# --------------------------------------------------------------------------------------------
+# A branch file names its companion: only a file beside it
+
+
+@pytest.mark.parametrize("companion", ["../outside.h5", "/etc/hostname", "sub/dir.h5", ".."])
+def test_switched_branch_outside_the_directory_is_refused(tmp_path, companion, capsys):
+    """A branch file's provenance names the period-doubled branch written beside it
+    (``switched_branch``, a bare file name); ``walker plot`` read whatever path it named,
+    inside or outside the directory.  Now a name with a directory part is refused (the file
+    is forged with a valid checksum)."""
+    from walker.cli import main
+    from walker.scene import load_scene
+    from walker.storage import scene_provenance
+
+    scene = load_scene(REPO / "gaits" / "compass_goswami.toml")
+    prov = scene_provenance(scene, switched_branch="fine.h5")
+    d = tmp_path / "results"
+    d.mkdir()
+    path = write(d / "branch.h5", RESULTS["branch"](), provenance=prov)
+    with h5py.File(path, "r+") as f:
+        stored = json.loads(f.attrs["provenance"])
+        stored["switched_branch"] = companion
+        f.attrs["provenance"] = json.dumps(stored)
+    resign(path, _tree(path))
+    assert main(["plot", str(path), "--out", str(tmp_path / "figs")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert "provenance key 'switched_branch' must name a file in the same directory" in err

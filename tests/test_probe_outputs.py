@@ -204,14 +204,17 @@ def test_output_created_meanwhile_says_the_flag(tmp_path, monkeypatch, capsys):
 
 
 @pytest.mark.parametrize("after", ["import walker", "import walker.cli", "parse"])
-def test_interrupt_while_starting_is_quiet_130(after):
+def test_interrupt_while_starting_is_quiet_130(tmp_path, after):
     """Before: SIGINT in the first ~1.5 s of any command printed an 18-21-line traceback
     of the import it hit.  Now the ``walker`` command installs a handler first thing in
-    ``walker/__init__.py``: one line, status 130.  The signal is sent by the process to
-    itself at a fixed point of its start, so the test does not depend on timing."""
-    code = f"""
+    ``walker/__init__.py``: one line, status 130.  The process is a script named ``walker``
+    (as the console script is) that sends SIGINT to itself at a fixed point of its start,
+    so the test does not depend on timing."""
+    script = tmp_path / "walker"
+    script.write_text(
+        f"""
 import os, signal, sys
-sys.argv = ["walker", "find", {str(COMPASS)!r}]  # as the console script starts
+sys.path.insert(0, {str(REPO)!r})
 import walker
 if {after!r} == "import walker":
     os.kill(os.getpid(), signal.SIGINT)
@@ -221,13 +224,29 @@ if {after!r} == "import walker.cli":
 parser = walker.cli.build_parser()
 if {after!r} == "parse":
     os.kill(os.getpid(), signal.SIGINT)
-sys.exit(walker.cli.main(sys.argv[1:]))
+sys.exit(walker.cli.main(["find", {str(COMPASS)!r}]))
 """
+    )
     done = subprocess.run(
-        [sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=120
+        [sys.executable, str(script)], cwd=REPO, capture_output=True, text=True, timeout=120
     )
     assert done.returncode == 130, done.stderr
     assert done.stderr == "walker: interrupted\n"
+
+
+def test_worker_processes_keep_the_interrupt_handler():
+    """A process started as ``python -c`` (how multiprocessing starts a worker), whose
+    ``sys.argv`` names the walker script, keeps Python's own SIGINT handler."""
+    code = (
+        "import signal, sys\n"
+        "sys.argv = ['/usr/bin/walker', 'sweep']\n"
+        "import walker\n"
+        "print(signal.getsignal(signal.SIGINT) is signal.default_int_handler)"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=120
+    )
+    assert done.stdout == "True\n", done.stderr
 
 
 def test_library_import_keeps_the_interrupt_handler():

@@ -21,14 +21,18 @@ EXIT_INTERRUPTED = 130
 
 
 def _is_walker_command() -> bool:
-    """This process runs the ``walker`` console script or ``python -m walker``."""
-    argv0 = sys.argv[0] if sys.argv else ""
-    if os.path.basename(argv0) in ("walker", "walker.exe", "walker-script.py"):
-        return True
-    orig = list(getattr(sys, "orig_argv", []))
-    for i, arg in enumerate(orig[:-1]):
+    """This process runs the ``walker`` console script or ``python -m walker``, judged from
+    the command line it was started with (``sys.orig_argv``): a worker process that
+    multiprocessing started for it (``python -c ...``) is not, although its ``sys.argv``
+    is copied from the parent's."""
+    orig = list(getattr(sys, "orig_argv", []))[1:]
+    for i, arg in enumerate(orig):
         if arg == "-m":
-            return orig[i + 1] == "walker"
+            return orig[i + 1 : i + 2] == ["walker"]
+        if arg == "-c":
+            return False
+        if not arg.startswith("-"):  # the script
+            return os.path.basename(arg) in ("walker", "walker.exe", "walker-script.py")
     return False
 
 

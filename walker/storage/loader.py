@@ -268,6 +268,7 @@ class _Loader:
                 limit = -1
             elif h5py.h5z.FILTER_DEFLATE in codes:
                 self.check_compressed(path, n_bytes, stored)
+                self.check_inflated_chunks(ds, path, codes)
                 limit = n_bytes
             else:
                 limit = stored
@@ -307,6 +308,45 @@ class _Loader:
                 f"data to {self.decompressed} bytes decompressed, above the cap of "
                 f"{MAX_DECOMPRESSED_BYTES} bytes; refused"
             )
+
+    def check_inflated_chunks(self, ds: h5py.Dataset, path: str, codes: list[int]) -> None:
+        """Inflate each stored chunk of a deflated dataset here, at most one byte beyond
+        its size, and refuse one whose stream expands further: HDF5's deflate filter
+        grows its output buffer until the stream ends, so a 1 MB stream in a chunk of 320
+        bytes made it allocate 1 GiB (the dataset's declared size bounds nothing there).
+        Memory: one chunk, compressed and inflated."""
+        import zlib
+
+        where = codes.index(h5py.h5z.FILTER_DEFLATE)
+        after = codes[where + 1 :]
+        if any(code != h5py.h5z.FILTER_FLETCHER32 for code in after):
+            raise _refused(self.path, f"dataset '{path}' applies filters after deflate")
+        chunk_bytes = math.prod(ds.chunks) * ds.dtype.itemsize
+        for i in range(ds.id.get_num_chunks()):
+            info = ds.id.get_chunk_info(i)
+            if info.byte_offset is None or info.size > chunk_bytes + chunk_bytes // 100 + 1024:
+                raise StorageError(
+                    f"cannot read '{self.path}': dataset '{path}' stores {info.size} bytes for "
+                    f"a chunk of {chunk_bytes}, more than deflate makes of it; refused"
+                )
+            mask, raw = ds.id.read_direct_chunk(info.chunk_offset)
+            if mask & (1 << where):
+                continue  # stored without deflate (HDF5 keeps a chunk raw when it is smaller)
+            if after and not mask & (1 << (where + 1)):
+                raw = raw[:-4]  # the Fletcher-32 of the compressed stream
+            try:
+                inflated = zlib.decompressobj().decompress(raw, chunk_bytes + 1)
+            except zlib.error as exc:
+                raise StorageError(
+                    f"cannot read '{self.path}': dataset '{path}' has a chunk that is not "
+                    f"deflate data ({exc}); refused"
+                ) from None
+            if len(inflated) > chunk_bytes:
+                raise StorageError(
+                    f"cannot read '{self.path}': dataset '{path}' has a chunk whose deflate "
+                    f"stream expands beyond the chunk's {chunk_bytes} bytes (a decompression "
+                    "bomb?); refused"
+                )
 
     def read(self, ds: h5py.Dataset, path: str, sel: Any = ()) -> np.ndarray:
         try:
