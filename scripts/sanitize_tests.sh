@@ -42,4 +42,6 @@ export WALKER_SANITIZER_TIER=1
 export PYTHONMALLOC=malloc
 export PYTHONPATH="$work${PYTHONPATH:+:$PYTHONPATH}"
 python -c "import walker, walker._hybrid as h; assert h.__file__.startswith('$work'), h.__file__"
-python -m pytest -q -n 0 -p no:cacheprovider -m "not slow" --rootdir "$repo" "$@"
+# --capture=sys: a sanitizer's report (written to fd 2) reaches the terminal, not a capture
+# file lost when the report ends the process
+python -m pytest -q -n 0 -p no:cacheprovider --capture=sys -m "not slow" --rootdir "$repo" "$@"
