@@ -147,6 +147,11 @@ const wkpy_model_sizes *wkpy_sizes_named(const char *entry_name);
  * of its functions it is; NULL (role WKPY_FN_NONE) for an address outside the registry. */
 const wkpy_model_sizes *wkpy_sizes_of(uintptr_t address, int *role);
 
+/* The sizes of a compiled model whose function of ``role`` is ``address`` and whose
+ * parameter count is n_p, else of the first whose function it is (models may share one:
+ * compass_coulomb uses compass's energy and points); NULL when none has it in this role. */
+const wkpy_model_sizes *wkpy_sizes_for(uintptr_t address, int role, int64_t n_p);
+
 /* A state function's input length (n_x, or n_z for a lift) and output count; -1 for a
  * role that is not a state function. */
 int wkpy_state_fn_lengths(const wkpy_model_sizes *s, int role, int64_t *n_in, int64_t *n_out);
