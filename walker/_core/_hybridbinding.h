@@ -2,11 +2,13 @@
  *
  *   _hybridmodule.c  the methods (solve, models, kernels, call_state_fn, basin_points) and
  *                    the module's init;
- *   _hybridargs.c    argument conversion (every error names the argument) and result
- *                    arrays out as bytearrays;
+ *   _hybridargs.c    argument conversion (every error names the argument), result
+ *                    arrays out as bytearrays, and the compiled models' sizes the binding
+ *                    checks every buffer against;
  *   _hybridresult.c  the named record solve() returns (walker._hybrid.SolveResult);
  *   _hybridmap.c     a walker's section settings (what basin_points and PreparedMap share)
  *                    and walker._hybrid.PreparedMap, one stride-map call.
+ *   _hybridsignals.c SIGINT and SIGTERM while compiled work runs (wk_interrupt, hybrid.h).
  *
  * Nothing here is part of the extension's interface: the functions are prefixed wkpy_ and
  * called only by these files.  Include after <Python.h>.
