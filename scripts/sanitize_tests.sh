@@ -16,6 +16,8 @@ trap 'rm -rf "$work"' EXIT
 cd "$repo"
 # the package's Python files, without any compiled extension or bytecode of the worktree
 tar --exclude='*.so' --exclude='__pycache__' -cf - walker | tar -C "$work" -xf -
+# the scenes, for the tests that name them relative to the working directory
+ln -s "$repo/gaits" "$work/gaits"
 WALKER_SANITIZE=1 python setup.py -q build_ext --build-lib "$work" --build-temp "$work/build" \
   >"$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }
 
@@ -34,7 +36,9 @@ if [ "$#" -eq 0 ]; then
 fi
 # cwd = the copy, so `import walker` finds the sanitized build first
 cd "$work"
-export LD_PRELOAD="$asan"
+# libstdc++ too: C++ extensions the tests load (matplotlib's) throw exceptions, which the
+# ASan runtime intercepts only when it finds the real __cxa_throw at start-up
+export LD_PRELOAD="$asan $("$cc" -print-file-name=libstdc++.so)"
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export WALKER_SANITIZER_TIER=1
@@ -42,4 +46,6 @@ export WALKER_SANITIZER_TIER=1
 export PYTHONMALLOC=malloc
 export PYTHONPATH="$work${PYTHONPATH:+:$PYTHONPATH}"
 python -c "import walker, walker._hybrid as h; assert h.__file__.startswith('$work'), h.__file__"
-python -m pytest -q -n 0 -p no:cacheprovider -m "not slow" --rootdir "$repo" "$@"
+# --capture=sys: a sanitizer's report (written to fd 2) reaches the terminal, not a capture
+# file lost when the report ends the process
+python -m pytest -q -n 0 -p no:cacheprovider --capture=sys -m "not slow" --rootdir "$repo" "$@"

@@ -81,7 +81,7 @@ def test_f1_huge_search_budgets_are_refused_by_the_binding():
     search = type(P)._compiled_search(P)
     region = WalkingRegion.of(P, None)
     region.with_guess(z0)
-    for max_iter, max_evals in ((2**61 - 2, 60), (50, 2**61 - 2)):
+    for max_iter, max_evals in ((2**61 - 2, 2**61 - 2), (2**61 - 2, 60), (50, 2**61 - 2)):
         ev = newton._Evaluator(P, 1, None, max_evals, 1e-12, True)
         settings = newton._compiled_settings(ev, max_iter, True)
         with pytest.raises(ValueError, match=r"search\(\): `max_(iter|evals)` must be at most"):
@@ -160,11 +160,11 @@ def test_f4_prepared_map_and_basin_points_check_the_parameter_count():
     args = list(section_args(P.model, P.t_max, cached, run))
     assert args[9] is cached[1]  # p
     args[9] = np.ones(2)
-    with pytest.raises(ValueError, match=r"`p` must have length n_p = 10"):
-        _hybrid.PreparedMap(*args)
     z = np.ascontiguousarray(z0[None, :])
     with pytest.raises(ValueError, match=r"`p` must have length n_p = 10"):
         _hybrid.basin_points(*args, z, z0, 1e-8, 2, 1)
+    with pytest.raises(ValueError, match=r"`p` must have length n_p = 10"):
+        _hybrid.PreparedMap(*args).map(z0, 1, False)
 
 
 def test_functions_of_different_models_are_not_mixed():

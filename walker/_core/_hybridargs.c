@@ -283,14 +283,15 @@ const wkpy_model_sizes *wkpy_sizes_named(const char *entry_name)
     return NULL;
 }
 
-const wkpy_model_sizes *wkpy_sizes_of(uintptr_t address, int *role)
+/* The registry entry after index *from whose function of ``role`` is ``address`` (role
+ * WKPY_FN_NONE: any of its functions, the role found in *found); its sizes, or NULL when no
+ * further entry has it.  *from is advanced past the entry returned. */
+static const wkpy_model_sizes *next_owner(uintptr_t address, int role, int64_t *from, int *found)
 {
-    *role = WKPY_FN_NONE;
-    if (address == 0) return NULL;
     int64_t count = 0;
     const wk_model_entry *const *table = wk_model_table(&count);
-    for (int64_t i = 0; i < count; i++) {
-        const wk_model_entry *e = table[i];
+    for (; address != 0 && *from < count; (*from)++) {
+        const wk_model_entry *e = table[*from];
         const uintptr_t fns[WKPY_FN_NONE] = {
             (uintptr_t)e->fn.rhs,       (uintptr_t)e->fn.guards,     (uintptr_t)e->fn.reset,
             (uintptr_t)e->fn.jac,       (uintptr_t)e->energy,        (uintptr_t)e->points,
@@ -298,12 +299,32 @@ const wkpy_model_sizes *wkpy_sizes_of(uintptr_t address, int *role)
             (uintptr_t)e->torques,
         };
         for (int k = 0; k < WKPY_FN_NONE; k++)
-            if (fns[k] == address) {
-                *role = k;
+            if (fns[k] == address && (role == WKPY_FN_NONE || k == role)) {
+                *found = k;
+                (*from)++;
                 return wkpy_sizes_named(e->name);
             }
     }
     return NULL;
+}
+
+const wkpy_model_sizes *wkpy_sizes_of(uintptr_t address, int *role)
+{
+    int64_t from = 0;
+    *role = WKPY_FN_NONE;
+    return next_owner(address, WKPY_FN_NONE, &from, role);
+}
+
+const wkpy_model_sizes *wkpy_sizes_for(uintptr_t address, int role, int64_t n_p)
+{
+    int64_t from = 0;
+    int found;
+    const wkpy_model_sizes *s, *first = NULL;
+    while ((s = next_owner(address, role, &from, &found)) != NULL) {
+        if (first == NULL) first = s;
+        if (s->n_p == n_p) return s;
+    }
+    return first;
 }
 
 static const char *const ROLE_NAMES[WKPY_FN_NONE] = {
@@ -332,7 +353,9 @@ static int check_fn(uintptr_t address, int role, const wk_problem *pb, int64_t n
     const wkpy_model_sizes *s = wkpy_sizes_of(address, &found);
     const char *name = ROLE_NAMES[role];
     if (s == NULL) return 0; /* a user's function: its sizes are the caller's to keep */
-    if (found != role) {
+    s = wkpy_sizes_for(address, role, n_p); /* models may share one (compass_coulomb) */
+    if (s == NULL) {
+        s = wkpy_sizes_of(address, &found);
         PyErr_Format(PyExc_ValueError, "`%s` is the %s function of the compiled model '%s', "
                      "not its %s", name, ROLE_NAMES[found], s->name, name);
         return -1;
@@ -378,7 +401,9 @@ int wkpy_check_state_fn(uintptr_t address, const char *name, int role, int64_t n
     if (address == 0) return 0;
     const wkpy_model_sizes *s = wkpy_sizes_of(address, &found);
     if (s == NULL) return 0; /* a user's function: its sizes are the caller's to keep */
-    if (found != role) {
+    s = wkpy_sizes_for(address, role, n_p); /* models may share one (compass_coulomb) */
+    if (s == NULL) {
+        s = wkpy_sizes_of(address, &found);
         PyErr_Format(PyExc_ValueError, "`%s` is the %s function of the compiled model '%s', "
                      "not its %s", name, ROLE_NAMES[found], s->name, ROLE_NAMES[role]);
         return -1;

@@ -2,11 +2,13 @@
  *
  *   _hybridmodule.c  the methods (solve, models, kernels, call_state_fn, basin_points) and
  *                    the module's init;
- *   _hybridargs.c    argument conversion (every error names the argument) and result
- *                    arrays out as bytearrays;
+ *   _hybridargs.c    argument conversion (every error names the argument), result
+ *                    arrays out as bytearrays, and the compiled models' sizes the binding
+ *                    checks every buffer against;
  *   _hybridresult.c  the named record solve() returns (walker._hybrid.SolveResult);
  *   _hybridmap.c     a walker's section settings (what basin_points and PreparedMap share)
  *                    and walker._hybrid.PreparedMap, one stride-map call.
+ *   _hybridsignals.c SIGINT and SIGTERM while compiled work runs (wk_interrupt, hybrid.h).
  *
  * Nothing here is part of the extension's interface: the functions are prefixed wkpy_ and
  * called only by these files.  Include after <Python.h>.
@@ -146,6 +148,11 @@ const wkpy_model_sizes *wkpy_sizes_named(const char *entry_name);
 /* The sizes of the compiled model that function ``address`` belongs to, and in *role which
  * of its functions it is; NULL (role WKPY_FN_NONE) for an address outside the registry. */
 const wkpy_model_sizes *wkpy_sizes_of(uintptr_t address, int *role);
+
+/* The sizes of a compiled model whose function of ``role`` is ``address`` and whose
+ * parameter count is n_p, else of the first whose function it is (models may share one:
+ * compass_coulomb uses compass's energy and points); NULL when none has it in this role. */
+const wkpy_model_sizes *wkpy_sizes_for(uintptr_t address, int role, int64_t n_p);
 
 /* A state function's input length (n_x, or n_z for a lift) and output count; -1 for a
  * role that is not a state function. */

@@ -459,6 +459,14 @@ static PyObject *py_call_state_fn(PyObject *self, PyObject *const *args, Py_ssiz
     if (wkpy_arg_buffer_pair(args + 1, "x", 1, "p", 1, &vx, &vp)) return NULL;
     PyObject *list = NULL;
     double *out = NULL;
+    /* the model with this parameter count, where several share the function */
+    sizes = wkpy_sizes_for(address, role, vp.shape[0]);
+    wkpy_state_fn_lengths(sizes, role, &n_in, &n_max);
+    if (n_out > n_max) {
+        PyErr_Format(PyExc_ValueError, "`n_out` must be in [0, %lld] for the %s's function, "
+                     "got %lld", (long long)n_max, sizes->name, (long long)n_out);
+        goto out;
+    }
     if (vx.shape[0] != n_in) {
         PyErr_Format(PyExc_ValueError, "`x` must have length %lld for %s, got %zd",
                      (long long)n_in, sizes->name, vx.shape[0]);

@@ -1,0 +1,67 @@
+"""Signals reach compiled work (issue 33, item 5).
+
+``walker find gaits/compass_goswami.toml --period 100000`` spends minutes in one compiled
+call (the gait search, walker/_core/newton.c) with the GIL released.  Before, SIGINT waited
+for that call to end and SIGTERM killed the process with 143.  Now the binding's handler
+(walker/_core/_hybridsignals.c) stops the call within a step, Python's handler runs, and
+the command line ends with one line and exit 130 for both signals.
+
+The child is signalled once it has spent a few seconds of CPU time (so it is inside the
+search, past its imports).  The timeouts are hang guards only: without the handler the
+search runs far past them (about a minute here at this period, several on a loaded machine).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+SCENE = str(REPO / "gaits/compass_goswami.toml")
+HANG_GUARD = 30  # seconds after the signal
+
+pytestmark = [
+    pytest.mark.slow,
+    pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc"),
+]
+
+
+def _cpu_seconds(pid: int) -> float:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def _interrupted_find(signum: int) -> tuple[int, str]:
+    child = subprocess.Popen(
+        [sys.executable, "-m", "walker", "find", SCENE, "--period", "100000"],
+        cwd=REPO,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        deadline = time.monotonic() + 300
+        while _cpu_seconds(child.pid) < 4.0:
+            assert child.poll() is None, child.communicate()
+            assert time.monotonic() < deadline, "the child never got going"
+            time.sleep(0.1)
+        child.send_signal(signum)
+        out, err = child.communicate(timeout=HANG_GUARD)
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.communicate()
+    return child.returncode, err
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_a_signal_stops_the_compiled_search(signum):
+    code, err = _interrupted_find(signum)
+    assert code == 130, err
+    assert err == "walker: interrupted\n"

@@ -1,0 +1,90 @@
+"""Extreme but valid inputs (issue 33's probe): parameters at the bounds ``walker params``
+allows, huge ``t_max``, tiny fixed steps and huge periods.  Before, these ended in an
+internal error (exit 3: ``max_steps`` overflowing an int64, ``int(inf)``) or ran for
+minutes.  Each must now end with an outcome (exit 0 or 1) or be refused up front naming
+the setting (exit 2): step budgets are computed in floating point and clamped
+(walker.region.stride_max_steps), a fixed step that needs more than
+``walker._checks.MAX_FIXED_STEPS`` steps per stride and a period above
+``walker.cli.find.MAX_PERIOD`` are refused.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from walker._checks import MAX_FIXED_STEPS
+from walker.cli import main
+
+GAITS = Path(__file__).resolve().parents[1] / "gaits"
+COMPASS = str(GAITS / "compass_goswami.toml")
+SIMPLEST = str(GAITS / "simplest_garcia.toml")
+
+
+def _scene(tmp_path, base: str, **compute) -> str:
+    """A copy of gaits/<base>.toml with [compute] keys replaced or added."""
+    text = (GAITS / f"{base}.toml").read_text()
+    for key, value in compute.items():
+        text, n = re.subn(rf"(?m)^{key}\s*=.*$", f"{key} = {value}", text)
+        if n == 0:
+            text = text.replace("[compute]\n", f"[compute]\n{key} = {value}\n", 1)
+    path = tmp_path / f"{base}_extreme.toml"
+    path.write_text(text)
+    return str(path)
+
+
+def _find(capsys, argv):
+    code = main(["find", *argv])
+    return code, capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("argv", "codes"),
+    [
+        ([COMPASS, "--set", "g=1e300"], (1,)),
+        ([SIMPLEST, "--set", "leg_length=5e-324"], (1,)),
+        (
+            [SIMPLEST, "--set", "g=1e12", "--set", "damping_ankle=1e6", "--set", "leg_length=1e-6"],
+            (1,),
+        ),
+    ],
+    ids=["compass_g_1e300", "simplest_leg_5e-324", "simplest_runaway"],
+)
+def test_parameters_at_their_bounds_end_with_an_outcome(capsys, argv, codes):
+    code, err = _find(capsys, argv)
+    assert code in codes, err
+    assert "internal error" not in err
+
+
+def test_a_huge_t_max_runs(tmp_path, capsys):
+    code, err = _find(capsys, [_scene(tmp_path, "compass_goswami", t_max="1e308")])
+    assert code == 0, err  # the budget is clamped; the gait's stride ends long before
+
+
+@pytest.mark.parametrize("first_step", ["5e-324", "1e-9"])
+def test_a_tiny_euler_step_is_refused_before_any_work(tmp_path, capsys, first_step):
+    scene = _scene(tmp_path, "compass_goswami", method='"Euler"', first_step=first_step)
+    code, err = _find(capsys, [scene])
+    assert code == 2
+    assert err.startswith("walker: error: `first_step` = ") and err.count("\n") == 1
+    assert f"more than the {MAX_FIXED_STEPS} a stride may take" in err
+
+
+def test_a_period_of_a_million_strides_is_refused(tmp_path, capsys):
+    code, err = _find(capsys, [_scene(tmp_path, "compass_goswami", strides="1000000")])
+    assert code == 2
+    assert "[compute] strides (the period searched) must be <= 100,000" in err
+    code, err = _find(capsys, [COMPASS, "--period", "100001"])
+    assert code == 2
+    assert err.startswith("walker: error: --period (the period searched) must be <= 100,000")
+
+
+@pytest.mark.slow
+def test_the_five_link_walker_at_g_1e12_ends_with_an_outcome(capsys):
+    """Ends within its budgets (START_FAILS after the clamped step budget of its first
+    evaluation), but slowly: the variational equations at rtol 1e-12 take about 1 ms a step
+    here, and the budget is 1e5 steps."""
+    code, err = _find(capsys, [str(GAITS / "five_link_hzd.toml"), "--set", "g=1e12"])
+    assert code in (0, 1), err
