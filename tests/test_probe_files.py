@@ -382,3 +382,33 @@ def test_progress_without_verifying_reads_only_the_bookkeeping(tmp_path, monkeyp
     monkeypatch.undo()
     assert checkpoint_progress(not_a_checkpoint, verify=False) is None
     assert checkpoint_progress(tmp_path / "missing.h5", verify=False) is None
+
+
+# --------------------------------------------------------------------------------------------
+# A branch file names its companion: only a file beside it
+
+
+@pytest.mark.parametrize("companion", ["../outside.h5", "/etc/hostname", "sub/dir.h5", ".."])
+def test_switched_branch_outside_the_directory_is_refused(tmp_path, companion, capsys):
+    """A branch file's provenance names the period-doubled branch written beside it
+    (``switched_branch``, a bare file name); ``walker plot`` read whatever path it named,
+    inside or outside the directory.  Now a name with a directory part is refused (the file
+    is forged with a valid checksum)."""
+    from walker.cli import main
+    from walker.scene import load_scene
+    from walker.storage import scene_provenance
+
+    scene = load_scene(REPO / "gaits" / "compass_goswami.toml")
+    prov = scene_provenance(scene, switched_branch="fine.h5")
+    d = tmp_path / "results"
+    d.mkdir()
+    path = write(d / "branch.h5", RESULTS["branch"](), provenance=prov)
+    with h5py.File(path, "r+") as f:
+        stored = json.loads(f.attrs["provenance"])
+        stored["switched_branch"] = companion
+        f.attrs["provenance"] = json.dumps(stored)
+    resign(path, _tree(path))
+    assert main(["plot", str(path), "--out", str(tmp_path / "figs")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert "provenance key 'switched_branch' must name a file in the same directory" in err

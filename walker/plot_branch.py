@@ -57,6 +57,7 @@ Examples
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -471,6 +472,18 @@ def stored_figures(path: str | Path) -> dict[str, Figure]:
     return result_figures(result, prov, directory=Path(path).parent, source=str(path))
 
 
+def _bare_file_name(name: Any) -> bool:
+    """``name`` is a plain file name: no directory part, not ``.``/``..``, no NUL."""
+    return (
+        isinstance(name, str)
+        and name not in ("", ".", "..")
+        and "\0" not in name
+        and "/" not in name
+        and (os.sep == "/" or os.sep not in name)
+        and Path(name).name == name
+    )
+
+
 def result_figures(
     result: Any,
     provenance: dict,
@@ -534,7 +547,14 @@ def result_figures(
     branches = [result]
     companion = provenance.get("switched_branch")
     if companion and directory is not None:
-        other = Path(directory) / str(companion)
+        if not _bare_file_name(companion):
+            from walker.storage import StorageError
+
+            raise StorageError(
+                f"{source}: provenance key 'switched_branch' must name a file in the same "
+                f"directory (walker writes a bare file name), got {companion!r:.80}"
+            )
+        other = Path(directory) / companion
         if other.is_file():
             from walker.storage import read
 
