@@ -93,23 +93,22 @@ def equal_runs(values: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(starts.tolist(), stops.tolist(), strict=True))
 
 
-def robust_limits(
-    values: np.ndarray, percentiles: tuple[float, float] = (2.0, 98.0)
-) -> tuple[float, float, np.ndarray]:
+def robust_limits(values: np.ndarray, reach: float = 3.0) -> tuple[float, float, np.ndarray]:
     """Colour (or axis) limits that one far value cannot flatten, and which values lie
     outside them.
 
-    The limits are the ``percentiles`` of the finite values, widened to the nearest finite
-    value when every value outside them is within 1.5 times their spread of them (Tukey's
-    fences): only true outliers are left out, and they are drawn as such
-    (:data:`OUTLIER_STYLE`).
+    Values beyond Tukey's far-out fences, more than ``reach`` interquartile ranges below
+    the first or above the third quartile, are outliers; the limits are the smallest and
+    largest of the other finite values.  When the quartiles coincide the 2nd to 98th
+    percentile range takes the interquartile range's place, and when that is zero too no
+    value is an outlier.  Outliers are drawn as such (:data:`OUTLIER_STYLE`).
 
     Parameters
     ----------
     values : ndarray
         any shape; NaN and inf are ignored.
-    percentiles : (float, float)
-        lower and upper percentile [%].
+    reach : float
+        the fences' distance from the quartiles, in interquartile ranges.
 
     Returns
     -------
@@ -119,7 +118,7 @@ def robust_limits(
 
     Examples
     --------
-    >>> lo, hi, out = robust_limits(np.r_[np.linspace(0.2, 0.9, 50), 198.0])
+    >>> lo, hi, out = robust_limits(np.r_[np.linspace(0.2, 0.9, 8), 198.0])
     >>> round(hi, 3), int(out.sum())
     (0.9, 1)
     """
@@ -129,10 +128,15 @@ def robust_limits(
     if not np.any(finite):
         return 0.0, 1.0, outside
     data = values[finite]
-    lo, hi = (float(v) for v in np.percentile(data, percentiles))
-    spread = hi - lo
-    fence_lo, fence_hi = lo - 1.5 * spread, hi + 1.5 * spread
-    inside = data[(data >= fence_lo) & (data <= fence_hi)]
+    q1, q3 = (float(v) for v in np.percentile(data, (25.0, 75.0)))
+    spread = q3 - q1
+    if not spread > 0:
+        p2, p98 = (float(v) for v in np.percentile(data, (2.0, 98.0)))
+        spread = p98 - p2
+    if spread > 0:
+        inside = data[(data >= q1 - reach * spread) & (data <= q3 + reach * spread)]
+    else:
+        inside = data
     lo, hi = float(inside.min()), float(inside.max())
     if not hi > lo:
         lo, hi = lo - 0.5, hi + 0.5
