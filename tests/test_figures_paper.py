@@ -284,6 +284,7 @@ def test_animation_draws_stance_and_swing_legs_in_two_colours(name):
     n_points = 1 + max(max(s) for s in model.segments)
     frames = np.random.default_rng(0).normal(size=(2, n_points, 2))
     anim = plotting.animate_walker(frames, model.segments, swing_foot=swing)
+    anim._draw_was_started = True  # not rendered: only its lines are checked
     ax = anim._fig.axes[0]
     links = ax.get_lines()[1 : 1 + len(model.segments)]
     colours = {}
@@ -350,3 +351,43 @@ def test_plot_file_checks_format_and_dpi_before_reading(tmp_path):
         gallery.plot_file(tmp_path / "missing.h5", tmp_path, fmt="jpg")
     with pytest.raises(ValueError, match=r"`dpi` must be an integer in \[1, 2400\]"):
         gallery.plot_file(tmp_path / "missing.h5", tmp_path, dpi=72.5)
+
+
+def test_the_other_figure_kinds_have_units_on_every_axis():
+    """The figures drawn from plain arrays: zero dynamics, work-precision, orbit diagram,
+    the animation's frame and a run's angles and phase portrait from a Trajectory."""
+    from walker.results import OrbitDiagram, Trajectory
+
+    theta = np.linspace(-0.2, 0.2, 30)
+    figs = {
+        "zero_dynamics": plotting.plot_zero_dynamics(
+            theta, 1.0 + theta**2, theta_plus=-0.2, theta_minus=0.2
+        ),
+        "work_precision": plotting.plot_work_precision(
+            {"DOP853": (np.array([1e-6, 1e-9]), np.array([0.01, 0.02]))}
+        ),
+        "orbit_diagram": plotting.plot_orbit_diagram(
+            OrbitDiagram("slope", np.linspace(0.01, 0.02, 4), np.ones((4, 3))),
+            parameter_unit="rad",
+        ),
+    }
+    anim = plotting.animate_walker(
+        np.zeros((2, 3, 2)) + np.arange(3)[None, :, None], ((0, 1), (1, 2))
+    )
+    anim._draw_was_started = True  # not rendered: only its axes are checked
+    figs["animation"] = anim._fig
+    t = np.linspace(0.0, 1.0, 20)
+    traj = Trajectory(t, np.stack([t, -t, np.ones(20), -np.ones(20)], axis=1), np.zeros(20, int))
+    figs["angles"] = plotting.plot_angles(traj, state_names=["q1", "q2", "qd1", "qd2"])
+    figs["phase_portrait"] = plotting.plot_phase_portrait(
+        traj, 0, 2, state_names=["q1", "q2", "qd1", "qd2"]
+    )
+    for name, fig in figs.items():
+        labels = _unit_labels_ok(fig)
+        assert len(labels) >= 2, name
+    assert _unit_labels_ok(figs["zero_dynamics"]) == [
+        "phase variable theta [rad]",
+        "theta_dot [rad/s]",
+    ]
+    _legends_off_the_data(figs["zero_dynamics"])
+    _legends_off_the_data(figs["angles"])

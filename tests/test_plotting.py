@@ -177,10 +177,13 @@ def test_plot_bifurcation():
 def test_plot_orbit_diagram():
     values = np.tile([[0.2, 0.3, 0.2, 0.3]], (6, 1))
     values[5] = np.nan
-    fig = plotting.plot_orbit_diagram(OrbitDiagram("slope", np.linspace(0.01, 0.02, 6), values))
+    fig = plotting.plot_orbit_diagram(
+        OrbitDiagram("slope", np.linspace(0.01, 0.02, 6), values), parameter_unit="rad"
+    )
     (sc,) = fig.axes[0].collections
     assert sc.get_offsets().shape == (20, 2)  # NaN row dropped
-    assert fig.axes[0].get_xlabel() == "slope"
+    assert fig.axes[0].get_xlabel() == "slope [rad]"
+    assert fig.axes[0].get_ylabel() == "section coordinate 0 just after heel strike [rad]"
 
 
 def basin_map(axis_names, x, y, outcome, fixed_point, n_strides):

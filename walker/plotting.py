@@ -255,31 +255,45 @@ def plot_bifurcation(
     return fig
 
 
-def plot_orbit_diagram(orbit_diagram: Any, ax: Axes | None = None) -> Figure:
-    """Settled section values at each parameter value (dots; NaN where the walker fell).
+def plot_orbit_diagram(
+    orbit_diagram: Any,
+    ax: Axes | None = None,
+    *,
+    parameter_unit: str | None = None,
+    coordinate_name: str | None = None,
+    coordinate_unit: str | None = None,
+) -> Figure:
+    """Settled section values at each parameter value (dots; NaN where the walker fell):
+    :func:`walker.plot_branch.plot_orbit_diagram`.
 
     Parameters
     ----------
     orbit_diagram : OrbitDiagram
         uses ``parameter`` (n,), ``values`` (n, n_keep), ``parameter_name``, ``coordinate``.
     ax : Axes, optional
+    parameter_unit : str, optional
+        unit of the parameter, on the x axis.
+    coordinate_name, coordinate_unit : str, optional
+        the recorded section coordinate's name and unit, on the y axis (default
+        ``"section coordinate k"`` in rad).
 
     Returns
     -------
     Figure
-        one scatter (PathCollection) of the finite values.
+        one scatter (PathCollection) of the finite values, and red crosses on the x axis
+        where the walker fell.
     """
-    param = np.asarray(orbit_diagram.parameter, dtype=float)
-    values = np.asarray(orbit_diagram.values, dtype=float)
-    check_rows("orbit_diagram.values", values, param, "n_keep")
-    fig, ax = new_axes(ax)
-    px = np.repeat(param, values.shape[1])
-    py = values.ravel()
-    ok = np.isfinite(py)
-    ax.scatter(px[ok], py[ok], s=1.5, color="k", marker=".", linewidths=0)
-    ax.set_xlabel(str(getattr(orbit_diagram, "parameter_name", "parameter")))
-    ax.set_ylabel(f"section coordinate {getattr(orbit_diagram, 'coordinate', 0)}")
-    return fig
+    from walker.plot_branch import plot_orbit_diagram as draw
+
+    return draw(
+        orbit_diagram,
+        parameter_unit=parameter_unit or "",
+        coordinate_name=coordinate_name,
+        coordinate_unit=coordinate_unit
+        if coordinate_unit is not None
+        else (None if coordinate_name else "rad"),
+        ax=ax,
+    )
 
 
 WORK_PRECISION_ERROR = "error: max-norm of the final state minus a reference run's [rad, rad/s]"
