@@ -165,6 +165,7 @@ def test_period_two_branch_draws_both_points_of_its_orbit():
 
 
 @pytest.mark.slow
+@pytest.mark.filterwarnings("ignore:the stored parameters predate")
 def test_branch_measures_cycle_points_close_the_period_two_orbit():
     """The two points of a period-2 gait of the simplest walker (switched to at the period
     doubling of the shipped branch): the stride map takes point 1 to point 2 and point 2
@@ -322,6 +323,26 @@ def test_plot_draws_only_the_figures_asked_in_the_format_asked(tmp_path, capsys)
         "kneed_walk_energy.svg",
     ]
     assert (out / "kneed_walk_energy.svg").read_text()[:200].lstrip().startswith("<?xml")
+    png = tmp_path / "png"
+    assert (
+        main(
+            [
+                "plot",
+                str(GALLERY / "kneed_walk.h5"),
+                "--out",
+                str(png),
+                "--figure",
+                "angles",
+                "--dpi",
+                "50",
+            ]
+        )
+        == 0
+    )
+    from PIL import Image
+
+    with Image.open(png / "kneed_walk_angles.png") as image:
+        assert image.size == (350, 280)  # the 7.0 x 5.6 in figure at 50 dots per inch
     pdf = tmp_path / "pdf"
     assert (
         main(["plot", str(GALLERY / "compass_basin.h5"), "--out", str(pdf), "--format", "pdf"]) == 0

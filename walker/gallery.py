@@ -519,14 +519,17 @@ def plot_file(
             )
     names = FIGURES[kind] if figures is None else figures
     title = figure_title(prov)
-    _OUTPUT["dpi"] = int(dpi)
-    if kind == "solution":
-        model, params = _params_from_provenance(prov)
-        return plot_solution(
-            result, model, params, out, stem, gif=gif, names=names, fmt=fmt, title=title
-        )
-    drawn = _result_figures(result, prov, kind, names, Path(path).parent)
-    return [_save(_titled(fig, title), out / f"{stem}_{name}.{fmt}") for name, fig in drawn]
+    _OUTPUT["dpi"] = int(dpi)  # for this call's figures only
+    try:
+        if kind == "solution":
+            model, params = _params_from_provenance(prov)
+            return plot_solution(
+                result, model, params, out, stem, gif=gif, names=names, fmt=fmt, title=title
+            )
+        drawn = _result_figures(result, prov, kind, names, Path(path).parent)
+        return [_save(_titled(fig, title), out / f"{stem}_{name}.{fmt}") for name, fig in drawn]
+    finally:
+        _OUTPUT["dpi"] = 110
 
 
 def _result_figures(result, prov: dict, kind: str, names, directory: Path):
