@@ -76,13 +76,7 @@ from walker.params import (  # noqa: E402
 )
 from walker.results import FixedPoint, MapResult, Solution  # noqa: E402
 from walker.scene import Scene, load_scene  # noqa: E402
-from walker.status import (  # noqa: E402
-    EVENT_CONTINUE,
-    EVENT_IGNORE,
-    EVENT_STRIDE,
-    EVENT_TERMINAL,
-    Status,
-)
+from walker.status import Status  # noqa: E402
 
 
 def __getattr__(name):
@@ -95,31 +89,11 @@ def __getattr__(name):
         from walker.fixedpoint import find_fixed_point
 
         return find_fixed_point
-    if name in ("HybridSystem", "hybrid_solve"):
-        from walker import integrate
-
-        return getattr(integrate, name)
-    if name == "SystemSectionMap":
-        from walker.own_system import SystemSectionMap
-
-        return SystemSectionMap
-    if name == "continue_branch":
-        from walker.continuation import continue_branch
-
-        return continue_branch
     raise AttributeError(f"module 'walker' has no attribute {name!r}")
 
 
 __all__ = [
-    "EVENT_CONTINUE",
-    "EVENT_IGNORE",
-    "EVENT_STRIDE",
-    "EVENT_TERMINAL",
-    "HybridSystem",
     "MODEL_NAMES",
-    "SystemSectionMap",
-    "continue_branch",
-    "hybrid_solve",
     "CompassParams",
     "DoublePendulumParams",
     "FixedPoint",
