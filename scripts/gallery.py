@@ -101,6 +101,27 @@ def compass_basin(quick):
     return _store_and_plot(bm, scene, "compass_basin")
 
 
+def compass_sweep(quick):
+    """The compass gait's fixed points over slope and hip mass: a two-parameter sweep's heat
+    maps (status, step time, largest multiplier; colour limits robust to far values, which
+    are drawn as crosses)."""
+    from walker.sweep import sweep
+
+    scene = _scene("compass_goswami")
+    P = StrideMap("compass", scene.params, rtol=1e-10, atol=1e-10)
+    fp = find_fixed_point(P, P.project(scene.state))
+    n = 8 if quick else 16
+    table = sweep(
+        P,
+        {"slope": np.linspace(0.01, 0.09, n), "mass_hip": np.linspace(5.0, 20.0, n)},
+        kind="fixed_point",
+        z0=fp.section,
+        executor="serial",
+        progress=False,
+    )
+    return _store_and_plot(table, scene, "compass_sweep")
+
+
 def three_link_walk(quick):
     scene = _scene("three_link_grizzle")
     first = simulate("three_link", scene.params, scene.state, n_strides=3, output="events")
@@ -404,6 +425,7 @@ JOBS = {
         simplest_branch,
         compass_orbits,
         compass_basin,
+        compass_sweep,
         three_link_walk,
         kneed_coulomb_walk,
         rimless_wheel,

@@ -161,14 +161,15 @@ def test_plot_multipliers():
 
 
 def test_plot_bifurcation():
-    fig = plotting.plot_bifurcation(_branch(), coordinate=0)
+    fig = plotting.plot_bifurcation(_branch(), coordinate=0, parameter_unit="rad")
     ax = fig.axes[0]
     lines = ax.get_lines()
     assert len(lines) == 3  # stable run, unstable run, bifurcation markers
     assert lines[0].get_linestyle() == "-" and lines[1].get_linestyle() == "--"
     assert lines[0].get_xdata()[-1] == lines[1].get_xdata()[0]  # runs are joined
     assert [tx.get_text() for tx in ax.texts] == ["PD"]
-    assert ax.get_xlabel() == "slope" and ax.get_ylabel() == "section coordinate 0"
+    assert ax.get_xlabel() == "slope [rad]"
+    assert ax.get_ylabel() == "section coordinate 0 just after heel strike [rad]"
     with pytest.raises(ValueError, match=r"`coordinate` must be in \[0, 2\)"):
         plotting.plot_bifurcation(_branch(), coordinate=2)
 
@@ -176,10 +177,13 @@ def test_plot_bifurcation():
 def test_plot_orbit_diagram():
     values = np.tile([[0.2, 0.3, 0.2, 0.3]], (6, 1))
     values[5] = np.nan
-    fig = plotting.plot_orbit_diagram(OrbitDiagram("slope", np.linspace(0.01, 0.02, 6), values))
+    fig = plotting.plot_orbit_diagram(
+        OrbitDiagram("slope", np.linspace(0.01, 0.02, 6), values), parameter_unit="rad"
+    )
     (sc,) = fig.axes[0].collections
     assert sc.get_offsets().shape == (20, 2)  # NaN row dropped
-    assert fig.axes[0].get_xlabel() == "slope"
+    assert fig.axes[0].get_xlabel() == "slope [rad]"
+    assert fig.axes[0].get_ylabel() == "section coordinate 0 just after heel strike [rad]"
 
 
 def basin_map(axis_names, x, y, outcome, fixed_point, n_strides):

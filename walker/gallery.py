@@ -9,6 +9,7 @@ joint positions) by the model named in the file's provenance.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +18,41 @@ from matplotlib.figure import Figure
 from walker import plotting
 from walker.results import Branch, Solution, Trajectory
 
-__all__ = ["phase_labels", "plot_file", "plot_solution", "solution_figures", "walker_frames"]
+__all__ = [
+    "FIGURES",
+    "FORMATS",
+    "UnknownFigure",
+    "figure_title",
+    "phase_labels",
+    "plot_file",
+    "plot_solution",
+    "solution_figures",
+    "torque_names",
+    "walker_frames",
+]
+
+
+FORMATS = ("png", "pdf", "svg")
+"""File formats of :func:`plot_file`."""
+
+FIGURES = {
+    "solution": ("angles", "energy", "phase_portrait", "torques", "zero_dynamics"),
+    "fixed_point": ("multipliers",),
+    "branch": ("branch", "bifurcation", "multipliers"),
+    "orbit_diagram": ("orbit_diagram",),
+    "basin": ("basin",),
+    "sweep": ("sweep",),
+}
+"""The figures :func:`plot_file` draws for each kind of result, by name (a run's torques
+and zero dynamics only for actuated walkers); the animation (``walk``) is asked for apart
+(``gif``)."""
+
+
+class UnknownFigure(ValueError):
+    """A figure name that :func:`plot_file` does not draw for the file's kind."""
+
+
+_OUTPUT = {"dpi": 110}
 
 
 def _save(fig, path: Path) -> Path:
@@ -31,8 +66,25 @@ def _save(fig, path: Path) -> Path:
     from walker.storage import write_file
 
     buffer = io.BytesIO()
-    fig.savefig(buffer, format=path.suffix.lstrip(".") or "png", dpi=110)
+    fig.savefig(buffer, format=path.suffix.lstrip(".") or "png", dpi=_OUTPUT["dpi"])
     return write_file(path, buffer.getvalue())
+
+
+def figure_title(prov: dict) -> str:
+    """``"model, scene STEM"``: the model and the scene (its file's stem) a result was
+    computed from, read from the file's provenance (``"model"`` alone without a scene)."""
+    model = str(prov.get("model") or "unknown model")
+    scene = prov.get("scene")
+    if isinstance(scene, str) and scene:
+        return f"{model}, scene {Path(scene).stem}"
+    return model
+
+
+def _titled(fig, title: str):
+    """Put ``title`` above ``fig``, before the figure's own title if it has one."""
+    own = fig.get_suptitle()
+    fig.suptitle(f"{title}: {own}" if own else title, fontsize="medium")
+    return fig
 
 
 FRICTION_PREFIXES = ("damping_", "coulomb_")
@@ -216,7 +268,9 @@ def _has_dry_friction(params, joint: str) -> bool:
     return True
 
 
-def solution_figures(sol: Solution, model, params) -> dict[str, Figure]:
+def solution_figures(
+    sol: Solution, model, params, names: tuple[str, ...] | None = None
+) -> dict[str, Figure]:
     """The figures of a run, by name: ``angles``; when it holds at least two samples also
     ``energy`` and ``phase_portrait``, and for actuated walkers ``torques`` and
     ``zero_dynamics``.
@@ -229,55 +283,47 @@ def solution_figures(sol: Solution, model, params) -> dict[str, Figure]:
         energy jumps are computed from each event's pre- and post-event states.
     model : WalkerModel
     params : the model's parameter dataclass
+    names : tuple of str, optional
+        draw only these of the figures above (the others are not computed); default all.
 
     Returns
     -------
     dict of str -> matplotlib.figure.Figure
     """
+    wanted = FIGURES["solution"] if names is None else tuple(names)
     figures: dict[str, Figure] = {}
     traj = sol.record if sol.record is not None else sol.samples
     n_q = n_q_of(model)
-    # angles and rates only (actuated models carry accumulators after them)
-    shown = traj if traj is None else Trajectory(traj.t, traj.x[:, : 2 * n_q], traj.phase)
-    angles = plotting.plot_angles(
-        shown if shown is not None else sol,
-        state_names=model.state_names[: 2 * n_q],
-        phase_names=phase_labels(model, params),
-    )
-    if shown is not None and sol.events is not None:
-        for ax in angles.axes:
-            for te in sol.events.t:
-                ax.axvline(te, color="0.5", linestyle=":", linewidth=0.8)
-    figures["angles"] = angles
+    if "angles" in wanted:
+        # angles and rates only (actuated models carry accumulators after them)
+        shown = traj if traj is None else Trajectory(traj.t, traj.x[:, : 2 * n_q], traj.phase)
+        angles = plotting.plot_angles(
+            shown if shown is not None else sol,
+            state_names=model.state_names[: 2 * n_q],
+            phase_names=phase_labels(model, params),
+        )
+        if shown is not None and sol.events is not None:
+            for ax in angles.axes:
+                for te in sol.events.t:
+                    ax.axvline(te, color="0.5", linestyle=":", linewidth=0.8)
+        figures["angles"] = angles
     if traj is None or len(traj) < 2:
         return figures
-    kinetic, potential = model.energies(traj.x, params)
-    if model.has_strides:
-        # Potential energy relative to the current stance foot jumps at each heel strike;
-        # refer it to the world frame by the accumulated drop of the stance foot.
-        frames = walker_frames(model, params, traj.t, traj.x, sol.events)
-        total_mass = _total_mass(params)
-        potential = potential + total_mass * params.g * (frames[:, 0, 1] - frames[0, 0, 1])
     events = _impact_times(sol.events, n_q)
-    event_energies = None
-    if sol.events is not None:
-        event_energies = _event_energies(model, params, sol.events)[_impact_mask(sol.events, n_q)]
-    figures["energy"] = plotting.plot_energy(
-        traj.t,
-        kinetic,
-        potential,
-        event_times=events,
-        event_energies=event_energies,
-        unit="J" if _has_masses(params) else "J/kg",
-    )
-    figures["phase_portrait"] = plotting.plot_phase_portrait(
-        traj, 0, n_q, state_names=model.state_names
-    )
-    if model.has_torques:
+    if "energy" in wanted:
+        figures["energy"] = _energy_figure(sol, traj, model, params, n_q, events)
+    if "phase_portrait" in wanted:
+        figures["phase_portrait"] = plotting.plot_phase_portrait(
+            traj, 0, n_q, state_names=model.state_names
+        )
+    if model.has_torques and "torques" in wanted:
         pp = params.as_array()
         u = np.array([model.torques(row, pp) for row in traj.x])
         limit = getattr(params, "torque_limit", None)
-        figures["torques"] = plotting.plot_torques(traj.t, u, limit=limit, event_times=events)
+        figures["torques"] = plotting.plot_torques(
+            traj.t, u, names=torque_names(model, u.shape[1]), limit=limit, event_times=events
+        )
+    if model.has_torques and "zero_dynamics" in wanted:
         tp, tm = getattr(params, "theta_plus", None), getattr(params, "theta_minus", None)
         figures["zero_dynamics"] = plotting.plot_zero_dynamics(
             traj.x[:, 0], traj.x[:, n_q], theta_plus=tp, theta_minus=tm
@@ -285,16 +331,59 @@ def solution_figures(sol: Solution, model, params) -> dict[str, Figure]:
     return figures
 
 
+def torque_names(model, n_torques: int) -> list[str]:
+    """Legend names of a model's actuator torques: the joint each acts at (the model's
+    ``JOINTS``, e.g. ``"hip_stance"``: between the torso and the stance leg), else
+    ``u0, u1, ...``."""
+    joints = tuple(getattr(model.module, "JOINTS", ()))
+    if len(joints) == n_torques:
+        return [f"{joint} joint" for joint in joints]
+    return [f"u{j}" for j in range(n_torques)]
+
+
+def _energy_figure(sol, traj, model, params, n_q: int, events):
+    """The energy figure of :func:`solution_figures`."""
+    kinetic, potential = model.energies(traj.x, params)
+    if model.has_strides:
+        # Potential energy relative to the current stance foot jumps at each heel strike;
+        # refer it to the world frame by the accumulated drop of the stance foot.
+        frames = walker_frames(model, params, traj.t, traj.x, sol.events)
+        total_mass = _total_mass(params)
+        potential = potential + total_mass * params.g * (frames[:, 0, 1] - frames[0, 0, 1])
+    event_energies = None
+    if sol.events is not None:
+        event_energies = _event_energies(model, params, sol.events)[_impact_mask(sol.events, n_q)]
+    return plotting.plot_energy(
+        traj.t,
+        kinetic,
+        potential,
+        event_times=events,
+        event_energies=event_energies,
+        unit="J" if _has_masses(params) else "J/kg",
+    )
+
+
 def plot_solution(
-    sol: Solution, model, params, out: Path, stem: str, *, gif: bool = False
+    sol: Solution,
+    model,
+    params,
+    out: Path,
+    stem: str,
+    *,
+    gif: bool = False,
+    names: tuple[str, ...] | None = None,
+    fmt: str = "png",
+    title: str | None = None,
 ) -> list[Path]:
-    """Write the figures of :func:`solution_figures` as ``{stem}_{name}.png`` into ``out``,
-    and with ``gif`` (walkers and the double pendulum) a stick-figure animation
-    ``{stem}_walk.gif``, which takes most of the time."""
-    paths = [
-        _save(fig, out / f"{stem}_{name}.png")
-        for name, fig in solution_figures(sol, model, params).items()
-    ]
+    """Write the figures of :func:`solution_figures` (only ``names``, default all) as
+    ``{stem}_{name}.{fmt}`` into ``out``, each titled ``title`` when given, and with ``gif``
+    (walkers and the double pendulum) a stick-figure animation ``{stem}_walk.gif``, which
+    takes most of the time."""
+    paths = []
+    for name, fig in solution_figures(sol, model, params, names).items():
+        if title:
+            _titled(fig, title)
+        paths.append(_save(fig, out / f"{stem}_{name}.{fmt}"))
     traj = sol.record if sol.record is not None else sol.samples
     if gif and traj is not None and len(traj) >= 2:
         if model.has_strides or model.name == "double_pendulum":
@@ -306,7 +395,14 @@ def plot_solution(
                 frames = np.array([model.points(traj.x[i], params) for i in idx])
             slope = float(getattr(params, "slope", 0.0))
             anim_path = out / f"{stem}_walk.gif"
-            plotting.animate_walker(frames, model.segments, slope=slope, path=anim_path)
+            plotting.animate_walker(
+                frames,
+                model.segments,
+                slope=slope,
+                path=anim_path,
+                swing_foot=int(getattr(model.module, "SWING_FOOT", -1)),
+                title=title,
+            )
             paths.append(anim_path)
     return paths
 
@@ -346,11 +442,35 @@ def _total_mass(params) -> float:
     return total if total > 0 else 1.0
 
 
-def plot_file(path, out_dir=".", *, gif: bool = False) -> list[Path]:
-    """Draw every figure that fits the result stored in ``path`` into ``out_dir``.
+def plot_file(
+    path,
+    out_dir=".",
+    *,
+    gif: bool = False,
+    figures: Sequence[str] | None = None,
+    fmt: str = "png",
+    dpi: int = 110,
+) -> list[Path]:
+    """Draw the figures that fit the result stored in ``path`` into ``out_dir``, each titled
+    with the model and the scene (:func:`figure_title`).
 
-    ``gif`` also renders a stored run as a stick-figure animation (``*_walk.gif``), which
-    takes most of the time; by default it is not made.
+    Parameters
+    ----------
+    path : str or Path
+        a walker result file.
+    out_dir : str or Path
+        an existing directory; the figures are ``{stem}_{name}.{fmt}``.
+    gif : bool
+        also render a stored run as a stick-figure animation (``*_walk.gif``), which takes
+        most of the time; by default it is not made.
+    figures : sequence of str, optional
+        which figures to draw, by name (:data:`FIGURES` lists them for each kind); only
+        these are computed.  Default: every figure of the file's kind.
+    fmt : {"png", "pdf", "svg"}
+        file format of the figures.
+    dpi : int
+        resolution [dots per inch] of raster output (and of raster parts of PDF and SVG),
+        1 to 2400.
 
     Raises
     ------
@@ -358,18 +478,58 @@ def plot_file(path, out_dir=".", *, gif: bool = False) -> list[Path]:
         the file is missing, damaged or not a walker result.
     FileNotFoundError
         ``out_dir`` does not exist.
+    ValueError
+        ``fmt`` or ``dpi`` is out of range; :class:`UnknownFigure` (a ValueError) when a
+        name in ``figures`` is not a figure of the file's kind.
     """
     from walker.storage import read
 
+    if fmt not in FORMATS:
+        raise ValueError(f"`fmt` must be one of {', '.join(FORMATS)}, got {fmt!r}")
+    if isinstance(dpi, bool) or not isinstance(dpi, int | np.integer) or not 1 <= dpi <= 2400:
+        raise ValueError(f"`dpi` must be an integer in [1, 2400], got {dpi!r}")
+    if figures is not None:
+        figures = tuple(figures)
+        known = {n for names in FIGURES.values() for n in names}
+        unknown = [n for n in figures if n not in known]
+        if unknown or not figures:
+            raise UnknownFigure(
+                f"unknown figure {', '.join(map(repr, unknown)) or '(none given)'}; "
+                f"the figures are {', '.join(sorted(known))}"
+            )
     out = Path(out_dir)
     if not out.is_dir():
         raise FileNotFoundError(f"--out: directory {str(out)!r} does not exist")
     result, prov = read(path)
     stem = Path(path).stem
     kind = prov["kind"]
-    if kind == "solution":
-        model, params = _params_from_provenance(prov)
-        return plot_solution(result, model, params, out, stem, gif=gif)
+    if kind not in FIGURES:
+        raise ValueError(f"{path}: nothing to plot for a `{kind}` result")
+    if figures is not None:
+        wrong = [n for n in figures if n not in FIGURES[kind]]
+        if wrong:
+            raise UnknownFigure(
+                f"a `{kind}` file has no figure {', '.join(map(repr, wrong))}; its figures "
+                f"are {', '.join(FIGURES[kind])}"
+            )
+    names = FIGURES[kind] if figures is None else figures
+    title = figure_title(prov)
+    _OUTPUT["dpi"] = int(dpi)  # for this call's figures only
+    try:
+        if kind == "solution":
+            model, params = _params_from_provenance(prov)
+            return plot_solution(
+                result, model, params, out, stem, gif=gif, names=names, fmt=fmt, title=title
+            )
+        drawn = _result_figures(result, prov, kind, names, Path(path).parent)
+        return [_save(_titled(fig, title), out / f"{stem}_{name}.{fmt}") for name, fig in drawn]
+    finally:
+        _OUTPUT["dpi"] = 110
+
+
+def _result_figures(result, prov: dict, kind: str, names, directory: Path):
+    """``(name, figure)`` of each of ``names`` for a stored result other than a run, drawn
+    one at a time (a generator: each figure is saved before the next is drawn)."""
     if kind == "fixed_point":
         branch = Branch(
             "",
@@ -384,47 +544,68 @@ def plot_file(path, out_dir=".", *, gif: bool = False) -> list[Path]:
             result.success,
             result.period,
         )
-        return [_save(plotting.plot_multipliers(branch), out / f"{stem}_multipliers.png")]
-    if kind == "branch":
+        yield "multipliers", plotting.plot_multipliers(branch)
+    elif kind == "branch":
+        model, params = _params_from_provenance(prov)
+        for name in names:
+            if name == "branch":
+                from walker.plot_branch import result_figures
+
+                yield (
+                    name,
+                    result_figures(result, prov, model=model, params=params, directory=directory)[
+                        "branch"
+                    ],
+                )
+            elif name == "bifurcation":
+                yield name, _bifurcation_figure(result, prov, model, params, directory)
+            else:
+                yield (
+                    name,
+                    plotting.plot_multipliers(
+                        result, parameter_unit=_parameter_unit(prov, result.parameter_name)
+                    ),
+                )
+    elif kind == "orbit_diagram":
         from walker.plot_branch import result_figures
 
         model, params = _params_from_provenance(prov)
-        gait = result_figures(
-            result, prov, model=model, params=params, directory=Path(path).parent
-        )["branch"]
-        fig = plotting.plot_bifurcation(result)
-        _label_section(fig, prov, 0)
-        return [
-            _save(gait, out / f"{stem}_branch.png"),
-            _save(fig, out / f"{stem}_bifurcation.png"),
-            _save(
-                plotting.plot_multipliers(
-                    result, parameter_unit=_parameter_unit(prov, result.parameter_name)
-                ),
-                out / f"{stem}_multipliers.png",
-            ),
-        ]
-    if kind == "orbit_diagram":
-        from walker.plot_branch import result_figures
-
-        model, params = _params_from_provenance(prov)
-        fig = result_figures(result, prov, model=model, params=params)["orbit_diagram"]
-        return [_save(fig, out / f"{stem}_orbit_diagram.png")]
-    if kind == "basin":
-        return [_save(_plot_basin(result, prov), out / f"{stem}_basin.png")]
-    if kind == "sweep":
-        return [_save(_plot_sweep(result, prov), out / f"{stem}_sweep.png")]
-    raise ValueError(f"{path}: nothing to plot for a `{kind}` result")
+        yield (
+            "orbit_diagram",
+            result_figures(result, prov, model=model, params=params)["orbit_diagram"],
+        )
+    elif kind == "basin":
+        yield "basin", _plot_basin(result, prov)
+    else:
+        yield "sweep", _plot_sweep(result, prov)
 
 
-def _label_section(fig, prov, coordinate):
-    """Name the section coordinate on the y axis when the model is known."""
-    from walker.models import MODEL_NAMES, get_model
+def _bifurcation_figure(branch, prov: dict, model, params, directory: Path):
+    """The bifurcation diagram of a stored branch, section coordinate 0 with its name and
+    unit against the parameter with its unit; a branch of period k (and the period-doubled
+    branch a ``walker continue --switch`` file names, drawn with it) shows all k points of
+    its cycle, which :func:`walker.plot_branch.branch_measures` computes."""
+    from walker.plot_branch import branch_measures, companion_branch
 
-    if prov.get("model") in MODEL_NAMES:
-        names = get_model(prov["model"]).section_names
-        if coordinate < len(names):
-            fig.axes[0].set_ylabel(f"{names[coordinate]} just after heel strike")
+    names = tuple(model.section_names)
+    options = {
+        "parameter_unit": _parameter_unit(prov, branch.parameter_name),
+        "coordinate_name": names[0] if names else None,
+    }
+    tolerances = {k: float(prov[k]) for k in ("rtol", "atol") if k in prov}
+
+    def cycle(b):
+        if int(getattr(b, "period", 1)) < 2:
+            return None
+        return branch_measures(b, model, params, **tolerances).cycle_sections
+
+    fig = plotting.plot_bifurcation(branch, cycle_sections=cycle(branch), **options)
+    other = companion_branch(prov, directory)
+    if other is not None:
+        plotting.plot_bifurcation(
+            other, ax=fig.axes[0], cycle_sections=cycle(other), color="C2", **options
+        )
+    return fig
 
 
 def _plot_basin(basin, prov: dict):

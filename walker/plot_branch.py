@@ -70,11 +70,12 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
-from walker.plot_common import check_rows, equal_runs, with_unit
+from walker.plot_common import check_rows, equal_runs, legend_outside, with_unit
 
 __all__ = [
     "BranchMeasures",
     "branch_measures",
+    "companion_branch",
     "plot_branch",
     "plot_orbit_diagram",
     "result_figures",
@@ -111,6 +112,10 @@ class BranchMeasures:
     stable : ndarray of bool, shape (n,)
     period : int
     time_unit, length_unit : str
+    notes : list of str
+    cycle_sections : ndarray, shape (n, period, n_z), optional
+        the section point at the start of each step of the cycle (step 0: the branch's
+        section; NaN after a failed stride), for drawing every point of a period-k orbit.
     """
 
     parameter_name: str
@@ -126,6 +131,7 @@ class BranchMeasures:
     time_unit: str = "s"
     length_unit: str = "m"
     notes: list[str] = field(default_factory=list)
+    cycle_sections: np.ndarray | None = None
 
     @classmethod
     def from_arrays(
@@ -219,11 +225,15 @@ def branch_measures(
     swing = int(getattr(model.module, "SWING_FOOT", -1))
     times = np.full((param.size, period), np.nan)
     lengths = np.full((param.size, period), np.nan)
+    cycle = np.full((param.size, period, sections.shape[1]), np.nan)
     for i, (mu, z) in enumerate(zip(param, sections, strict=True)):
         p_i = params.replace(**{name: float(mu)})
         p = p_i.as_array()
         x = model.lift(z, p)
+        cycle[i, 0] = z
         for j in range(period):
+            if j > 0:
+                cycle[i, j] = np.asarray(model.project(x, p), dtype=float)
             sol = simulate(model, p_i, x, n_strides=1, output="events", rtol=rtol, atol=atol)
             if not sol.success or sol.events is None or len(sol.events) == 0:
                 break
@@ -255,7 +265,9 @@ def branch_measures(
         parameter_unit=units[name],
         cost_of_transport=cot,
     )
-    return replace(measures, length_unit=units.get("leg_length", "m"), notes=notes)
+    return replace(
+        measures, length_unit=units.get("leg_length", "m"), notes=notes, cycle_sections=cycle
+    )
 
 
 def plot_branch(
@@ -393,7 +405,7 @@ def _dedupe_legend(ax) -> None:
     for h, lab in zip(handles, labels, strict=True):
         seen.setdefault(lab, h)
     order = sorted(seen)  # "period 1, stable" before "period 1, unstable" before "period 2..."
-    ax.legend([seen[lab] for lab in order], order, loc="best", fontsize="small")
+    legend_outside(ax, [seen[lab] for lab in order], order)
 
 
 def section_unit(name: str) -> str:
@@ -454,7 +466,7 @@ def plot_orbit_diagram(
             clip_on=False,
             label="fell",
         )
-        ax.legend(loc="best", fontsize="small")
+        legend_outside(ax)
     k = int(getattr(diagram, "coordinate", 0))
     name = coordinate_name or f"section coordinate {k}"
     unit = (
@@ -495,6 +507,34 @@ def _bare_file_name(name: Any) -> bool:
         and (os.sep == "/" or os.sep not in name)
         and Path(name).name == name
     )
+
+
+def companion_branch(provenance: dict, directory: str | Path | None, source: str = "result"):
+    """The period-doubled branch a ``walker continue --switch`` file names
+    (``switched_branch``), read from ``directory``; None without one or when its file is not
+    there.
+
+    Raises
+    ------
+    walker.storage.StorageError
+        ``switched_branch`` is not a bare file name (a file beside the branch's).
+    """
+    companion = provenance.get("switched_branch")
+    if not companion or directory is None:
+        return None
+    if not _bare_file_name(companion):
+        from walker.storage import StorageError
+
+        raise StorageError(
+            f"{source}: provenance key 'switched_branch' must name a file in the same "
+            f"directory (walker writes a bare file name), got {companion!r:.80}"
+        )
+    other = Path(directory) / companion
+    if not other.is_file():
+        return None
+    from walker.storage import read
+
+    return read(other)[0]
 
 
 def result_figures(
@@ -558,20 +598,9 @@ def result_figures(
         )
         return {"orbit_diagram": fig}
     branches = [result]
-    companion = provenance.get("switched_branch")
-    if companion and directory is not None:
-        if not _bare_file_name(companion):
-            from walker.storage import StorageError
-
-            raise StorageError(
-                f"{source}: provenance key 'switched_branch' must name a file in the same "
-                f"directory (walker writes a bare file name), got {companion!r:.80}"
-            )
-        other = Path(directory) / companion
-        if other.is_file():
-            from walker.storage import read
-
-            branches.append(read(other)[0])
+    other = companion_branch(provenance, directory, source)
+    if other is not None:
+        branches.append(other)
     tolerances = {k: float(provenance[k]) for k in ("rtol", "atol") if k in provenance}
     measures = [branch_measures(b, model, params, **tolerances) for b in branches]
     return {"branch": plot_branch(branches, measures)}

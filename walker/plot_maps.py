@@ -16,7 +16,13 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from walker.plot_common import new_axes, state_unit, with_unit
+from walker.plot_common import (
+    OUTLIER_STYLE,
+    new_axes,
+    robust_limits,
+    state_unit,
+    with_unit,
+)
 
 __all__ = ["outcome_label", "plot_basin", "plot_sweep"]
 
@@ -390,7 +396,21 @@ def _plot_sweep_1d(
         panel += 1
         ax = axes[panel]
         ax.axhline(1.0, color="0.5", ls="--", lw=0.8, label="1 (stability limit)")
-        draw(ax, largest, "C3")
+        lo, hi, outside = robust_limits(np.where(ok, largest, np.nan))
+        shown = np.where(outside, np.nan, largest)
+        draw(ax, shown, "C3")
+        pad = 0.08 * (max(hi, 1.0) - min(lo, 1.0))
+        ax.set_ylim(min(lo, 1.0) - pad, max(hi, 1.0) + pad)
+        if np.any(outside):
+            # drawn at the panel's edge they leave, as crosses, counted in the legend
+            edge = np.where(largest[outside] > hi, max(hi, 1.0) + pad, min(lo, 1.0) - pad)
+            ax.plot(
+                x[outside],
+                edge,
+                clip_on=False,
+                **OUTLIER_STYLE,
+                label=f"off scale ({int(outside.sum())}): {_span(largest[outside])}",
+            )
         ax.set_ylabel("largest |multiplier| [1]")
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", frameon=False)
     where = "gait at heel strike" if fixed_point else f"state after {n_strides} strides"
@@ -404,6 +424,12 @@ def _plot_sweep_1d(
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", frameon=False)
     axes[-1].set_xlabel(xlabel)
     return fig
+
+
+def _span(values: np.ndarray) -> str:
+    """``"a to b"`` (or ``"a"``) of the values, 3 significant digits."""
+    lo, hi = float(np.min(values)), float(np.max(values))
+    return f"{lo:.3g}" if lo == hi else f"{lo:.3g} to {hi:.3g}"
 
 
 def _plot_sweep_2d(points, labels_xy, found) -> Figure:
@@ -424,8 +450,9 @@ def _plot_sweep_2d(points, labels_xy, found) -> Figure:
         if name == "status":
             cmap, norm = cat_cmap, Normalize(-0.5, len(codes) - 0.5)
         else:
-            finite = values[np.isfinite(values)]
-            lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+            # robust limits: one far point (|lambda| 198) must not flatten the map; the
+            # points outside are drawn as crosses and counted in a legend entry
+            lo, hi, outside = robust_limits(values)
             if name.startswith("largest") and lo < 1.0 < hi:
                 cmap, norm = "coolwarm", TwoSlopeNorm(1.0, lo, hi)
             else:
@@ -440,6 +467,22 @@ def _plot_sweep_2d(points, labels_xy, found) -> Figure:
             good = np.isfinite(values)
             mesh = ax.scatter(
                 points[good, 0], points[good, 1], c=values[good], cmap=cmap, norm=norm, s=25
+            )
+        if name != "status" and np.any(outside):
+            ax.plot(points[outside, 0], points[outside, 1], **OUTLIER_STYLE)
+            ax.legend(
+                handles=[
+                    Line2D(
+                        [],
+                        [],
+                        **OUTLIER_STYLE,
+                        label=f"outside colour range ({int(outside.sum())}): "
+                        f"{_span(values[outside])}",
+                    )
+                ],
+                loc="upper center",
+                bbox_to_anchor=(0.5, -0.14),
+                fontsize="small",
             )
         if name == "status":
             ax.legend(

@@ -19,10 +19,11 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from walker.plot_common import equal_runs, new_axes, state_unit, with_unit
+from walker.plot_common import equal_runs, legend_outside, new_axes, state_unit, with_unit
 
 __all__ = [
     "animate_walker",
+    "leg_roles",
     "plot_angles",
     "plot_energy",
     "plot_phase_portrait",
@@ -128,8 +129,8 @@ def plot_angles(
     ax_v.set_ylabel("rate [rad/s]")
     ax_v.set_xlabel("time [s]")
     handles, _ = ax_q.get_legend_handles_labels()
-    ax_q.legend(handles=handles + list(seen.values()), loc="best", fontsize="small")
-    ax_v.legend(loc="best", fontsize="small")
+    legend_outside(ax_q, handles=handles + list(seen.values()))
+    legend_outside(ax_v)
     return fig
 
 
@@ -184,7 +185,7 @@ def plot_phase_portrait(
     if fixed_point is not None:
         state = np.asarray(getattr(fixed_point, "state", fixed_point), dtype=float)
         ax.plot(state[i], state[j], marker="*", ms=12, color="C3", ls="none", label="fixed point")
-        ax.legend(loc="best", fontsize="small")
+        legend_outside(ax)
     if state_names is not None:
         names = list(state_names)
         default_units = [state_unit(n) for n in names]
@@ -282,26 +283,56 @@ def plot_energy(
                 lw=2.0,
                 label="impact loss",
             )
-        for time, a, b in zip(te, e0, e1, strict=True):
-            ax.annotate(
-                f"{b - a:+.5g} {unit}",
-                (time, min(a, b)),
-                textcoords="offset points",
-                xytext=(3, -10),
-                fontsize="x-small",
-                color="C3",
-            )
+        _label_jumps(ax, te, e0, e1, unit)
     ax.set_xlabel("time [s]")
     ax.set_ylabel(with_unit("energy", unit))
-    ax.legend(loc="best", fontsize="small")
+    legend_outside(ax)
     return fig
+
+
+def _label_jumps(ax: Axes, times, e0, e1, unit: str) -> None:
+    """One text per energy jump, in rows below the axes' top edge: each label goes into the
+    first row where it does not overlap the labels already placed (its width estimated from
+    its characters, in axes fractions), so labels of impacts close in time never collide.
+    A thin line joins each label to the bottom of its jump."""
+    t_lo, t_hi = ax.get_xlim()
+    span = (t_hi - t_lo) or 1.0
+    # axes width in points, and a small font's character width in points (about 0.6 em)
+    width_pt = ax.figure.get_figwidth() * 72.0 * ax.get_position().width
+    char = 0.65 * 7.0 / max(width_pt, 1.0)
+    row_ends: list[float] = []  # right end of the last label in each row [axes fraction]
+    for time, a, b in zip(times, e0, e1, strict=True):
+        text = f"{b - a:+.5g} {unit}"
+        left = (float(time) - t_lo) / span
+        width = char * (len(text) + 1)
+        left = min(left, 1.0 - width)  # inside the axes at the right end
+        right = left + width
+        row = next((k for k, end in enumerate(row_ends) if left > end), len(row_ends))
+        if row == len(row_ends):
+            row_ends.append(right)
+        else:
+            row_ends[row] = right
+        ax.annotate(
+            text,
+            xy=(time, min(a, b)),
+            xycoords="data",
+            xytext=(left, 0.97 - 0.06 * row),
+            textcoords=ax.transAxes,
+            va="top",
+            fontsize="x-small",
+            color="C3",
+            arrowprops={"arrowstyle": "-", "color": "C3", "lw": 0.5, "alpha": 0.6},
+        )
+    if row_ends:  # headroom above the data for the rows of labels
+        lo, hi = ax.get_ylim()
+        ax.set_ylim(lo, lo + (hi - lo) / (1.0 - (0.06 * len(row_ends) + 0.04)))
 
 
 def _finish(fig: Figure, ax: Axes, xlabel: str, ylabel: str) -> Figure:
     """Label the axes of a one-axes figure, add its legend, and return the figure."""
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    ax.legend(loc="best")
+    legend_outside(ax)
     return fig
 
 
@@ -412,6 +443,8 @@ def animate_walker(
     slope: float = 0.0,
     interval_ms: float = 33.0,
     path: str | Path | None = None,
+    swing_foot: int = -1,
+    title: str | None = None,
 ) -> animation.FuncAnimation:
     """Stick-figure animation of a walker; optionally saved as GIF or MP4.
 
@@ -429,6 +462,13 @@ def animate_walker(
     path : str or Path, optional
         ``*.gif`` (written with Pillow) or ``*.mp4`` (needs ffmpeg,
         ``matplotlib.animation.writers.is_available("ffmpeg")``).
+    swing_foot : int
+        index of the swing foot's point (the model's ``SWING_FOOT``; default the last); the
+        stance leg (from point 0, the stance foot, to the hip) and the swing leg (from the
+        hip to the swing foot) are drawn in two colours, other links (a torso) in grey
+        (:func:`leg_roles`).
+    title : str, optional
+        drawn above the axes.
 
     Returns
     -------
@@ -480,7 +520,22 @@ def animate_walker(
     ax.set_aspect("equal", adjustable="box")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    links = [ax.plot([], [], color="C0", lw=2.5, solid_capstyle="round")[0] for _ in segs]
+    if title:
+        ax.set_title(title, fontsize="medium")
+    roles = leg_roles(segs, n_points, swing_foot)
+    colors = {"stance leg": "C0", "swing leg": "C1", "body": "0.3"}
+    links = [
+        ax.plot([], [], color=colors[role], lw=2.5, solid_capstyle="round")[0] for role in roles
+    ]
+    ax.legend(
+        handles=[
+            Line2D([], [], color=colors[role], lw=2.5, label=role)
+            for role in colors
+            if role in roles
+        ],
+        loc="upper right",
+        fontsize="small",
+    )
     joints = ax.plot([], [], ls="none", marker="o", ms=4, color="k")[0]
 
     def draw(k: int) -> list[Line2D]:
@@ -496,6 +551,59 @@ def animate_walker(
     if writer_cls is not None:
         _save_animation(anim, path, writer_cls(fps=1000.0 / interval_ms))
     return anim
+
+
+def leg_roles(
+    segments: Sequence[tuple[int, int]], n_points: int, swing_foot: int = -1
+) -> list[str]:
+    """Which leg each link of a stick figure belongs to: ``"stance leg"``, ``"swing leg"``
+    or ``"body"``.
+
+    The legs are the path of links from point 0 (the stance foot) to ``swing_foot``; the
+    hip splits it: the point of the path where a further link (a torso) branches off, else
+    the path's middle point (the stance leg taking the shorter half: the kneed walker's
+    stance knee is locked and not drawn).
+
+    Examples
+    --------
+    >>> leg_roles([(0, 1), (1, 2), (2, 3)], 4)
+    ['stance leg', 'swing leg', 'swing leg']
+    >>> leg_roles([(0, 1), (1, 2), (1, 3)], 4, swing_foot=2)
+    ['stance leg', 'swing leg', 'body']
+    """
+    segs = [(int(a), int(b)) for a, b in segments]
+    target = swing_foot % n_points if n_points else 0
+    neighbours: dict[int, list[int]] = {}
+    for a, b in segs:
+        neighbours.setdefault(a, []).append(b)
+        neighbours.setdefault(b, []).append(a)
+    previous = {0: -1}
+    queue = [0]
+    while queue:  # breadth-first search for the path 0 -> swing foot
+        node = queue.pop(0)
+        for other in neighbours.get(node, []):
+            if other not in previous:
+                previous[other] = node
+                queue.append(other)
+    if target not in previous:
+        return ["body"] * len(segs)
+    path = [target]
+    while path[-1] != 0:
+        path.append(previous[path[-1]])
+    path.reverse()
+    inner = [p for p in path[1:-1] if len(neighbours[p]) > 2]
+    hip = inner[0] if inner else path[(len(path) - 1) // 2]
+    stance = set(path[: path.index(hip) + 1])
+    swing = set(path[path.index(hip) :])
+    roles = []
+    for a, b in segs:
+        if a in stance and b in stance:
+            roles.append("stance leg")
+        elif a in swing and b in swing:
+            roles.append("swing leg")
+        else:
+            roles.append("body")
+    return roles
 
 
 def _save_animation(anim: Any, path: Path, writer: Any) -> None:

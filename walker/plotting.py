@@ -40,7 +40,14 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from walker.plot_common import check_rows, equal_runs, new_axes, state_unit, with_unit
+from walker.plot_common import (
+    check_rows,
+    equal_runs,
+    legend_outside,
+    new_axes,
+    state_unit,
+    with_unit,
+)
 from walker.plot_maps import outcome_label, plot_basin, plot_sweep
 from walker.plot_runs import (
     animate_walker,
@@ -52,6 +59,7 @@ from walker.plot_runs import (
 )
 
 __all__ = [
+    "BIFURCATION_NAMES",
     "animate_walker",
     "outcome_label",
     "plot_angles",
@@ -124,7 +132,22 @@ def plot_multipliers(
     return fig
 
 
-def plot_bifurcation(branch: Any, *, coordinate: int = 0, ax: Axes | None = None) -> Figure:
+BIFURCATION_NAMES = {"fold": "fold (LP)", "period_doubling": "period doubling (PD)"}
+"""Legend names of the bifurcation kinds: the plain word and the usual abbreviation (LP,
+limit point; PD, period doubling)."""
+
+
+def plot_bifurcation(
+    branch: Any,
+    *,
+    coordinate: int = 0,
+    ax: Axes | None = None,
+    parameter_unit: str | None = None,
+    coordinate_name: str | None = None,
+    coordinate_unit: str | None = None,
+    cycle_sections: np.ndarray | None = None,
+    color: str = "C0",
+) -> Figure:
     """Section coordinate against the parameter: stable solid, unstable dashed.
 
     Parameters
@@ -135,12 +158,26 @@ def plot_bifurcation(branch: Any, *, coordinate: int = 0, ax: Axes | None = None
     coordinate : int
         which section coordinate to plot.
     ax : Axes, optional
+    parameter_unit : str, optional
+        unit of the parameter, on the x axis (``"name [unit]"``).
+    coordinate_name : str, optional
+        name of the section coordinate, default ``"section coordinate k"``; the y axis reads
+        ``"name just after heel strike [unit]"``.
+    coordinate_unit : str, optional
+        its unit; default :func:`state_unit` of the name (``"rad"`` without a name).
+    cycle_sections : ndarray, shape (n, period, n_z), optional
+        every point of each gait cycle (point 0 is ``sections``): a period-2 orbit is drawn
+        as its two points, two curves.  Default ``sections`` alone.
+    color : str
+        colour of the branch's curves (to draw a second branch into the same ``ax``).
 
     Returns
     -------
     Figure
-        one line per run of equal stability (neighbouring runs share their end point), one
-        marker line for the bifurcations with a text label each.
+        per point of the cycle, one line per run of equal stability (neighbouring runs share
+        their end point); one marker line per bifurcation kind present, labelled in words
+        and abbreviation (:data:`BIFURCATION_NAMES`), each point with its abbreviation;
+        the legend outside the axes.
     """
     param = np.asarray(branch.parameter, dtype=float)
     sections = np.asarray(branch.sections, dtype=float)
@@ -150,67 +187,113 @@ def plot_bifurcation(branch: Any, *, coordinate: int = 0, ax: Axes | None = None
             f"`coordinate` must be in [0, {sections.shape[1] if sections.ndim == 2 else 0}), "
             f"got {coordinate}"
         )
+    if cycle_sections is None:
+        cycle = sections[:, None, :]
+    else:
+        cycle = np.asarray(cycle_sections, dtype=float)
+        if cycle.ndim != 3 or cycle.shape[0] != param.size or cycle.shape[2] != sections.shape[1]:
+            raise ValueError(
+                f"`cycle_sections` must have shape (n, period, n_z) = ({param.size}, period, "
+                f"{sections.shape[1]}), got {cycle.shape}"
+            )
     fig, ax = new_axes(ax)
-    y = sections[:, coordinate]
     labelled = set()
-    for start, stop in equal_runs(stable):
-        s = bool(stable[start])
-        stop_incl = min(stop + 1, param.size)  # join to the next run
-        label = ("stable" if s else "unstable") if s not in labelled else None
-        labelled.add(s)
-        ax.plot(
-            param[start:stop_incl],
-            y[start:stop_incl],
-            color="C0",
-            ls="-" if s else "--",
-            label=label,
-        )
+    period = cycle.shape[1]
+    for point in range(period):
+        y = cycle[:, point, coordinate]
+        for start, stop in equal_runs(stable):
+            s = bool(stable[start])
+            stop_incl = min(stop + 1, param.size)  # join to the next run
+            label = None
+            if s not in labelled:
+                label = ("stable" if s else "unstable") + (
+                    f" (period {period}: {period} points)" if period > 1 else ""
+                )
+            labelled.add(s)
+            ax.plot(
+                param[start:stop_incl],
+                y[start:stop_incl],
+                color=color,
+                ls="-" if s else "--",
+                label=label,
+            )
     bifs = list(getattr(branch, "bifurcations", []) or [])
-    if bifs:
-        bx = [float(b.parameter_value) for b in bifs]
-        by = [float(np.asarray(b.section)[coordinate]) for b in bifs]
-        ax.plot(bx, by, ls="none", marker="o", mfc="none", color="C3", label="bifurcation")
-        short = {"period_doubling": "PD", "fold": "LP"}
-        for b, px, py in zip(bifs, bx, by, strict=True):
+    markers = {"fold": ("s", "C3"), "period_doubling": ("o", "C1")}
+    for kind in dict.fromkeys(b.kind for b in bifs):
+        chosen = [b for b in bifs if b.kind == kind]
+        bx = [float(b.parameter_value) for b in chosen]
+        by = [float(np.asarray(b.section)[coordinate]) for b in chosen]
+        marker, color = markers.get(kind, ("D", "C4"))
+        ax.plot(
+            bx,
+            by,
+            ls="none",
+            marker=marker,
+            mfc="none",
+            mew=1.5,
+            color=color,
+            label=BIFURCATION_NAMES.get(kind, str(kind).replace("_", " ")),
+        )
+        short = {"period_doubling": "PD", "fold": "LP"}.get(kind, str(kind))
+        for px, py in zip(bx, by, strict=True):
             ax.annotate(
-                short.get(b.kind, b.kind),
+                short,
                 (px, py),
                 textcoords="offset points",
-                xytext=(4, 4),
+                xytext=(5, 5),
                 fontsize="small",
-                color="C3",
+                color=color,
             )
-    ax.set_xlabel(str(getattr(branch, "parameter_name", "parameter")))
-    ax.set_ylabel(f"section coordinate {coordinate}")
-    ax.legend(loc="best", fontsize="small")
+    name = coordinate_name or f"section coordinate {coordinate}"
+    if coordinate_unit is None:
+        coordinate_unit = state_unit(coordinate_name) if coordinate_name else "rad"
+    ax.set_xlabel(
+        with_unit(str(getattr(branch, "parameter_name", "") or "parameter"), parameter_unit)
+    )
+    ax.set_ylabel(with_unit(f"{name} just after heel strike", coordinate_unit))
+    legend_outside(ax)
     return fig
 
 
-def plot_orbit_diagram(orbit_diagram: Any, ax: Axes | None = None) -> Figure:
-    """Settled section values at each parameter value (dots; NaN where the walker fell).
+def plot_orbit_diagram(
+    orbit_diagram: Any,
+    ax: Axes | None = None,
+    *,
+    parameter_unit: str | None = None,
+    coordinate_name: str | None = None,
+    coordinate_unit: str | None = None,
+) -> Figure:
+    """Settled section values at each parameter value (dots; NaN where the walker fell):
+    :func:`walker.plot_branch.plot_orbit_diagram`.
 
     Parameters
     ----------
     orbit_diagram : OrbitDiagram
         uses ``parameter`` (n,), ``values`` (n, n_keep), ``parameter_name``, ``coordinate``.
     ax : Axes, optional
+    parameter_unit : str, optional
+        unit of the parameter, on the x axis.
+    coordinate_name, coordinate_unit : str, optional
+        the recorded section coordinate's name and unit, on the y axis (default
+        ``"section coordinate k"`` in rad).
 
     Returns
     -------
     Figure
-        one scatter (PathCollection) of the finite values.
+        one scatter (PathCollection) of the finite values, and red crosses on the x axis
+        where the walker fell.
     """
-    param = np.asarray(orbit_diagram.parameter, dtype=float)
-    values = np.asarray(orbit_diagram.values, dtype=float)
-    check_rows("orbit_diagram.values", values, param, "n_keep")
-    fig, ax = new_axes(ax)
-    px = np.repeat(param, values.shape[1])
-    py = values.ravel()
-    ok = np.isfinite(py)
-    ax.scatter(px[ok], py[ok], s=1.5, color="k", marker=".", linewidths=0)
-    ax.set_xlabel(str(getattr(orbit_diagram, "parameter_name", "parameter")))
-    ax.set_ylabel(f"section coordinate {getattr(orbit_diagram, 'coordinate', 0)}")
-    return fig
+    from walker.plot_branch import plot_orbit_diagram as draw
+
+    return draw(
+        orbit_diagram,
+        parameter_unit=parameter_unit or "",
+        coordinate_name=coordinate_name,
+        coordinate_unit=coordinate_unit
+        if coordinate_unit is not None
+        else (None if coordinate_name else "rad"),
+        ax=ax,
+    )
 
 
 WORK_PRECISION_ERROR = "error: max-norm of the final state minus a reference run's [rad, rad/s]"
