@@ -51,7 +51,7 @@ import traceback
 import warnings
 from pathlib import Path
 
-from . import basin, branch, find, info, mfpt, orbit, plot, run, sweep
+from . import basin, branch, find, gsn, info, mfpt, orbit, plot, run, sweep
 from ._common import (
     BASIN_TOL,
     EXIT_BROKEN_PIPE,
@@ -82,7 +82,7 @@ __all__ = [
     "provenance",
 ]
 
-_COMMANDS = (find, run, branch, basin, sweep, plot, orbit, mfpt, info)
+_COMMANDS = (find, run, branch, basin, sweep, plot, orbit, mfpt, gsn, info)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -119,7 +119,7 @@ def _print(r: dict) -> None:
 def register(sub) -> None:
     p = scene_cmd(sub, "mfpt", "mean first-passage time on random terrain (Monte Carlo, Markov)")
     p.add_argument(
-        "--std", type=float, required=True, help="slope standard deviation [rad], >= 0"
+        "--std", type=float, required=True, help="slope standard deviation [rad], >= 0 (required)"
     )
     p.add_argument(
         "--mean", type=float, default=None, help="mean slope [rad] (default: the scene's slope)"
@@ -130,8 +130,8 @@ def register(sub) -> None:
         default=0.0,
         help="drop standard deviation [m], >= 0 (default: 0)",
     )
-    p.add_argument("--runs", type=int, required=True, help="Monte-Carlo runs, >= 1")
-    p.add_argument("--seed", type=int, required=True, help="root seed, >= 0")
+    p.add_argument("--runs", type=int, required=True, help="Monte-Carlo runs, >= 1 (required)")
+    p.add_argument("--seed", type=int, required=True, help="root seed, >= 0 (required)")
     p.add_argument(
         "--jobs", type=int, default=None, help="threads; the result is the same (default: 1)"
     )
