@@ -32,6 +32,7 @@ def test_mfpt_json_keys_and_jobs_invariance(capsys, tmp_path):
     assert result.steps.shape == (60,) and result.failed == one["failed"]
 
 
+@pytest.mark.slow
 def test_mfpt_markov_key(capsys):
     argv = ["mfpt", RIMLESS, "--std", "0.02", "--runs", "40", "--seed", "1", "--markov"]
     code, record = _json_of(capsys, [*argv, "--json"])
