@@ -70,6 +70,7 @@ def test_scenes_md_documents_every_table_and_key():
         "## `[initial]`": scene_module._INITIAL_KEYS,
         "## `[compute]`": tuple(f.name for f in dataclasses.fields(ComputeSettings)),
         "## `[reference]`": scene_module._REFERENCE_KEYS,
+        "## `[terrain]`": ("kind", "slopes", "heights", "slope_mean", "slope_std", "height_std"),
     }
     for heading, keys in expected.items():
         rows = _table_rows(SCENES, heading)

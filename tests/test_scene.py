@@ -275,7 +275,7 @@ def test_unknown_table(tmp_path):
     _fails(
         tmp_path,
         r"unknown table \[output\]; valid tables: \[scene\], \[model\], \[parameters\], "
-        r"\[initial\], \[compute\], \[reference\]$",
+        r"\[initial\], \[compute\], \[reference\], \[terrain\]$",
         {"output": 'file = "x"'},
     )
     _fails(

@@ -116,15 +116,22 @@ def test_rimless_wheel_terrain_jacobian_matches_the_closed_form():
         ("gaits/kneed_hsu.toml", 0.3, 1e-6),
         ("gaits/kneed_mcgeer_pointmass.toml", 0.3, 1e-6),
         ("gaits/simplest_garcia.toml", 0.03, 1e-7),
+        ("gaits/compass_coulomb_goswami.toml", 0.3, 1e-6),
+        ("gaits/kneed_coulomb_hsu.toml", 0.3, 1e-6),
+        ("gaits/three_link_grizzle.toml", -0.2, 1e-6),
     ],
 )
 def test_terrain_jacobian_columns_match_finite_differences(path, size, e):
     """Three strides over rough steps: d z_3 / d(slope_k, drop_k) for every step k against
-    central differences of whole runs (steps ``e``, the scenes' rtol)."""
+    central differences of whole runs (steps ``e``, the scenes' rtol).  The three-link
+    walker's steps go up (``size`` < 0): its rigid swing foot dips under the ground just past
+    the stance foot, so a plane dropped by less than that dip is touched there."""
     scene, P, z = _map(path)
     slope = scene.params.slope
     rows = np.array([[slope + 0.01 * size, 0.01 * size], [slope, 0.0]])
-    rows = np.vstack([rows, [[slope - 0.008 * size, -0.004 * size]]])
+    rows = np.vstack([rows, [[slope - 0.008 * size, -0.004 * abs(size)]]])
+    if size < 0:
+        rows[1, 1] = -0.005
     r = P(z, terrain=rows, n_strides=3, jacobian=True)
     assert r.status == Status.COMPLETED and r.terrain_jac.shape == (P.n_z, 6)
     fd = np.empty((P.n_z, 6))
@@ -145,7 +152,16 @@ def test_terrain_jacobian_columns_match_finite_differences(path, size, e):
 
 
 @pytest.mark.parametrize(
-    "path", [COMPASS, RIMLESS, "gaits/simplest_garcia.toml", "gaits/kneed_mcgeer_pointmass.toml"]
+    "path",
+    [
+        COMPASS,
+        RIMLESS,
+        "gaits/simplest_garcia.toml",
+        "gaits/kneed_mcgeer_pointmass.toml",
+        "gaits/compass_coulomb_goswami.toml",
+        "gaits/kneed_coulomb_hsu.toml",
+        "gaits/three_link_grizzle.toml",
+    ],
 )
 def test_plane_terrain_is_bit_identical(path):
     scene, P, z = _map(path)
@@ -161,6 +177,23 @@ def test_plane_terrain_is_bit_identical(path):
     b = P(z, jacobian=True, terrain=[[slope, 0.0]])
     assert np.array_equal(a.z, b.z) and np.array_equal(a.jac, b.jac)
     assert b.terrain_jac.shape == (P.n_z, 2)
+
+
+def test_rimless_wheel_turning_back_is_rolled_back_on_terrain_only():
+    """Too slow to get over the top (1/2 w^2 < (g/l)(1 - cos(alpha - slope)), the closed
+    form's condition): on the plane path the wheel rocks to rest and the run ends NO_EVENT
+    at t_max, as before; on terrain, plane rows included, ROLLED_BACK."""
+    scene, P, z = _map(RIMLESS)
+    p = scene.params
+    alpha = math.pi / p.spokes
+    w_top = math.sqrt(2.0 * p.g / p.leg_length * (1.0 - math.cos(alpha - p.slope)))
+    slow = np.array([-0.9 * w_top])
+    assert P(slow).status == Status.NO_EVENT
+    assert P(slow, terrain=[[p.slope, 0.0]]).status == Status.ROLLED_BACK
+    steps, status = P.ensemble(slow, np.array([[[p.slope, 0.0]] * 3]))
+    assert steps[0] == 0 and status[0] == Status.ROLLED_BACK
+    fast = np.array([-1.1 * w_top])
+    assert P(fast, terrain=[[p.slope, 0.0]]).status == Status.COMPLETED
 
 
 def test_ensemble_matches_single_walks_for_any_thread_count():
@@ -223,7 +256,24 @@ def test_terrain_input_errors_name_the_argument():
     five = load_scene("gaits/five_link_hzd.toml")
     F = StrideMap.from_scene(five)
     with pytest.raises(ValueError, match="`five_link`"):
-        F(F.project(five.state), terrain=[[five.params.slope, 0.0]])
+        F(F.project(five.state), terrain=[[five.params.slope, 0.0]], jacobian=True)
+    book = load_scene("gaits/three_link_book.toml")
+    B = StrideMap.from_scene(book)
+    with pytest.raises(ValueError, match="`three_link` with `step_event` = 1"):
+        B(B.project(book.state), terrain=[[book.params.slope, 0.0]])
+
+
+def test_five_link_walks_on_terrain_without_a_compiled_map():
+    """The five-link walker's map has no compiled call: its terrain call runs through
+    simulate (plane rows: the map's numbers bit for bit; rough rows: a different walk)."""
+    five = load_scene("gaits/five_link_hzd.toml")
+    F = StrideMap.from_scene(five)
+    z, slope = F.project(five.state), five.params.slope
+    a = F(z, n_strides=2)
+    b = F(z, n_strides=2, terrain=[[slope, 0.0], [slope, 0.0]])
+    assert a.status == b.status == Status.COMPLETED and np.array_equal(a.z, b.z)
+    c = F(z, n_strides=2, terrain=[[slope + 0.01, -0.005], [slope, 0.0]])
+    assert c.status == Status.COMPLETED and not np.allclose(c.z, a.z, rtol=1e-6, atol=1e-6)
 
 
 def test_terrain_steps_kinds():
@@ -234,3 +284,25 @@ def test_terrain_steps_kinds():
     draws = np.random.default_rng(5).standard_normal((4, 2))
     np.testing.assert_allclose(r.steps(4)[:, 0], 0.01 + 0.1 * draws[:, 0], rtol=1e-15, atol=0)
     assert Terrain.from_table({"kind": "plane"}, 0.03).steps(1).tolist() == [[0.03, 0.0]]
+
+
+def test_docs_terrain_md_examples_run():
+    """docs/terrain.md's examples, run as doctests."""
+    import doctest
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parent.parent / "docs" / "terrain.md"
+    text = path.read_text(encoding="utf-8")
+    parser = doctest.DocTestParser()
+    test = parser.get_doctest(text, {}, "terrain.md", str(path), 0)
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    import os
+
+    old = os.getcwd()
+    os.chdir(path.parent.parent)
+    try:
+        runner.run(test)
+    finally:
+        os.chdir(old)
+    result = runner.summarize(verbose=False)
+    assert result.attempted >= 8 and result.failed == 0

@@ -19,7 +19,14 @@ from walker._checks import as_vector
 from walker.results import MapResult
 from walker.status import Status
 
-__all__ = ["check_supported", "ensemble", "terrain_call", "terrain_rows"]
+__all__ = [
+    "check_model",
+    "check_supported",
+    "ensemble",
+    "rows_for",
+    "terrain_call",
+    "terrain_rows",
+]
 
 _KEY = "_terrain_args"
 
@@ -42,20 +49,22 @@ def _args(smap) -> tuple:
     return args
 
 
-def check_supported(smap) -> None:
-    """Raise a ValueError naming the model when ``smap`` cannot walk on terrain."""
+def check_model(model, params, system) -> None:
+    """Raise a ValueError naming the model when it cannot walk on terrain: no compiled
+    terrain functions for its system (walker/_core/terrain.c), or round feet."""
     from walker import _hybrid
+    from walker.hybrid_system import _compiled
 
-    model = smap.model
-    cached = smap.__dict__.get("_run")
-    if cached is None:
-        smap._prepared()
-        cached = smap.__dict__["_run"]
     name = model.name
-    guards = smap._prepared(1)[0]._head[1]  # the compiled guards' address
-    if cached[6] is None or _hybrid.terrain_model(guards) is None:
+    guards = _compiled(system)[1]
+    if not guards or _hybrid.terrain_model(guards) is None:
         raise ValueError(f"terrain is not supported for `{name}` yet")
-    radius = getattr(smap.params, "foot_radius", 0.0)
+    if getattr(params, "step_event", 0.0) == 1.0:
+        raise ValueError(
+            f"terrain is not supported for `{name}` with `step_event` = 1 (its steps end on "
+            "the controller's impact surface, not on touching the ground)"
+        )
+    radius = getattr(params, "foot_radius", 0.0)
     if radius:
         raise ValueError(
             f"terrain is not supported for `{name}` with round feet (`foot_radius` = "
@@ -63,10 +72,76 @@ def check_supported(smap) -> None:
         )
 
 
-def terrain_rows(terrain, n_strides: int, name: str = "terrain") -> np.ndarray:
-    """``terrain`` as a C-contiguous float64 array of shape ``(n_strides, 2)``, finite."""
+def check_supported(smap, what: str = "terrain") -> None:
+    """Raise a ValueError naming the model when ``smap`` cannot walk on terrain (``what``:
+    the feature asked for, in the message) in one compiled call."""
+    cached = smap.__dict__.get("_run")
+    if cached is None:
+        smap._prepared()
+        cached = smap.__dict__["_run"]
+    check_model(smap.model, smap.params, cached[4])
+    if cached[6] is None:  # no compiled call (walker._section.compiled_call_fits)
+        raise ValueError(f"{what} is not supported for `{smap.model.name}` yet")
+
+
+def _python_call(smap, z, n_strides, rows) -> MapResult:
+    """A terrain call of a map without a compiled call (its lift is neither affine nor
+    compiled: the five-link walker's): the model's lift, then one run of the map's system
+    (as :func:`walker.stride.simulate` runs it), projected; no Jacobians."""
+    import math as _math
+
+    from walker.fixedpoint import stride_max_steps
+    from walker.integrate import _solve
+
+    cached = smap.__dict__["_run"]
+    p, system, model = cached[1], cached[4], smap.model
+    x0 = np.ascontiguousarray(model.lift(z, p), dtype=np.float64)
+    start_phase = model.start_phase_fn()
+    phase0 = 0
+    if start_phase is not None and all(map(_math.isfinite, x0.tolist())):
+        phase0 = start_phase(x0, p)
+    per_stride = stride_max_steps(smap.params, smap.t_max, smap.method, smap.first_step)
+    sol = _solve(
+        system,
+        x0,
+        p,
+        phase0=phase0,
+        t0=0.0,
+        t_max=smap.t_max * n_strides,
+        n_strides=n_strides,
+        method=smap.method,
+        rtol=smap.rtol,
+        atol=smap.atol,
+        first_step=smap.first_step,
+        max_step=np.inf,
+        max_steps=per_stride * n_strides,
+        output="map",
+        sample_times=None,
+        jacobian=False,
+        n_interior=4,
+        fixed_step=False,
+        p_checked=True,
+        terrain=rows,
+    )
+    x = np.asarray(sol.x, dtype=np.float64)
+    z_new = model.project(x, p) if sol.success else np.full(model.n_z, np.nan)
+    return MapResult(sol.status, np.asarray(z_new, dtype=np.float64), None, float(sol.t), x)
+
+
+def rows_for(model, params, system, terrain) -> np.ndarray:
+    """:func:`walker.stride.simulate`'s ``terrain``: the model checked, the rows as an
+    ``(n, 2)`` float64 array (n >= 1)."""
+    check_model(model, params, system)
+    return terrain_rows(terrain, None)
+
+
+def terrain_rows(terrain, n_strides: int | None, name: str = "terrain") -> np.ndarray:
+    """``terrain`` as a C-contiguous float64 array of shape ``(n_strides, 2)`` (any number
+    of rows >= 1 for None), finite."""
     rows = np.array(terrain, dtype=np.float64, order="C")
-    if rows.shape != (n_strides, 2):
+    if rows.ndim != 2 or rows.shape[1] != 2 or rows.shape[0] < 1:
+        raise ValueError(f"`{name}` must have shape (n, 2) of (slope, drop) rows, got {rows.shape}")
+    if n_strides is not None and rows.shape[0] != n_strides:
         raise ValueError(
             f"`{name}` must have shape (n_strides, 2) = ({n_strides}, 2) of (slope, drop) "
             f"per step, got {rows.shape}"
@@ -91,6 +166,15 @@ def terrain_call(smap, z, jacobian, n_strides, terrain) -> MapResult:
     if not isinstance(jacobian, bool | np.bool_ | numbers.Integral):
         raise TypeError(f"`jacobian` must be a bool, got {type(jacobian).__name__}")
     rows = terrain_rows(terrain, int(n_strides))
+    cached = smap.__dict__.get("_run")
+    if cached is None:
+        smap._prepared()
+        cached = smap.__dict__["_run"]
+    if cached[6] is None:
+        check_model(smap.model, smap.params, cached[4])
+        if jacobian:
+            check_supported(smap, "the terrain Jacobian")
+        return _python_call(smap, z, int(n_strides), rows)
     args = _args(smap)
     z = np.ascontiguousarray(z, dtype=np.float64)
     status, _, t, x, z_new, jz, tj = _hybrid.terrain_walk(*args, z, rows, bool(jacobian))

@@ -457,6 +457,7 @@ def _solve(
     fixed_step,
     p_checked=False,
     jacobian_seed=None,
+    terrain=None,
 ):
     """:func:`hybrid_solve` with an extra ``fixed_step`` switch that runs the adaptive
     methods (DOP853, RK45) with the fixed step ``first_step`` and no error control (used to
@@ -472,7 +473,11 @@ def _solve(
     ``Solution.jac`` has shape ``(n_x, m)``, ``Solution.dt_dx0`` shape ``(m,)``
     (``(d t / d x0) S``).  The step-size control measures the components carried, so the
     steps taken, and the results to within the integration tolerance, depend on the
-    seed; the identity seed gives the run without one bit for bit."""
+    seed; the identity seed gives the run without one bit for bit.
+
+    ``terrain``: None (the model's plane), or a C-contiguous float64 array ``(n_steps, 2)``
+    of per-step ``(slope, drop)`` (:mod:`walker.terrain`, checked by the caller): the run
+    takes the model's compiled terrain guards and resets (``_hybrid.terrain_solve``)."""
     if not isinstance(system, HybridSystem):
         raise TypeError(f"`system` must be a HybridSystem, got {type(system).__name__}")
     n_x = system.n_x
@@ -552,7 +557,8 @@ def _solve(
         if not np.isfinite(jacobian_seed).all():
             raise ValueError("`jacobian_seed` must be finite")
 
-    res = _hybrid.solve(
+    solve = _hybrid.solve if terrain is None else _hybrid.terrain_solve
+    res = solve(
         *_solver_head(system),
         x0,
         p,
@@ -572,6 +578,7 @@ def _solve(
         jacobian,
         _interior_code(system, n_interior),
         jacobian_seed,
+        *(() if terrain is None else (terrain,)),
     )
     # res is a walker._hybrid.SolveResult (walker/_core/_hybridresult.c), a tuple read by
     # field: status (int), t (float), x, phase; the counters n_steps, n_rejected, n_rhs,

@@ -98,6 +98,7 @@ _TABLES = {
     "initial": True,
     "compute": False,
     "reference": False,
+    "terrain": False,
 }
 _SCENE_KEYS = ("model", "description", "source")
 _INITIAL_KEYS = ("state", "phase")
@@ -219,6 +220,8 @@ class Scene:
     swing_scuff : str
         ``[model] swing_scuff``: ``"trip"`` (default) or ``"ignore"``; :attr:`walker_model`
         is the model under that convention.
+    terrain_table : dict or None
+        the ``[terrain]`` table as read (validated); None when the file has none.
     """
 
     name: str
@@ -232,6 +235,17 @@ class Scene:
     compute: ComputeSettings
     reference: dict | None
     swing_scuff: str = "trip"
+    terrain_table: dict | None = None
+
+    @property
+    def terrain(self):
+        """The scene's ground, a :class:`walker.terrain.Terrain` from ``[terrain]``
+        (``slope_mean`` defaulting to the parameters' slope); the plane without one."""
+        from walker.terrain import Terrain
+
+        return Terrain.from_table(
+            self.terrain_table or {"kind": "plane"}, getattr(self.params, "slope", 0.0)
+        )
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -569,7 +583,21 @@ def load_scene(path: str | os.PathLike, overrides: Mapping[str, Any] | None = No
         compute=_compute(reader, model, compute_t),
         reference=_reference(reader, n_x, reference_t),
         swing_scuff=_swing_scuff(reader, model, model_t),
+        terrain_table=_terrain(reader, params, reader.table(doc, "terrain")),
     )
+
+
+def _terrain(reader: _Reader, params: Any, table: Mapping[str, Any] | None) -> dict | None:
+    """The ``[terrain]`` table, checked by building its :class:`walker.terrain.Terrain`."""
+    if table is None:
+        return None
+    from walker.terrain import Terrain
+
+    try:
+        Terrain.from_table(dict(table), getattr(params, "slope", 0.0))
+    except (TypeError, ValueError) as exc:
+        raise reader.error("terrain", str(exc)) from None
+    return dict(table)
 
 
 def _swing_scuff(reader: _Reader, model: str, table: Mapping[str, Any]) -> str:

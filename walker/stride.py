@@ -79,6 +79,7 @@ def simulate(
     sample_times=None,
     jacobian: bool = False,
     max_steps: int = 1_000_000,
+    terrain=None,
 ) -> Solution:
     """Simulate ``n_strides`` strides of a walker from the full state ``x0``.
 
@@ -101,6 +102,9 @@ def simulate(
         n_strides) * sqrt(leg_length / g)``.
     method, rtol, atol, first_step, output, sample_times, jacobian, max_steps
         as in :func:`walker.integrate.hybrid_solve`.
+    terrain : array_like, shape (n, 2), optional
+        per-step ``(slope [rad], drop [m])`` (:mod:`walker.terrain`), the scene's plane past
+        the last row; None: the plane (this path, unchanged).
 
     Returns
     -------
@@ -116,6 +120,10 @@ def simulate(
     ('COMPLETED', 3)
     """
     model, p, system, time_scale, start_phase = _setup(model, params)
+    if terrain is not None:
+        from walker._terrain_run import rows_for
+
+        terrain = rows_for(model, params, system, terrain)
     x0 = _as_vector(x0, "x0")
     if t_max is None:
         t_max = 20.0 * max(1, n_strides) * time_scale
@@ -147,6 +155,7 @@ def simulate(
         n_interior=4,
         fixed_step=False,
         p_checked=True,
+        terrain=terrain,
     )
     if model.conventions:
         sol.conventions = dict(model.conventions)

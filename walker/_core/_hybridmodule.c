@@ -28,6 +28,7 @@
 #include "batch.h"
 #include "hybrid.h"
 #include "newton.h"
+#include "wk_terrain.h"
 
 #ifndef WK_SOURCE_HASH
 #define WK_SOURCE_HASH "unknown"
@@ -67,15 +68,18 @@ PyDoc_STRVAR(solve_doc,
              "without a seed).  Arrays are bytearrays of native float64 / int64, row-major;\n"
              "help(SolveResult) describes each field.");
 
-static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+/* solve(), or with terrain (not NULL: n_steps rows of (slope, drop)) terrain_solve():
+ * the model's terrain guards and reset and the step bookkeeping (wk_terrain.h). */
+static PyObject *solve_impl(PyObject *const *args, Py_ssize_t nargs, const double *terrain,
+                            int64_t n_steps)
 {
-    (void)self;
     if (nargs != SOLVE_NARGS && nargs != SOLVE_NARGS + 1) {
         PyErr_Format(PyExc_TypeError, "solve() takes %d or %d arguments, got %zd", SOLVE_NARGS,
                      SOLVE_NARGS + 1, nargs);
         return NULL;
     }
     wk_functions fn;
+    wk_terrain T;
     wk_problem pb;
     memset(&pb, 0, sizeof pb);
     Py_buffer v_dir, v_x0, v_p, v_st, v_seed;
@@ -186,6 +190,18 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
         pb.n_seed = v_seed.shape[1];
     }
 
+    if (terrain != NULL) {
+        const wk_terrain_entry *te = wk_terrain_find(fn.guards);
+        if (te == NULL)
+            WKPY_FAIL(PyExc_ValueError, "terrain is not supported for this system's model");
+        memset(&T, 0, sizeof T);
+        T.steps = terrain;
+        T.n_steps = n_steps;
+        T.scene_slope = pb.p[te->slope_index];
+        wk_terrain_set_step(&T, 0);
+        fn = wk_terrain_functions(&fn, te, &T);
+    }
+
     wk_result res;
     int rc;
     Py_BEGIN_ALLOW_THREADS
@@ -197,6 +213,37 @@ static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t narg
 
 out:
     wkpy_release_held(&held);
+    return result;
+}
+
+static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    return solve_impl(args, nargs, NULL, 0);
+}
+
+PyDoc_STRVAR(terrain_solve_doc,
+             "terrain_solve(*solve_args, terrain)\n--\n\n"
+             "solve() over per-step terrain (walker/_core/wk_terrain.h): the same arguments\n"
+             "(with the seed, 27) and a float64 (n_steps, 2) array of (slope, drop) rows, the\n"
+             "scene's plane past the last; ValueError for a model without terrain functions.");
+
+static PyObject *py_terrain_solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (nargs != SOLVE_NARGS + 2) {
+        PyErr_Format(PyExc_TypeError, "terrain_solve() takes %d arguments, got %zd",
+                     SOLVE_NARGS + 2, nargs);
+        return NULL;
+    }
+    Py_buffer v;
+    if (wkpy_arg_buffer(args[SOLVE_NARGS + 1], "terrain", 'd', 2, &v)) return NULL;
+    PyObject *result = NULL;
+    if (v.shape[1] != 2 || !wkpy_all_finite((const double *)v.buf, v.shape[0] * 2))
+        PyErr_SetString(PyExc_ValueError, "`terrain` must be (n_steps, 2) finite values");
+    else
+        result = solve_impl(args, SOLVE_NARGS + 1, (const double *)v.buf, v.shape[0]);
+    PyBuffer_Release(&v);
     return result;
 }
 
@@ -479,6 +526,8 @@ out:
 
 static PyMethodDef methods[] = {
     {"solve", (PyCFunction)(void (*)(void))py_solve, METH_FASTCALL, solve_doc},
+    {"terrain_solve", (PyCFunction)(void (*)(void))py_terrain_solve, METH_FASTCALL,
+     terrain_solve_doc},
     {"models", py_models, METH_NOARGS, models_doc},
     {"kernels", py_kernels, METH_NOARGS, kernels_doc},
     {"basin_points", (PyCFunction)(void (*)(void))py_basin_points, METH_FASTCALL,

@@ -155,7 +155,8 @@ WK_MODEL_FUSED(compass_plain, PLAIN)
 /* ------------------------------------------------------------------------------------------
  * Terrain (wk_terrain.h), point feet: the swing foot's signed distance from the step's plane
  * L (cos(q_st + gamma) - cos(q_sw + gamma)) + h cos(gamma) (the angles from the vertical,
- * the plane h below the stance foot), its distance ahead along that plane, and the heel
+ * the plane h below the stance foot), its distance ahead along that plane (a touchdown
+ * with the foot not ahead is ignored, as on the plane), and the heel
  * strike with the impulse along and normal to it (wk_terrain_heel_strike).  A step on the
  * scene's plane runs the plane functions above.
  * ------------------------------------------------------------------------------------------ */
@@ -164,12 +165,16 @@ WK_MODEL_FUSED(compass_plain, PLAIN)
 static void terrain_guards(const compass_kernels *K, int64_t phase, const double *x,
                            const double *p, double *g, const wk_terrain *T)
 {
-    guards(K, phase, x, p, g);
-    if (T->ground.plane) return;
+    if (T->ground.plane) {
+        guards(K, phase, x, p, g);
+        return;
+    }
     const double L = p[WK_COMPASS_P_COM_FROM_FOOT] + p[WK_COMPASS_P_COM_TO_HIP] - p[I_R];
-    const double gam = T->ground.slope;
+    const double gam = T->ground.slope, psi1 = x[0] + p[I_SLOPE];
     g[WK_COMPASS_GUARD_HEEL_STRIKE] =
         L * (cos(x[0] + gam) - cos(x[1] + gam)) + T->ground.drop * cos(gam);
+    g[WK_COMPASS_GUARD_FALL_FORWARD] = psi1 + WK_FALL_ANGLE;
+    g[WK_COMPASS_GUARD_FALL_BACKWARD] = psi1 - WK_FALL_ANGLE;
 }
 
 static void terrain_reset(const compass_kernels *K, int64_t phase, int64_t k, const double *x,

@@ -62,3 +62,31 @@ static void reset(int64_t phase, int64_t k, double t, const double *x, const dou
 
 /* start_phase; energy and drawing points are the compass gait's (model_compass.c). */
 WK_FRICTION_WALKER_ENTRY(compass_coulomb, compass, 4)
+
+/* Terrain (wk_terrain.h): the compass gait's terrain guards and heel strike in place of its
+ * plane ones; the friction guards and resets unchanged. */
+#include "wk_terrain.h"
+
+static void terrain_guards(int64_t phase, double t, const double *x, const double *p,
+                           double *g, void *ctx)
+{
+    int64_t modes[N_JOINTS];
+    wk_terrain_compass_guards(0, t, x, p, g, ctx);
+    wk_friction_decode(phase, modes, N_JOINTS);
+    wk_friction_phase_guards(&KERNELS, p + I_COULOMB, modes, x, p, g + N_BASE_GUARDS);
+}
+
+static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
+                          double *x_new, double *impulse, int64_t *out, void *ctx)
+{
+    if (k < N_BASE_GUARDS) {
+        wk_terrain_compass_reset(0, k, t, x, p, x_new, impulse, out, ctx);
+        wk_friction_after_base_reset(start, phase, x_new, p, out);
+        return;
+    }
+    reset(phase, k, t, x, p, x_new, impulse, out, NULL);
+}
+
+const wk_terrain_entry wk_terrain_entry_compass_coulomb = {
+    "compass_coulomb", guards, WK_COMPASS_COULOMB_P_SLOPE, terrain_guards, terrain_reset,
+};

@@ -159,3 +159,49 @@ static void strike(int64_t phase, const double *x, const double *p, double *x_ne
 }
 
 WK_ACTUATED_MODEL(five_link, MODEL)
+
+/* ------------------------------------------------------------------------------------------
+ * Terrain (wk_terrain.h): the swing foot's signed distance from the step's plane (its
+ * coordinates along the step's slope, plus h cos(gamma)); the stance foot's contact guards in
+ * the frame of the plane it stands on (the previous step's); the heel strike's impulse along
+ * and normal to the step's plane, the trailing foot's lift-off from the previous one.  The
+ * controller is the model's own ctx (wk_terrain.inner).
+ * ------------------------------------------------------------------------------------------ */
+#include "wk_terrain.h"
+
+static void terrain_guards(int64_t phase, double t, const double *x, const double *p,
+                           double *g, void *ctx)
+{
+    const wk_terrain *T = (const wk_terrain *)ctx;
+    wk_model_five_link_guards(phase, t, x, p, g, T->inner);
+    if (T->ground.plane) return;
+    double pts[6 * 2], ahead, height;
+    wk_five_link_points(x, p, pts);
+    wk_slope_frame(pts + 8, T->ground.slope, &ahead, &height);
+    g[WK_FIVE_LINK_GUARD_HEEL_STRIKE] = height + T->ground.drop * cos(T->ground.slope);
+    wk_actuated_force_guards(&MODEL, phase, x, p, p[I_FRICTION], T->ground.prev_slope,
+                             g + WK_FIVE_LINK_GUARD_SLIP_FORWARD, g + N_BASE_GUARDS, T->inner);
+}
+
+static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
+                          double *x_new, double *impulse, int64_t *out, void *ctx)
+{
+    const wk_terrain *T = (const wk_terrain *)ctx;
+    if (T->ground.plane || k != WK_FIVE_LINK_GUARD_HEEL_STRIKE) {
+        wk_model_five_link_reset(phase, k, t, x, p, x_new, impulse, out, T->inner);
+        return;
+    }
+    for (int i = 0; i < N_X; i++) x_new[i] = x[i];
+    double pts[6 * 2], ahead, height;
+    wk_five_link_points(x, p, pts);
+    wk_slope_frame(pts + 8, T->ground.slope, &ahead, &height);
+    if (ahead <= WK_MIN_STEP * (p[I_LENGTH_FEMUR] + p[I_LENGTH_TIBIA]))
+        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_TRIPPED);
+    else
+        wk_actuated_heel_strike_on(&MODEL, phase, x, p, T->ground.slope, T->ground.prev_slope,
+                                   x_new, impulse, out, T->inner);
+}
+
+const wk_terrain_entry wk_terrain_entry_five_link = {
+    "five_link", wk_model_five_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1,
+};

@@ -319,11 +319,19 @@ static void terrain_swing_foot(const double *x, const double *p, const wk_ground
 static void terrain_guards(const kneed_kernels *K, int64_t phase, const double *x,
                            const double *p, double *g, const wk_terrain *T)
 {
-    guards(K, phase, x, p, g);
-    if (T->ground.plane) return;
-    double height, ahead, rate;
-    terrain_swing_foot(x, p, &T->ground, &height, &ahead, &rate);
-    g[WK_KNEED_GUARD_SWING_FOOT_CONTACT] = height;
+    if (T->ground.plane) {
+        guards(K, phase, x, p, g);
+        return;
+    }
+    double shank, thigh;
+    lengths(p, &shank, &thigh);
+    const double gam = T->ground.slope, psi1 = x[0] + p[I_SLOPE];
+    g[WK_KNEED_GUARD_KNEE_LOCK] = phase == WK_KNEED_PHASE_UNLOCKED ? x[2] - x[1] : 1.0;
+    g[WK_KNEED_GUARD_SWING_FOOT_CONTACT] = (shank + thigh) * cos(x[0] + gam) -
+                                           thigh * cos(x[1] + gam) - shank * cos(x[2] + gam) +
+                                           T->ground.drop * cos(gam);
+    g[WK_KNEED_GUARD_FALL_FORWARD] = psi1 + WK_FALL_ANGLE;
+    g[WK_KNEED_GUARD_FALL_BACKWARD] = psi1 - WK_FALL_ANGLE;
 }
 
 static void terrain_knee_lock_event(const kneed_kernels *K, int64_t phase, const double *x,

@@ -126,3 +126,37 @@ static void reset(int64_t phase, int64_t k, double t, const double *x, const dou
 /* start_phase (in the unlocked phase); energy and drawing points are the kneed walker's
  * (model_kneed.c). */
 WK_FRICTION_WALKER_ENTRY(kneed_coulomb, kneed, 6)
+
+/* Terrain (wk_terrain.h): the kneed walker's terrain guards, knee lock and heel strike in
+ * place of its plane ones; the friction guards and resets unchanged. */
+#include "wk_terrain.h"
+
+static void terrain_guards(int64_t phase, double t, const double *x, const double *p,
+                           double *g, void *ctx)
+{
+    int64_t modes[3];
+    int base = split(phase, modes);
+    wk_terrain_kneed_guards(base, t, x, p, g, ctx);
+    wk_friction_phase_guards(&KERNELS[base], p + I_COULOMB, modes, x, p, g + N_BASE_GUARDS);
+    if (base == LOCKED) {
+        g[WK_KNEED_COULOMB_GUARD_KNEE_SLIP_STOPS] = 1.0;
+        g[WK_KNEED_COULOMB_GUARD_KNEE_STICK_BREAKS] = 1.0;
+    }
+}
+
+static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
+                          double *x_new, double *impulse, int64_t *out, void *ctx)
+{
+    int64_t modes[3];
+    int base = split(phase, modes);
+    if (k < N_BASE_GUARDS) {
+        wk_terrain_kneed_reset(base, k, t, x, p, x_new, impulse, out, ctx);
+        wk_friction_after_base_reset(start, phase, x_new, p, out);
+        return;
+    }
+    reset(phase, k, t, x, p, x_new, impulse, out, NULL);
+}
+
+const wk_terrain_entry wk_terrain_entry_kneed_coulomb = {
+    "kneed_coulomb", guards, WK_KNEED_COULOMB_P_SLOPE, terrain_guards, terrain_reset,
+};

@@ -175,3 +175,52 @@ static void strike(int64_t phase, const double *x, const double *p, double *x_ne
 }
 
 WK_ACTUATED_MODEL(three_link, MODEL)
+
+/* ------------------------------------------------------------------------------------------
+ * Terrain (wk_terrain.h): the swing foot's signed distance from the step's plane
+ * r (cos(q_st + gamma) - cos(q_sw + gamma)) + h cos(gamma) ends the step (step_event 1, a
+ * step ending on the controller's surface, is refused by walker/_terrain_run.py); the stance foot's contact guards in the
+ * frame of the plane it stands on (the previous step's); the heel strike's impulse along and
+ * normal to the step's plane, the trailing foot's lift-off from the previous one.  The
+ * controller is the model's own ctx (wk_terrain.inner).
+ * ------------------------------------------------------------------------------------------ */
+#include "wk_terrain.h"
+
+static void terrain_guards(int64_t phase, double t, const double *x, const double *p,
+                           double *g, void *ctx)
+{
+    const wk_terrain *T = (const wk_terrain *)ctx;
+    if (T->ground.plane) {
+        wk_model_three_link_guards(phase, t, x, p, g, T->inner);
+        return;
+    }
+    const double r = p[I_LEG_A] + p[I_LEG_B], gam = T->ground.slope;
+    const double psi1 = x[0] + p[I_SLOPE];
+    g[WK_THREE_LINK_GUARD_HEEL_STRIKE] =
+        r * (cos(x[0] + gam) - cos(x[1] + gam)) + T->ground.drop * cos(gam);
+    g[WK_THREE_LINK_GUARD_FALL_FORWARD] = psi1 + WK_FALL_ANGLE;
+    g[WK_THREE_LINK_GUARD_FALL_BACKWARD] = psi1 - WK_FALL_ANGLE;
+    wk_actuated_force_guards(&MODEL, phase, x, p, p[I_FRICTION], T->ground.prev_slope,
+                             g + WK_THREE_LINK_GUARD_SLIP_FORWARD, g + N_BASE_GUARDS, T->inner);
+}
+
+static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
+                          double *x_new, double *impulse, int64_t *out, void *ctx)
+{
+    const wk_terrain *T = (const wk_terrain *)ctx;
+    if (T->ground.plane || k != WK_THREE_LINK_GUARD_HEEL_STRIKE) {
+        wk_model_three_link_reset(phase, k, t, x, p, x_new, impulse, out, T->inner);
+        return;
+    }
+    for (int i = 0; i < N_X; i++) x_new[i] = x[i];
+    const double r = p[I_LEG_A] + p[I_LEG_B], gam = T->ground.slope;
+    if (r * (sin(x[1] + gam) - sin(x[0] + gam)) <= WK_MIN_STEP * r)
+        wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
+    else
+        wk_actuated_heel_strike_on(&MODEL, phase, x, p, gam, T->ground.prev_slope, x_new,
+                                   impulse, out, T->inner);
+}
+
+const wk_terrain_entry wk_terrain_entry_three_link = {
+    "three_link", wk_model_three_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1,
+};

@@ -34,10 +34,20 @@ static const wk_terrain_entry ENTRIES[] = {
 #undef KNEED_ENTRY
 };
 
+static const wk_terrain_entry *const MORE[] = {
+    &wk_terrain_entry_compass_coulomb,
+    &wk_terrain_entry_kneed_coulomb,
+    &wk_terrain_entry_three_link,
+    &wk_terrain_entry_five_link,
+};
+
 const wk_terrain_entry *wk_terrain_find(wk_guards_fn guards)
 {
+    if (guards == NULL) return NULL;
     for (size_t i = 0; i < sizeof ENTRIES / sizeof ENTRIES[0]; i++)
         if (ENTRIES[i].guards == guards) return &ENTRIES[i];
+    for (size_t i = 0; i < sizeof MORE / sizeof MORE[0]; i++)
+        if (MORE[i]->guards == guards) return MORE[i];
     return NULL;
 }
 
@@ -80,16 +90,45 @@ static void terrain_init(wk_terrain *T, const wk_terrain_entry *te, const wk_pro
     wk_terrain_set_step(T, 0);
 }
 
-/* The model's functions with its terrain guards and reset, ctx T. */
-static wk_functions terrain_functions(const wk_functions *fn, const wk_terrain_entry *te,
-                                      wk_terrain *T)
+void wk_terrain_rhs(int64_t phase, double t, const double *x, const double *p, double *dx,
+                    void *ctx)
+{
+    const wk_terrain *T = (const wk_terrain *)ctx;
+    T->rhs(phase, t, x, p, dx, T->inner);
+}
+
+void wk_terrain_jac(int64_t phase, double t, const double *x, const double *p, double *J,
+                    void *ctx)
+{
+    const wk_terrain *T = (const wk_terrain *)ctx;
+    T->jac(phase, t, x, p, J, T->inner);
+}
+
+wk_functions wk_terrain_functions(const wk_functions *fn, const wk_terrain_entry *te,
+                                  wk_terrain *T)
 {
     wk_functions f = *fn;
+    T->inner = fn->ctx;
+    T->rhs = fn->rhs;
+    T->jac = fn->jac;
     f.guards = te->terrain_guards;
     f.reset = te->terrain_reset;
     f.ctx = T;
     f.on_stride = wk_terrain_on_stride;
+    if (te->own_ctx) {
+        f.rhs = wk_terrain_rhs;
+        f.jac = fn->jac != NULL ? wk_terrain_jac : NULL;
+        f.rhs_jac = NULL;
+    }
     return f;
+}
+
+void wk_terrain_rotate_impulse(double *impulse, double from, double to)
+{
+    const double wx = impulse[0] * cos(from) + impulse[1] * sin(from);
+    const double wy = -impulse[0] * sin(from) + impulse[1] * cos(from);
+    impulse[0] = wx * cos(to) - wy * sin(to);
+    impulse[1] = wx * sin(to) + wy * cos(to);
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -105,12 +144,7 @@ int64_t wk_terrain_heel_strike(const wk_floating_base *B, const int *swap, int n
     if (!wk_floating_base_heel_strike(B, x, x + n_c, p, G->prev_slope, qdf_plus, impulse, &lift))
         return WK_LINEAR_SOLVE_FAILED;
     wk_swap_legs(swap, n_c, x, qdf_plus, x_new);
-    /* the impulse in the world frame, then along and normal to the step's plane */
-    const double a = G->prev_slope, b = G->slope;
-    const double wx = impulse[0] * cos(a) + impulse[1] * sin(a);
-    const double wy = -impulse[0] * sin(a) + impulse[1] * cos(a);
-    impulse[0] = wx * cos(b) - wy * sin(b);
-    impulse[1] = wx * sin(b) + wy * cos(b);
+    wk_terrain_rotate_impulse(impulse, G->prev_slope, G->slope);
     if (!(impulse[1] > 0.0) || !(lift > 0.0)) return WK_NONPHYSICAL_IMPACT;
     return 0;
 }
@@ -131,7 +165,7 @@ int wk_terrain_walk(const wk_functions *fn, const wk_terrain_entry *te, const wk
     const int64_t n_x = tmpl->n_x;
     wk_terrain T;
     terrain_init(&T, te, tmpl, steps, n_steps);
-    const wk_functions f = terrain_functions(fn, te, &T);
+    const wk_functions f = wk_terrain_functions(fn, te, &T);
     int64_t phase0 = 0;
     *strides = 0;
     *t = 0.0;
@@ -261,7 +295,7 @@ int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
     const int64_t n_x = tmpl->n_x, n_z = sec->n_z, n_t = 2 * n_steps;
     wk_terrain T;
     terrain_init(&T, te, tmpl, steps, n_steps);
-    const wk_functions f = terrain_functions(fn, te, &T);
+    const wk_functions f = wk_terrain_functions(fn, te, &T);
     int64_t phase = 0;
     *strides = 0;
     *t = 0.0;

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stddef.h>
 #include "wk_common.h"
+#include "wk_terrain.h"
 #include "wk_control.h"
 #include "wk_friction.h"
 #include "wk_actuated.h"
@@ -137,11 +138,36 @@ static int64_t impact(const wk_actuated_model *M, const double *x, const double 
     return wk_impact_status(impulse, lift, p[M->i_friction]);
 }
 
+static void after_impact(const wk_actuated_model *M, int64_t phase, int64_t status,
+                         const double *p, double *x_new, int64_t *out, void *ctx);
+
 void wk_actuated_heel_strike(const wk_actuated_model *M, int64_t phase, const double *x,
                              const double *p, double *x_new, double *impulse, int64_t *out,
                              void *ctx)
 {
-    int64_t status = impact(M, x, p, x_new, impulse);
+    after_impact(M, phase, impact(M, x, p, x_new, impulse), p, x_new, out, ctx);
+}
+
+void wk_actuated_heel_strike_on(const wk_actuated_model *M, int64_t phase, const double *x,
+                                const double *p, double slope, double trailing_slope,
+                                double *x_new, double *impulse, int64_t *out, void *ctx)
+{
+    double qdf_plus[WK_FLOATING_BASE_MAX], lift;
+    int64_t status = WK_LINEAR_SOLVE_FAILED;
+    if (wk_floating_base_heel_strike(&M->base, x, x + M->n_q, p, trailing_slope, qdf_plus,
+                                     impulse, &lift)) {
+        M->relabel(x, qdf_plus, x_new);
+        wk_terrain_rotate_impulse(impulse, trailing_slope, slope);
+        status = wk_impact_status(impulse, lift, p[M->i_friction]);
+    }
+    after_impact(M, phase, status, p, x_new, out, ctx);
+}
+
+/* The heel strike after its impact: the run ends for a status, else the joints' modes are
+ * chosen for the new stance. */
+static void after_impact(const wk_actuated_model *M, int64_t phase, int64_t status,
+                         const double *p, double *x_new, int64_t *out, void *ctx)
+{
     if (status != 0) {
         wk_reset_out(out, WK_EVENT_TERMINAL, phase, status);
         return;

@@ -169,6 +169,13 @@ void wk_actuated_heel_strike(const wk_actuated_model *M, int64_t phase, const do
                              const double *p, double *x_new, double *impulse, int64_t *out,
                              void *ctx);
 
+/* wk_actuated_heel_strike on terrain (walker/_core/wk_terrain.h): the impulse along and
+ * normal to the plane of slope ``slope`` (the swing foot's), the trailing foot's lift-off
+ * from the plane of slope ``trailing_slope`` it stands on. */
+void wk_actuated_heel_strike_on(const wk_actuated_model *M, int64_t phase, const double *x,
+                                const double *p, double slope, double trailing_slope,
+                                double *x_new, double *impulse, int64_t *out, void *ctx);
+
 /* The model's reset (wk_reset_fn, t unused): x_new a copy of x, then strike for guard 0, the
  * end of the run with M->base_status[k] for the other base guards, and for the joints'
  * friction guards (actuated_joint_event) the reset of joint friction event 2 j (slip_stops)

@@ -43,6 +43,12 @@ typedef struct {
     int64_t n_steps;     /* past the last step: the scene's plane */
     int64_t index;       /* the current step */
     double scene_slope;  /* the model's slope parameter [rad] */
+    /* the model's own ctx (a controller; NULL for the built-in one and the passive models)
+     * and, for a model whose phase functions read it (own_ctx), its rhs and jac, called
+     * through wk_terrain_rhs / wk_terrain_jac with it */
+    void *inner;
+    wk_rhs_fn rhs;
+    wk_jac_fn jac;
 } wk_terrain;
 
 /* A model's terrain functions: guards and reset with the signatures of wk_system.h, called
@@ -53,7 +59,24 @@ typedef struct {
     int64_t slope_index;  /* the slope's index in the parameter vector */
     wk_guards_fn terrain_guards;
     wk_reset_fn terrain_reset;
+    int own_ctx; /* the model's rhs, jac, guards and reset read a ctx of their own */
 } wk_terrain_entry;
+
+/* The run's functions: the model's with its terrain guards and reset, ctx T (T's inner,
+ * rhs and jac set from fn), on_stride wk_terrain_on_stride; rhs and jac go through the
+ * trampolines below for a model with a ctx of its own. */
+wk_functions wk_terrain_functions(const wk_functions *fn, const wk_terrain_entry *te,
+                                  wk_terrain *T);
+
+/* The model's rhs and jac with T->inner as their ctx (ctx a wk_terrain). */
+void wk_terrain_rhs(int64_t phase, double t, const double *x, const double *p, double *dx,
+                    void *ctx);
+void wk_terrain_jac(int64_t phase, double t, const double *x, const double *p, double *J,
+                    void *ctx);
+
+/* impulse (2) along and normal to the plane of slope ``from`` -> the same impulse along and
+ * normal to the plane of slope ``to`` [rad]. */
+void wk_terrain_rotate_impulse(double *impulse, double from, double to);
 
 /* The terrain functions of the model whose plane guards are ``guards``; NULL: none. */
 const wk_terrain_entry *wk_terrain_find(wk_guards_fn guards);
@@ -116,6 +139,12 @@ void wk_terrain_rimless_wheel_reset(int64_t phase, int64_t k, double t, const do
     void wk_terrain_##name##_reset(int64_t phase, int64_t k, double t, const double *x,      \
                                    const double *p, double *x_new, double *impulse,          \
                                    int64_t *out, void *ctx);
+/* Entries written in their model files (their plane guards are static there). */
+extern const wk_terrain_entry wk_terrain_entry_compass_coulomb;
+extern const wk_terrain_entry wk_terrain_entry_kneed_coulomb;
+extern const wk_terrain_entry wk_terrain_entry_three_link;
+extern const wk_terrain_entry wk_terrain_entry_five_link;
+
 WK_DECLARE_TERRAIN(simplest)
 WK_DECLARE_TERRAIN(compass)
 WK_DECLARE_TERRAIN(compass_plain)
