@@ -30,6 +30,8 @@ def test_mfpt_json_keys_and_jobs_invariance(capsys, tmp_path):
     assert prov["kind"] == "mfpt" and prov["command"] == "mfpt"
     np.testing.assert_allclose(result.mfpt, one["mfpt"], rtol=1e-15, atol=0)
     assert result.steps.shape == (60,) and result.failed == one["failed"]
+    assert main(["plot", str(tmp_path / "m.h5"), "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "m_survival.png").is_file()
 
 
 @pytest.mark.slow

@@ -409,6 +409,8 @@ def plot_file(path, out_dir=".", *, gif: bool = False) -> list[Path]:
         return [_save(_plot_basin(result, prov), out / f"{stem}_basin.png")]
     if kind == "sweep":
         return [_save(_plot_sweep(result, prov), out / f"{stem}_sweep.png")]
+    if kind == "mfpt":
+        return [_save(plotting.plot_survival(result), out / f"{stem}_survival.png")]
     raise ValueError(f"{path}: nothing to plot for a `{kind}` result")
 
 
