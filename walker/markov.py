@@ -36,8 +36,11 @@ completed from a state, ``n = (I - Q)^-1 Q 1``, accounts for the start transient
 nodes, ``n_start = sum_d Q_start,d (1 + n_d)``, which is what the Monte Carlo of
 :func:`walker.mfpt.monte_carlo` estimates.
 
-The mesh is refined (twice the mesh points, 1.5 times the slope nodes per level) until
-``1 / (1 - lambda_2)`` moves less than ``tol`` (2 %) between levels.
+The chain is refined (twice the slope nodes, 1.5 times the mesh points per level) until
+``1 / (1 - lambda_2)`` moves less than ``tol`` (2 %) between levels.  The slope nodes limit
+the accuracy most: the midpoint rule lumps each bin's mass at its centre, and failure is a
+sharp function of the slope (on the rimless wheel at slope std 0.02 rad, 12 nodes put the
+MFPT 15 % below the Monte Carlo, 40 nodes within 1 %, with 80 grid points either way).
 """
 
 from __future__ import annotations
@@ -292,7 +295,7 @@ def markov_chain(
     *,
     slope_std: float,
     n_mesh: int | None = None,
-    n_slopes: int = 8,
+    n_slopes: int = 12,
     tol: float = 0.02,
     max_levels: int = 4,
     seed: int = 0,
@@ -326,8 +329,8 @@ def markov_chain(
     samples : int
         sampled walks (of 40 steps) per level.
     per_node : int
-        strides over each slope node from the walks' states, per level at the first (twice
-        as many at each next level): the section points reached on that node.
+        strides over each slope node from the walks' states, per level: the section points
+        reached on that node, from which the mesh is picked.
 
     Returns
     -------
@@ -351,12 +354,10 @@ def markov_chain(
     mean = float(smap.params.slope)
     levels, previous, change, level = [], None, math.inf, None
     for lev in range(max_levels):
-        m = int(round(n_slopes * 1.5**lev))
-        mesh_points = int(n_mesh * 2**lev)
+        m = int(round(n_slopes * 2**lev))
+        mesh_points = int(round(n_mesh * 1.5**lev))
         slopes, mass = slope_nodes(mean, float(slope_std), m)
-        reach = _sample_reachable(
-            smap, z0, slopes, mass, samples, 40, per_node * 2**lev, seed + lev
-        )
+        reach = _sample_reachable(smap, z0, slopes, mass, samples, 40, per_node, seed + lev)
         mesh = _mesh(np.vstack(reach), mesh_points)
         level = build_chain(smap, z0, slopes, mass, mesh, jobs=jobs)
         levels.append(
