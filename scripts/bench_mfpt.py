@@ -30,6 +30,7 @@ from _bench import OUT, ROOT, write_atomic, write_csv_atomic  # noqa: E402
 RTOL = 1e-9
 STD = 0.005  # slope standard deviation [rad]; MFPT about 30 steps for the compass
 THREADS = 2
+CONTENDER_WALKS = 10  # walks of the solve_ivp loop a round (about 300 strides)
 
 
 def hand_written_compass(params):
@@ -158,7 +159,8 @@ def main() -> None:
         t = time.perf_counter()
         rng = np.random.default_rng(r)
         strides = sum(
-            contender_run(P.model, scene.params, x0, rng, 256, f, heel, fall) for _ in range(40)
+            contender_run(P.model, scene.params, x0, rng, 256, f, heel, fall)
+            for _ in range(CONTENDER_WALKS)
         )
         contender_rate.append(strides / (time.perf_counter() - t))
     w, c, s = np.array(walker_rate), np.array(contender_rate), np.array(walker_share)
@@ -183,9 +185,9 @@ def main() -> None:
         "",
         f"`python scripts/bench_mfpt.py`: gaits/compass_goswami.toml at rtol = atol = {RTOL:g} "
         f"(DOP853), slope N(3 deg, {STD:g}^2 rad^2) per step, from the gait of the mean slope; "
-        f"{rounds} rounds, walker {runs} runs a round on {THREADS} threads, the contender 40 "
-        "walks a round (one thread: solve_ivp holds the GIL). Strides per second (completed "
-        "strides / wall time), min and median over rounds.",
+        f"{rounds} rounds, walker {runs} runs a round on {THREADS} threads, the contender "
+        f"{CONTENDER_WALKS} walks a round (one thread: solve_ivp holds the GIL). Strides per "
+        "second (completed strides / wall time), min and median over rounds.",
         "",
         "| contender | strides/s min | strides/s median |",
         "|---|---|---|",

@@ -132,6 +132,16 @@ def test_step_limits_are_reverified_by_direct_runs(path):
         assert recovers(P, z, h) == ok
 
 
+def test_a_gait_without_a_norm_reports_the_failed_stride():
+    """The three-link walker touches a plane dropped by less than its swing leg's dip just
+    ahead of the stance foot, a non-physical impact (docs/terrain.md): the derivative by the
+    drop does not exist, an outcome, not an error."""
+    _, P, z = _gait("gaits/three_link_grizzle.toml")
+    g = gait_sensitivity(P, z)
+    assert g.status == Status.NONPHYSICAL_IMPACT and math.isnan(g.gsn)
+    assert "disturbed stride" in g.message
+
+
 def test_input_errors_name_the_argument():
     _, P, z = _gait("gaits/compass_goswami.toml")
     with pytest.raises(ValueError, match="n_shown"):

@@ -79,6 +79,11 @@ class GaitSensitivity:
         the gait's section point.
     multipliers : ndarray
         the gait's Floquet multipliers (eigenvalues of ``A``).
+    status : Status
+        ``COMPLETED``; else the failure of a stride the linearisation needs (the disturbed
+        stride fails for the smallest step: the norm does not exist), ``gsn`` NaN.
+    message : str
+        which stride failed, when one did.
     """
 
     gsn: float
@@ -86,9 +91,13 @@ class GaitSensitivity:
     tail: float
     section: np.ndarray
     multipliers: np.ndarray
+    status: Status = Status.COMPLETED
+    message: str = ""
 
     def as_dict(self) -> dict:
         return {
+            "status": self.status.name,
+            "message": self.message,
             "gsn": float(self.gsn),
             "step_time_response": [float(v) for v in self.response[:, 0]],
             "step_length_response": [float(v) for v in self.response[:, 1]],
@@ -107,9 +116,17 @@ def _richardson(f, h):
     return (4.0 * central(0.5 * h) - central(h)) / 3.0
 
 
+class _ProbeFailed(Exception):
+    """A stride the linearisation needs failed (an outcome, returned as a status)."""
+
+    def __init__(self, status, what):
+        super().__init__(f"{what} failed ({status.name})")
+        self.status = status
+
+
 def _ok(r, what):
     if r.status != Status.COMPLETED:
-        raise ValueError(f"{what}: the stride failed ({r.status.name}); the gait cannot be probed")
+        raise _ProbeFailed(r.status, what)
     return r
 
 
@@ -131,23 +148,38 @@ def gait_sensitivity(P, z_star, *, n_shown: int = 10) -> GaitSensitivity:
     n_shown : int
         strides whose response is listed (>= 2); the rest enter through the tail sum.
     """
-    from scipy.linalg import solve_discrete_lyapunov
-
     from walker._terrain_run import check_supported
 
     check_supported(P)
     if isinstance(n_shown, bool) or not isinstance(n_shown, numbers.Integral) or n_shown < 2:
         raise ValueError(f"`n_shown` must be an int >= 2, got {n_shown!r}")
     z = np.asarray(z_star, dtype=np.float64)
-    slope = float(P.params.slope)
-    p = P._p()
-    plane = _ok(P(z, jacobian=True), "the gait's stride")
-    if not np.allclose(plane.z, z, rtol=1e-8, atol=1e-8):
+    plane = P(z, jacobian=True)
+    if plane.status != Status.COMPLETED or not np.allclose(plane.z, z, rtol=1e-8, atol=1e-8):
         raise ValueError("`z_star` must be a fixed point of the stride map (P(z) = z)")
     A = plane.jac
     multipliers = np.linalg.eigvals(A)
     if np.max(np.abs(multipliers)) >= 1.0:
         raise ValueError("the gait is unstable (a multiplier on or outside the unit circle)")
+    try:
+        return _linearised(P, z, A, multipliers, n_shown)
+    except _ProbeFailed as failed:
+        return GaitSensitivity(
+            math.nan,
+            np.full((0, 2), math.nan),
+            math.nan,
+            z.copy(),
+            multipliers,
+            failed.status,
+            str(failed),
+        )
+
+
+def _linearised(P, z, A, multipliers, n_shown):
+    from scipy.linalg import solve_discrete_lyapunov
+
+    slope = float(P.params.slope)
+    p = P._p()
 
     def first_two(h):
         rows = np.array([[slope, h], [slope, 0.0]])

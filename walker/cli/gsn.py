@@ -46,9 +46,13 @@ def cmd_gsn(args) -> int:
         return EXIT_OUTCOME
     g = gait_sensitivity(P, z)
     record = {"scene": str(scene.path), "model": scene.model, **g.as_dict()}
+    code = EXIT_OK if g.status.name == "COMPLETED" else EXIT_OUTCOME
     if args.json:
         print(_json(record))
-        return EXIT_OK
+        return code
+    if code != EXIT_OK:
+        print(f"walker: no gait sensitivity norm: {g.message}")
+        return code
     print(f"scene   {scene.path}  (model {scene.model})")
     print(f"GSN     {g.gsn:.10g}  (step time [s/m] and step length [m/m] per unit step down)")
     print("stride  dT/dh [s/m]     dS/dh [1]")
