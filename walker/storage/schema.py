@@ -368,8 +368,10 @@ def _shape_problem(cls: type, v: dict[str, Any]) -> tuple[str, str] | None:
                 lambda n: vector("status", n, "iu"),
                 lambda n: None if v["steps"].dtype.kind in "iu" else ("steps", "must be integers"),
             ),
-            lambda: None
-            if v["steps"].shape[0] == v["runs"]
-            else ("steps", f"must have `runs` = {v['runs']} entries, got {v['steps'].shape[0]}"),
+            lambda: (
+                None
+                if v["steps"].shape[0] == v["runs"]
+                else ("steps", f"must have `runs` = {v['runs']} entries, got {v['steps'].shape[0]}")
+            ),
         )
     return None  # pragma: no cover - every class in _SPECS is handled above
