@@ -52,7 +52,14 @@ import numpy as np
 from walker.results import MfptResult
 from walker.terrain import Terrain
 
-__all__ = ["MfptResult", "gait_on_mean_slope", "monte_carlo", "run_seeds", "run_terrain"]
+__all__ = [
+    "MfptResult",
+    "draw_terrains",
+    "gait_on_mean_slope",
+    "monte_carlo",
+    "run_seeds",
+    "run_terrain",
+]
 
 ROWS_PER_BLOCK = 1 << 21
 """Terrain rows (runs x steps) drawn and walked per block: bounds the memory at 32 MiB."""
@@ -119,6 +126,22 @@ def run_terrain(child, n_steps: int, terrain: Terrain) -> np.ndarray:
     return terrain.steps(n_steps, np.random.default_rng(child))
 
 
+def draw_terrains(children, n_steps: int, terrain: Terrain) -> np.ndarray:
+    """The rows of :func:`run_terrain` for every child, shape ``(len(children), n_steps,
+    2)``, bit for bit, with the scaling done once for all runs."""
+    draws = np.empty((len(children), n_steps, 2))
+    for i, child in enumerate(children):
+        draws[i] = np.random.default_rng(child).standard_normal((n_steps, 2))
+    rows = np.empty_like(draws)
+    rows[..., 0] = terrain.slope_mean
+    rows[..., 1] = 0.0
+    if terrain.slope_std > 0.0:
+        rows[..., 0] += terrain.slope_std * draws[..., 0]
+    if terrain.height_std > 0.0:
+        rows[..., 1] = terrain.height_std * draws[..., 1]
+    return rows
+
+
 def monte_carlo(
     smap,
     z0,
@@ -178,7 +201,7 @@ def monte_carlo(
         block = max(1, ROWS_PER_BLOCK // n)
         for a in range(0, pending.size, block):
             idx = pending[a : a + block]
-            rows = np.stack([run_terrain(children[i], n, terrain) for i in idx])
+            rows = draw_terrains([children[i] for i in idx], n, terrain)
             k, st = smap.ensemble(z0, rows, threads=jobs)
             done[idx], status[idx] = k, st
         if n >= max_steps:
