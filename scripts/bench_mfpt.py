@@ -18,6 +18,7 @@ Writes results/bench/mfpt.md and results/bench/mfpt.csv.
 from __future__ import annotations
 
 import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -141,6 +142,7 @@ def main() -> None:
         np.testing.assert_allclose(f(0.0, y), dy, rtol=1e-12, atol=1e-12)
     x0 = P.lift(z0)
 
+    load_before = os.getloadavg()[0]
     rounds, runs = 5, 4000
     walker_rate, walker_share, draw_share, contender_rate = [], [], [], []
     terrain = Terrain("random", slope_mean=scene.params.slope, slope_std=STD)
@@ -206,8 +208,9 @@ def main() -> None:
         "subtracted from the whole Monte Carlo; noisy on a shared machine): median "
         f"{100 * np.median(s):.1f} %, max {100 * s.max():.1f} %.",
         "",
-        "The machine's 2 cores are shared with other jobs; the numbers are side by side in "
-        "one process, not absolute.",
+        "The machine's 2 cores are shared with other jobs (load average "
+        f"{load_before:.1f} before, {os.getloadavg()[0]:.1f} after); the numbers are side by "
+        "side in one process, not absolute.",
         "",
     ]
     write_atomic(OUT / "mfpt.md", "\n".join(md))
