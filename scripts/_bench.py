@@ -160,6 +160,12 @@ README_SECTIONS = (
         "python scripts/bench_friction.py",
         ["friction.csv"],
     ),
+    (
+        "terrain.md",
+        "Walks on per-step terrain (Monte-Carlo batch)",
+        "python scripts/bench_terrain.py",
+        ["terrain.csv"],
+    ),
 )
 
 

@@ -105,6 +105,47 @@ def test_rimless_wheel_terrain_jacobian_matches_the_closed_form():
         np.testing.assert_allclose(r.terrain_jac[0], [d_gamma, d_h], rtol=1e-7, atol=0)
 
 
+def test_rimless_wheel_walk_from_a_landed_state_matches_the_closed_form():
+    """StrideMap.walk from the state just after landing on slope gamma_prev (the spoke at
+    alpha - gamma_prev from the vertical: theta = alpha - gamma_prev + slope from the scene's
+    normal), one stride on gamma: w+ = cos(2 alpha) sqrt(w^2 + 2 (g/l)(cos(gamma_prev -
+    alpha) - cos(gamma + alpha))); its dz/dx0 against central differences of walks."""
+    scene, P, z = _map(RIMLESS)
+    p = scene.params
+    alpha, gl = math.pi / p.spokes, p.g / p.leg_length
+    rng = np.random.default_rng(11)
+    for _ in range(5):
+        g_prev, gamma = p.slope + 0.03 * rng.standard_normal(2)
+        w = abs(z[0]) * rng.uniform(1.0, 1.4)
+        x0 = np.array([alpha - g_prev + p.slope, -w])
+        r = P.walk(x0, [[gamma, 0.0]], previous=(g_prev, 0.0), jacobian=True)
+        assert r.status == Status.COMPLETED
+        expected = math.cos(2 * alpha) * math.sqrt(
+            w**2 + 2 * gl * (math.cos(g_prev - alpha) - math.cos(gamma + alpha))
+        )
+        np.testing.assert_allclose(-r.z[0], expected, rtol=1e-10, atol=0)
+        assert r.jac.shape == (1, 2)
+        e = 1e-6
+        for j in range(2):
+            d = np.zeros(2)
+            d[j] = e
+            up = P.walk(x0 + d, [[gamma, 0.0]]).z
+            down = P.walk(x0 - d, [[gamma, 0.0]]).z
+            np.testing.assert_allclose(r.jac[0, j], (up - down)[0] / (2 * e), rtol=1e-6, atol=1e-9)
+
+
+def test_walk_continues_a_walk():
+    """A walk from the state a terrain call ended in, with `previous` its last step, is the
+    same walk as one call over both steps (to the tolerance: two integrations)."""
+    scene, P, z = _map(COMPASS)
+    s = scene.params.slope
+    rows = np.array([[s + 0.004, 0.003], [s - 0.002, -0.002]])
+    both = P(z, terrain=rows, n_strides=2)
+    first = P(z, terrain=rows[:1])
+    second = P.walk(first.state, rows[1:], previous=rows[0])
+    np.testing.assert_allclose(second.z, both.z, rtol=1e-9, atol=1e-10)
+
+
 # --- terrain Jacobian columns against finite differences ---------------------------------
 
 
@@ -238,6 +279,104 @@ def test_compass_step_down_lands_on_the_plane_later_and_lower():
         previous = r
 
 
+# --- round feet -----------------------------------------------------------------------------
+
+
+def _round_compass():
+    scene = load_scene(COMPASS)
+    params = scene.params.replace(foot_radius=0.1)
+    P = StrideMap("compass", params, rtol=1e-12, atol=1e-12)
+    from walker import find_fixed_point
+
+    gait = find_fixed_point(P, P.project(scene.state))
+    assert gait.status == Status.COMPLETED
+    return params, P, gait.section
+
+
+def test_round_feet_touch_down_on_the_plane():
+    """Round feet (radius R): the stance foot's centre starts R above the contact it landed
+    at and rolls R (q_land - q) along its plane; the swing foot's centre sits (L - R)(sin q_sw
+    - sin q_st, cos q_st - cos q_sw) from it (angles from the vertical).  At touchdown the
+    swing foot's lowest point, R below its centre, lies on the step's plane (1e-12), and the
+    plane rows give the plane's numbers bit for bit."""
+    params, P, z = _round_compass()
+    g0, R = params.slope, params.foot_radius
+    L = params.com_from_foot + params.com_to_hip
+    a, b = P(z, n_strides=2), P(z, n_strides=2, terrain=[[g0, 0.0], [g0, 0.0]])
+    assert np.array_equal(a.z, b.z) and a.step_time == b.step_time
+    q_land = P.lift(z)[0]
+    for gamma, h in [(g0 + 0.01, 0.005), (g0 - 0.02, -0.003), (g0 + 0.03, 0.0)]:
+        r = P(z, terrain=[[gamma, h]])
+        assert r.status == Status.COMPLETED
+        q_new, q_old = r.state[0], r.state[1]  # the legs swapped at touchdown
+        t_s = np.array([math.cos(g0), -math.sin(g0)])
+        n_s = np.array([math.sin(g0), math.cos(g0)])
+        centre = R * (q_land - q_old) * t_s + R * n_s
+        swing = centre + (L - R) * np.array(
+            [math.sin(q_new) - math.sin(q_old), math.cos(q_old) - math.cos(q_new)]
+        )
+        normal = np.array([math.sin(gamma), math.cos(gamma)])
+        assert abs(swing @ normal + h * math.cos(gamma) - R) < 1e-12
+
+
+def test_round_feet_roll_on_the_plane_they_landed_on():
+    """In the second step the stance foot rolls on the first step's plane: the walker's
+    energy (the model's, its slope parameter that plane's) is conserved there to the
+    tolerance, and not with the scene's slope."""
+    from walker import simulate
+    from walker.models import get_model
+
+    params, P, z = _round_compass()
+    g1 = params.slope + 0.05
+    sol = simulate(
+        "compass", params, P.lift(z), n_strides=2, output="full", terrain=[[g1, 0.0], [g1, 0.0]]
+    )
+    assert sol.status == Status.COMPLETED
+    t_event = sol.events.t[0]
+    energy = get_model("compass").energy
+    t = sol.record.t
+    second = sol.record.x[(t > t_event + 1e-9) & (t < sol.events.t[1] - 1e-9)]
+    assert len(second) > 10
+    on_plane = [sum(energy(x, params.replace(slope=g1))) for x in second]
+    on_scene = [sum(energy(x, params)) for x in second]
+    assert np.ptp(on_plane) < 1e-9 * abs(np.mean(on_plane))
+    assert np.ptp(on_scene) > 1e-4 * abs(np.mean(on_scene))
+
+
+@pytest.mark.parametrize("path", [COMPASS, "gaits/kneed_hsu.toml"])
+def test_round_feet_jacobians_match_finite_differences(path):
+    """Round feet: a step's slope also moves the next step's rolling flow and touchdown (the
+    stance foot rolls on it), and the landing angle the guard; dz/dz0 and the terrain
+    columns of three strides against central differences of whole walks."""
+    from walker import find_fixed_point
+
+    scene = load_scene(path)
+    params = scene.params.replace(foot_radius=0.1 if path == COMPASS else 0.05)
+    P = StrideMap(scene.walker_model, params, rtol=1e-12, atol=1e-12)
+    z = find_fixed_point(P, P.project(scene.state)).section
+    s = params.slope
+    rows = np.array([[s + 0.004, 0.002], [s - 0.003, -0.001], [s + 0.002, 0.001]])
+    r = P(z, terrain=rows, n_strides=3, jacobian=True)
+    assert r.status == Status.COMPLETED
+    e = 1e-6
+    fd = np.empty((P.n_z, 6))
+    for k in range(6):
+        d = np.zeros(6)
+        d[k] = e
+        up = P(z, terrain=rows + d.reshape(3, 2), n_strides=3).z
+        down = P(z, terrain=rows - d.reshape(3, 2), n_strides=3).z
+        fd[:, k] = (up - down) / (2 * e)
+    np.testing.assert_allclose(r.terrain_jac, fd, rtol=1e-6, atol=1e-7 * np.abs(fd).max())
+    fz = np.empty((P.n_z, P.n_z))
+    for k in range(P.n_z):
+        d = np.zeros(P.n_z)
+        d[k] = e
+        fz[:, k] = (
+            P(z + d, terrain=rows, n_strides=3).z - P(z - d, terrain=rows, n_strides=3).z
+        ) / (2 * e)
+    np.testing.assert_allclose(r.jac, fz, rtol=1e-6, atol=1e-7 * np.abs(fz).max())
+
+
 # --- input errors ---------------------------------------------------------------------------
 
 
@@ -306,3 +445,75 @@ def test_docs_terrain_md_examples_run():
         os.chdir(old)
     result = runner.summarize(verbose=False)
     assert result.attempted >= 8 and result.failed == 0
+
+
+# --- scenes and the command line -------------------------------------------------------------
+
+
+def test_walker_run_walks_on_terrain_and_records_it(tmp_path, capsys):
+    from walker.cli import main
+    from walker.storage import read
+
+    out = tmp_path / "run.h5"
+    code = main(
+        [
+            "run",
+            COMPASS,
+            "--strides",
+            "4",
+            "--terrain-std",
+            "0.001",
+            "--seed",
+            "3",
+            "--out",
+            str(out),
+        ]
+    )
+    text = capsys.readouterr().out
+    assert code == 0 and "terrain: random" in text and "seed 3" in text
+    sol, prov = read(out)
+    assert prov["terrain"]["slope_std"] == 0.001 and prov["terrain"]["seed"] == 3
+    # the same walk from Python: simulate over the same draws
+    from walker import simulate
+
+    scene = load_scene(COMPASS)
+    rows = Terrain("random", slope_mean=scene.params.slope, slope_std=0.001, seed=3).steps(4)
+    c = scene.compute
+    again = simulate(
+        scene.walker_model,
+        scene.params,
+        scene.state,
+        n_strides=4,
+        t_max=c.t_max * 4,
+        method=c.method,
+        rtol=c.rtol,
+        atol=c.atol,
+        first_step=c.first_step,
+        terrain=rows,
+    )
+    assert np.array_equal(again.x, sol.x)
+    # zero standard deviations: the plane's run, bit for bit
+    main(["run", COMPASS, "--strides", "4", "--out", str(tmp_path / "a.h5")])
+    main(["run", COMPASS, "--strides", "4", "--terrain-std", "0", "--out", str(tmp_path / "b.h5")])
+    assert np.array_equal(read(tmp_path / "a.h5")[0].x, read(tmp_path / "b.h5")[0].x)
+
+
+def test_walker_run_refuses_bad_terrain_flags(capsys):
+    from walker.cli import main
+
+    assert main(["run", COMPASS, "--terrain-std", "-1"]) == 2
+    assert "--terrain-std" in capsys.readouterr().err
+    assert main(["run", "gaits/three_link_book.toml", "--terrain-std", "0.01"]) == 2
+    assert "step_event" in capsys.readouterr().err
+
+
+def test_scene_terrain_table(tmp_path):
+    text = open(COMPASS, encoding="utf-8").read()
+    path = tmp_path / "s.toml"
+    path.write_text(text + '\n[terrain]\nkind = "steps"\nheights = [0.01, 0.0]\n', encoding="utf-8")
+    scene = load_scene(path)
+    assert scene.terrain.kind == "steps" and scene.terrain.slope_mean == scene.params.slope
+    np.testing.assert_array_equal(scene.terrain.steps(3)[:, 1], [0.01, 0.0, 0.0])
+    path.write_text(text + '\n[terrain]\nkind = "random"\nseed = -1\n', encoding="utf-8")
+    with pytest.raises(ValueError, match=r"\[terrain\] `seed` must be >= 0"):
+        load_scene(path)

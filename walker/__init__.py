@@ -34,6 +34,9 @@ The pipeline, from a scene file to pictures::
                                      HybridSystem (also for user-supplied C functions) in
                                      hybrid_system.py
                  ──► stride.py       simulate(); StrideMap: section -> section (+ Jacobian)
+                     terrain.py      ground defined per step (Terrain); its walks, their
+                                     Jacobians and Monte-Carlo batches in _terrain_run.py
+                                     and _core/terrain*.c
                  ──► fixedpoint.py   fixed points, Floquet multipliers; sectionmap.py (map
                                      value and Jacobian, eigen-sorting, input checks),
                                      region.py (walking region), newton.py (Newton / LM)
@@ -73,6 +76,7 @@ from walker.params import (  # noqa: E402
 from walker.results import FixedPoint, MapResult, Solution  # noqa: E402
 from walker.scene import Scene, load_scene  # noqa: E402
 from walker.status import Status  # noqa: E402
+from walker.terrain import Terrain  # noqa: E402
 
 
 def __getattr__(name):
@@ -100,6 +104,7 @@ __all__ = [
     "Solution",
     "Status",
     "StrideMap",
+    "Terrain",
     "find_fixed_point",
     "get_model",
     "load_scene",

@@ -20,6 +20,8 @@ from walker.results import MapResult
 from walker.status import Status
 
 __all__ = [
+    "ensemble_method",
+    "walk",
     "check_model",
     "check_supported",
     "ensemble",
@@ -51,7 +53,8 @@ def _args(smap) -> tuple:
 
 def check_model(model, params, system) -> None:
     """Raise a ValueError naming the model when it cannot walk on terrain: no compiled
-    terrain functions for its system (walker/_core/terrain.c), or round feet."""
+    terrain functions for its system (walker/_core/terrain.c), or a three-link walker whose
+    steps end on its controller's surface."""
     from walker import _hybrid
     from walker.hybrid_system import _compiled
 
@@ -63,12 +66,6 @@ def check_model(model, params, system) -> None:
         raise ValueError(
             f"terrain is not supported for `{name}` with `step_event` = 1 (its steps end on "
             "the controller's impact surface, not on touching the ground)"
-        )
-    radius = getattr(params, "foot_radius", 0.0)
-    if radius:
-        raise ValueError(
-            f"terrain is not supported for `{name}` with round feet (`foot_radius` = "
-            f"{radius:g} > 0) yet"
         )
 
 
@@ -88,17 +85,15 @@ def _python_call(smap, z, n_strides, rows) -> MapResult:
     """A terrain call of a map without a compiled call (its lift is neither affine nor
     compiled: the five-link walker's): the model's lift, then one run of the map's system
     (as :func:`walker.stride.simulate` runs it), projected; no Jacobians."""
-    import math as _math
-
-    from walker.fixedpoint import stride_max_steps
     from walker.integrate import _solve
+    from walker.region import stride_max_steps
 
     cached = smap.__dict__["_run"]
     p, system, model = cached[1], cached[4], smap.model
     x0 = np.ascontiguousarray(model.lift(z, p), dtype=np.float64)
     start_phase = model.start_phase_fn()
     phase0 = 0
-    if start_phase is not None and all(map(_math.isfinite, x0.tolist())):
+    if start_phase is not None and all(map(math.isfinite, x0.tolist())):
         phase0 = start_phase(x0, p)
     per_stride = stride_max_steps(smap.params, smap.t_max, smap.method, smap.first_step)
     sol = _solve(
@@ -151,11 +146,21 @@ def terrain_rows(terrain, n_strides: int | None, name: str = "terrain") -> np.nd
     return rows
 
 
-def terrain_call(smap, z, jacobian, n_strides, terrain) -> MapResult:
+def _check_walk_args(jacobian, previous):
+    if not isinstance(jacobian, bool | np.bool_ | numbers.Integral):
+        raise TypeError(f"`jacobian` must be a bool, got {type(jacobian).__name__}")
+    if previous is not None:
+        previous = np.array(previous, dtype=np.float64)
+        if previous.shape != (2,) or not np.isfinite(previous).all():
+            raise ValueError(
+                f"`previous` must be 2 finite values (slope, drop), got {previous.tolist()}"
+            )
+    return bool(jacobian), previous
+
+
+def terrain_call(smap, z, jacobian, n_strides, terrain, previous=None) -> MapResult:
     """:meth:`walker.stride.StrideMap.__call__` with ``terrain``: the checks, then one
     compiled walk (``walker._hybrid.terrain_walk``)."""
-    from walker import _hybrid
-
     z = as_vector(z, "z", smap.model.n_z)
     if not all(map(math.isfinite, z.tolist())):
         raise ValueError("All components of the section point `z` must be finite.")
@@ -163,8 +168,7 @@ def terrain_call(smap, z, jacobian, n_strides, terrain) -> MapResult:
         raise TypeError(f"`n_strides` must be an int, got {type(n_strides).__name__}")
     if n_strides < 1:
         raise ValueError(f"`n_strides` must be >= 1, got {n_strides}")
-    if not isinstance(jacobian, bool | np.bool_ | numbers.Integral):
-        raise TypeError(f"`jacobian` must be a bool, got {type(jacobian).__name__}")
+    jacobian, previous = _check_walk_args(jacobian, previous)
     rows = terrain_rows(terrain, int(n_strides))
     cached = smap.__dict__.get("_run")
     if cached is None:
@@ -172,20 +176,59 @@ def terrain_call(smap, z, jacobian, n_strides, terrain) -> MapResult:
         cached = smap.__dict__["_run"]
     if cached[6] is None:
         check_model(smap.model, smap.params, cached[4])
-        if jacobian:
-            check_supported(smap, "the terrain Jacobian")
+        if jacobian or previous is not None:
+            check_supported(smap, "the terrain Jacobian (and `previous`)")
         return _python_call(smap, z, int(n_strides), rows)
+    return _walk(smap, z, False, rows, jacobian, previous)
+
+
+def _walk(smap, start, from_state, rows, jacobian, previous) -> MapResult:
+    from walker import _hybrid
+
     args = _args(smap)
-    z = np.ascontiguousarray(z, dtype=np.float64)
-    status, _, t, x, z_new, jz, tj = _hybrid.terrain_walk(*args, z, rows, bool(jacobian))
+    start = np.ascontiguousarray(start, dtype=np.float64)
+    status, _, t, x, z_new, jz, tj = _hybrid.terrain_walk(
+        *args, start, rows, jacobian, from_state, previous
+    )
     n_z = smap.model.n_z
     z_new = np.frombuffer(z_new, dtype=np.float64).copy()
     x = np.frombuffer(x, dtype=np.float64).copy()
     jac = terrain_jac = None
     if jz is not None and status == 0:
-        jac = np.frombuffer(jz, dtype=np.float64).reshape(n_z, n_z).copy()
+        jac = np.frombuffer(jz, dtype=np.float64).reshape(n_z, start.shape[0]).copy()
         terrain_jac = np.frombuffer(tj, dtype=np.float64).reshape(n_z, -1).copy()
     return MapResult(Status(status), z_new, jac, float(t), x, terrain_jac)
+
+
+def walk(self, x0, terrain, *, jacobian: bool = False, previous=None) -> MapResult:
+    """Walk over ``terrain`` (shape ``(n, 2)``, per step ``(slope [rad], drop [m])``) from
+    the full state ``x0`` (shape ``(n_x,)``, in the model's state order, just after a
+    touchdown: e.g. a previous result's ``state``), in one compiled call.
+
+    As :meth:`__call__` with ``terrain`` but for the start: the map's start checks apply to
+    ``x0``; ``previous`` is the ``(slope, drop)`` of the step ``x0`` landed on (None: the
+    scene's plane), the ground the trailing foot stands on in the first step.  With
+    ``jacobian=True`` the result's ``jac`` is ``dz / dx0``, shape ``(n_z, n_x)``, and
+    ``terrain_jac`` as for :meth:`__call__`.  A Markov chain over post-touchdown states
+    (the rimless wheel's ``(theta, theta_dot)`` carries the plane it landed on) steps with
+    ``n = 1``."""
+    x0 = as_vector(x0, "x0", self.model.n_x)
+    if not all(map(math.isfinite, x0.tolist())):
+        raise ValueError("All components of the state `x0` must be finite.")
+    jacobian, previous = _check_walk_args(jacobian, previous)
+    rows = terrain_rows(terrain, None)
+    check_supported(self, "`walk`")
+    return _walk(self, x0, True, rows, jacobian, previous)
+
+
+def ensemble_method(self, z0, terrains, *, threads: int = 1):
+    """Walk from ``z0`` (shape ``(n_z,)`` or ``(n_runs, n_z)``) over each run's terrain
+    ``terrains`` (shape ``(n_runs, n_steps, 2)``, per step ``(slope, drop)``), in compiled
+    code without the GIL, ``threads`` threads over contiguous blocks of runs (the same
+    result for any number).  Returns ``(steps_completed, status)``, int64 arrays
+    ``(n_runs,)``: the strides completed before the first failure (``n_steps`` and status 0
+    when none failed) and the failure's :class:`walker.status.Status` value."""
+    return ensemble(self, z0, terrains, threads)
 
 
 def ensemble(smap, z0, terrains, threads: int = 1):

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from walker import _section
+from walker import _section, _terrain_run
 from walker._checks import as_vector as _as_vector
 from walker._checks import sample_rate as _sample_rate
 from walker._checks import time_scale as _time_scale
@@ -121,9 +121,7 @@ def simulate(
     """
     model, p, system, time_scale, start_phase = _setup(model, params)
     if terrain is not None:
-        from walker._terrain_run import rows_for
-
-        terrain = rows_for(model, params, system, terrain)
+        terrain = _terrain_run.rows_for(model, params, system, terrain)
     x0 = _as_vector(x0, "x0")
     if t_max is None:
         t_max = 20.0 * max(1, n_strides) * time_scale
@@ -393,16 +391,9 @@ class StrideMap:
 
         return points
 
-    def ensemble(self, z0, terrains, *, threads: int = 1):
-        """Walk from ``z0`` (shape ``(n_z,)`` or ``(n_runs, n_z)``) over each run's terrain
-        ``terrains`` (shape ``(n_runs, n_steps, 2)``, per step ``(slope, drop)``), in compiled
-        code without the GIL, ``threads`` threads over contiguous blocks of runs (the same
-        result for any number).  Returns ``(steps_completed, status)``, int64 arrays
-        ``(n_runs,)``: the strides completed before the first failure (``n_steps`` and status
-        0 when none failed) and the failure's :class:`walker.status.Status` value."""
-        from walker._terrain_run import ensemble
-
-        return ensemble(self, z0, terrains, threads)
+    # terrain (walker/_terrain_run.py): Monte-Carlo walks, and a walk from a full state
+    ensemble = _terrain_run.ensemble_method
+    walk = _terrain_run.walk
 
     def __getstate__(self):
         state = dict(self.__dict__)
@@ -546,9 +537,7 @@ class StrideMap:
                 z, jacobian=jacobian, n_strides=n_strides, terrain=terrain
             )
         if terrain is not None:
-            from walker._terrain_run import terrain_call
-
-            return terrain_call(self, z, jacobian, n_strides, terrain)
+            return _terrain_run.terrain_call(self, z, jacobian, n_strides, terrain)
         cached = self.__dict__.get("_run")
         if cached is None:
             self._prepared()

@@ -199,7 +199,7 @@ static PyObject *solve_impl(PyObject *const *args, Py_ssize_t nargs, const doubl
         T.n_steps = n_steps;
         T.scene_slope = pb.p[te->slope_index];
         wk_terrain_set_step(&T, 0);
-        fn = wk_terrain_functions(&fn, te, &T);
+        fn = wk_terrain_functions(&fn, te, &T, pb.p, pb.x0);
     }
 
     wk_result res;

@@ -56,15 +56,16 @@ static int check_steps(const Py_buffer *v, int ndim)
     return 0;
 }
 
-#define WALK_NARGS (WKPY_SECTION_NARGS + 3)
+#define WALK_NARGS (WKPY_SECTION_NARGS + 5)
 
 PyDoc_STRVAR(terrain_walk_doc,
-             "terrain_walk(*section, z, terrain, want_jac)\n--\n\n"
-             "One walk from section point z over terrain (n_steps, 2) of (slope, drop) rows,\n"
-             "n_steps strides (wk_terrain.h); section: the WKPY_SECTION_NARGS settings of\n"
-             "basin_points.  Returns (status, strides, t, x, z, jz, tjac): x, z bytearrays of\n"
-             "float64 (n_x,), (n_z,); jz (n_z, n_z) and tjac (n_z, 2 n_steps) bytearrays with\n"
-             "want_jac, else None.");
+             "terrain_walk(*section, start, terrain, want_jac, from_state, previous)\n--\n\n"
+             "One walk from start (a section point (n_z,), or with from_state a full state\n"
+             "(n_x,)) over terrain (n_steps, 2) of (slope, drop) rows, n_steps strides\n"
+             "(wk_terrain.h); previous: None or the (slope, drop) the start landed on;\n"
+             "section: the WKPY_SECTION_NARGS settings of basin_points.  Returns (status,\n"
+             "strides, t, x, z, jz, tjac): x, z bytearrays of float64 (n_x,), (n_z,); jz\n"
+             "(n_z, n_start) and tjac (n_z, 2 n_steps) bytearrays with want_jac, else None.");
 
 static PyObject *py_terrain_walk(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -77,24 +78,35 @@ static PyObject *py_terrain_walk(PyObject *self, PyObject *const *args, Py_ssize
     wkpy_section s;
     const wk_terrain_entry *te;
     if (parse_head(args, &s, &te)) return NULL;
-    Py_buffer v_z, v_steps;
+    Py_buffer v_z, v_steps, v_prev;
     wkpy_held held = {0};
     PyObject *result = NULL;
     double *buf = NULL;
-    int want_jac;
-    if (wkpy_arg_bool(args[WKPY_SECTION_NARGS + 2], "want_jac", &want_jac)) goto out;
+    int want_jac, from_state;
+    const double *previous = NULL;
+    if (wkpy_arg_bool(args[WKPY_SECTION_NARGS + 2], "want_jac", &want_jac) ||
+        wkpy_arg_bool(args[WKPY_SECTION_NARGS + 3], "from_state", &from_state))
+        goto out;
     if (want_jac && s.fn.jac == NULL)
         WKPY_FAIL(PyExc_ValueError, "`want_jac` needs a Jacobian (`jac` is 0)");
-    if (wkpy_hold_buffer(&held, args[WKPY_SECTION_NARGS], "z", 'd', 1, &v_z)) goto out;
-    if (v_z.shape[0] != s.sec.n_z)
-        WKPY_FAIL(PyExc_ValueError, "`z` must have length n_z = %lld", (long long)s.sec.n_z);
+    const int64_t n_start = from_state ? s.pb.n_x : s.sec.n_z;
+    if (wkpy_hold_buffer(&held, args[WKPY_SECTION_NARGS], "start", 'd', 1, &v_z)) goto out;
+    if (v_z.shape[0] != n_start)
+        WKPY_FAIL(PyExc_ValueError, "`start` must have length %lld", (long long)n_start);
     if (!wkpy_all_finite((const double *)v_z.buf, v_z.shape[0]))
-        WKPY_FAIL(PyExc_ValueError, "All components of the section point `z` must be finite.");
+        WKPY_FAIL(PyExc_ValueError, "All components of the start `start` must be finite.");
+    if (args[WKPY_SECTION_NARGS + 4] != Py_None) {
+        if (wkpy_hold_buffer(&held, args[WKPY_SECTION_NARGS + 4], "previous", 'd', 1, &v_prev))
+            goto out;
+        if (v_prev.shape[0] != 2 || !wkpy_all_finite((const double *)v_prev.buf, 2))
+            WKPY_FAIL(PyExc_ValueError, "`previous` must be 2 finite values (slope, drop)");
+        previous = (const double *)v_prev.buf;
+    }
     if (wkpy_hold_buffer(&held, args[WKPY_SECTION_NARGS + 1], "terrain", 'd', 2, &v_steps))
         goto out;
     if (check_steps(&v_steps, 2)) goto out;
     const int64_t n_x = s.pb.n_x, n_z = s.sec.n_z, n_steps = v_steps.shape[0];
-    const int64_t n_jz = want_jac ? n_z * n_z : 0, n_tj = want_jac ? n_z * 2 * n_steps : 0;
+    const int64_t n_jz = want_jac ? n_z * n_start : 0, n_tj = want_jac ? n_z * 2 * n_steps : 0;
     buf = PyMem_Malloc((size_t)(n_x + n_z + n_jz + n_tj + 1) * sizeof(double));
     if (buf == NULL) {
         PyErr_NoMemory();
@@ -104,13 +116,14 @@ static PyObject *py_terrain_walk(PyObject *self, PyObject *const *args, Py_ssize
     int64_t status = 0, strides = 0;
     double t = 0.0;
     int rc;
-    const double *z = (const double *)v_z.buf, *steps = (const double *)v_steps.buf;
+    const double *steps = (const double *)v_steps.buf;
+    const wk_terrain_start st = {(const double *)v_z.buf, from_state, previous};
     Py_BEGIN_ALLOW_THREADS
     if (want_jac)
-        rc = wk_terrain_walk_jac(&s.fn, te, &s.pb, &s.sec, z, steps, n_steps, &status, &strides,
-                                 &t, x, z_out, jz, tjac);
+        rc = wk_terrain_walk_jac(&s.fn, te, &s.pb, &s.sec, &st, steps, n_steps, &status,
+                                 &strides, &t, x, z_out, jz, tjac);
     else
-        rc = wk_terrain_walk(&s.fn, te, &s.pb, &s.sec, z, steps, n_steps, &status, &strides,
+        rc = wk_terrain_walk(&s.fn, te, &s.pb, &s.sec, &st, steps, n_steps, &status, &strides,
                              &t, x, z_out);
     Py_END_ALLOW_THREADS
     if (wkpy_run_failed(rc, 0, s.pb.n_phases)) goto out;

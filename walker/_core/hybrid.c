@@ -527,7 +527,8 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
                                       res->dt_dx0, salt);
                 if (finishing) res->has_dt = 1;
             }
-            if (action == WK_EVENT_STRIDE && fn->on_stride != NULL) fn->on_stride(fn->ctx, n_done);
+            if (action == WK_EVENT_STRIDE && fn->on_stride != NULL)
+                fn->on_stride(fn->ctx, n_done, x_new); /* the next step's ground (terrain.c) */
             phase = nxt;
             t = best_t;
             for (int64_t i = 0; i < n_x; i++) z[i] = x_new[i];

@@ -153,12 +153,14 @@ WK_MODEL_VARIANT(compass_plain, PLAIN)
 WK_MODEL_FUSED(compass_plain, PLAIN)
 
 /* ------------------------------------------------------------------------------------------
- * Terrain (wk_terrain.h), point feet: the swing foot's signed distance from the step's plane
+ * Terrain (wk_terrain.h): the swing foot's signed distance from the step's plane
  * L (cos(q_st + gamma) - cos(q_sw + gamma)) + h cos(gamma) (the angles from the vertical,
- * the plane h below the stance foot), its distance ahead along that plane (a touchdown
- * with the foot not ahead is ignored, as on the plane), and the heel
- * strike with the impulse along and normal to it (wk_terrain_heel_strike).  A step on the
- * scene's plane runs the plane functions above.
+ * the plane h below the stance foot; round feet: wk_terrain_round_height), its distance
+ * ahead along that plane (a touchdown with the foot not ahead is ignored, as on the plane),
+ * and the heel strike with the impulse along and normal to it (wk_terrain_heel_strike,
+ * wk_terrain_heel_strike_round).  A step on the scene's plane runs the plane functions
+ * above; with round feet the phase functions run with the stance plane's slope
+ * (terrain.c).
  * ------------------------------------------------------------------------------------------ */
 #include "wk_terrain.h"
 
@@ -169,10 +171,12 @@ static void terrain_guards(const compass_kernels *K, int64_t phase, const double
         guards(K, phase, x, p, g);
         return;
     }
-    const double L = p[WK_COMPASS_P_COM_FROM_FOOT] + p[WK_COMPASS_P_COM_TO_HIP] - p[I_R];
+    const double R = p[I_R];
+    const double L = p[WK_COMPASS_P_COM_FROM_FOOT] + p[WK_COMPASS_P_COM_TO_HIP] - R;
     const double gam = T->ground.slope, psi1 = x[0] + p[I_SLOPE];
-    g[WK_COMPASS_GUARD_HEEL_STRIKE] =
-        L * (cos(x[0] + gam) - cos(x[1] + gam)) + T->ground.drop * cos(gam);
+    const double centres = L * (cos(x[0] + gam) - cos(x[1] + gam));
+    g[WK_COMPASS_GUARD_HEEL_STRIKE] = R == 0.0 ? centres + T->ground.drop * cos(gam)
+                                               : wk_terrain_round_height(T, centres, x[0], R);
     g[WK_COMPASS_GUARD_FALL_FORWARD] = psi1 + WK_FALL_ANGLE;
     g[WK_COMPASS_GUARD_FALL_BACKWARD] = psi1 - WK_FALL_ANGLE;
 }
@@ -192,9 +196,12 @@ static void terrain_reset(const compass_kernels *K, int64_t phase, int64_t k, co
     const double ahead = (L - p[I_R]) * (sin(x[1] + gam) - sin(x[0] + gam));
     if (ahead <= WK_MIN_STEP * L)
         wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
-    else
+    else if (p[I_R] == 0.0)
         wk_stride_out(out, phase,
                       wk_terrain_heel_strike(&K->base, swap, 2, x, p, &T->ground, x_new, impulse));
+    else
+        wk_stride_out(out, phase,
+                      wk_terrain_heel_strike_round(&K->base, swap, 2, x, p, T, x_new, impulse));
 }
 
 #define COMPASS_TERRAIN(name, KT)                                                             \

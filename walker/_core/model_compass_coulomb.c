@@ -88,5 +88,6 @@ static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, c
 }
 
 const wk_terrain_entry wk_terrain_entry_compass_coulomb = {
-    "compass_coulomb", guards, WK_COMPASS_COULOMB_P_SLOPE, terrain_guards, terrain_reset,
+    "compass_coulomb", guards, WK_COMPASS_COULOMB_P_SLOPE, terrain_guards, terrain_reset, 0,
+    WK_COMPASS_COULOMB_P_FOOT_RADIUS, WK_COMPASS_COULOMB_N_P,
 };

@@ -304,16 +304,35 @@ WK_MODEL_FUSED(kneed_plain_ignore_scuff, PLAIN_IGNORE_SCUFF)
  * ------------------------------------------------------------------------------------------ */
 #include "wk_terrain.h"
 
-static void terrain_swing_foot(const double *x, const double *p, const wk_ground *G,
+static void terrain_swing_foot(const double *x, const double *p, const wk_terrain *T,
                                double *height, double *ahead, double *rate)
 {
     double shank, thigh;
     lengths(p, &shank, &thigh);
-    const double L = shank + thigh, gam = G->slope;
+    const wk_ground *G = &T->ground;
+    const double R = p[I_R], L = shank + thigh, gam = G->slope;
     const double psi1 = x[0] + gam, psi2 = x[1] + gam, psi3 = x[2] + gam;
-    *height = L * cos(psi1) - thigh * cos(psi2) - shank * cos(psi3) + G->drop * cos(gam);
-    *ahead = -L * sin(psi1) + thigh * sin(psi2) + shank * sin(psi3);
-    *rate = -L * sin(psi1) * x[3] + thigh * sin(psi2) * x[4] + shank * sin(psi3) * x[5];
+    if (R == 0.0) {
+        *height = L * cos(psi1) - thigh * cos(psi2) - shank * cos(psi3) + G->drop * cos(gam);
+        *ahead = -L * sin(psi1) + thigh * sin(psi2) + shank * sin(psi3);
+        *rate = -L * sin(psi1) * x[3] + thigh * sin(psi2) * x[4] + shank * sin(psi3) * x[5];
+        return;
+    }
+    const double centres = (L - R) * cos(psi1) - thigh * cos(psi2) - (shank - R) * cos(psi3);
+    *height = wk_terrain_round_height(T, centres, x[0], R);
+    *ahead = -(L - R) * sin(psi1) + thigh * sin(psi2) + (shank - R) * sin(psi3);
+    *rate = -(L - R) * sin(psi1) * x[3] + thigh * sin(psi2) * x[4] +
+            (shank - R) * sin(psi3) * x[5] - R * x[3] * sin(gam - G->prev_slope);
+}
+
+/* The heel strike on terrain (knee locked): point or round feet. */
+static int64_t terrain_heel_strike(const kneed_kernels *K, const double *x, const double *p,
+                                   double *x_new, double *impulse, const wk_terrain *T)
+{
+    static const int swap[3] = {1, 0, 0};
+    if (p[I_R] == 0.0)
+        return wk_terrain_heel_strike(&K->locked_base, swap, 3, x, p, &T->ground, x_new, impulse);
+    return wk_terrain_heel_strike_round(&K->locked_base, swap, 3, x, p, T, x_new, impulse);
 }
 
 static void terrain_guards(const kneed_kernels *K, int64_t phase, const double *x,
@@ -327,9 +346,15 @@ static void terrain_guards(const kneed_kernels *K, int64_t phase, const double *
     lengths(p, &shank, &thigh);
     const double gam = T->ground.slope, psi1 = x[0] + p[I_SLOPE];
     g[WK_KNEED_GUARD_KNEE_LOCK] = phase == WK_KNEED_PHASE_UNLOCKED ? x[2] - x[1] : 1.0;
-    g[WK_KNEED_GUARD_SWING_FOOT_CONTACT] = (shank + thigh) * cos(x[0] + gam) -
-                                           thigh * cos(x[1] + gam) - shank * cos(x[2] + gam) +
-                                           T->ground.drop * cos(gam);
+    if (p[I_R] == 0.0) {
+        g[WK_KNEED_GUARD_SWING_FOOT_CONTACT] = (shank + thigh) * cos(x[0] + gam) -
+                                               thigh * cos(x[1] + gam) -
+                                               shank * cos(x[2] + gam) + T->ground.drop * cos(gam);
+    } else {
+        double height, ahead, rate;
+        terrain_swing_foot(x, p, T, &height, &ahead, &rate);
+        g[WK_KNEED_GUARD_SWING_FOOT_CONTACT] = height;
+    }
     g[WK_KNEED_GUARD_FALL_FORWARD] = psi1 + WK_FALL_ANGLE;
     g[WK_KNEED_GUARD_FALL_BACKWARD] = psi1 - WK_FALL_ANGLE;
 }
@@ -338,7 +363,6 @@ static void terrain_knee_lock_event(const kneed_kernels *K, int64_t phase, const
                                     const double *p, double *x_new, double *impulse,
                                     int64_t *out, const wk_terrain *T)
 {
-    static const int swap[3] = {1, 0, 0};
     int64_t status = knee_lock(K, x, p, x_new, impulse);
     if (status != 0) {
         wk_reset_out(out, WK_EVENT_TERMINAL, phase, status);
@@ -346,15 +370,13 @@ static void terrain_knee_lock_event(const kneed_kernels *K, int64_t phase, const
     }
     double shank, thigh, height, ahead, rate;
     lengths(p, &shank, &thigh);
-    terrain_swing_foot(x_new, p, &T->ground, &height, &ahead, &rate);
+    terrain_swing_foot(x_new, p, T, &height, &ahead, &rate);
     int touching = height <= 1e-9 * (shank + thigh);
     if (K->ignore_scuff) touching = touching && height >= -1e-9 * (shank + thigh);
     if (touching && ahead > WK_MIN_STEP * (shank + thigh) && rate < 0) {
         double locked[6];
         for (int i = 0; i < 6; i++) locked[i] = x_new[i];
-        wk_stride_out(out, 1,
-                      wk_terrain_heel_strike(&K->locked_base, swap, 3, locked, p, &T->ground,
-                                             x_new, impulse));
+        wk_stride_out(out, 1, terrain_heel_strike(K, locked, p, x_new, impulse, T));
         return;
     }
     wk_reset_out(out, WK_EVENT_CONTINUE, 1, 0);
@@ -364,7 +386,6 @@ static void terrain_reset(const kneed_kernels *K, int64_t phase, int64_t k, cons
                           const double *p, double *x_new, double *impulse, int64_t *out,
                           const wk_terrain *T)
 {
-    static const int swap[3] = {1, 0, 0};
     if (T->ground.plane || k > 1) {
         reset(K, phase, k, x, p, x_new, impulse, out);
         return;
@@ -377,7 +398,7 @@ static void terrain_reset(const kneed_kernels *K, int64_t phase, int64_t k, cons
         return;
     }
     double height, ahead, rate;
-    terrain_swing_foot(x, p, &T->ground, &height, &ahead, &rate);
+    terrain_swing_foot(x, p, T, &height, &ahead, &rate);
     if (phase == WK_KNEED_PHASE_UNLOCKED) {
         if (fabs(x[2] - x[1]) <= KNEE_TOL && ahead > min_step(p)) {
             terrain_knee_lock_event(K, phase, x, p, x_new, impulse, out, T);
@@ -393,9 +414,7 @@ static void terrain_reset(const kneed_kernels *K, int64_t phase, int64_t k, cons
     if (ahead <= min_step(p))
         wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
     else
-        wk_stride_out(out, phase,
-                      wk_terrain_heel_strike(&K->locked_base, swap, 3, x, p, &T->ground, x_new,
-                                             impulse));
+        wk_stride_out(out, phase, terrain_heel_strike(K, x, p, x_new, impulse, T));
 }
 
 #define KNEED_TERRAIN(name, KT)                                                               \

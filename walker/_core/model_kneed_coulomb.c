@@ -158,5 +158,6 @@ static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, c
 }
 
 const wk_terrain_entry wk_terrain_entry_kneed_coulomb = {
-    "kneed_coulomb", guards, WK_KNEED_COULOMB_P_SLOPE, terrain_guards, terrain_reset,
+    "kneed_coulomb", guards, WK_KNEED_COULOMB_P_SLOPE, terrain_guards, terrain_reset, 0,
+    WK_KNEED_COULOMB_P_FOOT_RADIUS, WK_KNEED_COULOMB_N_P,
 };

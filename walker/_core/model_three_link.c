@@ -179,8 +179,9 @@ WK_ACTUATED_MODEL(three_link, MODEL)
 /* ------------------------------------------------------------------------------------------
  * Terrain (wk_terrain.h): the swing foot's signed distance from the step's plane
  * r (cos(q_st + gamma) - cos(q_sw + gamma)) + h cos(gamma) ends the step (step_event 1, a
- * step ending on the controller's surface, is refused by walker/_terrain_run.py); the stance foot's contact guards in the
- * frame of the plane it stands on (the previous step's); the heel strike's impulse along and
+ * step ending on the controller's surface, is refused by walker/_terrain_run.py); the
+ * stance foot's contact guards in the frame of the plane it stands on (the previous step's);
+ * the heel strike's impulse along and
  * normal to the step's plane, the trailing foot's lift-off from the previous one.  The
  * controller is the model's own ctx (wk_terrain.inner).
  * ------------------------------------------------------------------------------------------ */
@@ -222,5 +223,5 @@ static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, c
 }
 
 const wk_terrain_entry wk_terrain_entry_three_link = {
-    "three_link", wk_model_three_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1,
+    "three_link", wk_model_three_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1, -1, 0,
 };

@@ -49,11 +49,11 @@ typedef void (*wk_rhs_jac_fn)(int64_t phase, double t, const double *x, const do
                               double *dx, double *J, void *ctx);
 
 /* Called by the integrator after it applied a stride event (WK_EVENT_STRIDE) and its
- * sensitivities, before it re-arms the guards, with ``ctx`` and the strides completed so
- * far: a system whose guards and resets change from stride to stride (walker's terrain,
- * walker/_core/wk_terrain.h) advances its stride there.  Never called inside the finite
- * differences of an event. */
-typedef void (*wk_stride_fn)(void *ctx, int64_t n_done);
+ * sensitivities, before it re-arms the guards, with ``ctx``, the strides completed so far
+ * and the state after the reset (n_x): a system whose guards and resets change from stride
+ * to stride (walker's terrain, walker/_core/wk_terrain.h) advances its stride there.  Never
+ * called inside the finite differences of an event. */
+typedef void (*wk_stride_fn)(void *ctx, int64_t n_done, const double *x);
 
 typedef struct {
     wk_rhs_fn rhs;

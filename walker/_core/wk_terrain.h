@@ -27,6 +27,9 @@
 #include "wk_common.h"
 #include "wk_system.h"
 
+/* Largest parameter vector of a model with round feet. */
+#define WK_TERRAIN_MAX_P 64
+
 /* The ground of the current step. */
 typedef struct {
     double slope;      /* gamma_n [rad], downhill positive */
@@ -43,12 +46,21 @@ typedef struct {
     int64_t n_steps;     /* past the last step: the scene's plane */
     int64_t index;       /* the current step */
     double scene_slope;  /* the model's slope parameter [rad] */
+    const double *previous; /* (2): the ground before step 0; NULL: the scene's plane */
     /* the model's own ctx (a controller; NULL for the built-in one and the passive models)
      * and, for a model whose phase functions read it (own_ctx), its rhs and jac, called
      * through wk_terrain_rhs / wk_terrain_jac with it */
     void *inner;
     wk_rhs_fn rhs;
     wk_jac_fn jac;
+    /* round feet (the entry's radius_index, p[radius_index] > 0): the stance leg's angle
+     * x[0] when the step began (its foot has rolled from there), and the parameters with
+     * the slope of the plane the stance foot rolls on, for the model's phase functions */
+    double land_angle;
+    int rolling;
+    int64_t n_params;
+    int64_t slope_index;
+    double p_buf[WK_TERRAIN_MAX_P];
 } wk_terrain;
 
 /* A model's terrain functions: guards and reset with the signatures of wk_system.h, called
@@ -60,13 +72,19 @@ typedef struct {
     wk_guards_fn terrain_guards;
     wk_reset_fn terrain_reset;
     int own_ctx; /* the model's rhs, jac, guards and reset read a ctx of their own */
+    /* round feet: the foot radius' index in p (-1: point feet only) and the parameters'
+     * count; with p[radius_index] > 0 the phase functions run with the slope of the plane
+     * the stance foot rolls on (wk_terrain_rolling_rhs) */
+    int64_t radius_index;
+    int64_t n_params;
 } wk_terrain_entry;
 
 /* The run's functions: the model's with its terrain guards and reset, ctx T (T's inner,
- * rhs and jac set from fn), on_stride wk_terrain_on_stride; rhs and jac go through the
- * trampolines below for a model with a ctx of its own. */
+ * rhs and jac set from fn, its land_angle from the start state x0, its rolling from p),
+ * on_stride wk_terrain_on_stride; rhs and jac go through the trampolines below for a model
+ * with a ctx of its own, or with the stance plane's parameters for round feet. */
 wk_functions wk_terrain_functions(const wk_functions *fn, const wk_terrain_entry *te,
-                                  wk_terrain *T);
+                                  wk_terrain *T, const double *p, const double *x0);
 
 /* The model's rhs and jac with T->inner as their ctx (ctx a wk_terrain). */
 void wk_terrain_rhs(int64_t phase, double t, const double *x, const double *p, double *dx,
@@ -85,30 +103,67 @@ const wk_terrain_entry *wk_terrain_find(wk_guards_fn guards);
  * before step 0 and past the last step). */
 void wk_terrain_set_step(wk_terrain *T, int64_t index);
 
-/* wk_stride_fn: the next step after a stride. */
-void wk_terrain_on_stride(void *ctx, int64_t n_done);
+/* wk_stride_fn: the next step after a stride (and the new stance leg's angle x[0]). */
+void wk_terrain_on_stride(void *ctx, int64_t n_done, const double *x);
+
+/* The parameters with the slope of the plane the stance foot stands on (T->p_buf) for a
+ * walker with round feet, else p itself. */
+const double *wk_terrain_stance_params(wk_terrain *T, const double *p);
+
+/* The signed distance [m] of a round swing foot's lowest point from the step's plane, from
+ * the foot centres' offset (L - R)(cos(q_st + gamma) - cos(q_sw + gamma)) (``centres``,
+ * computed with the step's slope gamma): the stance foot rolled R (land_angle - q_st)
+ * along the plane of slope gamma_s it stands on, from the contact it landed at. */
+double wk_terrain_round_height(const wk_terrain *T, double centres, double q_stance, double R);
+
+/* wk_terrain_heel_strike for round feet: the swing foot's contact on the step's plane, the
+ * trailing foot's on the previous step's, the hip's velocity from the stance foot rolling
+ * on it. */
+int64_t wk_terrain_heel_strike_round(const wk_floating_base *B, const int *swap, int n_c,
+                                     const double *x, const double *p, const wk_terrain *T,
+                                     double *x_new, double *impulse);
 
 /* Recomputes ground.plane from the values in ground (after they were changed). */
 void wk_terrain_update_plane(wk_terrain *T);
 
-/* Walks from section point z (sec's lift and start checks) over the n_steps steps of
- * ``steps``, one integration of n_steps strides.  Fills status, strides (completed), t, the
- * final state x (n_x) and section point z_out (n_z, NaN unless completed).  Returns a
- * wk_hybrid_solve code. */
-int wk_terrain_walk(const wk_functions *fn, const wk_terrain_entry *te, const wk_problem *tmpl,
-                    const wk_section *sec, const double *z, const double *steps, int64_t n_steps,
-                    int64_t *status, int64_t *strides, double *t, double *x, double *z_out);
+/* Where a walk starts: ``from_state`` 0, at the section point start (n_z; sec's lift), else
+ * at the full state start (n_x); the start checks of wk_section_start either way.
+ * ``previous`` (2) the (slope, drop) of the step the start landed on, NULL: the scene's
+ * plane. */
+typedef struct {
+    const double *start;
+    int from_state;
+    const double *previous;
+} wk_terrain_start;
 
-/* As wk_terrain_walk with the Jacobians, stride by stride: jz (n_z, n_z) d z_out / d z and
+/* Walks from ``st`` over the n_steps steps of ``steps``, one integration of n_steps strides.
+ * Fills status, strides (completed), t, the final state x (n_x) and section point z_out
+ * (n_z, NaN unless completed).  Returns a wk_hybrid_solve code. */
+int wk_terrain_walk(const wk_functions *fn, const wk_terrain_entry *te, const wk_problem *tmpl,
+                    const wk_section *sec, const wk_terrain_start *st, const double *steps,
+                    int64_t n_steps, int64_t *status, int64_t *strides, double *t, double *x,
+                    double *z_out);
+
+/* As wk_terrain_walk with the Jacobians, stride by stride: jz (n_z, n_0) d z_out / d start
+ * (n_0 = n_z from a section point, n_x from a state) and
  * tjac (n_z, 2 n_steps) d z_out / d (slope_k, drop_k), column 2k the slope and 2k + 1 the
  * drop of step k: the variational equations and saltation matrices of each stride
  * (wk_hybrid_solve) and, at each stride's touchdown, the terrain's terms (the guard's and
  * the reset's dependence on the step's pair) by Richardson-extrapolated central
  * differences.  Returns a wk_hybrid_solve code (WK_ERR_NOMEM). */
 int wk_terrain_walk_jac(const wk_functions *fn, const wk_terrain_entry *te,
-                        const wk_problem *tmpl, const wk_section *sec, const double *z,
+                        const wk_problem *tmpl, const wk_section *sec, const wk_terrain_start *st,
                         const double *steps, int64_t n_steps, int64_t *status, int64_t *strides,
                         double *t, double *x, double *z_out, double *jz, double *tjac);
+
+/* Shared by terrain.c and terrain_jac.c: T for a walk over steps (the ground of step 0;
+ * ``previous`` the ground before it, NULL: the scene's plane); the start of a walk, x (n_x)
+ * and its phase, 0 or the status of a start not integrated; v[0..n) = NaN. */
+void wk_terrain_init(wk_terrain *T, const wk_terrain_entry *te, const wk_problem *tmpl,
+                     const double *steps, int64_t n_steps, const double *previous);
+int64_t wk_terrain_walk_start(const wk_problem *tmpl, const wk_section *sec,
+                              const wk_terrain_start *st, double *x, int64_t *phase0);
+void wk_terrain_fill_nan(double *v, int64_t n);
 
 /* Many walks (Monte Carlo): run i from z0 (n_z) over steps + i * n_steps * 2; status[i] and
  * strides[i] (completed strides before the first failure).  Returns a wk_hybrid_solve
