@@ -178,6 +178,12 @@ README_SECTIONS = (
         "python scripts/bench_terrain.py",
         ["terrain.csv"],
     ),
+    (
+        "mfpt.md",
+        "Mean first-passage time, Monte Carlo on random slopes",
+        "python scripts/bench_mfpt.py",
+        ["mfpt.csv"],
+    ),
 )
 
 

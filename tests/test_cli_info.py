@@ -289,6 +289,9 @@ OWN = (
     "params",
     "scene",
     "orbit-diagram",
+    "mfpt",
+    "gsn",
+    "stepdown",
 )
 
 

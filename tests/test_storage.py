@@ -28,6 +28,7 @@ from walker.results import (
     EventLog,
     FixedPoint,
     MapResult,
+    MfptResult,
     OrbitDiagram,
     Solution,
     SweepTable,
@@ -241,6 +242,25 @@ def _map_result():
     return MapResult(Status.COMPLETED, np.array([0.2, -0.2]), None, 3.85, np.zeros(4))
 
 
+def _mfpt_result():
+    return MfptResult(
+        mfpt=2.5,
+        mfpt_stderr=0.5,
+        runs=4,
+        failed=3,
+        steps=np.array([1, 2, 8, 4], dtype=np.int64),
+        status=np.array([1, 17, 0, 2], dtype=np.int64),
+        rate=3 / 18,
+        max_steps=8,
+        slope_mean=0.05,
+        slope_std=0.004,
+        height_std=0.0,
+        seed=7,
+        start=np.array([0.2, -1.0, -0.3]),
+        markov={"mfpt": 2.4, "levels": [{"n_mesh": 10}]},
+    )
+
+
 RESULTS = {
     "solution": _solution,
     "solution_minimal": lambda: _solution(full=False),
@@ -252,6 +272,7 @@ RESULTS = {
     "basin": _basin,
     "sweep": _sweep_table,
     "map_result": _map_result,
+    "mfpt": _mfpt_result,
 }
 
 

@@ -42,6 +42,7 @@ FIGURES = {
     "orbit_diagram": ("orbit_diagram",),
     "basin": ("basin",),
     "sweep": ("sweep",),
+    "mfpt": ("survival",),
 }
 """The figures :func:`plot_file` draws for each kind of result, by name (a run's torques
 and zero dynamics only for actuated walkers); the animation (``walk``) is asked for apart
@@ -576,6 +577,8 @@ def _result_figures(result, prov: dict, kind: str, names, directory: Path):
         )
     elif kind == "basin":
         yield "basin", _plot_basin(result, prov)
+    elif kind == "mfpt":
+        yield "survival", plotting.plot_survival(result)
     else:
         yield "sweep", _plot_sweep(result, prov)
 

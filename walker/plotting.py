@@ -14,6 +14,8 @@ Every figure is imported from here; each lives in the module of its kind:
 * :mod:`walker.plot_runs`: figures of one run (angles, energy, phase portrait, torques, zero
   dynamics) and :func:`animate_walker`;
 * :mod:`walker.plot_maps`: heat maps over a grid (:func:`plot_basin`, :func:`plot_sweep`);
+* :mod:`walker.plot_terrain`: rough-ground measures (:func:`plot_survival`,
+  :func:`plot_mfpt_roughness`, :func:`plot_gsn_sweep`, :func:`plot_walk_on_terrain`);
 * :mod:`walker.plot_common`: units and ``"name [unit]"`` labels (:func:`state_unit`,
   :func:`with_unit`) and the axes helper all of them use;
 * :mod:`walker.plot_branch`: a branch's measures (step length, speed, cost of transport).
@@ -57,6 +59,12 @@ from walker.plot_runs import (
     plot_torques,
     plot_zero_dynamics,
 )
+from walker.plot_terrain import (
+    plot_gsn_sweep,
+    plot_mfpt_roughness,
+    plot_survival,
+    plot_walk_on_terrain,
+)
 
 __all__ = [
     "BIFURCATION_NAMES",
@@ -66,11 +74,15 @@ __all__ = [
     "plot_basin",
     "plot_bifurcation",
     "plot_energy",
+    "plot_gsn_sweep",
+    "plot_mfpt_roughness",
     "plot_multipliers",
     "plot_orbit_diagram",
     "plot_phase_portrait",
+    "plot_survival",
     "plot_sweep",
     "plot_torques",
+    "plot_walk_on_terrain",
     "plot_work_precision",
     "plot_zero_dynamics",
     "WORK_PRECISION_ERROR",

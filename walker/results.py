@@ -449,6 +449,92 @@ class SweepTable:
     columns: dict[str, np.ndarray]
 
 
+@dataclass
+class MfptResult:
+    """A mean first-passage time estimate.
+
+    Attributes
+    ----------
+    mfpt : float
+        the mean number of steps completed before the first failure (Monte Carlo, from the
+        start state); NaN when no run failed and some were censored.
+    mfpt_stderr : float
+        its standard error (module docstring).
+    runs, failed : int
+        runs, and runs that failed within ``max_steps``.
+    steps : ndarray of int64, shape (runs,)
+        steps completed by each run (``max_steps`` for a censored run).
+    status : ndarray of int64, shape (runs,)
+        each run's :class:`walker.status.Status` value (0: censored, still walking).
+    rate : float
+        the fitted per-step failure probability of a geometric law (module docstring).
+    max_steps : int
+        the censoring horizon [steps].
+    slope_mean, slope_std, height_std : float
+        the terrain: slope mean and standard deviation [rad], drop standard deviation [m].
+    seed : int
+    start : ndarray
+        the start section point (the period-one gait of the mean slope).
+    markov : dict
+        with :func:`walker.markov.markov_chain`: its ``mfpt`` (``1 / (1 - lambda_2)``),
+        ``mfpt_start`` (expected steps from the start state), ``lambda_2``, mesh sizes and
+        the refinement history; empty otherwise.
+    """
+
+    mfpt: float
+    mfpt_stderr: float
+    runs: int
+    failed: int
+    steps: np.ndarray
+    status: np.ndarray
+    rate: float
+    max_steps: int
+    slope_mean: float
+    slope_std: float
+    height_std: float
+    seed: int
+    start: np.ndarray
+    markov: dict = field(default_factory=dict)
+
+    def failures_by_status(self) -> dict[str, int]:
+        """How many runs ended with each failure status, by name."""
+        values, counts = np.unique(self.status[self.status != 0], return_counts=True)
+        return {Status(int(v)).name: int(c) for v, c in zip(values, counts, strict=True)}
+
+    def survival(self) -> tuple[np.ndarray, np.ndarray]:
+        """The survival curve: steps ``k = 0 .. max(steps)`` and the fraction of runs that
+        completed at least ``k`` steps (censored runs count as walking up to ``max_steps``)."""
+        k = np.arange(int(self.steps.max(initial=0)) + 1)
+        counts = np.bincount(self.steps, minlength=k.size)
+        at_least = counts[::-1].cumsum()[::-1]
+        return k, at_least / max(self.runs, 1)
+
+    def as_dict(self) -> dict:
+        """The summary as plain JSON-able values (no per-run arrays)."""
+        out = {
+            "mfpt": float(self.mfpt),
+            "mfpt_stderr": float(self.mfpt_stderr),
+            "runs": int(self.runs),
+            "failed": int(self.failed),
+            "censored": int(self.runs - self.failed),
+            "rate": float(self.rate),
+            "max_steps": int(self.max_steps),
+            "slope_mean": float(self.slope_mean),
+            "slope_std": float(self.slope_std),
+            "height_std": float(self.height_std),
+            "seed": int(self.seed),
+            "failures": self.failures_by_status(),
+            "start": [float(v) for v in self.start],
+        }
+        if self.markov:
+            out["mfpt_markov"] = float(self.markov["mfpt"])
+            out["mfpt_markov_start"] = float(self.markov["mfpt_start"])
+            out["markov"] = {
+                k: v for k, v in self.markov.items() if k not in ("mfpt", "mfpt_start")
+            }
+        return out
+
+
 # ---------------------------------------------------------------------------------------------
 # Short reprs and plain columns, for notebooks.
 
@@ -602,9 +688,10 @@ for _cls in (
     OrbitDiagram,
     BasinMap,
     SweepTable,
+    MfptResult,
 ):
     _cls.__repr__ = _short_repr
-    if _cls is not Bifurcation:
+    if _cls not in (Bifurcation, MfptResult):
         _cls.to_dict = _to_dict
         _cls.to_dataframe = _to_dataframe
 del _cls

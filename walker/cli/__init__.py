@@ -56,7 +56,7 @@ from pathlib import Path
 
 from walker._startup import restore_interrupts
 
-from . import basin, branch, export, find, info, orbit, plot, run, sweep
+from . import basin, branch, export, find, gsn, info, mfpt, orbit, plot, run, sweep
 from ._common import (
     BASIN_TOL,
     EXIT_BROKEN_PIPE,
@@ -88,7 +88,7 @@ __all__ = [
     "provenance",
 ]
 
-_COMMANDS = (find, run, branch, basin, sweep, plot, export, orbit, info)
+_COMMANDS = (find, run, branch, basin, sweep, plot, export, orbit, mfpt, gsn, info)
 
 
 def build_parser() -> argparse.ArgumentParser:

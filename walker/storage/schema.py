@@ -17,6 +17,7 @@ from walker.results import (
     EventLog,
     FixedPoint,
     MapResult,
+    MfptResult,
     OrbitDiagram,
     Solution,
     SweepTable,
@@ -234,6 +235,22 @@ _SPECS: dict[type, dict[str, Any]] = {
         "points": "array",
         "columns": "array_dict",
     },
+    MfptResult: {
+        "mfpt": "float",
+        "mfpt_stderr": "float",
+        "runs": "int",
+        "failed": "int",
+        "steps": "array",
+        "status": "array",
+        "rate": "float",
+        "max_steps": "int",
+        "slope_mean": "float",
+        "slope_std": "float",
+        "height_std": "float",
+        "seed": "int",
+        "start": "array",
+        "markov": "json",
+    },
 }
 
 KINDS: dict[str, type] = {
@@ -244,6 +261,7 @@ KINDS: dict[str, type] = {
     "basin": BasinMap,
     "sweep": SweepTable,
     "map_result": MapResult,
+    "mfpt": MfptResult,
 }
 """Result kinds a file can hold, and the dataclass of each."""
 
@@ -389,4 +407,18 @@ def _shape_problem(cls: type, v: dict[str, Any]) -> tuple[str, str] | None:
                     f"must have {points.shape[0]} rows (one per point), got shape {col.shape}"
                 )
         return None
+    if cls is MfptResult:
+        return first(
+            lambda: vector("start"),
+            lambda: along(
+                "steps",
+                lambda n: vector("status", n, "iu"),
+                lambda n: None if v["steps"].dtype.kind in "iu" else ("steps", "must be integers"),
+            ),
+            lambda: (
+                None
+                if v["steps"].shape[0] == v["runs"]
+                else ("steps", f"must have `runs` = {v['runs']} entries, got {v['steps'].shape[0]}")
+            ),
+        )
     return None  # pragma: no cover - every class in _SPECS is handled above

@@ -1,0 +1,151 @@
+"""``walker mfpt``: the mean first-passage time of a scene's gait on random terrain
+(:mod:`walker.mfpt`, :mod:`walker.markov`)."""
+
+from __future__ import annotations
+
+import math
+
+from ._common import (
+    EXIT_OK,
+    EXIT_OUTCOME,
+    UsageError,
+    _check_out,
+    _json,
+    _load,
+    _positive_flag,
+    _stride_map,
+    json_flag,
+    out_flags,
+    scene_cmd,
+    write_result,
+)
+
+
+def _nonnegative(value, flag):
+    if value is not None and not (math.isfinite(value) and value >= 0.0):
+        raise UsageError(f"{flag} must be a finite number >= 0, got {value}")
+    return value
+
+
+def _gait(scene, P, mean):
+    """(map on the mean slope, its gait) or (None, message)."""
+    from walker.fixedpoint import find_fixed_point
+
+    Q = P if mean == P.params.slope else P.with_params(slope=mean)
+    fp = find_fixed_point(Q, Q.project(scene.state))
+    if not fp.success:
+        return None, f"no period-one gait on the mean slope {mean:g} ({fp.status.name})"
+    return Q, fp.section
+
+
+def cmd_mfpt(args) -> int:
+    from walker._terrain_run import check_supported
+    from walker.markov import markov_chain
+    from walker.mfpt import monte_carlo
+
+    _nonnegative(args.std, "--std")
+    _nonnegative(args.height_std, "--height-std")
+    _positive_flag(args.runs, "--runs", minimum=1, integer=True)
+    if args.seed < 0:
+        raise UsageError(f"--seed must be an integer >= 0, got {args.seed}")
+    if args.jobs is not None and args.jobs < 1:
+        raise UsageError(f"--jobs must be an integer >= 1, got {args.jobs}")
+    _positive_flag(args.max_steps, "--max-steps", minimum=1, integer=True)
+    if args.mean is not None and not math.isfinite(args.mean):
+        raise UsageError(f"--mean must be a finite number, got {args.mean}")
+    if args.markov and args.height_std > 0.0:
+        raise UsageError("--markov needs --height-std 0 (the chain's terrain is random slopes)")
+    if args.markov and args.std == 0.0:
+        raise UsageError("--markov needs --std > 0")
+    scene = _load(args)
+    P = _stride_map(scene)
+    try:
+        check_supported(P)
+    except ValueError as exc:
+        raise UsageError(f"{args.scene}: {exc}") from None
+    out = _check_out(args.out, overwrite=args.overwrite)
+    mean = scene.params.slope if args.mean is None else float(args.mean)
+    P, z0 = _gait(scene, P, mean)
+    if P is None:
+        print(f"walker: {z0}")
+        return EXIT_OUTCOME
+    jobs = args.jobs or 1
+    result = monte_carlo(
+        P,
+        z0,
+        slope_std=args.std,
+        height_std=args.height_std,
+        runs=args.runs,
+        seed=args.seed,
+        jobs=jobs,
+        max_steps=args.max_steps,
+    )
+    if args.markov:
+        result.markov = markov_chain(P, z0, slope_std=args.std, seed=args.seed, jobs=jobs)
+    record = {"scene": str(scene.path), "model": scene.model, **result.as_dict()}
+    if out is not None:
+        extra = {"command": "mfpt", "jobs": jobs}
+        write_result(out, result, scene, args, extra)
+    if args.json:
+        print(_json(record))
+    else:
+        _print(record)
+    return EXIT_OK
+
+
+def _print(r: dict) -> None:
+    print(f"scene       {r['scene']}  (model {r['model']})")
+    print(
+        f"terrain     slope N({r['slope_mean']:g}, {r['slope_std']:g}^2) rad, drop "
+        f"N(0, {r['height_std']:g}^2) m, every step"
+    )
+    print(
+        f"runs        {r['runs']} (seed {r['seed']}), failed {r['failed']}, censored at "
+        f"{r['max_steps']} steps: {r['censored']}"
+    )
+    print(f"MFPT        {r['mfpt']:.6g} +- {r['mfpt_stderr']:.2g} steps (Monte Carlo)")
+    print(f"rate        {r['rate']:.6g} failures per step (geometric fit)")
+    for name, count in r["failures"].items():
+        print(f"  {name:<20s} {count}")
+    if "mfpt_markov" in r:
+        m = r["markov"]
+        print(
+            f"Markov      1/(1 - lambda_2) = {r['mfpt_markov']:.6g} steps, from the start "
+            f"{r['mfpt_markov_start']:.6g} (last change {m['change']:.2%}, "
+            f"{'converged' if m['converged'] else 'NOT converged'})"
+        )
+
+
+def register(sub) -> None:
+    p = scene_cmd(sub, "mfpt", "mean first-passage time on random terrain (Monte Carlo, Markov)")
+    p.add_argument(
+        "--std", type=float, required=True, help="slope standard deviation [rad], >= 0 (required)"
+    )
+    p.add_argument(
+        "--mean", type=float, default=None, help="mean slope [rad] (default: the scene's slope)"
+    )
+    p.add_argument(
+        "--height-std",
+        type=float,
+        default=0.0,
+        help="drop standard deviation [m], >= 0 (default: 0)",
+    )
+    p.add_argument("--runs", type=int, required=True, help="Monte-Carlo runs, >= 1 (required)")
+    p.add_argument("--seed", type=int, required=True, help="root seed, >= 0 (required)")
+    p.add_argument(
+        "--jobs", type=int, default=None, help="threads; the result is the same (default: 1)"
+    )
+    p.add_argument(
+        "--max-steps",
+        type=int,
+        default=1 << 16,
+        help="censoring horizon [steps] (default: 65536)",
+    )
+    p.add_argument(
+        "--markov",
+        action="store_true",
+        help="also the Markov-chain MFPT 1/(1 - lambda_2) (slopes only; default: off)",
+    )
+    json_flag(p)
+    out_flags(p, "also store the result (HDF5, kind mfpt) in this file (default: none)")
+    p.set_defaults(func=cmd_mfpt)

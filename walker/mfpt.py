@@ -1,0 +1,242 @@
+"""Mean first-passage time (MFPT) of a walker on stochastic terrain (issue 29).
+
+A metastable walker on rough ground falls eventually; the MFPT is the expected number of steps
+it completes before it does (Byl and Tedrake, "Metastable walking machines", IJRR 28(8),
+2009).  The terrain rule is :mod:`walker.terrain`'s: step ``n`` lands on the plane of slope
+``gamma_n`` [rad] through the point ``h_n`` [m] below the stance contact, with ``gamma_n ~
+N(slope_mean, slope_std^2)`` and ``h_n ~ N(0, height_std^2)`` drawn for every step, the first
+one included.
+
+Two estimates:
+
+* :func:`monte_carlo` -- runs start on the period-one gait of the mean slope (the previous
+  step's slope the mean: the start map's scene slope is the mean) and walk in the compiled
+  batch (:meth:`walker.stride.StrideMap.ensemble`) until the first failure: any status but
+  ``COMPLETED`` (a fall, a trip, a non-physical impact, no touchdown within ``t_max``, the
+  rimless wheel rolling back).  Run ``i`` draws its terrain from ``numpy.random.default_rng``
+  seeded by the ``i``-th child of ``numpy.random.SeedSequence(seed).spawn(runs)``, so the
+  result does not depend on ``jobs`` (threads) or on how the runs are split.  A run still
+  walking after ``steps`` strides is walked again over twice as many (its first rows are the
+  same draws) up to ``max_steps``; one still walking then is censored.
+* :func:`markov_chain` -- the discretised stride-map chain (:mod:`walker.markov`).
+
+Estimators of :func:`monte_carlo`, with ``N_i`` the steps completed by run ``i``:
+
+* no run censored: ``mfpt = mean(N_i)``, ``mfpt_stderr = std(N_i, ddof=1) / sqrt(runs)``;
+* some censored: the geometric maximum-likelihood estimate ``mfpt = sum(N_i) / failed`` with
+  ``mfpt_stderr = mfpt / sqrt(failed)`` (the censored runs' steps count as exposure).
+
+``rate`` is the fitted per-step failure probability of a geometric law,
+``failed / (sum(N_i) + failed)`` (maximum likelihood, censoring included); for a metastable
+gait the steps to failure are geometric after the start transient, with mean ``(1 - rate) /
+rate``.
+
+Examples
+--------
+>>> from walker import StrideMap, load_scene
+>>> from walker.mfpt import gait_on_mean_slope, monte_carlo
+>>> scene = load_scene("gaits/rimless_wheel.toml")
+>>> P, z0 = gait_on_mean_slope(StrideMap.from_scene(scene), scene.state, 0.08)
+>>> r = monte_carlo(P, z0, slope_std=0.05, runs=64, seed=1)
+>>> r.runs, r.failed <= 64
+(64, True)
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+from walker.results import MfptResult
+from walker.terrain import Terrain
+
+__all__ = [
+    "MfptResult",
+    "draw_terrains",
+    "gait_on_mean_slope",
+    "monte_carlo",
+    "run_seeds",
+    "run_terrain",
+]
+
+ROWS_PER_BLOCK = 1 << 21
+"""Terrain rows (runs x steps) drawn and walked per block: bounds the memory at 32 MiB."""
+
+
+def _int(name: str, value, minimum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"`{name}` must be an int, got {type(value).__name__}")
+    if value < minimum:
+        raise ValueError(f"`{name}` must be >= {minimum}, got {value}")
+    return int(value)
+
+
+def _std(name: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"`{name}` must be a real number, got {type(value).__name__}")
+    value = float(value)
+    if not (math.isfinite(value) and value >= 0.0):
+        raise ValueError(f"`{name}` must be finite and >= 0, got {value!r}")
+    return value
+
+
+def gait_on_mean_slope(smap, guess, slope_mean: float):
+    """The stride map on the mean slope and its period-one gait: the Monte-Carlo start.
+
+    Parameters
+    ----------
+    smap : walker.stride.StrideMap
+    guess : array_like
+        a full state (shape ``(n_x,)``) or section point (``(n_z,)``) near the gait.
+    slope_mean : float
+        the mean slope [rad].
+
+    Returns
+    -------
+    (walker.stride.StrideMap, ndarray)
+        the map with ``slope = slope_mean`` (the previous step's slope of a start is the
+        mean) and the gait's section point; a ValueError when no gait is found there.
+    """
+    from walker.fixedpoint import find_fixed_point
+
+    if not math.isfinite(float(slope_mean)):
+        raise ValueError(f"`slope_mean` must be finite, got {slope_mean!r}")
+    P = smap if float(slope_mean) == smap.params.slope else smap.with_params(slope=slope_mean)
+    guess = np.asarray(guess, dtype=np.float64)
+    z = P.project(guess) if guess.shape == (P.model.n_x,) else guess
+    fp = find_fixed_point(P, z)
+    if not fp.success:
+        raise ValueError(
+            f"`slope_mean` = {slope_mean!r}: no period-one gait near the scene's start "
+            f"({fp.status.name}: {fp.message})"
+        )
+    return P, np.asarray(fp.section, dtype=np.float64)
+
+
+def run_seeds(seed: int, runs: int) -> list:
+    """The per-run seed sequences: the children of ``SeedSequence(seed)``, one per run."""
+    return np.random.SeedSequence(_int("seed", seed, 0)).spawn(_int("runs", runs, 0))
+
+
+def run_terrain(child, n_steps: int, terrain: Terrain) -> np.ndarray:
+    """Run ``child``'s first ``n_steps`` terrain rows ``(slope, drop)``: the same rows for
+    every ``n_steps`` up to the shorter (one sequential stream of standard normals)."""
+    return terrain.steps(n_steps, np.random.default_rng(child))
+
+
+def draw_terrains(children, n_steps: int, terrain: Terrain) -> np.ndarray:
+    """The rows of :func:`run_terrain` for every child, shape ``(len(children), n_steps,
+    2)``, bit for bit, with the scaling done once for all runs."""
+    draws = np.empty((len(children), n_steps, 2))
+    for i, child in enumerate(children):
+        draws[i] = np.random.default_rng(child).standard_normal((n_steps, 2))
+    rows = np.empty_like(draws)
+    rows[..., 0] = terrain.slope_mean
+    rows[..., 1] = 0.0
+    if terrain.slope_std > 0.0:
+        rows[..., 0] += terrain.slope_std * draws[..., 0]
+    if terrain.height_std > 0.0:
+        rows[..., 1] = terrain.height_std * draws[..., 1]
+    return rows
+
+
+def monte_carlo(
+    smap,
+    z0,
+    *,
+    slope_std: float,
+    height_std: float = 0.0,
+    runs: int,
+    seed: int,
+    jobs: int = 1,
+    steps: int = 256,
+    max_steps: int = 1 << 16,
+) -> MfptResult:
+    """The Monte-Carlo mean first-passage time (module docstring).
+
+    Parameters
+    ----------
+    smap : walker.stride.StrideMap
+        the map on the mean slope (its ``slope`` parameter is the mean [rad]), from
+        :func:`gait_on_mean_slope`.
+    z0 : array_like, shape (n_z,)
+        the start section point (the gait of the mean slope).
+    slope_std : float
+        the slope's standard deviation [rad], >= 0.
+    height_std : float
+        the drop's standard deviation [m], >= 0.
+    runs : int
+        runs, >= 1.
+    seed : int
+        the root seed, >= 0.
+    jobs : int
+        threads of the compiled batch (the result is the same for any).
+    steps, max_steps : int
+        the first horizon [steps] and the censoring horizon (doubling in between).
+
+    Returns
+    -------
+    MfptResult
+    """
+    slope_std = _std("slope_std", slope_std)
+    height_std = _std("height_std", height_std)
+    runs = _int("runs", runs, 1)
+    seed = _int("seed", seed, 0)
+    jobs = _int("jobs", jobs, 1)
+    steps = _int("steps", steps, 1)
+    max_steps = _int("max_steps", max_steps, steps)
+    z0 = np.asarray(z0, dtype=np.float64)
+    if z0.shape != (smap.model.n_z,) or not np.isfinite(z0).all():
+        raise ValueError(f"`z0` must be a finite section point of shape ({smap.model.n_z},)")
+    slope_mean = float(smap.params.slope)
+    terrain = Terrain("random", slope_mean=slope_mean, slope_std=slope_std, height_std=height_std)
+    children = run_seeds(seed, runs)
+    done = np.zeros(runs, dtype=np.int64)
+    status = np.zeros(runs, dtype=np.int64)
+    pending = np.arange(runs)
+    n = min(steps, max_steps)
+    while pending.size:
+        block = max(1, ROWS_PER_BLOCK // n)
+        for a in range(0, pending.size, block):
+            idx = pending[a : a + block]
+            rows = draw_terrains([children[i] for i in idx], n, terrain)
+            k, st = smap.ensemble(z0, rows, threads=jobs)
+            done[idx], status[idx] = k, st
+        if n >= max_steps:
+            break
+        pending = pending[status[pending] == 0]
+        n = min(2 * n, max_steps)
+    return summarise(done, status, max_steps, slope_mean, slope_std, height_std, seed, z0)
+
+
+def summarise(done, status, max_steps, slope_mean, slope_std, height_std, seed, z0):
+    """An :class:`MfptResult` from the runs' completed steps and statuses."""
+    runs = int(done.size)
+    failed = int(np.count_nonzero(status))
+    total = float(done.sum())
+    if failed == runs:
+        mfpt = float(done.mean())
+        stderr = float(done.std(ddof=1) / math.sqrt(runs)) if runs > 1 else math.inf
+    elif failed:
+        mfpt = total / failed
+        stderr = mfpt / math.sqrt(failed)
+    else:
+        mfpt, stderr = math.nan, math.nan
+    rate = failed / (total + failed) if (total + failed) > 0 else math.nan
+    return MfptResult(
+        mfpt=mfpt,
+        mfpt_stderr=stderr,
+        runs=runs,
+        failed=failed,
+        steps=done,
+        status=status,
+        rate=rate,
+        max_steps=int(max_steps),
+        slope_mean=float(slope_mean),
+        slope_std=float(slope_std),
+        height_std=float(height_std),
+        seed=int(seed),
+        start=np.asarray(z0, dtype=np.float64).copy(),
+    )
