@@ -189,4 +189,11 @@ int wkpy_add_prepared_map(PyObject *module);
 /* Adds the terrain functions (_terrainbinding.c) to ``module``; 0, or -1 with an exception. */
 int wkpy_add_terrain(PyObject *module);
 
+
+/* The registries as dicts (_hybridregistry.c): models(), kernels(), kernel_hashes(). */
+extern const char wkpy_models_doc[], wkpy_kernels_doc[], wkpy_kernel_hashes_doc[];
+PyObject *wkpy_models(PyObject *self, PyObject *unused);
+PyObject *wkpy_kernels(PyObject *self, PyObject *unused);
+PyObject *wkpy_kernel_hashes(PyObject *self, PyObject *unused);
+
 #endif
