@@ -425,18 +425,9 @@ class StrideMap:
         def points(z0, target, tol, n_strides, weight=None, radius=0.0):
             z0 = np.ascontiguousarray(z0, dtype=np.float64)
             target = np.ascontiguousarray(target, dtype=np.float64)
-            if weight is None:
-                weight = np.eye(target.size)
-            weight = np.ascontiguousarray(weight, dtype=np.float64)
+            w = np.ascontiguousarray(np.eye(len(target)) if weight is None else weight, float)
             outcome, strides = _hybrid.basin_points(
-                *args,
-                z0,
-                target,
-                float(tol),
-                int(n_strides),
-                int(period),
-                weight,
-                float(radius),
+                *args, z0, target, float(tol), int(n_strides), int(period), w, float(radius)
             )
             return (
                 np.frombuffer(outcome, dtype=np.int64).copy(),
