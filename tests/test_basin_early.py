@@ -219,6 +219,7 @@ def test_the_file_records_the_classification_and_resume_checks_it(tmp_path):
         basin_map(m, fp, converge_radius=0.0, out=out, executor="serial", **kw)
     again = basin_map(m, fp, converge_radius="auto", out=out, executor="serial", **kw)
     np.testing.assert_array_equal(again.outcome, b.outcome)
+    assert again.classification == stored.classification  # the file's ball, kept
 
 
 def test_a_file_without_the_classification_still_reads(tmp_path, monkeypatch):

@@ -377,6 +377,10 @@ def basin_map(
         )
         chunk_size = store.chunk_size
         pending = store.pending_chunks()
+        classification = store.classification  # a resumed automatic ball: the file's
+        radius = float(classification.get("converge_radius", 0.0))
+        if radius > 0:
+            weight = np.array(classification["weight"], dtype=float)
     elif chunk_size is None:
         chunk_size = max(1, math.ceil(ny / (4 * n_workers)))
     chunk_size = int(chunk_size)

@@ -151,7 +151,9 @@ class BasinStore(_ChunkedStore):
         classification : dict, optional
             the map's classification rule (:attr:`BasinMap.classification`), stored with the
             result; an existing file must hold the same (a file without one: the tolerance
-            alone, ``{"tol": tol, "converge_radius": 0.0}``).
+            alone, ``{"tol": tol, "converge_radius": 0.0}``), except that two automatic
+            balls (``converge_radius_rule`` "auto") match: the store's
+            ``classification`` is then the file's, which the resumed chunks must use.
 
         Returns
         -------
@@ -206,16 +208,18 @@ class BasinStore(_ChunkedStore):
             chunk_size=chunk_size,
             classification=classification,
         )
-        if path.exists() and not overwrite:
+        if path.exists() and not overwrite:  # (self.classification: the file's)
             stored_chunk, loaded = cls._compare(path, want)
             store = cls(path, ny, nx, stored_chunk, fsync=bool(fsync))
             store._resume(loaded)
+            store.classification = loaded.result.classification or classification
             return store
         cls._check_directory(path)
         if chunk_size is None:
             chunk_size = max(1, -(-ny // BASIN_DEFAULT_CHUNKS))
         store = cls(path, ny, nx, chunk_size, fsync=bool(fsync))
         store._create(want, overwrite=bool(overwrite))
+        store.classification = classification
         return store
 
     @classmethod
@@ -291,8 +295,15 @@ class BasinStore(_ChunkedStore):
                 diffs.append(f"{name} {stored} != {want[name]}")
         if "classification" in want:
             stored_cls = basin.classification or {"tol": stored_tol, "converge_radius": 0.0}
-            if _to_json(stored_cls, "classification") != _to_json(
-                want["classification"], "classification"
+            new = want["classification"]
+            # an automatic ball is derived again on resume: the stored one is kept (its last
+            # bits could differ elsewhere), the rule must be the same
+            both_auto = all(
+                c.get("converge_radius_rule") == "auto" and c.get("tol") == stored_tol
+                for c in (stored_cls, new)
+            )
+            if not both_auto and _to_json(stored_cls, "classification") != _to_json(
+                new, "classification"
             ):
                 diffs.append(
                     f"converge_radius {stored_cls.get('converge_radius')} != "
