@@ -24,12 +24,13 @@ assumes (the derivation is in docs/basins.md):
    ``DF`` varies no faster between the samples than at them, which holds when ``F`` is
    smooth on the sample ball (every sample stride completes with the event sequence of the
    gait; a sample that fails gives no ball).
-3. **The radius.**  ``r = (1 - ||A||_W) / (2 M)``, at most the sample radius (the region
-   where ``M`` was measured).  On the ball ``||DF(z)||_W <= ||A||_W + M r = kappa =
-   (1 + ||A||_W) / 2 < 1``; the ball is convex, so by the mean-value inequality
-   ``||F(z) - z*||_W <= kappa ||z - z*||_W``: ``F`` maps the ball into itself and every point
-   of it converges to ``z*`` geometrically at rate ``kappa``.  The Jacobians at the sample
-   points on the final radius are checked to have ``||DF||_W <= kappa``.
+3. **The radius.**  ``r = (1 - ||A||_W) / M``, at most the sample radius (the region where
+   ``M`` was measured).  For ``e = z - z*`` in the ball, ``F(z) - z* = int_0^1 DF(z* + t e)
+   e dt`` (the ball is convex), so ``||F(z) - z*||_W <= (||A||_W + M ||e||_W / 2) ||e||_W
+   <= kappa ||e||_W`` with ``kappa = ||A||_W + M r / 2 = (1 + ||A||_W) / 2 < 1``: ``F`` maps
+   the ball into itself and every point of it converges to ``z*`` geometrically at rate
+   ``kappa``.  At every sample point on the final radius and half of it, the map itself is
+   checked: ``||F(z) - z*||_W <= kappa ||z - z*||_W``.
 4. **Integration error.**  A computed stride differs from ``F`` by about the solver's
    tolerance ``delta``; the perturbed iterates stay in the ball when ``delta <= (1 - kappa)
    r``.  The radius is refused (0) when ``(1 - kappa) r`` is below ``1e3`` times the map's
@@ -50,7 +51,7 @@ __all__ = ["contraction_ball", "DEFAULT_SAFETY"]
 DEFAULT_SAFETY = 4.0
 """Factor applied to the largest sampled Lipschitz ratio of the map's Jacobian."""
 
-SAMPLE_RADIUS = 1e-2
+SAMPLE_RADIUS = 5e-2
 """Largest sample radius (``W`` norm, section units) at which ``M`` is first estimated."""
 
 N_RANDOM = 8
@@ -134,8 +135,9 @@ def contraction_ball(
     info : dict
         ``rule``, ``weighting`` ("eigenbasis" or "lyapunov"), ``contraction``
         (``||A||_W``), ``lipschitz`` (the sampled ``M`` before ``safety``), ``safety``,
-        ``kappa`` (the bound on ``||DF||_W`` in the ball), ``sample_radius``, and
-        ``reason`` when the radius is 0.
+        ``kappa`` (the guaranteed contraction factor towards ``z*`` in the ball),
+        ``sample_radius``, ``sampled_contraction`` (the largest ``||F(z) - z*||_W /
+        ||z - z*||_W`` at the samples), and ``reason`` when the radius is 0.
     """
     if not (np.isfinite(safety) and safety >= 1):
         raise ValueError(f"`safety` must be a finite number >= 1, got {safety!r}")
@@ -160,17 +162,19 @@ def contraction_ball(
     dirs += [d / np.linalg.norm(d) for d in rng.standard_normal((N_RANDOM, n))]
 
     def worst(radius):
-        """Largest ||DF(z) - A||_W / ||z - z*||_W and ||DF(z)||_W over the samples."""
-        ratio = norm = 0.0
+        """Largest ||DF(z) - A||_W / ||z - z*||_W and ||F(z) - z*||_W / ||z - z*||_W over
+        the samples."""
+        ratio = shrink = 0.0
         for frac in (1.0, 0.5):
             for d in dirs:  # d in W coordinates: z = z* + W^-1 (frac r d), ||.||_W = frac r
                 z = z_star + inv @ (frac * radius * d)
-                _, jz, st = map_jacobian(section_map, z, period, None, "exact", 0.0)
+                rz, jz, st = map_jacobian(section_map, z, period, None, "exact", 0.0)
                 if jz is None:
                     return None, f"a sample stride failed ({st.name})"
                 ratio = max(ratio, _norm_w(weight, jz - jac) / (frac * radius))
-                norm = max(norm, _norm_w(weight, jz))
-        return (ratio, norm), None
+                step = np.linalg.norm(weight @ (np.asarray(rz.z) - z_star))
+                shrink = max(shrink, float(step) / (frac * radius))
+        return (ratio, shrink), None
 
     sample = SAMPLE_RADIUS
     for _ in range(8):
@@ -179,7 +183,7 @@ def contraction_ball(
             sample /= 10.0
             continue
         lip = got[0]
-        radius = sample if lip == 0 else min(sample, (1.0 - a) / (2.0 * safety * lip))
+        radius = sample if lip == 0 else min(sample, (1.0 - a) / (safety * lip))
         if radius >= sample:
             break
         sample = radius  # re-measure M on the ball actually used
@@ -188,9 +192,9 @@ def contraction_ball(
     if got is None:
         return weight, 0.0, {**info, "reason": why}
     kappa = 0.5 * (1.0 + a)
-    info.update(lipschitz=lip, kappa=kappa, sample_radius=sample, sampled_norm=got[1])
+    info.update(lipschitz=lip, kappa=kappa, sample_radius=sample, sampled_contraction=got[1])
     if got[1] > kappa:
-        return weight, 0.0, {**info, "reason": f"sampled ||DF||_W {got[1]:.6g} > kappa"}
+        return weight, 0.0, {**info, "reason": f"sampled contraction {got[1]:.6g} > kappa"}
     floor = 1e3 * max(float(getattr(section_map, "rtol", 0.0)), 0.0)
     floor = max(floor, 1e3 * max(float(getattr(section_map, "atol", 0.0)), 0.0))
     if (1.0 - kappa) * radius < floor:
