@@ -1,9 +1,12 @@
 """Basins of attraction of a gait on a 2-D slice of the Poincaré section.
 
 Each grid point starts from the fixed point with two chosen section coordinates replaced and
-is iterated by the section map until it comes within ``tol`` of the fixed point (converged),
-falls (the failing stride's :class:`~walker.status.Status`), or runs out of strides
-(undecided).  Rows of the grid are grouped into chunks, and the chunks run on any
+is iterated by the section map until it comes within ``tol`` of the fixed point or, with
+``converge_radius``, enters the ball around it where convergence is guaranteed
+(:mod:`walker.basin_radius`; converged, either way), falls (the failing stride's
+:class:`~walker.status.Status`, at its event or at a start outside the walking region), or
+runs out of strides (undecided).  The rule and what the file records: docs/basins.md.
+Rows of the grid are grouped into chunks, and the chunks run on any
 :class:`concurrent.futures.Executor`: threads of this process by default (a walker's grid
 row is one compiled call without the GIL, :meth:`walker.stride.StrideMap.basin_batch`, so
 two threads reach about 1.9x one, as a started process pool does, see
