@@ -13,7 +13,7 @@ Two grids, each ``axes 0,1`` with half-width ``span x max(|value|, 0.1)`` as ``w
 
 Measured for each grid:
 
-1. ``basin_map`` four ways, interleaved round-robin (the starting contender rotated every
+1. ``basin_map`` six ways, interleaved round-robin (the starting contender rotated every
    round; wall time, min and median, and the CPU time of this process and the pool's
    workers): ``jobs=2`` (``executor=None``: 2 threads of this process,
    the compiled strides release the GIL; this is what a user gets by default, ``jobs =
@@ -23,7 +23,11 @@ Measured for each grid:
    process).  All three must give the same outcome and stride grids.  Fourth, ``jobs=2``
    on the same map at rtol 1e-9 (``StrideMap.with_tolerance``, what ``walker basin --rtol
    1e-9`` runs; the fixed point at the scene's tolerance): its time, and the grid points
-   whose outcome differs from the scene's tolerance;
+   whose outcome differs from the scene's tolerance.  Fifth and sixth, the early
+   classification (``converge_radius="auto"``, ``walker basin``'s default, docs/basins.md)
+   at the scene's rtol and at 1e-9: CPU per point, its ratio to the full runs' CPU
+   (``jobs=2``, the tolerance alone) in the same round, and whether every outcome equals
+   the full 20-stride run's at the scene's rtol except undecided -> converged;
 2. the ``walker basin`` command line, end to end in a subprocess (``--n N --strides 20
    --span S --out <tmp>``; its default ``--jobs``: os.cpu_count() threads), once;
 3. per grid point, serially on the same random sample of grid points, walker's ``StrideMap``
@@ -42,7 +46,6 @@ from __future__ import annotations
 import concurrent.futures as cf
 import multiprocessing
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -74,9 +77,10 @@ BASIN_TOL = 1e-6  # basin_map's default convergence tolerance
 IVP = "solve_ivp DOP853, walker's compiled rhs"
 WALKER = "walker StrideMap"
 HEYOKA = "heyoka Taylor, folded constants, tol = rtol"
-CONTENDERS = ("threads", "pool", "serial", "loose")
+CONTENDERS = ("threads", "pool", "serial", "loose", "early", "early_loose")
 SAME = CONTENDERS[:3]  # the same map: outcome and stride grids must agree bit for bit
 LOOSE_RTOL = 1e-9  # `walker basin --rtol 1e-9`: the basin's strides only (atol the same)
+EARLY = ("early", "early_loose")  # converge_radius="auto": `walker basin`'s default
 
 
 def _warm(_):
@@ -134,8 +138,9 @@ def ranges_for(fp, span):
 def run_cli(n, span):
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "basin.h5"
-        exe = shutil.which("walker")
-        cli = [exe] if exe else [sys.executable, "-m", "walker.cli"]
+        # this checkout's walker (cwd is the repository root), not whichever `walker` script
+        # is first on PATH
+        cli = [sys.executable, "-m", "walker"]
         args = ["basin", f"gaits/{SCENE}", "--n", str(n), "--strides", str(STRIDES)]
         if span != 0.5:
             args += ["--span", f"{span:g}"]
@@ -151,7 +156,7 @@ def run_cli(n, span):
 def main(argv=None):
     quick, cmd = B.quick_options("bench_basin.py", __doc__, "20 x 20 grids, fewer repeats", argv)
     n = 20 if quick else 100
-    reps = 2 if quick else 7
+    reps = 2 if quick else 5
     pp_reps = 2 if quick else 3
     n_sample = 6 if quick else 24
     t_start = time.perf_counter()
@@ -208,6 +213,10 @@ def main(argv=None):
                 "pool": lambda kw=kw: basin_map(P, fp, executor=pool, **kw),
                 "serial": lambda kw=kw: basin_map(P, fp, executor="serial", **kw),
                 "loose": lambda kw=kw: basin_map(P_loose, fp, jobs=WORKERS, **kw),
+                "early": lambda kw=kw: basin_map(P, fp, jobs=WORKERS, converge_radius="auto", **kw),
+                "early_loose": lambda kw=kw: basin_map(
+                    P_loose, fp, jobs=WORKERS, converge_radius="auto", **kw
+                ),
             }
             times = {k: [] for k in CONTENDERS}
             cpu = {k: [] for k in CONTENDERS}  # this process + the pool's workers
@@ -232,6 +241,24 @@ def main(argv=None):
                 for m in SAME
             )
             loose = results["loose"]
+            early = {}
+            for mode in EARLY:
+                e = results[mode]
+                kept = e.outcome == bm.outcome
+                to_conv = (bm.outcome == BASIN_UNDECIDED) & (e.outcome == BASIN_CONVERGED)
+                conv_both = (bm.outcome == BASIN_CONVERGED) & (e.outcome == BASIN_CONVERGED)
+                early[mode] = dict(
+                    rule_holds=bool(np.all(kept | to_conv)),
+                    other=int(np.sum(~(kept | to_conv))),
+                    to_conv=int(np.sum(to_conv)),
+                    falls_same=bool(np.array_equal(e.outcome > 0, bm.outcome > 0)),
+                    fewer=bool(np.all(e.strides[conv_both] <= bm.strides[conv_both])),
+                    strides=int(e.strides.sum()),
+                    median_stop=float(np.median(e.strides[e.outcome == BASIN_CONVERGED]))
+                    if np.any(e.outcome == BASIN_CONVERGED)
+                    else float("nan"),
+                    ball=e.classification,
+                )
             n_conv = int(np.sum(bm.outcome == BASIN_CONVERGED))
             n_und = int(np.sum(bm.outcome == BASIN_UNDECIDED))
             n_fell = n * n - n_conv - n_und
@@ -245,6 +272,7 @@ def main(argv=None):
                 same=same,
                 loose_diff=int(np.sum(loose.outcome != bm.outcome)),
                 loose_strides=int(loose.strides.sum()),
+                early=early,
                 conv=n_conv / n**2,
                 und=n_und / n**2,
                 fell=n_fell / n**2,
@@ -304,6 +332,9 @@ def main(argv=None):
         "pool": f"basin_map executor={WORKERS}-worker process pool",
         "serial": 'basin_map executor="serial"',
         "loose": f"basin_map jobs={WORKERS} (threads), rtol {LOOSE_RTOL:g}",
+        "early": f"basin_map jobs={WORKERS} (threads), converge_radius auto",
+        "early_loose": f"basin_map jobs={WORKERS} (threads), converge_radius auto, "
+        f"rtol {LOOSE_RTOL:g}",
     }
     rows = []
     for name, g in grids.items():
@@ -342,8 +373,29 @@ def main(argv=None):
             "outcomes different"
         )
 
+    def cpu_ratio(g, m):
+        """Median over rounds of CPU(m) / CPU(threads) in the same round."""
+        return float(np.median(g["cpu"][m] / g["cpu"]["threads"]))
+
+    def early_phrase(name, mode):
+        g = grids[name]
+        e = g["early"][mode]
+        cpu = float(np.median(g["cpu"][mode]))
+        return (
+            f"{name} slice{' at rtol ' + format(LOOSE_RTOL, 'g') if mode == 'early_loose' else ''}"
+            f" {cpu / n**2 * 1e6:.0f} µs CPU per point against "
+            f"{np.median(g['cpu']['threads']) / n**2 * 1e6:.0f} µs for the full runs "
+            f"({1 / cpu_ratio(g, mode):.1f}x less CPU, per-round ratio), {cpu:.2f} s CPU in all "
+            f"(CPU / 2 = {cpu / 2:.2f} s), wall median {med(g, mode):.2f} s on the loaded "
+            f"machine; outcomes as the full 20-stride run at rtol {c.rtol:g} except "
+            f"undecided -> converged: {'yes' if e['rule_holds'] else 'NO'} "
+            f"({e['to_conv']} points undecided -> converged, {e['other']} other changes)"
+        )
+
     gw = grids["walking"]
     summary = (
+        "Early classification (`walker basin`'s default `--converge-radius auto`, "
+        "docs/basins.md): " + "; ".join(early_phrase("walking", m) for m in EARLY) + ". "
         f"Compass basin {n} x {n}, up to {STRIDES} strides, wall medians: "
         + "; ".join(phrase(k) for k in grids)
         + f". Per stride walker's StrideMap is "
@@ -394,7 +446,7 @@ def main(argv=None):
         "",
         summary,
         "",
-        f"`basin_map` four ways, interleaved round-robin over {reps} rounds (the starting "
+        f"`basin_map` six ways, interleaved round-robin over {reps} rounds (the starting "
         "contender rotated each round), wall time, and CPU time (user + system of this "
         "process and the pool's worker processes; CPU / wall is the number of CPUs kept busy):",
         "",
@@ -411,6 +463,11 @@ def main(argv=None):
         "loose": f"`basin_map(P.with_tolerance({LOOSE_RTOL:g}, {LOOSE_RTOL:g}), ..., "
         f"jobs={WORKERS})`: the basin's strides at rtol {LOOSE_RTOL:g} (`walker basin --rtol "
         f"{LOOSE_RTOL:g}`), the fixed point at the scene's",
+        "early": f'`basin_map(..., jobs={WORKERS}, converge_radius="auto")`: early '
+        "classification (below)",
+        "early_loose": f"`basin_map(P.with_tolerance({LOOSE_RTOL:g}, {LOOSE_RTOL:g}), ..., "
+        f'jobs={WORKERS}, converge_radius="auto")`: early classification, strides at rtol '
+        f"{LOOSE_RTOL:g}",
     }
     for name, g in grids.items():
         th = med(g, "threads")
@@ -421,6 +478,47 @@ def main(argv=None):
                 f"| {name} | {desc[mode]} | {v.min():.2f} s | {np.median(v):.2f} s | "
                 f"{np.median(v) / th:.2f} | {np.median(g['cpu'][mode]):.2f} s | "
                 f"{busy.min():.2f}-{busy.max():.2f} |"
+            )
+    ball = gw["early"]["early"]["ball"]
+    md += [
+        "",
+        "**Early classification** (issue 30): a point stops as converged once inside the "
+        'gait\'s contraction ball (`converge_radius="auto"`, `walker basin '
+        "--converge-radius auto`, the command's default; the rule and its assumptions in "
+        f"docs/basins.md). Compass ball at rtol {c.rtol:g}: radius "
+        f"{ball.get('converge_radius', 0):.4g} in the weighted norm "
+        f"({ball.get('weighting')}; ||A||_W {ball.get('contraction', float('nan')):.4f}, "
+        f"sampled M {ball.get('lipschitz', float('nan')):.4g} x safety "
+        f"{ball.get('safety', float('nan')):g}, kappa {ball.get('kappa', float('nan')):.4f}), "
+        "derived inside each timed `basin_map` call. CPU time (user + system) per grid "
+        "point, and its ratio to the full runs (`basin_map(jobs=2)` at the scene's tolerance, "
+        "the tolerance alone: the old path) measured in the same round, median over rounds; "
+        "the machine is shared with other sessions, so CPU time and the ratio are the "
+        "figures, wall time only indicative (CPU / 2: the wall time of two fully busy "
+        "cores):",
+        "",
+        "| slice | what | CPU per point, median | CPU / full runs' CPU, per round, median | "
+        "CPU, median | CPU / 2 | strides completed | converged points: median stop stride | "
+        "outcomes = full run except undecided -> converged |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for name, g in grids.items():
+        md.append(
+            f"| {name} | full runs, rtol {c.rtol:g} (old path) | "
+            f"{np.median(g['cpu']['threads']) / n**2 * 1e6:.0f} µs | 1.00 | "
+            f"{np.median(g['cpu']['threads']):.2f} s | "
+            f"{np.median(g['cpu']['threads']) / 2:.2f} s | {g['completed']} | | |"
+        )
+        for mode in EARLY:
+            e = g["early"][mode]
+            cpu = float(np.median(g["cpu"][mode]))
+            md.append(
+                f"| {name} | early, rtol {LOOSE_RTOL if mode == 'early_loose' else c.rtol:g} | "
+                f"{cpu / n**2 * 1e6:.0f} µs | {cpu_ratio(g, mode):.3f} | {cpu:.2f} s | "
+                f"{cpu / 2:.2f} s | {e['strides']} | {e['median_stop']:g} | "
+                f"{'yes' if e['rule_holds'] else 'NO'}: {e['to_conv']} undecided -> "
+                f"converged, {e['other']} other; falls the same points: "
+                f"{e['falls_same']}; converged points no later: {e['fewer']} |"
             )
     md += [
         "",

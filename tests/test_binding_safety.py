@@ -162,7 +162,7 @@ def test_f4_prepared_map_and_basin_points_check_the_parameter_count():
     args[9] = np.ones(2)
     z = np.ascontiguousarray(z0[None, :])
     with pytest.raises(ValueError, match=r"`p` must have length n_p = 10"):
-        _hybrid.basin_points(*args, z, z0, 1e-8, 2, 1)
+        _hybrid.basin_points(*args, z, z0, 1e-8, 2, 1, np.eye(z0.size), 0.0)
     with pytest.raises(ValueError, match=r"`p` must have length n_p = 10"):
         _hybrid.PreparedMap(*args).map(z0, 1, False)
 

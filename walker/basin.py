@@ -1,9 +1,12 @@
 """Basins of attraction of a gait on a 2-D slice of the Poincaré section.
 
 Each grid point starts from the fixed point with two chosen section coordinates replaced and
-is iterated by the section map until it comes within ``tol`` of the fixed point (converged),
-falls (the failing stride's :class:`~walker.status.Status`), or runs out of strides
-(undecided).  Rows of the grid are grouped into chunks, and the chunks run on any
+is iterated by the section map until it comes within ``tol`` of the fixed point or, with
+``converge_radius``, enters the ball around it where convergence is guaranteed
+(:mod:`walker.basin_radius`; converged, either way), falls (the failing stride's
+:class:`~walker.status.Status`, at its event or at a start outside the walking region), or
+runs out of strides (undecided).  The rule and what the file records: docs/basins.md.
+Rows of the grid are grouped into chunks, and the chunks run on any
 :class:`concurrent.futures.Executor`: threads of this process by default (a walker's grid
 row is one compiled call without the GIL, :meth:`walker.stride.StrideMap.basin_batch`, so
 two threads reach about 1.9x one, as a started process pool does, see
@@ -51,6 +54,8 @@ def basin_chunk(
     period: int,
     tol: float,
     stop: threading.Event | None = None,
+    weight: np.ndarray | None = None,
+    radius: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Classify the grid rows ``y_rows`` (the unit of work sent to an executor).
 
@@ -81,6 +86,11 @@ def basin_chunk(
     stop : threading.Event, optional
         (threads only) when set, the chunk is abandoned before its next grid point
         (``walker._executors.Abandoned`` is raised).
+    weight : ndarray, shape (n_z, n_z), optional
+        the norm of the convergence ball (default the identity).
+    radius : float
+        also converged when ``||weight (z - target)||_2 <= radius`` (the ball where the
+        map is a contraction, :func:`walker.basin_radius.contraction_ball`); 0: off.
 
     Returns
     -------
@@ -103,7 +113,10 @@ def basin_chunk(
             z0 = np.repeat(np.asarray(base, dtype=float)[None, :], len(x), axis=0)
             z0[:, ax] = x
             z0[:, ay] = yv
-            outcome[i], strides[i] = batch(z0, target, tol, n_strides)
+            if radius > 0:
+                outcome[i], strides[i] = batch(z0, target, tol, n_strides, weight, radius)
+            else:
+                outcome[i], strides[i] = batch(z0, target, tol, n_strides)
         return outcome, strides
     for i, yv in enumerate(y_rows):
         for j, xv in enumerate(x):
@@ -114,7 +127,9 @@ def basin_chunk(
             z[ay] = yv
             done = 0
             while True:
-                if np.max(np.abs(z - target)) <= tol:
+                if np.max(np.abs(z - target)) <= tol or (
+                    radius > 0 and np.sum((weight @ (z - target)) ** 2) <= radius * radius
+                ):
                     outcome[i, j] = BASIN_CONVERGED
                     break
                 if done + period > n_strides:
@@ -138,6 +153,7 @@ def basin_map(
     n: tuple[int, int] = (41, 41),
     n_strides: int = 20,
     tol: float = 1e-6,
+    converge_radius: float | str = 0.0,
     executor: cf.Executor | str | None = None,
     jobs: int | None = None,
     chunk_size: int | None = None,
@@ -166,6 +182,14 @@ def basin_map(
         strides per point before it is called undecided.
     tol : float
         converged when ``max|z - fixed_point.section| <= tol`` (section units).
+    converge_radius : float or "auto"
+        also converged, stopped early, when ``||W (z - fixed_point.section)||_2 <= r``:
+        ``"auto"`` derives ``W`` and ``r`` from the gait's Jacobian and a sampled bound on
+        the map's second derivative (:func:`walker.basin_radius.contraction_ball`, the ball
+        where convergence is guaranteed; ``walker basin``'s default); a number ``r > 0``
+        uses that radius with the same ``W`` (smallest singular value 1, so the ball lies
+        within ``max|z - z*| <= r``); 0 (the default here): the tolerance alone.  The
+        result's ``classification`` records ``tol``, the radius, ``W`` and the rule.
     executor : Executor, "serial" or None
         where the chunks run.  ``None``: ``jobs`` threads of this process (the compiled
         strides release the GIL), created and shut down here, inline when ``jobs`` is 1;
@@ -202,7 +226,7 @@ def basin_map(
     ------
     ValueError
         for a failed ``fixed_point``, invalid ``axes``, ``ranges``, ``n``, ``n_strides``,
-        ``tol``, ``jobs``, ``chunk_size`` or ``executor``.
+        ``tol``, ``converge_radius``, ``jobs``, ``chunk_size`` or ``executor``.
     FileNotFoundError
         the directory of ``out`` does not exist.
     walker.storage.CheckpointMismatch
@@ -275,6 +299,20 @@ def basin_map(
         raise ValueError(f"`tol` must be a positive finite number, got {tol!r}") from None
     if not (np.isfinite(tol) and tol > 0):
         raise ValueError(f"`tol` must be positive and finite, got {tol}")
+    auto = isinstance(converge_radius, str)
+    if auto and converge_radius != "auto":
+        raise ValueError(
+            f"`converge_radius` must be 'auto' or a number >= 0, got {converge_radius!r}"
+        )
+    if not auto:
+        try:
+            radius = float(converge_radius)
+        except (TypeError, ValueError, OverflowError):
+            raise ValueError(
+                f"`converge_radius` must be 'auto' or a number >= 0, got {converge_radius!r}"
+            ) from None
+        if not (np.isfinite(radius) and radius >= 0):
+            raise ValueError(f"`converge_radius` must be finite and >= 0, got {radius}")
     if jobs is not None and (
         isinstance(jobs, bool) or not isinstance(jobs, int | np.integer) or jobs < 1
     ):
@@ -299,6 +337,20 @@ def basin_map(
         raise TypeError(f"`provenance` must be a dict or None, got {type(provenance).__name__}")
 
     period = int(fixed_point.period)
+    weight, classification = np.eye(n_z), {"tol": tol, "converge_radius": 0.0}
+    if auto or radius > 0:
+        from walker.basin_radius import contraction_ball
+
+        weight, found, info = contraction_ball(section_map, fixed_point)
+        radius = found if auto else radius
+        classification = {
+            "tol": tol,
+            "converge_radius": radius,
+            "converge_radius_rule": "auto" if auto else "given",
+            "certified_radius": found,
+            "weight": weight.tolist(),
+            **info,
+        }
     x = np.linspace(x_lo, x_hi, nx)
     y = np.linspace(y_lo, y_hi, ny)
     base = target.copy()
@@ -322,11 +374,16 @@ def basin_map(
             tol=tol,
             period=period,
             provenance=provenance or {},
+            classification=classification,
             chunk_size=None if chunk_size is None else int(chunk_size),
             overwrite=bool(overwrite),
         )
         chunk_size = store.chunk_size
         pending = store.pending_chunks()
+        classification = store.classification  # a resumed automatic ball: the file's
+        radius = float(classification.get("converge_radius", 0.0))
+        if radius > 0:
+            weight = np.array(classification["weight"], dtype=float)
     elif chunk_size is None:
         chunk_size = max(1, math.ceil(ny / (4 * n_workers)))
     chunk_size = int(chunk_size)
@@ -336,6 +393,7 @@ def basin_map(
     outcome = np.empty((ny, nx), dtype=np.int64)
     strides = np.empty((ny, nx), dtype=np.int64)
     args = (base, target, (ax, ay), x)
+    ball = {"weight": weight, "radius": radius} if radius > 0 else {}
 
     def rows(i: int) -> np.ndarray:
         return y[i * chunk_size : (i + 1) * chunk_size]
@@ -360,16 +418,16 @@ def basin_map(
     ) as bar:
         if serial:
             for i in pending:
-                finish(i, basin_chunk(section_map, *args, rows(i), n_strides, period, tol))
+                finish(i, basin_chunk(section_map, *args, rows(i), n_strides, period, tol, **ball))
         elif pending:
             own = executor is None
             pool = worker_pool(n_cpu, len(pending), name="basin") if own else executor
             stop = None
-            fn = basin_chunk
+            fn = functools.partial(basin_chunk, **ball) if ball else basin_chunk
             if isinstance(pool, cf.ThreadPoolExecutor):
                 # Threads cannot be killed: on an interrupt they stop between grid points.
                 stop = threading.Event()
-                fn = functools.partial(basin_chunk, stop=stop)
+                fn = functools.partial(basin_chunk, stop=stop, **ball)
             try:
                 run_chunks(
                     pool,
@@ -393,4 +451,5 @@ def basin_map(
         fixed_point=target.copy(),
         base=base,
         n_strides=n_strides,
+        classification=classification,
     )

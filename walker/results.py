@@ -424,6 +424,12 @@ class BasinMap:
     base : ndarray, shape (n_z,)
         section point whose other coordinates are held fixed.
     n_strides : int
+    classification : dict
+        how a point was called converged: ``tol`` (``max|z - fixed_point| <= tol``),
+        ``converge_radius`` (also converged inside ``||W (z - fixed_point)||_2 <=
+        converge_radius``; 0: off), with a radius the weight ``W`` (``weight``, nested
+        lists) and how it was derived (:func:`walker.basin.basin_map`); empty in files
+        written before it was recorded (there: the tolerance alone).
     """
 
     axis_names: tuple[str, str]
@@ -434,6 +440,7 @@ class BasinMap:
     fixed_point: np.ndarray
     base: np.ndarray
     n_strides: int
+    classification: dict = field(default_factory=dict)
 
 
 BASIN_CONVERGED = -1

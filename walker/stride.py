@@ -234,13 +234,15 @@ class StrideMap:
     def basin_batch(self, period: int = 1):
         """The compiled loop of :func:`walker.basin.basin_chunk` for this map, or None.
 
-        Returns ``run(z0, target, tol, n_strides) -> (outcome, strides)`` that iterates
-        every row of ``z0`` (shape ``(m, n_z)``) in one compiled call without the GIL, with
-        the operations of the Python loop (lift, start checks, stride, projection), so the
-        outcomes are the same.  None when the map has no compiled call
-        (:func:`walker._section.compiled_call_fits`: a lift neither affine nor compiled, a
-        projection that does more than select components, a start phase that is not
-        compiled); the caller then runs the Python loop."""
+        Returns ``run(z0, target, tol, n_strides, weight=None, radius=0.0) -> (outcome,
+        strides)`` that iterates every row of ``z0`` (shape ``(m, n_z)``) in one compiled
+        call without the GIL, with the operations of the Python loop (lift, start checks,
+        stride, projection), so the outcomes are the same; ``radius > 0`` also stops a point
+        with ``||weight (z - target)||_2 <= radius`` as converged (``weight`` (n_z, n_z),
+        default the identity; :func:`walker.basin_radius.contraction_ball`).  None when the
+        map has no compiled call (:func:`walker._section.compiled_call_fits`: a lift neither
+        affine nor compiled, a projection that does more than select components, a start
+        phase that is not compiled); the caller then runs the Python loop."""
         from walker import _hybrid
 
         run, _, _ = self._prepared(period)
@@ -249,11 +251,12 @@ class StrideMap:
             return None
         args = _section.section_args(self.model, self.t_max, cached, run)
 
-        def points(z0, target, tol, n_strides):
+        def points(z0, target, tol, n_strides, weight=None, radius=0.0):
             z0 = np.ascontiguousarray(z0, dtype=np.float64)
             target = np.ascontiguousarray(target, dtype=np.float64)
+            w = np.ascontiguousarray(np.eye(len(target)) if weight is None else weight, float)
             outcome, strides = _hybrid.basin_points(
-                *args, z0, target, float(tol), int(n_strides), int(period)
+                *args, z0, target, float(tol), int(n_strides), int(period), w, float(radius)
             )
             return (
                 np.frombuffer(outcome, dtype=np.int64).copy(),

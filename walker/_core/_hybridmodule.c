@@ -396,12 +396,13 @@ PyDoc_STRVAR(basin_points_doc,
              "basin_points(rhs, guards, reset, jac, ctx, directions, n_x, n_guards, n_impulse,\n"
              "    p, method, adaptive, rtol, atol, first_step, max_step, max_steps, n_interior,\n"
              "    lift_a, lift_b, proj, offset, fall_angle, n_q, wound, energy, kinetic_limit,\n"
-             "    start_phase, t_max, lift, lift_jacobian, z0, target, tol, n_strides, period)\n"
-             "    -> (outcome, strides)\n\n"
+             "    start_phase, t_max, lift, lift_jacobian, z0, target, tol, n_strides, period,\n"
+             "    weight, radius) -> (outcome, strides)\n\n"
              "Iterate the stride map from each row of z0 (m, n_z) as walker.basin.basin_chunk\n"
-             "does (batch.h), without the GIL.  outcome and strides: bytearrays of m int64.");
+             "does (batch.h), without the GIL; radius > 0 also stops a point inside\n"
+             "||weight (z - target)||_2 <= radius (weight (n_z, n_z)) as converged.  outcome and strides: bytearrays of m int64.");
 
-#define BASIN_NARGS 36
+#define BASIN_NARGS 38
 
 static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -413,17 +414,20 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
     }
     wkpy_section s;
     if (wkpy_section_parse(args, &s)) return NULL;
-    Py_buffer v_z0, v_target;
+    Py_buffer v_z0, v_target, v_weight;
     wkpy_held held = {0};
     PyObject *result = NULL;
     int64_t n_strides, period;
-    double tol;
+    double tol, radius;
     if (wkpy_arg_double(args[33], "tol", &tol) ||
         wkpy_arg_int(args[34], "n_strides", &n_strides) ||
-        wkpy_arg_int(args[35], "period", &period))
+        wkpy_arg_int(args[35], "period", &period) ||
+        wkpy_arg_double(args[37], "radius", &radius))
         goto out;
 
     if (!(tol >= 0.0)) WKPY_FAIL(PyExc_ValueError, "`tol` must be >= 0");
+    if (!(radius >= 0.0 && isfinite(radius)))
+        WKPY_FAIL(PyExc_ValueError, "`radius` must be finite and >= 0");
     if (n_strides < 0) WKPY_FAIL(PyExc_ValueError, "`n_strides` must be >= 0");
     if (period < 1 || period > INT64_MAX / s.sec.max_steps)
         WKPY_FAIL(PyExc_ValueError, "`period` must be in [1, %lld] (its step budget in int64)",
@@ -439,6 +443,11 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
     if (wkpy_hold_buffer(&held, args[32], "target", 'd', 1, &v_target)) goto out;
     if (v_target.shape[0] != s.sec.n_z)
         WKPY_FAIL(PyExc_ValueError, "`target` must have length n_z");
+    if (wkpy_hold_buffer(&held, args[36], "weight", 'd', 2, &v_weight)) goto out;
+    if (v_weight.shape[0] != s.sec.n_z || v_weight.shape[1] != s.sec.n_z)
+        WKPY_FAIL(PyExc_ValueError, "`weight` must have shape (n_z, n_z)");
+    if (!wkpy_all_finite((const double *)v_weight.buf, v_weight.shape[0] * v_weight.shape[1]))
+        WKPY_FAIL(PyExc_ValueError, "`weight` must be finite.");
 
     const int64_t m = v_z0.shape[0];
     int64_t *buf = PyMem_Calloc((size_t)(2 * m + 1), sizeof(int64_t));
@@ -450,7 +459,8 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
     wkpy_signals_begin();
     Py_BEGIN_ALLOW_THREADS
     rc = wk_basin_points(&s.fn, &s.pb, &s.sec, m, (const double *)v_z0.buf,
-                         (const double *)v_target.buf, tol, n_strides, period, buf, buf + m);
+                         (const double *)v_target.buf, tol, (const double *)v_weight.buf, radius,
+                         n_strides, period, buf, buf + m);
     Py_END_ALLOW_THREADS
     if (wkpy_signals_end() && wkpy_interrupted(1)) {
         /* the outcomes after the signal are not the points' own: never returned */

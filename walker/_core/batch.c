@@ -46,6 +46,20 @@ static int converged(const double *z, const double *target, int64_t n, double to
     return worst <= tol;
 }
 
+/* ||weight (z - target)||_2 <= radius (weight (n, n) row-major), false when anything is NaN:
+ * the point is inside the ball where the stride map is a contraction (walker/basin.py). */
+static int in_ball(const double *z, const double *target, const double *weight, int64_t n,
+                   double radius)
+{
+    double sum = 0.0;
+    for (int64_t r = 0; r < n; r++) {
+        double acc = 0.0;
+        for (int64_t c = 0; c < n; c++) acc += weight[r * n + c] * (z[c] - target[c]);
+        sum += acc * acc;
+    }
+    return sum <= radius * radius;
+}
+
 int64_t wk_section_start(const wk_problem *tmpl, const wk_section *sec, const double *z,
                          double *x0, int64_t *phase0)
 {
@@ -117,7 +131,8 @@ static int64_t map_once(const wk_functions *fn, const wk_problem *tmpl, const wk
 
 int wk_basin_points(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
                     int64_t m, const double *z0, const double *target, double tol,
-                    int64_t n_strides, int64_t period, int64_t *outcome, int64_t *strides)
+                    const double *weight, double radius, int64_t n_strides, int64_t period,
+                    int64_t *outcome, int64_t *strides)
 {
     const int64_t n_z = sec->n_z;
     double *z = malloc((size_t)(n_z + tmpl->n_x) * sizeof(double));
@@ -129,7 +144,8 @@ int wk_basin_points(const wk_functions *fn, const wk_problem *tmpl, const wk_sec
         int64_t done = 0;
         int64_t result = WK_BASIN_UNDECIDED;
         for (;;) {
-            if (converged(z, target, n_z, tol)) {
+            if (converged(z, target, n_z, tol) ||
+                (radius > 0.0 && in_ball(z, target, weight, n_z, radius))) {
                 result = WK_BASIN_CONVERGED;
                 break;
             }

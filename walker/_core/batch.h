@@ -65,7 +65,9 @@ int wk_section_run(const wk_functions *fn, const wk_problem *tmpl, const wk_sect
                    int64_t period, const double *seed, const double *x0, int64_t phase0,
                    wk_result *res);
 
-/* Iterate each of the m section points z0 (m, n_z): converged when max|z - target| <= tol
+/* Iterate each of the m section points z0 (m, n_z): converged when max|z - target| <= tol,
+ * or (radius > 0) when ||weight (z - target)||_2 <= radius, weight (n_z, n_z) row-major (the
+ * ball where the map is a contraction, walker/basin.py; radius 0: not tested, weight unread)
  * (outcome -1), else up to n_strides strides, `period` per map call (outcome -2 when the
  * limit is reached undecided), or the status of the stride that failed (outcome > 0).
  * `strides` receives the completed strides.  `tmpl` supplies the system sizes, parameters
@@ -73,7 +75,8 @@ int wk_section_run(const wk_functions *fn, const wk_problem *tmpl, const wk_sect
  * want_jac are set per call).  Returns WK_OK, or a wk_hybrid_solve error code. */
 int wk_basin_points(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
                     int64_t m, const double *z0, const double *target, double tol,
-                    int64_t n_strides, int64_t period, int64_t *outcome, int64_t *strides);
+                    const double *weight, double radius, int64_t n_strides, int64_t period,
+                    int64_t *outcome, int64_t *strides);
 
 #define WK_BASIN_CONVERGED (-1)
 #define WK_BASIN_UNDECIDED (-2)

@@ -40,6 +40,16 @@ def cmd_basin(args) -> int:
             f"--n {args.n} gives a grid of {args.n * args.n:,} points, which {reason}; lower --n"
         )
     _positive_flag(args.strides, "--strides", minimum=1, integer=True)
+    radius = args.converge_radius.strip().lower()
+    if radius != "auto":
+        try:
+            radius = float(radius)
+        except ValueError:
+            radius = -1.0
+        if not (math.isfinite(radius) and radius >= 0):
+            raise UsageError(
+                f"--converge-radius must be 'auto' or a number >= 0, got {args.converge_radius!r}"
+            )
     if not (math.isfinite(args.span) and args.span > 0):
         raise UsageError(f"--span must be a positive number, got {args.span}")
     bounds = _absolute_bounds(args.lo, args.hi)
@@ -122,6 +132,7 @@ def cmd_basin(args) -> int:
         n=(args.n, args.n),
         n_strides=args.strides,
         tol=BASIN_TOL,
+        converge_radius=radius,
         progress=not args.quiet,
         out=out,
         overwrite=args.overwrite,
@@ -216,6 +227,17 @@ def register(sub) -> None:
         help="most strides per grid point; a point neither converged nor fallen by then is "
         "undecided (convergence to 1e-6 from the --span offsets takes about 25 strides at a "
         "largest |multiplier| of 0.6)",
+    )
+    p.add_argument(
+        "--converge-radius",
+        default="auto",
+        metavar="R",
+        help="a point is converged when within 1e-6 of the gait (max norm), or, stopping "
+        "early, inside the ball where the stride map is a contraction: 'auto' derives that "
+        "ball from the gait's Jacobian and a sampled bound on the map's second derivative "
+        "(docs/basins.md); a number R > 0 uses radius R in the same norm (a ball inside "
+        "max|z - z*| <= R); 0 turns the early stop off. The file records it "
+        "(classification); default: auto",
     )
     jobs_option(p)
     p.add_argument(

@@ -16,7 +16,7 @@ from walker.storage.checkpoint import _ChunkedStore
 from walker.storage.decode import _Loaded, _scalar_attr, read
 from walker.storage.encode import _chunked_dataset, _dataset_options
 from walker.storage.loader import _int_attr
-from walker.storage.provenance import _check_provenance
+from walker.storage.provenance import _check_provenance, _to_json
 from walker.storage.schema import (
     _CHECKPOINT_GROUP,
     _RESULT_GROUP,
@@ -122,6 +122,7 @@ class BasinStore(_ChunkedStore):
         chunk_size: int | None = None,
         overwrite: bool = False,
         fsync: bool = True,
+        classification: dict | None = None,
     ) -> BasinStore:
         """Create the checkpoint file, or open an existing one for the same basin map.
 
@@ -147,6 +148,12 @@ class BasinStore(_ChunkedStore):
             replace an existing file (whatever it holds) by a new, empty checkpoint.
         fsync : bool
             fsync the file after each chunk.
+        classification : dict, optional
+            the map's classification rule (:attr:`BasinMap.classification`), stored with the
+            result; an existing file must hold the same (a file without one: the tolerance
+            alone, ``{"tol": tol, "converge_radius": 0.0}``), except that two automatic
+            balls (``converge_radius_rule`` "auto") match: the store's
+            ``classification`` is then the file's, which the resumed chunks must use.
 
         Returns
         -------
@@ -183,6 +190,10 @@ class BasinStore(_ChunkedStore):
         if chunk_size is not None:
             chunk_size = _positive(chunk_size, "chunk_size")
         prov_json = _check_provenance(provenance)
+        if classification is None:
+            classification = {"tol": tol, "converge_radius": 0.0}
+        if not isinstance(classification, dict):
+            raise TypeError(f"`classification` must be a dict, got {type(classification).__name__}")
         ny, nx = y.size, x.size
         want = dict(
             provenance_json=prov_json,
@@ -195,17 +206,20 @@ class BasinStore(_ChunkedStore):
             tol=tol,
             period=period,
             chunk_size=chunk_size,
+            classification=classification,
         )
-        if path.exists() and not overwrite:
+        if path.exists() and not overwrite:  # (self.classification: the file's)
             stored_chunk, loaded = cls._compare(path, want)
             store = cls(path, ny, nx, stored_chunk, fsync=bool(fsync))
             store._resume(loaded)
+            store.classification = loaded.result.classification or classification
             return store
         cls._check_directory(path)
         if chunk_size is None:
             chunk_size = max(1, -(-ny // BASIN_DEFAULT_CHUNKS))
         store = cls(path, ny, nx, chunk_size, fsync=bool(fsync))
         store._create(want, overwrite=bool(overwrite))
+        store.classification = classification
         return store
 
     @classmethod
@@ -279,6 +293,22 @@ class BasinStore(_ChunkedStore):
         for name, stored in (("tol", stored_tol), ("period", stored_period)):
             if name in want and stored != want[name]:
                 diffs.append(f"{name} {stored} != {want[name]}")
+        if "classification" in want:
+            stored_cls = basin.classification or {"tol": stored_tol, "converge_radius": 0.0}
+            new = want["classification"]
+            # an automatic ball is derived again on resume: the stored one is kept (its last
+            # bits could differ elsewhere), the rule must be the same
+            both_auto = all(
+                c.get("converge_radius_rule") == "auto" and c.get("tol") == stored_tol
+                for c in (stored_cls, new)
+            )
+            if not both_auto and _to_json(stored_cls, "classification") != _to_json(
+                new, "classification"
+            ):
+                diffs.append(
+                    f"converge_radius {stored_cls.get('converge_radius')} != "
+                    f"{want['classification'].get('converge_radius')} (or its rule)"
+                )
         if want.get("chunk_size") is not None and want["chunk_size"] != stored_cs:
             diffs.append(f"chunk_size {stored_cs} != {want['chunk_size']}")
         if "provenance_json" in want:
@@ -298,6 +328,9 @@ class BasinStore(_ChunkedStore):
         def fill_result(g: h5py.Group) -> None:
             g.attrs["axis_names"] = json.dumps(list(want["axis_names"]))
             g.attrs["n_strides"] = np.int64(want["n_strides"])
+            g.attrs["classification"] = json.dumps(
+                _to_json(want["classification"], "classification")
+            )
             for name in ("x", "y", "fixed_point", "base"):
                 g.create_dataset(name, data=want[name], **_dataset_options(want[name].shape))
             for name, fillv in (("outcome", BASIN_NOT_COMPUTED), ("strides", -1)):

@@ -229,6 +229,7 @@ _SPECS: dict[type, dict[str, Any]] = {
         "fixed_point": "array",
         "base": "array",
         "n_strides": "int",
+        "classification": "optional_json",
     },
     SweepTable: {
         "parameter_names": "names",
