@@ -69,6 +69,7 @@ try:
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0+unknown"
 
+from walker import _result_views  # noqa: E402, F401  (reprs, to_dict of the results)
 from walker.models import MODEL_NAMES, get_model  # noqa: E402
 from walker.params import (  # noqa: E402
     CompassParams,
