@@ -50,15 +50,7 @@ def _gsn_by_finite_differences(P, z, n, e):
         ("gaits/compass_goswami.toml", 40),
         ("gaits/rimless_wheel.toml", 40),
         ("gaits/kneed_hsu.toml", 30),
-        pytest.param(
-            "gaits/simplest_garcia.toml",
-            30,
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="terrain branch: the simplest walker's terrain_jac drop column is wrong "
-                "at the plane point (drop 0, the scene's slope), right off it",
-            ),
-        ),
+        ("gaits/simplest_garcia.toml", 30),
     ],
 )
 def test_gsn_matches_finite_differences_of_nonlinear_runs(path, n):

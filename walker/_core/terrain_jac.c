@@ -76,6 +76,12 @@ static void terrain_columns(const wk_functions *f, wk_terrain *T, const wk_probl
 {
     const int64_t n_x = pb->n_x;
     double *fm = work, *Rf = fm + n_x, *Rt = Rf + n_x, *scratch = Rt + n_x;
+    /* Every difference of the guard below is of the one geometric guard (plane = 0): on a
+     * plane row the step's own guard may be the model's plane guard (the simplest walker's
+     * phi - 2 theta), whose scale differs from the geometric foot height's, and the ratio
+     * dg/dtau over grad g . f- must take both from the same function. */
+    const wk_ground entry = T->ground;
+    T->ground.plane = 0;
     f->rhs(phase, 0.0, x, pb->p, fm, f->ctx);
     double fmax = 0.0, xmax = 1.0;
     for (int64_t i = 0; i < n_x; i++) {
@@ -92,6 +98,7 @@ static void terrain_columns(const wk_functions *f, wk_terrain *T, const wk_probl
         event_derivative(f, T, pb, phase, k, x, 1 + j, NULL, h, &gt, Rt, scratch);
         for (int64_t i = 0; i < n_x; i++) c[i * 2 + j] = Rt[i] - Rf[i] * gt / gf;
     }
+    T->ground = entry;
 }
 
 /* ------------------------------------------------------------------------------------------
