@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _rules import Failures
 from numpy.testing import assert_allclose
 
 from walker.models import get_model
@@ -81,6 +82,19 @@ def _fails(tmp_path, message, sections=None, raw=None, overrides=None):
     path = _write(tmp_path, sections, raw)
     with pytest.raises(ValueError, match="^" + re.escape(str(path)) + ": " + message):
         load_scene(path, overrides=overrides)
+
+
+def _check_fails(tmp_path, rule, cases):
+    """For each ``(label, message, sections)`` of ``cases``: load_scene of BASE updated
+    with ``sections`` raises ValueError '<path>: ' + message (a regex); report every case
+    that does not."""
+    fails = Failures(rule)
+    for label, message, sections in cases:
+        path = _write(tmp_path, sections)
+        fails.raises(
+            label, ValueError, "^" + re.escape(str(path)) + ": " + message, load_scene, path
+        )
+    fails.assert_none(at_least=len(cases))
 
 
 # ---- shipped scenes ----------------------------------------------------------------------
@@ -286,9 +300,15 @@ def test_unknown_table(tmp_path):
     )
 
 
-@pytest.mark.parametrize("table", ["scene", "parameters", "initial"])
-def test_missing_required_table(tmp_path, table):
-    _fails(tmp_path, rf"missing required table \[{table}\]$", {table: None})
+def test_missing_required_table(tmp_path):
+    _check_fails(
+        tmp_path,
+        "a missing required table is refused, named",
+        [
+            (f"no [{table}]", rf"missing required table \[{table}\]$", {table: None})
+            for table in ("scene", "parameters", "initial")
+        ],
+    )
 
 
 def test_table_of_wrong_type(tmp_path):
@@ -327,11 +347,13 @@ KNEED_BASE = {
 }
 
 
-@pytest.mark.parametrize("name", SHIPPED)
-def test_swing_scuff_defaults_to_trip(name):
-    scene = load_scene(GAITS / f"{name}.toml")
-    expected = "ignore" if name == "kneed_mcgeer_pointmass" else "trip"
-    assert scene.swing_scuff == expected
+def test_swing_scuff_defaults_to_trip():
+    fails = Failures("a shipped scene trips on a swing-foot scuff (but the point-mass McGeer)")
+    for name in SHIPPED:
+        got = load_scene(GAITS / f"{name}.toml").swing_scuff
+        expected = "ignore" if name == "kneed_mcgeer_pointmass" else "trip"
+        fails.check(name, got == expected, f"swing_scuff {got!r}, expected {expected!r}")
+    fails.assert_none(at_least=len(SHIPPED))
 
 
 def test_model_table_swing_scuff(tmp_path):
@@ -596,14 +618,16 @@ TABLE_CASES = [("compute", b, m, b) for b, m in COMPUTE_CASES]
 TABLE_CASES += [("reference", b, m, m) for b, m in REFERENCE_CASES]
 
 
-@pytest.mark.parametrize(
-    ("table", "body", "message"),
-    [case[:3] for case in TABLE_CASES],
-    ids=[f"{table}:{name}" for table, _, _, name in TABLE_CASES],
-)
-def test_table_errors(tmp_path, table, body, message):
+def test_table_errors(tmp_path):
     """A bad body of ``[table]`` is refused with the table's name and the message."""
-    _fails(tmp_path, rf"\[{table}\] " + message, {table: body})
+    _check_fails(
+        tmp_path,
+        "a bad [compute] or [reference] body is refused with the table's name and the rule",
+        [
+            (f"[{table}] {name!r}", rf"\[{table}\] " + message, {table: body})
+            for table, body, message, name in TABLE_CASES
+        ],
+    )
 
 
 def test_compute_tol_is_read_and_checked(tmp_path):

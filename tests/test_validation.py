@@ -4,6 +4,7 @@ any work; the CLI turns it into one ``walker: error: ...`` line and exit status 
 
 import numpy as np
 import pytest
+from _rules import Failures
 
 from walker import StrideMap, find_fixed_point, load_scene, simulate, storage
 from walker.basin import basin_map
@@ -365,10 +366,11 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize("call,exc,match", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
-def test_bad_input_raises_naming_the_argument(setup, call, exc, match):
-    with pytest.raises(exc, match=match):
-        call(*setup)
+def test_bad_input_raises_naming_the_argument(setup):
+    fails = Failures("bad input raises ValueError/TypeError naming the argument")
+    for label, call, exc, match in CASES:
+        fails.raises(label, exc, match, call, *setup)
+    fails.assert_none(at_least=len(CASES))
 
 
 def test_missing_files_raise(setup, tmp_path):
@@ -430,9 +432,8 @@ def test_simulate_string_x0_names_x0(setup):
 # Values next to the common case that walker.integrate's checks accept without further tests
 # (an exact Python int >= the bound, a positive finite float, a bool): each must still go to
 # the full check and fail there, naming the argument.
-@pytest.mark.parametrize(
-    "options, exc, match",
-    [
+def test_simulate_checks_behind_the_common_case(setup):
+    cases = [
         ({"n_strides": True}, TypeError, "`n_strides` must be an int"),
         ({"max_steps": False}, TypeError, "`max_steps` must be an int"),
         ({"rtol": True}, TypeError, "`rtol` must be a real number"),
@@ -441,11 +442,13 @@ def test_simulate_string_x0_names_x0(setup):
         ({"t_max": np.inf}, ValueError, "`t_max` must be finite"),
         ({"t_max": True}, TypeError, "`t_max` must be a real number"),
         ({"jacobian": 1}, TypeError, "`jacobian` must be a bool"),
-    ],
-)
-def test_simulate_checks_behind_the_common_case(setup, options, exc, match):
-    with pytest.raises(exc, match=match):
-        simulate("compass", setup[0], setup[1], **options)
+    ]
+    fails = Failures("a value next to the common case still fails the full check, named")
+    for options, exc, match in cases:
+        fails.raises(
+            f"simulate(**{options})", exc, match, simulate, "compass", *setup[:2], **options
+        )
+    fails.assert_none(at_least=len(cases))
 
 
 def test_simulate_numpy_scalars_run_as_python_scalars(setup):
@@ -477,12 +480,32 @@ def _cli(capsys, argv):
     return code, err
 
 
-def _assert_usage_error(code, err, pattern):
-    assert code == 2
+def _usage_error_problem(code, err, pattern):
+    """What is wrong with a CLI answer that should be exit 2 and one error line holding
+    ``pattern`` ("" if nothing)."""
     lines = [ln for ln in err.splitlines() if ln.strip()]
-    assert len(lines) == 1, err
-    assert lines[0].startswith("walker: error: ")
-    assert pattern in lines[0], lines[0]
+    if code != 2:
+        return f"exit status {code}, not 2; stderr {err!r}"
+    if len(lines) != 1 or not lines[0].startswith("walker: error: "):
+        return f"stderr is not one 'walker: error: ' line: {err!r}"
+    if pattern not in lines[0]:
+        return f"{pattern!r} not in {lines[0]!r}"
+    return ""
+
+
+def _assert_usage_error(code, err, pattern):
+    problem = _usage_error_problem(code, err, pattern)
+    assert not problem, problem
+
+
+def _check_usage_errors(capsys, rule, cases):
+    """Run ``main(argv)`` for each ``(argv, pattern)`` of ``cases``; report every one that
+    is not a one-line usage error (exit 2) holding ``pattern``."""
+    fails = Failures(rule)
+    for argv, pattern in cases:
+        problem = _usage_error_problem(*_cli(capsys, argv), pattern)
+        fails.check(" ".join(argv), not problem, problem)
+    fails.assert_none(at_least=len(cases))
 
 
 SCENE_CMDS = [
@@ -493,10 +516,12 @@ SCENE_CMDS = [
 ]
 
 
-@pytest.mark.parametrize("cmd", SCENE_CMDS, ids=[c[0] for c in SCENE_CMDS])
-def test_cli_missing_scene(capsys, cmd):
-    code, err = _cli(capsys, [cmd[0], "gaits/no_such.toml", *cmd[1:]])
-    _assert_usage_error(code, err, "no_such.toml")
+def test_cli_missing_scene(capsys):
+    _check_usage_errors(
+        capsys,
+        "a missing scene is a usage error naming the file",
+        [([cmd[0], "gaits/no_such.toml", *cmd[1:]], "no_such.toml") for cmd in SCENE_CMDS],
+    )
 
 
 def test_cli_sweep_missing_scene(capsys, tmp_path):
@@ -508,41 +533,50 @@ def test_cli_sweep_missing_scene(capsys, tmp_path):
     _assert_usage_error(code, err, "no_such.toml")
 
 
-@pytest.mark.parametrize("cmd", SCENE_CMDS, ids=[c[0] for c in SCENE_CMDS])
-def test_cli_unknown_set_parameter(capsys, cmd):
-    code, err = _cli(capsys, [cmd[0], SCENE, *cmd[1:], "--set", "mas_hip=1"])
-    _assert_usage_error(code, err, "mas_hip")
+def test_cli_unknown_set_parameter(capsys):
+    _check_usage_errors(
+        capsys,
+        "an unknown --set parameter is a usage error naming it",
+        [([cmd[0], SCENE, *cmd[1:], "--set", "mas_hip=1"], "mas_hip") for cmd in SCENE_CMDS],
+    )
 
 
-@pytest.mark.parametrize("value", ["slope", "=1", "slope=abc"])
-def test_cli_malformed_set(capsys, value):
-    code, err = _cli(capsys, ["find", SCENE, "--set", value])
-    _assert_usage_error(code, err, "--set")
+def test_cli_malformed_set(capsys):
+    _check_usage_errors(
+        capsys,
+        "a malformed --set is a usage error naming the flag",
+        [(["find", SCENE, "--set", value], "--set") for value in ("slope", "=1", "slope=abc")],
+    )
 
 
-@pytest.mark.parametrize(
-    "param",
-    ["slope=0.01:0.02:x", "slope=0.01:0.02", "slope", "slop=0.01:0.02:3", "slope=nan:0.02:3"],
-)
-def test_cli_sweep_malformed_param(capsys, param):
-    code, err = _cli(capsys, ["sweep", SCENE, "--param", param, "--out", "/tmp/v/sw.h5"])
-    _assert_usage_error(code, err, "")
+def test_cli_sweep_malformed_param(capsys):
+    params = [
+        "slope=0.01:0.02:x",
+        "slope=0.01:0.02",
+        "slope",
+        "slop=0.01:0.02:3",
+        "slope=nan:0.02:3",
+    ]
+    _check_usage_errors(
+        capsys,
+        "a malformed sweep --param is a usage error",
+        [(["sweep", SCENE, "--param", p, "--out", "/tmp/v/sw.h5"], "") for p in params],
+    )
 
 
-@pytest.mark.parametrize(
-    "cmd",
-    [
-        ["find", SCENE, "--out", "/tmp/v/missing_dir/x.h5"],
-        ["run", SCENE, "--strides", "1", "--out", "/tmp/v/missing_dir/x.h5"],
-        ["continue", SCENE, "--to", "0.06", "--out", "/tmp/v/missing_dir/x.h5"],
-        ["basin", SCENE, "--n", "2", "--strides", "1", "--out", "/tmp/v/missing_dir/x.h5"],
-        ["sweep", SCENE, "--param", "slope=0.01:0.02:2", "--out", "/tmp/v/missing_dir/x.h5"],
-    ],
-    ids=["find", "run", "continue", "basin", "sweep"],
-)
-def test_cli_out_in_missing_directory(capsys, cmd):
-    code, err = _cli(capsys, cmd)
-    _assert_usage_error(code, err, "missing_dir")
+def test_cli_out_in_missing_directory(capsys):
+    out = ["--out", "/tmp/v/missing_dir/x.h5"]
+    _check_usage_errors(
+        capsys,
+        "--out in a missing directory is a usage error naming it",
+        [
+            (["find", SCENE, *out], "missing_dir"),
+            (["run", SCENE, "--strides", "1", *out], "missing_dir"),
+            (["continue", SCENE, "--to", "0.06", *out], "missing_dir"),
+            (["basin", SCENE, "--n", "2", "--strides", "1", *out], "missing_dir"),
+            (["sweep", SCENE, "--param", "slope=0.01:0.02:2", *out], "missing_dir"),
+        ],
+    )
 
 
 def test_cli_plot_corrupted_file(capsys, tmp_path):
