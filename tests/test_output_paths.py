@@ -34,9 +34,11 @@ def no_simulation(monkeypatch):
     import walker.gallery
     import walker.stride
     import walker.sweep
+    import walker.trajectory
 
     monkeypatch.setattr(walker.stride.StrideMap, "__call__", refuse)
-    monkeypatch.setattr(walker.stride, "_solve", refuse)  # simulate's way into the integrator
+    monkeypatch.setattr(walker.trajectory, "_solve", refuse)  # simulate's way into the integrator
+    monkeypatch.setattr(walker.trajectory, "simulate", refuse)
     monkeypatch.setattr(walker.stride, "simulate", refuse)
     monkeypatch.setattr(walker.fixedpoint, "find_fixed_point", refuse)
     monkeypatch.setattr(walker.basin, "basin_chunk", refuse)

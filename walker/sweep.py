@@ -77,12 +77,12 @@ from walker.sweep_grid import (
     DEFAULT_CHUNK_POINTS,
     KINDS,
     MAX_SWEEP_POINTS,
-    MEASURE_COLUMNS,
     MIN_DEFAULT_CHUNKS,
     check_grid_size,
     check_names,
     check_points,
     default_chunk_size,
+    fill_measures,
     grid_points,
     parse_range,
     table_columns,
@@ -205,24 +205,8 @@ def sweep_chunk(
             out["step_time"][i] = fp.step_time
             out["multipliers_re"][i] = fp.multipliers.real
             out["multipliers_im"][i] = fp.multipliers.imag
-            _measure(point_map, fp, out, i)
+            fill_measures(point_map, fp, out, i)
     return out
-
-
-def _measure(point_map, fp, out: dict, i: int) -> None:
-    """The gait measures of the gait ``fp`` of ``point_map`` into row ``i`` of the table
-    columns ``out`` (:data:`walker.sweep_grid.MEASURE_COLUMNS`)."""
-    from walker.measures import cycle_measures
-
-    measures = cycle_measures(
-        point_map.model,
-        point_map.params,
-        fp.state,
-        period=int(fp.period),
-        settings=solver_settings(point_map),
-    ).to_dict()
-    for name in MEASURE_COLUMNS:
-        out[name][i] = measures[name]
 
 
 def _chunk_arguments(base, names, points, z0, n_strides, tol):

@@ -40,7 +40,7 @@ import numpy as np
 from walker._executors import run_chunks
 from walker.fixedpoint import find_fixed_point
 from walker.stride import StrideMap
-from walker.sweep_grid import table_columns
+from walker.sweep_grid import fill_measures, table_columns
 
 __all__ = [
     "JUMP_SECTION",
@@ -308,9 +308,8 @@ def sweep_lines(
                 out[name][i] = known[name][i]
             return int(out["status"][i]), out["section"][i]
         values = dict(zip(names, points[i].tolist(), strict=True))
-        fp = _fixed_point(
-            retarget(base.params._replace_validated(**values)), guess, z0, n_strides, tol
-        )
+        point_map = retarget(base.params._replace_validated(**values))
+        fp = _fixed_point(point_map, guess, z0, n_strides, tol)
         out["status"][i] = int(fp.status)
         out["residual"][i] = fp.residual
         out["n_iter"][i] = fp.n_iter
@@ -320,6 +319,7 @@ def sweep_lines(
             out["step_time"][i] = fp.step_time
             out["multipliers_re"][i] = fp.multipliers.real
             out["multipliers_im"][i] = fp.multipliers.imag
+            fill_measures(point_map, fp, out, i)
         return int(out["status"][i]), out["section"][i]
 
     for line, seed in zip(lines, seeds, strict=True):

@@ -377,3 +377,20 @@ def default_chunk_size(n_points: int, kind: str) -> int:
     executor finds the same chunks.)
     """
     return max(1, min(DEFAULT_CHUNK_POINTS[kind], -(-n_points // MIN_DEFAULT_CHUNKS)))
+
+
+def fill_measures(point_map, fp, out: dict, i: int) -> None:
+    """The gait measures of the gait ``fp`` of ``point_map`` into row ``i`` of a fixed-point
+    sweep's table columns ``out`` (:data:`MEASURE_COLUMNS`)."""
+    from walker.measures import cycle_measures
+    from walker.stride import solver_settings
+
+    measures = cycle_measures(
+        point_map.model,
+        point_map.params,
+        fp.state,
+        period=int(fp.period),
+        settings=solver_settings(point_map),
+    ).to_dict()
+    for name in MEASURE_COLUMNS:
+        out[name][i] = measures[name]
