@@ -49,6 +49,7 @@ def test_find_with_set_changes_the_parameter(capsys):
     assert rec["section"][0] > 0.2003  # a steeper slope gives a longer step
 
 
+@pytest.mark.slow  # a run, its figures and its animation: the integration tier
 def test_run_then_plot(tmp_path, capsys):
     out = tmp_path / "kneed.h5"
     argv = ["run", "gaits/kneed_hsu.toml", "--strides", "2", "--out", str(out)]

@@ -112,6 +112,7 @@ def test_rimless_wheel_figure_runs_converge_onto_the_gait(rimless):
     assert signs == {-1.0, 1.0}
 
 
+@pytest.mark.slow  # a figure job of the gallery: the integration tier
 def test_taskspace_figure_is_written(tmp_path):
     path, run = gallery.taskspace_figure(tmp_path, t_final=0.5, n_samples=51)
     assert path == tmp_path / "taskspace_circle_tracking.png" and path.is_file()

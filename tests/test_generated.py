@@ -197,7 +197,7 @@ def test_every_parameter_has_a_sampling_range(name):
 
 
 # the two largest derivations (15-20 s each) run with the slow tests
-_SLOW_DERIVATIONS = ("five_link", "kneed")
+_SLOW_DERIVATIONS = ("compass", "five_link", "kneed")  # full re-derivations: the integration tier
 
 
 @pytest.mark.parametrize(
@@ -257,7 +257,13 @@ def _accel_of(name, jac_kernel):
     return next(k for k in kernels(name) if k.name == target)
 
 
-@pytest.mark.parametrize("name", sorted(GENERATED_MODULES))
+@pytest.mark.parametrize(
+    "name",
+    [
+        pytest.param(n, marks=pytest.mark.slow) if n in _SLOW_DERIVATIONS else n
+        for n in sorted(GENERATED_MODULES)
+    ],
+)
 def test_every_kernel_is_generated(name):
     """The extension holds exactly the kernels the generator lists (none missing, none stale),
     each with the argument lengths and output shape of its symbolic kernel."""

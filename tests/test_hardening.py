@@ -146,6 +146,7 @@ def test_scene_and_result_names_too_long(tmp_path, capsys, no_work):
     _one_error_line(err, "--out", "File name too long")
 
 
+@pytest.mark.slow  # three dask subprocesses: the integration tier
 def test_unreachable_scheduler_fails_fast_with_exit_2(tmp_path):
     """Before: dask retried for 30 s, then an ``OSError`` traceback with exit 1 (38 s in
     all).  Now a refused port is reported at once; the hang guard is generous against the

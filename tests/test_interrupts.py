@@ -210,7 +210,10 @@ def _interrupt_resume_compare(tmp_path, argv, signum):
 # SIGINT in the default suite; SIGTERM (the same path, about 20 s) with the slow tests
 @pytest.mark.parametrize(
     "signum",
-    [pytest.param(signal.SIGTERM, marks=pytest.mark.slow), signal.SIGINT],
+    [
+        pytest.param(signal.SIGTERM, marks=pytest.mark.slow),
+        pytest.param(signal.SIGINT, marks=pytest.mark.slow),
+    ],
     ids=["SIGTERM", "SIGINT"],
 )
 def test_sweep_interrupted_keeps_chunks_and_resumes_bit_for_bit(tmp_path, signum):
@@ -220,6 +223,7 @@ def test_sweep_interrupted_keeps_chunks_and_resumes_bit_for_bit(tmp_path, signum
         assert col.tobytes() == fresh.columns[name].tobytes(), name
 
 
+@pytest.mark.slow  # kill and resume: the integration tier
 def test_basin_interrupted_keeps_chunks_and_resumes_bit_for_bit(tmp_path):
     resumed, fresh = _interrupt_resume_compare(tmp_path, BASIN_ARGS, signal.SIGTERM)
     assert isinstance(resumed, BasinMap) and resumed.outcome.shape == (160, 160)
@@ -228,6 +232,7 @@ def test_basin_interrupted_keeps_chunks_and_resumes_bit_for_bit(tmp_path):
     assert resumed.strides.tobytes() == fresh.strides.tobytes()
 
 
+@pytest.mark.slow  # kill and resume: the integration tier
 def test_process_pool_workers_are_terminated_on_interrupt(tmp_path):
     """The library with a process pool, under the CLI's handler: SIGTERM terminates the
     pool's workers, keeps the finished chunks, and the same call then completes the table."""

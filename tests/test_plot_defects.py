@@ -439,6 +439,7 @@ def test_work_precision_legend_is_off_the_data_and_error_is_defined():
 # -- walker plot: the animation on request -----------------------------------------------------
 
 
+@pytest.mark.slow  # an animation: the integration tier
 def test_plot_renders_the_animation_only_with_gif(tmp_path, capsys):
     run = tmp_path / "simplest.h5"
     assert main(["run", "gaits/simplest_garcia.toml", "--strides", "1", "--out", str(run)]) == 0

@@ -624,6 +624,7 @@ def _check_consistent(path, n, width):
     return done, filled, rows_done
 
 
+@pytest.mark.slow  # kill and resume: the integration tier
 def test_sweep_store_survives_sigkill_between_chunks(tmp_path):
     """Killed while sleeping after its 3rd chunk: exactly chunks 0-2 are done and filled,
     every other row still holds the fill values."""
@@ -644,6 +645,7 @@ def test_sweep_store_survives_sigkill_between_chunks(tmp_path):
     assert done.all() and filled.all()
 
 
+@pytest.mark.slow  # kill and resume: the integration tier
 def test_sweep_store_survives_sigkill_mid_write(tmp_path):
     """Killed a few milliseconds after a chunk, while the next 1.6 MB chunk is being written
     (partially written pending chunks were seen in about half of such kills when this test

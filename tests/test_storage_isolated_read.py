@@ -204,11 +204,11 @@ def _check_mutant(path, reference, timeout):
     return "same"
 
 
-# "flip" runs in the default suite; the other two kinds (about 30 s each) with the slow tests
+# storage fuzzing, every kind about 30 s: the integration tier (the slow tests)
 @pytest.mark.parametrize(
     "how",
     [
-        "flip",
+        pytest.param("flip", marks=pytest.mark.slow),
         pytest.param("byte", marks=pytest.mark.slow),
         pytest.param("truncate", marks=pytest.mark.slow),
     ],

@@ -63,6 +63,7 @@ def test_the_tutorial_has_its_commands_and_figures():
     assert len(_figures()) >= 4
 
 
+@pytest.mark.slow  # the tutorial's commands: the integration tier
 def test_every_figure_shown_is_made_by_the_commands(session):
     _, work = session
     for name in _figures():
@@ -70,6 +71,7 @@ def test_every_figure_shown_is_made_by_the_commands(session):
         assert (TUTORIAL.parent / "tutorial" / name).is_file(), name
 
 
+@pytest.mark.slow  # the tutorial's commands: the integration tier
 @pytest.mark.regression_pin
 def test_kneed_numbers_quoted(session):
     """REGRESSION PIN: the numbers docs/tutorial.md quotes for the kneed walker are walker's own:
@@ -105,6 +107,7 @@ def test_kneed_numbers_quoted(session):
     assert "25 points, 20 completed" in sweep
 
 
+@pytest.mark.slow  # the tutorial's commands: the integration tier
 @pytest.mark.regression_pin
 def test_compass_numbers_quoted(session):
     """REGRESSION PIN: the numbers docs/tutorial.md quotes for the compass gait are walker's own:
