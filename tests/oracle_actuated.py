@@ -257,7 +257,7 @@ class ActuatedWalker(OF.FrictionLayer):
 class ThreeLink(ActuatedWalker):
     """``x = (q_stance, q_swing, q_torso, qd..., actuator_work, saturated_time)``."""
 
-    n_x, n_q, n_phys, n_base_guards = 8, 3, 10, 6
+    n_x, n_q, n_phys, n_base_guards = 8, 3, 11, 6
     bezier = "bezier_swing_0"
 
     def __init__(self, names):
@@ -302,7 +302,7 @@ class FiveLink(ActuatedWalker):
     """``x = (q_leg, q_knee, q_torso, q_femur_sw, q_tibia_sw, qd..., actuator_work,
     saturated_time)``; joints hip stance, hip swing, knee stance, knee swing."""
 
-    n_x, n_q, n_phys, n_base_guards = 12, 5, 13, 7
+    n_x, n_q, n_phys, n_base_guards = 12, 5, 14, 7
     bezier = "bezier_knee_0"
 
     def __init__(self, names):

@@ -217,6 +217,7 @@ def _massless_torso(compass: CompassParams, **extra):
         inertia_torso=0.0,
         slope=compass.slope,
         g=compass.g,
+        rotor_inertia=0.0,  # rotors would couple the legs through the torso
         friction=1.0,
         controller=0.0,
         kp=0.0,

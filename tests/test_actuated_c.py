@@ -130,14 +130,14 @@ def test_sizes_match_the_modules():
     assert (three_link.N_X, three_link.N_Q, len(three_link.GUARD_NAMES)) == (8, 3, 10)
     assert (five_link.N_X, five_link.N_Q, len(five_link.GUARD_NAMES)) == (12, 5, 15)
     assert (three_link.N_CODES, five_link.N_CODES) == (9, 81)
-    assert (three_link.CONTROL_OFFSET, five_link.CONTROL_OFFSET) == (11, 14)
-    assert (three_link.I_DAMPING_HIP, three_link.I_COULOMB_HIP) == (42, 43)
+    assert (three_link.CONTROL_OFFSET, five_link.CONTROL_OFFSET) == (12, 15)
+    assert (three_link.I_DAMPING_HIP, three_link.I_COULOMB_HIP) == (43, 44)
     assert (
         five_link.I_DAMPING_HIP,
         five_link.I_DAMPING_KNEE,
         five_link.I_COULOMB_HIP,
         five_link.I_COULOMB_KNEE,
-    ) == (40, 41, 42, 43)
+    ) == (41, 42, 43, 44)
     assert three_link.JAC_STEP == five_link.JAC_STEP == 1e-6
 
 

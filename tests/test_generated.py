@@ -58,6 +58,7 @@ PARAM_RANGES = {
     "inertia_2": (0.0, 1.0),
     "mass_torso": (0.5, 15.0),
     "inertia_torso": (0.0, 1.0),
+    "rotor_inertia": (0.0, 1.0),  # reflected rotor inertia; RABBIT 0.83 (Chevallereau 2003)
     # lengths [m]
     "com_from_foot": (0.2, 1.0),
     "com_to_hip": (0.2, 1.0),

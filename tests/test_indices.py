@@ -51,7 +51,7 @@ def test_indices_name_the_fields_phases_and_guards(name):
 def test_spot_values():
     # fixed by the parameter classes' documented order (walker.params)
     assert ix.KNEED_P_SLOPE == 12 and ix.KNEED_PHASE_LOCKED == 1
-    assert ix.COMPASS_GUARD_HEEL_STRIKE == 0 and ix.THREE_LINK_P_CONTROLLER == 11
+    assert ix.COMPASS_GUARD_HEEL_STRIKE == 0 and ix.THREE_LINK_P_CONTROLLER == 12
 
 
 _LITERAL_PARAMETER = re.compile(r"\bp\[\d+\]")

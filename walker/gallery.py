@@ -98,8 +98,9 @@ def _params_from_provenance(prov: dict):
     A file written before a joint-friction parameter (``damping_*``, ``coulomb_*``) was added
     to its model lacks it; it was computed without that friction, so it reads as 0, with a
     warning naming the parameters.  Fields a parameter class lists in ``ADDED_FIELDS`` (the
-    three-link book controller's) read as its first preset's values, which reproduce the model
-    such a file was computed with.  Any other missing parameter is an error.
+    three-link book controller's, the actuated walkers' rotor inertia) read as its first
+    preset's values, which reproduce the model such a file was computed with.  Any other
+    missing parameter is an error.
     """
     from walker.models import MODEL_NAMES, get_model
     from walker.storage import StorageError

@@ -1,10 +1,10 @@
 /* generated, do not edit: walker C kernels for `five_link`
- * input hash: sha256:69d7a3b737ab2295c6bccd3d17fbf6552f97f79ab1a4c0ae4d721a67c2ca0ad0
+ * input hash: sha256:569a037187e79580aabb748214409590fd9cd6303ac0ac752f7c978ea916d9f7
  * sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
  * argument order:
  *   q = [q_leg, q_knee, q_torso, q_femur_sw, q_tibia_sw]
  *   qd = [q_leg_dot, q_knee_dot, q_torso_dot, q_femur_sw_dot, q_tibia_sw_dot]
- *   p = [mass_torso, mass_femur, mass_tibia, length_femur, length_tibia, com_torso, com_femur, com_tibia, inertia_torso, inertia_femur, inertia_tibia, slope, g]
+ *   p = [mass_torso, mass_femur, mass_tibia, length_femur, length_tibia, com_torso, com_femur, com_tibia, inertia_torso, inertia_femur, inertia_tibia, slope, g, rotor_inertia]
  *   qdd = [q_leg_ddot, q_knee_ddot, q_torso_ddot, q_femur_sw_ddot, q_tibia_sw_ddot]
  *   q = [q_leg, q_knee, q_torso, q_femur_sw, q_tibia_sw, x_hip, y_hip]
  * kernels:
@@ -30,7 +30,7 @@
 #define WK_GENERATED_FIVE_LINK_H
 
 /* Five-link walker (torso, femurs, tibias; hip and knee actuators; RABBIT-like): pinned dynamics, ground reaction, floating-base heel-strike model. */
-#define WK_FIVE_LINK_KERNEL_HASH "69d7a3b737ab2295c6bccd3d17fbf6552f97f79ab1a4c0ae4d721a67c2ca0ad0"
+#define WK_FIVE_LINK_KERNEL_HASH "569a037187e79580aabb748214409590fd9cd6303ac0ac752f7c978ea916d9f7"
 
 /* Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,). [out[5]] */
 void wk_five_link_accel(const double *q, const double *qd, const double *p, double *out);

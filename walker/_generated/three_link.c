@@ -1,10 +1,10 @@
 /* generated, do not edit: walker C kernels for `three_link`
- * input hash: sha256:465e18f0b2825de7b1a416701aa361092e6d3db4a27b327992c27d8b1ae9763a
+ * input hash: sha256:a162faf890df7b6133d08ac36e4a7e368ab8541829f506da26532d7555d1285b
  * sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
  * argument order:
  *   q = [q_stance, q_swing, q_torso]
  *   qd = [q_stance_dot, q_swing_dot, q_torso_dot]
- *   p = [mass_hip, mass_leg, mass_torso, com_from_foot, com_to_hip, torso_length, inertia_leg, inertia_torso, slope, g]
+ *   p = [mass_hip, mass_leg, mass_torso, com_from_foot, com_to_hip, torso_length, inertia_leg, inertia_torso, slope, g, rotor_inertia]
  *   qdd = [q_stance_ddot, q_swing_ddot, q_torso_ddot]
  *   q = [q_stance, q_swing, q_torso, x_hip, y_hip]
  * kernels:
@@ -48,6 +48,7 @@ void wk_three_link_accel(const double *q, const double *qd, const double *p, dou
     const double inertia_leg = p[6];
     const double inertia_torso = p[7];
     const double g = p[9];
+    const double rotor_inertia = p[10];
     const double x0 = sin(q_stance);
     const double x1 = x0*x0;
     const double x2 = com_from_foot*com_from_foot;
@@ -86,12 +87,17 @@ void wk_three_link_accel(const double *q, const double *qd, const double *p, dou
     const double x35 = x19*x28 - x25*x29 - x25*x30 + x26*x28;
     const double x36 = -com_from_foot*com_to_hip*mass_leg*x18*x4 - mass_leg*x18*x4*x7 + x20*x21 + x21*x22;
     const double x37 = q_stance_dot*q_stance_dot;
-    const double d00 = inertia_leg + x1*x10 + x1*x3 + x1*x6 + x1*x8 + x1*x9 + x10*x5 + x11*x13 + x11*x15 + x11*x16 + x11*x17 + x13*x14 + x14*x15 + x14*x16 + x14*x17 + x3*x5 + x5*x6 + x5*x8 + x5*x9;
+    const double xb0 = inertia_leg + x1*x10 + x1*x3 + x1*x6 + x1*x8 + x1*x9 + x10*x5 + x11*x13 + x11*x15 + x11*x16 + x11*x17 + x13*x14 + x14*x15 + x14*x16 + x14*x17 + x3*x5 + x5*x6 + x5*x8 + x5*x9;
+    const double xb2 = inertia_leg + x18*x18*x9 + x21*x21*x9;
+    const double xb3 = x19*x25 + x25*x26 + x28*x29 + x28*x30;
+    const double xb4 = 0.0;
+    const double xb5 = inertia_torso + x23*x23*x31 + x27*x27*x31;
+    const double d00 = rotor_inertia + xb0;
     const double d10 = -x15*x21*x4 - x18*x20 - x18*x22 - x21*x4*x9;
-    const double d11 = inertia_leg + x18*x18*x9 + x21*x21*x9;
-    const double d20 = x19*x25 + x25*x26 + x28*x29 + x28*x30;
-    const double d21 = 0.0;
-    const double d22 = inertia_torso + x23*x23*x31 + x27*x27*x31;
+    const double d11 = rotor_inertia + xb2;
+    const double d20 = -rotor_inertia + xb3;
+    const double d21 = -rotor_inertia + xb4;
+    const double d22 = 2.0*rotor_inertia + xb5;
     const double h0 = g*mass_leg*(x19 - x32) - mass_hip*x33 - mass_torso*x33 - q_swing_dot*q_swing_dot*x36 + q_torso_dot*q_torso_dot*x35 - x32*x34;
     const double h1 = com_to_hip*x18*x34 + x36*x37;
     const double h2 = -g*x25 - x35*x37;
@@ -130,6 +136,7 @@ void wk_three_link_accel_jac(const double *q, const double *qd, const double *p,
     const double inertia_leg = p[6];
     const double inertia_torso = p[7];
     const double g = p[9];
+    const double rotor_inertia = p[10];
     const double x0 = sin(q_stance);
     const double x1 = x0*x0;
     const double x2 = com_from_foot*com_from_foot;
@@ -184,12 +191,17 @@ void wk_three_link_accel_jac(const double *q, const double *qd, const double *p,
     const double x51 = x37*x4;
     const double x52 = 2.0*q_stance_dot;
     const double x53 = -x35;
-    const double d00 = inertia_leg + x1*x10 + x1*x3 + x1*x6 + x1*x8 + x1*x9 + x10*x5 + x11*x13 + x11*x15 + x11*x16 + x11*x17 + x13*x14 + x14*x15 + x14*x16 + x14*x17 + x3*x5 + x5*x6 + x5*x8 + x5*x9;
+    const double xb0 = inertia_leg + x1*x10 + x1*x3 + x1*x6 + x1*x8 + x1*x9 + x10*x5 + x11*x13 + x11*x15 + x11*x16 + x11*x17 + x13*x14 + x14*x15 + x14*x16 + x14*x17 + x3*x5 + x5*x6 + x5*x8 + x5*x9;
+    const double xb2 = inertia_leg + x18*x18*x9 + x22*x22*x9;
+    const double xb3 = x35;
+    const double xb4 = 0.0;
+    const double xb5 = inertia_torso + x27*x27*x36 + x31*x31*x36;
+    const double d00 = rotor_inertia + xb0;
     const double d10 = x26;
-    const double d11 = inertia_leg + x18*x18*x9 + x22*x22*x9;
-    const double d20 = x35;
-    const double d21 = 0.0;
-    const double d22 = inertia_torso + x27*x27*x36 + x31*x31*x36;
+    const double d11 = rotor_inertia + xb2;
+    const double d20 = -rotor_inertia + xb3;
+    const double d21 = -rotor_inertia + xb4;
+    const double d22 = 2.0*rotor_inertia + xb5;
     const double h0 = g*mass_leg*(x19 - x38) - mass_hip*x39 - mass_torso*x39 - x38*x40 + x41*x42 + x43*x45;
     const double h1 = x18*x46 + x44*x47;
     const double h2 = -x27*x49 + x47*x50;
@@ -311,6 +323,7 @@ void wk_three_link_mass_matrix(const double *q, const double *p, double *out)
     const double torso_length = p[5];
     const double inertia_leg = p[6];
     const double inertia_torso = p[7];
+    const double rotor_inertia = p[10];
     const double x0 = sin(q_stance);
     const double x1 = x0*x0;
     const double x2 = com_from_foot*com_from_foot;
@@ -343,15 +356,22 @@ void wk_three_link_mass_matrix(const double *q, const double *p, double *out)
     const double x29 = com_to_hip*x23;
     const double x30 = x24*x26 + x24*x28 + x26*x29 + x28*x29;
     const double x31 = mass_torso*torso_length*torso_length;
-    out[0] = inertia_leg + x1*x10 + x1*x3 + x1*x6 + x1*x8 + x1*x9 + x10*x5 + x11*x13 + x11*x15 + x11*x16 + x11*x17 + x13*x14 + x14*x15 + x14*x16 + x14*x17 + x3*x5 + x5*x6 + x5*x8 + x5*x9;
+    const double xb0 = inertia_leg + x1*x10 + x1*x3 + x1*x6 + x1*x8 + x1*x9 + x10*x5 + x11*x13 + x11*x15 + x11*x16 + x11*x17 + x13*x14 + x14*x15 + x14*x16 + x14*x17 + x3*x5 + x5*x6 + x5*x8 + x5*x9;
+    const double xb2 = x30;
+    const double xb4 = inertia_leg + x18*x18*x9 + x20*x20*x9;
+    const double xb5 = 0.0;
+    const double xb6 = x30;
+    const double xb7 = 0.0;
+    const double xb8 = inertia_torso + x25*x25*x31 + x27*x27*x31;
+    out[0] = rotor_inertia + xb0;
     out[1] = x22;
-    out[2] = x30;
+    out[2] = -rotor_inertia + xb2;
     out[3] = x22;
-    out[4] = inertia_leg + x18*x18*x9 + x20*x20*x9;
-    out[5] = 0.0;
-    out[6] = x30;
-    out[7] = 0.0;
-    out[8] = inertia_torso + x25*x25*x31 + x27*x27*x31;
+    out[4] = rotor_inertia + xb4;
+    out[5] = -rotor_inertia + xb5;
+    out[6] = -rotor_inertia + xb6;
+    out[7] = -rotor_inertia + xb7;
+    out[8] = 2.0*rotor_inertia + xb8;
 }
 
 /* Coriolis matrix C(q, qd), out (n, n). */
@@ -605,6 +625,7 @@ double wk_three_link_kinetic(const double *q, const double *qd, const double *p)
     const double torso_length = p[5];
     const double inertia_leg = p[6];
     const double inertia_torso = p[7];
+    const double rotor_inertia = p[10];
     const double x0 = q_stance_dot*q_stance_dot;
     const double x1 = ((1.0/2.0))*inertia_leg;
     const double x2 = sin(q_stance);
@@ -618,7 +639,9 @@ double wk_three_link_kinetic(const double *q, const double *qd, const double *p)
     const double x10 = q_stance_dot*x9;
     const double x11 = ((1.0/2.0))*mass_leg;
     const double x12 = q_torso_dot*torso_length;
-    return ((1.0/2.0))*inertia_torso*q_torso_dot*q_torso_dot + ((1.0/2.0))*mass_hip*(x2*x2*x4 + x4*x5*x5) + ((1.0/2.0))*mass_torso*((-x10 - x12*cos(q_torso))*(-x10 - x12*cos(q_torso)) + (-x12*sin(q_torso) - x8)*(-x12*sin(q_torso) - x8)) + q_swing_dot*q_swing_dot*x1 + x0*x1 + x11*(x0*(com_to_hip*x2 - x7)*(com_to_hip*x2 - x7) + x0*(com_to_hip*x5 - x9)*(com_to_hip*x5 - x9)) + x11*((-x10 + x6*cos(q_swing))*(-x10 + x6*cos(q_swing)) + (x6*sin(q_swing) - x8)*(x6*sin(q_swing) - x8));
+    const double xa0 = -q_torso_dot;
+    const double xb0 = ((1.0/2.0))*inertia_torso*q_torso_dot*q_torso_dot + ((1.0/2.0))*mass_hip*(x2*x2*x4 + x4*x5*x5) + ((1.0/2.0))*mass_torso*((-x10 - x12*cos(q_torso))*(-x10 - x12*cos(q_torso)) + (-x12*sin(q_torso) - x8)*(-x12*sin(q_torso) - x8)) + q_swing_dot*q_swing_dot*x1 + x0*x1 + x11*(x0*(com_to_hip*x2 - x7)*(com_to_hip*x2 - x7) + x0*(com_to_hip*x5 - x9)*(com_to_hip*x5 - x9)) + x11*((-x10 + x6*cos(q_swing))*(-x10 + x6*cos(q_swing)) + (x6*sin(q_swing) - x8)*(x6*sin(q_swing) - x8));
+    return rotor_inertia*(((1.0/2.0))*(q_stance_dot + xa0)*(q_stance_dot + xa0) + ((1.0/2.0))*(q_swing_dot + xa0)*(q_swing_dot + xa0)) + xb0;
 }
 
 /* Potential energy [J] (y = 0 at the origin). */
@@ -735,6 +758,7 @@ void wk_three_link_ext_mass_matrix(const double *q, const double *p, double *out
     const double torso_length = p[5];
     const double inertia_leg = p[6];
     const double inertia_torso = p[7];
+    const double rotor_inertia = p[10];
     const double x0 = sin(q_stance);
     const double x1 = com_to_hip*com_to_hip*mass_leg;
     const double x2 = cos(q_stance);
@@ -752,19 +776,26 @@ void wk_three_link_ext_mass_matrix(const double *q, const double *p, double *out
     const double x14 = -x12*x13;
     const double x15 = -x10*x13;
     const double x16 = mass_hip + 2.0*mass_leg + mass_torso;
-    out[0] = inertia_leg + x0*x0*x1 + x1*x2*x2;
+    const double xb0 = inertia_leg + x0*x0*x1 + x1*x2*x2;
+    const double xb2 = 0.0;
+    const double xb6 = inertia_leg + x1*x6*x6 + x1*x7*x7;
+    const double xb7 = 0.0;
+    const double xb10 = 0.0;
+    const double xb11 = 0.0;
+    const double xb12 = inertia_torso + x10*x10*x11 + x11*x12*x12;
+    out[0] = rotor_inertia + xb0;
     out[1] = 0.0;
-    out[2] = 0.0;
+    out[2] = -rotor_inertia + xb2;
     out[3] = x4;
     out[4] = x5;
     out[5] = 0.0;
-    out[6] = inertia_leg + x1*x6*x6 + x1*x7*x7;
-    out[7] = 0.0;
+    out[6] = rotor_inertia + xb6;
+    out[7] = -rotor_inertia + xb7;
     out[8] = x8;
     out[9] = x9;
-    out[10] = 0.0;
-    out[11] = 0.0;
-    out[12] = inertia_torso + x10*x10*x11 + x11*x12*x12;
+    out[10] = -rotor_inertia + xb10;
+    out[11] = -rotor_inertia + xb11;
+    out[12] = 2.0*rotor_inertia + xb12;
     out[13] = x14;
     out[14] = x15;
     out[15] = x4;

@@ -1,10 +1,10 @@
 /* generated, do not edit: walker C kernels for `three_link`
- * input hash: sha256:465e18f0b2825de7b1a416701aa361092e6d3db4a27b327992c27d8b1ae9763a
+ * input hash: sha256:a162faf890df7b6133d08ac36e4a7e368ab8541829f506da26532d7555d1285b
  * sympy 1.14.0; regenerate with `python scripts/generate_kernels.py`
  * argument order:
  *   q = [q_stance, q_swing, q_torso]
  *   qd = [q_stance_dot, q_swing_dot, q_torso_dot]
- *   p = [mass_hip, mass_leg, mass_torso, com_from_foot, com_to_hip, torso_length, inertia_leg, inertia_torso, slope, g]
+ *   p = [mass_hip, mass_leg, mass_torso, com_from_foot, com_to_hip, torso_length, inertia_leg, inertia_torso, slope, g, rotor_inertia]
  *   qdd = [q_stance_ddot, q_swing_ddot, q_torso_ddot]
  *   q = [q_stance, q_swing, q_torso, x_hip, y_hip]
  * kernels:
@@ -30,7 +30,7 @@
 #define WK_GENERATED_THREE_LINK_H
 
 /* Grizzle's three-link walker (legs and torso, hip actuators): pinned dynamics, ground reaction, floating-base heel-strike model. */
-#define WK_THREE_LINK_KERNEL_HASH "465e18f0b2825de7b1a416701aa361092e6d3db4a27b327992c27d8b1ae9763a"
+#define WK_THREE_LINK_KERNEL_HASH "a162faf890df7b6133d08ac36e4a7e368ab8541829f506da26532d7555d1285b"
 
 /* Accelerations qdd = -D^-1 h by unrolled Cholesky, out (>= n,). [out[3]] */
 void wk_three_link_accel(const double *q, const double *qd, const double *p, double *out);

@@ -27,6 +27,9 @@ _GRIZZLE_DEFAULTS: dict[str, float] = {
     "inertia_torso": 0.0,
     "slope": 0.0,
     "g": 9.8,
+    # model_params_three_link.m has no actuator rotors: the book's example model is rigid
+    # links only, so no reflected rotor inertia
+    "rotor_inertia": 0.0,
     # walker's choices: ground friction, output gains (Westervelt's epsilon = 0.1 gives
     # kp = 1/eps^2, kd = 2/eps), a torque limit that the gait never reaches
     "friction": 0.8,
@@ -106,6 +109,11 @@ _RABBIT_DEFAULTS: dict[str, float] = {
     "inertia_tibia": 0.20,
     "slope": 0.0,
     "g": 9.81,
+    # RABBIT's rotors (Chevallereau et al. 2003: gear ratio 50, rotor 3.32e-4 kg m^2) reflect
+    # 50^2 * 3.32e-4 = 0.83 kg m^2 at each joint; the preset's gait (gaits/five_link_hzd.toml)
+    # is for the link table of Westervelt et al. 2003 WITHOUT them: 0 here, RABBIT_ROTOR_INERTIA
+    # below is the published value
+    "rotor_inertia": 0.0,
     # walker's choices: ground friction, output gains, a torque limit (RABBIT's motors give
     # about 150 N m at the joints, Chevallereau et al. 2003) and the Bezier design below
     "friction": 0.8,
@@ -159,3 +167,11 @@ _RABBIT_INVARIANT: dict[str, float] = {
     "bezier_tibia_1": -0.3911584631046911,
     "bezier_tibia_4": 0.1,
 }
+
+
+RABBIT_GEAR_RATIO = 50.0
+"""RABBIT's joint gear ratio (Chevallereau et al., IEEE Control Systems Magazine 23(5), 2003)."""
+RABBIT_ROTOR = 3.32e-4
+"""Inertia of each of RABBIT's motor rotors [kg m^2] (same source)."""
+RABBIT_ROTOR_INERTIA = RABBIT_GEAR_RATIO**2 * RABBIT_ROTOR
+"""Rotor inertia reflected at each of RABBIT's joints, N^2 J_rotor = 0.83 kg m^2."""

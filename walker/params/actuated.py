@@ -42,7 +42,7 @@ def _poly_field(output: str, k: int) -> Any:
 class ThreeLinkParams(_Params):
     """Grizzle's three-link walker (two legs, torso, two hip actuators) and its controller.
 
-    The first ten fields are the physical parameters the generated kernels take (order of
+    The first eleven fields are the physical parameters the generated kernels take (order of
     :data:`walker.symbolic.actuated.THREE_LINK_PARAMS`); ``friction`` is the ground's Coulomb
     coefficient; then the controller block read by :mod:`walker.control` (layout in its
     docstring): the mode, gains, torque limit, the phase range and the Bezier coefficients
@@ -68,6 +68,12 @@ class ThreeLinkParams(_Params):
         [rad], in (-pi/2, pi/2); 0 is level ground.
     g : float
         [m/s^2], > 0.
+    rotor_inertia : float
+        actuator rotor inertia reflected at each hip joint [kg m^2], >= 0: a rotor geared
+        with ratio N to a joint's relative angle adds ``N^2 J_rotor w^2 / 2`` to the kinetic
+        energy (``w`` the joint rate, below); the rotor's own rotation with the link it sits on
+        is neglected, as in RABBIT's model [4]_.  0 in the presets: the book's example model
+        (``model_params_three_link.m`` [3]_) has no rotors.
     friction : float
         ground friction coefficient mu [-], > 0: the ground reaction must stay in the cone
         ``|F_t| <= mu F_n`` at impact and during stance.
@@ -112,7 +118,7 @@ class ThreeLinkParams(_Params):
         know about either friction: it is a disturbance its PD on the outputs rejects.
 
     The fields ``step_event`` .. ``poly_torso_5`` sit between the Bezier coefficients and the
-    hip friction (indices 27..41; ``walker.models.three_link`` names them).
+    hip friction (indices 28..42; ``walker.models.three_link`` names them).
 
     References
     ----------
@@ -122,19 +128,23 @@ class ThreeLinkParams(_Params):
     .. [3] Westervelt, Grizzle, Chevallereau, Choi, Morris, *Feedback Control of Dynamic
        Bipedal Robot Locomotion*, CRC Press 2007, example code
        ``model_params_three_link.m``: r = 1, m = 5, Mh = 15, Mt = 10, L = 0.5, g = 9.8.
+    .. [4] C. Chevallereau et al., "RABBIT: a testbed for advanced control theory", IEEE
+       Control Systems Magazine 23(5):57-79, 2003.
     """
 
     MODEL: ClassVar[str] = "three_link"
     PRESETS: ClassVar[tuple[str, ...]] = ("grizzle",)
     ADDED_FIELDS: ClassVar[tuple[str, ...]] = (
+        "rotor_inertia",
         "step_event",
         "ft_alpha",
         "ft_epsilon",
         *(f"poly_{o}_{k}" for o in ("swing", "torso") for k in range(_POLY_DEGREE + 1)),
     )
     """Fields added after three-link files were first written: a file without them was
-    computed with heel strike ending the step and no finite-time controller, the values the
-    ``grizzle`` preset gives them (:func:`walker.gallery` reads such a file with those)."""
+    computed with heel strike ending the step, no finite-time controller and no rotor inertia,
+    the values the ``grizzle`` preset gives them (:func:`walker.gallery` reads such a file
+    with those)."""
 
     mass_hip: float = _param("kg", "point mass at the hip", 0.0, lo_open=True)
     mass_leg: float = _param("kg", "point mass of each leg", 0.0, lo_open=True)
@@ -146,6 +156,11 @@ class ThreeLinkParams(_Params):
     inertia_torso: float = _param("kg m^2", "torso inertia about its centre of mass", 0.0)
     slope: float = _slope_field()
     g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
+    rotor_inertia: float = _param(
+        "kg m^2",
+        "actuator rotor inertia reflected at each actuated joint, N^2 J_rotor (0: no rotors)",
+        0.0,
+    )
     friction: float = _param("1", "ground friction coefficient mu", 0.0, lo_open=True)
     controller: float = _param(
         "1", "0 off, 1 joint PD, 2 virtual constraints, 3 finite-time (book)", 0.0, 3.0
@@ -335,7 +350,7 @@ def _impact_neutral(cls: type, preset: str, changes: Mapping[str, Any]) -> None:
 class FiveLinkParams(_Params):
     """The five-link walker (torso, femurs, tibias; hip and knee actuators) and its controller.
 
-    The first thirteen fields are the physical parameters the generated kernels take (order
+    The first fourteen fields are the physical parameters the generated kernels take (order
     of :data:`walker.symbolic.five_link.FIVE_LINK_PARAMS`); ``friction`` is the ground's
     Coulomb coefficient; the rest is the controller block read by :mod:`walker.control`
     (layout in its docstring): mode, gains, torque limit, the phase range and the Bezier
@@ -366,6 +381,14 @@ class FiveLinkParams(_Params):
         [rad], in (-pi/2, pi/2); 0 is level ground.
     g : float
         [m/s^2], > 0.
+    rotor_inertia : float
+        actuator rotor inertia reflected at each of the four joints [kg m^2], >= 0: a rotor
+        geared with ratio N to a joint's relative angle adds ``N^2 J_rotor w^2 / 2`` to the
+        kinetic energy (``w`` the joint rate, below); the rotor's own rotation with the link
+        it sits on (its gyroscopic coupling) is neglected, as in RABBIT's model [2]_.  RABBIT
+        as published [2]_ [3]_ has N = 50 and J_rotor = 3.32e-4 kg m^2, so 0.83 kg m^2
+        (``walker.params._actuated_presets.RABBIT_ROTOR_INERTIA``); the ``rabbit`` preset
+        sets 0, because its gait is for the link table of [1]_ without rotors.
     friction : float
         ground friction coefficient mu [-], > 0.
     controller : float
@@ -396,10 +419,15 @@ class FiveLinkParams(_Params):
        biped walkers", IEEE TAC 48(1):42-56, 2003, Table I (RABBIT).
     .. [2] C. Chevallereau et al., "RABBIT: a testbed for advanced control theory", IEEE
        Control Systems Magazine 23(5):57-79, 2003.
+    .. [3] Westervelt, Grizzle, Chevallereau, Choi, Morris, *Feedback Control of Dynamic
+       Bipedal Robot Locomotion*, CRC Press 2007 (RABBIT's parameters).
     """
 
     MODEL: ClassVar[str] = "five_link"
     PRESETS: ClassVar[tuple[str, ...]] = ("rabbit",)
+    ADDED_FIELDS: ClassVar[tuple[str, ...]] = ("rotor_inertia",)
+    """Fields added after five-link files were first written: a file without them was
+    computed without rotor inertia, the value the ``rabbit`` preset gives it."""
 
     mass_torso: float = _param("kg", "torso mass", 0.0, lo_open=True)
     mass_femur: float = _param("kg", "mass of each femur", 0.0, lo_open=True)
@@ -414,6 +442,11 @@ class FiveLinkParams(_Params):
     inertia_tibia: float = _param("kg m^2", "tibia inertia about its centre of mass", 0.0)
     slope: float = _slope_field()
     g: float = _param("m/s^2", "gravitational acceleration", 0.0, lo_open=True)
+    rotor_inertia: float = _param(
+        "kg m^2",
+        "actuator rotor inertia reflected at each actuated joint, N^2 J_rotor (0: no rotors)",
+        0.0,
+    )
     friction: float = _param("1", "ground friction coefficient mu", 0.0, lo_open=True)
     controller: float = _param("1", "0 off, 1 joint PD, 2 virtual constraints", 0.0, 2.0)
     kp: float = _param("1/s^2", "proportional gain", 0.0)

@@ -13,7 +13,13 @@ negative).  Where the masses sit (Westervelt et al.'s example code [2]_, file
   below the hip (``r/2`` each in [2]_), with an optional rotational inertia ``inertia_leg``;
 * a point mass ``mass_hip`` at the hip;
 * the torso mass ``mass_torso`` at ``torso_length`` (``L``) from the hip along the torso,
-  with an optional rotational inertia ``inertia_torso``.
+  with an optional rotational inertia ``inertia_torso``;
+* optionally, each hip actuator's rotor: geared with ratio N to the relative angle
+  ``q_leg - q_torso`` it drives, it adds ``N^2 J_rotor w^2 / 2`` to the kinetic energy
+  (``w`` the joint rate), ``rotor_inertia`` = N^2 J_rotor (0 in [2]_: the example model has
+  no rotors).  A rotor is a massless body whose angle is the relative joint angle; its own
+  rotation with the link carrying it (and its gyroscopic coupling) is neglected, as in
+  RABBIT's model (Chevallereau et al., IEEE Control Systems Magazine 23(5), 2003).
 
 Coordinates of the pinned (single-support) model: ``(q_stance, q_swing, q_torso)``, stance
 foot at the origin.  Inputs ``tau = (tau_stance_hip, tau_swing_hip)``: the torque the torso
@@ -62,6 +68,7 @@ THREE_LINK_PARAMS = (
     "inertia_torso",
     "slope",
     "g",
+    "rotor_inertia",
 )
 """The physical parameters the generated kernels take: a prefix of ``ThreeLinkParams``."""
 
@@ -71,12 +78,15 @@ def _symbols():
 
 
 def _bodies(q1, q2, q3, hip, params):
-    m_h, m, m_t, a, b, L, I_l, I_t, slope, g = params
+    m_h, m, m_t, a, b, L, I_l, I_t, slope, g, I_r = params
     return [
         Body("hip", m_h, hip),
         Body("stance_leg", m, hip - b * _u(q1), q1, I_l),
         Body("swing_leg", m, hip - b * _u(q2), q2, I_l),
         Body("torso", m_t, hip + L * _u(q3), q3, I_t),
+        # massless rotors turning with the relative hip angles (reflected inertia N^2 J)
+        Body("rotor_stance", sp.S.Zero, hip, q1 - q3, I_r),
+        Body("rotor_swing", sp.S.Zero, hip, q2 - q3, I_r),
     ]
 
 
@@ -93,7 +103,7 @@ def three_link() -> LagrangianModel:
         points ``stance_contact`` (origin), ``hip``, ``swing_contact``, ``torso``.
     """
     params = _symbols()
-    m_h, m, m_t, a, b, L, I_l, I_t, slope, g = params
+    m_h, m, m_t, a, b, L, I_l, I_t, slope, g, I_r = params
     (q1, q2, q3), (q1d, q2d, q3d) = _coords(("q_stance", "q_swing", "q_torso"))
     r = a + b
     hip = r * _u(q1)
@@ -119,7 +129,7 @@ def three_link() -> LagrangianModel:
 def three_link_extended() -> LagrangianModel:
     """Floating-base three-link walker ``(q_stance, q_swing, q_torso, x_hip, y_hip)``."""
     params = _symbols()
-    m_h, m, m_t, a, b, L, I_l, I_t, slope, g = params
+    m_h, m, m_t, a, b, L, I_l, I_t, slope, g, I_r = params
     names = ("q_stance", "q_swing", "q_torso", "x_hip", "y_hip")
     (q1, q2, q3, xh, yh), qd = _coords(names)
     r = a + b

@@ -22,7 +22,13 @@ variable ``c q`` close to it, as [1]_ allows.
 
 Masses: each segment is a rigid body with mass, centre-of-mass position (``com_torso`` and
 ``com_femur`` measured from the hip, ``com_tibia`` from the knee, as in [1]_, Table I) and
-rotational inertia about its centre of mass.
+rotational inertia about its centre of mass.  Each actuator's rotor, geared with ratio N to
+its joint, turns at N times the joint's relative rate ``w`` and adds ``N^2 J_rotor w^2 / 2``
+to the kinetic energy: ``rotor_inertia`` = N^2 J_rotor, the same at the four joints (RABBIT
+[2]_: N = 50, J_rotor = 3.32e-4 kg m^2).  The rotors are massless bodies whose angle is the
+relative joint angle; the rotor's own rotation with the link carrying it (J_rotor times the
+link's rate, N times smaller than the geared term, and its gyroscopic coupling) is neglected,
+as in RABBIT's model [2]_.
 
 Inputs ``tau = (tau_hip_st, tau_hip_sw, tau_knee_st, tau_knee_sw)``: the torque the torso
 exerts on each femur and each femur on its tibia, conjugate (by virtual work) to the relative
@@ -75,6 +81,7 @@ FIVE_LINK_PARAMS = (
     "inertia_tibia",
     "slope",
     "g",
+    "rotor_inertia",
 )
 """The physical parameters the generated kernels take: a prefix of ``FiveLinkParams``."""
 
@@ -104,7 +111,7 @@ def _absolute(q):
 
 def _geometry(q, hip, params):
     """Bodies and named points with the hip at ``hip``."""
-    m_T, m_f, m_t, l_f, l_t, p_T, p_f, p_t, I_T, I_f, I_t, slope, g = params
+    m_T, m_f, m_t, l_f, l_t, p_T, p_f, p_t, I_T, I_f, I_t, slope, g, I_r = params
     tst, fst, tor, fsw, tsw = _absolute(q)
     knee_st = hip - l_f * _u(fst)
     knee_sw = hip - l_f * _u(fsw)
@@ -114,6 +121,11 @@ def _geometry(q, hip, params):
         Body("tibia_st", m_t, knee_st - p_t * _u(tst), tst, I_t),
         Body("femur_sw", m_f, hip - p_f * _u(fsw), fsw, I_f),
         Body("tibia_sw", m_t, knee_sw - p_t * _u(tsw), tsw, I_t),
+        # massless rotors turning with the relative joint angles (reflected inertia N^2 J)
+        Body("rotor_hip_st", sp.S.Zero, hip, fst - tor, I_r),
+        Body("rotor_hip_sw", sp.S.Zero, hip, fsw - tor, I_r),
+        Body("rotor_knee_st", sp.S.Zero, knee_st, tst - fst, I_r),
+        Body("rotor_knee_sw", sp.S.Zero, knee_sw, tsw - fsw, I_r),
     ]
     points = {
         "stance_contact": knee_st - l_t * _u(tst),
@@ -143,7 +155,7 @@ def five_link() -> LagrangianModel:
     hip = l_t * _u(tst) + l_f * _u(fst)
     bodies, points = _geometry(q, hip, params)
     points["stance_contact"] = sp.Matrix([0, 0])
-    return derive("five_link", q, qd, bodies, params[-1], params, points=points, B=B_MATRIX)
+    return derive("five_link", q, qd, bodies, params[12], params, points=points, B=B_MATRIX)
 
 
 @cache
@@ -155,7 +167,7 @@ def five_link_extended() -> LagrangianModel:
     hip = sp.Matrix([qq[5], qq[6]])
     bodies, points = _geometry(qq[:5], hip, params)
     B = B_MATRIX.col_join(sp.zeros(2, 4))
-    return derive("five_link_extended", qq, qd, bodies, params[-1], params, points=points, B=B)
+    return derive("five_link_extended", qq, qd, bodies, params[12], params, points=points, B=B)
 
 
 def five_link_kernels() -> list[Kernel]:
