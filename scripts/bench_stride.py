@@ -348,7 +348,8 @@ def table(contenders, target_rows, pairs):
                 f"- error {target:.0e}: {wname} {B.fmt_time(w['t_median'])} (median; min "
                 f"{B.fmt_time(w['t_min'])}), {rel} {which}{best['contender']} at tolerance "
                 f"{best['tolerance']:.0e} ({B.fmt_time(best['t_median'])}; min "
-                f"{B.fmt_time(best['t_min'])})."
+                f"{B.fmt_time(best['t_min'])}); by the minima "
+                f"{B.speed_ratio(best['t_min'] / w['t_min']).split(' than')[0]}."
             )
     return lines, sentences
 
