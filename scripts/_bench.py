@@ -194,6 +194,20 @@ def summary_of(md_text: str) -> str | None:
     return None
 
 
+def how_of(md_text: str) -> str | None:
+    """The table's "How measured" paragraph (its ``<!-- how: ... -->`` line), if any."""
+    for line in md_text.splitlines():
+        if line.startswith("<!-- how:"):
+            return line[len("<!-- how:") :].rstrip("->").strip()
+    return None
+
+
+def load_line() -> str:
+    """The 1-, 5- and 15-minute load averages, for the tables' "How measured" paragraphs."""
+    one, five, fifteen = os.getloadavg()
+    return f"load average {one:.1f}, {five:.1f}, {fifteen:.1f} on {os.cpu_count()} logical CPUs"
+
+
 def mode_of(md_text: str) -> str | None:
     for line in md_text.splitlines():
         if line.startswith("<!-- command:"):
@@ -229,6 +243,9 @@ def update_readme() -> None:
         s = summary_of(text)
         if s:
             lines += ["", s]
+        h = how_of(text)
+        if h:
+            lines += ["", f"How measured: {h}"]
         if "work_precision.png" in files:
             lines += ["", "![work-precision](work_precision.png)"]
         lines.append("")

@@ -1,6 +1,11 @@
 """Drake's compass gait as a contender of scripts/bench_stride.py: its default parameters as
-walker's :class:`walker.params.CompassParams` (:func:`drake_params`) and one stride in Drake's
-``Simulator`` (:class:`DrakeCompass`).  pydrake is imported only when these are called.
+walker's :class:`walker.params.CompassParams` (:func:`drake_params`) and Drake's
+``Simulator`` on it (:class:`DrakeCompass`).  pydrake is imported only when these are called.
+
+Timed: :meth:`DrakeCompass.advance`, the run to a fixed ``t_end`` through the heel strike,
+which calls no Python while Drake integrates.  Untimed: :meth:`DrakeCompass.stride`, one
+stride stopped by a Python monitor after every step (Drake's ``CompassGait`` witness applies
+the collision but does not end the run); its cost is Python's, so it only checks the step time.
 """
 
 from __future__ import annotations
@@ -98,7 +103,8 @@ class DrakeCompass:
         self.sim.Initialize()
 
     def stride(self, x_walker, t_span=5.0):
-        """One stride: (post-impact state in walker's convention, impact time)."""
+        """One stride: (post-impact state in walker's convention, impact time).  Calls the
+        Python monitor after every step: for checks, not for timing."""
         ctx, sim = self.ctx, self.sim
         self._start(x_walker)
         sim.set_monitor(self._monitor)
@@ -115,7 +121,8 @@ class DrakeCompass:
         return -ctx.get_continuous_state_vector().CopyToVector(), t
 
     def advance(self, x_walker, t_end):
-        """The state at ``t_end`` in walker's convention, through whatever impacts occur."""
+        """The state at ``t_end`` in walker's convention, through whatever impacts occur
+        (no Python callback during the run: the timed Drake contender)."""
         self._start(x_walker)
         self.sim.AdvanceTo(t_end)
         return -self.ctx.get_continuous_state_vector().CopyToVector()

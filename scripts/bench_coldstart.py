@@ -20,12 +20,16 @@ nor written.  ``--delete-caches`` deletes every ``*.nbi``/``*.nbc`` under walker
 directory first as well (redundant with ``NUMBA_CACHE_DIR``; do not use it while others run
 walker from this tree).
 
-"Cold" is therefore: a new process, an empty numba cache directory; the operating system's
-file cache is warm (the interpreter, the libraries, walker's sources and its extension were
-read by earlier runs: one untimed command runs before the first row), not a cold disk.
-Python bytecode is as the environment has it (with ``PYTHONDONTWRITEBYTECODE`` set no
-``.pyc`` is written for walker's modules, so every run, cold and warm, compiles them from
-source).
+"Cold" is therefore: a new process, an empty numba cache directory, and Python bytecode as a
+user has it after ``pip install``: pip byte-compiles every module it installs, so before the
+first timed run this script runs ``python -m compileall`` on walker's package (the tree it
+imports; ``PYTHONDONTWRITEBYTECODE`` is removed from the commands' environment).  An editable
+install writes no bytecode at install; its first command compiles walker's modules, timed
+separately ("first run without bytecode", walker's ``.pyc`` files deleted before each such
+run).  The operating system's file cache is warm (the interpreter, the libraries, walker's
+sources and its extension were read by earlier runs: one untimed command runs before the
+first row), not a cold disk.  Cold and warm runs alternate per scene (a new empty numba cache
+directory for each cold run), min and median of each.
 
 Build time: the files ``git ls-files`` lists are copied to a temporary directory and
 ``python setup.py build_ext --inplace --force`` is timed there (the C compile of the
@@ -95,6 +99,21 @@ def imports_numba(exe, sub, env, cwd) -> bool:
         ln.startswith("import time:") and ln.rsplit("|", 1)[-1].strip() == "numba"
         for ln in proc.stderr.splitlines()
     )
+
+
+def delete_bytecode(pkg_dir: Path) -> int:
+    """Delete walker's ``.pyc`` files (the state after an editable install)."""
+    n = 0
+    for f in pkg_dir.rglob("__pycache__/*.pyc"):
+        f.unlink()
+        n += 1
+    return n
+
+
+def compile_bytecode(pkg_dir: Path) -> int:
+    """Byte-compile walker's package as ``pip install`` does; the number of ``.pyc`` files."""
+    subprocess.run([sys.executable, "-m", "compileall", "-q", str(pkg_dir)], check=True)
+    return sum(1 for _ in pkg_dir.rglob("__pycache__/*.pyc"))
 
 
 def delete_numba_caches(pkg_dir: Path) -> int:
@@ -177,10 +196,14 @@ def main(argv=None):
     t_start = time.perf_counter()
     load_before = os.getloadavg()[0]
     rows = []
-    base_env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
-    no_pyc = bool(base_env.get("PYTHONDONTWRITEBYTECODE"))
-    walker_pyc = sum(1 for _ in pkg_dir.rglob("__pycache__/*.pyc"))
+    drop = ("NUMBA_CACHE_DIR", "PYTHONDONTWRITEBYTECODE")
+    base_env = {k: v for k, v in os.environ.items() if k not in drop}
+    # the commands import the same walker as this script (its package directory first)
+    base_env["PYTHONPATH"] = os.pathsep.join(
+        [str(pkg_dir.parent), *filter(None, [os.environ.get("PYTHONPATH")])]
+    )
     with tempfile.TemporaryDirectory(prefix="walker-coldstart-") as tmp:
+        walker_pyc = compile_bytecode(pkg_dir)  # as after `pip install`
         # The floor: interpreter start + `import walker.cli` (no command).
         env = dict(base_env, NUMBA_CACHE_DIR=str(Path(tmp) / "import-only"))
         floor = [
@@ -192,18 +215,34 @@ def main(argv=None):
         # others.
         env = dict(base_env, NUMBA_CACHE_DIR=str(Path(tmp) / "file-cache-warm-up"))
         timed_run(exe + command_for(scenes[0]), env, tmp)
+        # First run after an editable install: no walker bytecode yet (deleted before each).
+        no_bytecode = []
+        for i in range(n_warm):
+            delete_bytecode(pkg_dir)
+            env = dict(base_env, NUMBA_CACHE_DIR=str(Path(tmp) / f"no-bytecode-{i}"))
+            no_bytecode.append(timed_run(exe + command_for(scenes[0]), env, tmp)[0])
+        # As after `pip install`: every module byte-compiled.
+        walker_pyc = compile_bytecode(pkg_dir)
         for scene in scenes:
             sub = command_for(scene)
             cache = Path(tmp) / f"numba-{scene.stem}"
             cache.mkdir()
             env = dict(base_env, NUMBA_CACHE_DIR=str(cache))
-            cold, rc_cold, status = timed_run(exe + sub, env, tmp)
-            warm = []
-            rc_warm = 0
-            for _ in range(n_warm):
-                w, rc, _ = timed_run(exe + sub, env, tmp)
-                warm.append(w)
-                rc_warm = rc_warm or rc
+            # the first cold run also fills `cache`, read by the warm runs
+            c, rc_cold, status = timed_run(exe + sub, env, tmp)
+            colds, warm, rc_warm = [c], [], 0
+            for i in range(n_warm):
+                fresh = dict(base_env, NUMBA_CACHE_DIR=str(Path(tmp) / f"c-{scene.stem}-{i}"))
+                runs = [("cold", fresh), ("warm", env)]
+                for kind, e in runs if i % 2 else runs[::-1]:
+                    w, rc, _ = timed_run(exe + sub, e, tmp)
+                    if kind == "cold":
+                        colds.append(w)
+                        rc_cold = rc_cold or rc
+                    else:
+                        warm.append(w)
+                        rc_warm = rc_warm or rc
+            cold = float(np.median(colds))
             numba_in = imports_numba(exe, sub, env, tmp)
             n_files = sum(1 for _ in cache.rglob("*.nbc"))
             # index files are named <module>.<function>-<line>.py<ver>.nbi
@@ -213,6 +252,7 @@ def main(argv=None):
                     "scene": scene.name,
                     "command": "walker " + " ".join([sub[0], f"gaits/{scene.name}"]),
                     "cold": cold,
+                    "cold_min": float(np.min(colds)),
                     "warm_min": float(np.min(warm)),
                     "warm_median": float(np.median(warm)),
                     "n_warm": n_warm,
@@ -238,6 +278,7 @@ def main(argv=None):
         "scene",
         "command",
         "cold_s",
+        "cold_min_s",
         "warm_min_s",
         "warm_median_s",
         "n_warm",
@@ -253,6 +294,7 @@ def main(argv=None):
             r["scene"],
             r["command"],
             f"{r['cold']:.3f}",
+            f"{r['cold_min']:.3f}",
             f"{r['warm_min']:.3f}",
             f"{r['warm_median']:.3f}",
             r["n_warm"],
@@ -330,10 +372,12 @@ def main(argv=None):
         else ""
     )
     summary = (
-        f"`{head['command']}` in a new process with an empty numba cache: "
+        f"`{head['command']}` cold (new process, empty numba cache, bytecode as after "
+        "`pip install`): "
         f"{head['cold']:.2f} s wall, {head['cold'] / head['warm_median']:.2f}x the warm run "
         f"({head['warm_median']:.2f} s; the interpreter + `import walker.cli` alone: "
-        f"{np.median(floor):.2f} s); cold/warm {min(ratios):.2f}-{max(ratios):.2f} over "
+        f"{np.median(floor):.2f} s); cold/warm {min(ratios):.2f}-{max(ratios):.2f} (median "
+        f"{np.median(ratios):.2f}) over "
         f"{len(rows)} scene(s); {numba_txt}; {jit_txt}." + build_txt
     )
     how = (
@@ -343,18 +387,34 @@ def main(argv=None):
         else ""
     )
     pyc = (
-        "`PYTHONDONTWRITEBYTECODE` is set in this environment and walker's package holds "
-        f"{walker_pyc} `.pyc` files, so every run, cold and warm, compiles walker's Python "
-        "modules to bytecode"
-        if no_pyc
-        else f"walker's package holds {walker_pyc} `.pyc` files (bytecode written by earlier "
-        "runs is reused by cold and warm runs alike)"
+        f"walker's modules byte-compiled as `pip install` leaves them ({walker_pyc} `.pyc` "
+        "files by `python -m compileall`; `PYTHONDONTWRITEBYTECODE` removed from the "
+        "commands' environment)"
+    )
+    how_measured = (
+        "**cold** = a new process, an empty numba cache directory (a new one per cold run) "
+        f"and {pyc}; the operating system's file cache warm, not a cold disk; **warm** = the "
+        "same command again with the numba cache the first cold run filled. Cold and warm "
+        f"runs alternate, {n_warm + 1} cold and {n_warm} warm per scene (the cold column is "
+        "their median), wall time of the whole subprocess. After an editable install "
+        "(`pip install -e .`, no bytecode written) the first command also compiles walker's "
+        f"modules: `{head['command']}` with walker's `.pyc` files deleted before each run "
+        f"took min {np.min(no_bytecode):.2f} s, median {np.median(no_bytecode):.2f} s "
+        f"({len(no_bytecode)} runs), {np.median(no_bytecode) / head['warm_median']:.2f}x "
+        "the warm run. The alternative compared against is the warm run of the same "
+        "command (there is no other program doing walker's job from a cold start). The "
+        f"machine was shared and loaded (1-minute load average {load_before:.1f} before, "
+        f"{load_after:.1f} after, on {os.cpu_count()} logical CPUs), which spreads the "
+        "single-run times; compare the medians."
     )
     md = [
         "# Cold start",
         "",
         f"<!-- command: {cmd} -->",
         f"<!-- summary: {summary} -->",
+        f"<!-- how: {how_measured.replace('**', '')} -->",
+        "",
+        f"**How measured:** {how_measured}",
         "",
         f"Made by `{cmd}` in {t_all:.0f} s on {B.machine_line()}; "
         f"walker run as `{' '.join(Path(e).name for e in exe)}`; 1-minute load average "
@@ -376,18 +436,21 @@ def main(argv=None):
         "(its `UserProvidedCacheLocator` is tried first), so any numba function the run "
         "called would be compiled there and counted in the last column; "
         + how
-        + f"**warm**: the same command again, {n_warm} time(s) (min and median). Cold means "
-        "a new process and an empty numba cache, not a cold disk: the operating system's "
-        "file cache is warm (interpreter, libraries, walker's sources and extension were "
-        "read by the runs before; one untimed command runs before the first row). " + pyc + ".",
+        + f"**warm**: the same command again, {n_warm} time(s) (min and median), alternating "
+        "with the cold runs. Cold means a new process, an empty numba cache and bytecode as "
+        "after `pip install`, not a cold disk: the operating system's file cache is warm "
+        "(interpreter, libraries, walker's sources and extension were read by the runs "
+        "before; one untimed command runs before the first row).",
         "",
-        "| command | cold | warm, min | warm, median | cold / warm | exit (cold/warm) | "
+        "| command | cold, median | cold, min | warm, min | warm, median | cold / warm | "
+        "exit (cold/warm) | "
         "outcome | numba imported | numba functions compiled |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         md.append(
-            f"| `{r['command']}` | {r['cold']:.2f} s | {r['warm_min']:.2f} s | "
+            f"| `{r['command']}` | {r['cold']:.2f} s | {r['cold_min']:.2f} s | "
+            f"{r['warm_min']:.2f} s | "
             f"{r['warm_median']:.2f} s | {r['cold'] / r['warm_median']:.2f} | {r['rc']} | "
             f"{r['status']} | {'yes' if r['numba'] else 'no'} | {r['cache_files']}"
             + (f" ({', '.join(f'`{n}`' for n in r['compiled'])})" if r["compiled"] else "")
