@@ -35,21 +35,30 @@ The pipeline, from a scene file to pictures::
                  ──► integrate.py    hybrid_solve, PreparedRun -> Solution; the C contract
                                      HybridSystem (also for user-supplied C functions) in
                                      hybrid_system.py
-                 ──► stride.py       simulate(); StrideMap: section -> section (+ Jacobian)
+                 ──► trajectory.py   simulate(): a run from a full state
+                     stride.py       StrideMap: section -> section (+ Jacobian)
                      terrain.py      ground defined per step (Terrain); its walks, their
                                      Jacobians and Monte-Carlo batches in _terrain_run.py
                                      and _core/terrain*.c
+                     system_map.py   SystemMap: a section map of your own HybridSystem
                  ──► fixedpoint.py   fixed points, Floquet multipliers; sectionmap.py (map
                                      value and Jacobian, eigen-sorting, input checks),
                                      region.py (walking region), newton.py (Newton / LM)
                      continuation.py natural and pseudo-arclength (steppers.py, one stepper
                                      a method), folds, period doublings (bifurcations.py)
-                     basin.py        basins of attraction (threads: strides release the GIL)
-                     sweep.py        resumable parameter sweeps on threads or any Executor
+                     basin.py        basins of attraction (threads: strides release the GIL;
+                                     a point stops inside the gait's contraction ball,
+                                     basin_radius.py)
+                     sweep.py        resumable parameter sweeps on threads or any Executor,
+                                     warm-started along grid lines (sweep_chains.py)
+                     measures.py     step length, speed, impact losses, cost of transport
+                     mfpt.py         robustness on rough ground: mean first-passage time by
+                     markov.py       Monte Carlo and by the stride map's Markov chain; the
+                     gsn.py          gait sensitivity norm and the largest recoverable step
                  ──► storage/        HDF5 with provenance, checksums, atomic writes
-                 ──► plotting.py     figures and animations
-    cli/ sits on top (``walker find|run|continue|basin|sweep|plot``, one module per command)
-    and only orchestrates.
+                 ──► plotting.py     figures and animations (plot_*.py, gallery.py)
+    cli/ sits on top (``walker find|run|continue|basin|sweep|orbit-diagram|mfpt|gsn|
+    stepdown|export|plot``, one module per command) and only orchestrates.
 
 Each model is implemented once, in C; the analysis tools (hzd.py), the figures and the
 tests call it through the checked methods of WalkerModel.  numba is an optional extra, only
