@@ -343,7 +343,7 @@ def run_lines(plan, executor, own_pool, task_map, table, bar) -> None:
     done = np.zeros(n_points, dtype=bool)
     passed = np.full((n_points, n_z), np.nan)
     if store is not None:
-        stored = store.table().columns
+        stored = store.table(damaged_ok=True).columns  # damaged chunks are pending
         for i in sorted(set(range(store.n_chunks)) - set(plan.pending)):
             done[store.chunk_slice(i)] = True
         for name in columns:
