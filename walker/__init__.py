@@ -110,6 +110,10 @@ def __getattr__(name):
         from walker.hybrid_system import HybridSystem
 
         return HybridSystem
+    if name == "hybrid_solve":
+        from walker.integrate import hybrid_solve
+
+        return hybrid_solve
     if name == "SystemMap":
         from walker.system_map import SystemMap
 
@@ -138,6 +142,7 @@ __all__ = [
     "continue_branch",
     "find_fixed_point",
     "get_model",
+    "hybrid_solve",
     "load_scene",
     "simulate",
     "__version__",

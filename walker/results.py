@@ -226,19 +226,30 @@ class Solution(Outcome):
 
 @dataclass
 class MapResult:
-    """One application of a section (stride) map.
+    """One application of a section (stride) map: what :class:`walker.stride.StrideMap` and
+    :class:`walker.system_map.SystemMap` return for ``P(z, jacobian=..., n_strides=k)``.
+
+    A stride that fails is a status, never an exception: ``z`` is then NaN and ``jac`` None.
 
     Attributes
     ----------
     status : Status
+        ``Status.COMPLETED`` when all ``k`` strides ended at the section; otherwise why the
+        run stopped (a fall, a non-physical impact, ``NO_EVENT`` when no stride event came
+        before ``t_max``, ``OUTSIDE_WALKING_REGION`` for a walker's start off its region).
     z : ndarray, shape (n_z,)
-        next section point (NaN where the stride failed).
+        the section point after ``k`` strides, in the map's section coordinates
+        (``section_names``); NaN where a stride failed.
     jac : ndarray, shape (n_z, n_z), or None
-        ``dz_next/dz`` when requested.
+        ``dz_next/dz`` when requested with ``jacobian=True`` and the strides completed;
+        None otherwise.
     step_time : float
-        duration of the stride(s) [s].
+        duration of the ``k`` strides [s]; after a failure, the time at which the run
+        stopped (0 for a start refused before integrating).
     state : ndarray, shape (n_x,)
-        full state at the section (just after the last heel strike).
+        full state at the section (just after the last heel strike, or the stride event of
+        a :class:`~walker.system_map.SystemMap`); after a failure, the state where the run
+        stopped (the start state for a start refused before integrating).
     terrain_jac : ndarray, shape (n_z, 2 n_strides), or None
         with per-step terrain and ``jacobian=True`` (:meth:`walker.stride.StrideMap.__call__`):
         ``dz_next / d(slope_k, drop_k)``, columns ``2k`` (slope [1/rad]) and ``2k + 1``
@@ -254,6 +265,7 @@ class MapResult:
 
     @property
     def success(self) -> bool:
+        """``status == Status.COMPLETED``."""
         return self.status == Status.COMPLETED
 
 

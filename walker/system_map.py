@@ -1,9 +1,12 @@
 """Your own hybrid system as a section map: :class:`SystemMap` turns a
 :class:`~walker.hybrid_system.HybridSystem` plus a lift (section point -> full state) and a
 projection (full state -> section point) into a map that :func:`walker.find_fixed_point`,
-:func:`walker.continuation.continue_branch`, :func:`walker.basin.basin_map` and
-:func:`walker.sweep.sweep`-style loops take, as they take a walker's
-:class:`~walker.stride.StrideMap`.  ``docs/own_system.md`` walks through an example.
+:func:`walker.continuation.continue_branch` and :func:`walker.basin.basin_map` take, as
+they take a walker's :class:`~walker.stride.StrideMap` (a parameter sweep is a loop over
+:meth:`SystemMap.with_parameter`; :func:`walker.sweep.sweep` varies a walker's named
+parameters and takes a ``StrideMap`` only).  ``docs/own_system.md`` walks through two
+examples (a kicked bouncing ball; a user controller for the three-link walker) and states
+what works for a custom system and what does not.
 
 The map runs the system with :func:`walker.integrate.hybrid_solve` from ``lift(z, p)`` until
 ``n_strides`` events whose reset returns ``EVENT_STRIDE`` (walker.status), then projects.  Its
