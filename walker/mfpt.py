@@ -64,6 +64,9 @@ __all__ = [
 ROWS_PER_BLOCK = 1 << 21
 """Terrain rows (runs x steps) drawn and walked per block: bounds the memory at 32 MiB."""
 
+RUNS_PER_CHECKPOINT = 256
+"""Runs per checkpoint chunk of :func:`monte_carlo` with a ``checkpoint`` (the default)."""
+
 
 def _int(name: str, value, minimum: int) -> int:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
@@ -153,6 +156,10 @@ def monte_carlo(
     jobs: int = 1,
     steps: int = 256,
     max_steps: int = 1 << 16,
+    checkpoint=None,
+    chunk_runs: int = RUNS_PER_CHECKPOINT,
+    overwrite: bool = False,
+    provenance: dict | None = None,
 ) -> MfptResult:
     """The Monte-Carlo mean first-passage time (module docstring).
 
@@ -175,6 +182,21 @@ def monte_carlo(
         threads of the compiled batch (the result is the same for any).
     steps, max_steps : int
         the first horizon [steps] and the censoring horizon (doubling in between).
+    checkpoint : str or os.PathLike, optional
+        an HDF5 checkpoint of finished chunks of ``chunk_runs`` runs
+        (:class:`walker.storage.SweepStore`: a table over the parameter ``run`` with the
+        columns ``steps`` and ``status``), written as each chunk finishes.  If the file
+        exists and holds this same estimate (map, start, terrain, runs, seed, horizons,
+        chunk size, ``provenance``), only the chunks not yet done are walked; an interrupt
+        keeps the chunks done.  Each run depends only on its own seed, so the result is the
+        same for any ``jobs`` and for an interrupted and resumed estimate.  The file is left
+        a checkpoint: store the result with :func:`walker.storage.write`.
+    chunk_runs : int
+        runs per checkpoint chunk (with ``checkpoint``), >= 1.
+    overwrite : bool
+        replace an existing ``checkpoint`` instead of resuming it.
+    provenance : dict, optional
+        extra provenance for ``checkpoint``.
 
     Returns
     -------
@@ -192,23 +214,93 @@ def monte_carlo(
         raise ValueError(f"`z0` must be a finite section point of shape ({smap.model.n_z},)")
     slope_mean = float(smap.params.slope)
     terrain = Terrain("random", slope_mean=slope_mean, slope_std=slope_std, height_std=height_std)
+    chunk_runs = _int("chunk_runs", chunk_runs, 1)
     children = run_seeds(seed, runs)
     done = np.zeros(runs, dtype=np.int64)
     status = np.zeros(runs, dtype=np.int64)
-    pending = np.arange(runs)
+
+    def walk(first: int, stop: int) -> None:
+        _walk_runs(
+            smap,
+            z0,
+            terrain,
+            children,
+            np.arange(first, stop),
+            jobs,
+            steps,
+            max_steps,
+            done,
+            status,
+        )
+
+    if checkpoint is None:
+        walk(0, runs)
+    else:
+        settings = {
+            "slope_mean": slope_mean,
+            "slope_std": slope_std,
+            "height_std": height_std,
+            "runs": runs,
+            "seed": seed,
+            "steps": steps,
+            "max_steps": max_steps,
+        }
+        store = _open_checkpoint(smap, z0, settings, checkpoint, chunk_runs, overwrite, provenance)
+        for i in store.pending_chunks():
+            rows = store.chunk_slice(i)
+            walk(rows.start, rows.stop)
+            store.write_chunk(i, {"steps": done[rows], "status": status[rows]})
+        columns = store.table().columns
+        done[:], status[:] = columns["steps"], columns["status"]
+    return summarise(done, status, max_steps, slope_mean, slope_std, height_std, seed, z0)
+
+
+def _walk_runs(smap, z0, terrain, children, idx, jobs, steps, max_steps, done, status) -> None:
+    """Walk the runs ``idx`` to their first failure or ``max_steps`` (doubling the horizon
+    from ``steps``), into ``done`` and ``status``: each run's result depends on its own seed
+    only."""
+    pending = idx
     n = min(steps, max_steps)
     while pending.size:
         block = max(1, ROWS_PER_BLOCK // n)
         for a in range(0, pending.size, block):
-            idx = pending[a : a + block]
-            rows = draw_terrains([children[i] for i in idx], n, terrain)
+            part = pending[a : a + block]
+            rows = draw_terrains([children[i] for i in part], n, terrain)
             k, st = smap.ensemble(z0, rows, threads=jobs)
-            done[idx], status[idx] = k, st
+            done[part], status[part] = k, st
         if n >= max_steps:
             break
         pending = pending[status[pending] == 0]
         n = min(2 * n, max_steps)
-    return summarise(done, status, max_steps, slope_mean, slope_std, height_std, seed, z0)
+
+
+def _open_checkpoint(smap, z0, settings, path, chunk_runs, overwrite, provenance):
+    """The :class:`walker.storage.SweepStore` of a Monte-Carlo estimate's runs (created, or
+    opened to resume: it must hold the same estimate)."""
+    import os
+
+    from walker.storage import SweepStore, solver_provenance
+    from walker.stride import solver_settings
+
+    if not isinstance(path, str | os.PathLike):
+        raise TypeError(f"`checkpoint` must be a str or os.PathLike, got {type(path).__name__}")
+    if provenance is not None and not isinstance(provenance, dict):
+        raise TypeError(f"`provenance` must be a dict or None, got {type(provenance).__name__}")
+    auto = {"estimate": "mfpt_monte_carlo", "start": z0.tolist(), **settings}
+    auto.update(solver_provenance(smap.model, smap.params, **solver_settings(smap)))
+    clash = sorted(k for k in (provenance or {}) if k in auto and provenance[k] != auto[k])
+    if clash:
+        raise ValueError(f"`provenance` must not contradict the estimate's own keys: {clash}")
+    runs = settings["runs"]
+    return SweepStore.create_or_open(
+        path,
+        parameter_names=("run",),
+        points=np.arange(runs, dtype=np.float64)[:, None],
+        columns={"steps": ("i8", ()), "status": ("i8", ())},
+        chunk_size=min(chunk_runs, runs),
+        provenance={**auto, **(provenance or {})},
+        overwrite=bool(overwrite),
+    )
 
 
 def summarise(done, status, max_steps, slope_mean, slope_std, height_std, seed, z0):
