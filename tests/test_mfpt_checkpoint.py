@@ -86,3 +86,47 @@ def test_cli_mfpt_out_resumes_after_an_interrupt(rimless, tmp_path, monkeypatch,
     result, prov = read(out)
     assert prov["kind"] == "mfpt" and prov["command"] == "mfpt"
     assert result.runs == 50
+
+
+def test_chunks_as_executor_tasks_give_the_same_runs(rimless, tmp_path, monkeypatch):
+    """Chunks of runs as tasks of an executor (a thread pool here, a dask cluster in the
+    slow test below), resuming a checkpoint interrupted in this process."""
+    import concurrent.futures as cf
+
+    P, z0 = rimless
+    whole = monte_carlo(P, z0, jobs=1, **ARGS)
+    path = tmp_path / "m.h5"
+    written = _interrupt_after(monkeypatch, 2)
+    with pytest.raises(KeyboardInterrupt):
+        monte_carlo(P, z0, checkpoint=path, chunk_runs=8, **ARGS)
+    written.clear()
+    with cf.ThreadPoolExecutor(2) as pool:
+        resumed = monte_carlo(P, z0, checkpoint=path, chunk_runs=8, executor=pool, **ARGS)
+        fresh = monte_carlo(P, z0, chunk_runs=7, executor=pool, **ARGS)
+    assert sorted(written) == [2, 3, 4, 5, 6]
+    for r in (resumed, fresh):
+        np.testing.assert_array_equal(r.steps, whole.steps)
+        np.testing.assert_array_equal(r.status, whole.status)
+
+
+@pytest.mark.slow
+def test_a_dask_cluster_gives_the_same_runs(rimless):
+    distributed = pytest.importorskip("distributed")
+    P, z0 = rimless
+    whole = monte_carlo(P, z0, jobs=1, **ARGS)
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        on_dask = monte_carlo(P, z0, chunk_runs=8, executor=client, **ARGS)
+    np.testing.assert_array_equal(on_dask.steps, whole.steps)
+    np.testing.assert_array_equal(on_dask.status, whole.status)
+
+
+def test_cli_unreachable_scheduler_is_exit_2(tmp_path, capsys):
+    pytest.importorskip("distributed")
+    argv = ["mfpt", RIMLESS, "--mean", "0.08", "--std", "0.015", "--runs", "8", "--seed", "1"]
+    assert main([*argv, "--scheduler", "tcp://127.0.0.1:1"]) == 2
+    assert "--scheduler tcp://127.0.0.1:1" in capsys.readouterr().err

@@ -160,6 +160,7 @@ def monte_carlo(
     chunk_runs: int = RUNS_PER_CHECKPOINT,
     overwrite: bool = False,
     provenance: dict | None = None,
+    executor=None,
 ) -> MfptResult:
     """The Monte-Carlo mean first-passage time (module docstring).
 
@@ -197,6 +198,10 @@ def monte_carlo(
         replace an existing ``checkpoint`` instead of resuming it.
     provenance : dict, optional
         extra provenance for ``checkpoint``.
+    executor : concurrent.futures.Executor or dask.distributed.Client, optional
+        run the chunks of ``chunk_runs`` runs as tasks there (a ``Client`` through its
+        ``get_executor()``; each task walks on ``jobs`` threads); the result is the same.
+        Default: the runs walk in this process.
 
     Returns
     -------
@@ -219,43 +224,83 @@ def monte_carlo(
     done = np.zeros(runs, dtype=np.int64)
     status = np.zeros(runs, dtype=np.int64)
 
-    def walk(first: int, stop: int) -> None:
-        _walk_runs(
-            smap,
-            z0,
-            terrain,
-            children,
-            np.arange(first, stop),
-            jobs,
-            steps,
-            max_steps,
-            done,
-            status,
-        )
-
-    if checkpoint is None:
-        walk(0, runs)
-    else:
-        settings = {
-            "slope_mean": slope_mean,
-            "slope_std": slope_std,
-            "height_std": height_std,
-            "runs": runs,
-            "seed": seed,
-            "steps": steps,
-            "max_steps": max_steps,
-        }
+    settings = {
+        "slope_mean": slope_mean,
+        "slope_std": slope_std,
+        "height_std": height_std,
+        "runs": runs,
+        "seed": seed,
+        "steps": steps,
+        "max_steps": max_steps,
+    }
+    store = None
+    if checkpoint is not None:
         store = _open_checkpoint(smap, z0, settings, checkpoint, chunk_runs, overwrite, provenance)
+    walk = (z0, terrain, jobs, steps, max_steps)
+    if executor is not None:
+        _run_tasks(executor, smap, walk, seed, runs, min(chunk_runs, runs), store, done, status)
+    elif store is None:
+        _walk_runs(smap, *walk, children, np.arange(runs), done, status)
+    else:
         for i in store.pending_chunks():
             rows = store.chunk_slice(i)
-            walk(rows.start, rows.stop)
+            _walk_runs(smap, *walk, children, np.arange(rows.start, rows.stop), done, status)
             store.write_chunk(i, {"steps": done[rows], "status": status[rows]})
         columns = store.table().columns
         done[:], status[:] = columns["steps"], columns["status"]
     return summarise(done, status, max_steps, slope_mean, slope_std, height_std, seed, z0)
 
 
-def _walk_runs(smap, z0, terrain, children, idx, jobs, steps, max_steps, done, status) -> None:
+def walk_chunk(section_map, walk, seed, runs, first, stop):
+    """Runs ``first .. stop - 1`` of an estimate of ``runs`` runs with root ``seed``, walked
+    on ``section_map`` (a StrideMap or a :class:`walker.sweep_chains.MapSpec`) with ``walk =
+    (z0, terrain, jobs, steps, max_steps)``: ``(steps, status)``, each of shape ``(stop -
+    first,)``.  The task an executor runs (picklable arguments)."""
+    from walker.sweep_chains import _materialize
+
+    smap = _materialize(section_map)
+    children = run_seeds(seed, runs)
+    done = np.zeros(runs, dtype=np.int64)
+    status = np.zeros(runs, dtype=np.int64)
+    _walk_runs(smap, *walk, children, np.arange(first, stop), done, status)
+    return done[first:stop], status[first:stop]
+
+
+def _run_tasks(executor, smap, walk, seed, runs, chunk, store, done, status) -> None:
+    """The chunks of ``chunk`` runs (those ``store`` has not done) as tasks on ``executor``,
+    into ``done`` and ``status`` (and ``store``, each as it finishes)."""
+    import concurrent.futures as cf
+
+    from walker._executors import run_chunks
+    from walker.sweep_chains import MapSpec
+
+    if hasattr(executor, "get_executor") and not isinstance(executor, cf.Executor):
+        executor = executor.get_executor()  # a dask.distributed Client
+    if not isinstance(executor, cf.Executor):
+        raise TypeError(
+            "`executor` must be a concurrent.futures.Executor or a dask.distributed.Client, "
+            f"got {type(executor).__name__}"
+        )
+    pending = list(range(-(-runs // chunk)))
+    if store is not None:
+        pending = store.pending_chunks()
+        kept = store.table().columns
+        done[:], status[:] = kept["steps"], kept["status"]
+    spec = MapSpec.from_map(smap)
+
+    def task(i):
+        return i, (spec, walk, seed, runs, i * chunk, min((i + 1) * chunk, runs))
+
+    def finish(i, value):
+        rows = slice(i * chunk, min((i + 1) * chunk, runs))
+        done[rows], status[rows] = value
+        if store is not None:
+            store.write_chunk(i, {"steps": done[rows], "status": status[rows]})
+
+    run_chunks(executor, walk_chunk, (task(i) for i in pending), finish, own=False)
+
+
+def _walk_runs(smap, z0, terrain, jobs, steps, max_steps, children, idx, done, status) -> None:
     """Walk the runs ``idx`` to their first failure or ``max_steps`` (doubling the horizon
     from ``steps``), into ``done`` and ``status``: each run's result depends on its own seed
     only."""

@@ -85,6 +85,11 @@ def cmd_mfpt(args) -> int:
             say_resuming(out, *progress)
     from walker.storage import CheckpointMismatch
 
+    client = None
+    if args.scheduler is not None:
+        from .sweep import connect_scheduler
+
+        client = connect_scheduler(args.scheduler)  # before any work; a UsageError if none
     try:
         result = monte_carlo(
             P,
@@ -96,10 +101,14 @@ def cmd_mfpt(args) -> int:
             jobs=jobs,
             max_steps=args.max_steps,
             chunk_runs=args.chunk_runs,
+            executor=client,
             **stored,
         )
     except CheckpointMismatch as exc:
         raise _resume_hint(exc) from None
+    finally:
+        if client is not None:
+            client.close()
     if args.markov:
         result.markov = markov_chain(P, z0, slope_std=args.std, seed=args.seed, jobs=jobs)
     record = {"scene": str(scene.path), "model": scene.model, **result.as_dict()}
@@ -170,10 +179,17 @@ def register(sub) -> None:
         help="also the Markov-chain MFPT 1/(1 - lambda_2) (slopes only; default: off)",
     )
     p.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="dask.distributed scheduler address, e.g. tcp://host:8786: chunks of --chunk-runs "
+        "runs are its tasks, each on --jobs threads; the result is the same (default: none)",
+    )
+    p.add_argument(
         "--chunk-runs",
         type=int,
         default=256,
-        help="runs per checkpoint chunk of --out (default: 256)",
+        help="runs per checkpoint chunk of --out and per --scheduler task (default: 256)",
     )
     json_flag(p)
     p.add_argument(
