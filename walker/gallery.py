@@ -376,17 +376,30 @@ def plot_solution(
     names: tuple[str, ...] | None = None,
     fmt: str = "png",
     title: str | None = None,
+    terrain: np.ndarray | None = None,
 ) -> list[Path]:
     """Write the figures of :func:`solution_figures` (only ``names``, default all) as
     ``{stem}_{name}.{fmt}`` into ``out``, each titled ``title`` when given, and with ``gif``
     (walkers and the double pendulum) a stick-figure animation ``{stem}_walk.gif``, which
-    takes most of the time."""
+    takes most of the time.  ``terrain``: the terrain rows ``(slope, drop)`` of a run on
+    terrain: the run is then drawn over its ground (``{stem}_terrain.{fmt}``, and the
+    animation's ground is :func:`walker.plot_terrain.terrain_ground`)."""
     paths = []
     for name, fig in solution_figures(sol, model, params, names).items():
         if title:
             _titled(fig, title)
         paths.append(_save(fig, out / f"{stem}_{name}.{fmt}"))
     traj = sol.record if sol.record is not None else sol.samples
+    ground = None
+    if terrain is not None and traj is not None and len(traj) >= 1 and model.has_strides:
+        from walker.plot_terrain import plot_run_on_terrain, terrain_ground
+
+        steps = [s for s in _foot_steps(model, params, sol.events) if s is not None]
+        ground = terrain_ground(model.points(traj.x[0], params.as_array())[0], steps, terrain)
+        fig = plot_run_on_terrain(
+            walker_frames(model, params, traj.t, traj.x, sol.events), model.segments, ground
+        )
+        paths.append(_save(_titled(fig, title) if title else fig, out / f"{stem}_terrain.{fmt}"))
     if gif and traj is not None and len(traj) >= 2:
         if model.has_strides or model.name == "double_pendulum":
             t_frames = np.linspace(traj.t[0], traj.t[-1], min(120, len(traj)))
@@ -404,6 +417,7 @@ def plot_solution(
                 path=anim_path,
                 swing_foot=int(getattr(model.module, "SWING_FOOT", -1)),
                 title=title,
+                ground=ground,
             )
             paths.append(anim_path)
     return paths
@@ -520,8 +534,18 @@ def plot_file(
     try:
         if kind == "solution":
             model, params = _params_from_provenance(prov)
+            rows = prov.get("terrain_rows") if figures is None else None
             return plot_solution(
-                result, model, params, out, stem, gif=gif, names=names, fmt=fmt, title=title
+                result,
+                model,
+                params,
+                out,
+                stem,
+                gif=gif,
+                names=names,
+                fmt=fmt,
+                title=title,
+                terrain=rows,
             )
         drawn = _result_figures(result, prov, kind, names, Path(path).parent)
         return [_save(_titled(fig, title), out / f"{stem}_{name}.{fmt}") for name, fig in drawn]

@@ -64,6 +64,9 @@ __all__ = [
 ROWS_PER_BLOCK = 1 << 21
 """Terrain rows (runs x steps) drawn and walked per block: bounds the memory at 32 MiB."""
 
+RUNS_PER_CHECKPOINT = 256
+"""Runs per checkpoint chunk of :func:`monte_carlo` with a ``checkpoint`` (the default)."""
+
 
 def _int(name: str, value, minimum: int) -> int:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
@@ -153,6 +156,11 @@ def monte_carlo(
     jobs: int = 1,
     steps: int = 256,
     max_steps: int = 1 << 16,
+    checkpoint=None,
+    chunk_runs: int = RUNS_PER_CHECKPOINT,
+    overwrite: bool = False,
+    provenance: dict | None = None,
+    executor=None,
 ) -> MfptResult:
     """The Monte-Carlo mean first-passage time (module docstring).
 
@@ -175,6 +183,25 @@ def monte_carlo(
         threads of the compiled batch (the result is the same for any).
     steps, max_steps : int
         the first horizon [steps] and the censoring horizon (doubling in between).
+    checkpoint : str or os.PathLike, optional
+        an HDF5 checkpoint of finished chunks of ``chunk_runs`` runs
+        (:class:`walker.storage.SweepStore`: a table over the parameter ``run`` with the
+        columns ``steps`` and ``status``), written as each chunk finishes.  If the file
+        exists and holds this same estimate (map, start, terrain, runs, seed, horizons,
+        chunk size, ``provenance``), only the chunks not yet done are walked; an interrupt
+        keeps the chunks done.  Each run depends only on its own seed, so the result is the
+        same for any ``jobs`` and for an interrupted and resumed estimate.  The file is left
+        a checkpoint: store the result with :func:`walker.storage.write`.
+    chunk_runs : int
+        runs per checkpoint chunk (with ``checkpoint``), >= 1.
+    overwrite : bool
+        replace an existing ``checkpoint`` instead of resuming it.
+    provenance : dict, optional
+        extra provenance for ``checkpoint``.
+    executor : concurrent.futures.Executor or dask.distributed.Client, optional
+        run the chunks of ``chunk_runs`` runs as tasks there (a ``Client`` through its
+        ``get_executor()``; each task walks on ``jobs`` threads); the result is the same.
+        Default: the runs walk in this process.
 
     Returns
     -------
@@ -192,23 +219,133 @@ def monte_carlo(
         raise ValueError(f"`z0` must be a finite section point of shape ({smap.model.n_z},)")
     slope_mean = float(smap.params.slope)
     terrain = Terrain("random", slope_mean=slope_mean, slope_std=slope_std, height_std=height_std)
+    chunk_runs = _int("chunk_runs", chunk_runs, 1)
     children = run_seeds(seed, runs)
     done = np.zeros(runs, dtype=np.int64)
     status = np.zeros(runs, dtype=np.int64)
-    pending = np.arange(runs)
+
+    settings = {
+        "slope_mean": slope_mean,
+        "slope_std": slope_std,
+        "height_std": height_std,
+        "runs": runs,
+        "seed": seed,
+        "steps": steps,
+        "max_steps": max_steps,
+    }
+    store = None
+    if checkpoint is not None:
+        store = _open_checkpoint(smap, z0, settings, checkpoint, chunk_runs, overwrite, provenance)
+    walk = (z0, terrain, jobs, steps, max_steps)
+    if executor is not None:
+        _run_tasks(executor, smap, walk, seed, runs, min(chunk_runs, runs), store, done, status)
+    elif store is None:
+        _walk_runs(smap, *walk, children, np.arange(runs), done, status)
+    else:
+        for i in store.pending_chunks():
+            rows = store.chunk_slice(i)
+            _walk_runs(smap, *walk, children, np.arange(rows.start, rows.stop), done, status)
+            store.write_chunk(i, {"steps": done[rows], "status": status[rows]})
+        columns = store.table().columns
+        done[:], status[:] = columns["steps"], columns["status"]
+    return summarise(done, status, max_steps, slope_mean, slope_std, height_std, seed, z0)
+
+
+def walk_chunk(section_map, walk, seed, runs, first, stop):
+    """Runs ``first .. stop - 1`` of an estimate of ``runs`` runs with root ``seed``, walked
+    on ``section_map`` (a StrideMap or a :class:`walker.sweep_chains.MapSpec`) with ``walk =
+    (z0, terrain, jobs, steps, max_steps)``: ``(steps, status)``, each of shape ``(stop -
+    first,)``.  The task an executor runs (picklable arguments)."""
+    from walker.sweep_chains import _materialize
+
+    smap = _materialize(section_map)
+    children = run_seeds(seed, runs)
+    done = np.zeros(runs, dtype=np.int64)
+    status = np.zeros(runs, dtype=np.int64)
+    _walk_runs(smap, *walk, children, np.arange(first, stop), done, status)
+    return done[first:stop], status[first:stop]
+
+
+def _run_tasks(executor, smap, walk, seed, runs, chunk, store, done, status) -> None:
+    """The chunks of ``chunk`` runs (those ``store`` has not done) as tasks on ``executor``,
+    into ``done`` and ``status`` (and ``store``, each as it finishes)."""
+    import concurrent.futures as cf
+
+    from walker._executors import run_chunks
+    from walker.sweep_chains import MapSpec
+
+    if hasattr(executor, "get_executor") and not isinstance(executor, cf.Executor):
+        executor = executor.get_executor()  # a dask.distributed Client
+    if not isinstance(executor, cf.Executor):
+        raise TypeError(
+            "`executor` must be a concurrent.futures.Executor or a dask.distributed.Client, "
+            f"got {type(executor).__name__}"
+        )
+    pending = list(range(-(-runs // chunk)))
+    if store is not None:
+        pending = store.pending_chunks()
+        kept = store.table().columns
+        done[:], status[:] = kept["steps"], kept["status"]
+    spec = MapSpec.from_map(smap)
+
+    def task(i):
+        return i, (spec, walk, seed, runs, i * chunk, min((i + 1) * chunk, runs))
+
+    def finish(i, value):
+        rows = slice(i * chunk, min((i + 1) * chunk, runs))
+        done[rows], status[rows] = value
+        if store is not None:
+            store.write_chunk(i, {"steps": done[rows], "status": status[rows]})
+
+    run_chunks(executor, walk_chunk, (task(i) for i in pending), finish, own=False)
+
+
+def _walk_runs(smap, z0, terrain, jobs, steps, max_steps, children, idx, done, status) -> None:
+    """Walk the runs ``idx`` to their first failure or ``max_steps`` (doubling the horizon
+    from ``steps``), into ``done`` and ``status``: each run's result depends on its own seed
+    only."""
+    pending = idx
     n = min(steps, max_steps)
     while pending.size:
         block = max(1, ROWS_PER_BLOCK // n)
         for a in range(0, pending.size, block):
-            idx = pending[a : a + block]
-            rows = draw_terrains([children[i] for i in idx], n, terrain)
+            part = pending[a : a + block]
+            rows = draw_terrains([children[i] for i in part], n, terrain)
             k, st = smap.ensemble(z0, rows, threads=jobs)
-            done[idx], status[idx] = k, st
+            done[part], status[part] = k, st
         if n >= max_steps:
             break
         pending = pending[status[pending] == 0]
         n = min(2 * n, max_steps)
-    return summarise(done, status, max_steps, slope_mean, slope_std, height_std, seed, z0)
+
+
+def _open_checkpoint(smap, z0, settings, path, chunk_runs, overwrite, provenance):
+    """The :class:`walker.storage.SweepStore` of a Monte-Carlo estimate's runs (created, or
+    opened to resume: it must hold the same estimate)."""
+    import os
+
+    from walker.storage import SweepStore, solver_provenance
+    from walker.stride import solver_settings
+
+    if not isinstance(path, str | os.PathLike):
+        raise TypeError(f"`checkpoint` must be a str or os.PathLike, got {type(path).__name__}")
+    if provenance is not None and not isinstance(provenance, dict):
+        raise TypeError(f"`provenance` must be a dict or None, got {type(provenance).__name__}")
+    auto = {"estimate": "mfpt_monte_carlo", "start": z0.tolist(), **settings}
+    auto.update(solver_provenance(smap.model, smap.params, **solver_settings(smap)))
+    clash = sorted(k for k in (provenance or {}) if k in auto and provenance[k] != auto[k])
+    if clash:
+        raise ValueError(f"`provenance` must not contradict the estimate's own keys: {clash}")
+    runs = settings["runs"]
+    return SweepStore.create_or_open(
+        path,
+        parameter_names=("run",),
+        points=np.arange(runs, dtype=np.float64)[:, None],
+        columns={"steps": ("i8", ()), "status": ("i8", ())},
+        chunk_size=min(chunk_runs, runs),
+        provenance={**auto, **(provenance or {})},
+        overwrite=bool(overwrite),
+    )
 
 
 def summarise(done, status, max_steps, slope_mean, slope_std, height_std, seed, z0):

@@ -445,6 +445,7 @@ def animate_walker(
     path: str | Path | None = None,
     swing_foot: int = -1,
     title: str | None = None,
+    ground: np.ndarray | None = None,
 ) -> animation.FuncAnimation:
     """Stick-figure animation of a walker; optionally saved as GIF or MP4.
 
@@ -469,6 +470,11 @@ def animate_walker(
         (:func:`leg_roles`).
     title : str, optional
         drawn above the axes.
+    ground : ndarray, shape (n_steps, 2, 2), optional
+        the ground of a run on terrain, one plane segment ``(start, end)`` [m] per step
+        (:func:`walker.plot_terrain.terrain_ground`), drawn instead of the plane of ``slope``: the
+        segments (Line2D labelled ``_ground0``, ``_ground1``, ...) and the risers joining
+        one step's end to the next one's start.
 
     Returns
     -------
@@ -514,9 +520,18 @@ def animate_walker(
     hi = np.nanmax(frames.reshape(-1, 2), axis=0)
     pad = 0.1 * max(float(np.max(hi - lo)), 1e-9)
     gx = np.array([lo[0] - pad, hi[0] + pad])
-    ax.plot(gx, -np.tan(slope) * gx, color="0.4", lw=1.5)  # ground
+    if ground is None:
+        ax.plot(gx, -np.tan(slope) * gx, color="0.4", lw=1.5)  # ground
+        ground_lo = float(np.min(-np.tan(slope) * gx))
+    else:
+        ground = np.asarray(ground, dtype=float)
+        if ground.ndim != 3 or ground.shape[1:] != (2, 2):
+            raise ValueError(f"`ground` must have shape (n_steps, 2, 2), got {ground.shape}")
+        _draw_ground(ax, ground)
+        gx = np.array([min(gx[0], ground[..., 0].min()), max(gx[1], ground[..., 0].max())])
+        ground_lo = float(ground[..., 1].min())
     ax.set_xlim(gx)
-    ax.set_ylim(min(lo[1], float(np.min(-np.tan(slope) * gx))) - pad, hi[1] + pad)
+    ax.set_ylim(min(lo[1], ground_lo) - pad, hi[1] + pad)
     ax.set_aspect("equal", adjustable="box")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
@@ -551,6 +566,15 @@ def animate_walker(
     if writer_cls is not None:
         _save_animation(anim, path, writer_cls(fps=1000.0 / interval_ms))
     return anim
+
+
+def _draw_ground(ax: Axes, ground: np.ndarray) -> None:
+    """Each step's plane segment of ``ground`` (n_steps, 2, 2) [m] (labelled ``_groundN``),
+    with the risers from one step's end to the next one's start."""
+    for n, (start, end) in enumerate(ground):
+        ax.plot(*np.transpose([start, end]), color="0.4", lw=1.5, label=f"_ground{n}")
+        if n + 1 < len(ground):
+            ax.plot(*np.transpose([end, ground[n + 1, 0]]), color="0.4", lw=1.5)
 
 
 def leg_roles(

@@ -9,7 +9,14 @@ from matplotlib.figure import Figure
 
 from walker.plot_common import new_axes
 
-__all__ = ["plot_gsn_sweep", "plot_mfpt_roughness", "plot_survival", "plot_walk_on_terrain"]
+__all__ = [
+    "plot_gsn_sweep",
+    "plot_mfpt_roughness",
+    "plot_run_on_terrain",
+    "plot_survival",
+    "plot_walk_on_terrain",
+    "terrain_ground",
+]
 
 
 def plot_survival(result, *, ax=None) -> Figure:
@@ -139,4 +146,68 @@ def plot_walk_on_terrain(P, z0, rows, *, ax=None) -> Figure:
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_title(f"{done} of {rows.shape[0]} steps completed")
+    return fig
+
+
+def terrain_ground(contact, steps, rows) -> np.ndarray:
+    """The ground of a run on terrain, one plane segment per step.
+
+    Parameters
+    ----------
+    contact : array_like, shape (2,)
+        the first stance contact [m] (world frame: x horizontal toward the walking
+        direction, y up).
+    steps : sequence of array_like, shape (2,)
+        each touchdown's displacement [m] from the stance contact to the new one (the foot
+        swaps of the run, in order).
+    rows : array_like, shape (n, 2)
+        the terrain rows ``(slope [rad], drop [m])`` of the run's steps
+        (:mod:`walker.terrain`).
+
+    Returns
+    -------
+    ndarray, shape (n_steps, 2, 2)
+        for each step ``n`` the run stood on (at most ``len(steps) + 1`` and ``n``), the
+        segment ``(start, end)`` [m] of its plane: from the point ``drop`` below the stance
+        contact to the step's touchdown point; for a step that ends without one (the last),
+        1 m along its plane.
+    """
+    rows = np.asarray(rows, dtype=float).reshape(-1, 2)
+    contact = np.asarray(contact, dtype=float)
+    out = []
+    for n, (slope, drop) in enumerate(rows[: len(steps) + 1]):
+        start = contact + np.array([0.0, -drop])
+        if n < len(steps):
+            end = contact + np.asarray(steps[n], dtype=float)
+            contact = end
+        else:
+            end = start + np.array([np.cos(slope), -np.sin(slope)])
+        out.append([start, end])
+    return np.array(out).reshape(-1, 2, 2)
+
+
+def plot_run_on_terrain(frames, segments, ground, *, n_figures: int = 12, ax=None) -> Figure:
+    """A run drawn over the ground it walked on: the ground's segments ``ground``
+    (:func:`terrain_ground`), and the stick figure ``frames`` (n, n_points, 2) [m] (world
+    frame, :func:`walker.gallery.walker_frames`) at ``n_figures`` evenly spaced samples, its
+    stance contacts' path in black."""
+    from walker.plot_runs import _draw_ground
+
+    frames = np.asarray(frames, dtype=float)
+    fig, ax = new_axes(ax)
+    _draw_ground(ax, np.asarray(ground, dtype=float))
+    picks = np.unique(np.linspace(0, len(frames) - 1, max(1, n_figures)).astype(int))
+    for i, k in enumerate(picks):
+        for a, b in segments:
+            ax.plot(
+                frames[k, [a, b], 0],
+                frames[k, [a, b], 1],
+                color="C0",
+                lw=1,
+                alpha=0.35 + 0.65 * (i + 1) / len(picks),
+            )
+    ax.plot(frames[:, 0, 0], frames[:, 0, 1], ls="none", marker=".", ms=2, color="k")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
     return fig

@@ -82,6 +82,7 @@ from walker.sweep_grid import (
     check_names,
     check_points,
     default_chunk_size,
+    fill_gsn,
     fill_measures,
     grid_points,
     parse_range,
@@ -120,6 +121,7 @@ def sweep_chunk(
     tol: float,
     *,
     checked: bool = False,
+    gsn: bool = False,
 ) -> dict[str, np.ndarray]:
     """Evaluate one chunk of a sweep (the task sent to an executor).
 
@@ -142,6 +144,8 @@ def sweep_chunk(
     checked : bool
         the arguments were checked already (:func:`sweep` checks every grid point before
         any work and passes True): they are not checked again.
+    gsn : bool
+        (fixed_point) also the ``gsn`` column (:func:`walker.sweep_grid.fill_gsn`).
 
     Returns
     -------
@@ -180,7 +184,7 @@ def sweep_chunk(
     m = points.shape[0]
     out = {
         name: np.full((m, *shape), -1 if dtype == "i8" else np.nan, dtype=dtype)
-        for name, (dtype, shape) in table_columns(kind, n_z).items()
+        for name, (dtype, shape) in table_columns(kind, n_z, gsn).items()
     }
     z_guess = z0
     retarget = _retargeter(base)
@@ -206,6 +210,8 @@ def sweep_chunk(
             out["multipliers_re"][i] = fp.multipliers.real
             out["multipliers_im"][i] = fp.multipliers.imag
             fill_measures(point_map, fp, out, i)
+            if gsn:
+                fill_gsn(point_map, fp, out, i)
     return out
 
 
@@ -248,12 +254,14 @@ def _positive_int(value: Any, name: str) -> int:
     return int(value)
 
 
-def _sweep_provenance(stride_map: StrideMap, kind, z0, n_strides, tol, provenance) -> dict:
+def _sweep_provenance(stride_map: StrideMap, kind, z0, n_strides, tol, provenance, gsn) -> dict:
     from walker.storage import solver_provenance
 
     auto: dict[str, Any] = {"sweep_kind": kind, "n_strides": n_strides, "z0": z0.tolist()}
     if kind == "fixed_point":
         auto["tol"] = tol
+    if gsn:
+        auto["gsn_disturbance"] = "step height (walker.gsn)"
     if isinstance(stride_map, StrideMap):
         settings = solver_settings(stride_map)
         auto.update(solver_provenance(stride_map.model, stride_map.params, **settings))
@@ -270,7 +278,7 @@ def _sweep_provenance(stride_map: StrideMap, kind, z0, n_strides, tol, provenanc
     return {**auto, **provenance}
 
 
-def _validate(stride_map, ranges, kind, z0, n_strides, chunk_size, jobs, tol):
+def _validate(stride_map, ranges, kind, z0, n_strides, chunk_size, jobs, tol, gsn=False):
     """Check the arguments of :func:`sweep`; returns the grid and the normalized values."""
     if not (hasattr(stride_map, "with_params") and hasattr(stride_map, "params")):
         raise TypeError(
@@ -290,13 +298,29 @@ def _validate(stride_map, ranges, kind, z0, n_strides, chunk_size, jobs, tol):
     if jobs is not None:
         jobs = _positive_int(jobs, "jobs")
     tol = validate_positive(tol, "tol")
+    if gsn is not False:
+        _check_gsn(stride_map, kind, gsn, tol)
     names, points = grid_points(ranges)
     check_names(stride_map, names, "`ranges`")
     n_points = points.shape[0]
-    check_grid_size([n_points], "`ranges`", _bytes_per_point(kind, n_z, len(names)))
+    check_grid_size([n_points], "`ranges`", _bytes_per_point(kind, n_z, len(names), gsn))
     check_points(stride_map.params, names, points)
     chunk = default_chunk_size(n_points, kind) if chunk_size is None else chunk_size
     return names, points, z0, n_strides, chunk, jobs, tol
+
+
+def _check_gsn(stride_map, kind, gsn, tol) -> None:
+    """The ``gsn`` option of :func:`sweep`: a fixed-point sweep of a map that walks on terrain,
+    with a Newton tolerance the norm's fixed-point check (1e-8) accepts."""
+    if gsn is not True:
+        raise TypeError(f"`gsn` must be a bool, got {gsn!r}")
+    if kind != "fixed_point":
+        raise ValueError(f"`gsn` needs kind='fixed_point' (the norm of a gait), got {kind!r}")
+    if tol > 1e-8:
+        raise ValueError(f"`tol` must be <= 1e-8 with `gsn` (the norm's gait check), got {tol!r}")
+    from walker._terrain_run import check_supported
+
+    check_supported(stride_map, "the gait sensitivity norm (`gsn`)")
 
 
 def sweep(
@@ -314,6 +338,7 @@ def sweep(
     provenance: dict | None = None,
     tol: float = 1e-10,
     overwrite: bool = False,
+    gsn: bool = False,
 ) -> SweepTable:
     """Evaluate a stride map over a parameter grid, chunk by chunk, on an executor.
 
@@ -370,6 +395,12 @@ def sweep(
         Newton tolerance (fixed_point), > 0.
     overwrite : bool
         with ``out``: replace an existing file by a new checkpoint instead of resuming it.
+    gsn : bool
+        (fixed_point) also a column ``gsn``: the gait sensitivity norm of each point's gait
+        (:func:`walker.gsn.gait_sensitivity`; NaN where there is no stable period-one gait or
+        no norm).  It makes a sweep 3 to 5 times slower (20-point slope sweeps of the
+        compass, kneed and rimless walkers), hence optional.  Needs a map that walks on
+        terrain and ``tol <= 1e-8``.
 
     Returns
     -------
@@ -423,6 +454,7 @@ def sweep(
         overwrite=overwrite,
         provenance=provenance,
         tol=tol,
+        gsn=gsn,
     )
     return _execute(plan, executor, progress)
 
@@ -446,6 +478,7 @@ class _Plan:
     shape: tuple[int, ...] = ()
     root: tuple[int, ...] = ()
     scale: np.ndarray | None = None
+    gsn: bool = False
 
 
 def _check_executor(executor: Any, jobs: int | None) -> Any:
@@ -480,15 +513,16 @@ def _prepare(
     overwrite,
     provenance,
     tol,
+    gsn=False,
 ) -> _Plan:
     """Everything :func:`sweep` does before the work: validation, then the checkpoint."""
     names, points, z0, n_strides, chunk, jobs, tol = _validate(
-        stride_map, ranges, kind, z0, n_strides, chunk_size, jobs, tol
+        stride_map, ranges, kind, z0, n_strides, chunk_size, jobs, tol, gsn
     )
     n_points = points.shape[0]
     n_z = int(stride_map.n_z)
     _check_executor(executor, jobs)
-    columns = table_columns(kind, n_z)
+    columns = table_columns(kind, n_z, gsn)
     n_chunks = -(-n_points // chunk)
     store = None
     if out is not None:
@@ -499,7 +533,7 @@ def _prepare(
         parent = Path(out).parent
         if not parent.is_dir():
             raise FileNotFoundError(f"directory '{parent}' of `out` '{out}' does not exist")
-        prov = _sweep_provenance(stride_map, kind, z0, n_strides, tol, provenance)
+        prov = _sweep_provenance(stride_map, kind, z0, n_strides, tol, provenance, gsn)
         store = SweepStore.create_or_open(
             out,
             parameter_names=names,
@@ -517,6 +551,7 @@ def _prepare(
     plan = _Plan(
         stride_map, names, points, kind, z0, n_strides, chunk, jobs, tol, columns, store, pending
     )
+    plan.gsn = bool(gsn)
     if kind == "fixed_point":
         _plan_lines(plan, ranges)
     return plan

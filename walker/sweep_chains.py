@@ -40,7 +40,7 @@ import numpy as np
 from walker._executors import run_chunks
 from walker.fixedpoint import find_fixed_point
 from walker.stride import StrideMap
-from walker.sweep_grid import fill_measures, table_columns
+from walker.sweep_grid import fill_gsn, fill_measures, table_columns
 
 __all__ = [
     "JUMP_SECTION",
@@ -255,6 +255,7 @@ def sweep_lines(
     n_strides: int,
     tol: float,
     scale: np.ndarray,
+    gsn: bool = False,
 ) -> dict[str, np.ndarray]:
     """Evaluate a run of lines of a fixed-point sweep (the task :func:`sweep` sends to an
     executor for ``kind="fixed_point"``; the order and the warm starts are those of
@@ -283,6 +284,8 @@ def sweep_lines(
         Newton tolerance.
     scale : ndarray, shape (n_z,)
         the section's scale (:func:`walker.sweep_chains.passes_on`).
+    gsn : bool
+        also the ``gsn`` column (:func:`walker.sweep_grid.fill_gsn`).
 
     Returns
     -------
@@ -294,7 +297,7 @@ def sweep_lines(
     retarget = _retargeter(base)
     n_z = int(base.n_z)
     m = points.shape[0]
-    columns = table_columns("fixed_point", n_z)
+    columns = table_columns("fixed_point", n_z, gsn)
     out = {
         name: np.full((m, *shape), -1 if dtype == "i8" else np.nan, dtype=dtype)
         for name, (dtype, shape) in columns.items()
@@ -320,6 +323,8 @@ def sweep_lines(
             out["multipliers_re"][i] = fp.multipliers.real
             out["multipliers_im"][i] = fp.multipliers.imag
             fill_measures(point_map, fp, out, i)
+            if gsn:
+                fill_gsn(point_map, fp, out, i)
         return int(out["status"][i]), out["section"][i]
 
     for line, seed in zip(lines, seeds, strict=True):
@@ -444,5 +449,6 @@ def _line_task(plan, task_map, group, passed, done, table) -> tuple:
         plan.n_strides,
         plan.tol,
         plan.scale,
+        plan.gsn,
     )
     return rows, args

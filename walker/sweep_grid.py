@@ -332,14 +332,15 @@ def check_points(params: Any, names: Sequence[str], points: np.ndarray) -> None:
 # ---------------------------------------------------------------------------------------------
 
 
-def bytes_per_point(kind: str, n_z: int, n_names: int) -> int:
+def bytes_per_point(kind: str, n_z: int, n_names: int, gsn: bool = False) -> int:
     """Bytes of one point of a sweep's table: its parameter values and its columns."""
-    columns = table_columns(kind, n_z)
+    columns = table_columns(kind, n_z, gsn)
     return 8 * (n_names + sum(math.prod(shape) for _, shape in columns.values()))
 
 
-def table_columns(kind: str, n_z: int) -> dict[str, tuple[str, tuple[int, ...]]]:
-    """Column name -> (dtype, per-point shape) of a sweep table."""
+def table_columns(kind: str, n_z: int, gsn: bool = False) -> dict[str, tuple[str, tuple[int, ...]]]:
+    """Column name -> (dtype, per-point shape) of a sweep table (``gsn``: a fixed-point
+    sweep's ``gsn`` column, :func:`fill_gsn`)."""
     cols: dict[str, tuple[str, tuple[int, ...]]] = {
         "status": ("i8", ()),
         "section": ("f8", (n_z,)),
@@ -355,6 +356,8 @@ def table_columns(kind: str, n_z: int) -> dict[str, tuple[str, tuple[int, ...]]]
             jump=("i8", ()),
             **dict.fromkeys(MEASURE_COLUMNS, ("f8", ())),
         )
+        if gsn:
+            cols["gsn"] = ("f8", ())
     return cols
 
 
@@ -394,3 +397,21 @@ def fill_measures(point_map, fp, out: dict, i: int) -> None:
     ).to_dict()
     for name in MEASURE_COLUMNS:
         out[name][i] = measures[name]
+
+
+def fill_gsn(point_map, fp, out: dict, i: int) -> None:
+    """The gait sensitivity norm (:func:`walker.gsn.gait_sensitivity`) of the gait ``fp`` of
+    ``point_map`` into ``out["gsn"][i]``; left NaN for a gait of period > 1 or one that is not
+    stable (the norm is defined for a stable period-one gait), and where a stride the
+    linearisation needs fails (its status is not ``COMPLETED``)."""
+    from walker.gsn import gait_sensitivity
+
+    if not (fp.success and bool(fp.stable) and int(fp.period) == 1):
+        return
+    try:
+        out["gsn"][i] = gait_sensitivity(point_map, fp.section).gsn
+    except ValueError:
+        # The map walks on terrain (the sweep checked it before any work), so this is the
+        # norm's own rejection of the gait: a multiplier within rounding of the unit circle,
+        # recomputed at the section, says unstable.  No norm: NaN, as documented.
+        return

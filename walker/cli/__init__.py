@@ -104,7 +104,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-_CHECKPOINTING = ("sweep", "basin")
+_CHECKPOINTING = ("sweep", "basin", "mfpt")
 
 
 def _file_id(path) -> tuple | None:
@@ -117,7 +117,7 @@ def _file_id(path) -> tuple | None:
 
 def _interrupted_line(args, before: tuple | None) -> str:
     """The one line printed after an interrupt."""
-    if args.command not in _CHECKPOINTING:
+    if args.command not in _CHECKPOINTING or getattr(args, "out", None) is None:
         return "walker: interrupted"
     from walker.storage import checkpoint_progress
 

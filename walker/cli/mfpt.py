@@ -13,11 +13,12 @@ from ._common import (
     _json,
     _load,
     _positive_flag,
+    _resume_hint,
     _stride_map,
     json_flag,
-    out_flags,
+    provenance,
+    say_resuming,
     scene_cmd,
-    write_result,
 )
 
 
@@ -51,6 +52,7 @@ def cmd_mfpt(args) -> int:
     if args.jobs is not None and args.jobs < 1:
         raise UsageError(f"--jobs must be an integer >= 1, got {args.jobs}")
     _positive_flag(args.max_steps, "--max-steps", minimum=1, integer=True)
+    _positive_flag(args.chunk_runs, "--chunk-runs", minimum=1, integer=True)
     if args.mean is not None and not math.isfinite(args.mean):
         raise UsageError(f"--mean must be a finite number, got {args.mean}")
     if args.markov and args.height_std > 0.0:
@@ -63,29 +65,59 @@ def cmd_mfpt(args) -> int:
         check_supported(P)
     except ValueError as exc:
         raise UsageError(f"{args.scene}: {exc}") from None
-    out = _check_out(args.out, overwrite=args.overwrite)
+    out = _check_out(args.out, overwrite=args.overwrite, resumable=True)
     mean = scene.params.slope if args.mean is None else float(args.mean)
     P, z0 = _gait(scene, P, mean)
     if P is None:
         print(f"walker: {z0}")
         return EXIT_OUTCOME
     jobs = args.jobs or 1
-    result = monte_carlo(
-        P,
-        z0,
-        slope_std=args.std,
-        height_std=args.height_std,
-        runs=args.runs,
-        seed=args.seed,
-        jobs=jobs,
-        max_steps=args.max_steps,
-    )
+    stored = {}
+    if out is not None:
+        from walker.storage import checkpoint_progress
+
+        # The runs' checkpoint: the scene file and the command; the estimate adds the rest.
+        scene_path = provenance(scene, out=out)["scene"]
+        stored = {"checkpoint": out, "overwrite": args.overwrite}
+        stored["provenance"] = {"scene": scene_path, "command": "mfpt"}
+        progress = None if args.overwrite else checkpoint_progress(out, verify=False)
+        if progress is not None:
+            say_resuming(out, *progress)
+    from walker.storage import CheckpointMismatch
+
+    client = None
+    if args.scheduler is not None:
+        from .sweep import connect_scheduler
+
+        client = connect_scheduler(args.scheduler)  # before any work; a UsageError if none
+    try:
+        result = monte_carlo(
+            P,
+            z0,
+            slope_std=args.std,
+            height_std=args.height_std,
+            runs=args.runs,
+            seed=args.seed,
+            jobs=jobs,
+            max_steps=args.max_steps,
+            chunk_runs=args.chunk_runs,
+            executor=client,
+            **stored,
+        )
+    except CheckpointMismatch as exc:
+        raise _resume_hint(exc) from None
+    finally:
+        if client is not None:
+            client.close()
     if args.markov:
         result.markov = markov_chain(P, z0, slope_std=args.std, seed=args.seed, jobs=jobs)
     record = {"scene": str(scene.path), "model": scene.model, **result.as_dict()}
     if out is not None:
-        extra = {"command": "mfpt", "jobs": jobs}
-        write_result(out, result, scene, args, extra)
+        from walker.storage import write
+
+        # The finished result replaces the runs' checkpoint (atomically).
+        prov = provenance(scene, {"command": "mfpt", "jobs": jobs}, out=out)
+        write(out, result, provenance=prov, overwrite=True)
     if args.json:
         print(_json(record))
     else:
@@ -146,6 +178,28 @@ def register(sub) -> None:
         action="store_true",
         help="also the Markov-chain MFPT 1/(1 - lambda_2) (slopes only; default: off)",
     )
+    p.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="dask.distributed scheduler address, e.g. tcp://host:8786: chunks of --chunk-runs "
+        "runs are its tasks, each on --jobs threads; the result is the same (default: none)",
+    )
+    p.add_argument(
+        "--chunk-runs",
+        type=int,
+        default=256,
+        help="runs per checkpoint chunk of --out and per --scheduler task (default: 256)",
+    )
     json_flag(p)
-    out_flags(p, "also store the result (HDF5, kind mfpt) in this file (default: none)")
+    p.add_argument(
+        "--out",
+        metavar="FILE",
+        help="also store the result (HDF5, kind mfpt) in this file; while the runs walk it is "
+        "their checkpoint: Ctrl-C keeps the finished chunks and the same command resumes "
+        "(default: none)",
+    )
+    p.add_argument(
+        "--overwrite", action="store_true", help="replace an existing --out instead of resuming"
+    )
     p.set_defaults(func=cmd_mfpt)

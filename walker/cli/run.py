@@ -102,6 +102,9 @@ def cmd_run(args) -> int:
                 extra["initial_state"] = [float(v) for v in scene.state]
             if not terrain.is_plane:
                 extra["terrain"] = terrain.as_dict()
+                # the rows of the steps the run stood on: `walker plot` draws its ground
+                used = common["terrain"][: sol.n_strides + 1]
+                extra["terrain_rows"] = [[float(a), float(b)] for a, b in used]
             write_result(out, sol, scene, args, extra)
     else:
         sol, pen = _blocks(scene, args, common, strides, out, depth)

@@ -46,6 +46,8 @@ def cmd_sweep(args) -> int:
         if value is not None and value < 1:
             raise UsageError(f"{flag} must be an integer >= 1, got {value}")
     _positive_flag(args.strides, "--strides", minimum=1, integer=True)
+    if args.gsn and args.kind != "fixed_point":
+        raise UsageError("--gsn needs --kind fixed_point (the norm of each point's gait)")
     overrides = _parse_set(args.set)
     scene = load_scene(args.scene, overrides=overrides)
     # The grid's size before anything is allocated for it, in the flag's words.
@@ -61,7 +63,9 @@ def cmd_sweep(args) -> int:
         raise UsageError(f"--set {both[0]}: the parameter is swept by --param; set it in one only")
     n_z = get_model(scene.model).n_z
     try:
-        check_grid_size(lengths, "--param", _bytes_per_point(args.kind, n_z, len(lengths)))
+        check_grid_size(
+            lengths, "--param", _bytes_per_point(args.kind, n_z, len(lengths), args.gsn)
+        )
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     _check_out(args.out, overwrite=args.overwrite, resumable=True, size=0)  # the store checks
@@ -88,6 +92,7 @@ def cmd_sweep(args) -> int:
             overwrite=args.overwrite,
             processes=getattr(args, "processes", False),
             overrides=overrides,
+            gsn=args.gsn,
         )
     except CheckpointMismatch as exc:
         raise _resume_hint(exc) from None
@@ -101,6 +106,8 @@ def cmd_sweep(args) -> int:
             raise UsageError(message.replace("`ranges`", "--param")) from None
         if message.startswith("grid point"):
             raise UsageError(f"--param: {message}") from None
+        if "`gsn`" in message:
+            raise UsageError(f"--gsn: {message}") from None
         raise
     n_ok = int(np.sum(table.columns["status"] == 0))
     jumps = ""
@@ -124,6 +131,7 @@ def run_sweep_command(
     overwrite: bool = False,
     processes: bool = False,
     overrides: Mapping[str, float] | None = None,
+    gsn: bool = False,
 ) -> SweepTable:
     """``walker sweep SCENE --param NAME=START:STOP:COUNT ... --out FILE.h5``.
 
@@ -166,6 +174,8 @@ def run_sweep_command(
         parameters set for the whole sweep (``--set NAME=VALUE``), as in
         :func:`walker.scene.load_scene`; the provenance records them among the base
         parameters.
+    gsn : bool
+        a fixed-point sweep's ``gsn`` column, as in :func:`~walker.sweep.sweep`.
 
     Returns
     -------
@@ -218,6 +228,7 @@ def run_sweep_command(
         overwrite=overwrite,
         provenance=provenance,
         tol=1e-10,
+        gsn=gsn,
     )
     if resuming:
         total = -(-len(plan.points) // plan.chunk)
@@ -364,6 +375,12 @@ def register(sub) -> None:
         type=int,
         default=1,
         help="fixed_point: the gait's period; outcome: strides run at each point",
+    )
+    p.add_argument(
+        "--gsn",
+        action="store_true",
+        help="fixed_point: also a column gsn, the gait sensitivity norm of each point's gait "
+        "(NaN where there is no stable period-one gait); makes the sweep 3-5 times slower",
     )
     jobs_option(p)
     p.add_argument(
