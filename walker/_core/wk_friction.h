@@ -219,4 +219,11 @@ typedef int64_t (*wk_friction_start_fn)(int64_t base, double *x, const double *p
 void wk_friction_after_base_reset(wk_friction_start_fn start, int64_t phase, double *x_new,
                                   const double *p, int64_t *out);
 
+/* A friction walker's reset at guard k of its base walker (k below the base walker's guard
+ * count): walker_reset, the base walker's reset (its plane or terrain one, with ctx), in
+ * base phase ``base``, then wk_friction_after_base_reset. */
+void wk_friction_base_reset(wk_reset_fn walker_reset, wk_friction_start_fn start, int64_t base,
+                            int64_t phase, int64_t k, double t, const double *x, const double *p,
+                            double *x_new, double *impulse, int64_t *out, void *ctx);
+
 #endif
