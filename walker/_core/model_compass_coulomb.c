@@ -82,19 +82,5 @@ WK_FRICTION_WALKER_ENTRY(compass_coulomb, compass, 4)
  * plane ones; the friction guards and resets unchanged. */
 #include "wk_terrain.h"
 
-static void terrain_guards(int64_t phase, double t, const double *x, const double *p,
-                           double *g, void *ctx)
-{
-    guards_on(wk_terrain_compass_guards, phase, t, x, p, g, ctx);
-}
-
-static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
-                          double *x_new, double *impulse, int64_t *out, void *ctx)
-{
-    reset_on(wk_terrain_compass_reset, phase, k, t, x, p, x_new, impulse, out, ctx);
-}
-
-const wk_terrain_entry wk_terrain_entry_compass_coulomb = {
-    "compass_coulomb", guards, WK_COMPASS_COULOMB_P_SLOPE, terrain_guards, terrain_reset, 0,
-    WK_COMPASS_COULOMB_P_FOOT_RADIUS, WK_COMPASS_COULOMB_N_P,
-};
+WK_FRICTION_WALKER_TERRAIN(compass_coulomb, compass, WK_COMPASS_COULOMB_P_SLOPE,
+                           WK_COMPASS_COULOMB_P_FOOT_RADIUS, WK_COMPASS_COULOMB_N_P)

@@ -146,19 +146,5 @@ WK_FRICTION_WALKER_ENTRY(kneed_coulomb, kneed, 6)
  * place of its plane ones; the friction guards and resets unchanged. */
 #include "wk_terrain.h"
 
-static void terrain_guards(int64_t phase, double t, const double *x, const double *p,
-                           double *g, void *ctx)
-{
-    guards_on(wk_terrain_kneed_guards, phase, t, x, p, g, ctx);
-}
-
-static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
-                          double *x_new, double *impulse, int64_t *out, void *ctx)
-{
-    reset_on(wk_terrain_kneed_reset, phase, k, t, x, p, x_new, impulse, out, ctx);
-}
-
-const wk_terrain_entry wk_terrain_entry_kneed_coulomb = {
-    "kneed_coulomb", guards, WK_KNEED_COULOMB_P_SLOPE, terrain_guards, terrain_reset, 0,
-    WK_KNEED_COULOMB_P_FOOT_RADIUS, WK_KNEED_COULOMB_N_P,
-};
+WK_FRICTION_WALKER_TERRAIN(kneed_coulomb, kneed, WK_KNEED_COULOMB_P_SLOPE,
+                           WK_KNEED_COULOMB_P_FOOT_RADIUS, WK_KNEED_COULOMB_N_P)
