@@ -204,20 +204,5 @@ static void terrain_reset(const compass_kernels *K, int64_t phase, int64_t k, co
                       wk_terrain_heel_strike_round(&K->base, swap, 2, x, p, T, x_new, impulse));
 }
 
-#define COMPASS_TERRAIN(name, KT)                                                             \
-    void wk_terrain_##name##_guards(int64_t phase, double t, const double *x, const double *p, \
-                                    double *g, void *ctx)                                    \
-    {                                                                                        \
-        (void)t;                                                                             \
-        terrain_guards(&KT, phase, x, p, g, (const wk_terrain *)ctx);                        \
-    }                                                                                        \
-    void wk_terrain_##name##_reset(int64_t phase, int64_t k, double t, const double *x,      \
-                                   const double *p, double *x_new, double *impulse,          \
-                                   int64_t *out, void *ctx)                                  \
-    {                                                                                        \
-        (void)t;                                                                             \
-        terrain_reset(&KT, phase, k, x, p, x_new, impulse, out, (const wk_terrain *)ctx);    \
-    }
-
-COMPASS_TERRAIN(compass, GENERAL)
-COMPASS_TERRAIN(compass_plain, PLAIN)
+WK_DEFINE_TERRAIN(compass, GENERAL)
+WK_DEFINE_TERRAIN(compass_plain, PLAIN)

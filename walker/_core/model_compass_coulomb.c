@@ -27,13 +27,20 @@ static const wk_friction_kernels KERNELS = {
 /* rhs and jac (wk_friction.h). */
 WK_FRICTION_ONE_BASE_FIELD(KERNELS, I_COULOMB)
 
+/* The guards over the compass gait's guards walker_guards (its plane or terrain ones). */
+static void guards_on(wk_guards_fn walker_guards, int64_t phase, double t, const double *x,
+                      const double *p, double *g, void *ctx)
+{
+    int64_t modes[N_JOINTS];
+    walker_guards(0, t, x, p, g, ctx);
+    wk_friction_decode(phase, modes, N_JOINTS);
+    wk_friction_phase_guards(&KERNELS, p + I_COULOMB, modes, x, p, g + N_BASE_GUARDS);
+}
+
 static void guards(int64_t phase, double t, const double *x, const double *p, double *g,
                    void *ctx)
 {
-    int64_t modes[N_JOINTS];
-    wk_model_compass_guards(0, t, x, p, g, ctx);
-    wk_friction_decode(phase, modes, N_JOINTS);
-    wk_friction_phase_guards(&KERNELS, p + I_COULOMB, modes, x, p, g + N_BASE_GUARDS);
+    guards_on(wk_model_compass_guards, phase, t, x, p, g, ctx);
 }
 
 /* Chooses both joints' modes for state x (velocities projected in place onto the stuck
@@ -46,18 +53,26 @@ static int64_t start(int64_t base, double *x, const double *p)
     return wk_friction_phase_start(&KERNELS, p + I_COULOMB, modes, 0, x, p);
 }
 
-static void reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
-                  double *x_new, double *impulse, int64_t *out, void *ctx)
+/* The reset over the compass gait's reset walker_reset (its plane or terrain one). */
+static void reset_on(wk_reset_fn walker_reset, int64_t phase, int64_t k, double t,
+                     const double *x, const double *p, double *x_new, double *impulse,
+                     int64_t *out, void *ctx)
 {
     if (k < N_BASE_GUARDS) {
-        wk_model_compass_reset(0, k, t, x, p, x_new, impulse, out, ctx);
-        wk_friction_after_base_reset(start, phase, x_new, p, out);
+        wk_friction_base_reset(walker_reset, start, 0, phase, k, t, x, p, x_new, impulse, out,
+                               ctx);
         return;
     }
     int64_t modes[N_JOINTS];
     wk_friction_decode(phase, modes, N_JOINTS);
     wk_friction_phase_reset(&KERNELS, p + I_COULOMB, modes, phase, 0, k - N_BASE_GUARDS, x, p,
                             x_new, out);
+}
+
+static void reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
+                  double *x_new, double *impulse, int64_t *out, void *ctx)
+{
+    reset_on(wk_model_compass_reset, phase, k, t, x, p, x_new, impulse, out, ctx);
 }
 
 /* start_phase; energy and drawing points are the compass gait's (model_compass.c). */
@@ -67,27 +82,5 @@ WK_FRICTION_WALKER_ENTRY(compass_coulomb, compass, 4)
  * plane ones; the friction guards and resets unchanged. */
 #include "wk_terrain.h"
 
-static void terrain_guards(int64_t phase, double t, const double *x, const double *p,
-                           double *g, void *ctx)
-{
-    int64_t modes[N_JOINTS];
-    wk_terrain_compass_guards(0, t, x, p, g, ctx);
-    wk_friction_decode(phase, modes, N_JOINTS);
-    wk_friction_phase_guards(&KERNELS, p + I_COULOMB, modes, x, p, g + N_BASE_GUARDS);
-}
-
-static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
-                          double *x_new, double *impulse, int64_t *out, void *ctx)
-{
-    if (k < N_BASE_GUARDS) {
-        wk_terrain_compass_reset(0, k, t, x, p, x_new, impulse, out, ctx);
-        wk_friction_after_base_reset(start, phase, x_new, p, out);
-        return;
-    }
-    reset(phase, k, t, x, p, x_new, impulse, out, NULL);
-}
-
-const wk_terrain_entry wk_terrain_entry_compass_coulomb = {
-    "compass_coulomb", guards, WK_COMPASS_COULOMB_P_SLOPE, terrain_guards, terrain_reset, 0,
-    WK_COMPASS_COULOMB_P_FOOT_RADIUS, WK_COMPASS_COULOMB_N_P,
-};
+WK_FRICTION_WALKER_TERRAIN(compass_coulomb, compass, WK_COMPASS_COULOMB_P_SLOPE,
+                           WK_COMPASS_COULOMB_P_FOOT_RADIUS, WK_COMPASS_COULOMB_N_P)

@@ -17,6 +17,7 @@
 #include "wk_kneed.h"
 #include "kneed.h"
 #include "kneed_plain.h"
+#include "wk_terrain.h"
 
 #define I_R WK_KNEED_P_FOOT_RADIUS
 #define I_SLOPE WK_KNEED_P_SLOPE
@@ -184,50 +185,110 @@ static int64_t heel_strike(const kneed_kernels *K, const double *x, const double
     return wk_plastic_heel_strike(&K->locked_base, swap, 3, x, p, p[I_SLOPE], x_new, impulse);
 }
 
+/* The terrain's swing foot (wk_terrain.h): its signed distance from the step's plane (the
+ * plane functions' height and distance ahead with the step's slope, plus h cos(gamma) for the
+ * plane h below the stance foot; round feet: wk_terrain_round_height), its distance ahead
+ * and its rate of approach [m, m, m/s]. */
+static void terrain_swing_foot(const double *x, const double *p, const wk_terrain *T,
+                               double *height, double *ahead, double *rate)
+{
+    double shank, thigh;
+    lengths(p, &shank, &thigh);
+    const wk_ground *G = &T->ground;
+    const double R = p[I_R], L = shank + thigh, gam = G->slope;
+    const double psi1 = x[0] + gam, psi2 = x[1] + gam, psi3 = x[2] + gam;
+    if (R == 0.0) {
+        *height = L * cos(psi1) - thigh * cos(psi2) - shank * cos(psi3) + G->drop * cos(gam);
+        *ahead = -L * sin(psi1) + thigh * sin(psi2) + shank * sin(psi3);
+        *rate = -L * sin(psi1) * x[3] + thigh * sin(psi2) * x[4] + shank * sin(psi3) * x[5];
+        return;
+    }
+    const double centres = (L - R) * cos(psi1) - thigh * cos(psi2) - (shank - R) * cos(psi3);
+    *height = wk_terrain_round_height(T, centres, x[0], R);
+    *ahead = -(L - R) * sin(psi1) + thigh * sin(psi2) + (shank - R) * sin(psi3);
+    *rate = -(L - R) * sin(psi1) * x[3] + thigh * sin(psi2) * x[4] +
+            (shank - R) * sin(psi3) * x[5] - R * x[3] * sin(gam - G->prev_slope);
+}
+
+/* The swing foot's (height, ahead, rate) [m, m, m/s] above the slope (T NULL) or above the
+ * step's plane of the terrain T. */
+static void contact(const double *x, const double *p, const wk_terrain *T, double *height,
+                    double *ahead, double *rate)
+{
+    if (T != NULL) {
+        terrain_swing_foot(x, p, T, height, ahead, rate);
+        return;
+    }
+    swing_foot(x, p, height, ahead);
+    *rate = swing_foot_rate(x, p);
+}
+
+/* The heel strike on terrain (knee locked): point or round feet. */
+static int64_t terrain_heel_strike(const kneed_kernels *K, const double *x, const double *p,
+                                   double *x_new, double *impulse, const wk_terrain *T)
+{
+    static const int swap[3] = {1, 0, 0};
+    if (p[I_R] == 0.0)
+        return wk_terrain_heel_strike(&K->locked_base, swap, 3, x, p, &T->ground, x_new, impulse);
+    return wk_terrain_heel_strike_round(&K->locked_base, swap, 3, x, p, T, x_new, impulse);
+}
+
+/* Heel strike on the slope (T NULL) or on the step's plane of the terrain T. */
+static int64_t strike(const kneed_kernels *K, const double *x, const double *p, double *x_new,
+                      double *impulse, const wk_terrain *T)
+{
+    if (T != NULL) return terrain_heel_strike(K, x, p, x_new, impulse, T);
+    return heel_strike(K, x, p, x_new, impulse);
+}
+
 /* Knee lock, followed in the same reset by heel strike when the swing foot is on the ground
  * (within the integrator's guard tolerance), ahead and moving down.  Under "trip" a foot
  * below the ground counts as on it; under "ignore" a foot deeper than the tolerance is
- * passing through the ground and heel strike waits for its next descent. */
+ * passing through the ground and heel strike waits for its next descent.  The ground is the
+ * slope (T NULL) or the step's plane of the terrain T. */
 static void knee_lock_event(const kneed_kernels *K, int64_t phase, const double *x,
-                            const double *p, double *x_new, double *impulse, int64_t *out)
+                            const double *p, double *x_new, double *impulse, int64_t *out,
+                            const wk_terrain *T)
 {
     int64_t status = knee_lock(K, x, p, x_new, impulse);
     if (status != 0) {
         wk_reset_out(out, WK_EVENT_TERMINAL, phase, status);
         return;
     }
-    double shank, thigh, height, ahead;
+    double shank, thigh, height, ahead, rate;
     lengths(p, &shank, &thigh);
-    swing_foot(x_new, p, &height, &ahead);
+    contact(x_new, p, T, &height, &ahead, &rate);
     int touching = height <= 1e-9 * (shank + thigh);
     if (K->ignore_scuff) touching = touching && height >= -1e-9 * (shank + thigh);
-    if (touching && ahead > WK_MIN_STEP * (shank + thigh) && swing_foot_rate(x_new, p) < 0) {
+    if (touching && ahead > WK_MIN_STEP * (shank + thigh) && rate < 0) {
         double locked[6];
         for (int i = 0; i < 6; i++) locked[i] = x_new[i];
-        wk_stride_out(out, 1, heel_strike(K, locked, p, x_new, impulse));
+        wk_stride_out(out, 1, strike(K, locked, p, x_new, impulse, T));
         return;
     }
     wk_reset_out(out, WK_EVENT_CONTINUE, 1, 0);
 }
 
-static void reset(const kneed_kernels *K, int64_t phase, int64_t k, const double *x,
-                  const double *p, double *x_new, double *impulse, int64_t *out)
+/* The reset on the slope (T NULL) or on the step's plane of the terrain T. */
+static void step_reset(const kneed_kernels *K, int64_t phase, int64_t k, const double *x,
+                       const double *p, double *x_new, double *impulse, int64_t *out,
+                       const wk_terrain *T)
 {
     for (int i = 0; i < 6; i++) x_new[i] = x[i];
     impulse[0] = 0.0;
     impulse[1] = 0.0;
     if (k == 0) {
-        knee_lock_event(K, phase, x, p, x_new, impulse, out);
+        knee_lock_event(K, phase, x, p, x_new, impulse, out, T);
         return;
     }
     if (k == 1) {
-        double height, ahead;
-        swing_foot(x, p, &height, &ahead);
+        double height, ahead, rate;
+        contact(x, p, T, &height, &ahead, &rate);
         if (phase == WK_KNEED_PHASE_UNLOCKED) {
             if (fabs(x[2] - x[1]) <= KNEE_TOL && ahead > min_step(p)) {
                 /* The knee locks at this same instant (its guard a hair behind): knee lock
                  * first, then heel strike, as when the knee-lock guard fires first. */
-                knee_lock_event(K, phase, x, p, x_new, impulse, out);
+                knee_lock_event(K, phase, x, p, x_new, impulse, out, T);
                 return;
             }
             if (K->ignore_scuff) {
@@ -242,10 +303,16 @@ static void reset(const kneed_kernels *K, int64_t phase, int64_t k, const double
         if (ahead <= min_step(p))
             wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
         else
-            wk_stride_out(out, phase, heel_strike(K, x, p, x_new, impulse));
+            wk_stride_out(out, phase, strike(K, x, p, x_new, impulse, T));
         return;
     }
     wk_fall_out(out, phase, k == WK_KNEED_GUARD_FALL_FORWARD);
+}
+
+static void reset(const kneed_kernels *K, int64_t phase, int64_t k, const double *x,
+                  const double *p, double *x_new, double *impulse, int64_t *out)
+{
+    step_reset(K, phase, k, x, p, x_new, impulse, out, NULL);
 }
 
 /* (kinetic, potential) [J]; valid in both phases (locked: q3 = q2, qd3 = qd2). */
@@ -297,44 +364,11 @@ WK_MODEL_FUSED(kneed_plain, PLAIN)
 WK_MODEL_FUSED(kneed_plain_ignore_scuff, PLAIN_IGNORE_SCUFF)
 
 /* ------------------------------------------------------------------------------------------
- * Terrain (wk_terrain.h), point feet: the swing foot's signed distance from the step's plane
- * (the plane functions' height and distance ahead with the step's slope, plus h cos(gamma)
- * for the plane h below the stance foot), knee lock then heel strike as on the plane, the
- * heel strike's impulse along and normal to the step's plane (wk_terrain_heel_strike).
+ * Terrain (wk_terrain.h): the guards with the swing foot's signed distance from the step's
+ * plane (terrain_swing_foot), the reset step_reset's on that plane: knee lock then heel
+ * strike as on the slope, the heel strike's impulse along and normal to the step's plane
+ * (wk_terrain_heel_strike, wk_terrain_heel_strike_round).
  * ------------------------------------------------------------------------------------------ */
-#include "wk_terrain.h"
-
-static void terrain_swing_foot(const double *x, const double *p, const wk_terrain *T,
-                               double *height, double *ahead, double *rate)
-{
-    double shank, thigh;
-    lengths(p, &shank, &thigh);
-    const wk_ground *G = &T->ground;
-    const double R = p[I_R], L = shank + thigh, gam = G->slope;
-    const double psi1 = x[0] + gam, psi2 = x[1] + gam, psi3 = x[2] + gam;
-    if (R == 0.0) {
-        *height = L * cos(psi1) - thigh * cos(psi2) - shank * cos(psi3) + G->drop * cos(gam);
-        *ahead = -L * sin(psi1) + thigh * sin(psi2) + shank * sin(psi3);
-        *rate = -L * sin(psi1) * x[3] + thigh * sin(psi2) * x[4] + shank * sin(psi3) * x[5];
-        return;
-    }
-    const double centres = (L - R) * cos(psi1) - thigh * cos(psi2) - (shank - R) * cos(psi3);
-    *height = wk_terrain_round_height(T, centres, x[0], R);
-    *ahead = -(L - R) * sin(psi1) + thigh * sin(psi2) + (shank - R) * sin(psi3);
-    *rate = -(L - R) * sin(psi1) * x[3] + thigh * sin(psi2) * x[4] +
-            (shank - R) * sin(psi3) * x[5] - R * x[3] * sin(gam - G->prev_slope);
-}
-
-/* The heel strike on terrain (knee locked): point or round feet. */
-static int64_t terrain_heel_strike(const kneed_kernels *K, const double *x, const double *p,
-                                   double *x_new, double *impulse, const wk_terrain *T)
-{
-    static const int swap[3] = {1, 0, 0};
-    if (p[I_R] == 0.0)
-        return wk_terrain_heel_strike(&K->locked_base, swap, 3, x, p, &T->ground, x_new, impulse);
-    return wk_terrain_heel_strike_round(&K->locked_base, swap, 3, x, p, T, x_new, impulse);
-}
-
 static void terrain_guards(const kneed_kernels *K, int64_t phase, const double *x,
                            const double *p, double *g, const wk_terrain *T)
 {
@@ -359,80 +393,14 @@ static void terrain_guards(const kneed_kernels *K, int64_t phase, const double *
     g[WK_KNEED_GUARD_FALL_BACKWARD] = psi1 - WK_FALL_ANGLE;
 }
 
-static void terrain_knee_lock_event(const kneed_kernels *K, int64_t phase, const double *x,
-                                    const double *p, double *x_new, double *impulse,
-                                    int64_t *out, const wk_terrain *T)
-{
-    int64_t status = knee_lock(K, x, p, x_new, impulse);
-    if (status != 0) {
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, status);
-        return;
-    }
-    double shank, thigh, height, ahead, rate;
-    lengths(p, &shank, &thigh);
-    terrain_swing_foot(x_new, p, T, &height, &ahead, &rate);
-    int touching = height <= 1e-9 * (shank + thigh);
-    if (K->ignore_scuff) touching = touching && height >= -1e-9 * (shank + thigh);
-    if (touching && ahead > WK_MIN_STEP * (shank + thigh) && rate < 0) {
-        double locked[6];
-        for (int i = 0; i < 6; i++) locked[i] = x_new[i];
-        wk_stride_out(out, 1, terrain_heel_strike(K, locked, p, x_new, impulse, T));
-        return;
-    }
-    wk_reset_out(out, WK_EVENT_CONTINUE, 1, 0);
-}
-
 static void terrain_reset(const kneed_kernels *K, int64_t phase, int64_t k, const double *x,
                           const double *p, double *x_new, double *impulse, int64_t *out,
                           const wk_terrain *T)
 {
-    if (T->ground.plane || k > 1) {
-        reset(K, phase, k, x, p, x_new, impulse, out);
-        return;
-    }
-    for (int i = 0; i < 6; i++) x_new[i] = x[i];
-    impulse[0] = 0.0;
-    impulse[1] = 0.0;
-    if (k == 0) {
-        terrain_knee_lock_event(K, phase, x, p, x_new, impulse, out, T);
-        return;
-    }
-    double height, ahead, rate;
-    terrain_swing_foot(x, p, T, &height, &ahead, &rate);
-    if (phase == WK_KNEED_PHASE_UNLOCKED) {
-        if (fabs(x[2] - x[1]) <= KNEE_TOL && ahead > min_step(p)) {
-            terrain_knee_lock_event(K, phase, x, p, x_new, impulse, out, T);
-            return;
-        }
-        if (K->ignore_scuff) {
-            wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
-            return;
-        }
-        wk_reset_out(out, WK_EVENT_TERMINAL, phase, WK_TRIPPED);
-        return;
-    }
-    if (ahead <= min_step(p))
-        wk_reset_out(out, WK_EVENT_IGNORE, phase, 0);
-    else
-        wk_stride_out(out, phase, terrain_heel_strike(K, x, p, x_new, impulse, T));
+    step_reset(K, phase, k, x, p, x_new, impulse, out, T->ground.plane ? NULL : T);
 }
 
-#define KNEED_TERRAIN(name, KT)                                                               \
-    void wk_terrain_##name##_guards(int64_t phase, double t, const double *x, const double *p, \
-                                    double *g, void *ctx)                                    \
-    {                                                                                        \
-        (void)t;                                                                             \
-        terrain_guards(&KT, phase, x, p, g, (const wk_terrain *)ctx);                        \
-    }                                                                                        \
-    void wk_terrain_##name##_reset(int64_t phase, int64_t k, double t, const double *x,      \
-                                   const double *p, double *x_new, double *impulse,          \
-                                   int64_t *out, void *ctx)                                  \
-    {                                                                                        \
-        (void)t;                                                                             \
-        terrain_reset(&KT, phase, k, x, p, x_new, impulse, out, (const wk_terrain *)ctx);    \
-    }
-
-KNEED_TERRAIN(kneed, GENERAL)
-KNEED_TERRAIN(kneed_plain, PLAIN)
-KNEED_TERRAIN(kneed_ignore_scuff, GENERAL_IGNORE_SCUFF)
-KNEED_TERRAIN(kneed_plain_ignore_scuff, PLAIN_IGNORE_SCUFF)
+WK_DEFINE_TERRAIN(kneed, GENERAL)
+WK_DEFINE_TERRAIN(kneed_plain, PLAIN)
+WK_DEFINE_TERRAIN(kneed_ignore_scuff, GENERAL_IGNORE_SCUFF)
+WK_DEFINE_TERRAIN(kneed_plain_ignore_scuff, PLAIN_IGNORE_SCUFF)

@@ -82,17 +82,24 @@ static void phase_jac(const wk_friction_kernels *K, const double *F, int64_t pha
 WK_FRICTION_PHASE_FUNCTION(rhs, phase_rhs, KERNELS[0], I_COULOMB)
 WK_FRICTION_PHASE_FUNCTION(jac, phase_jac, KERNELS[0], I_COULOMB)
 
-static void guards(int64_t phase, double t, const double *x, const double *p, double *g,
-                   void *ctx)
+/* The guards over the kneed walker's guards walker_guards (its plane or terrain ones). */
+static void guards_on(wk_guards_fn walker_guards, int64_t phase, double t, const double *x,
+                      const double *p, double *g, void *ctx)
 {
     int64_t modes[3];
     int base = split(phase, modes);
-    wk_model_kneed_guards(base, t, x, p, g, ctx);
+    walker_guards(base, t, x, p, g, ctx);
     wk_friction_phase_guards(&KERNELS[base], p + I_COULOMB, modes, x, p, g + N_BASE_GUARDS);
     if (base == LOCKED) {
         g[WK_KNEED_COULOMB_GUARD_KNEE_SLIP_STOPS] = 1.0;
         g[WK_KNEED_COULOMB_GUARD_KNEE_STICK_BREAKS] = 1.0;
     }
+}
+
+static void guards(int64_t phase, double t, const double *x, const double *p, double *g,
+                   void *ctx)
+{
+    guards_on(wk_model_kneed_guards, phase, t, x, p, g, ctx);
 }
 
 /* Chooses every joint's mode for state x of base phase base (velocities projected in
@@ -106,14 +113,16 @@ static int64_t start(int64_t base, double *x, const double *p)
     return new_phase;
 }
 
-static void reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
-                  double *x_new, double *impulse, int64_t *out, void *ctx)
+/* The reset over the kneed walker's reset walker_reset (its plane or terrain one). */
+static void reset_on(wk_reset_fn walker_reset, int64_t phase, int64_t k, double t,
+                     const double *x, const double *p, double *x_new, double *impulse,
+                     int64_t *out, void *ctx)
 {
     int64_t modes[3];
     int base = split(phase, modes);
     if (k < N_BASE_GUARDS) {
-        wk_model_kneed_reset(base, k, t, x, p, x_new, impulse, out, ctx);
-        wk_friction_after_base_reset(start, phase, x_new, p, out);
+        wk_friction_base_reset(walker_reset, start, base, phase, k, t, x, p, x_new, impulse,
+                               out, ctx);
         return;
     }
     int64_t offset = base == LOCKED ? N_UNLOCKED : 0;
@@ -121,6 +130,12 @@ static void reset(int64_t phase, int64_t k, double t, const double *x, const dou
                                 k - N_BASE_GUARDS, x, p, x_new, out) &&
         base == LOCKED)
         x_new[5] = x_new[4];
+}
+
+static void reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
+                  double *x_new, double *impulse, int64_t *out, void *ctx)
+{
+    reset_on(wk_model_kneed_reset, phase, k, t, x, p, x_new, impulse, out, ctx);
 }
 
 /* start_phase (in the unlocked phase); energy and drawing points are the kneed walker's
@@ -131,33 +146,5 @@ WK_FRICTION_WALKER_ENTRY(kneed_coulomb, kneed, 6)
  * place of its plane ones; the friction guards and resets unchanged. */
 #include "wk_terrain.h"
 
-static void terrain_guards(int64_t phase, double t, const double *x, const double *p,
-                           double *g, void *ctx)
-{
-    int64_t modes[3];
-    int base = split(phase, modes);
-    wk_terrain_kneed_guards(base, t, x, p, g, ctx);
-    wk_friction_phase_guards(&KERNELS[base], p + I_COULOMB, modes, x, p, g + N_BASE_GUARDS);
-    if (base == LOCKED) {
-        g[WK_KNEED_COULOMB_GUARD_KNEE_SLIP_STOPS] = 1.0;
-        g[WK_KNEED_COULOMB_GUARD_KNEE_STICK_BREAKS] = 1.0;
-    }
-}
-
-static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, const double *p,
-                          double *x_new, double *impulse, int64_t *out, void *ctx)
-{
-    int64_t modes[3];
-    int base = split(phase, modes);
-    if (k < N_BASE_GUARDS) {
-        wk_terrain_kneed_reset(base, k, t, x, p, x_new, impulse, out, ctx);
-        wk_friction_after_base_reset(start, phase, x_new, p, out);
-        return;
-    }
-    reset(phase, k, t, x, p, x_new, impulse, out, NULL);
-}
-
-const wk_terrain_entry wk_terrain_entry_kneed_coulomb = {
-    "kneed_coulomb", guards, WK_KNEED_COULOMB_P_SLOPE, terrain_guards, terrain_reset, 0,
-    WK_KNEED_COULOMB_P_FOOT_RADIUS, WK_KNEED_COULOMB_N_P,
-};
+WK_FRICTION_WALKER_TERRAIN(kneed_coulomb, kneed, WK_KNEED_COULOMB_P_SLOPE,
+                           WK_KNEED_COULOMB_P_FOOT_RADIUS, WK_KNEED_COULOMB_N_P)

@@ -477,3 +477,11 @@ void wk_friction_after_base_reset(wk_friction_start_fn start, int64_t phase, dou
     }
     wk_reset_out(out, action, new_phase, status);
 }
+
+void wk_friction_base_reset(wk_reset_fn walker_reset, wk_friction_start_fn start, int64_t base,
+                            int64_t phase, int64_t k, double t, const double *x, const double *p,
+                            double *x_new, double *impulse, int64_t *out, void *ctx)
+{
+    walker_reset(base, k, t, x, p, x_new, impulse, out, ctx);
+    wk_friction_after_base_reset(start, phase, x_new, p, out);
+}

@@ -219,4 +219,33 @@ typedef int64_t (*wk_friction_start_fn)(int64_t base, double *x, const double *p
 void wk_friction_after_base_reset(wk_friction_start_fn start, int64_t phase, double *x_new,
                                   const double *p, int64_t *out);
 
+/* A friction walker's reset at guard k of its base walker (k below the base walker's guard
+ * count): walker_reset, the base walker's reset (its plane or terrain one, with ctx), in
+ * base phase ``base``, then wk_friction_after_base_reset. */
+void wk_friction_base_reset(wk_reset_fn walker_reset, wk_friction_start_fn start, int64_t base,
+                            int64_t phase, int64_t k, double t, const double *x, const double *p,
+                            double *x_new, double *impulse, int64_t *out, void *ctx);
+
+/* Defines the terrain entry wk_terrain_entry_<name> (wk_terrain.h, included before) of the
+ * friction walker ``name`` on the walker ``base``: its terrain guards and reset are the model
+ * file's static guards_on(walker_guards, phase, t, x, p, g, ctx) and
+ * reset_on(walker_reset, phase, k, t, x, p, x_new, impulse, out, ctx) over
+ * wk_terrain_<base>_guards and wk_terrain_<base>_reset; its plane guards (the key) the file's
+ * static guards; slope_index, radius_index and n_params as in wk_terrain_entry. */
+#define WK_FRICTION_WALKER_TERRAIN(name, base, slope_index, radius_index, n_params)           \
+    static void terrain_guards(int64_t phase, double t, const double *x, const double *p,    \
+                               double *g, void *ctx)                                         \
+    {                                                                                        \
+        guards_on(wk_terrain_##base##_guards, phase, t, x, p, g, ctx);                       \
+    }                                                                                        \
+    static void terrain_reset(int64_t phase, int64_t k, double t, const double *x,           \
+                              const double *p, double *x_new, double *impulse, int64_t *out, \
+                              void *ctx)                                                     \
+    {                                                                                        \
+        reset_on(wk_terrain_##base##_reset, phase, k, t, x, p, x_new, impulse, out, ctx);    \
+    }                                                                                        \
+    const wk_terrain_entry wk_terrain_entry_##name = {                                       \
+        #name, guards, slope_index, terrain_guards, terrain_reset, 0, radius_index, n_params, \
+    };
+
 #endif

@@ -183,23 +183,38 @@ int64_t wk_terrain_heel_strike(const wk_floating_base *B, const int *swap, int n
                                double *x_new, double *impulse);
 
 /* The model terrain functions (defined in the model files). */
-void wk_terrain_rimless_wheel_guards(int64_t phase, double t, const double *x, const double *p,
-                                     double *g, void *ctx);
-void wk_terrain_rimless_wheel_reset(int64_t phase, int64_t k, double t, const double *x,
-                                    const double *p, double *x_new, double *impulse,
-                                    int64_t *out, void *ctx);
 #define WK_DECLARE_TERRAIN(name)                                                             \
     void wk_terrain_##name##_guards(int64_t phase, double t, const double *x, const double *p, \
                                     double *g, void *ctx);                                   \
     void wk_terrain_##name##_reset(int64_t phase, int64_t k, double t, const double *x,      \
                                    const double *p, double *x_new, double *impulse,          \
                                    int64_t *out, void *ctx);
+
+/* Defines wk_terrain_<name>_guards and _reset (declared by WK_DECLARE_TERRAIN) for a model
+ * file whose static terrain_guards(K, phase, x, p, g, T) and
+ * terrain_reset(K, phase, k, x, p, x_new, impulse, out, T) take its kernels K (here &KT, a
+ * static table of the file) and the wk_terrain T (the ctx). */
+#define WK_DEFINE_TERRAIN(name, KT)                                                           \
+    void wk_terrain_##name##_guards(int64_t phase, double t, const double *x, const double *p, \
+                                    double *g, void *ctx)                                    \
+    {                                                                                        \
+        (void)t;                                                                             \
+        terrain_guards(&KT, phase, x, p, g, (const wk_terrain *)ctx);                        \
+    }                                                                                        \
+    void wk_terrain_##name##_reset(int64_t phase, int64_t k, double t, const double *x,      \
+                                   const double *p, double *x_new, double *impulse,          \
+                                   int64_t *out, void *ctx)                                  \
+    {                                                                                        \
+        (void)t;                                                                             \
+        terrain_reset(&KT, phase, k, x, p, x_new, impulse, out, (const wk_terrain *)ctx);    \
+    }
 /* Entries written in their model files (their plane guards are static there). */
 extern const wk_terrain_entry wk_terrain_entry_compass_coulomb;
 extern const wk_terrain_entry wk_terrain_entry_kneed_coulomb;
 extern const wk_terrain_entry wk_terrain_entry_three_link;
 extern const wk_terrain_entry wk_terrain_entry_five_link;
 
+WK_DECLARE_TERRAIN(rimless_wheel)
 WK_DECLARE_TERRAIN(simplest)
 WK_DECLARE_TERRAIN(compass)
 WK_DECLARE_TERRAIN(compass_plain)

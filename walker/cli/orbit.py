@@ -232,38 +232,29 @@ def _blocks(args, scene, P, z0, values, coordinate, chains, names, start_gait):
         )
     except CheckpointMismatch as exc:
         raise _resume_hint(exc) from None
-    executor = None
+
+    def run(executor, jobs=None):
+        return orbit_diagram_blocks(
+            P,
+            z0,
+            values,
+            n_transient=args.transient,
+            n_keep=args.strides,
+            coordinate=coordinate,
+            chains=chains,
+            block=block,
+            executor=executor,
+            jobs=jobs,
+            store=store,
+            progress=not args.quiet,
+        )
+
     if args.scheduler is not None:
         from .sweep import connect_scheduler
 
         with connect_scheduler(args.scheduler) as client:
-            return orbit_diagram_blocks(
-                P,
-                z0,
-                values,
-                n_transient=args.transient,
-                n_keep=args.strides,
-                coordinate=coordinate,
-                chains=chains,
-                block=block,
-                executor=client,
-                store=store,
-                progress=not args.quiet,
-            )
-    return orbit_diagram_blocks(
-        P,
-        z0,
-        values,
-        n_transient=args.transient,
-        n_keep=args.strides,
-        coordinate=coordinate,
-        chains=chains,
-        block=block,
-        executor=executor,
-        jobs=args.jobs,
-        store=store,
-        progress=not args.quiet,
-    )
+            return run(client)
+    return run(None, args.jobs)
 
 
 def _remove_checkpoint(out) -> None:
