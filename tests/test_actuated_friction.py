@@ -38,7 +38,6 @@ from _chains import (
 )
 from _joint_torques import joint_torques
 from numpy.testing import assert_allclose
-from test_params import BOUND_CASES
 
 from walker import friction as fr
 from walker import hzd
@@ -354,11 +353,13 @@ def test_newton_euler_five_link_with_friction():
 
 
 # ------------------------------------------------------------------------------ bad input
-# test_params's bound cases of the joint dampers and frictions; here also through from_dict
+# every joint damper and friction of the actuated walkers, below its bound (>= 0); here
+# also through from_dict
 BAD_FRICTION = [
-    (cls, field, value, message)
-    for cls, field, value, message in BOUND_CASES
-    if cls in (ThreeLinkParams, FiveLinkParams) and field.startswith(("damping_", "coulomb_"))
+    (cls, name, -0.1, rf"`{name}` must be >= 0 \[")
+    for cls in (ThreeLinkParams, FiveLinkParams)
+    for name in cls.names()
+    if name.startswith(("damping_", "coulomb_"))
 ]
 
 
