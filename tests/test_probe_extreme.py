@@ -81,6 +81,20 @@ def test_a_period_of_a_million_strides_is_refused(tmp_path, capsys):
     assert err.startswith("walker: error: --period (the period searched) must be <= 100,000")
 
 
+def test_a_starting_step_that_is_nan_ends_the_run(capsys):
+    """g = 6.8e113 with a Bezier coefficient of 2.7e207 (found by tests/test_probe_stress.py)
+    gives a non-finite starting rate, hence a NaN starting step, which ``h < min_step`` let
+    through: 1e6 rejected steps at t = 0 until MAX_STEPS.  It now ends at once in NONFINITE
+    (walker/_core/hybrid.c)."""
+    five_link = str(GAITS / "five_link_hzd.toml")
+    sets = ["--set", "g=6.81234928876103e+113", "--set", "bezier_tibia_1=2.655330579761565e+207"]
+    code = main(["run", five_link, "--strides", "3", *sets])
+    out, err = capsys.readouterr()
+    assert code == 1, err
+    assert "status NONFINITE" in out
+    assert "(0 rejected)" in out
+
+
 @pytest.mark.slow
 def test_the_five_link_walker_at_g_1e12_ends_with_an_outcome(capsys):
     """Ends with the plain stride's fall (FELL_BACKWARD, exit 1): the guess's stride fails
