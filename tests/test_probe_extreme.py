@@ -61,6 +61,16 @@ def test_parameters_at_their_bounds_end_with_an_outcome(capsys, argv, codes):
     assert "internal error" not in err
 
 
+def test_the_double_pendulum_without_gravity_runs(capsys):
+    """g = 0 is allowed for the double pendulum (found by tests/test_probe_stress.py: a
+    ZeroDivisionError, exit 3, in the time scale sqrt(length / g), now infinite)."""
+    scene = str(GAITS / "double_pendulum.toml")
+    code = main(["run", scene, "--strides", "3", "--set", "g=0.0", "--set", "com_2=0.0"])
+    out, err = capsys.readouterr()
+    assert code in (0, 1), err
+    assert "internal error" not in err
+
+
 def test_a_huge_t_max_runs(tmp_path, capsys):
     code, err = _find(capsys, [_scene(tmp_path, "compass_goswami", t_max="1e308")])
     assert code == 0, err  # the budget is clamped; the gait's stride ends long before

@@ -89,12 +89,15 @@ def time_scale(params) -> float:
     Raises ValueError when it is not a positive finite float (the quotient under- or
     overflows: ``leg_length = 4e-208`` with ``g = 2e233``), since the step budgets, the
     walking region's rate scale and the search's tolerances are all measured in it.
+    ``inf`` for ``g = 0`` (allowed for the double pendulum only).
     """
     length = getattr(params, "leg_length", None)
     name = "leg_length"
     if length is None:
         length = getattr(params, "length_1", 1.0) + getattr(params, "length_2", 0.0)
         name = "length_1 + length_2"
+    if params.g == 0.0:  # allowed for the double pendulum: no gravity, no time unit
+        return math.inf
     scale = float(np.sqrt(length / params.g))
     if not (math.isfinite(scale) and scale > 0.0):
         raise ValueError(
