@@ -176,13 +176,39 @@ def test_failing_coarse_stride_is_redone_at_the_own_tolerance(monkeypatch):
 
     monkeypatch.setattr(StrideMap, "__call__", coarse_falls)
     ev = newton._Evaluator(P, 1, None, 10, 1e-12, True)
-    assert ev.glance(z0) is None  # no coarse look: the guess gets the map's own tolerance
+    assert np.isnan(ev.glance(z0))  # the coarse stride failed: the guess gets the map's own
     assert ev.n_evals == 1  # the glance counts
     f, res = ev.residual(z0, True, expect=1.0)
     assert res.success and f is not None and ev.n_evals == 3
     assert seen == [1e-6, 1e-6, P.rtol]
     fp = find_fixed_point(P, z0)
     assert fp.success and fp.residual <= 1e-12
+
+
+def test_a_guess_whose_strides_fail_ends_without_a_jacobian_run(monkeypatch):
+    """When the glance's coarse stride fails, the search confirms the failure at the map's
+    own tolerance without the Jacobian and ends there (START_FAILS with that stride's
+    status): no variational run, which can cost far more (issue 33: the five-link walker at
+    g = 1e12).  The Python search (walker.newton._search); the compiled one does the same
+    (tests/test_compiled_search.py, tests/test_probe_extreme.py)."""
+    from walker.results import MapResult
+    from walker.status import Status
+
+    P, z0 = _scene_map("kneed_hsu.toml")
+    calls = []
+
+    def falls(self, z, **kwargs):
+        calls.append((self.rtol, bool(kwargs.get("jacobian", False))))
+        nan = np.full(3, np.nan)
+        return MapResult(Status.FELL_FORWARD, nan, None, 0.0, np.full(6, np.nan))
+
+    monkeypatch.setattr(StrideMap, "__call__", falls)
+    ev = newton._Evaluator(P, 1, None, 10, 1e-12, True)
+    state = {"z": z0.copy(), "history": [], "it": 0}
+    res = newton._search(ev, z0, state, None, 1e-12, 20, "exact", None, False)
+    assert res.status == Status.FELL_FORWARD and not res.success
+    assert calls == [(1e-6, False), (P.rtol, False)]
+    assert ev.n_evals == 2
 
 
 def test_glance_counts_and_is_skipped_on_a_tight_budget(rtols):

@@ -49,12 +49,25 @@ def _find(capsys, argv):
             [SIMPLEST, "--set", "g=1e12", "--set", "damping_ankle=1e6", "--set", "leg_length=1e-6"],
             (1,),
         ),
+        # found by tests/test_probe_stress.py: leg_length / g underflows to 0, so the time
+        # scale (the unit of the step budgets) is 0 s; refused naming both keys
+        ([SIMPLEST, "--set", "g=1.8e233", "--set", "leg_length=4.3e-208"], (2,)),
     ],
-    ids=["compass_g_1e300", "simplest_leg_5e-324", "simplest_runaway"],
+    ids=["compass_g_1e300", "simplest_leg_5e-324", "simplest_runaway", "simplest_scale_0"],
 )
 def test_parameters_at_their_bounds_end_with_an_outcome(capsys, argv, codes):
     code, err = _find(capsys, argv)
     assert code in codes, err
+    assert "internal error" not in err
+
+
+def test_the_double_pendulum_without_gravity_runs(capsys):
+    """g = 0 is allowed for the double pendulum (found by tests/test_probe_stress.py: a
+    ZeroDivisionError, exit 3, in the time scale sqrt(length / g), now infinite)."""
+    scene = str(GAITS / "double_pendulum.toml")
+    code = main(["run", scene, "--strides", "3", "--set", "g=0.0", "--set", "com_2=0.0"])
+    out, err = capsys.readouterr()
+    assert code in (0, 1), err
     assert "internal error" not in err
 
 
@@ -81,10 +94,27 @@ def test_a_period_of_a_million_strides_is_refused(tmp_path, capsys):
     assert err.startswith("walker: error: --period (the period searched) must be <= 100,000")
 
 
+def test_a_starting_step_that_is_nan_ends_the_run(capsys):
+    """g = 6.8e113 with a Bezier coefficient of 2.7e207 (found by tests/test_probe_stress.py)
+    gives a non-finite starting rate, hence a NaN starting step, which ``h < min_step`` let
+    through: 1e6 rejected steps at t = 0 until MAX_STEPS.  It now ends at once in NONFINITE
+    (walker/_core/hybrid.c)."""
+    five_link = str(GAITS / "five_link_hzd.toml")
+    sets = ["--set", "g=6.81234928876103e+113", "--set", "bezier_tibia_1=2.655330579761565e+207"]
+    code = main(["run", five_link, "--strides", "3", *sets])
+    out, err = capsys.readouterr()
+    assert code == 1, err
+    assert "status NONFINITE" in out
+    assert "(0 rejected)" in out
+
+
 @pytest.mark.slow
 def test_the_five_link_walker_at_g_1e12_ends_with_an_outcome(capsys):
-    """Ends within its budgets (START_FAILS after the clamped step budget of its first
-    evaluation), but slowly: the variational equations at rtol 1e-12 take about 1 ms a step
-    here, and the budget is 1e5 steps."""
-    code, err = _find(capsys, [str(GAITS / "five_link_hzd.toml"), "--set", "g=1e12"])
-    assert code in (0, 1), err
+    """Ends with the plain stride's fall (FELL_BACKWARD, exit 1): the guess's stride fails
+    at the coarsest tolerance, so the search confirms it at the scene's own tolerance
+    without the Jacobian (244 steps) before any variational run, which here runs to its
+    clamped budget of 1e5 steps at about 1 ms a step (walker.newton._search)."""
+    code = main(["find", str(GAITS / "five_link_hzd.toml"), "--set", "g=1e12"])
+    out, err = capsys.readouterr()
+    assert code == 1, err
+    assert "FELL_BACKWARD" in out

@@ -84,11 +84,28 @@ def short_repr(value) -> str:
 
 
 def time_scale(params) -> float:
-    """sqrt(leg length / g) [s], the natural time unit of a walker."""
+    """sqrt(leg length / g) [s], the natural time unit of a walker.
+
+    Raises ValueError when it is not a positive finite float (the quotient under- or
+    overflows: ``leg_length = 4e-208`` with ``g = 2e233``), since the step budgets, the
+    walking region's rate scale and the search's tolerances are all measured in it.
+    ``inf`` for ``g = 0`` (allowed for the double pendulum only).
+    """
     length = getattr(params, "leg_length", None)
+    name = "leg_length"
     if length is None:
         length = getattr(params, "length_1", 1.0) + getattr(params, "length_2", 0.0)
-    return float(np.sqrt(length / params.g))
+        name = "length_1 + length_2"
+    if params.g == 0.0:  # allowed for the double pendulum: no gravity, no time unit
+        return math.inf
+    scale = float(np.sqrt(length / params.g))
+    if not (math.isfinite(scale) and scale > 0.0):
+        raise ValueError(
+            f"`{name}` = {length:g} m and `g` = {params.g:g} m/s^2 give a time scale "
+            f"sqrt({name} / g) = {scale:g} s, outside the floating-point range; bring them "
+            f"closer together ({name} / g must lie between about 5e-324 and 1.8e308 s^2)"
+        )
+    return scale
 
 
 def positive(value, name: str, unit: str = "") -> float:

@@ -236,15 +236,15 @@ class _Evaluator:
 
     def glance(self, z):
         """``max|F(z)|`` from one stride at ``COARSEST_RTOL`` without the Jacobian (counted;
-        None when that stride fails, when no coarse map exists or when the budget cannot
-        spare it besides the guess's evaluation): what the guess's first evaluation needs
-        to pick its tolerance."""
+        NaN when that stride fails; None, uncounted, when no coarse map exists or when the
+        budget cannot spare it besides the guess's evaluation): what the guess's first
+        evaluation needs to pick its tolerance."""
         coarse = self._coarse_map(1.0)
         if coarse is None or self.n_evals + 2 > self.max_evals:
             return None
         self._spend(1)
         f, _ = _residual(coarse, z, self.period, self.parameter)
-        return None if f is None else _max_abs(f)
+        return math.nan if f is None else _max_abs(f)
 
     def residual(self, z, with_jacobian=False, expect=None):
         """``F(z)`` and the map result, at the tolerance chosen for the residual ``expect``
@@ -444,7 +444,15 @@ def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
         why = region.outside(z)
         if why is not None:
             return _outside_guess(z, why)
-    f, res = ev.residual(z, with_jacobian=exact, expect=ev.glance(z))
+    expect = ev.glance(z)
+    if exact and expect is not None and math.isnan(expect):
+        # the guess's stride fails at the coarsest rtol: confirmed at the map's own without
+        # the Jacobian first, since a variational run costs n_z + 1 plain ones a step or far
+        # more (five-link at g = 1e12: 1e5 steps of 1 ms to MAX_STEPS; plain: a fall, 244)
+        f, res = ev.residual(z)
+        if f is None:
+            return _start_fails(period, res.status, z)
+    f, res = ev.residual(z, with_jacobian=exact, expect=expect)
     jac_here = _usable_jacobian(res) if exact else None
     res_here = res
     if f is None:

@@ -336,8 +336,11 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
             last = 1;
         }
         const double min_step = 10.0 * spacing(fabs(t));
-        if (adaptive && h < min_step) {
-            status = nonfinite_seen ? ST_NONFINITE : ST_STEP_UNDERFLOW;
+        /* !(h >= min_step): a NaN step size (a starting step from a non-finite rate, e.g.
+         * parameters near their bounds) ends the run too, instead of being rejected until
+         * max_steps (issue 33) */
+        if (adaptive && !(h >= min_step)) {
+            status = nonfinite_seen || isnan(h) ? ST_NONFINITE : ST_STEP_UNDERFLOW;
             break;
         }
         /* ---- one step ---- */

@@ -185,10 +185,12 @@ static double coarse_level(const search *s, int have_expect, double expect)
 }
 
 /* _Evaluator.glance: *have 0 when there is no coarse map, no room in the budget or the
- * stride fails. */
-static int glance(search *s, const double *z, evaluation *e, double *f, int *have, double *r)
+ * stride fails; *failed 1 when the stride fails (glance_failed). */
+static int glance(search *s, const double *z, evaluation *e, double *f, int *have, double *r,
+                  int *failed)
 {
     *have = 0;
+    *failed = 0;
     const double level = coarse_level(s, 1, 1.0);
     if (level == 0.0 || s->n_evals + 2 > s->set->max_evals) return 0;
     int rc = spend(s, 1), ok = 0;
@@ -198,6 +200,7 @@ static int glance(search *s, const double *z, evaluation *e, double *f, int *hav
         *have = 1;
         *r = max_abs(f, s->n_z);
     }
+    *failed = !ok;
     return 0;
 }
 
@@ -294,9 +297,19 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
         out->end = WK_SEARCH_OUTSIDE_GUESS;
         return 0;
     }
-    int have_glance = 0;
+    int have_glance = 0, glance_failed = 0;
     double glanced = 0.0;
-    if ((rc = glance(s, z, here, f, &have_glance, &glanced))) return rc;
+    if ((rc = glance(s, z, here, f, &have_glance, &glanced, &glance_failed))) return rc;
+    if (glance_failed) {
+        /* newton._search: a stride failing at the coarsest tolerance is confirmed at the
+         * map's own without the Jacobian first */
+        if ((rc = residual(s, z, 0, 0, 0.0, here, f, &ok))) return rc;
+        if (!ok) {
+            out->end = WK_SEARCH_START_FAILS;
+            out->status = here->status;
+            return 0;
+        }
+    }
     if ((rc = residual(s, z, 1, have_glance, glanced, here, f, &ok))) return rc;
     if (!ok) {
         out->end = WK_SEARCH_START_FAILS;
