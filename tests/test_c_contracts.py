@@ -16,8 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _toy_systems import toy_system
-from numba import njit
+from _toy_systems import njit, toy_system  # numba's njit, else ctypes callbacks
 from scipy.optimize import brentq
 
 from walker import _hybrid, load_scene
