@@ -135,7 +135,7 @@ def test_fuzz_prepared_map_and_basin_points(mutations, period):
             assert len(out) == 5
     z = np.ascontiguousarray(np.repeat(Z0[None, :], 2, axis=0))
     try:
-        outcome, strides = _hybrid.basin_points(*args, z, Z0, 1e-8, 2, period)
+        outcome, strides = _hybrid.basin_points(*args, z, Z0, 1e-8, 2, period, np.eye(Z0.size), 0.0)
     except REFUSED:
         return
     assert len(outcome) == len(strides) == 2 * 8
@@ -182,7 +182,7 @@ def test_basins_on_two_threads_equal_the_serial_ones():
     chunks = [np.ascontiguousarray(z[i::4]) for i in range(4)]
 
     def batch(chunk):
-        outcome, strides = _hybrid.basin_points(*args, chunk, Z0, 1e-6, 8, 1)
+        outcome, strides = _hybrid.basin_points(*args, chunk, Z0, 1e-6, 8, 1, np.eye(Z0.size), 0.0)
         return np.frombuffer(outcome, np.int64), np.frombuffer(strides, np.int64)
 
     serial = [batch(chunk) for chunk in chunks]
