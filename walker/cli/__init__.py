@@ -43,7 +43,6 @@ is left).
 from __future__ import annotations
 
 import argparse
-import contextlib
 import os
 import platform
 import select
@@ -143,12 +142,8 @@ def main(argv=None) -> int:
     try:
         restore_interrupts()  # from here on, Ctrl-C is a KeyboardInterrupt handled below
         before = _file_id(args.out) if args.command in _CHECKPOINTING else None
-        guard = (
-            interrupts_as_exceptions()
-            if args.command in _CHECKPOINTING
-            else contextlib.nullcontext()
-        )
-        with guard, warnings.catch_warnings():
+        # every command: SIGTERM like SIGINT (one line, 130), also inside compiled work
+        with interrupts_as_exceptions(), warnings.catch_warnings():
             warnings.showwarning = _one_line_warning
             try:
                 code = args.func(args)
