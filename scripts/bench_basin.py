@@ -1,6 +1,6 @@
 """Basin-of-attraction benchmark: the compass gait (gaits/compass_goswami.toml), n x n grids on
 the slice of section coordinates (q_stance, qd_stance) around the fixed point, up to 20 strides
-per point, through walker's public API (``walker.basin.basin_map``).
+per point, through walker's public API (``walker.analysis.basin.basin_map``).
 
 Two grids, each ``axes 0,1`` with half-width ``span x max(|value|, 0.1)`` as ``walker basin
 --span`` draws them:
@@ -34,7 +34,7 @@ Measured for each grid:
    against a ``scipy.integrate.solve_ivp`` DOP853 stride on walker's compiled compass vector
    field (scripts/_contenders.py ``CompiledSimple``) and, when heyoka is installed (the
    ``bench`` extra), a heyoka Taylor stride with the parameters folded in (``HeyokaCompass``),
-   with the iteration rule of ``walker.basin.basin_chunk``, interleaved round-robin.
+   with the iteration rule of ``walker.analysis.basin.basin_chunk``, interleaved round-robin.
 
 Writes results/bench/basin.csv, basin.md and README.md.
 
@@ -59,11 +59,11 @@ import _bench as B  # noqa: E402
 import _contenders as C  # noqa: E402
 
 from walker import load_scene  # noqa: E402
-from walker.basin import basin_map  # noqa: E402
-from walker.fixedpoint import find_fixed_point  # noqa: E402
+from walker.analysis.basin import basin_map  # noqa: E402
+from walker.analysis.fixedpoint import find_fixed_point  # noqa: E402
 from walker.models import get_model  # noqa: E402
 from walker.results import BASIN_CONVERGED, BASIN_UNDECIDED  # noqa: E402
-from walker.stride import StrideMap  # noqa: E402
+from walker.simulation.stride import StrideMap  # noqa: E402
 
 SCENE = "compass_goswami.toml"
 STRIDES = 20
@@ -86,7 +86,7 @@ EARLY = ("early", "early_loose")  # converge_radius="auto": `walker basin`'s def
 def _warm(_):
     """Runs in a worker: import walker, load the extension, run one compass stride."""
     from walker import load_scene as ls
-    from walker.stride import StrideMap as SM
+    from walker.simulation.stride import StrideMap as SM
 
     s = ls(B.GAITS / SCENE)
     P = SM(s.model, s.params)

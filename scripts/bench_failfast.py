@@ -21,9 +21,9 @@ user waits for, interpreter start and imports included).  The target: every fail
 within 3x the time of the successful kneed search.
 
 ``--before`` also runs the stress set (library-level, as ``walker find`` does it, one
-repetition) with the code of git ``HEAD`` (``git show HEAD:walker/fixedpoint.py`` and
-``walker/stride.py`` loaded as separate modules), to put the numbers before this change next
-to those after.  Slow: the kneed searches at slopes 0.02 and 0.025 took 12 and 22 s before.
+repetition) with the code of git ``HEAD`` (``git show HEAD:walker/analysis/fixedpoint.py`` and
+``walker/simulation/stride.py`` loaded as separate modules), to put the numbers before this change
+next to those after.  Slow: the kneed searches at slopes 0.02 and 0.025 took 12 and 22 s before.
 
 Finally the kneed sweep ``walker sweep gaits/kneed_hsu.toml --param slope=0.02:0.08:25 --jobs
 2 --out <tmp>`` runs in a subprocess: its wall time and status counts.
@@ -53,10 +53,10 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _bench as B  # noqa: E402
 
-import walker.stride as ws  # noqa: E402
+import walker.simulation.stride as ws  # noqa: E402
 from walker import load_scene  # noqa: E402
+from walker.analysis.fixedpoint import MAX_EVALS  # noqa: E402
 from walker.cli import main as cli_main  # noqa: E402
-from walker.fixedpoint import MAX_EVALS  # noqa: E402
 from walker.models import get_model  # noqa: E402
 from walker.status import Status  # noqa: E402
 
@@ -70,7 +70,7 @@ SWEEP = ["sweep", "gaits/kneed_hsu.toml", "--param", "slope=0.02:0.08:25", "--jo
 # Counts StrideMap calls in a new interpreter and prints them to stderr as JSON.
 _PROBE = """
 import json, sys
-import walker.stride as ws
+import walker.simulation.stride as ws
 n = [0]
 call = ws.StrideMap.__call__
 def counted(self, *a, **k):
@@ -192,8 +192,8 @@ def _module_at_head(relpath: str, name: str):
 def run_before(cases) -> dict:
     """Status, evaluations and seconds of each case with the HEAD code (library level, as
     ``walker find`` runs it)."""
-    old_fp = _module_at_head("walker/fixedpoint.py", "_head_fixedpoint")
-    old_stride = _module_at_head("walker/stride.py", "_head_stride")
+    old_fp = _module_at_head("walker/analysis/fixedpoint.py", "_head_fixedpoint")
+    old_stride = _module_at_head("walker/simulation/stride.py", "_head_stride")
     out = {}
     for name, argv in [REFERENCE, *cases]:
         path = Path(argv[1])

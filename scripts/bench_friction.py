@@ -1,5 +1,5 @@
 """What joint friction costs: one stride of each walker with and without the dry-friction
-layer (walker/friction.py), timed side by side in one run.
+layer (walker/models/friction.py), timed side by side in one run.
 
 Rows: the compass gait and the kneed walker on their shipped gaits, each as the plain model,
 as its ``*_coulomb`` model with zero friction (same events: a joint without dry friction has
@@ -23,7 +23,7 @@ import numpy as np
 
 from walker import load_scene
 from walker.params import CompassCoulombParams, KneedCoulombParams
-from walker.stride import simulate
+from walker.simulation.stride import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "results" / "bench"

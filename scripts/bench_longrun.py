@@ -33,7 +33,7 @@ from _bench import GAITS, OUT, ROOT, machine_line, publish, quick_options, write
 ONE_PIECE = """
 import sys
 from walker import load_scene
-from walker.stride import simulate, solver_settings
+from walker.simulation.stride import simulate, solver_settings
 scene = load_scene(sys.argv[1]); c = scene.compute; n = int(sys.argv[2])
 s = solver_settings(c); s.pop("t_max", None)
 sol = simulate(scene.walker_model, scene.params, scene.state, output="full", n_strides=n,

@@ -1,5 +1,5 @@
 """Monte-Carlo throughput on random slopes (issue 29): walker's compiled ensemble
-(:func:`walker.mfpt.monte_carlo`, 2 threads) against a per-stride Python loop over
+(:func:`walker.analysis.mfpt.monte_carlo`, 2 threads) against a per-stride Python loop over
 ``scipy.integrate.solve_ivp`` on a hand-written compass model, side by side in one process,
 both at rtol = atol = 1e-9 (DOP853), both from the gait of the mean slope, a slope drawn per
 step; and the share of walker's Monte-Carlo time spent outside the compiled walks (terrain
@@ -126,8 +126,8 @@ def contender_run(model, params, x0, rng, max_steps, f, heel, fall):
 
 def main() -> None:
     from walker import StrideMap, load_scene
-    from walker.mfpt import draw_terrains, gait_on_mean_slope, monte_carlo, run_seeds
-    from walker.terrain import Terrain
+    from walker.analysis.mfpt import draw_terrains, gait_on_mean_slope, monte_carlo, run_seeds
+    from walker.simulation.terrain import Terrain
 
     scene = load_scene(ROOT / "gaits" / "compass_goswami.toml")
     P = StrideMap.from_scene(scene).with_tolerance(RTOL, RTOL)

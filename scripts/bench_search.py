@@ -40,9 +40,9 @@ import _bench as B  # noqa: E402
 import _contenders as C  # noqa: E402
 
 from walker import load_scene  # noqa: E402
-from walker.fixedpoint import find_fixed_point  # noqa: E402
+from walker.analysis.fixedpoint import find_fixed_point  # noqa: E402
 from walker.models import get_model  # noqa: E402
-from walker.stride import StrideMap  # noqa: E402
+from walker.simulation.stride import StrideMap  # noqa: E402
 
 TOL = 1e-12
 IVP_TOL = 1e-13  # solve_ivp rtol = atol: the map must be good to well below the residual

@@ -52,10 +52,10 @@ import _contenders as C  # noqa: E402
 import _drake  # noqa: E402
 
 from walker import load_scene  # noqa: E402
-from walker.fixedpoint import find_fixed_point  # noqa: E402
+from walker.analysis.fixedpoint import find_fixed_point  # noqa: E402
 from walker.models import get_model  # noqa: E402
 from walker.params import CompassParams  # noqa: E402
-from walker.stride import StrideMap, simulate  # noqa: E402
+from walker.simulation.stride import StrideMap, simulate  # noqa: E402
 
 TARGETS = (1e-6, 1e-8, 1e-10)
 REF_RTOL, REF_ATOL = 3e-14, 1e-15

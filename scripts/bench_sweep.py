@@ -5,7 +5,7 @@ over a slope x hip-mass grid:
 
 * outcome: one stride from the scene's section point at each grid point;
 * fixed_point: the period-one gait at each point (Newton, warm-started along the grid's
-  lines, walker.sweep_chains).
+  lines, walker.analysis.sweep_chains).
 
 Each runs as a plain loop (the same per-point work, no chunks, no executor), through
 ``sweep(executor="serial")``, a process pool of 1 and of 2 workers (created by ``sweep``, so
@@ -87,8 +87,8 @@ def grid(n_points: int) -> list[str]:
 
 def plain_loop(stride_map, ranges, kind, z0) -> float:
     """Wall time of the same per-point work in one Python loop (no chunks, no executor)."""
-    from walker.fixedpoint import find_fixed_point
-    from walker.sweep import grid_points
+    from walker.analysis.fixedpoint import find_fixed_point
+    from walker.analysis.sweep import grid_points
 
     names, points = grid_points(ranges)
     t0 = time.perf_counter()
@@ -105,7 +105,7 @@ def plain_loop(stride_map, ranges, kind, z0) -> float:
 
 def timed_sweep(stride_map, ranges, kind, z0, **kwargs) -> tuple[float, int, int]:
     """Wall time, chunk size and number of chunks of one sweep."""
-    from walker.sweep import default_chunk_size, grid_points, sweep
+    from walker.analysis.sweep import default_chunk_size, grid_points, sweep
 
     n = grid_points(ranges)[1].shape[0]
     t0 = time.perf_counter()
@@ -127,7 +127,7 @@ def run(n_outcome: int, n_fixed: int, with_dask: bool = True, repeat: int = 3) -
             n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
         )
         client = Client(cluster)
-        from walker.sweep import sweep
+        from walker.analysis.sweep import sweep
 
         sweep(
             stride_map,
@@ -142,7 +142,7 @@ def run(n_outcome: int, n_fixed: int, with_dask: bool = True, repeat: int = 3) -
     try:
         for kind, n in (("outcome", n_outcome), ("fixed_point", n_fixed)):
             ranges = grid(n)
-            from walker.sweep import grid_points
+            from walker.analysis.sweep import grid_points
 
             n_pts = grid_points(ranges)[1].shape[0]
             loop = min(plain_loop(stride_map, ranges, kind, z0) for _ in range(repeat))
@@ -250,9 +250,9 @@ def _rebuilt(base):
 
 def overhead(quick: bool, command: str) -> None:
     """The per-point overhead tables (see OVERHEAD_DOC)."""
-    import walker.sweep as sweep_module
-    import walker.sweep_chains as chains
-    from walker.sweep import sweep
+    import walker.analysis.sweep as sweep_module
+    import walker.analysis.sweep_chains as chains
+    from walker.analysis.sweep import sweep
 
     rounds = 3 if quick else 7
     own = chains._retargeter

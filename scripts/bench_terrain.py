@@ -1,5 +1,5 @@
-"""Throughput of walks on per-step terrain (walker/terrain.py, walker/_core/terrain.c): the
-compiled Monte-Carlo batch ``StrideMap.ensemble`` against the plane's fastest path.
+"""Throughput of walks on per-step terrain (walker/simulation/terrain.py, walker/_core/terrain.c):
+the compiled Monte-Carlo batch ``StrideMap.ensemble`` against the plane's fastest path.
 
 For the compass gait (gaits/compass_goswami.toml) and the kneed walker (gaits/kneed_hsu.toml)
 at rtol = atol = 1e-9, from the gait's fixed point, ``RUNS`` walks of ``STEPS`` strides on
@@ -32,8 +32,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _bench as B  # noqa: E402
 
 from walker import StrideMap, load_scene  # noqa: E402
-from walker.fixedpoint import find_fixed_point  # noqa: E402
-from walker.terrain import Terrain  # noqa: E402
+from walker.analysis.fixedpoint import find_fixed_point  # noqa: E402
+from walker.simulation.terrain import Terrain  # noqa: E402
 
 SCENES = (("compass", "gaits/compass_goswami.toml"), ("kneed", "gaits/kneed_hsu.toml"))
 STD = 0.0005

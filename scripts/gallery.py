@@ -32,17 +32,17 @@ from matplotlib.figure import Figure  # noqa: E402
 from scipy.optimize import brentq  # noqa: E402
 
 from walker import StrideMap, load_scene  # noqa: E402
-from walker.basin import basin_map  # noqa: E402
+from walker.analysis.basin import basin_map  # noqa: E402
+from walker.analysis.continuation import continue_branch, orbit_diagram  # noqa: E402
+from walker.analysis.fixedpoint import find_fixed_point  # noqa: E402
 from walker.cli import provenance  # noqa: E402
-from walker.continuation import continue_branch, orbit_diagram  # noqa: E402
-from walker.fixedpoint import find_fixed_point  # noqa: E402
-from walker.gallery import plot_file  # noqa: E402
+from walker.plotting.gallery import plot_file  # noqa: E402
+from walker.simulation.stride import simulate  # noqa: E402
 from walker.storage import write  # noqa: E402
-from walker.stride import simulate  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "results" / "gallery"
-DPI = 110  # as walker.gallery's figures
+DPI = 110  # as walker.plotting.gallery's figures
 
 
 def _scene(name):
@@ -105,7 +105,7 @@ def compass_sweep(quick):
     """The compass gait's fixed points over slope and hip mass: a two-parameter sweep's heat
     maps (status, step time, largest multiplier; colour limits robust to far values, which
     are drawn as crosses)."""
-    from walker.sweep import sweep
+    from walker.analysis.sweep import sweep
 
     scene = _scene("compass_goswami")
     P = StrideMap("compass", scene.params, rtol=1e-10, atol=1e-10)

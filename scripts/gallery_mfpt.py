@@ -2,8 +2,8 @@
 rimless wheel and the compass gait, results/gallery/mfpt_roughness.png (and its numbers in
 results/gallery/mfpt_roughness.csv).
 
-Monte Carlo (walker.mfpt.monte_carlo, seeded) for both walkers, the refined Markov chain
-(walker.markov.markov_chain, its expected steps from the start state) for the rimless wheel
+Monte Carlo (walker.analysis.mfpt.monte_carlo, seeded) for both walkers, the refined Markov chain
+(walker.analysis.markov.markov_chain, its expected steps from the start state) for the rimless wheel
 and, with --compass-markov, for the compass gait (minutes per point).
 
 Usage: python scripts/gallery_mfpt.py [--runs N] [--compass-markov]
@@ -24,9 +24,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _bench import ROOT, savefig_atomic, write_csv_atomic  # noqa: E402
 
 from walker import StrideMap, load_scene  # noqa: E402
-from walker.markov import markov_chain  # noqa: E402
-from walker.mfpt import gait_on_mean_slope, monte_carlo  # noqa: E402
-from walker.plot_terrain import plot_mfpt_roughness  # noqa: E402
+from walker.analysis.markov import markov_chain  # noqa: E402
+from walker.analysis.mfpt import gait_on_mean_slope, monte_carlo  # noqa: E402
+from walker.plotting.terrain import plot_mfpt_roughness  # noqa: E402
 
 OUT = ROOT / "results" / "gallery"
 CASES = {

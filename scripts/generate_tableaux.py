@@ -1,9 +1,9 @@
 """Print walker/_core/tableaux.h, the C copy of the Runge–Kutta coefficients in
-walker/_tableaux.py that the compiled integrator (walker/_core/hybrid.c) uses.
+walker/simulation/_tableaux.py that the compiled integrator (walker/_core/hybrid.c) uses.
 
 Every float is printed with ``repr``, the shortest decimal string that reads back as the
 same double, so the C constants are bit-for-bit the Python ones.  Run after changing
-walker/_tableaux.py, then rebuild the extension::
+walker/simulation/_tableaux.py, then rebuild the extension::
 
     python scripts/generate_tableaux.py
     python setup.py build_ext --inplace
@@ -22,7 +22,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from walker import _tableaux as tab  # noqa: E402
+from walker.simulation import _tableaux as tab  # noqa: E402
 
 HEADER = ROOT / "walker" / "_core" / "tableaux.h"
 
@@ -31,7 +31,7 @@ HEADER = ROOT / "walker" / "_core" / "tableaux.h"
 # Hairer's starting-step rule.  These are properties of the methods, not of the tables.
 ORDERS = (("DOP853", 8, 7), ("RK45", 5, 4), ("RK4", 4, 3), ("EULER", 1, 0))
 
-# Arrays copied, by their name in walker/_tableaux.py (the C name is WK_<name>).
+# Arrays copied, by their name in walker/simulation/_tableaux.py (the C name is WK_<name>).
 ARRAYS = (
     "DOP853_C",
     "DOP853_A",
@@ -92,9 +92,9 @@ def _array(name: str, a: np.ndarray) -> list[str]:
 
 def render() -> str:
     out = [
-        "/* generated, do not edit: Runge-Kutta coefficients of walker/_tableaux.py for the",
-        " * compiled integrator (walker/_core/hybrid.c); every number is printed with Python's",
-        " * repr, which reads back as the same double.",
+        "/* generated, do not edit: Runge-Kutta coefficients of walker/simulation/_tableaux.py",
+        " * for the compiled integrator (walker/_core/hybrid.c); every number is printed with",
+        " * Python's repr, which reads back as the same double.",
         " * Regenerate with `python scripts/generate_tableaux.py`. */",
         "#ifndef WK_TABLEAUX_H",
         "#define WK_TABLEAUX_H",

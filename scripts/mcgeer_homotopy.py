@@ -35,11 +35,11 @@ from pathlib import Path
 import numpy as np
 
 from walker import load_scene
-from walker.continuation import continue_branch
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.continuation import continue_branch
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.models import get_model
 from walker.params import KneedParams
-from walker.stride import StrideMap
+from walker.simulation.stride import StrideMap
 
 ROOT = Path(__file__).resolve().parents[1]
 MODEL = get_model("kneed", swing_scuff="ignore")

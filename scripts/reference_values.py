@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from walker import StrideMap, load_scene
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.models import get_model
 
 ROOT = Path(__file__).resolve().parents[1]

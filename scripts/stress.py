@@ -31,11 +31,11 @@ import numpy as np
 from numba import njit  # the graze toy below is a user's own @njit system
 
 from walker import load_scene
-from walker.fixedpoint import find_fixed_point
-from walker.integrate import HybridSystem, hybrid_solve
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.models import get_model
+from walker.simulation.integrate import HybridSystem, hybrid_solve
+from walker.simulation.stride import StrideMap
 from walker.status import EVENT_STRIDE, EVENT_TERMINAL, Status
-from walker.stride import StrideMap
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _stress_readme import write_readme  # noqa: E402
@@ -436,7 +436,7 @@ def extreme_compass_cases():
 
 def run_case(model, params, x0, n_strides=10, rtol=1e-10):
     """Simulate and time one run; returns (Solution, seconds)."""
-    from walker.stride import simulate
+    from walker.simulation.stride import simulate
 
     t = time.perf_counter()
     sol = simulate(model, params, x0, n_strides=n_strides, rtol=rtol, atol=rtol)
@@ -490,7 +490,7 @@ def tolerance_sweep(model_name="compass", tols=None, ref_rtol=3e-14):
     ``ratio`` = estimate / err, ``n_rhs``; info with the reference's cross-check against
     scipy DOP853 at rtol = atol = 1e-13.
     """
-    from walker.stride import simulate
+    from walker.simulation.stride import simulate
 
     if tols is None:
         tols = [10.0**-k for k in range(3, 14)]

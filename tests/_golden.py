@@ -29,8 +29,8 @@ SIZE_FIELDS = ("n_x", "n_p", "n_phases", "n_guards", "n_impulse", "n_points", "n
 # the scenes' event runs: strides (models with strides) and seconds (models without)
 EVENT_STRIDES = 3
 NO_STRIDE_T_MAX = 2.0
-# the scenes' small basins (walker.basin.basin_map, the compiled basin loop): a BASIN_N grid
-# within BASIN_HALF_WIDTH of the fixed point in the first two section coordinates, at most
+# the scenes' small basins (walker.analysis.basin.basin_map, the compiled basin loop): a BASIN_N
+# grid within BASIN_HALF_WIDTH of the fixed point in the first two section coordinates, at most
 # BASIN_STRIDES strides a point, converged within BASIN_TOL
 BASIN_N = (3, 3)
 BASIN_HALF_WIDTH = 0.02
@@ -219,7 +219,7 @@ def scene_outputs(path: Path) -> dict[str, np.ndarray]:
     For a scene whose model has strides: ``stride_*`` (one stride of the scene's
     :class:`walker.StrideMap` from the section point of its state, with the Jacobian:
     ``stride_z0``, ``stride_z``, ``stride_jac``, ``stride_t``, ``stride_x``,
-    ``stride_status``) and ``fp_*`` (:func:`walker.fixedpoint.find_fixed_point` from there
+    ``stride_status``) and ``fp_*`` (:func:`walker.analysis.fixedpoint.find_fixed_point` from there
     with its defaults: ``fp_section``, ``fp_state``, ``fp_jacobian``, ``fp_multipliers``,
     ``fp_step_time``, ``fp_residual``, ``fp_history``, ``fp_n_iter``, ``fp_status``) and,
     when it converged and the section has two coordinates or more, ``basin_*`` (a small
@@ -232,8 +232,8 @@ def scene_outputs(path: Path) -> dict[str, np.ndarray]:
     only, as three strides of the five-link walker's full sensitivities take seconds).
     """
     from walker import StrideMap, load_scene, simulate
-    from walker.fixedpoint import find_fixed_point
-    from walker.stride import solver_settings
+    from walker.analysis.fixedpoint import find_fixed_point
+    from walker.simulation.stride import solver_settings
 
     scene = load_scene(path)
     model = scene.walker_model
@@ -294,7 +294,7 @@ def scene_outputs(path: Path) -> dict[str, np.ndarray]:
 
 def _basin_record(smap, fp) -> dict[str, np.ndarray]:
     """A small basin of ``fp`` (see :data:`BASIN_N`), serial, by name ``basin_<what>``."""
-    from walker.basin import basin_map
+    from walker.analysis.basin import basin_map
 
     z, h = fp.section, BASIN_HALF_WIDTH
     bm = basin_map(

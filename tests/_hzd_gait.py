@@ -4,17 +4,17 @@ full-order orbit, its scene, its energy balance and its outcomes.
 
 ``name`` is the walker's model name, ``model`` its module in :mod:`walker.models`
 (``N_Q`` joint angles; the state is ``q``, ``qd``, then the actuators' work and the
-saturated time), ``o`` the orbit of :func:`walker.hzd.restricted_fixed_point` and ``fp``
-the full-order fixed point of :func:`walker.fixedpoint.find_fixed_point`.
+saturated time), ``o`` the orbit of :func:`walker.models.hzd.restricted_fixed_point` and ``fp``
+the full-order fixed point of :func:`walker.analysis.fixedpoint.find_fixed_point`.
 """
 
 import numpy as np
 from numpy.testing import assert_allclose
 
-from walker import hzd
+from walker.models import hzd
 from walker.scene import load_scene
+from walker.simulation.stride import StrideMap, simulate
 from walker.status import Status
-from walker.stride import StrideMap, simulate
 
 
 def assert_not_invariant(raw):
@@ -24,7 +24,7 @@ def assert_not_invariant(raw):
 
 
 def invariant_design(params):
-    """:func:`walker.hzd.make_invariant` of ``params``, checked: invariance h(Delta(q-)) = 0
+    """:func:`walker.models.hzd.make_invariant` of ``params``, checked: invariance h(Delta(q-)) = 0
     and L_f h(Delta(q-, qd-)) = 0 (1e-12)."""
     design = hzd.make_invariant(params)
     h, lfh = hzd.invariance_residual(design)

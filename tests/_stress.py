@@ -17,11 +17,11 @@ from _toy_systems import njit
 from scipy.integrate import solve_ivp
 
 from walker import load_scene
-from walker.fixedpoint import find_fixed_point
-from walker.integrate import hybrid_solve
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.models import get_model
+from walker.simulation.integrate import hybrid_solve
+from walker.simulation.stride import StrideMap, simulate
 from walker.status import EVENT_STRIDE, Status
-from walker.stride import StrideMap, simulate
 
 GAITS = Path(__file__).resolve().parents[1] / "gaits"
 SCENE_OF = {"compass": "compass_goswami.toml", "kneed": "kneed_hsu.toml"}

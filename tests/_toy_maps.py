@@ -1,4 +1,5 @@
-"""Toy section maps implementing :class:`walker.fixedpoint.SectionMap` for the gait-search tests.
+"""Toy section maps implementing :class:`walker.analysis.fixedpoint.SectionMap` for the gait-search
+tests.
 
 Module-level classes so that they pickle (process pools in the basin tests).  Each carries a
 continuation parameter, a ``lift`` (here the section point itself with the stride count
@@ -30,8 +31,8 @@ def _completed(section_map, z, jac, jacobian: bool, n_strides: int) -> MapResult
 
 
 class _Continued:
-    """The continuation part of :class:`walker.fixedpoint.SectionMap` for a frozen dataclass
-    whose field named ``parameter_name`` is the continuation parameter."""
+    """The continuation part of :class:`walker.analysis.fixedpoint.SectionMap` for a frozen
+    dataclass whose field named ``parameter_name`` is the continuation parameter."""
 
     @property
     def parameter_value(self) -> float:
@@ -195,7 +196,7 @@ class CubicBasinMap(_Continued):
 def cubic_basin_toy(center):
     """A :class:`CubicBasinMap` about ``center`` and its fixed point, found from
     ``center + 0.1`` (checked to converge)."""
-    from walker.fixedpoint import find_fixed_point
+    from walker.analysis.fixedpoint import find_fixed_point
 
     m = CubicBasinMap(center=tuple(center))
     fp = find_fixed_point(m, np.asarray(center) + 0.1)

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from walker.integrate import HybridSystem
+from walker.simulation.integrate import HybridSystem
 from walker.status import (
     EVENT_CONTINUE,
     EVENT_IGNORE,

@@ -3,7 +3,7 @@
 models of :mod:`walker.symbolic.actuated` and :mod:`walker.symbolic.five_link` and the
 friction layer of ``tests/oracle_friction.py``.
 
-Written from the documentation: the controller from :mod:`walker.control`'s docstring
+Written from the documentation: the controller from :mod:`walker.models.control`'s docstring
 (phase variable ``s = (theta - theta_plus) / (theta_minus - theta_plus)``, Bezier outputs
 ``y = q[1:] - b(s)``; mode 1 ``B[1:] u = -kp y - kd yd``, mode 2 computed torque
 ``u = (H D^-1 B)^-1 (v + H D^-1 h - c)``, each component clipped to the torque limit), the

@@ -2,7 +2,7 @@
 pendulum, the compass gait and the kneed walker with stick and slip as phases
 (``tests/oracle.py`` holds the smooth models this module builds on).
 
-Written from the rules documented in :mod:`walker.friction` and the models' docstrings,
+Written from the rules documented in :mod:`walker.models.friction` and the models' docstrings,
 not from their code: per joint ``j`` with rate ``w_j = S_j qd`` and friction ``F_j``, slip+
 (``w_j > 0``, torque ``-F_j``), slip- (torque ``+F_j``) or stick (``S_j qdd = 0`` held by
 ``lambda_j``, admissible while ``|lambda_j| < F_j``); the stuck joints make the augmented
@@ -28,7 +28,7 @@ from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_TERMINAL, Status
 from walker.symbolic import models as sym
 
 W_TOL = 1e-12
-"""|w| [rad/s] at or below which a joint counts as at rest (walker.friction)."""
+"""|w| [rad/s] at or below which a joint counts as at rest (walker.models.friction)."""
 SLIP_POS, SLIP_NEG, STICK = 0, 1, 2
 _SINGULAR = int(Status.LINEAR_SOLVE_FAILED)
 

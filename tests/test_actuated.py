@@ -10,14 +10,13 @@ import pytest
 from _chains import assert_three_link_torques, three_link_chains
 from numpy.testing import assert_allclose
 
-from walker import hzd
-from walker.control import bezier
-from walker.fixedpoint import find_fixed_point
-from walker.models import get_model
+from walker.analysis.fixedpoint import find_fixed_point
+from walker.models import get_model, hzd
 from walker.models import three_link as TL
+from walker.models.control import bezier
 from walker.params import CompassParams, ThreeLinkParams
+from walker.simulation.stride import StrideMap, simulate
 from walker.status import Status
-from walker.stride import StrideMap, simulate
 
 RNG = np.random.default_rng(20260308)
 PERTURBATION = np.array([0.0, 0.02, 0.05, -0.05, 0.1])

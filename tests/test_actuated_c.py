@@ -243,7 +243,7 @@ def test_stride_with_user_controller():
     replacing the controller changes it."""
     import dataclasses
 
-    from walker.integrate import hybrid_solve
+    from walker.simulation.integrate import hybrid_solve
 
     scene = _scene("three_link")
     model = get_model("three_link")

@@ -39,16 +39,15 @@ from _chains import (
 from _joint_torques import joint_torques
 from numpy.testing import assert_allclose
 
-from walker import friction as fr
-from walker import hzd
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.models import five_link as FL
-from walker.models import get_model
+from walker.models import friction as fr
+from walker.models import get_model, hzd
 from walker.models import three_link as TL
 from walker.params import FiveLinkParams, ThreeLinkParams
 from walker.scene import load_scene
+from walker.simulation.stride import StrideMap, simulate
 from walker.status import Status
-from walker.stride import StrideMap, simulate
 
 TIGHT = dict(rtol=1e-12, atol=1e-12)
 RNG = np.random.default_rng(20260412)

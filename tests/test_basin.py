@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 from _toy_maps import HenonMap, cubic_basin_toy, henon_fixed_points
 
-from walker.basin import basin_chunk, basin_map
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.basin import basin_chunk, basin_map
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.results import BASIN_CONVERGED, BASIN_UNDECIDED
 from walker.status import Status
 

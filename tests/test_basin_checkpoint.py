@@ -55,7 +55,7 @@ class _InterruptOnCall:
 
 @pytest.mark.parametrize("where", ["serial", "threads"])
 def test_basin_map_interrupted_then_resumed(tmp_path, toy, where):
-    from walker.basin import basin_map
+    from walker.analysis.basin import basin_map
     from walker.storage import BASIN_NOT_COMPUTED
 
     m, fp = toy
@@ -89,7 +89,7 @@ def test_basin_map_interrupted_then_resumed(tmp_path, toy, where):
 def test_finished_basin_checkpoint_is_what_write_stores(tmp_path, toy):
     """The finished checkpoint holds the /result group write() makes, plus /checkpoint: old
     readers and `walker plot` see an ordinary basin file."""
-    from walker.basin import basin_map
+    from walker.analysis.basin import basin_map
 
     m, fp = toy
     stored = basin_map(m, fp, out=tmp_path / "c.h5", executor="serial", **TOY_KW)

@@ -1,6 +1,6 @@
 """Early classification of basin points inside the gait's contraction ball.
 
-The ball of :func:`walker.basin_radius.contraction_ball` claims: for every ``z`` with
+The ball of :func:`walker.analysis.basin_radius.contraction_ball` claims: for every ``z`` with
 ``||W (z - z*)||_2 <= r``, ``||W (F(z) - z*)||_2 <= kappa ||W (z - z*)||_2`` with
 ``kappa < 1``.  The toys check the claim against the maps themselves (a linear map, whose
 contraction norm is its spectral radius in closed form, and a quadratic map whose
@@ -15,9 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from walker.basin import basin_chunk, basin_map
-from walker.basin_radius import SAMPLE_RADIUS, contraction_ball
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.basin import basin_chunk, basin_map
+from walker.analysis.basin_radius import SAMPLE_RADIUS, contraction_ball
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.results import BASIN_CONVERGED, BASIN_UNDECIDED, MapResult
 from walker.status import Status
 
@@ -149,7 +149,7 @@ def test_converge_radius_is_checked():
 
 def _compass(rtol):
     from walker import load_scene
-    from walker.stride import StrideMap
+    from walker.simulation.stride import StrideMap
 
     s = load_scene("gaits/compass_goswami.toml")
     c = s.compute

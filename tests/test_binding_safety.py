@@ -20,14 +20,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import walker.newton as newton
+import walker.analysis.newton as newton
 from walker import _hybrid, load_scene
 from walker._checks import MAX_BUDGET
-from walker._section import section_args
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.models import get_model
-from walker.region import WalkingRegion
-from walker.stride import StrideMap
+from walker.simulation._section import section_args
+from walker.simulation.region import WalkingRegion
+from walker.simulation.stride import StrideMap
 
 GAITS = Path(__file__).resolve().parents[1] / "gaits"
 

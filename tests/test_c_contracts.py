@@ -20,10 +20,10 @@ from _toy_systems import njit, toy_system  # numba's njit, else ctypes callbacks
 from scipy.optimize import brentq
 
 from walker import _hybrid, load_scene
-from walker._section import section_args
-from walker.integrate import hybrid_solve
+from walker.simulation._section import section_args
+from walker.simulation.integrate import hybrid_solve
+from walker.simulation.stride import StrideMap
 from walker.status import EVENT_TERMINAL, Status
-from walker.stride import StrideMap
 
 GAITS = Path(__file__).resolve().parents[1] / "gaits"
 

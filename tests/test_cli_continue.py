@@ -22,13 +22,13 @@ from _toy_maps import HenonMap, henon_fixed_points, henon_two_cycle
 from numpy.testing import assert_allclose
 
 from walker import load_scene
+from walker.analysis.continuation import continue_branch
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.cli import main
 from walker.cli.orbit import settled_period
-from walker.continuation import continue_branch
-from walker.fixedpoint import find_fixed_point
+from walker.simulation.stride import StrideMap
 from walker.status import Status
 from walker.storage import read
-from walker.stride import StrideMap
 
 B = 0.3
 A_PD = 3 * (1 - B) ** 2 / 4  # 0.3675

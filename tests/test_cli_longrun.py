@@ -11,9 +11,9 @@ from numpy.testing import assert_allclose
 import walker.cli.run as run_module
 from walker import load_scene
 from walker.cli import main
+from walker.simulation.stride import simulate, solver_settings
 from walker.status import Status
 from walker.storage import read
-from walker.stride import simulate, solver_settings
 
 KNEED = "gaits/kneed_hsu.toml"
 

@@ -359,11 +359,11 @@ def test_export_refuses_to_overwrite_and_names_the_flag(result_files, tmp_path, 
 
 def test_export_of_a_file_without_state_names_uses_the_model(tmp_path):
     """Files written before `state_names` existed still export with named columns."""
-    from walker.export import result_tables
     from walker.results import Trajectory
+    from walker.storage.export import result_tables
 
     scene = load_scene("gaits/compass_goswami.toml")
-    from walker.stride import simulate
+    from walker.simulation.stride import simulate
 
     sol = simulate("compass", scene.params, scene.state, n_strides=1, output="full")
     tables = result_tables(sol, {"model": "compass"})

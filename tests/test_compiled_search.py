@@ -1,8 +1,8 @@
 """The gait search in one compiled call (``walker._hybrid.PreparedMap.search``,
-walker/_core/newton.h) against the Python search of :mod:`walker.newton` it stands in for.
+walker/_core/newton.h) against the Python search of :mod:`walker.analysis.newton` it stands in for.
 
-For a :class:`~walker.stride.StrideMap` with a compiled call, ``find_fixed_point`` with the
-exact Jacobian runs the whole search in C.  The Python search stays the reference: it runs
+For a :class:`~walker.simulation.stride.StrideMap` with a compiled call, ``find_fixed_point`` with
+the exact Jacobian runs the whole search in C.  The Python search stays the reference: it runs
 for every other map, and here it is forced by making the compiled search decline.  Both must
 end the same way from the same guess: the same status, message, iterations, history and
 solution (to the last bits, but for the order of a few sums that only the line search's
@@ -16,11 +16,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import walker.newton as newton
+import walker.analysis.newton as newton
 from walker import load_scene
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.fixedpoint import find_fixed_point
+from walker.simulation.stride import StrideMap
 from walker.status import Status
-from walker.stride import StrideMap
 
 GAITS = Path(__file__).resolve().parents[1] / "gaits"
 

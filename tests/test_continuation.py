@@ -17,7 +17,7 @@ import pytest
 from _toy_maps import HenonMap, LogisticMap, henon_fixed_points, henon_two_cycle
 from numpy.testing import assert_allclose
 
-from walker.continuation import continue_branch, orbit_diagram, switch_to_period_two
+from walker.analysis.continuation import continue_branch, orbit_diagram, switch_to_period_two
 from walker.results import Bifurcation
 from walker.status import Status
 

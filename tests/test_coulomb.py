@@ -1,5 +1,5 @@
 """The compass gait with Coulomb friction at the stance ankle and the hip
-(walker.models.compass_coulomb, on walker/friction.py): the frictionless limit, stick/slip
+(walker.models.compass_coulomb, on walker/models/friction.py): the frictionless limit, stick/slip
 events, energy balance, gaits with friction, failure.
 
 The model was first written with a closed-form stick phase for the hip alone; the step time
@@ -13,7 +13,7 @@ from _joint_torques import joint_torques
 from numpy.testing import assert_allclose
 
 from walker import StrideMap, simulate
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.models import compass_coulomb as M
 from walker.models import get_model
 from walker.params import CompassCoulombParams, CompassParams

@@ -51,13 +51,13 @@ import sympy as sp
 from numpy.testing import assert_allclose
 
 from walker import StrideMap
-from walker.continuation import continue_branch
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.continuation import continue_branch
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.models import get_model
 from walker.params import CompassParams, DoublePendulumParams, KneedParams, SimplestParams
 from walker.scene import load_scene
+from walker.simulation.stride import simulate
 from walker.status import EVENT_CONTINUE, EVENT_STRIDE, EVENT_TERMINAL, Status
-from walker.stride import simulate
 from walker.symbolic import models
 
 N_STATES = 50

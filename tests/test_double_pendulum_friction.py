@@ -1,5 +1,5 @@
 """The course's double pendulum with joint friction (walker.models.double_pendulum, on
-walker/friction.py): ``D qdd + C qd + g = -F_v qd - F_s sgn(qd)`` joint by joint, joint 1
+walker/models/friction.py): ``D qdd + C qd + g = -F_v qd - F_s sgn(qd)`` joint by joint, joint 1
 between the ground and link 1 (``w1 = qd1``), joint 2 between link 1 and link 2
 (``w2 = qd2``, ``q2`` being relative).
 
@@ -34,8 +34,8 @@ from scipy.integrate import cumulative_simpson
 # The course's release state: link 1 at -0.1 rad from +x, link 2 pointing straight up, at rest.
 from test_reference_runs import COURSE_STATE, release
 
-from walker import friction as fr
 from walker.models import double_pendulum as M
+from walker.models import friction as fr
 from walker.models import get_model
 from walker.params import DoublePendulumParams
 from walker.status import Status

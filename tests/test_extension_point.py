@@ -1,7 +1,7 @@
 """The integrator's extension point: model functions given directly as C functions.
 
-:class:`walker.integrate.HybridSystem` accepts, besides numba ``@njit`` functions of the array
-form, C functions with the signatures of ``walker/_core/wk_system.h``: numba ``cfunc``
+:class:`walker.simulation.integrate.HybridSystem` accepts, besides numba ``@njit`` functions of the
+array form, C functions with the signatures of ``walker/_core/wk_system.h``: numba ``cfunc``
 objects, ctypes function pointers and plain int addresses.  The systems here are written
 entirely in this file.
 """
@@ -15,9 +15,9 @@ import pytest
 from _toy_systems import toy_system
 
 from walker import _hybrid, load_scene
-from walker.hybrid_system import _compiled
-from walker.integrate import _interior_code, hybrid_solve
 from walker.models import get_model
+from walker.simulation.hybrid_system import _compiled
+from walker.simulation.integrate import _interior_code, hybrid_solve
 from walker.status import (
     EVENT_CONTINUE,
     EVENT_STRIDE,

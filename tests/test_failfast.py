@@ -20,13 +20,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import walker.steppers as steppers_module
-import walker.sweep_chains as sweep_chains_module
+import walker.analysis.steppers as steppers_module
+import walker.analysis.sweep_chains as sweep_chains_module
 from walker import load_scene, simulate
-from walker.cli import build_parser
-from walker.cli import main as cli_main
-from walker.continuation import continue_branch
-from walker.fixedpoint import (
+from walker.analysis.continuation import continue_branch
+from walker.analysis.fixedpoint import (
     CORRECTOR_EVALS_PER_ITER,
     KINETIC_FACTOR,
     MAX_EVALS,
@@ -36,12 +34,14 @@ from walker.fixedpoint import (
     find_fixed_point,
     stride_max_steps,
 )
+from walker.analysis.sweep import MapSpec, sweep_chunk
+from walker.cli import build_parser
+from walker.cli import main as cli_main
 from walker.models._common import FALL_ANGLE
 from walker.params import CompassParams, KneedParams, SimplestParams, ThreeLinkParams
 from walker.results import MapResult
+from walker.simulation.stride import StrideMap, _time_scale
 from walker.status import Status
-from walker.stride import StrideMap, _time_scale
-from walker.sweep import MapSpec, sweep_chunk
 
 GAITS = Path(__file__).resolve().parents[1] / "gaits"
 KNEED = GAITS / "kneed_hsu.toml"

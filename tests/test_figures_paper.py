@@ -22,10 +22,11 @@ from matplotlib.text import Text  # noqa: E402
 from numpy.testing import assert_allclose  # noqa: E402
 from test_plot_defects import _drawn, _fixed_point_table, _legend  # noqa: E402
 
-from walker import gallery, plotting  # noqa: E402
+from walker import plotting  # noqa: E402
 from walker.cli import main  # noqa: E402
 from walker.models import get_model  # noqa: E402
-from walker.plot_common import robust_limits  # noqa: E402
+from walker.plotting import gallery  # noqa: E402
+from walker.plotting.common import robust_limits  # noqa: E402
 from walker.results import Bifurcation, Branch  # noqa: E402
 from walker.status import Status  # noqa: E402
 from walker.storage import read  # noqa: E402
@@ -171,8 +172,8 @@ def test_branch_measures_cycle_points_close_the_period_two_orbit():
     doubling of the shipped branch): the stride map takes point 1 to point 2 and point 2
     back to point 1 (independent check: a fresh stride from point 2)."""
     from walker import StrideMap
-    from walker.continuation import switch_to_period_two
-    from walker.plot_branch import branch_measures
+    from walker.analysis.continuation import switch_to_period_two
+    from walker.plotting.branch import branch_measures
 
     branch, prov = read(GALLERY / "simplest_branch.h5")
     model, params = gallery._params_from_provenance(prov)

@@ -10,13 +10,12 @@ import pytest
 from _chains import assert_five_link_torques, five_link_chains
 from numpy.testing import assert_allclose
 
-from walker import hzd
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.models import five_link as FL
-from walker.models import get_model
+from walker.models import get_model, hzd
 from walker.params import FiveLinkParams
+from walker.simulation.stride import StrideMap, simulate
 from walker.status import EVENT_STRIDE
-from walker.stride import StrideMap, simulate
 
 RNG = np.random.default_rng(20260311)
 # section coordinates: q_leg, q_knee, q_torso, q_femur_sw, then the five rates

@@ -5,7 +5,7 @@ import pytest
 from _toy_maps import CubicBasinMap, HenonMap, LogisticMap, ShiftMap, henon_fixed_points
 from numpy.testing import assert_allclose
 
-from walker.fixedpoint import SectionMap, classify, find_fixed_point, floquet
+from walker.analysis.fixedpoint import SectionMap, classify, find_fixed_point, floquet
 from walker.status import Status
 
 B = 0.3
@@ -199,7 +199,7 @@ def test_stride_map_prepared_parts_match_model(scene_file):
     from pathlib import Path
 
     from walker import load_scene
-    from walker.stride import StrideMap
+    from walker.simulation.stride import StrideMap
 
     scene = load_scene(Path(__file__).resolve().parent.parent / scene_file)
     P = StrideMap(scene.model, scene.params, rtol=1e-10, atol=1e-10)
@@ -223,10 +223,10 @@ def test_stride_map_prepared_parts_match_model(scene_file):
 
 
 def test_simulate_parameter_cache_follows_the_objects():
-    from walker.integrate import hybrid_solve
     from walker.models import get_model
     from walker.params import CompassParams
-    from walker.stride import simulate
+    from walker.simulation.integrate import hybrid_solve
+    from walker.simulation.stride import simulate
 
     model = get_model("compass")
     x0 = np.array([0.2187, -0.3234, -1.0918, -0.3772])
@@ -280,7 +280,7 @@ def _scene_map(scene_file, **settings):
     from pathlib import Path
 
     from walker import load_scene
-    from walker.stride import StrideMap
+    from walker.simulation.stride import StrideMap
 
     scene = load_scene(Path(__file__).resolve().parent.parent / scene_file)
     P = StrideMap(scene.model, scene.params, **settings)
@@ -320,7 +320,7 @@ def test_eig_sorted_gives_the_values_of_numpy_eig(monkeypatch):
     """eig_sorted calls numpy's eigen kernel directly for a finite float64 matrix: the same
     eigenvalues and eigenvectors, bit for bit, as through np.linalg.eig (real and complex
     spectra, 1 x 1 to 6 x 6), and a matrix with a NaN still raises as np.linalg.eig does."""
-    import walker.sectionmap as sectionmap
+    import walker.simulation.sectionmap as sectionmap
 
     rng = np.random.default_rng(0)
     matrices = []

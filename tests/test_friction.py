@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from walker import friction as fr
+from walker.models import friction as fr
 from walker.models import get_model
 from walker.models import kneed_coulomb as KC
 from walker.params import KneedCoulombParams

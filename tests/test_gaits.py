@@ -6,9 +6,9 @@ import pytest
 from numpy.testing import assert_allclose
 
 from walker import StrideMap, load_scene
-from walker.basin import basin_map
-from walker.continuation import continue_branch, switch_to_period_two
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.basin import basin_map
+from walker.analysis.continuation import continue_branch, switch_to_period_two
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.params import SimplestParams
 from walker.results import BASIN_CONVERGED
 from walker.status import Status

@@ -1,5 +1,5 @@
-"""The gait sensitivity norm and the largest recoverable step (walker/gsn.py): the norm from
-the linearisation against central differences of whole nonlinear runs, the rimless wheel's
+"""The gait sensitivity norm and the largest recoverable step (walker/analysis/gsn.py): the norm
+from the linearisation against central differences of whole nonlinear runs, the rimless wheel's
 largest step up against its closed form, and the step limits re-verified by direct runs."""
 
 import math
@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from walker import StrideMap, load_scene
-from walker.fixedpoint import find_fixed_point
-from walker.gsn import gait_sensitivity, largest_step, recovers, step_length
+from walker.analysis.fixedpoint import find_fixed_point
+from walker.analysis.gsn import gait_sensitivity, largest_step, recovers, step_length
 from walker.status import Status
 
 

@@ -1,5 +1,5 @@
 """The interior guard samples skipped in a step where every guard stays far from zero
-(``HybridSystem.autonomous_guards``; walker.integrate, section Events).
+(``HybridSystem.autonomous_guards``; walker.simulation.integrate, section Events).
 
 Skipping must not change a result: a step with a sign change or a guard near zero keeps its
 samples, so the bracket each event is located in is the same.  These tests run every
@@ -18,7 +18,7 @@ import pytest
 from _toy_systems import njit, toy_system
 
 from walker import load_scene
-from walker.integrate import hybrid_solve
+from walker.simulation.integrate import hybrid_solve
 from walker.status import EVENT_TERMINAL, Status
 
 GAITS = Path(__file__).resolve().parents[1] / "gaits"

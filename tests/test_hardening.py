@@ -23,10 +23,10 @@ import numpy as np
 import pytest
 
 from walker import StrideMap, load_scene, simulate
-from walker.basin import basin_map
+from walker.analysis.basin import basin_map
+from walker.analysis.fixedpoint import find_fixed_point
+from walker.analysis.sweep import MAX_SWEEP_POINTS, MapSpec, parse_range, sweep, sweep_chunk
 from walker.cli import EXIT_BROKEN_PIPE, EXIT_INTERNAL, EXIT_USAGE, main
-from walker.fixedpoint import find_fixed_point
-from walker.sweep import MAX_SWEEP_POINTS, MapSpec, parse_range, sweep, sweep_chunk
 
 REPO = Path(__file__).resolve().parents[1]
 SCENE = str(REPO / "gaits/compass_goswami.toml")
@@ -78,13 +78,13 @@ def no_work(monkeypatch):
     def forbidden(*args, **kwargs):
         raise AssertionError("work started before the input was checked")
 
-    import walker.fixedpoint
-    import walker.gallery
-    import walker.stride
+    import walker.analysis.fixedpoint
+    import walker.plotting.gallery
+    import walker.simulation.stride
 
-    monkeypatch.setattr(walker.fixedpoint, "find_fixed_point", forbidden)
-    monkeypatch.setattr(walker.stride, "simulate", forbidden)
-    monkeypatch.setattr(walker.gallery, "plot_file", forbidden)
+    monkeypatch.setattr(walker.analysis.fixedpoint, "find_fixed_point", forbidden)
+    monkeypatch.setattr(walker.simulation.stride, "simulate", forbidden)
+    monkeypatch.setattr(walker.plotting.gallery, "plot_file", forbidden)
 
 
 # ---- 1. every command-line failure: one line, exit 2 ---------------------------------------
@@ -562,7 +562,7 @@ def _alive(pid: int, start: str) -> bool:
 
 KILL_SWEEP = """
 from walker import StrideMap, load_scene
-from walker.sweep import sweep
+from walker.analysis.sweep import sweep
 
 if __name__ == "__main__":
     scene = load_scene({scene!r})
@@ -580,8 +580,8 @@ from pathlib import Path
 
 import numpy as np
 
-from walker.basin import basin_map
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.basin import basin_map
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.results import MapResult
 from walker.status import Status
 

@@ -1,4 +1,4 @@
-"""Coarse early strides in the gait search (``walker.newton``, ``COARSE_RHO``).
+"""Coarse early strides in the gait search (``walker.analysis.newton``, ``COARSE_RHO``).
 
 ``find_fixed_point`` integrates the strides of iterates far from the fixed point at a looser
 rtol than the map's own (``StrideMap.with_tolerance``), chosen from the residual expected
@@ -17,10 +17,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import walker.newton as newton
+import walker.analysis.newton as newton
 from walker import load_scene
-from walker.fixedpoint import find_fixed_point
-from walker.stride import StrideMap
+from walker.analysis.fixedpoint import find_fixed_point
+from walker.simulation.stride import StrideMap
 
 GAITS = Path(__file__).resolve().parents[1] / "gaits"
 
@@ -189,7 +189,7 @@ def test_a_guess_whose_strides_fail_ends_without_a_jacobian_run(monkeypatch):
     """When the glance's coarse stride fails, the search confirms the failure at the map's
     own tolerance without the Jacobian and ends there (START_FAILS with that stride's
     status): no variational run, which can cost far more (issue 33: the five-link walker at
-    g = 1e12).  The Python search (walker.newton._search); the compiled one does the same
+    g = 1e12).  The Python search (walker.analysis.newton._search); the compiled one does the same
     (tests/test_compiled_search.py, tests/test_probe_extreme.py)."""
     from walker.results import MapResult
     from walker.status import Status

@@ -1,4 +1,4 @@
-"""Tests of the compiled hybrid integrator (walker.integrate)."""
+"""Tests of the compiled hybrid integrator (walker.simulation.integrate)."""
 
 import math
 
@@ -18,7 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
-from walker.integrate import HybridSystem, _solve, hybrid_solve
+from walker.simulation.integrate import HybridSystem, _solve, hybrid_solve
 from walker.status import Status
 
 BALL_P = np.array([9.81, 0.9, 0.0])

@@ -242,7 +242,7 @@ def test_process_pool_workers_are_terminated_on_interrupt(tmp_path):
         import concurrent.futures as cf, sys
         from walker import StrideMap, load_scene
         from walker.cli import interrupts_as_exceptions
-        from walker.sweep import sweep
+        from walker.analysis.sweep import sweep
 
         scene = load_scene({SCENE!r})
         P = StrideMap("compass", scene.params, rtol=1e-10, atol=1e-12)
@@ -272,7 +272,7 @@ def test_process_pool_workers_are_terminated_on_interrupt(tmp_path):
     assert 2 <= kept < total
 
     from walker import StrideMap, load_scene
-    from walker.sweep import sweep
+    from walker.analysis.sweep import sweep
 
     scene = load_scene(SCENE)
     P = StrideMap("compass", scene.params, rtol=1e-10, atol=1e-12)

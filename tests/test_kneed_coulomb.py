@@ -1,6 +1,6 @@
 """The kneed walker with Coulomb joint friction (model ``kneed_coulomb``, issue 8 item 4).
 
-Stick and slip are phases and events (walker/friction.py), so the checks are exact:
+Stick and slip are phases and events (walker/models/friction.py), so the checks are exact:
 
 * with zero friction the stride is the kneed walker's (state, step time, Jacobian);
 * the vector-field Jacobian is exact in stick and slip, unlocked and locked;
@@ -29,7 +29,7 @@ from _joint_torques import joint_torques
 from numpy.testing import assert_allclose
 
 from walker import StrideMap, find_fixed_point, simulate
-from walker import friction as fr
+from walker.models import friction as fr
 from walker.models import get_model
 from walker.models import kneed_coulomb as KC
 from walker.params import KneedCoulombParams, KneedParams
@@ -267,7 +267,7 @@ def test_friction_modes_layer_is_shared():
 def test_energy_plot_marks_impacts_not_mode_switches():
     """The gallery's energy plot labels the energy jump at impacts; at a friction event
     the state is continuous, so it is not marked."""
-    from walker.gallery import _impact_times
+    from walker.plotting.gallery import _impact_times
 
     sol = simulate("kneed_coulomb", _params(coulomb_knee=0.012), X_GAIT, output="events", **TIGHT)
     names = [MODEL.guard_names[g] for g in sol.events.guard]

@@ -15,13 +15,13 @@ import pytest
 from numpy.testing import assert_allclose
 
 from walker import load_scene
-from walker.continuation import continue_branch
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.continuation import continue_branch
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.models import get_model
 from walker.models.kneed import deepest_penetration
 from walker.params import KneedParams
+from walker.simulation.stride import StrideMap, simulate
 from walker.status import Status
-from walker.stride import StrideMap, simulate
 
 SCENE = "gaits/kneed_mcgeer_roundfoot.toml"
 POINTMASS = "gaits/kneed_mcgeer_pointmass.toml"

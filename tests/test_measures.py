@@ -1,4 +1,4 @@
-"""Gait measures (walker/measures.py) against independent references.
+"""Gait measures (walker/analysis/measures.py) against independent references.
 
 * Passive gaits: on a periodic gait the energy lost (sum of the kinetic energy lost at each
   impact, from the compiled energy function, plus what damping and friction take between
@@ -25,10 +25,10 @@ import pytest
 from numpy.testing import assert_allclose
 from scipy.integrate import simpson, trapezoid
 
-from walker.fixedpoint import find_fixed_point
-from walker.measures import GaitMeasures, branch_measures, cycle_measures, total_mass
+from walker.analysis.fixedpoint import find_fixed_point
+from walker.analysis.measures import GaitMeasures, branch_measures, cycle_measures, total_mass
 from walker.scene import load_scene
-from walker.stride import StrideMap, simulate, solver_settings
+from walker.simulation.stride import StrideMap, simulate, solver_settings
 
 SCENES = sorted(glob.glob("gaits/*.toml"))
 
@@ -182,7 +182,7 @@ def test_to_dict_and_repr():
 
 
 def test_branch_measures_columns():
-    from walker.continuation import continue_branch
+    from walker.analysis.continuation import continue_branch
 
     scene, P, fp = _gait("gaits/compass_goswami.toml")
     branch = continue_branch(P, fp.section, to=0.06, step=0.004, max_points=4)

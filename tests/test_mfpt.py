@@ -1,5 +1,5 @@
-"""Mean first-passage time (walker/mfpt.py, walker/markov.py) against the rimless wheel's closed
-form on random slopes (McGeer 1990; Byl & Tedrake, IJRR 28(8), 2009, section 3):
+"""Mean first-passage time (walker/analysis/mfpt.py, walker/analysis/markov.py) against the rimless
+wheel's closed form on random slopes (McGeer 1990; Byl & Tedrake, IJRR 28(8), 2009, section 3):
 
     1/2 w-^2 = 1/2 w+^2 + (g/l)(cos(g_prev - a) - cos(g + a)),   w+_next = cos(2a) w-,
 
@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 from walker import StrideMap, load_scene
-from walker.markov import build_chain, markov_chain, slope_nodes
-from walker.mfpt import gait_on_mean_slope, monte_carlo, run_seeds, run_terrain
+from walker.analysis.markov import build_chain, markov_chain, slope_nodes
+from walker.analysis.mfpt import gait_on_mean_slope, monte_carlo, run_seeds, run_terrain
+from walker.simulation.terrain import Terrain
 from walker.status import Status
-from walker.terrain import Terrain
 
 RIMLESS = "gaits/rimless_wheel.toml"
 MEAN = 0.08

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from walker import StrideMap, load_scene
+from walker.analysis.mfpt import gait_on_mean_slope, monte_carlo
 from walker.cli import main
-from walker.mfpt import gait_on_mean_slope, monte_carlo
 from walker.storage import CheckpointMismatch, SweepStore, read
 
 RIMLESS = "gaits/rimless_wheel.toml"

@@ -133,7 +133,7 @@ def test_compass_fixed_point_near_spong():
     g = 9.8; our exact-ODE cycle agrees to their four digits (5e-5)."""
     scene = load_scene("gaits/compass_goswami.toml")
     from walker import StrideMap
-    from walker.fixedpoint import find_fixed_point
+    from walker.analysis.fixedpoint import find_fixed_point
 
     P = StrideMap("compass", scene.params)
     fp = find_fixed_point(P, P.project(scene.state))
@@ -147,7 +147,7 @@ def test_energy_balance_over_one_stride_on_the_cycle():
     for name in ("compass", "kneed"):
         scene = load_scene(f"gaits/{'compass_goswami' if name == 'compass' else 'kneed_hsu'}.toml")
         from walker import StrideMap
-        from walker.fixedpoint import find_fixed_point
+        from walker.analysis.fixedpoint import find_fixed_point
 
         P = StrideMap(name, scene.params)
         fp = find_fixed_point(P, P.project(scene.state))
@@ -255,7 +255,7 @@ def test_kneed_fixed_point_from_thesis_digits():
     at dt = 1e-3 (Hsu Chen 2007)."""
     scene = load_scene("gaits/kneed_hsu.toml")
     from walker import StrideMap
-    from walker.fixedpoint import find_fixed_point
+    from walker.analysis.fixedpoint import find_fixed_point
 
     P = StrideMap("kneed", scene.params)
     fp = find_fixed_point(P, P.project(scene.state))
@@ -286,7 +286,7 @@ def test_compass_approaches_simplest_walker_as_leg_mass_vanishes(damping_ankle):
     ``damping_ankle`` [N m s/rad] equals the simplest walker's dimensionless one
     (``M l^2 sqrt(g/l) = 1``); measured at b = 0.05: differences 1.32e-4 and 1.32e-5."""
     from walker import StrideMap
-    from walker.fixedpoint import find_fixed_point
+    from walker.analysis.fixedpoint import find_fixed_point
 
     gamma = 0.009
     z_garcia = find_fixed_point(
@@ -368,7 +368,7 @@ def test_drake_start_walks_into_the_compass_cycle():
     [0, 0, 0.4, -2] in its mirrored convention (slope 0.0525, g = 9.81); mirrored to ours
     (angles and rates change sign) it walks into the stable cycle."""
     from walker import StrideMap
-    from walker.fixedpoint import find_fixed_point
+    from walker.analysis.fixedpoint import find_fixed_point
 
     params = CompassParams.drake()
     x0 = np.array([0.0, 0.0, -0.4, 2.0])

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from walker import _hybrid
-from walker.newton import COND_MAX, _newton_step
+from walker.analysis.newton import COND_MAX, _newton_step
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 4, 6, 10])

@@ -5,7 +5,7 @@ the documented conventions, ``solve_ivp`` strides).
 The C functions are called through ctypes at the addresses of the extension's registry
 ``walker._hybrid.models()`` (every registry entry of the passive walkers: general, "/plain"
 and "/ignore_scuff"); strides, their Jacobians and fixed points through the public
-:class:`walker.StrideMap` and :func:`walker.stride.simulate`.
+:class:`walker.StrideMap` and :func:`walker.simulation.stride.simulate`.
 
 Tolerances (each the bound on the largest difference over the samples, relative to the
 largest magnitude of the quantity compared, or 1 if that is smaller):
@@ -38,8 +38,8 @@ import pytest
 
 from walker import StrideMap, _hybrid, load_scene
 from walker.models import get_model
+from walker.simulation.stride import simulate
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
-from walker.stride import simulate
 
 KERNEL_RTOL = 1e-12
 STRIDE_RTOL = 1e-9

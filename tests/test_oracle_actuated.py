@@ -1,6 +1,6 @@
 """walker's compiled actuated walkers in closed loop (``three_link``, ``five_link``)
 against the independent numpy oracle of ``tests/oracle_actuated.py`` (controllers 0-2
-written from :mod:`walker.control`'s docstring, the finite-time controller 3 from
+written from :mod:`walker.models.control`'s docstring, the finite-time controller 3 from
 :class:`walker.params.ThreeLinkParams`, over the lambdified symbolic models; joint friction
 from ``tests/oracle_friction.py``).
 
@@ -31,8 +31,8 @@ from test_oracle import (
 
 from walker import StrideMap, load_scene
 from walker.models import get_model
+from walker.simulation.stride import simulate
 from walker.status import EVENT_CONTINUE, EVENT_IGNORE, EVENT_STRIDE, EVENT_TERMINAL, Status
-from walker.stride import simulate
 
 FD_JAC_RTOL = 1e-7
 ACTUATED_JACOBIAN_RTOL = 1e-6

@@ -1,7 +1,7 @@
 """walker's compiled models with dry (Coulomb) joint friction (double_pendulum,
 compass_coulomb, kneed_coulomb) against the independent numpy oracle of
 ``tests/oracle_friction.py`` (stick/slip modes written from the rules of
-:mod:`walker.friction`, over the lambdified symbolic models of ``tests/oracle.py``).
+:mod:`walker.models.friction`, over the lambdified symbolic models of ``tests/oracle.py``).
 
 Tolerances as in ``tests/test_oracle.py``: ``KERNEL_RTOL`` for the phase functions in every
 phase and the resets' states and impulses, equal outcomes (and equal start phases),
@@ -37,8 +37,8 @@ from test_oracle import (
 )
 
 from walker import StrideMap, load_scene
+from walker.simulation.stride import simulate
 from walker.status import EVENT_CONTINUE, EVENT_STRIDE
-from walker.stride import simulate
 
 MODELS = ["double_pendulum", "compass_coulomb", "kneed_coulomb"]
 BASE = {"compass_coulomb": "compass", "kneed_coulomb": "kneed"}

@@ -1,6 +1,7 @@
-"""Orbit diagrams in blocks (walker.orbit_run): one chain is walker.orbit.orbit_diagram bit
-for bit whatever the block size; more chains give the same diagram on any executor and
-after a resume; ``walker orbit-diagram`` checkpoints beside --out and resumes."""
+"""Orbit diagrams in blocks (walker.analysis.orbit_run): one chain is
+walker.analysis.orbit.orbit_diagram bit for bit whatever the block size; more chains give the same
+diagram on any executor and after a resume; ``walker orbit-diagram`` checkpoints beside --out and
+resumes."""
 
 from __future__ import annotations
 
@@ -11,9 +12,9 @@ import numpy as np
 import pytest
 
 from walker import StrideMap, load_scene
+from walker.analysis.orbit import orbit_diagram
+from walker.analysis.orbit_run import checkpoint_path, orbit_block, orbit_diagram_blocks
 from walker.cli import main
-from walker.orbit import orbit_diagram
-from walker.orbit_run import checkpoint_path, orbit_block, orbit_diagram_blocks
 from walker.storage import SweepStore, read
 
 REPO = Path(__file__).resolve().parents[1]
@@ -128,7 +129,7 @@ def test_cli_chains_jobs_and_checkpoint(tmp_path, capsys, monkeypatch):
     assert prov["chains"] == 3
     assert not Path(checkpoint_path(out)).exists()  # removed once --out is written
     # an interrupted run leaves its checkpoint; the same command resumes it
-    import walker.orbit_run as orbit_run
+    import walker.analysis.orbit_run as orbit_run
 
     real, calls = orbit_run.orbit_block, []
 

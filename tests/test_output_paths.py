@@ -29,21 +29,23 @@ def no_simulation(monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("a simulation started before the output path was checked")
 
-    import walker.basin
-    import walker.fixedpoint
-    import walker.gallery
-    import walker.stride
-    import walker.sweep
-    import walker.trajectory
+    import walker.analysis.basin
+    import walker.analysis.fixedpoint
+    import walker.analysis.sweep
+    import walker.plotting.gallery
+    import walker.simulation.stride
+    import walker.simulation.trajectory
 
-    monkeypatch.setattr(walker.stride.StrideMap, "__call__", refuse)
-    monkeypatch.setattr(walker.trajectory, "_solve", refuse)  # simulate's way into the integrator
-    monkeypatch.setattr(walker.trajectory, "simulate", refuse)
-    monkeypatch.setattr(walker.stride, "simulate", refuse)
-    monkeypatch.setattr(walker.fixedpoint, "find_fixed_point", refuse)
-    monkeypatch.setattr(walker.basin, "basin_chunk", refuse)
-    monkeypatch.setattr(walker.sweep, "sweep_chunk", refuse)
-    monkeypatch.setattr(walker.gallery, "plot_file", refuse)
+    monkeypatch.setattr(walker.simulation.stride.StrideMap, "__call__", refuse)
+    monkeypatch.setattr(
+        walker.simulation.trajectory, "_solve", refuse
+    )  # simulate's way into the integrator
+    monkeypatch.setattr(walker.simulation.trajectory, "simulate", refuse)
+    monkeypatch.setattr(walker.simulation.stride, "simulate", refuse)
+    monkeypatch.setattr(walker.analysis.fixedpoint, "find_fixed_point", refuse)
+    monkeypatch.setattr(walker.analysis.basin, "basin_chunk", refuse)
+    monkeypatch.setattr(walker.analysis.sweep, "sweep_chunk", refuse)
+    monkeypatch.setattr(walker.plotting.gallery, "plot_file", refuse)
 
 
 def _usage_error(capsys, argv) -> str:
@@ -144,18 +146,18 @@ def test_sweep_with_other_grid_is_refused_then_overwritten(capsys, tmp_path, mon
     assert main([*COMMANDS["sweep"], "--out", str(out)]) == 0
     capsys.readouterr()
     other = ["sweep", SCENE, "--param", "slope=0.01:0.03:3", "--quiet", "--out", str(out)]
-    import walker.sweep
+    import walker.analysis.sweep
 
-    real_chunk = walker.sweep.sweep_chunk
+    real_chunk = walker.analysis.sweep.sweep_chunk
 
     def refuse(*args, **kwargs):
         raise AssertionError("work started")
 
-    monkeypatch.setattr(walker.sweep, "sweep_chunk", refuse)
+    monkeypatch.setattr(walker.analysis.sweep, "sweep_chunk", refuse)
     line = _usage_error(capsys, other)
     assert "checkpoints a different sweep" in line and "pass --overwrite" in line
     assert read(out)[0].points.shape == (2, 1)
-    monkeypatch.setattr(walker.sweep, "sweep_chunk", real_chunk)
+    monkeypatch.setattr(walker.analysis.sweep, "sweep_chunk", real_chunk)
     assert main([*other, "--overwrite"]) == 0
     assert read(out)[0].points.shape == (3, 1)
 
@@ -165,18 +167,18 @@ def test_basin_with_other_settings_is_refused_before_the_fixed_point(capsys, tmp
     assert main([*COMMANDS["basin"], "--jobs", "1", "--out", str(out)]) == 0
     capsys.readouterr()
     first = read(out)[0]
-    import walker.fixedpoint
+    import walker.analysis.fixedpoint
 
     def refuse(*args, **kwargs):
         raise AssertionError("the fixed point was searched for")
 
-    real = walker.fixedpoint.find_fixed_point
-    monkeypatch.setattr(walker.fixedpoint, "find_fixed_point", refuse)
+    real = walker.analysis.fixedpoint.find_fixed_point
+    monkeypatch.setattr(walker.analysis.fixedpoint, "find_fixed_point", refuse)
     other = ["basin", SCENE, "--n", "4", "--strides", "4", "--quiet", "--out", str(out)]
     line = _usage_error(capsys, other)
     assert "checkpoints a different basin map (n_strides 3 != 4)" in line
     assert "pass --overwrite" in line
-    monkeypatch.setattr(walker.fixedpoint, "find_fixed_point", real)
+    monkeypatch.setattr(walker.analysis.fixedpoint, "find_fixed_point", real)
     # the same command again resumes a finished map: nothing to do, same file content
     assert main([*COMMANDS["basin"], "--out", str(out)]) == 0
     again = read(out)[0]
@@ -186,14 +188,14 @@ def test_basin_with_other_settings_is_refused_before_the_fixed_point(capsys, tmp
 
 
 def test_plot_output_directory_checked_before_plotting(capsys, tmp_path, unwritable_dir):
-    import walker.gallery
+    import walker.plotting.gallery
 
     def refuse(*args, **kwargs):
         raise AssertionError("plotting started")
 
     src = small_basin_file(tmp_path / "basin.h5")
-    orig = walker.gallery.plot_file
-    walker.gallery.plot_file = refuse
+    orig = walker.plotting.gallery.plot_file
+    walker.plotting.gallery.plot_file = refuse
     try:
         line = _usage_error(capsys, ["plot", str(src), "--out", str(unwritable_dir)])
         assert "not writable" in line and "--out" in line
@@ -204,5 +206,5 @@ def test_plot_output_directory_checked_before_plotting(capsys, tmp_path, unwrita
         line = _usage_error(capsys, ["plot", str(src), "--out", str(src)])
         assert "is not a directory" in line
     finally:
-        walker.gallery.plot_file = orig
+        walker.plotting.gallery.plot_file = orig
     assert not (tmp_path / "no").exists()

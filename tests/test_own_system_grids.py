@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from walker import EVENT_STRIDE, HybridSystem, Status, SystemMap, find_fixed_point
-from walker.basin import basin_map
+from walker.analysis.basin import basin_map
 from walker.results import BASIN_CONVERGED, BASIN_UNDECIDED
 
 G, E, KICK = 9.81, 0.8, 1.0
@@ -197,10 +197,10 @@ def test_basin_with_the_automatic_ball_on_a_system_map():
 
 
 def test_the_grid_sweep_names_what_it_takes():
-    """walker.sweep.sweep varies a walker's named parameters (StrideMap.with_params): a
+    """walker.analysis.sweep.sweep varies a walker's named parameters (StrideMap.with_params): a
     SystemMap is refused before any work with a TypeError naming the argument (its sweep is
     the loop above, or continue_branch)."""
-    from walker.sweep import sweep
+    from walker.analysis.sweep import sweep
 
-    with pytest.raises(TypeError, match=r"`stride_map` must be a walker.stride.StrideMap"):
+    with pytest.raises(TypeError, match=r"`stride_map` must be a walker.StrideMap"):
         sweep(_map(), {"kick": [0.5, 1.0]}, z0=np.array([0.0, 4.0]), progress=False)

@@ -306,8 +306,8 @@ def test_grizzle_preset():
 
 
 def test_bezier_degree_matches_the_controller():
-    """The actuated walkers' Bezier fields have the degree walker.control evaluates."""
-    from walker.control import BEZIER_DEGREE
+    """The actuated walkers' Bezier fields have the degree walker.models.control evaluates."""
+    from walker.models.control import BEZIER_DEGREE
     from walker.params.actuated import _BEZIER_DEGREE
 
     assert _BEZIER_DEGREE == BEZIER_DEGREE
@@ -685,9 +685,9 @@ def test_value_equality_and_hash():
 )
 def test_hzd_presets_store_the_invariant_design(cls, preset, defaults):
     """The presets' Bezier coefficients are stored as numbers (params imports no analysis
-    code); they are what walker.hzd.make_invariant makes of the design, to the last bits."""
+    code); they are what walker.models.hzd.make_invariant makes of the design, to the last bits."""
     import walker.params._actuated_presets as params_module
-    from walker.hzd import make_invariant
+    from walker.models.hzd import make_invariant
 
     stored = getattr(cls, preset)()
     computed = make_invariant(cls(**getattr(params_module, defaults)))

@@ -1,5 +1,5 @@
 """Branch measures (step time, step length, speed, cost of transport) and the branch and
-orbit-diagram figures of :mod:`walker.plot_branch`.
+orbit-diagram figures of :mod:`walker.plotting.branch`.
 
 Physics checks: on a periodic gait of a passive walker without dampers, the kinetic energy
 lost at heel strike equals the potential energy released by the step, ``m g d sin(slope)``
@@ -18,11 +18,11 @@ from matplotlib.colors import same_color
 from numpy.testing import assert_allclose
 
 from walker import load_scene
+from walker.analysis.continuation import continue_branch
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.cli import main
-from walker.continuation import continue_branch
-from walker.fixedpoint import find_fixed_point
 from walker.models import get_model
-from walker.plot_branch import (
+from walker.plotting.branch import (
     BranchMeasures,
     branch_measures,
     plot_branch,
@@ -31,8 +31,8 @@ from walker.plot_branch import (
     stored_figures,
 )
 from walker.results import Bifurcation, Branch, OrbitDiagram
+from walker.simulation.stride import StrideMap, simulate
 from walker.status import Status
-from walker.stride import StrideMap, simulate
 
 matplotlib.use("Agg")
 
@@ -56,7 +56,7 @@ def compass():
     P = P.with_parameter(0.07)
     one = continue_branch(P, find_fixed_point(P, fp.section).section, bounds=(0.07, 0.08))
     assert one.success and len(one.bifurcations) == 1, one.message
-    from walker.continuation import switch_to_period_two
+    from walker.analysis.continuation import switch_to_period_two
 
     fp2 = switch_to_period_two(P, one.bifurcations[0])
     mu2 = fp2.parameters["slope"]

@@ -24,8 +24,9 @@ from matplotlib.collections import LineCollection, QuadMesh  # noqa: E402
 from numpy.testing import assert_allclose, assert_array_equal  # noqa: E402
 from test_plotting import basin_map  # noqa: E402
 
-from walker import gallery, plotting  # noqa: E402
+from walker import plotting  # noqa: E402
 from walker.cli import main  # noqa: E402
+from walker.plotting import gallery  # noqa: E402
 from walker.results import Branch, SweepTable  # noqa: E402
 from walker.status import Status  # noqa: E402
 from walker.storage import BASIN_NOT_COMPUTED, read  # noqa: E402
@@ -135,7 +136,7 @@ def test_sweep_plots_named_quantities_with_units_against_the_parameter():
 
 def test_sweep_file_takes_units_and_section_names_from_its_provenance(tmp_path, monkeypatch):
     from walker import StrideMap, load_scene
-    from walker.sweep import sweep
+    from walker.analysis.sweep import sweep
 
     scene = load_scene("gaits/simplest_garcia.toml")
     P = StrideMap("simplest", scene.params, rtol=1e-10, atol=1e-12)

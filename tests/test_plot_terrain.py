@@ -1,4 +1,4 @@
-"""Figures of the rough-ground measures (walker/plot_terrain.py): labels with units, the
+"""Figures of the rough-ground measures (walker/plotting/terrain.py): labels with units, the
 numbers drawn, and the geometry of a walk drawn over its terrain (every touchdown on its
 step's plane)."""
 
@@ -10,15 +10,15 @@ import numpy as np
 matplotlib.use("Agg")
 
 from walker import StrideMap, load_scene  # noqa: E402
-from walker.mfpt import gait_on_mean_slope, monte_carlo  # noqa: E402
-from walker.plot_terrain import (  # noqa: E402
+from walker.analysis.mfpt import gait_on_mean_slope, monte_carlo  # noqa: E402
+from walker.plotting.terrain import (  # noqa: E402
     plot_gsn_sweep,
     plot_mfpt_roughness,
     plot_survival,
     plot_walk_on_terrain,
     walk_over_terrain,
 )
-from walker.terrain import Terrain  # noqa: E402
+from walker.simulation.terrain import Terrain  # noqa: E402
 
 
 def _compass():

@@ -326,10 +326,10 @@ def test_files_from_before_joint_friction_still_plot(tmp_path):
     kneed walker's `damping_ankle`) reads it as 0, with a warning naming it; any other
     missing parameter is still an error."""
     from walker.cli import provenance
-    from walker.gallery import plot_file
+    from walker.plotting.gallery import plot_file
     from walker.scene import load_scene
+    from walker.simulation.stride import simulate
     from walker.storage import write
-    from walker.stride import simulate
 
     scene = load_scene("gaits/kneed_hsu.toml")
     sol = simulate("kneed", scene.params, scene.state, output="full")

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from walker import load_scene
-from walker.integrate import PreparedRun, hybrid_solve
 from walker.models import get_model
+from walker.simulation.integrate import PreparedRun, hybrid_solve
+from walker.simulation.stride import StrideMap
 from walker.status import Status
-from walker.stride import StrideMap
 
 
 @pytest.fixture(scope="module")

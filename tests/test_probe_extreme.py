@@ -3,7 +3,7 @@ allows, huge ``t_max``, tiny fixed steps and huge periods.  Before, these ended 
 internal error (exit 3: ``max_steps`` overflowing an int64, ``int(inf)``) or ran for
 minutes.  Each must now end with an outcome (exit 0 or 1) or be refused up front naming
 the setting (exit 2): step budgets are computed in floating point and clamped
-(walker.region.stride_max_steps), a fixed step that needs more than
+(walker.simulation.region.stride_max_steps), a fixed step that needs more than
 ``walker._checks.MAX_FIXED_STEPS`` steps per stride and a period above
 ``walker.cli.find.MAX_PERIOD`` are refused.
 """
@@ -113,7 +113,7 @@ def test_the_five_link_walker_at_g_1e12_ends_with_an_outcome(capsys):
     """Ends with the plain stride's fall (FELL_BACKWARD, exit 1): the guess's stride fails
     at the coarsest tolerance, so the search confirms it at the scene's own tolerance
     without the Jacobian (244 steps) before any variational run, which here runs to its
-    clamped budget of 1e5 steps at about 1 ms a step (walker.newton._search)."""
+    clamped budget of 1e5 steps at about 1 ms a step (walker.analysis.newton._search)."""
     code = main(["find", str(GAITS / "five_link_hzd.toml"), "--set", "g=1e12"])
     out, err = capsys.readouterr()
     assert code == 1, err

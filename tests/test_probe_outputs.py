@@ -111,7 +111,7 @@ def test_animation_goes_through_the_same_writer(tmp_path):
     """The stick-figure GIF is rendered aside and renamed onto its name as well."""
     import numpy as np
 
-    from walker.plot_runs import animate_walker
+    from walker.plotting.runs import animate_walker
 
     frames = np.zeros((3, 2, 2))
     frames[:, 1, 1] = 1.0

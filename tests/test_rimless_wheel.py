@@ -45,7 +45,7 @@ from numpy.testing import assert_allclose
 from scipy.optimize import brentq
 
 from walker import StrideMap, _hybrid, load_scene, simulate
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.models import MODEL_NAMES, get_model
 from walker.models import rimless_wheel as RW
 from walker.params import PARAMS, RimlessWheelParams

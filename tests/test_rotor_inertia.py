@@ -20,12 +20,11 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from walker import hzd
-from walker.models import get_model
+from walker.models import get_model, hzd
 from walker.params import FiveLinkParams, ThreeLinkParams
 from walker.params._actuated_presets import RABBIT_ROTOR_INERTIA
+from walker.simulation.stride import simulate
 from walker.status import EVENT_STRIDE
-from walker.stride import simulate
 
 RABBIT_ROTOR = 50.0**2 * 3.32e-4  # Chevallereau et al. 2003: N = 50, J = 3.32e-4 kg m^2
 RNG = np.random.default_rng(20261128)
@@ -193,7 +192,7 @@ def test_scenes_and_files_before_the_field_read_without_rotors(scene):
     follows have none in the model its gait is for); a file written before the field
     existed reads as 0, the model it was computed with."""
     from walker.cli import provenance
-    from walker.gallery import _params_from_provenance
+    from walker.plotting.gallery import _params_from_provenance
     from walker.scene import load_scene
 
     with open(scene, encoding="utf-8") as f:

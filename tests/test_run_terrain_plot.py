@@ -12,10 +12,10 @@ import pytest
 
 from walker import plotting
 from walker.cli import main
-from walker.gallery import plot_file
-from walker.plot_runs import animate_walker
+from walker.plotting.gallery import plot_file
+from walker.plotting.runs import animate_walker
+from walker.simulation.terrain import Terrain
 from walker.storage import read
-from walker.terrain import Terrain
 
 COMPASS = "gaits/compass_goswami.toml"
 STD, HEIGHT_STD, SEED = 0.003, 0.002, 2

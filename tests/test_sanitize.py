@@ -24,8 +24,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from walker import _hybrid, load_scene
-from walker._section import section_args
-from walker.stride import StrideMap
+from walker.simulation._section import section_args
+from walker.simulation.stride import StrideMap
 
 pytestmark = [
     pytest.mark.sanitize,

@@ -17,14 +17,14 @@ from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
 from walker import StrideMap, find_fixed_point, load_scene, simulate
-from walker.integrate import GUARD_TOL, hybrid_solve
 from walker.params import CompassParams, KneedParams
+from walker.simulation.integrate import GUARD_TOL, hybrid_solve
 from walker.status import Status
 
 TOLS = [10.0**-k for k in range(3, 13)]
 TIGHT = {"rtol": 1e-12, "atol": 1e-12}
 # Integration steps (accepted + rejected) per time unit sqrt(l / g) that a run may take: the
-# stride map's budget (walker.fixedpoint.STEPS_PER_TIME_UNIT = 60), and at least 1000 steps
+# stride map's budget (walker.analysis.fixedpoint.STEPS_PER_TIME_UNIT = 60), and at least 1000 steps
 # a run.  A run that grinds (step sizes collapsing) exceeds it long before simulate's
 # max_steps (1e6) stops it.
 STEPS_PER_TIME_UNIT = 60

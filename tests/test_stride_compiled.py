@@ -14,8 +14,8 @@ import pytest
 
 from walker import load_scene
 from walker.results import MapResult
+from walker.simulation.stride import StrideMap
 from walker.status import Status
-from walker.stride import StrideMap
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -19,11 +19,11 @@ from _checkpoints import start_python
 from numpy.testing import assert_allclose
 
 from walker import StrideMap, load_scene
+from walker.analysis.sweep import grid_points, parse_range, sweep
+from walker.analysis.sweep_chains import sweep_lines
 from walker.cli.sweep import run_sweep_command
 from walker.status import Status
 from walker.storage import StorageError, read
-from walker.sweep import grid_points, parse_range, sweep
-from walker.sweep_chains import sweep_lines
 
 REPO = Path(__file__).resolve().parents[1]
 TESTS = Path(__file__).resolve().parent

@@ -1,5 +1,5 @@
-"""Warm starts that follow the grid (walker.sweep_chains): every point's guess is a function
-of the grid only, so a fixed-point sweep's table is the same however the work is cut
+"""Warm starts that follow the grid (walker.analysis.sweep_chains): every point's guess is a
+function of the grid only, so a fixed-point sweep's table is the same however the work is cut
 (chunk size, jobs, executor, resume); a point on another gait than its neighbours is
 flagged in the ``jump`` column; a re-targeted stride map gives the rebuilt map's numbers."""
 
@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 from walker import StrideMap, load_scene
-from walker.region import WalkingRegion
-from walker.sweep import sweep
-from walker.sweep_chains import JUMP_SECTION, JUMP_STEP_TIME, grid_lines, jump_flags
+from walker.analysis.sweep import sweep
+from walker.analysis.sweep_chains import JUMP_SECTION, JUMP_STEP_TIME, grid_lines, jump_flags
+from walker.simulation.region import WalkingRegion
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -122,8 +122,8 @@ def _compass_grid(n):
     warm = sweep(stride_map, ranges, kind="fixed_point", z0=z0, progress=False)
     # each point from the scene's gait (chunks of one point: today's sweep_chunk, no warm
     # start), the comparison for the failures
-    from walker.sweep import sweep_chunk
-    from walker.sweep_grid import grid_points
+    from walker.analysis.sweep import sweep_chunk
+    from walker.analysis.sweep_grid import grid_points
 
     names, points = grid_points(ranges)
     cold = np.array(
@@ -157,7 +157,7 @@ def test_retargeted_map_gives_the_rebuilt_maps_numbers(scene):
     """StrideMap._retargeted shares the compiled run instead of rebuilding it; a map built
     from scratch at the same parameters is the reference, bit for bit (value, Jacobian,
     step time, the gait search)."""
-    from walker.fixedpoint import find_fixed_point
+    from walker.analysis.fixedpoint import find_fixed_point
 
     stride_map, z0 = _map(scene)
     stride_map(z0)

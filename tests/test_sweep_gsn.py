@@ -1,6 +1,6 @@
 """The ``gsn`` column of a fixed-point sweep (issue 29: "a sweep can record it as a column"):
-at every point it is the gait sensitivity norm that :func:`walker.gsn.gait_sensitivity` gives
-for that point's gait found on its own (a fresh gait search from the scene's start, no warm
+at every point it is the gait sensitivity norm that :func:`walker.analysis.gsn.gait_sensitivity`
+gives for that point's gait found on its own (a fresh gait search from the scene's start, no warm
 start), NaN exactly where there is no stable period-one gait; the norm itself is checked
 against finite differences of whole nonlinear runs in tests/test_gsn.py."""
 
@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 
 from walker import StrideMap, load_scene
-from walker.fixedpoint import find_fixed_point
-from walker.gsn import gait_sensitivity
+from walker.analysis.fixedpoint import find_fixed_point
+from walker.analysis.gsn import gait_sensitivity
+from walker.analysis.sweep import sweep
 from walker.storage import read
-from walker.sweep import sweep
 
 
 @pytest.mark.parametrize(

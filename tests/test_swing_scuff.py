@@ -18,12 +18,12 @@ import pytest
 from numpy.testing import assert_allclose
 
 from walker import load_scene
-from walker.fixedpoint import find_fixed_point
+from walker.analysis.fixedpoint import find_fixed_point
 from walker.models import get_model
 from walker.models.kneed import deepest_penetration
+from walker.simulation.stride import StrideMap, simulate
 from walker.status import Status
 from walker.storage import read, write
-from walker.stride import StrideMap, simulate
 
 POINTMASS = "gaits/kneed_mcgeer_pointmass.toml"
 TOL = dict(rtol=1e-12, atol=1e-12)

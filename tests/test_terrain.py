@@ -1,5 +1,5 @@
-"""Terrain defined per step (walker/terrain.py, walker/_core/terrain.c): the rimless wheel's
-stride map on random slopes against its closed form, the terrain Jacobian columns against
+"""Terrain defined per step (walker/simulation/terrain.py, walker/_core/terrain.c): the rimless
+wheel's stride map on random slopes against its closed form, the terrain Jacobian columns against
 finite differences of whole runs, plane terrain bit for bit against the plane path, and the
 geometry of a step down."""
 
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from walker import StrideMap, load_scene
+from walker.simulation.terrain import Terrain
 from walker.status import Status
-from walker.terrain import Terrain
 
 RIMLESS = "gaits/rimless_wheel.toml"
 COMPASS = "gaits/compass_goswami.toml"

@@ -332,7 +332,7 @@ def test_three_link_files_from_before_the_book_controller_still_plot(tmp_path):
     """results/gallery/three_link_walk.h5 was written with the 29-parameter layout (no
     step_event, ft_*, poly_*): it reads with the grizzle preset's values for those, the model
     it was computed with."""
-    from walker.gallery import plot_file
+    from walker.plotting.gallery import plot_file
     from walker.storage import read
 
     path = Path(__file__).resolve().parents[1] / "results/gallery/three_link_walk.h5"

@@ -90,7 +90,7 @@ def test_kneed_numbers_quoted(session):
 
     from walker import storage
     from walker.models import get_model
-    from walker.plot_branch import branch_measures
+    from walker.plotting.branch import branch_measures
     from walker.scene import load_scene
 
     result, _ = storage.read(work / "kneed_branch.h5")

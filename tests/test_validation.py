@@ -7,12 +7,12 @@ import pytest
 from _rules import Failures
 
 from walker import StrideMap, find_fixed_point, load_scene, simulate, storage
-from walker.basin import basin_map
+from walker.analysis.basin import basin_map
+from walker.analysis.continuation import continue_branch
+from walker.analysis.sweep import sweep
 from walker.cli import main
-from walker.continuation import continue_branch
-from walker.integrate import hybrid_solve
 from walker.params import CompassParams, KneedParams
-from walker.sweep import sweep
+from walker.simulation.integrate import hybrid_solve
 
 SCENE = "gaits/compass_goswami.toml"
 NAN3 = [np.nan, 0.0, 0.0]
@@ -429,8 +429,8 @@ def test_simulate_string_x0_names_x0(setup):
         simulate("compass", setup[0], "abcd")
 
 
-# Values next to the common case that walker.integrate's checks accept without further tests
-# (an exact Python int >= the bound, a positive finite float, a bool): each must still go to
+# Values next to the common case that walker.simulation.integrate's checks accept without further
+# tests (an exact Python int >= the bound, a positive finite float, a bool): each must still go to
 # the full check and fail there, naming the argument.
 def test_simulate_checks_behind_the_common_case(setup):
     cases = [

@@ -31,21 +31,25 @@ The pipeline, from a scene file to pictures::
     (run time)   ──► models/         per walker: names, phases, guards, section lift/project;
                                      WalkerModel.system_for(p) picks the compiled variant once;
                                      WalkerModel.rhs/guards/reset/energy/torques/kernel call
-                                     the compiled model with every argument checked
-                 ──► integrate.py    hybrid_solve, PreparedRun -> Solution; the C contract
+                                     the compiled model with every argument checked; also
+                                     friction modes, controllers (control.py) and HZD (hzd.py)
+                 ──► simulation/
+                     integrate.py    hybrid_solve, PreparedRun -> Solution; the C contract
                                      HybridSystem (also for user-supplied C functions) in
                                      hybrid_system.py
-                 ──► trajectory.py   simulate(): a run from a full state
-                     stride.py       StrideMap: section -> section (+ Jacobian)
+                     trajectory.py   simulate(): a run from a full state
+                     stride.py       StrideMap: section -> section (+ Jacobian); the walking
+                                     region and step budget in region.py; the SectionMap
+                                     protocol in sectionmap.py
                      terrain.py      ground defined per step (Terrain); its walks, their
                                      Jacobians and Monte-Carlo batches in _terrain_run.py
                                      and _core/terrain*.c
                      system_map.py   SystemMap: a section map of your own HybridSystem
-                 ──► fixedpoint.py   fixed points, Floquet multipliers; sectionmap.py (map
-                                     value and Jacobian, eigen-sorting, input checks),
-                                     region.py (walking region), newton.py (Newton / LM)
+                 ──► analysis/
+                     fixedpoint.py   fixed points, Floquet multipliers; newton.py (Newton / LM)
                      continuation.py natural and pseudo-arclength (steppers.py, one stepper
-                                     a method), folds, period doublings (bifurcations.py)
+                                     a method), folds, period doublings (bifurcations.py),
+                                     orbit diagrams (orbit.py, orbit_run.py)
                      basin.py        basins of attraction (threads: strides release the GIL;
                                      a point stops inside the gait's contraction ball,
                                      basin_radius.py)
@@ -55,8 +59,9 @@ The pipeline, from a scene file to pictures::
                      mfpt.py         robustness on rough ground: mean first-passage time by
                      markov.py       Monte Carlo and by the stride map's Markov chain; the
                      gsn.py          gait sensitivity norm and the largest recoverable step
-                 ──► storage/        HDF5 with provenance, checksums, atomic writes
-                 ──► plotting.py     figures and animations (plot_*.py, gallery.py)
+                 ──► storage/        HDF5 with provenance, checksums, atomic writes; export
+                 ──► plotting/       figures and animations (runs, maps, branch, terrain), the
+                                     gallery
     cli/ sits on top (``walker find|run|continue|basin|sweep|orbit-diagram|mfpt|gsn|
     stepdown|export|plot``, one module per command) and only orchestrates.
 
@@ -88,34 +93,34 @@ from walker.params import (  # noqa: E402
 )
 from walker.results import FixedPoint, MapResult, Solution  # noqa: E402
 from walker.scene import Scene, load_scene  # noqa: E402
+from walker.simulation.terrain import Terrain  # noqa: E402
 from walker.status import EVENT_CONTINUE, EVENT_STRIDE, EVENT_TERMINAL, Status  # noqa: E402
-from walker.terrain import Terrain  # noqa: E402
 
 
 def __getattr__(name):
     # The simulation layer loads on first use, so `import walker` stays light.
     if name in ("simulate", "StrideMap"):
-        from walker import stride
+        from walker.simulation import stride
 
         return getattr(stride, name)
     if name == "find_fixed_point":
-        from walker.fixedpoint import find_fixed_point
+        from walker.analysis.fixedpoint import find_fixed_point
 
         return find_fixed_point
     if name == "continue_branch":
-        from walker.continuation import continue_branch
+        from walker.analysis.continuation import continue_branch
 
         return continue_branch
     if name == "HybridSystem":
-        from walker.hybrid_system import HybridSystem
+        from walker.simulation.hybrid_system import HybridSystem
 
         return HybridSystem
     if name == "hybrid_solve":
-        from walker.integrate import hybrid_solve
+        from walker.simulation.integrate import hybrid_solve
 
         return hybrid_solve
     if name == "SystemMap":
-        from walker.system_map import SystemMap
+        from walker.simulation.system_map import SystemMap
 
         return SystemMap
     raise AttributeError(f"module 'walker' has no attribute {name!r}")

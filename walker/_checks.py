@@ -1,7 +1,7 @@
-"""Checks and scales shared by the simulation and analysis layers (walker.stride,
-walker.fixedpoint, walker.sweep): an argument as a float vector with an error naming it, a
-value's short repr for one-line messages, a positive number, and a walker's natural time
-unit.  Imports nothing of walker, so every layer may use it."""
+"""Checks and scales shared by the simulation and analysis layers (walker.simulation.stride,
+walker.analysis.fixedpoint, walker.analysis.sweep): an argument as a float vector with an error
+naming it, a value's short repr for one-line messages, a positive number, and a walker's natural
+time unit.  Imports nothing of walker, so every layer may use it."""
 
 from __future__ import annotations
 
@@ -31,7 +31,7 @@ core derives from a budget in range; the binding checks the same bound
 
 MAX_STRIDE_STEPS = 10**5
 """Largest step budget of one stride of a stride map with an adaptive method
-(:func:`walker.region.stride_max_steps` clamps to it): the shipped scenes' strides take
+(:func:`walker.simulation.region.stride_max_steps` clamps to it): the shipped scenes' strides take
 17-83 steps and their budgets are 1000-4000, so it binds only for a ``t_max`` of thousands
 of the walker's time units (e.g. ``g = 1e12``), where a stride past it is a runaway."""
 

@@ -1,9 +1,9 @@
 """Running independent chunks on a :class:`concurrent.futures.Executor`, and stopping them.
 
-Used by :func:`walker.sweep.sweep` and :func:`walker.basin.basin_map`, which share here their
-pool policy (:func:`worker_pool`: threads of this process unless asked for processes) and their
-progress policy (:func:`progress_bar`: a tqdm bar on stderr only when it is a terminal, erased
-after an interrupt).  Nothing here touches
+Used by :func:`walker.analysis.sweep.sweep` and :func:`walker.analysis.basin.basin_map`, which
+share here their pool policy (:func:`worker_pool`: threads of this process unless asked for
+processes) and their progress policy (:func:`progress_bar`: a tqdm bar on stderr only when it is a
+terminal, erased after an interrupt).  Nothing here touches
 signals: an interrupt reaches :func:`run_chunks` as an exception (``KeyboardInterrupt``, or
 whatever a caller's signal handler raises) in the thread that collects the results, and
 :func:`run_chunks` then stops the work before re-raising it:

@@ -194,11 +194,12 @@ class Solution(Outcome):
     conventions : dict of str to str
         the modelling conventions the run used, e.g. ``{"swing_scuff": "ignore"}`` for a
         kneed walker (:attr:`walker.models.WalkerModel.conventions`); empty when the model
-        has none or the run came from :func:`walker.integrate.hybrid_solve` directly.
+        has none or the run came from :func:`walker.simulation.integrate.hybrid_solve` directly.
     measures : dict of str to float
-        gait measures of the run up to its last step (:meth:`walker.measures.GaitMeasures.to_dict`:
-        step time, step length, speed, energy lost at each impact, cost of transport); empty
-        when not computed (``walker run`` computes them).
+        gait measures of the run up to its last step
+        (:meth:`walker.analysis.measures.GaitMeasures.to_dict`: step time, step length, speed,
+        energy lost at each impact, cost of transport); empty when not computed (``walker run``
+        computes them).
     """
 
     status: Status
@@ -226,8 +227,9 @@ class Solution(Outcome):
 
 @dataclass
 class MapResult:
-    """One application of a section (stride) map: what :class:`walker.stride.StrideMap` and
-    :class:`walker.system_map.SystemMap` return for ``P(z, jacobian=..., n_strides=k)``.
+    """One application of a section (stride) map: what :class:`walker.simulation.stride.StrideMap`
+    and :class:`walker.simulation.system_map.SystemMap` return for ``P(z, jacobian=...,
+    n_strides=k)``.
 
     A stride that fails is a status, never an exception: ``z`` is then NaN and ``jac`` None.
 
@@ -248,10 +250,11 @@ class MapResult:
         stopped (0 for a start refused before integrating).
     state : ndarray, shape (n_x,)
         full state at the section (just after the last heel strike, or the stride event of
-        a :class:`~walker.system_map.SystemMap`); after a failure, the state where the run
-        stopped (the start state for a start refused before integrating).
+        a :class:`~walker.simulation.system_map.SystemMap`); after a failure, the state where the
+        run stopped (the start state for a start refused before integrating).
     terrain_jac : ndarray, shape (n_z, 2 n_strides), or None
-        with per-step terrain and ``jacobian=True`` (:meth:`walker.stride.StrideMap.__call__`):
+        with per-step terrain and ``jacobian=True``
+        (:meth:`walker.simulation.stride.StrideMap.__call__`):
         ``dz_next / d(slope_k, drop_k)``, columns ``2k`` (slope [1/rad]) and ``2k + 1``
         (drop [1/m]) for step ``k``; None otherwise.
     """
@@ -301,9 +304,9 @@ class FixedPoint(Outcome):
         the modelling conventions of the stride map's model, e.g.
         ``{"swing_scuff": "ignore"}`` (:attr:`walker.models.WalkerModel.conventions`).
     measures : dict of str to float
-        the gait's measures over its cycle (:meth:`walker.measures.GaitMeasures.to_dict`);
+        the gait's measures over its cycle (:meth:`walker.analysis.measures.GaitMeasures.to_dict`);
         empty when not computed (``walker find`` computes them, as does
-        :func:`walker.measures.cycle_measures`).
+        :func:`walker.analysis.measures.cycle_measures`).
     """
 
     status: Status
@@ -386,7 +389,7 @@ class Branch(Outcome):
     status, message, success
     period : int
     measures : dict of str to ndarray
-        the gait measures of each point (:func:`walker.measures.branch_measures`), one
+        the gait measures of each point (:func:`walker.analysis.measures.branch_measures`), one
         column per measure; empty when not computed (``walker continue`` computes them).
     """
 
@@ -440,7 +443,7 @@ class BasinMap:
         how a point was called converged: ``tol`` (``max|z - fixed_point| <= tol``),
         ``converge_radius`` (also converged inside ``||W (z - fixed_point)||_2 <=
         converge_radius``; 0: off), with a radius the weight ``W`` (``weight``, nested
-        lists) and how it was derived (:func:`walker.basin.basin_map`); empty in files
+        lists) and how it was derived (:func:`walker.analysis.basin.basin_map`); empty in files
         written before it was recorded (there: the tolerance alone).
     """
 
@@ -495,7 +498,7 @@ class MfptResult:
     start : ndarray
         the start section point (the period-one gait of the mean slope).
     markov : dict
-        with :func:`walker.markov.markov_chain`: its ``mfpt`` (``1 / (1 - lambda_2)``),
+        with :func:`walker.analysis.markov.markov_chain`: its ``mfpt`` (``1 / (1 - lambda_2)``),
         ``mfpt_start`` (expected steps from the start state), ``lambda_2``, mesh sizes and
         the refinement history; empty otherwise.
     """

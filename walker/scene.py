@@ -80,8 +80,8 @@ from typing import Any
 import numpy as np
 
 from walker._suggest import did_you_mean
-from walker.integrate import METHODS, check_solver_settings
 from walker.params import HAS_STRIDES, PARAMS, STATE_NAMES
+from walker.simulation.integrate import METHODS, check_solver_settings
 
 __all__ = ["TASKS", "METHODS", "STATE_NAMES", "ComputeSettings", "Scene", "load_scene"]
 
@@ -256,9 +256,9 @@ class Scene:
 
     @property
     def terrain(self):
-        """The scene's ground, a :class:`walker.terrain.Terrain` from ``[terrain]``
+        """The scene's ground, a :class:`walker.simulation.terrain.Terrain` from ``[terrain]``
         (``slope_mean`` defaulting to the parameters' slope); the plane without one."""
-        from walker.terrain import Terrain
+        from walker.simulation.terrain import Terrain
 
         return Terrain.from_table(
             self.terrain_table or {"kind": "plane"}, getattr(self.params, "slope", 0.0)
@@ -644,10 +644,11 @@ def _not_a_file(path: Path, shown: str) -> OSError:
 
 
 def _terrain(reader: _Reader, params: Any, table: Mapping[str, Any] | None) -> dict | None:
-    """The ``[terrain]`` table, checked by building its :class:`walker.terrain.Terrain`."""
+    """The ``[terrain]`` table, checked by building its
+    :class:`walker.simulation.terrain.Terrain`."""
     if table is None:
         return None
-    from walker.terrain import Terrain
+    from walker.simulation.terrain import Terrain
 
     try:
         Terrain.from_table(dict(table), getattr(params, "slope", 0.0))

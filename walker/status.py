@@ -89,7 +89,7 @@ _MESSAGES = {
         "scene's [compute] table, or raise the budget (`walker run --max-steps N`); from "
         "Python, raise `max_steps` (simulate, hybrid_solve) or "
         "`t_max` (a StrideMap allows a number of steps proportional to `t_max`, see "
-        "walker.fixedpoint.stride_max_steps)."
+        "walker.analysis.fixedpoint.stride_max_steps)."
     ),
     Status.NOT_CONVERGED: (
         "Newton iteration did not converge. Try a better initial guess, more iterations, or "
@@ -127,7 +127,7 @@ _MESSAGES = {
     ),
     Status.ROLLED_BACK: (
         "The rimless wheel did not get over its stance spoke and turned back (on per-step "
-        "terrain, walker/terrain.py): a failure of the walk. Try a faster start or a "
+        "terrain, walker/simulation/terrain.py): a failure of the walk. Try a faster start or a "
         "steeper or smoother ground."
     ),
     Status.CHATTERING: (

@@ -93,7 +93,7 @@ def _scene_pool(base: str, rng) -> list[dict]:
     """For each shipped scene of model ``base``: its parameter vector, and states with times
     (just before each event of a run, along the run, perturbed, perturbed starts)."""
     from walker import load_scene, simulate
-    from walker.stride import solver_settings
+    from walker.simulation.stride import solver_settings
 
     pool = []
     for path in G.shipped_scenes():

@@ -1,9 +1,9 @@
 /* walker._hybrid's argument conversion: Python objects in, C values out, and the C arrays
  * of a result out as bytearrays.
  *
- * Every error names the argument and the rule, as walker/integrate.py's checks do.  Arrays
+ * Every error names the argument and the rule, as walker/simulation/integrate.py's checks do.  Arrays
  * come in through the buffer protocol (C-contiguous float64 or int64) and go out as
- * bytearrays of native float64 / int64 that walker/integrate.py views with
+ * bytearrays of native float64 / int64 that walker/simulation/integrate.py views with
  * numpy.frombuffer.  Declared in _hybridbinding.h; used by _hybridmodule.c and
  * _hybridresult.c.
  */
@@ -219,7 +219,7 @@ int wkpy_arg_system(PyObject *const *args, wk_functions *fn, wk_problem *pb)
 }
 
 /* The interior guard samples: n >= 0 samples in every step, or -n samples screened
- * (wk_problem.screen_interior), as walker.integrate passes them. */
+ * (wk_problem.screen_interior), as walker.simulation.integrate passes them. */
 int wkpy_arg_interior(PyObject *arg, wk_problem *pb)
 {
     int64_t code;

@@ -4,7 +4,7 @@
  * wkpy_section_parse reads the 31 arguments that basin_points and PreparedMap share (the
  * system, the solver settings, the affine lift, the projection and the start checks) into
  * a wkpy_section that owns copies of the arrays.  PreparedMap keeps one, filled when
- * walker.stride.StrideMap prepares its run, so a call parses only z, n_strides and
+ * walker.simulation.stride.StrideMap prepares its run, so a call parses only z, n_strides and
  * jacobian.  Declared in _hybridbinding.h.
  */
 #define PY_SSIZE_T_CLEAN
@@ -274,7 +274,7 @@ PyDoc_STRVAR(prepared_map_map_doc,
              "map(z, n_strides, jacobian) -> (status, t, z_new, x, jac) or None\n\n"
              "One call of the stride map from the section point z: the lift, the start\n"
              "checks, n_strides strides without the GIL and the projection (batch.h), with\n"
-             "the operations of walker.stride.StrideMap.__call__.  status: a walker.status\n"
+             "the operations of walker.simulation.stride.StrideMap.__call__.  status: a walker.status\n"
              "value; t: the step time [s] (0.0 for a start that is not integrated); x: the\n"
              "final state (the lifted start when not integrated); z_new (n_z,), NaN unless\n"
              "status is 0; jac (n_z, n_z) row-major with jacobian when status is 0, else\n"
@@ -428,10 +428,10 @@ static int read_settings(PyObject *t, wk_search_settings *set)
 
 PyDoc_STRVAR(prepared_map_search_doc,
              "search(z0, scale, region, settings) -> tuple or None\n\n"
-             "walker.newton's gait search with the exact Jacobian in one compiled call\n"
+             "walker.analysis.newton's gait search with the exact Jacobian in one compiled call\n"
              "(newton.h), without the GIL.  z0, scale: float64 (n_z,); region: (has_stance,\n"
              "stance_offset, fall_angle, n_q, wound_limit, energy address, kinetic_max);\n"
-             "settings: walker.newton._compiled_settings.  Returns (end, status, it, n_evals,\n"
+             "settings: walker.analysis.newton._compiled_settings.  Returns (end, status, it, n_evals,\n"
              "refused, why, why_value, why_index, cond, z, history, known) with z and history\n"
              "bytearrays of float64 and known None or (t, z, x, jac); None when the search\n"
              "declines (z0 not a finite float64 vector of length n_z, a model without its\n"

@@ -9,10 +9,10 @@
  * basin_points(...)   many starts of a walker's stride map (batch.c), without the GIL;
  * PreparedMap(...)    one start of a walker's stride map per map() call, its settings
  *                     parsed once (_hybridmap.c);
- * newton_step(a, f)   the gait search's Newton step and condition number (walker/newton.py).
+ * newton_step(a, f)   the gait search's Newton step and condition number (walker/analysis/newton.py).
  *
  * Plain C API, no numpy: arrays come in through the buffer protocol (C-contiguous float64
- * or int64) and go out as bytearrays that walker/integrate.py views with numpy.frombuffer.
+ * or int64) and go out as bytearrays that walker/simulation/integrate.py views with numpy.frombuffer.
  * Model functions are passed as integer addresses of C functions with the signatures of
  * wk_system.h.  The argument converters are in _hybridargs.c, the record solve() returns in
  * _hybridresult.c, the section settings and PreparedMap in _hybridmap.c (all declared in
@@ -53,7 +53,7 @@ PyDoc_STRVAR(solve_doc,
              "      max_step, max_steps, output, sample_times, want_jac, n_interior,\n"
              "      jacobian_seed=None)\n"
              "--\n\n"
-             "One run of the hybrid integrator (see walker/integrate.py, which validates the\n"
+             "One run of the hybrid integrator (see walker/simulation/integrate.py, which validates the\n"
              "input and is the way to call this).  rhs, guards, reset, jac, ctx: int addresses\n"
              "(wk_system.h; jac = 0: none, ctx = 0: NULL).  directions: int64 (n_phases,\n"
              "n_guards); x0, p, sample_times: float64 1-D; method and output: the codes of\n"
@@ -349,7 +349,7 @@ out:
 
 PyDoc_STRVAR(newton_step_doc,
              "newton_step(a, f) -> (cond, dz)\n--\n\n"
-             "The Newton step of walker/newton.py: dz solving a dz = -f (a: C-contiguous\n"
+             "The Newton step of walker/analysis/newton.py: dz solving a dz = -f (a: C-contiguous\n"
              "float64 (n, n), f: (n,)) by Gaussian elimination with partial pivoting\n"
              "(wk_solve_columns), as a bytearray of n float64, and the Frobenius condition\n"
              "number ||a||_F ||a^-1||_F (>= the 2-norm one, <= n times it), from the inverse\n"
@@ -398,7 +398,7 @@ PyDoc_STRVAR(basin_points_doc,
              "    lift_a, lift_b, proj, offset, fall_angle, n_q, wound, energy, kinetic_limit,\n"
              "    start_phase, t_max, lift, lift_jacobian, z0, target, tol, n_strides, period,\n"
              "    weight, radius) -> (outcome, strides)\n\n"
-             "Iterate the stride map from each row of z0 (m, n_z) as walker.basin.basin_chunk\n"
+             "Iterate the stride map from each row of z0 (m, n_z) as walker.analysis.basin.basin_chunk\n"
              "does (batch.h), without the GIL; radius > 0 also stops a point inside\n"
              "||weight (z - target)||_2 <= radius (weight (n_z, n_z)) as converged.  outcome and strides: bytearrays of m int64.");
 
@@ -504,7 +504,7 @@ static struct PyModuleDef module = {
     PyModuleDef_HEAD_INIT,
     "walker._hybrid",
     "walker's compiled core: the hybrid integrator and the compiled models (see\n"
-    "walker/_core/wk_system.h for the model ABI and walker/integrate.py for the Python API).",
+    "walker/_core/wk_system.h for the model ABI and walker/simulation/integrate.py for the Python API).",
     -1,
     methods,
     NULL,
@@ -518,7 +518,7 @@ PyMODINIT_FUNC PyInit__hybrid(void)
     PyObject *m = PyModule_Create(&module);
     if (m == NULL) return NULL;
     wkpy_signals_init();
-    /* The arming tolerance compiled into the kernel (walker.integrate.GUARD_TOL). */
+    /* The arming tolerance compiled into the kernel (walker.simulation.integrate.GUARD_TOL). */
     PyObject *tol = PyFloat_FromDouble(WK_GUARD_TOL);
     if (tol == NULL || PyModule_AddObjectRef(m, "GUARD_TOL", tol) < 0) {
         Py_XDECREF(tol);

@@ -2,7 +2,7 @@
  *
  * A PyStructSequence (a tuple subclass, like os.stat_result): each field reads by name,
  * ``sol.status``, ``sol.x``, and by position in the order of the table below.  Arrays are
- * bytearrays of native float64 / int64, row-major, that walker/integrate.py views with
+ * bytearrays of native float64 / int64, row-major, that walker/simulation/integrate.py views with
  * numpy.frombuffer; their row counts are the n_* fields.  Declared in _hybridbinding.h.
  */
 #define PY_SSIZE_T_CLEAN

@@ -47,7 +47,7 @@ static int converged(const double *z, const double *target, int64_t n, double to
 }
 
 /* ||weight (z - target)||_2 <= radius (weight (n, n) row-major), false when anything is NaN:
- * the point is inside the ball where the stride map is a contraction (walker/basin.py). */
+ * the point is inside the ball where the stride map is a contraction (walker/analysis/basin.py). */
 static int in_ball(const double *z, const double *target, const double *weight, int64_t n,
                    double radius)
 {

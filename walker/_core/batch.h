@@ -1,9 +1,9 @@
 /* A walker's stride map in C: one call (walker._hybrid.PreparedMap) and many starts in one
  * compiled call (basins of attraction).
  *
- * wk_section_start and wk_section_run are one call of walker.stride.StrideMap.__call__ (the
+ * wk_section_start and wk_section_run are one call of walker.simulation.stride.StrideMap.__call__ (the
  * lift, the start checks, the run); wk_basin_points is the loop of
- * walker.basin.basin_chunk for one batch of section points on them.  For models whose lift
+ * walker.analysis.basin.basin_chunk for one batch of section points on them.  For models whose lift
  * from section coordinates to the full state is affine and whose projection selects state
  * components: the same floating-point operations as the Python path, so the outcomes are
  * identical.
@@ -67,7 +67,7 @@ int wk_section_run(const wk_functions *fn, const wk_problem *tmpl, const wk_sect
 
 /* Iterate each of the m section points z0 (m, n_z): converged when max|z - target| <= tol,
  * or (radius > 0) when ||weight (z - target)||_2 <= radius, weight (n_z, n_z) row-major (the
- * ball where the map is a contraction, walker/basin.py; radius 0: not tested, weight unread)
+ * ball where the map is a contraction, walker/analysis/basin.py; radius 0: not tested, weight unread)
  * (outcome -1), else up to n_strides strides, `period` per map call (outcome -2 when the
  * limit is reached undecided), or the status of the stride that failed (outcome > 0).
  * `strides` receives the completed strides.  `tmpl` supplies the system sizes, parameters

@@ -1,5 +1,5 @@
 /* walker's hybrid integrator, the driver (see hybrid.h; the algorithm is described in the
- * module docstring of walker/integrate.py): one call of wk_hybrid_solve is one whole run --
+ * module docstring of walker/simulation/integrate.py): one call of wk_hybrid_solve is one whole run --
  * the loop over steps, the guards' check in each accepted step, the event found first
  * applied (reset, sensitivities, record), samples, and the result's growing storage.  The
  * pieces it calls live in hybrid_step.c (steps, error control), hybrid_dense.c (dense

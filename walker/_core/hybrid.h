@@ -1,7 +1,7 @@
 /* walker's hybrid integrator: one call integrates a hybrid system (wk_system.h) through its
  * phases and events -- Runge-Kutta steps with dense output, event location, resets,
  * samples, variational equations.  The algorithm is described in the module docstring of
- * walker/integrate.py, which validates the input and calls wk_hybrid_solve through the
+ * walker/simulation/integrate.py, which validates the input and calls wk_hybrid_solve through the
  * extension module walker._hybrid (walker/_core/_hybridmodule.c).
  *
  * Re-entrant: no global mutable state; every work array is allocated per call and freed
@@ -25,7 +25,7 @@
 #define WK_OUTPUT_SAMPLES 2
 #define WK_OUTPUT_FULL 3
 
-/* Absolute guard tolerance for arming (walker.integrate.GUARD_TOL). */
+/* Absolute guard tolerance for arming (walker.simulation.integrate.GUARD_TOL). */
 #define WK_GUARD_TOL 1e-10
 
 /* A pending interrupt: the number of a signal (SIGINT, SIGTERM) that arrived while compiled
@@ -44,7 +44,7 @@ extern volatile sig_atomic_t wk_interrupt;
                                * wk_result.phase holds it */
 
 /* Everything a run needs besides the model functions.  The caller checks the values
- * (walker/integrate.py and the binding do); arrays are contiguous. */
+ * (walker/simulation/integrate.py and the binding do); arrays are contiguous. */
 typedef struct {
     const int64_t *directions; /* (n_phases, n_guards) row-major: -1, 0 or +1 */
     int64_t n_phases;

@@ -1,5 +1,5 @@
 /* Guards of the hybrid integrator (see hybrid_internal.h for the split; the rules are in
- * the module docstring of walker/integrate.py, section Events): arming at a segment start,
+ * the module docstring of walker/simulation/integrate.py, section Events): arming at a segment start,
  * the guards' rates along the vector field, the root of a guard on the dense output
  * (Illinois regula falsi with bisection safeguard), the extremum of a guard inside a step
  * (golden section, the tangency check) and the chattering (Zeno) test of applied events.

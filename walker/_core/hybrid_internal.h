@@ -1,7 +1,7 @@
 /* Internal to the hybrid integrator: what its translation units share.
  *
  * The integrator (the algorithm is described in the module docstring of
- * walker/integrate.py) is split by concern:
+ * walker/simulation/integrate.py) is split by concern:
  *
  *   hybrid.c            the driver: one call of wk_hybrid_solve = one run (the loop over
  *                       steps, event application, samples, record, growing storage);
@@ -16,7 +16,7 @@
  * inline here so that every file gets its own copy.
  *
  * Floating point: every expression keeps the operation order of walker's earlier numba
- * kernel (in the git history of walker/integrate.py): sums accumulate left to right from
+ * kernel (in the git history of walker/simulation/integrate.py): sums accumulate left to right from
  * 0.0, products are grouped as written, and the build disables contraction into fused
  * multiply-adds (setup.py), so results agree with that kernel to the last bit and do not
  * depend on the compiler.  min/max follow Python's rule: ``min(a, b)`` is ``b`` only when

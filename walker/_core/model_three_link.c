@@ -180,7 +180,7 @@ WK_ACTUATED_MODEL(three_link, MODEL)
 /* ------------------------------------------------------------------------------------------
  * Terrain (wk_terrain.h): the swing foot's signed distance from the step's plane
  * r (cos(q_st + gamma) - cos(q_sw + gamma)) + h cos(gamma) ends the step (step_event 1, a
- * step ending on the controller's surface, is refused by walker/_terrain_run.py); the
+ * step ending on the controller's surface, is refused by walker/simulation/_terrain_run.py); the
  * stance foot's contact guards in the frame of the plane it stands on (the previous step's);
  * the heel strike's impulse along and
  * normal to the step's plane, the trailing foot's lift-off from the previous one.  The

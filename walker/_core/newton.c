@@ -1,5 +1,5 @@
 /* The gait search in one compiled call: see newton.h.  Each function names the part of
- * walker/newton.py (or walker/region.py) it follows. */
+ * walker/analysis/newton.py (or walker/simulation/region.py) it follows. */
 #include "newton.h"
 
 #include <math.h>

@@ -1,14 +1,14 @@
-/* The gait search of walker/newton.py in one compiled call: damped Newton in a trust region
+/* The gait search of walker/analysis/newton.py in one compiled call: damped Newton in a trust region
  * with backtracking, the Levenberg-Marquardt fallback, the walking region's refusals, the
  * evaluation budget and the coarse early strides, on a walker's stride map in C (batch.h).
  *
- * wk_search is walker.newton._search with the exact Jacobian, for a map whose every
+ * wk_search is walker.analysis.newton._search with the exact Jacobian, for a map whose every
  * evaluation is one wk_section_start + wk_section_run (the compiled call of
- * walker.stride.StrideMap): the same decisions in the same order, the constants of
- * walker/newton.py (passed in, so they are written once), the same arithmetic but for the
+ * walker.simulation.stride.StrideMap): the same decisions in the same order, the constants of
+ * walker/analysis/newton.py (passed in, so they are written once), the same arithmetic but for the
  * order of a few sums (the merit's 2-norm, the Levenberg-Marquardt normal equations), which
  * only the comparisons of the line search read.  It ends where the Python search ends and
- * says why; walker/newton.py turns that into the NewtonResult and its message.
+ * says why; walker/analysis/newton.py turns that into the NewtonResult and its message.
  */
 #ifndef WK_NEWTON_H
 #define WK_NEWTON_H
@@ -17,7 +17,7 @@
 
 #include "batch.h"
 
-/* walker.region.WalkingRegion: what outside() tests. */
+/* walker.simulation.region.WalkingRegion: what outside() tests. */
 typedef struct {
     int has_stance;       /* section coordinate 0 is the stance-leg angle */
     double stance_offset; /* z[0] + stance_offset: its angle from the slope normal */
@@ -32,8 +32,8 @@ typedef struct {
 /* Why a point lies outside the walking region (WalkingRegion.describe). */
 enum { WK_INSIDE = 0, WK_OUT_FALL = 1, WK_OUT_NONFINITE = 2, WK_OUT_WOUND = 3, WK_OUT_ENERGY = 4 };
 
-/* The search's settings and walker/newton.py's constants, in the order of
- * walker.newton._COMPILED_CONSTANTS. */
+/* The search's settings and walker/analysis/newton.py's constants, in the order of
+ * walker.analysis.newton._COMPILED_CONSTANTS. */
 typedef struct {
     int64_t period;
     double tol;
@@ -87,7 +87,7 @@ typedef struct {
     double *known_jac;      /* (n_z, n_z) row-major */
 } wk_search_out;
 
-/* The Newton step of walker/newton.py: dz (n,) solving a dz = -f for a (n, n) row-major by
+/* The Newton step of walker/analysis/newton.py: dz (n,) solving a dz = -f for a (n, n) row-major by
  * Gaussian elimination with partial pivoting (wk_solve_columns), and in *cond the Frobenius
  * condition number ||a||_F ||a^-1||_F (>= the 2-norm one, <= n times it; INFINITY when not
  * finite) from the inverse solved with it.  Returns 0 (cond INFINITY, dz undefined) when a

@@ -1,6 +1,6 @@
-/* generated, do not edit: Runge-Kutta coefficients of walker/_tableaux.py for the
- * compiled integrator (walker/_core/hybrid.c); every number is printed with Python's
- * repr, which reads back as the same double.
+/* generated, do not edit: Runge-Kutta coefficients of walker/simulation/_tableaux.py
+ * for the compiled integrator (walker/_core/hybrid.c); every number is printed with
+ * Python's repr, which reads back as the same double.
  * Regenerate with `python scripts/generate_tableaux.py`. */
 #ifndef WK_TABLEAUX_H
 #define WK_TABLEAUX_H

@@ -1,9 +1,9 @@
 /* The feedback controllers of walker's actuated walkers (the block layout and the Bezier
- * polynomials in walker/control.py); the operations are those of walker's former numba
+ * polynomials in walker/models/control.py); the operations are those of walker's former numba
  * controller, in the same order, so that the torques stay bit-identical.
  *
  * The controller block ``c`` is a slice of a model's parameter vector (three_link:
- * p + 11, five_link: p + 14); its layout is the one documented in walker/control.py:
+ * p + 11, five_link: p + 14); its layout is the one documented in walker/models/control.py:
  * c[0] mode (0 off, 1 joint-space PD, 2 virtual constraints by computed torque), c[1] kp,
  * c[2] kd, c[3] torque limit, c[4] theta_plus, c[5] theta_minus, c[6:] Bezier coefficients,
  * WK_CONTROL_BEZIER_DEGREE + 1 per output, output after output.
@@ -43,16 +43,16 @@
 /* Largest number of coordinates the controller handles (stack buffers). */
 #define WK_CONTROL_MAX_N 8
 
-/* walker.control.bezier: the degree-4 Bezier polynomial with coefficients a[0..4] and its
+/* walker.models.control.bezier: the degree-4 Bezier polynomial with coefficients a[0..4] and its
  * first two derivatives at s, into *b, *db, *d2b. */
 void wk_control_bezier(const double *a, double s, double *b, double *db, double *d2b);
 
-/* walker.control.outputs: y, yd (n - 1), H ((n - 1) x n) and cterm (n - 1) of the virtual
+/* walker.models.control.outputs: y, yd (n - 1), H ((n - 1) x n) and cterm (n - 1) of the virtual
  * constraints y = q[1:] - b(s) for the controller block c. */
 void wk_control_outputs(const double *q, const double *qd, const double *c, double *y,
                         double *yd, double *H, double *cterm, int n);
 
-/* walker.control.controller_torque: the saturated torque u (n - 1) of the controller in
+/* walker.models.control.controller_torque: the saturated torque u (n - 1) of the controller in
  * block c, for the mass matrix D (n x n), h = C qd + g (n) and the input map B
  * (n x (n - 1)); none of them is modified.  Returns 1 if some component was clipped to the
  * limit, else 0. */

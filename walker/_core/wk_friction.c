@@ -1,4 +1,4 @@
-/* Dry joint friction: C port of walker/friction.py; see wk_friction.h. */
+/* Dry joint friction: C port of walker/models/friction.py; see wk_friction.h. */
 #include <math.h>
 #include <string.h>
 #include "wk_common.h"

@@ -1,5 +1,5 @@
 /* Dry (Coulomb) joint friction with stick and slip as phases and events, with the operations
- * of walker's former numba friction layer in the same order (results stay bit-identical).  See walker/friction.py for the
+ * of walker's former numba friction layer in the same order (results stay bit-identical).  See walker/models/friction.py for the
  * mechanics (joint rates w = S qd, the augmented system [D, -S_k^T; S_k, 0] of the stuck
  * joints k, the mode code sum_j mode_j 3**j, the guards 2 j slip_stops and 2 j + 1
  * stick_breaks).
@@ -18,13 +18,13 @@
 #include <stdint.h>
 #include "wk_common.h"
 
-/* Joint modes (walker.friction.SLIP_POSITIVE, SLIP_NEGATIVE, STICK) and their number. */
+/* Joint modes (walker.models.friction.SLIP_POSITIVE, SLIP_NEGATIVE, STICK) and their number. */
 #define WK_SLIP_POSITIVE 0
 #define WK_SLIP_NEGATIVE 1
 #define WK_STICK 2
 #define WK_N_MODES 3
 
-/* walker.friction.W_TOL: |w| [rad/s] at or below which a joint rate counts as zero when
+/* walker.models.friction.W_TOL: |w| [rad/s] at or below which a joint rate counts as zero when
  * modes are chosen. */
 #define WK_FRICTION_W_TOL 1e-12
 
@@ -104,7 +104,7 @@ int wk_friction_switch(const double *D, const double *f, const double *S, const 
 void wk_friction_guards(const double *S, const double *F, const int64_t *modes,
                         const double *qd, const double *lam, int n, int m, double *g);
 
-/* A model's phase functions over its generated kernels: C port of walker.friction's
+/* A model's phase functions over its generated kernels: C port of walker.models.friction's
  * dynamics, phase_* and first_order* (same operations in the same order).  A base phase of
  * a model is a table of its kernels: n coordinates q = x[0..n), rates qd = x[v0..v0 + n),
  * m joints with rows S (m x n); mass_matrix(q, p, D), bias(q, qd, p, h) (C qd + g),
@@ -169,7 +169,7 @@ void wk_friction_first_order(const double *x, const double *qdd, int n, double *
 void wk_friction_first_order_jacobian(const double *a, int n, double *J);
 
 /* A model's rhs, jac, mode choice and friction reset over the phase functions above:
- * C port of walker.friction's phase_rhs, phase_jac, phase_start and phase_reset.
+ * C port of walker.models.friction's phase_rhs, phase_jac, phase_start and phase_reset.
  * phase_rhs: dx = (qd, qdd) for a state x = (q, qd) of n coordinates (v0 = n) in the joint
  * modes of mode code code (the numba function takes the decoded modes); phase_jac: its
  * Jacobian J (2n x 2n).  Nothing is written if n or m exceed the maxima. */

@@ -1,4 +1,4 @@
-/* Registry entries of walker's models with dry joint friction (walker/friction.py, ported
+/* Registry entries of walker's models with dry joint friction (walker/models/friction.py, ported
  * in wk_friction.c): model_compass_coulomb.c, model_double_pendulum.c,
  * model_kneed_coulomb.c, C ports of walker/models/compass_coulomb.py, double_pendulum.py
  * and kneed_coulomb.py.  Their start_phase writes the phase as a double (-1 if a solve is

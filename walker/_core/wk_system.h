@@ -26,7 +26,7 @@
  * otherwise.  It comes after ctx, so an initializer {rhs, guards, reset, jac, ctx} leaves
  * it NULL.  After it, on_stride (also internal, NULL for a user system): see wk_stride_fn.
  *
- * ``t`` is the local time since the last applied event (see walker/integrate.py).
+ * ``t`` is the local time since the last applied event (see walker/simulation/integrate.py).
  */
 #ifndef WK_SYSTEM_H
 #define WK_SYSTEM_H

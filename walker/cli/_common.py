@@ -186,7 +186,7 @@ def _load(args):
 
 
 def _stride_map(scene, parameter_name="slope"):
-    from walker.stride import StrideMap
+    from walker.simulation.stride import StrideMap
 
     return StrideMap.from_scene(scene, parameter_name=parameter_name)
 
@@ -363,11 +363,11 @@ def scene_cmd(sub, name: str, help_: str) -> argparse.ArgumentParser:
 def print_measures(
     measures: dict, title: str = "gait measures (energies and costs per step):"
 ) -> None:
-    """Print the gait measures of a result (:meth:`walker.measures.GaitMeasures.to_dict`),
+    """Print the gait measures of a result (:meth:`walker.analysis.measures.GaitMeasures.to_dict`),
     each with its unit; nothing when there are none."""
     import math
 
-    from walker.measures import unit_of
+    from walker.analysis.measures import unit_of
 
     if not measures or not measures.get("n_steps"):
         return

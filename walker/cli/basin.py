@@ -26,8 +26,8 @@ from ._common import (
 
 
 def cmd_basin(args) -> int:
-    from walker.basin import basin_map
-    from walker.fixedpoint import find_fixed_point
+    from walker.analysis.basin import basin_map
+    from walker.analysis.fixedpoint import find_fixed_point
     from walker.results import too_large
     from walker.storage import BasinStore, CheckpointMismatch, checkpoint_progress
 

@@ -332,10 +332,10 @@ def _print_summary(rec: dict, label: str = "") -> None:
 
 def _with_measures(P, branch):
     """``branch`` with the gait measures of each of its points
-    (:func:`walker.measures.branch_measures`)."""
+    (:func:`walker.analysis.measures.branch_measures`)."""
     import dataclasses
 
-    from walker.measures import branch_measures
+    from walker.analysis.measures import branch_measures
 
     if not len(branch.parameter):
         return branch
@@ -343,8 +343,8 @@ def _with_measures(P, branch):
 
 
 def cmd_continue(args) -> int:
-    from walker.continuation import continue_branch
-    from walker.fixedpoint import find_fixed_point
+    from walker.analysis.continuation import continue_branch
+    from walker.analysis.fixedpoint import find_fixed_point
 
     scene = _load(args)
     check_walker(scene, args.scene)
@@ -459,7 +459,7 @@ def _switch(P, branch, bounds, options, period, mu0, name):
     parameter), followed away from the doubling to the end of ``bounds``.
 
     Returns ``(branch or None, record)``."""
-    from walker.continuation import continue_branch, switch_to_period_two
+    from walker.analysis.continuation import continue_branch, switch_to_period_two
 
     def failed(status, message, doubling=None):
         return None, {

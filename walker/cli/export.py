@@ -11,8 +11,8 @@ _SUFFIX = {"csv": ".csv", "mat": ".mat", "json": ".json"}
 
 
 def cmd_export(args) -> int:
-    from walker.export import export, export_paths, result_tables
     from walker.storage import read
+    from walker.storage.export import export, export_paths, result_tables
 
     try:
         found = Path(args.file).is_file()

@@ -28,9 +28,9 @@ in reasonable time and is refused before any work (exit 2)."""
 def cmd_find(args) -> int:
     import dataclasses
 
-    from walker.fixedpoint import find_fixed_point
-    from walker.measures import cycle_measures
-    from walker.stride import solver_settings
+    from walker.analysis.fixedpoint import find_fixed_point
+    from walker.analysis.measures import cycle_measures
+    from walker.simulation.stride import solver_settings
 
     _positive_flag(args.period, "--period", minimum=1, integer=True)
     if args.tol is not None:

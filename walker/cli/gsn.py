@@ -1,5 +1,5 @@
 """``walker gsn`` and ``walker stepdown``: the gait sensitivity norm of a scene's gait and the
-largest single step down and up it recovers from (:mod:`walker.gsn`)."""
+largest single step down and up it recovers from (:mod:`walker.analysis.gsn`)."""
 
 from __future__ import annotations
 
@@ -18,8 +18,8 @@ from ._common import (
 def _gait(args):
     """(scene, map, gait section point) or (scene, None, message): the scene's period-one gait
     on a model that walks on terrain."""
-    from walker._terrain_run import check_supported
-    from walker.fixedpoint import find_fixed_point
+    from walker.analysis.fixedpoint import find_fixed_point
+    from walker.simulation._terrain_run import check_supported
 
     scene = _load(args)
     if not scene.model or scene.model == "double_pendulum":
@@ -38,7 +38,7 @@ def _gait(args):
 
 
 def cmd_gsn(args) -> int:
-    from walker.gsn import gait_sensitivity
+    from walker.analysis.gsn import gait_sensitivity
 
     scene, P, z = _gait(args)
     if P is None:
@@ -63,7 +63,7 @@ def cmd_gsn(args) -> int:
 
 
 def cmd_stepdown(args) -> int:
-    from walker.gsn import largest_step
+    from walker.analysis.gsn import largest_step
 
     scene, P, z = _gait(args)
     if P is None:

@@ -1,5 +1,5 @@
 """``walker mfpt``: the mean first-passage time of a scene's gait on random terrain
-(:mod:`walker.mfpt`, :mod:`walker.markov`)."""
+(:mod:`walker.analysis.mfpt`, :mod:`walker.analysis.markov`)."""
 
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ def _nonnegative(value, flag):
 
 def _gait(scene, P, mean):
     """(map on the mean slope, its gait) or (None, message)."""
-    from walker.fixedpoint import find_fixed_point
+    from walker.analysis.fixedpoint import find_fixed_point
 
     Q = P if mean == P.params.slope else P.with_params(slope=mean)
     fp = find_fixed_point(Q, Q.project(scene.state))
@@ -40,9 +40,9 @@ def _gait(scene, P, mean):
 
 
 def cmd_mfpt(args) -> int:
-    from walker._terrain_run import check_supported
-    from walker.markov import markov_chain
-    from walker.mfpt import monte_carlo
+    from walker.analysis.markov import markov_chain
+    from walker.analysis.mfpt import monte_carlo
+    from walker.simulation._terrain_run import check_supported
 
     _nonnegative(args.std, "--std")
     _nonnegative(args.height_std, "--height-std")

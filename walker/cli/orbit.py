@@ -3,7 +3,7 @@
 At each of ``--n`` values from A to B (in that order, so ``B < A`` sweeps downward) the
 stride map is iterated ``--transient`` strides from the last point of the previous value (the
 first value starts from the scene's gait), then ``--strides`` more whose section coordinate
-``--coordinate`` is recorded (:func:`walker.continuation.orbit_diagram`).  The result is
+``--coordinate`` is recorded (:func:`walker.analysis.continuation.orbit_diagram`).  The result is
 written atomically to ``--out``; the summary names the period the walker settled on over
 each stretch of the range.
 """
@@ -95,7 +95,7 @@ def _describe(run: dict, n_keep: int) -> str:
 
 
 def cmd_orbit_diagram(args) -> int:
-    from walker.fixedpoint import find_fixed_point
+    from walker.analysis.fixedpoint import find_fixed_point
 
     scene = _load(args)
     check_walker(scene, args.scene)
@@ -196,10 +196,10 @@ def cmd_orbit_diagram(args) -> int:
 
 
 def _blocks(args, scene, P, z0, values, coordinate, chains, names, start_gait):
-    """The diagram through :func:`walker.orbit_run.orbit_diagram_blocks`, checkpointed
-    beside ``--out`` (:func:`walker.orbit_run.checkpoint_path`): rerunning the same command
+    """The diagram through :func:`walker.analysis.orbit_run.orbit_diagram_blocks`, checkpointed
+    beside ``--out`` (:func:`walker.analysis.orbit_run.checkpoint_path`): rerunning the same command
     resumes it; ``--overwrite`` starts afresh."""
-    from walker.orbit_run import checkpoint_path, default_block, orbit_diagram_blocks
+    from walker.analysis.orbit_run import checkpoint_path, default_block, orbit_diagram_blocks
     from walker.storage import CheckpointMismatch, SweepStore
 
     from ._common import _resume_hint, provenance
@@ -261,7 +261,7 @@ def _remove_checkpoint(out) -> None:
     import contextlib
     import os
 
-    from walker.orbit_run import checkpoint_path
+    from walker.analysis.orbit_run import checkpoint_path
 
     with contextlib.suppress(FileNotFoundError):
         os.unlink(checkpoint_path(out))

@@ -16,7 +16,7 @@ def cmd_plot(args) -> int:
     import matplotlib
 
     matplotlib.use("Agg")
-    from walker.gallery import FIGURES, UnknownFigure, plot_file
+    from walker.plotting.gallery import FIGURES, UnknownFigure, plot_file
 
     if not 1 <= args.dpi <= 2400:
         raise UsageError(f"--dpi must be in [1, 2400], got {args.dpi}")

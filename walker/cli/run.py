@@ -33,9 +33,9 @@ MAX_STEPS_LIMIT = 2**62
 
 def run_budget(scene, strides: int) -> int:
     """The default step budget of ``walker run``: the stride map's per-stride budget
-    (:func:`walker.region.stride_max_steps` at the scene's ``t_max``) times the strides, and
-    at least 1,000,000 (the former fixed budget)."""
-    from walker.region import stride_max_steps
+    (:func:`walker.simulation.region.stride_max_steps` at the scene's ``t_max``) times the strides,
+    and at least 1,000,000 (the former fixed budget)."""
+    from walker.simulation.region import stride_max_steps
 
     c = scene.compute
     per_stride = stride_max_steps(scene.params, c.t_max, c.method, c.first_step)
@@ -43,7 +43,7 @@ def run_budget(scene, strides: int) -> int:
 
 
 def cmd_run(args) -> int:
-    from walker.stride import solver_settings
+    from walker.simulation.stride import solver_settings
 
     if args.strides is not None and args.strides < 0:
         raise UsageError(f"--strides must be >= 0, got {args.strides}")
@@ -92,7 +92,7 @@ def cmd_run(args) -> int:
         sol = _one_block(scene, args, dict(common, n_strides=strides), "full", 0)[0]
         pen = _penetration(scene, sol) if depth else None
         if scene.walker_model.has_strides and sol.events is not None:
-            from walker.measures import run_measures
+            from walker.analysis.measures import run_measures
 
             measures = run_measures(scene.walker_model, scene.params, sol, scene.state)
             sol = dataclasses.replace(sol, measures=measures.to_dict())
@@ -144,8 +144,8 @@ def _given_state(text: str, scene) -> np.ndarray:
 
 def _gait(scene):
     """The scene's gait, as ``walker find`` gives it (period: the scene's strides)."""
-    from walker.fixedpoint import find_fixed_point
-    from walker.stride import StrideMap
+    from walker.analysis.fixedpoint import find_fixed_point
+    from walker.simulation.stride import StrideMap
 
     P = StrideMap.from_scene(scene)
     period = max(1, scene.compute.strides)
@@ -160,7 +160,7 @@ def _terrain(scene, args):
     """The run's ground: the scene's ``[terrain]`` with the command line's ``--terrain-std``,
     ``--terrain-height-std`` and ``--seed`` on top (either std makes it ``random``); a
     random ground without a seed gets a fresh one, printed and recorded."""
-    from walker.terrain import Terrain
+    from walker.simulation.terrain import Terrain
 
     terrain = scene.terrain
     std, height_std, seed = args.terrain_std, args.terrain_height_std, args.seed
@@ -185,7 +185,7 @@ def _terrain(scene, args):
             **{**terrain.as_dict(), "seed": int(np.random.SeedSequence().entropy % 2**63)}
         )
     if not terrain.is_plane:
-        from walker._terrain_run import check_model
+        from walker.simulation._terrain_run import check_model
 
         model = scene.walker_model
         try:
@@ -210,7 +210,7 @@ def _one_block(scene, args, run: dict, output: str, first_sample: int):
     ``first_sample, first_sample + 1, ...`` of the run's grid of sample times up to where it
     ends, found by a first run with events only).  Returns the Solution and the index of the
     next sample."""
-    from walker.stride import check_sample_count, simulate
+    from walker.simulation.stride import check_sample_count, simulate
 
     model, params, x0 = scene.walker_model, scene.params, run.pop("x0", scene.state)
     if args.sample_rate is None:

@@ -1,5 +1,5 @@
 """``walker sweep``: a resumable parameter sweep (:func:`run_sweep_command`, on the library's
-:func:`walker.sweep.sweep`), locally or on a ``dask.distributed`` cluster."""
+:func:`walker.analysis.sweep.sweep`), locally or on a ``dask.distributed`` cluster."""
 
 from __future__ import annotations
 
@@ -36,10 +36,10 @@ SCHEDULER_TIMEOUT = 5.0
 
 
 def cmd_sweep(args) -> int:
+    from walker.analysis.sweep import _bytes_per_point, check_grid_size, parse_range
     from walker.models import get_model
     from walker.scene import load_scene
     from walker.storage import CheckpointMismatch
-    from walker.sweep import _bytes_per_point, check_grid_size, parse_range
 
     for flag in ("--jobs", "--chunk-size"):
         value = getattr(args, flag[2:].replace("-", "_"))
@@ -137,7 +137,7 @@ def run_sweep_command(
 
     Loads the scene, builds its stride map from ``[compute]`` (method, rtol, atol, t_max,
     first_step), starts from the section of the scene's initial state, and runs
-    :func:`~walker.sweep.sweep`.
+    :func:`~walker.analysis.sweep.sweep`.
 
     Parameters
     ----------
@@ -157,25 +157,25 @@ def run_sweep_command(
         HDF5 checkpoint; rerunning the same command resumes.  Its provenance is
         :func:`walker.storage.scene_provenance` of the scene (the scene path, the model, the
         base parameters with units, method, rtol, atol, t_max, first_step, the kernel hash,
-        the model's conventions) plus what :func:`walker.sweep.sweep` records itself, and
+        the model's conventions) plus what :func:`walker.analysis.sweep.sweep` records itself, and
         the walker version.
     quiet : bool
         no progress bar.
     strides : int, optional
         strides per point / period of the gait; default the scene's ``[compute].strides``.
     chunk_size : int, optional
-        as in :func:`~walker.sweep.sweep`.
+        as in :func:`~walker.analysis.sweep.sweep`.
     overwrite : bool
         replace an existing ``out`` instead of resuming it.
     processes : bool
         run on ``jobs`` worker processes (``executor="processes"`` of
-        :func:`~walker.sweep.sweep`) instead of threads.
+        :func:`~walker.analysis.sweep.sweep`) instead of threads.
     overrides : mapping of str to float, optional
         parameters set for the whole sweep (``--set NAME=VALUE``), as in
         :func:`walker.scene.load_scene`; the provenance records them among the base
         parameters.
     gsn : bool
-        a fixed-point sweep's ``gsn`` column, as in :func:`~walker.sweep.sweep`.
+        a fixed-point sweep's ``gsn`` column, as in :func:`~walker.analysis.sweep.sweep`.
 
     Returns
     -------
@@ -184,7 +184,7 @@ def run_sweep_command(
     Raises
     ------
     ValueError, TypeError
-        bad input (as :func:`~walker.sweep.sweep`); before any work.
+        bad input (as :func:`~walker.analysis.sweep.sweep`); before any work.
     ConnectionError
         ``scheduler`` cannot be reached within :data:`SCHEDULER_TIMEOUT` seconds; the
         checkpoint ``out`` exists then, and the same call resumes it.
@@ -192,9 +192,9 @@ def run_sweep_command(
     Everything, the checkpoint ``out`` included, is checked before any work and before
     connecting to ``scheduler``.
     """
+    from walker.analysis.sweep import _execute, _prepare
     from walker.scene import load_scene
     from walker.storage import scene_provenance
-    from walker.sweep import _execute, _prepare
 
     if isinstance(param_texts, str) or not isinstance(param_texts, Sequence) or not param_texts:
         raise ValueError(
@@ -244,7 +244,7 @@ def _swept(scene, param_texts) -> dict:
     a range, ``values`` for a list; with the unit.  (``parameters`` keeps the scene's
     values; each point's own are in the table's ``points``.)  A text that does not parse
     is left to the sweep's own check, which names it."""
-    from walker.sweep import parse_range
+    from walker.analysis.sweep import parse_range
 
     units = scene.params.units()
     swept = {}

@@ -3,7 +3,7 @@
 description (state, phases, guards, section coordinates).
 
 A model module (``walker/models/<name>.py``) provides, per the contract of
-:class:`walker.integrate.HybridSystem`:
+:class:`walker.simulation.integrate.HybridSystem`:
 
 1. ``N_X``, ``STATE_NAMES``: the state, the same in every phase.  ``STATE_NAMES`` is read
    from the model's record in the model registry :data:`walker.params.MODELS` (which also
@@ -143,14 +143,15 @@ class WalkerModel:
         return ""
 
     def system_for(self, p):
-        """The :class:`walker.integrate.HybridSystem` specialised to parameters ``p``: the
-        variant is chosen once, here, when a stride map or a run is set up (and under
+        """The :class:`walker.simulation.integrate.HybridSystem` specialised to parameters ``p``:
+        the variant is chosen once, here, when a stride map or a run is set up (and under
         ``swing_scuff = "ignore"`` its ``/ignore_scuff`` twin)."""
         return self._system(self._with_convention(self.variant_for(p)))
 
     @property
     def system(self):
-        """The general :class:`walker.integrate.HybridSystem` (every parameter honoured)."""
+        """The general :class:`walker.simulation.integrate.HybridSystem` (every parameter
+        honoured)."""
         return self._system(self._with_convention(""))
 
     def _with_convention(self, variant: str) -> str:
@@ -161,7 +162,7 @@ class WalkerModel:
     def _system(self, variant: str):
         cache = self.__dict__.setdefault("_systems", {})
         if variant not in cache:
-            from walker.integrate import HybridSystem
+            from walker.simulation.integrate import HybridSystem
 
             m = self.module
             compiled = self._compiled[variant]

@@ -45,7 +45,8 @@ _I_LEG_A, _I_LEG_B = ix.COMPASS_P_COM_FROM_FOOT, ix.COMPASS_P_COM_TO_HIP
 
 LIFT_AFFINE = True
 """``lift`` is ``lift(0, p) + lift_jacobian(0, p) z``, each row one term (basin batches,
-:meth:`walker.stride.StrideMap.basin_batch`, rely on it; tests/test_basin.py checks it)."""
+:meth:`walker.simulation.stride.StrideMap.basin_batch`, rely on it; tests/test_basin.py checks
+it)."""
 
 
 def lift(z, p):

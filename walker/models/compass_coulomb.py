@@ -1,5 +1,5 @@
 """The compass gait with dry (Coulomb) friction at the stance ankle and the hip: stick and
-slip as phases and events (:mod:`walker.friction`).
+slip as phases and events (:mod:`walker.models.friction`).
 
 State ``x = (q_stance, q_swing, qd_stance, qd_swing)``, as in :mod:`walker.models.compass`
 (absolute leg angles from the vertical, counterclockwise positive).  Parameters:
@@ -16,14 +16,14 @@ named ``"swing ankle=slip- hip=stick"`` and so on.  While a joint slips its fric
 is ``-F_s sgn(w)``; while it sticks the joint is held by the constraint torque that the
 augmented system ``[D, -S_k^T; S_k, 0] [qdd; lambda] = [f; 0]`` gives, as long as
 ``|lambda| < F_s``.  :func:`start_phase` gives the phase consistent with a state (a joint at
-rest sticks if its friction can hold it), and :class:`walker.stride.StrideMap` and
-:func:`walker.stride.simulate` start there.
+rest sticks if its friction can hold it), and :class:`walker.simulation.stride.StrideMap` and
+:func:`walker.simulation.stride.simulate` start there.
 
 Guards, in priority order: 0 ``heel_strike``, 1 ``fall_forward``, 2 ``fall_backward``, as in
 the compass gait (their resets are the compass gait's; after a heel strike the modes are
 chosen afresh for the post-impact state); then per joint ``<joint>_slip_stops`` (its rate
 through zero toward zero) and ``<joint>_stick_breaks`` (``|lambda| - F_s`` increasing through
-zero), whose resets are :func:`walker.friction.switch`: a joint that stops slipping gets its
+zero), whose resets are :func:`walker.models.friction.switch`: a joint that stops slipping gets its
 rate made exactly zero by the plastic lock (it is rounding-small at the event, so the energy
 changes by O(w^2)) and every joint's mode is chosen again; a joint whose stiction is exceeded
 slips against its holding torque.
@@ -33,7 +33,7 @@ without dry friction has no friction guards).  Energy: ``dE/dt = -b_hip w_hip^2 
 w_ankle^2 - sum_slip F_j |w_j|``, so without the viscous dampers the energy lost over an
 interval without events is ``sum_j F_j |delta theta_j|`` exactly, and nothing while stuck.
 
-Jacobian ``jac``: exact in every phase (:func:`walker.friction.accelerations_jacobian` with
+Jacobian ``jac``: exact in every phase (:func:`walker.models.friction.accelerations_jacobian` with
 the generated ``dmass``, ``dbias_dq``, ``dbias_dqd`` and the linear viscous forcing).
 
 Known limitation: repeated stick-slip switching (Zeno behaviour) is not accelerated; each
@@ -50,9 +50,9 @@ References
 
 import numpy as np
 
-from walker import friction as fr
 from walker._generated import indices as ix
 from walker.models import compass as _compass
+from walker.models import friction as fr
 from walker.models._common import joint_friction_walker
 from walker.params import MODELS
 

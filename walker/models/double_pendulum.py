@@ -1,5 +1,5 @@
 """The planar double pendulum (elbow-manipulator coordinates) with viscous and dry (Coulomb)
-joint friction: stick and slip as phases and events (:mod:`walker.friction`).
+joint friction: stick and slip as phases and events (:mod:`walker.models.friction`).
 
 State ``x = (q1, q2, qd1, qd2)``: ``q1`` of link 1 from the +x axis, ``q2`` of link 2
 relative to link 1 (counterclockwise positive).  Parameters:
@@ -23,12 +23,12 @@ the augmented system ``[D, -S_k^T; S_k, 0] [qdd; lambda] = [f; 0]`` gives, as lo
 Phases: the joint-mode code ``joint_1 + 3 joint_2`` (mode 0 slip+, 1 slip-, 2 stick), 9
 phases named ``"free joint_1=slip- joint_2=stick"`` and so on.  :func:`start_phase` gives
 the phase consistent with a state (a joint at rest sticks if its friction can hold it), and
-:func:`walker.stride.simulate` starts there.
+:func:`walker.simulation.stride.simulate` starts there.
 
 Guards: per joint ``<joint>_slip_stops`` (its rate through zero toward zero) and
 ``<joint>_stick_breaks`` (``|lambda| - F_j`` increasing through zero); the model has no
 other events (and no strides: a run integrates to ``t_max``, ``n_strides = 0``).  Their
-resets are :func:`walker.friction.switch`: a joint that stops slipping gets its rate made
+resets are :func:`walker.models.friction.switch`: a joint that stops slipping gets its rate made
 exactly zero by the plastic lock (it is rounding-small at the event, so the energy changes
 by O(w^2)) and every joint's mode is chosen again; a joint whose stiction is exceeded slips
 against its holding torque.  A joint without dry friction has no friction guards, so with
@@ -41,7 +41,7 @@ dampers included) plus ``D^-1`` of the slip torques (nothing more without dry fr
 the frictionless pendulum runs on the generated kernel alone); with a joint stuck, the
 augmented system.
 
-Jacobian ``jac``: exact in every phase (:func:`walker.friction.accelerations_jacobian` with
+Jacobian ``jac``: exact in every phase (:func:`walker.models.friction.accelerations_jacobian` with
 the generated ``dmass``, ``dbias_dq``, ``dbias_dqd`` and the linear viscous forcing).
 
 Known limitation: repeated stick-slip switching (Zeno behaviour) is not accelerated; each
@@ -58,8 +58,8 @@ References
 
 import numpy as np
 
-from walker import friction as fr
 from walker._generated import indices as ix
+from walker.models import friction as fr
 from walker.models._common import JOINT_FRICTION_EXPORTS
 from walker.params import MODELS
 
@@ -81,7 +81,7 @@ SECTION_NAMES = ()
 
 _S = np.array([[1.0, 0.0], [0.0, 1.0]])
 
-# The phase functions are walker.friction's, over the pendulum's kernels: the joint rows _S,
+# The phase functions are walker.models.friction's, over the pendulum's kernels: the joint rows _S,
 # the dry frictions p[I_COULOMB:], the rates x[2:4].
 
 

@@ -19,17 +19,17 @@ B^T`` (:data:`S_MATRIX`): hips ``femur - torso``, knees ``tibia - femur`` (rates
 controller is unchanged and does not know about the friction (a disturbance that its PD on
 the outputs rejects): ``u`` is its torque as in the frictionless model, then ``f = B u - h -
 S^T F_v w`` (``h = C qd + g``; ``F_v`` is ``damping_hip`` at the hips, ``damping_knee`` at
-the knees) and ``qdd`` follows from :func:`walker.friction.accelerations` with the dry
+the knees) and ``qdd`` follows from :func:`walker.models.friction.accelerations` with the dry
 friction ``F_s`` (``coulomb_hip``, ``coulomb_knee``) in the modes of the current phase (a
 stuck joint is held by whatever torque up to ``F_s`` keeps ``w_j = 0``: an augmented linear
 system).
 
 Phases: ``stance`` x the joint modes, phase index = mode code
-(:func:`walker.friction.encode`: ``hip_stance + 3 hip_swing + 9 knee_stance + 27
+(:func:`walker.models.friction.encode`: ``hip_stance + 3 hip_swing + 9 knee_stance + 27
 knee_swing``, mode 0 slip+, 1 slip-, 2 stick), 81 phases named by
-:func:`walker.friction.mode_names`.  :func:`start_phase` gives the phase consistent with a
-state (:func:`walker.friction.choose_modes`); :class:`walker.stride.StrideMap` and
-:func:`walker.stride.simulate` start there.
+:func:`walker.models.friction.mode_names`.  :func:`start_phase` gives the phase consistent with a
+state (:func:`walker.models.friction.choose_modes`); :class:`walker.simulation.stride.StrideMap` and
+:func:`walker.simulation.stride.simulate` start there.
 
 Guards, in priority order:
 
@@ -49,10 +49,10 @@ Guards, in priority order:
    with ``NONPHYSICAL_IMPACT`` (the event log names the guard).
 6. ``hip_down``: the hip reaches the slope (ends the run with ``FELL_BACKWARD``).
 7..14. ``<joint>_slip_stops``, ``<joint>_stick_breaks`` per joint in ``JOINTS`` order
-   (:func:`walker.friction.guards`, directions from :func:`walker.friction.directions`).
-   Resets (:func:`walker.friction.switch`) as in
+   (:func:`walker.models.friction.guards`, directions from
+   :func:`walker.models.friction.directions`). Resets (:func:`walker.models.friction.switch`) as in
    :mod:`walker.models.kneed_coulomb`: at ``slip_stops`` the joint is locked
-   plastically (:func:`walker.friction.project_stuck`; its rate is rounding-small there) and
+   plastically (:func:`walker.models.friction.project_stuck`; its rate is rounding-small there) and
    every joint's mode is chosen again; at ``stick_breaks`` the joint slips against its
    holding torque and the others are chosen again.  A joint without dry friction
    (``F_s = 0``) has its slip_stops guard held at 1 (never fires): it never sticks and its
@@ -72,8 +72,8 @@ import math
 
 import numpy as np
 
-from walker import friction as fr
 from walker._generated import indices as ix
+from walker.models import friction as fr
 from walker.models._common import (
     ground_reaction_at,
 )
@@ -119,7 +119,7 @@ SECTION_NAMES = (
 I_LENGTH_FEMUR, I_LENGTH_TIBIA = ix.FIVE_LINK_P_LENGTH_FEMUR, ix.FIVE_LINK_P_LENGTH_TIBIA
 I_SLOPE, I_FRICTION = ix.FIVE_LINK_P_SLOPE, ix.FIVE_LINK_P_FRICTION
 CONTROL_OFFSET = ix.FIVE_LINK_P_CONTROLLER
-"""Index in ``p`` of the controller block (:mod:`walker.control` layout)."""
+"""Index in ``p`` of the controller block (:mod:`walker.models.control` layout)."""
 I_DAMPING_HIP, I_DAMPING_KNEE = ix.FIVE_LINK_P_DAMPING_HIP, ix.FIVE_LINK_P_DAMPING_KNEE
 I_COULOMB_HIP, I_COULOMB_KNEE = ix.FIVE_LINK_P_COULOMB_HIP, ix.FIVE_LINK_P_COULOMB_KNEE
 """Indices in ``p`` of the joint friction (after the controller block; a test checks them

@@ -151,7 +151,7 @@ def deepest_penetration(solution, p) -> Penetration:
     Examples
     --------
     >>> from walker import load_scene
-    >>> from walker.stride import simulate
+    >>> from walker.simulation.stride import simulate
     >>> from walker.models.kneed import deepest_penetration
     >>> scene = load_scene("gaits/kneed_hsu.toml")
     >>> sol = simulate("kneed", scene.params, scene.reference["state"], output="full")
@@ -193,7 +193,8 @@ def deepest_penetration(solution, p) -> Penetration:
 
 LIFT_AFFINE = True
 """``lift`` is ``lift(0, p) + lift_jacobian(0, p) z``, each row one term (basin batches,
-:meth:`walker.stride.StrideMap.basin_batch`, rely on it; tests/test_basin.py checks it)."""
+:meth:`walker.simulation.stride.StrideMap.basin_batch`, rely on it; tests/test_basin.py checks
+it)."""
 
 
 def lift(z, p):

@@ -1,5 +1,5 @@
 """The kneed walker with dry (Coulomb) friction at the stance ankle, the hip and the swing
-knee: stick and slip as phases and events (:mod:`walker.friction`).
+knee: stick and slip as phases and events (:mod:`walker.models.friction`).
 
 State ``x = (q1, q2, q3, qd1, qd2, qd3)`` as in :mod:`walker.models.kneed` (stance leg, swing
 thigh, swing shank; absolute angles from the vertical, counterclockwise positive).
@@ -17,15 +17,15 @@ Phases: ``base`` x joint modes.  Phases 0..26 are ``unlocked`` (3-DOF) with the 
 ``ankle + 3 hip + 9 knee`` (mode 0 slip+, 1 slip-, 2 stick); phases 27..35 are ``locked``
 (2-DOF, ``q3 = q2``, ``qd3 = qd2`` kept exactly) with the code ``ankle + 3 hip``.  Phase 0 is
 "unlocked, every joint slipping forward"; :func:`start_phase` gives the phase consistent
-with a state, and :class:`walker.stride.StrideMap` and :func:`walker.stride.simulate` start
-there (the new swing knee is straight and at rest just after heel strike, so whether it
-sticks depends on the friction).
+with a state, and :class:`walker.simulation.stride.StrideMap` and
+:func:`walker.simulation.stride.simulate` start there (the new swing knee is straight and at
+rest just after heel strike, so whether it sticks depends on the friction).
 
 Guards, in priority order: 0 ``knee_lock``, 1 ``swing_foot_contact``, 2 ``fall_forward``,
 3 ``fall_backward``, exactly as in the kneed walker (their resets are the kneed walker's:
 knee lock, heel strike with leg swap, trip, falls); then per joint ``<joint>_slip_stops``
 and ``<joint>_stick_breaks`` (4..9), whose resets choose the modes again
-(:func:`walker.friction.choose_modes`) and project the velocities of joints that start to
+(:func:`walker.models.friction.choose_modes`) and project the velocities of joints that start to
 stick.  After every impact the modes are chosen afresh for the post-impact state.  A knee
 stuck bent cannot lock, and its foot striking the ground is a trip; a knee stuck straight
 strikes as a locked leg (the kneed walker's simultaneous knee-lock and heel-strike rule).
@@ -35,14 +35,14 @@ joint without dry friction has no friction guards; the accelerations come from t
 matrices by another elimination, so they agree to round-off).  Energy: between events ``E``
 decreases by ``sum_j F_j |delta theta_j|`` plus the viscous dampers' work.
 
-Jacobian ``jac``: exact in every phase (:func:`walker.friction.accelerations_jacobian` with
+Jacobian ``jac``: exact in every phase (:func:`walker.models.friction.accelerations_jacobian` with
 the generated ``dmass``, ``dbias_dq``, ``dbias_dqd`` and the linear viscous forcing).
 """
 
 import numpy as np
 
-from walker import friction as fr
 from walker._generated import indices as ix
+from walker.models import friction as fr
 from walker.models import kneed as _kneed
 from walker.models._common import joint_friction_walker
 from walker.params import MODELS

@@ -154,7 +154,8 @@ def half_angle(p) -> float:
 
 LIFT_AFFINE = True
 """``lift`` is ``lift(0, p) + lift_jacobian(0, p) z``, each row one term (basin batches,
-:meth:`walker.stride.StrideMap.basin_batch`, rely on it; tests/test_basin.py checks it)."""
+:meth:`walker.simulation.stride.StrideMap.basin_batch`, rely on it; tests/test_basin.py checks
+it)."""
 
 
 def lift(z, p):

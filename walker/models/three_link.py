@@ -18,15 +18,16 @@ friction acting on the joint rates): the joints are the actuated ones, ``JOINTS 
 not know about the friction (a disturbance that its PD on the outputs rejects): ``u`` is its
 torque as in the frictionless model, then ``f = B u - h - F_v S^T w`` (``h = C qd + g``,
 ``F_v = damping_hip`` at both joints) and ``qdd`` follows from
-:func:`walker.friction.accelerations` with the dry friction ``F_s = coulomb_hip`` of both
+:func:`walker.models.friction.accelerations` with the dry friction ``F_s = coulomb_hip`` of both
 joints in the modes of the current phase (a stuck joint is held by whatever torque up to
 ``F_s`` keeps ``w_j = 0``: an augmented linear system).
 
 Phases: ``stance`` x the joint modes, phase index = mode code
-(:func:`walker.friction.encode`: ``hip_stance + 3 hip_swing``, mode 0 slip+, 1 slip-,
-2 stick), 9 phases named by :func:`walker.friction.mode_names`.  :func:`start_phase` gives
-the phase consistent with a state (:func:`walker.friction.choose_modes`);
-:class:`walker.stride.StrideMap` and :func:`walker.stride.simulate` start there.
+(:func:`walker.models.friction.encode`: ``hip_stance + 3 hip_swing``, mode 0 slip+, 1 slip-,
+2 stick), 9 phases named by :func:`walker.models.friction.mode_names`.  :func:`start_phase` gives
+the phase consistent with a state (:func:`walker.models.friction.choose_modes`);
+:class:`walker.simulation.stride.StrideMap` and :func:`walker.simulation.stride.simulate` start
+there.
 
 Guards, in priority order:
 
@@ -45,10 +46,10 @@ Guards, in priority order:
    ends the run with ``NONPHYSICAL_IMPACT`` (the event log names the guard).  ``F_t`` is
    along the slope (forward), ``F_n`` along its normal.
 6. ``hip_stance_slip_stops``, 7. ``hip_stance_stick_breaks``, 8. ``hip_swing_slip_stops``,
-   9. ``hip_swing_stick_breaks`` (:func:`walker.friction.guards`, directions from
-   :func:`walker.friction.directions`).  Resets (:func:`walker.friction.switch`) as in
+   9. ``hip_swing_stick_breaks`` (:func:`walker.models.friction.guards`, directions from
+   :func:`walker.models.friction.directions`).  Resets (:func:`walker.models.friction.switch`) as in
    :mod:`walker.models.kneed_coulomb`: at ``slip_stops`` the joint is locked plastically
-   (:func:`walker.friction.project_stuck`; its rate is rounding-small there) and every
+   (:func:`walker.models.friction.project_stuck`; its rate is rounding-small there) and every
    joint's mode is chosen again; at ``stick_breaks`` the joint slips against its holding
    torque and the other one is chosen again.  With ``coulomb_hip = 0`` the slip_stops
    guards are held at 1 (never fire): a joint without dry friction never sticks and its slip
@@ -72,8 +73,8 @@ polynomial outputs, is in ``walker/_core/wk_control.c`` as the others are.
 
 import numpy as np
 
-from walker import friction as fr
 from walker._generated import indices as ix
+from walker.models import friction as fr
 from walker.models._common import (
     ground_reaction_at,
 )
@@ -112,7 +113,7 @@ legs the foot height ``r (cos q_stance - cos q_swing)`` has two zeros: ``q_swing
 -q_stance`` (a step) and ``q_swing = q_stance`` (the swing foot passing through the stance
 foot, step length zero up to round-off): the latter is the mid-stance scuff."""
 CONTROL_OFFSET = ix.THREE_LINK_P_CONTROLLER
-"""Index in ``p`` of the controller block (:mod:`walker.control` layout)."""
+"""Index in ``p`` of the controller block (:mod:`walker.models.control` layout)."""
 I_THETA_MINUS = ix.THREE_LINK_P_THETA_MINUS
 I_STEP_EVENT = ix.THREE_LINK_P_STEP_EVENT
 """Index in ``p`` of ``step_event`` (0: the step ends at heel strike, 1: where the stance
@@ -160,7 +161,8 @@ def modes_of(phase: int) -> dict[str, str]:
 
 LIFT_AFFINE = True
 """``lift`` is ``lift(0, p) + lift_jacobian(0, p) z``, each row one term (basin batches,
-:meth:`walker.stride.StrideMap.basin_batch`, rely on it; tests/test_basin.py checks it)."""
+:meth:`walker.simulation.stride.StrideMap.basin_batch`, rely on it; tests/test_basin.py checks
+it)."""
 
 
 def lift(z, p):

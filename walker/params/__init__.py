@@ -47,7 +47,7 @@ Traceback (most recent call last):
 ValueError: `mass_hip` must be > 0 [kg], got -1.0
 """
 
-# the base class and the bound checks, for walker.sweep_grid and walker.cli
+# the base class and the bound checks, for walker.analysis.sweep_grid and walker.cli
 from walker.params._base import _check_bounds, _Params, _rule_text  # noqa: F401
 from walker.params.actuated import FiveLinkParams, ThreeLinkParams
 from walker.params.coulomb import CompassCoulombParams, KneedCoulombParams

@@ -2,7 +2,7 @@
 ``grizzle`` preset and the book's controller (:meth:`walker.params.ThreeLinkParams.grizzle`,
 :meth:`~walker.params.ThreeLinkParams.westervelt_book`) and the five-link ``rabbit`` preset
 (:meth:`walker.params.FiveLinkParams.rabbit`), each with its source.  The ``*_INVARIANT``
-tables are the Bezier coefficients :func:`walker.hzd.make_invariant` gives the design,
+tables are the Bezier coefficients :func:`walker.models.hzd.make_invariant` gives the design,
 stored as numbers so that :mod:`walker.params` imports no analysis code
 (``tests/test_params.py`` recomputes them).
 """
@@ -64,7 +64,7 @@ _GRIZZLE_DEFAULTS: dict[str, float] = {
 }
 
 _GRIZZLE_INVARIANT: dict[str, float] = {
-    # walker.hzd.make_invariant(ThreeLinkParams(**_GRIZZLE_DEFAULTS)), printed with repr
+    # walker.models.hzd.make_invariant(ThreeLinkParams(**_GRIZZLE_DEFAULTS)), printed with repr
     # (tests/test_params.py recomputes them)
     "bezier_swing_0": -0.39269908169872414,
     "bezier_swing_1": -0.30240495072649726,
@@ -154,7 +154,7 @@ _RABBIT_DEFAULTS: dict[str, float] = {
 
 
 _RABBIT_INVARIANT: dict[str, float] = {
-    # walker.hzd.make_invariant(FiveLinkParams(**_RABBIT_DEFAULTS)), printed with repr
+    # walker.models.hzd.make_invariant(FiveLinkParams(**_RABBIT_DEFAULTS)), printed with repr
     # (tests/test_params.py recomputes them)
     "bezier_knee_0": 0.20000000000000004,
     "bezier_knee_1": 0.26191304879112004,

@@ -26,7 +26,7 @@ __all__ = ["ThreeLinkParams", "FiveLinkParams"]
 
 
 # ------------------------------------------------------------------------------------------
-_BEZIER_DEGREE = 4  # must equal walker.control.BEZIER_DEGREE (tests/test_params.py checks)
+_BEZIER_DEGREE = 4  # must equal walker.models.control.BEZIER_DEGREE (tests/test_params.py checks)
 
 
 def _bezier_field(output: str, k: int) -> Any:
@@ -44,7 +44,7 @@ class ThreeLinkParams(_Params):
 
     The first eleven fields are the physical parameters the generated kernels take (order of
     :data:`walker.symbolic.actuated.THREE_LINK_PARAMS`); ``friction`` is the ground's Coulomb
-    coefficient; then the controller block read by :mod:`walker.control` (layout in its
+    coefficient; then the controller block read by :mod:`walker.models.control` (layout in its
     docstring): the mode, gains, torque limit, the phase range and the Bezier coefficients
     (degree 4) of the desired swing-leg and torso angles; last the joint friction of the two
     hip joints (appended after the controller block, so ``CONTROL_OFFSET`` and every other
@@ -143,7 +143,7 @@ class ThreeLinkParams(_Params):
     )
     """Fields added after three-link files were first written: a file without them was
     computed with heel strike ending the step, no finite-time controller and no rotor inertia,
-    the values the ``grizzle`` preset gives them (:func:`walker.gallery` reads such a file
+    the values the ``grizzle`` preset gives them (:func:`walker.plotting.gallery` reads such a file
     with those)."""
 
     mass_hip: float = _param("kg", "point mass at the hip", 0.0, lo_open=True)
@@ -253,7 +253,7 @@ class ThreeLinkParams(_Params):
         r/2). The step angle pi/8 and the forward-leaning torso (pi/6 in [3]_'s clockwise
         convention, -pi/6 here) are those of ``control_params_three_link.m``; the Bezier
         coefficients are walker's own, made HZD-invariant by
-        :func:`walker.hzd.make_invariant` (see ``gaits/three_link_grizzle.toml``); the
+        :func:`walker.models.hzd.make_invariant` (see ``gaits/three_link_grizzle.toml``); the
         invariant values are stored as numbers (``_GRIZZLE_INVARIANT`` in
         :mod:`walker.params._actuated_presets`; a test checks them against
         ``make_invariant``), so :mod:`walker.params` imports no analysis code.
@@ -261,7 +261,7 @@ class ThreeLinkParams(_Params):
         ``changes`` may set what the impact does not depend on (controller, gains, torque
         limit, friction, ``g``, the book controller's fields); a change of the mechanics, the
         slope or the design makes the Bezier coefficients non-invariant, and is refused: pass
-        ``ThreeLinkParams.grizzle().replace(...)`` through :func:`walker.hzd.make_invariant`.
+        ``ThreeLinkParams.grizzle().replace(...)`` through :func:`walker.models.hzd.make_invariant`.
 
         References
         ----------
@@ -342,7 +342,7 @@ def _impact_neutral(cls: type, preset: str, changes: Mapping[str, Any]) -> None:
             f"`{preset}()` changes may only set what the impact does not depend on "
             f"({', '.join(_IMPACT_NEUTRAL)}, {', '.join(p + '*' for p in _IMPACT_NEUTRAL_PREFIXES)}"
             f"), got {listed}: use {cls.__name__}.{preset}().replace(...) and "
-            "walker.hzd.make_invariant for an HZD-invariant design"
+            "walker.models.hzd.make_invariant for an HZD-invariant design"
         )
 
 
@@ -352,7 +352,7 @@ class FiveLinkParams(_Params):
 
     The first fourteen fields are the physical parameters the generated kernels take (order
     of :data:`walker.symbolic.five_link.FIVE_LINK_PARAMS`); ``friction`` is the ground's
-    Coulomb coefficient; the rest is the controller block read by :mod:`walker.control`
+    Coulomb coefficient; the rest is the controller block read by :mod:`walker.models.control`
     (layout in its docstring): mode, gains, torque limit, the phase range and the Bezier
     coefficients (degree 4) of the four outputs, in the order of the model's coordinates
     ``q[1:]``: stance-knee flexion ``q_femur_st - q_tibia_st``, torso, swing femur and swing
@@ -526,12 +526,13 @@ class FiveLinkParams(_Params):
         """RABBIT's masses, lengths and inertias [1]_ with walker's virtual-constraint design.
 
         The Bezier coefficients are walker's own (a level-ground gait, see
-        ``gaits/five_link_hzd.toml``), made HZD-invariant by :func:`walker.hzd.make_invariant`
-        and stored as numbers (``_RABBIT_INVARIANT`` in :mod:`walker.params._actuated_presets`;
-        a test checks them against it).
+        ``gaits/five_link_hzd.toml``), made HZD-invariant by
+        :func:`walker.models.hzd.make_invariant` and stored as numbers (``_RABBIT_INVARIANT`` in
+        :mod:`walker.params._actuated_presets`; a test checks them against it).
         ``changes`` may set what the impact does not depend on (controller, gains, torque
         limit, friction, ``g``); a change of the mechanics, the slope or the design is refused:
-        pass ``FiveLinkParams.rabbit().replace(...)`` through :func:`walker.hzd.make_invariant`.
+        pass ``FiveLinkParams.rabbit().replace(...)`` through
+        :func:`walker.models.hzd.make_invariant`.
 
         Which parameter set, and why.  walker ships the published table [1]_ [2]_: masses
         12 / 6.8 / 3.2 kg (torso, femur, tibia; 32 kg in all), centres of mass 0.24 m above

@@ -197,7 +197,7 @@ def solver_provenance(
     """Provenance of a computation: the model, its parameters, the solver and the kernels.
 
     The one place where these keys are built: :func:`scene_provenance` (every file the
-    command line writes) and :func:`walker.sweep.sweep` (a sweep's checkpoint) both use it.
+    command line writes) and :func:`walker.analysis.sweep.sweep` (a sweep's checkpoint) both use it.
 
     Parameters
     ----------
@@ -288,7 +288,7 @@ def scene_provenance(
     >>> prov["scene"], prov["model"], prov["swing_scuff"], prov["status"]
     ('gaits/kneed_hsu.toml', 'kneed', 'trip', 'COMPLETED')
     """
-    from walker.stride import solver_settings
+    from walker.simulation.stride import solver_settings
 
     where = str(scene.path)
     if relative_to is not None:

@@ -10,7 +10,7 @@ knee) to its upper end (knee or hip); the torso at angle ``q_torso`` points from
 its mass along ``u(q_torso)``.
 
 Generalized coordinates of the pinned (single-support) model, chosen so that the first one
-is the phase variable and the others are the controlled outputs of :mod:`walker.control`::
+is the phase variable and the others are the controlled outputs of :mod:`walker.models.control`::
 
     q_leg      = (q_tibia_st + q_femur_st) / 2   mean stance-leg angle (phase variable)
     q_knee     = q_femur_st - q_tibia_st         stance-knee flexion (> 0: knee forward)

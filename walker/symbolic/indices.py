@@ -10,7 +10,7 @@ tie itself to an order that nothing checks; instead it reads the constants print
 * ``walker/_generated/indices.h``: the same as ``#define WK_KNEED_P_SLOPE 12``, ...
 
 Phases are printed for the models whose phase names are identifiers (the friction models
-number their stick/slip phases by mode codes, :mod:`walker.friction`).  Both files are
+number their stick/slip phases by mode codes, :mod:`walker.models.friction`).  Both files are
 written by ``python scripts/generate_kernels.py`` (``--indices`` writes only them) and checked
 against these functions by ``tests/test_indices.py``, so a reordered field fails a test until
 the files are printed again.

@@ -1,0 +1,1 @@
+"""Analysis: gait search, continuation, basins, sweeps, measures, robustness."""

@@ -1,0 +1,1 @@
+"""Simulation: the integrator's Python side, runs, stride maps and terrain."""
