@@ -259,6 +259,7 @@ def _column(header, rows, name):
     raise KeyError(name)
 
 
+@pytest.mark.slow  # every command's file: the integration tier
 def test_export_csv_of_every_kind(result_files, tmp_path, capsys):
     for kind, path in result_files.items():
         out = tmp_path / f"{kind}.csv"
@@ -310,6 +311,7 @@ def test_export_csv_of_every_kind(result_files, tmp_path, capsys):
             assert header[0] == "slope [rad]" and len(rows) == len(result.parameter)
 
 
+@pytest.mark.slow  # every command's file: the integration tier
 def test_export_mat_of_every_kind(result_files, tmp_path, capsys):
     from scipy.io import loadmat
 
@@ -331,6 +333,7 @@ def test_export_mat_of_every_kind(result_files, tmp_path, capsys):
             assert_allclose(mat["sweep"].status, result.columns["status"], rtol=0, atol=0)
 
 
+@pytest.mark.slow  # every command's file: the integration tier
 def test_export_json_of_every_kind(result_files, tmp_path, capsys):
     for kind, path in result_files.items():
         out = tmp_path / f"{kind}.json"

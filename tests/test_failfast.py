@@ -476,6 +476,7 @@ def _check_stride_work(n_examples):
     assert np.all(worst <= 100 * median), (worst, median)
 
 
+@pytest.mark.slow  # a stress set: the integration tier
 def test_worst_stride_costs_at_most_100_median_strides():
     _check_stride_work(1000)
 

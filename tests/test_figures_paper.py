@@ -302,6 +302,7 @@ def test_animation_draws_stance_and_swing_legs_in_two_colours(name):
 # -- the command line ------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # every figure through the command: the integration tier
 def test_plot_draws_only_the_figures_asked_in_the_format_asked(tmp_path, capsys):
     out = tmp_path / "figs"
     code = main(

@@ -302,6 +302,7 @@ def test_generated_header_is_stamped(name):
     assert _hybrid.kernel_hashes()[name] == stamp["hash"]
 
 
+@pytest.mark.slow  # a full re-derivation: the integration tier
 @pytest.mark.parametrize("name", sorted(GENERATED_MODULES))
 def test_generated_hash_matches_symbolic_input(name):
     """The stamped hash is ``symbolic_hash`` of today's kernels.  ``srepr`` (and so the

@@ -163,7 +163,11 @@ SCENES = {
 }
 
 
-@pytest.mark.parametrize("key", list(SCENES))
+# the kneed walker's 36 friction phases in solve_ivp take the longest: the integration tier
+@pytest.mark.parametrize(
+    "key",
+    [pytest.param(k, marks=pytest.mark.slow) if k.startswith("kneed") else k for k in SCENES],
+)
 def test_scene_runs_agree_with_oracle(key):
     """The scene's run (one stride from its reference gait; the double pendulum with dry
     friction to t = 4 s): every event, the final state and time to ``STRIDE_RTOL``; for the

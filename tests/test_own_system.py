@@ -57,6 +57,7 @@ def test_the_page_runs(tmp_path):
     assert page.fp.success
 
 
+@pytest.mark.slow  # a walkthrough: the integration tier
 def test_the_controller_walkthrough_runs(tmp_path, monkeypatch):
     """The three-link walker with a user controller through ctx, without numba (about 4 s:
     three gait searches with a Python torque callback)."""

@@ -267,6 +267,7 @@ def _compass_frames(n_frames=12):
     return np.stack([foot, hip, swing], axis=1)
 
 
+@pytest.mark.slow  # an animation: the integration tier
 def test_animate_walker_gif(tmp_path):
     from PIL import Image
 

@@ -121,6 +121,7 @@ def _sample(kind_index: int):
     )
 
 
+@pytest.mark.slow  # storage fuzzing: the integration tier
 def test_corpus_sample_of_every_kind(tmp_path, kinds):
     """Default tier: five kinds with two categories of attack each (together all eight);
     bombs declare 64 MiB at about 1000:1 (the slow tier: 1 GiB, and every kind)."""

@@ -58,6 +58,7 @@ def orbit_file(tmp_path_factory):
     return write(d / "orbit.h5", RESULTS["orbit_diagram"](), provenance={})
 
 
+@pytest.mark.slow  # storage fuzzing: the integration tier
 @pytest.mark.parametrize("signed", [False, True], ids=["stale-checksum", "re-signed"])
 def test_decompression_bomb_is_refused_in_bounded_memory(tmp_path, orbit_file, signed):
     """Before: a 1.1 MB file whose deflated dataset declares 2 GiB was refused after 52 s

@@ -180,6 +180,7 @@ def test_sweep_static_damage_refuses_resume(tmp_path):
         sweep_store(path)
 
 
+@pytest.mark.slow  # old-file resume: the integration tier
 def test_version_1_files_are_read_and_resumed(tmp_path):
     """Files of schema version 1 (no checksums) still read, and a version-1 sweep
     checkpoint is resumed in place.  (Compatibility: this passed before too; it fails if

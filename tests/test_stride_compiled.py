@@ -75,7 +75,11 @@ def _same(new: MapResult, old: MapResult):
         np.testing.assert_array_equal(new.jac, old.jac)
 
 
-@pytest.mark.parametrize("scene_file", COMPILED_SCENES)
+# the three-link walkers' checked paths run their controller through Python: the integration tier
+@pytest.mark.parametrize(
+    "scene_file",
+    [pytest.param(f, marks=pytest.mark.slow) if "three_link" in f else f for f in COMPILED_SCENES],
+)
 def test_compiled_call_equals_the_checked_path_bit_for_bit(scene_file):
     P, z_star = _map_and_start(scene_file)
     P(z_star)

@@ -374,6 +374,7 @@ def _done_flags(path, scratch):
         return None
 
 
+@pytest.mark.slow  # kill and resume: the integration tier
 def test_sigkill_then_resume_gives_the_uninterrupted_table(tmp_path, pool):
     out = tmp_path / "killed.h5"
     script = textwrap.dedent(
@@ -444,6 +445,7 @@ def _stored_done(path):
 # ---- dask ----------------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # a local cluster: the integration tier
 def test_dask_local_cluster_matches_process_pool(pool):
     distributed = pytest.importorskip("distributed")
     stride_map, z0 = _compass_map()

@@ -70,6 +70,7 @@ def test_every_command_works_without_numba(tmp_path):
     assert proc.stdout.strip().endswith("ok"), proc.stdout[-2000:]
 
 
+@pytest.mark.slow  # a fresh interpreter: the integration tier
 def test_package_imports_and_finds_a_gait_without_numba(tmp_path):
     """The quick version for the default suite: every module imports, and ``walker find``
     and the checked calls of a compiled model run, with numba blocked."""
