@@ -497,6 +497,8 @@ static PyMethodDef methods[] = {
      call_state_fn_doc},
     {"newton_step", (PyCFunction)(void (*)(void))py_newton_step, METH_FASTCALL,
      newton_step_doc},
+    {"search", (PyCFunction)(void (*)(void))wkpy_search, METH_VARARGS | METH_KEYWORDS,
+     wkpy_search_doc},
     {NULL, NULL, 0, NULL},
 };
 
