@@ -14,9 +14,9 @@ import sys
 
 import numpy as np
 import pytest
+from _toy_maps import HenonMap, henon_fixed_points
 
 import walker.newton as newton
-from _toy_maps import HenonMap, henon_fixed_points
 from walker import _hybrid
 from walker.fixedpoint import find_fixed_point
 from walker.status import Status
@@ -127,9 +127,7 @@ def test_a_malformed_answer_is_refused(answer, error, words):
 def test_the_binding_takes_keywords_only():
     z0 = np.array([0.5, 0.1])
     ev, settings = _settings(z0)
-    kwargs = dict(
-        z0=z0, scale=np.ones(2), evaluate=ev.evaluate, jacobian=ev.jacobian, outside=None
-    )
+    kwargs = dict(z0=z0, scale=np.ones(2), evaluate=ev.evaluate, jacobian=ev.jacobian, outside=None)
     with pytest.raises(TypeError, match="keyword arguments only"):
         _hybrid.search(z0, **{k: v for k, v in kwargs.items() if k != "z0"}, **settings)
     missing = dict(settings)
