@@ -156,8 +156,16 @@ def _answer(res, with_jacobian):
     z = np.ascontiguousarray(res.z, dtype=np.float64)
     jac = getattr(res, "jac", None) if with_jacobian else None
     if jac is not None:
-        jac = np.ascontiguousarray(jac, dtype=np.float64)
+        jac = np.ascontiguousarray(jac, dtype=np.float64).reshape(-1)
     return int(res.status), z, jac, res
+
+
+# The constants above that the C search reads, each as the keyword of its lowercase name
+# (read at each search: a test may change one).
+_CONSTANTS = (
+    "ARMIJO LINE_FLAT COND_MAX MAX_HALVINGS LM_START LM_GROW LM_SHRINK LM_MAX LM_TRIES "
+    "TR_START TR_MAX STALL_WINDOW STALL_RATIO STALL_ALPHA COARSEST_RTOL COARSE_RHO COARSE_KEEP"
+).split()
 
 
 class _Search:
@@ -166,21 +174,6 @@ class _Search:
     ``period``-fold map at a point, at the map's own rtol or a coarser one), ``jacobian``
     (the map's own or central differences, :func:`~walker.sectionmap.map_jacobian`) and
     ``outside`` (the walking region's refusals, numbered in ``reasons``)."""
-
-    __slots__ = (
-        "section_map",
-        "period",
-        "parameter",
-        "max_evals",
-        "n_evals",
-        "tol",
-        "mode",
-        "fd_step",
-        "own",
-        "maps",
-        "region",
-        "reasons",
-    )
 
     def __init__(self, section_map, period, parameter, max_evals, tol, mode, fd_step, coarse):
         self.section_map = section_map
@@ -210,23 +203,7 @@ class _Search:
             "coarse": own is not None,
             "own_rtol": own[0] if own is not None else 1.0,
             "own_atol": own[1] if own is not None else 1.0,
-            "armijo": ARMIJO,
-            "line_flat": LINE_FLAT,
-            "cond_max": COND_MAX,
-            "max_halvings": MAX_HALVINGS,
-            "lm_start": LM_START,
-            "lm_grow": LM_GROW,
-            "lm_shrink": LM_SHRINK,
-            "lm_max": LM_MAX,
-            "lm_tries": LM_TRIES,
-            "tr_start": TR_START,
-            "tr_max": TR_MAX,
-            "stall_window": STALL_WINDOW,
-            "stall_ratio": STALL_RATIO,
-            "stall_alpha": STALL_ALPHA,
-            "coarsest_rtol": COARSEST_RTOL,
-            "coarse_rho": COARSE_RHO,
-            "coarse_keep": COARSE_KEEP,
+            **{name.lower(): globals()[name] for name in _CONSTANTS},
         }
 
     def evaluate(self, z, level, with_jacobian):
@@ -254,7 +231,7 @@ class _Search:
             self.section_map, z, self.period, self.parameter, self.mode, self.fd_step
         )
         if jac is not None:
-            jac = np.ascontiguousarray(jac, dtype=np.float64)
+            jac = np.ascontiguousarray(jac, dtype=np.float64).reshape(-1)
         return int(st), None, jac, None
 
     def outside(self, z) -> int:

@@ -25,17 +25,19 @@
  * Keyword arguments
  * ------------------------------------------------------------------------------------------ */
 
+/* kind: 'n' a count in [1, WKPY_MAX_BUDGET] (the history holds min(max_iter, max_evals) + 1
+ * values), 'i' an int64_t in [0, WKPY_MAX_BUDGET], 'b' an int used as a bool, 'd' a double */
 typedef struct {
     const char *name;
-    char kind; /* 'i' int64_t, 'b' int used as a bool, 'd' double */
+    char kind;
     size_t offset;
 } field;
 
 #define SETTING(name, kind) {#name, kind, offsetof(wk_search_settings, name)}
 static const field SETTINGS[] = {
-    SETTING(period, 'i'),        SETTING(tol, 'd'),          SETTING(max_iter, 'i'),
-    SETTING(fallback, 'b'),      SETTING(max_evals, 'i'),    SETTING(exact, 'b'),
-    SETTING(jac_cost, 'i'),      SETTING(coarse, 'b'),       SETTING(own_rtol, 'd'),
+    SETTING(period, 'n'),        SETTING(tol, 'd'),          SETTING(max_iter, 'n'),
+    SETTING(fallback, 'b'),      SETTING(max_evals, 'n'),    SETTING(exact, 'b'),
+    SETTING(jac_cost, 'n'),      SETTING(coarse, 'b'),       SETTING(own_rtol, 'd'),
     SETTING(own_atol, 'd'),      SETTING(armijo, 'd'),       SETTING(line_flat, 'd'),
     SETTING(cond_max, 'd'),      SETTING(max_halvings, 'i'), SETTING(lm_start, 'd'),
     SETTING(lm_grow, 'd'),       SETTING(lm_shrink, 'd'),    SETTING(lm_max, 'd'),
@@ -43,13 +45,12 @@ static const field SETTINGS[] = {
     SETTING(stall_window, 'i'),  SETTING(stall_ratio, 'd'),  SETTING(stall_alpha, 'd'),
     SETTING(coarsest_rtol, 'd'), SETTING(coarse_rho, 'd'),   SETTING(coarse_keep, 'd'),
 };
-#define N_SETTINGS ((int)(sizeof SETTINGS / sizeof SETTINGS[0]))
-
 #define REGION(name, kind) {#name, kind, offsetof(wk_region, name)}
 static const field REGION[] = {
     REGION(has_stance, 'b'), REGION(stance_offset, 'd'), REGION(fall_angle, 'd'),
-    REGION(n_q, 'i'),        REGION(wound_limit, 'd'),   REGION(kinetic_max, 'd'),
+    REGION(n_q, 'n'),        REGION(wound_limit, 'd'),   REGION(kinetic_max, 'd'),
 };
+#define N_SETTINGS ((int)(sizeof SETTINGS / sizeof SETTINGS[0]))
 #define N_REGION ((int)(sizeof REGION / sizeof REGION[0]))
 
 /* The keyword argument `name` (borrowed), or NULL with a TypeError when it is missing. */
@@ -65,23 +66,21 @@ static PyObject *keyword(PyObject *kw, const char *name)
 static int read_fields(PyObject *kw, const field *table, int n, void *base)
 {
     for (int i = 0; i < n; i++) {
-        PyObject *o = keyword(kw, table[i].name);
+        const char *name = table[i].name, kind = table[i].kind;
+        PyObject *o = keyword(kw, name);
         char *at = (char *)base + table[i].offset;
-        if (o == NULL) return -1;
-        if (table[i].kind == 'i' ? wkpy_arg_int(o, table[i].name, (int64_t *)at)
-            : table[i].kind == 'b' ? wkpy_arg_bool(o, table[i].name, (int *)at)
-                                   : wkpy_arg_double(o, table[i].name, (double *)at))
+        if (o == NULL || (kind == 'b'   ? wkpy_arg_bool(o, name, (int *)at)
+                          : kind == 'd' ? wkpy_arg_double(o, name, (double *)at)
+                                        : wkpy_arg_int(o, name, (int64_t *)at)))
             return -1;
+        const int64_t v = kind == 'n' || kind == 'i' ? *(int64_t *)at : 0, low = kind == 'n';
+        if (v < low || v > WKPY_MAX_BUDGET) {
+            PyErr_Format(PyExc_ValueError, "search(): `%s` must be in [%d, %lld], got %lld",
+                         name, (int)low, (long long)WKPY_MAX_BUDGET, (long long)v);
+            return -1;
+        }
     }
     return 0;
-}
-
-/* No positional arguments. */
-static int no_positional(PyObject *args)
-{
-    if (PyTuple_GET_SIZE(args) == 0) return 0;
-    PyErr_SetString(PyExc_TypeError, "search() takes keyword arguments only");
-    return -1;
 }
 
 static int in_table(const char *name, const field *table, int n)
@@ -91,19 +90,19 @@ static int in_table(const char *name, const field *table, int n)
     return 0;
 }
 
-/* Every keyword is a setting, one of `names` (NULL-terminated), or a region field when
- * `region`; else a TypeError naming the first other one. */
-static int no_other_keywords(PyObject *kw, const char *const *names, int region)
+/* No positional argument, and every keyword a setting, one of `names` (NULL-terminated)
+ * or, with `region`, a region field; else a TypeError naming the first other one. */
+static int only_keywords(PyObject *args, PyObject *kw, const char *const *names, int region)
 {
+    if (PyTuple_GET_SIZE(args) != 0) {
+        PyErr_SetString(PyExc_TypeError, "search() takes keyword arguments only");
+        return -1;
+    }
     PyObject *key, *value;
     Py_ssize_t pos = 0;
-    while (PyDict_Next(kw, &pos, &key, &value)) {
-        const char *name = PyUnicode_Check(key) ? PyUnicode_AsUTF8(key) : NULL;
-        if (name == NULL) {
-            PyErr_Clear();
-            PyErr_SetString(PyExc_TypeError, "search() keywords must be strings");
-            return -1;
-        }
+    while (kw != NULL && PyDict_Next(kw, &pos, &key, &value)) {
+        const char *name = PyUnicode_AsUTF8(key);
+        if (name == NULL) return -1;
         int known = in_table(name, SETTINGS, N_SETTINGS) ||
                     (region && in_table(name, REGION, N_REGION));
         for (int i = 0; !known && names[i] != NULL; i++) known = strcmp(name, names[i]) == 0;
@@ -116,55 +115,15 @@ static int no_other_keywords(PyObject *kw, const char *const *names, int region)
     return 0;
 }
 
-/* The settings every search checks; 0, or -1 with a ValueError naming the setting. */
-static int check_settings(const wk_search_settings *set)
-{
-    /* the history holds min(max_iter, max_evals) + 1 values: the budgets are bounded */
-    const struct {
-        const char *name;
-        int64_t value;
-    } budgets[] = {{"period", set->period},       {"max_iter", set->max_iter},
-                   {"max_evals", set->max_evals}, {"jac_cost", set->jac_cost},
-                   {"max_halvings", set->max_halvings}, {"lm_tries", set->lm_tries},
-                   {"stall_window", set->stall_window}};
-    for (size_t i = 0; i < sizeof budgets / sizeof budgets[0]; i++) {
-        if (budgets[i].value > WKPY_MAX_BUDGET) {
-            PyErr_Format(PyExc_ValueError, "search(): `%s` must be at most %lld, got %lld",
-                         budgets[i].name, (long long)WKPY_MAX_BUDGET,
-                         (long long)budgets[i].value);
-            return -1;
-        }
-        if (budgets[i].value < (i < 4 ? 1 : 0)) {
-            PyErr_Format(PyExc_ValueError, "search(): `%s` must be at least %d, got %lld",
-                         budgets[i].name, i < 4 ? 1 : 0, (long long)budgets[i].value);
-            return -1;
-        }
-    }
-    if (set->coarse && !(set->own_rtol > 0.0 && set->own_atol > 0.0)) {
-        PyErr_SetString(PyExc_ValueError, "search(): `own_rtol` and `own_atol` must be > 0");
-        return -1;
-    }
-    return 0;
-}
-
-/* n float64 values of a buffer into out; 0, or -1 with an exception naming `name`. */
+/* n float64 values of a 1-D buffer into out; 0, or -1 with an exception naming `name`. */
 static int read_values(PyObject *o, const char *name, int64_t n, double *out)
 {
     Py_buffer v;
-    if (PyObject_GetBuffer(o, &v, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) < 0) {
-        PyErr_Clear();
-        PyErr_Format(PyExc_TypeError, "search(): `%s` must be a C-contiguous float64 array, "
-                     "got %.200s", name, Py_TYPE(o)->tp_name);
-        return -1;
-    }
-    const char *f = v.format == NULL ? "" : v.format;
-    if (f[0] == '@' || f[0] == '=' || (f[0] == '<' && PY_LITTLE_ENDIAN)) f++;
-    const int ok = v.itemsize == 8 && strcmp(f, "d") == 0 && v.len == (Py_ssize_t)(n * 8);
+    if (wkpy_arg_buffer(o, name, 'd', 1, &v)) return -1;
+    const int ok = v.shape[0] == n;
     if (ok) memcpy(out, v.buf, (size_t)n * sizeof(double));
     PyBuffer_Release(&v);
-    if (!ok)
-        PyErr_Format(PyExc_ValueError, "search(): `%s` must hold %lld float64 values", name,
-                     (long long)n);
+    if (!ok) PyErr_Format(PyExc_ValueError, "`%s` must have length %lld", name, (long long)n);
     return ok ? 0 : -1;
 }
 
@@ -173,25 +132,17 @@ static int read_values(PyObject *o, const char *name, int64_t n, double *out)
 static int read_start(PyObject *kw, int64_t n, double **buf, int64_t extra)
 {
     PyObject *o_z0 = keyword(kw, "z0"), *o_scale = o_z0 ? keyword(kw, "scale") : NULL;
-    if (o_scale == NULL) return -1;
-    *buf = PyMem_Malloc((size_t)(2 * n + extra) * sizeof(double));
-    if (*buf == NULL) {
-        PyErr_NoMemory();
-        return -1;
-    }
+    if (o_scale == NULL || (*buf = PyMem_Malloc((size_t)(2 * n + extra) * 8)) == NULL)
+        return o_scale == NULL ? -1 : (PyErr_NoMemory(), -1);
     double *z0 = *buf, *scale = *buf + n;
-    if (read_values(o_z0, "z0", n, z0) || read_values(o_scale, "scale", n, scale)) goto fail;
-    for (int64_t i = 0; i < n; i++)
+    int bad = read_values(o_z0, "z0", n, z0) || read_values(o_scale, "scale", n, scale);
+    for (int64_t i = 0; !bad && i < n; i++)
         if (!isfinite(z0[i]) || !(scale[i] > 0.0) || !isfinite(scale[i])) {
-            PyErr_SetString(PyExc_ValueError,
-                            "search(): `z0` must be finite and `scale` finite and > 0");
-            goto fail;
+            PyErr_SetString(PyExc_ValueError, "`z0` must be finite, `scale` finite and > 0");
+            bad = 1;
         }
-    return 0;
-fail:
-    PyMem_Free(*buf);
-    *buf = NULL;
-    return -1;
+    if (bad) PyMem_Free(*buf);
+    return bad ? -1 : 0;
 }
 
 /* The history's length: min(max_iter, max_evals) + 1. */
@@ -218,30 +169,28 @@ static PyObject *answer(const wk_search_out *res, int64_t n_z, PyObject *known)
 PyObject *wkpy_prepared_search(const wkpy_section *s, int64_t max_period, PyObject *args,
                                PyObject *kw)
 {
+    static const char *const names[] = {"z0", "scale", "energy", NULL};
     const int64_t n_x = s->pb.n_x, n_z = s->sec.n_z;
     wk_region reg;
     wk_search_settings set;
     uintptr_t energy;
     PyObject *o_energy;
-    static const char *const names[] = {"z0", "scale", "energy", NULL};
-    if (no_positional(args) || read_fields(kw, REGION, N_REGION, &reg) ||
+    if (only_keywords(args, kw, names, 1) || read_fields(kw, REGION, N_REGION, &reg) ||
         read_fields(kw, SETTINGS, N_SETTINGS, &set) ||
         (o_energy = keyword(kw, "energy")) == NULL ||
-        wkpy_arg_address(o_energy, "energy", 0, &energy) || no_other_keywords(kw, names, 1) ||
-        check_settings(&set))
+        wkpy_arg_address(o_energy, "energy", 0, &energy) ||
+        wkpy_check_state_fn(energy, "energy", WKPY_FN_ENERGY, n_x, s->n_p, 0))
         return NULL;
     reg.energy = (wk_state_fn)energy;
-    if (wkpy_check_state_fn(energy, "energy", WKPY_FN_ENERGY, n_x, s->n_p, 0)) return NULL;
-    if (reg.n_q < 1 || reg.n_q > n_x)
-        return PyErr_Format(PyExc_ValueError, "search(): `n_q` must be in [1, %lld]",
+    if (reg.n_q > n_x)
+        return PyErr_Format(PyExc_ValueError, "`n_q` must be at most n_x = %lld",
                             (long long)n_x);
     /* cases the callbacks take: a model without its Jacobian, a period past the budget */
     if (s->fn.jac == NULL || !set.exact || set.jac_cost != 1 || set.period > max_period)
         Py_RETURN_NONE;
     double *buf;
-    const int64_t n_hist = history_length(&set);
-    if (read_start(kw, n_z, &buf, 2 * n_z + n_x + n_z * n_z + n_hist) < 0) return NULL;
-    const double *z0 = buf, *scale = buf + n_z;
+    if (read_start(kw, n_z, &buf, 2 * n_z + n_x + n_z * n_z + history_length(&set)))
+        return NULL;
     PyObject *result = NULL;
     wk_search_out res = {0};
     res.z = buf + 2 * n_z;
@@ -252,26 +201,22 @@ PyObject *wkpy_prepared_search(const wkpy_section *s, int64_t max_period, PyObje
     int rc;
     wkpy_signals_begin();
     Py_BEGIN_ALLOW_THREADS
-    rc = wk_search_compiled(&s->fn, &s->pb, &s->sec, &reg, &set, scale, z0, &res);
+    rc = wk_search_compiled(&s->fn, &s->pb, &s->sec, &reg, &set, buf + n_z, buf, &res);
     Py_END_ALLOW_THREADS
     if (wkpy_signals_end() && wkpy_interrupted(1)) /* the search's end is not its own */
         goto out;
     if (rc != WK_OK) {
         PyErr_NoMemory();
-        goto out;
-    }
-    if (res.end == WK_SEARCH_DECLINED) {
+    } else if (res.end == WK_SEARCH_DECLINED) {
         result = Py_NewRef(Py_None);
-        goto out;
+    } else {
+        result = answer(&res, n_z,
+                        !res.known ? Py_NewRef(Py_None)
+                                   : Py_BuildValue("(dNNN)", res.known_t,
+                                                   wkpy_bytes_of(res.known_z, n_z, 8),
+                                                   wkpy_bytes_of(res.known_x, n_x, 8),
+                                                   wkpy_bytes_of(res.known_jac, n_z * n_z, 8)));
     }
-    PyObject *known = Py_NewRef(Py_None);
-    if (res.known) {
-        Py_DECREF(known);
-        known = Py_BuildValue("(dNNN)", res.known_t, wkpy_bytes_of(res.known_z, n_z, 8),
-                              wkpy_bytes_of(res.known_x, n_x, 8),
-                              wkpy_bytes_of(res.known_jac, n_z * n_z, 8));
-    }
-    result = answer(&res, n_z, known);
 out:
     PyMem_Free(buf);
     return result;
@@ -286,27 +231,36 @@ typedef struct {
     PyObject *evaluate, *jacobian, *outside; /* borrowed from the call's keywords */
 } callback_map;
 
-/* A callback's answer (status, z or None, jac or None, result) into e; has_jac for a
- * Jacobian that came (finite only when `finite`).  0, or WK_EVAL_ERROR. */
-static int read_answer(PyObject *r, const char *name, int64_t n, int want_jac, int finite,
-                       wk_search_eval *e)
+/* callback(z, *more) with z (n_z,) as a bytearray of float64; NULL with an exception. */
+static PyObject *call_at(PyObject *callback, const wk_search_map *m, const double *z,
+                         const char *more, double level, int want_jac)
+{
+    PyObject *point = wkpy_bytes_of(z, m->n_z, 8);
+    if (point == NULL || PyErr_CheckSignals() < 0) {
+        Py_XDECREF(point);
+        return NULL;
+    }
+    return more == NULL ? PyObject_CallOneArg(callback, point)
+                        : PyObject_CallFunction(callback, "Ndi", point, level, want_jac);
+}
+
+/* A callback's answer r (status, z or None, jac or None, result) into e, then r released;
+ * has_jac for a Jacobian that came (finite only when `finite`).  0, or WK_EVAL_ERROR. */
+static int read_answer(PyObject *r, int64_t n, int want_jac, int finite, wk_search_eval *e)
 {
     if (r == NULL) return WK_EVAL_ERROR;
     int rc = WK_EVAL_ERROR;
     if (!PyTuple_Check(r) || PyTuple_GET_SIZE(r) != 4) {
-        PyErr_Format(PyExc_TypeError, "search(): `%s` must return (status, z, jac, result)",
-                     name);
+        PyErr_SetString(PyExc_TypeError, "search(): a callback must return (status, z, jac, "
+                                         "result)");
         goto out;
     }
     PyObject *o_z = PyTuple_GET_ITEM(r, 1), *o_jac = PyTuple_GET_ITEM(r, 2);
     if (wkpy_arg_int(PyTuple_GET_ITEM(r, 0), "status", &e->status)) goto out;
     e->t = 0.0;
     e->has_jac = 0;
-    if (o_z == Py_None) {
-        for (int64_t i = 0; i < n; i++) e->z[i] = NAN;
-    } else if (read_values(o_z, "z", n, e->z)) {
-        goto out;
-    }
+    for (int64_t i = 0; o_z == Py_None && i < n; i++) e->z[i] = NAN;
+    if (o_z != Py_None && read_values(o_z, "z", n, e->z)) goto out;
     if (want_jac && o_jac != Py_None) {
         if (read_values(o_jac, "jac", n * n, e->jac)) goto out;
         e->has_jac = 1;
@@ -323,40 +277,26 @@ out:
 static int callback_evaluate(wk_search_map *m, const double *z, double level, int want_jac,
                              wk_search_eval *e)
 {
-    const callback_map *c = (const callback_map *)m;
-    if (PyErr_CheckSignals() < 0) return WK_EVAL_ERROR;
-    PyObject *point = wkpy_bytes_of(z, m->n_z, 8);
-    if (point == NULL) return WK_EVAL_ERROR;
-    PyObject *r = PyObject_CallFunction(c->evaluate, "Ndi", point, level, want_jac);
-    return read_answer(r, "evaluate", m->n_z, want_jac, 1, e);
+    PyObject *r = call_at(((callback_map *)m)->evaluate, m, z, "", level, want_jac);
+    return read_answer(r, m->n_z, want_jac, 1, e);
 }
 
 static int callback_jacobian(wk_search_map *m, const double *z, wk_search_eval *e)
 {
-    const callback_map *c = (const callback_map *)m;
-    if (PyErr_CheckSignals() < 0) return WK_EVAL_ERROR;
-    PyObject *point = wkpy_bytes_of(z, m->n_z, 8);
-    if (point == NULL) return WK_EVAL_ERROR;
-    PyObject *r = PyObject_CallFunction(c->jacobian, "N", point);
-    return read_answer(r, "jacobian", m->n_z, 1, 0, e);
+    return read_answer(call_at(((callback_map *)m)->jacobian, m, z, NULL, 0.0, 0), m->n_z, 1,
+                       0, e);
 }
 
 /* outside(z) -> 0 (inside) or k >= 1, the map's reason number k (WK_OUT_OTHER). */
 static int callback_outside(wk_search_map *m, const double *z, double *value, int64_t *index)
 {
-    const callback_map *c = (const callback_map *)m;
-    PyObject *point = wkpy_bytes_of(z, m->n_z, 8);
-    if (point == NULL) return -1;
-    PyObject *r = PyObject_CallFunction(c->outside, "N", point);
-    if (r == NULL) return -1;
-    int64_t k;
-    const int bad = wkpy_arg_int(r, "outside", &k);
-    Py_DECREF(r);
-    if (bad) return -1;
-    if (k <= 0) return WK_INSIDE;
+    PyObject *r = call_at(((callback_map *)m)->outside, m, z, NULL, 0.0, 0);
+    int64_t k = 0;
+    const int bad = r == NULL || wkpy_arg_int(r, "outside", &k);
+    Py_XDECREF(r);
     *value = 0.0;
     *index = k;
-    return WK_OUT_OTHER;
+    return bad ? -1 : k > 0 ? WK_OUT_OTHER : WK_INSIDE;
 }
 
 static void callback_release(wk_search_map *m, wk_search_eval *e)
@@ -368,58 +308,51 @@ static void callback_release(wk_search_map *m, wk_search_eval *e)
 const char wkpy_search_doc[] =
     "search(*, z0, scale, evaluate, jacobian, outside, <settings>) -> tuple\n\n"
     "walker.newton's gait search (newton.h) on a map in Python.  evaluate(z, rtol, jac) and\n"
-    "jacobian(z) return (status, z_next or None, jac or None, result) with float64 arrays\n"
-    "(rtol 0.0: the map's own; z a bytearray of float64); outside(z) returns 0 inside or\n"
-    "k >= 1, the caller's reason number, or outside is None (no region).  An exception in\n"
-    "a callback ends the search and propagates.  Returns (end, status, it, n_evals,\n"
-    "refused, why, why_value, why_index, cond, z, history, known) with z and history\n"
-    "bytearrays of float64 and known the result of the evaluation at a converged z with its\n"
-    "Jacobian, or None.";
+    "jacobian(z) return (status, z_next or None, jac or None, result) with 1-D float64\n"
+    "arrays (rtol 0.0: the map's own; z a bytearray of float64); outside(z) returns 0 inside\n"
+    "or k >= 1, the caller's reason number, or outside is None (no region).  An exception in\n"
+    "a callback ends the search and propagates.  Returns (end, status, it, n_evals, refused,\n"
+    "why, why_value, why_index, cond, z, history, known) with z and history bytearrays of\n"
+    "float64 and known the result of the evaluation at a converged z with its Jacobian, or\n"
+    "None.";
 
 PyObject *wkpy_search(PyObject *self, PyObject *args, PyObject *kw)
 {
     (void)self;
+    static const char *const names[] = {"z0", "scale", "evaluate", "jacobian", "outside", NULL};
     wk_search_settings set;
     callback_map c = {{0, 0, callback_evaluate, callback_jacobian, callback_outside,
                        callback_release, 0},
                       NULL, NULL, NULL};
-    static const char *const names[] = {"z0", "scale", "evaluate", "jacobian", "outside", NULL};
-    if (no_positional(args) || read_fields(kw, SETTINGS, N_SETTINGS, &set) ||
+    PyObject *o_z0;
+    if (only_keywords(args, kw, names, 0) || read_fields(kw, SETTINGS, N_SETTINGS, &set) ||
         (c.evaluate = keyword(kw, "evaluate")) == NULL ||
         (c.jacobian = keyword(kw, "jacobian")) == NULL ||
-        (c.outside = keyword(kw, "outside")) == NULL || no_other_keywords(kw, names, 0) ||
-        check_settings(&set))
+        (c.outside = keyword(kw, "outside")) == NULL || (o_z0 = keyword(kw, "z0")) == NULL)
         return NULL;
     if (!PyCallable_Check(c.evaluate) || !PyCallable_Check(c.jacobian) ||
-        (c.outside != Py_None && !PyCallable_Check(c.outside))) {
-        PyErr_SetString(PyExc_TypeError, "search(): `evaluate` and `jacobian` must be "
-                                         "callable, `outside` callable or None");
-        return NULL;
-    }
+        (c.outside != Py_None && !PyCallable_Check(c.outside)))
+        return PyErr_Format(PyExc_TypeError, "search(): `evaluate` and `jacobian` must be "
+                                             "callable, `outside` callable or None");
     if (c.outside == Py_None) c.base.outside = NULL;
-    double *buf;
-    PyObject *o_z0 = keyword(kw, "z0");
-    const Py_ssize_t len = o_z0 == NULL ? -1 : PyObject_Length(o_z0);
-    if (len < 0) return NULL;
-    const int64_t n = len, n_hist = history_length(&set);
+    const Py_ssize_t n = PyObject_Length(o_z0);
+    if (n < 0) return NULL;
     if (n < 1 || n > MAX_N_X)
-        return PyErr_Format(PyExc_ValueError, "search(): `z0` must have 1 to %d values",
-                            MAX_N_X);
-    if (read_start(kw, n, &buf, 2 * n + n * n + n_hist) < 0) return NULL;
+        return PyErr_Format(PyExc_ValueError, "`z0` must have 1 to %d values", MAX_N_X);
+    double *buf;
+    if (read_start(kw, n, &buf, 2 * n + n * n + history_length(&set))) return NULL;
     c.base.n_z = n;
     wk_search_out res = {0};
     res.z = buf + 2 * n;
     res.known_z = buf + 3 * n;
     res.known_jac = buf + 4 * n;
     res.history = res.known_jac + n * n;
-    PyObject *result = NULL;
+    PyObject *result = NULL, *known;
     const int rc = wk_search(&c.base, &set, buf + n, buf, &res);
-    PyObject *known = res.known_handle;
-    if (rc == WK_ERR_NOMEM)
-        PyErr_NoMemory();
-    else if (rc == WK_OK)
-        result = answer(&res, n, known != NULL ? Py_NewRef(known) : Py_NewRef(Py_None));
-    Py_XDECREF(known);
+    known = res.known_handle != NULL ? res.known_handle : Py_NewRef(Py_None);
+    if (rc == WK_ERR_NOMEM) PyErr_NoMemory();
+    if (rc == WK_OK) result = answer(&res, n, Py_NewRef(known));
+    Py_DECREF(known);
     PyMem_Free(buf);
     return result;
 }
