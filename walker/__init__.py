@@ -27,7 +27,8 @@ The pipeline, from a scene file to pictures::
                                      SolveResult, the named record solve returns
                                      (_hybridresult.c), PreparedMap, one stride-map call
                                      (_hybridmap.c; lift, start checks, run in batch.c)
-                                     and the whole gait search (newton.c)
+                                     and the gait search, written once (newton.c; its
+                                     binding, compiled or through callbacks, _hybridsearch.c)
     (run time)   ──► models/         per walker: names, phases, guards, section lift/project;
                                      WalkerModel.system_for(p) picks the compiled variant once;
                                      WalkerModel.rhs/guards/reset/energy/torques/kernel call
@@ -43,7 +44,8 @@ The pipeline, from a scene file to pictures::
                      system_map.py   SystemMap: a section map of your own HybridSystem
                  ──► fixedpoint.py   fixed points, Floquet multipliers; sectionmap.py (map
                                      value and Jacobian, eigen-sorting, input checks),
-                                     region.py (walking region), newton.py (Newton / LM)
+                                     region.py (walking region), newton.py (the search's
+                                     settings, result and messages)
                      continuation.py natural and pseudo-arclength (steppers.py, one stepper
                                      a method), folds, period doublings (bifurcations.py)
                      basin.py        basins of attraction (threads: strides release the GIL;
