@@ -1,5 +1,5 @@
-/* The gait search in one compiled call: see newton.h.  Each function names the part of
- * walker/newton.py (or walker/region.py) it follows. */
+/* The gait search, written once: see newton.h.  The compiled stride map's evaluations and
+ * walking region follow walker.stride.StrideMap and walker/region.py. */
 #include "newton.h"
 
 #include <math.h>
@@ -160,7 +160,7 @@ static int compiled_jacobian(wk_search_map *m, const double *z, evaluation *e)
     return compiled_evaluate(m, z, 0.0, 1, e);
 }
 
-/* newton._residual: F(z) = P^k(z) - z into f; *ok 0 when the stride failed. */
+/* F(z) = P^k(z) - z into f; *ok 0 when the stride failed or its point is not finite. */
 static int residual_at(search *s, const double *z, double level, int want_jac, evaluation *e,
                        double *f, int *ok)
 {
@@ -172,7 +172,7 @@ static int residual_at(search *s, const double *z, double level, int want_jac, e
     return 0;
 }
 
-/* _Evaluator._spend */
+/* n evaluations from the budget (max_evals); OUT_OF_BUDGET when it cannot pay them. */
 static int spend(search *s, int64_t n)
 {
     /* an interrupt ends the search here (the binding then raises; hybrid.h) */
@@ -182,7 +182,8 @@ static int spend(search *s, int64_t n)
     return 0;
 }
 
-/* _Evaluator._coarse_map: the rtol for a point whose residual is expected to be `expect`
+/* Coarse early strides (COARSE_RHO in walker/newton.py): the rtol for a point whose
+ * residual is expected to be `expect`
  * (have_expect 0: unknown), 0.0 for the map's own. */
 static double coarse_level(const search *s, int have_expect, double expect)
 {
@@ -193,8 +194,10 @@ static double coarse_level(const search *s, int have_expect, double expect)
     return level > set->own_rtol ? level : 0.0;
 }
 
-/* _Evaluator.glance: *have 0 when there is no coarse map, no room in the budget or the
- * stride fails; *failed 1 when the stride fails (glance_failed). */
+/* A glance at the guess: max|F| from one stride at coarsest_rtol without the Jacobian,
+ * counted, so that the guess's own evaluation can pick its rtol; *have 0 when there is no
+ * coarse map, no room in the budget besides the guess's evaluation, or the stride fails;
+ * *failed 1 when it fails. */
 static int glance(search *s, const double *z, evaluation *e, double *f, int *have, double *r,
                   int *failed)
 {
@@ -213,7 +216,10 @@ static int glance(search *s, const double *z, evaluation *e, double *f, int *hav
     return 0;
 }
 
-/* _Evaluator.residual */
+/* F(z) at the rtol for the residual `expect` (have_expect 0: the map's own).  A coarse
+ * result is kept only when its residual r > tol and its rtol <= coarse_keep r^2; else the
+ * point is evaluated again (counted) at the rtol for r, or the map's own; a coarse stride
+ * that fails is redone at the map's own. */
 static int residual(search *s, const double *z, int want_jac, int have_expect, double expect,
                     evaluation *e, double *f, int *ok)
 {
@@ -292,7 +298,7 @@ static void swap(evaluation **a, evaluation **b)
     *b = t;
 }
 
-/* The search proper (newton._search for a walker's map and the exact Jacobian); w is the
+/* The search proper; w is the
  * workspace.  Returns 0, OUT_OF_BUDGET or DECLINED; out says how it ended otherwise. */
 static int run(search *s, const double *scale, const double *z0, double *w, evaluation *ev,
                wk_search_out *out)
@@ -318,7 +324,7 @@ static int run(search *s, const double *scale, const double *z0, double *w, eval
     double glanced = 0.0;
     if ((rc = glance(s, z, here, f, &have_glance, &glanced, &glance_failed))) return rc;
     if (glance_failed) {
-        /* newton._search: a stride failing at the coarsest tolerance is confirmed at the
+        /* a stride failing at the coarsest tolerance is confirmed at the
          * map's own without the Jacobian first */
         if ((rc = residual(s, z, 0, 0, 0.0, here, f, &ok))) return rc;
         if (!ok) {

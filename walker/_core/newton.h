@@ -40,7 +40,7 @@ enum {
 };
 
 /* The search's settings and walker/newton.py's constants (keyword arguments of the
- * binding, walker.newton._settings). */
+ * binding, walker.newton._Search.settings). */
 typedef struct {
     int64_t period;
     double tol;
