@@ -53,7 +53,7 @@ LM_GROW = 10.0
 LM_SHRINK = 0.3
 LM_MAX = 1e12
 LM_TRIES = 8
-# A Newton matrix whose condition number (Frobenius, newton.h's wk_newton_step) exceeds this
+# A Newton matrix whose condition number (Frobenius, newton.c's newton_step) exceeds this
 # is treated as singular.
 COND_MAX = 1e14
 # Coarse early strides (inexact Newton, find_fixed_point only): far from the fixed point a

@@ -242,8 +242,13 @@ static int residual(search *s, const double *z, int want_jac, int have_expect, d
     return residual_at(s, z, 0.0, want_jac, e, f, ok);
 }
 
-int wk_newton_step(const double *a, const double *f, int64_t n, double *A, double *B,
-                   double *dz, double *cond)
+/* The Newton step: dz (n,) solving a dz = -f for a (n, n) row-major by Gaussian elimination
+ * with partial pivoting (wk_solve_columns), and in *cond the Frobenius condition number
+ * ||a||_F ||a^-1||_F (>= the 2-norm one, <= n times it; INFINITY when not finite) from the
+ * inverse solved with it.  Returns 0 (cond INFINITY, dz undefined) when a pivot is zero or
+ * the solution is not finite.  A: (n, n) and B: (n, n + 1) workspace. */
+static int newton_step(const double *a, const double *f, int64_t n, double *A, double *B,
+                       double *dz, double *cond)
 {
     const int64_t nc = n + 1;
     double norm_a = 0.0;
@@ -385,7 +390,7 @@ static int run(search *s, const double *scale, const double *z0, double *w, eval
         out->why = WK_INSIDE;
         /* --- Newton step, cut to the trust region, with backtracking on ||F||_2 --------- */
         double cond;
-        wk_newton_step(a, f, n, A, B, dz, &cond);
+        newton_step(a, f, n, A, B, dz, &cond);
         if (cond < set->cond_max) {
             const double length = max_abs_scaled(dz, scale, n);
             if (length > radius)

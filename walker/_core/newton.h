@@ -133,14 +133,6 @@ typedef struct {
     void *known_handle;     /* its handle, now the caller's */
 } wk_search_out;
 
-/* The Newton step of walker/newton.py: dz (n,) solving a dz = -f for a (n, n) row-major by
- * Gaussian elimination with partial pivoting (wk_solve_columns), and in *cond the Frobenius
- * condition number ||a||_F ||a^-1||_F (>= the 2-norm one, <= n times it; INFINITY when not
- * finite) from the inverse solved with it.  Returns 0 (cond INFINITY, dz undefined) when a
- * pivot is zero or the solution is not finite.  A: (n, n) and B: (n, n + 1) workspace. */
-int wk_newton_step(const double *a, const double *f, int64_t n, double *A, double *B,
-                   double *dz, double *cond);
-
 /* The search from z0 (n_z,) on the map m, with the trust region's unit of each coordinate
  * in scale (n_z,); the caller provides out's arrays.  Returns WK_OK, WK_ERR_NOMEM when the
  * workspace could not be allocated, or WK_ERR_SEARCH_MAP when the map failed. */
