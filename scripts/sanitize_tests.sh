@@ -31,7 +31,8 @@ fi
 if [ "$#" -eq 0 ]; then
   set -- "$repo/tests/test_binding_safety.py" "$repo/tests/test_sanitize.py" \
     "$repo/tests/test_integrate.py" "$repo/tests/test_extension_point.py" \
-    "$repo/tests/test_compiled_search.py" "$repo/tests/test_basin.py" \
+    "$repo/tests/test_compiled_search.py" "$repo/tests/test_search_callbacks.py" \
+    "$repo/tests/test_basin.py" \
     "$repo/tests/test_hardening.py" "$repo/tests/test_guard_screening.py"
 fi
 # cwd = the copy, so `import walker` finds the sanitized build first

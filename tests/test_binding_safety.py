@@ -76,19 +76,33 @@ def test_f1_huge_search_budgets_are_refused_in_python():
 
 
 def test_f1_huge_search_budgets_are_refused_by_the_binding():
-    """Past the Python checks: the compiled search bounds its history's size itself."""
+    """Past the Python checks: the search's binding bounds its history's size itself, on
+    the compiled map and through callbacks."""
     _, P, z0 = _compass()
     search = type(P)._compiled_search(P)
     region = WalkingRegion.of(P, None)
     region.with_guess(z0)
     for max_iter, max_evals in ((2**61 - 2, 2**61 - 2), (2**61 - 2, 60), (50, 2**61 - 2)):
-        ev = newton._Evaluator(P, 1, None, max_evals, 1e-12, True)
-        settings = newton._compiled_settings(ev, max_iter, True)
-        with pytest.raises(ValueError, match=r"search\(\): `max_(iter|evals)` must be at most"):
-            search(z0, region.scale, region.compiled(), settings)
+        ev = newton._Search(P, 1, None, max_evals, 1e-12, "exact", None, True)
+        settings = ev.settings(max_iter, True, 3)
+        with pytest.raises(
+            ValueError, match=r"search\(\): `max_(iter|evals)` must be in \[1, 10000000\]"
+        ):
+            search(z0=z0, scale=region.scale, **region.compiled(), **settings)
+        with pytest.raises(
+            ValueError, match=r"search\(\): `max_(iter|evals)` must be in \[1, 10000000\]"
+        ):
+            _hybrid.search(
+                z0=z0,
+                scale=region.scale,
+                evaluate=ev.evaluate,
+                jacobian=ev.jacobian,
+                outside=None,
+                **settings,
+            )
     # the same call within the bounds finds the gait
-    ev = newton._Evaluator(P, 1, None, 60, 1e-12, True)
-    out = search(z0, region.scale, region.compiled(), newton._compiled_settings(ev, 50, True))
+    ev = newton._Search(P, 1, None, 60, 1e-12, "exact", None, True)
+    out = search(z0=z0, scale=region.scale, **region.compiled(), **ev.settings(50, True, 3))
     assert out is not None and out[0] == 0  # converged
 
 

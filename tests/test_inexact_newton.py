@@ -11,6 +11,7 @@ solution, a map of another method and a wrapper map are never coarsened; and the
 
 from __future__ import annotations
 
+import math
 import pickle
 from pathlib import Path
 
@@ -98,19 +99,45 @@ def test_guess_at_the_solution_uses_the_own_tolerance(rtols):
     assert rtols == [(1e-6, False), (1e-12, True)]
 
 
-def test_coarse_evaluation_too_coarse_for_its_residual_is_redone(monkeypatch, rtols):
-    """A residual smaller than predicted: the coarse result is not kept, the point is
-    evaluated again at the rtol for the residual found, and the count includes both."""
+def _level(r, own):
+    """The rtol the search picks for a residual r (COARSE_RHO, COARSEST_RTOL), or own."""
+    want = min(newton.COARSE_RHO * r * r, newton.COARSEST_RTOL)
+    level = 10.0 ** math.floor(math.log10(want)) if want > own else 0.0
+    return level if level > own else own
+
+
+def test_coarse_evaluation_too_coarse_for_its_residual_is_redone(monkeypatch):
+    """A coarse result that is too coarse for the residual it finds (here every one: the
+    rule to keep one, COARSE_KEEP, set to 0) is not kept: the point is evaluated again at
+    the rtol for the residual found, and the budget counts both."""
     P, z0 = _scene_map("kneed_hsu.toml")
-    ev = newton._Evaluator(P, 1, None, 10, 1e-12, True)
+    seen = []  # (rtol, jacobian, z, max|P(z) - z|)
+    call = StrideMap.__call__
+
+    def spy(self, z, **kwargs):
+        res = call(self, z, **kwargs)
+        r = float(np.max(np.abs(res.z - z))) if res.success else math.nan
+        seen.append((self.rtol, bool(kwargs.get("jacobian", False)), z.copy(), r))
+        return res
+
+    monkeypatch.setattr(StrideMap, "__call__", spy)
+    monkeypatch.setattr(newton, "COARSE_KEEP", 0.0)
     fp = find_fixed_point(P, z0)
-    rtols.clear()
-    f, res = ev.residual(fp.section + 1e-5, True, expect=1.0)  # expects 1, finds ~1e-5
-    assert ev.n_evals == 2
-    r = float(np.max(np.abs(f)))
-    assert 1e-7 < r < 1e-4
-    assert rtols[0] == (1e-6, True) and rtols[1][0] < 1e-6 and rtols[1][0] <= r * r
-    assert res.jac is not None
+    assert fp.success and fp.residual <= 1e-12
+    redone, k = 0, 1  # the glance (k = 0) is kept
+    while k < len(seen) - 1:
+        rtol, jac, z, r = seen[k]
+        k += 1
+        if rtol > P.rtol and jac:  # a coarse evaluation, and the one that replaces it
+            again = seen[k]
+            assert np.array_equal(again[2], z) and again[1]
+            assert again[0] == _level(r, P.rtol)
+            redone += 1
+            k += 1
+    assert redone >= 2
+    n = len(seen)
+    assert find_fixed_point(P, z0, max_evals=n).success
+    assert find_fixed_point(P, z0, max_evals=n - 1).status.name == "BUDGET_EXHAUSTED"
 
 
 def test_other_methods_and_wrappers_are_never_coarsened(rtols):
@@ -159,7 +186,8 @@ def test_with_tolerance_copy():
 
 
 def test_failing_coarse_stride_is_redone_at_the_own_tolerance(monkeypatch):
-    """A coarse stride that fails decides nothing: the map's own tolerance says for sure."""
+    """A coarse stride that fails decides nothing: the map's own tolerance says for sure,
+    at the same point, and the budget counts both."""
     from walker.results import MapResult
     from walker.status import Status
 
@@ -168,28 +196,30 @@ def test_failing_coarse_stride_is_redone_at_the_own_tolerance(monkeypatch):
     seen = []
 
     def coarse_falls(self, z, **kwargs):
-        seen.append(self.rtol)
+        seen.append((self.rtol, z.copy()))
         if self.rtol != P.rtol:
             nan = np.full(3, np.nan)
             return MapResult(Status.FELL_FORWARD, nan, None, 0.0, np.full(6, np.nan))
         return call(self, z, **kwargs)
 
     monkeypatch.setattr(StrideMap, "__call__", coarse_falls)
-    ev = newton._Evaluator(P, 1, None, 10, 1e-12, True)
-    assert np.isnan(ev.glance(z0))  # the coarse stride failed: the guess gets the map's own
-    assert ev.n_evals == 1  # the glance counts
-    f, res = ev.residual(z0, True, expect=1.0)
-    assert res.success and f is not None and ev.n_evals == 3
-    assert seen == [1e-6, 1e-6, P.rtol]
     fp = find_fixed_point(P, z0)
     assert fp.success and fp.residual <= 1e-12
+    assert seen[0][0] == 1e-6  # the glance fails: the guess gets the map's own
+    coarse = [k for k, (rtol, _) in enumerate(seen) if rtol != P.rtol]
+    assert len(coarse) >= 2
+    for k in coarse:
+        assert seen[k + 1][0] == P.rtol and np.array_equal(seen[k + 1][1], seen[k][1])
+    n = len(seen)
+    assert find_fixed_point(P, z0, max_evals=n).success
+    assert find_fixed_point(P, z0, max_evals=n - 1).status.name == "BUDGET_EXHAUSTED"
 
 
 def test_a_guess_whose_strides_fail_ends_without_a_jacobian_run(monkeypatch):
     """When the glance's coarse stride fails, the search confirms the failure at the map's
     own tolerance without the Jacobian and ends there (START_FAILS with that stride's
     status): no variational run, which can cost far more (issue 33: the five-link walker at
-    g = 1e12).  The Python search (walker.analysis.newton._search); the compiled one does the same
+    g = 1e12).  Seen through the callbacks; the compiled map does the same
     (tests/test_compiled_search.py, tests/test_probe_extreme.py)."""
     from walker.results import MapResult
     from walker.status import Status
@@ -203,22 +233,20 @@ def test_a_guess_whose_strides_fail_ends_without_a_jacobian_run(monkeypatch):
         return MapResult(Status.FELL_FORWARD, nan, None, 0.0, np.full(6, np.nan))
 
     monkeypatch.setattr(StrideMap, "__call__", falls)
-    ev = newton._Evaluator(P, 1, None, 10, 1e-12, True)
-    state = {"z": z0.copy(), "history": [], "it": 0}
-    res = newton._search(ev, z0, state, None, 1e-12, 20, "exact", None, False)
+    res = find_fixed_point(P, z0, max_evals=10)
     assert res.status == Status.FELL_FORWARD and not res.success
     assert calls == [(1e-6, False), (P.rtol, False)]
-    assert ev.n_evals == 2
 
 
 def test_glance_counts_and_is_skipped_on_a_tight_budget(rtols):
     """The glance at the guess is one evaluation of the budget, and is left out when the
     budget could not also pay for the guess's own evaluation."""
     P, z0 = _scene_map("kneed_hsu.toml")
-    ev = newton._Evaluator(P, 1, None, 2, 1e-12, True)
-    assert ev.glance(z0) is not None and ev.n_evals == 1
-    ev = newton._Evaluator(P, 1, None, 1, 1e-12, True)
-    assert ev.glance(z0) is None and ev.n_evals == 0
+    assert not find_fixed_point(P, z0, max_evals=2).success
+    assert rtols[0] == (1e-6, False) and len(rtols) == 2
+    rtols.clear()
+    assert not find_fixed_point(P, z0, max_evals=1).success
+    assert rtols == [(P.rtol, True)]
     rtols.clear()
     fp = find_fixed_point(P, z0, max_evals=5)  # the glance and four Jacobian strides
     assert fp.success and len(rtols) == 5

@@ -37,9 +37,9 @@ def _cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def _interrupted_find(signum: int) -> tuple[int, str]:
+def _interrupted_find(signum: int, scene: str = SCENE) -> tuple[int, str]:
     child = subprocess.Popen(
-        [sys.executable, "-m", "walker", "find", SCENE, "--period", "100000"],
+        [sys.executable, "-m", "walker", "find", scene, "--period", "100000"],
         cwd=REPO,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -63,5 +63,13 @@ def _interrupted_find(signum: int) -> tuple[int, str]:
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_a_signal_stops_the_compiled_search(signum):
     code, err = _interrupted_find(signum)
+    assert code == 130, err
+    assert err == "walker: interrupted\n"
+
+
+def test_sigint_stops_the_search_through_callbacks():
+    """The five-link walker's lift is in Python, so its search (the same one, newton.c)
+    evaluates the map through Python callbacks: SIGINT there ends it as well."""
+    code, err = _interrupted_find(signal.SIGINT, str(REPO / "gaits/five_link_hzd.toml"))
     assert code == 130, err
     assert err == "walker: interrupted\n"

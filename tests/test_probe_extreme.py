@@ -113,7 +113,8 @@ def test_the_five_link_walker_at_g_1e12_ends_with_an_outcome(capsys):
     """Ends with the plain stride's fall (FELL_BACKWARD, exit 1): the guess's stride fails
     at the coarsest tolerance, so the search confirms it at the scene's own tolerance
     without the Jacobian (244 steps) before any variational run, which here runs to its
-    clamped budget of 1e5 steps at about 1 ms a step (walker.analysis.newton._search)."""
+    clamped budget of 1e5 steps at about 1 ms a step (walker/_core/newton.c, here through
+    callbacks: the five-link lift is in Python)."""
     code = main(["find", str(GAITS / "five_link_hzd.toml"), "--set", "g=1e12"])
     out, err = capsys.readouterr()
     assert code == 1, err

@@ -27,7 +27,8 @@ The pipeline, from a scene file to pictures::
                                      SolveResult, the named record solve returns
                                      (_hybridresult.c), PreparedMap, one stride-map call
                                      (_hybridmap.c; lift, start checks, run in batch.c)
-                                     and the whole gait search (newton.c)
+                                     and the gait search, written once (newton.c; its
+                                     binding, compiled or through callbacks, _hybridsearch.c)
     (run time)   ──► models/         per walker: names, phases, guards, section lift/project;
                                      WalkerModel.system_for(p) picks the compiled variant once;
                                      WalkerModel.rhs/guards/reset/energy/torques/kernel call
@@ -46,7 +47,8 @@ The pipeline, from a scene file to pictures::
                                      and _core/terrain*.c
                      system_map.py   SystemMap: a section map of your own HybridSystem
                  ──► analysis/
-                     fixedpoint.py   fixed points, Floquet multipliers; newton.py (Newton / LM)
+                     fixedpoint.py   fixed points, Floquet multipliers; newton.py (the search's
+                                     settings, result and messages; the search is newton.c)
                      continuation.py natural and pseudo-arclength (steppers.py, one stepper
                                      a method), folds, period doublings (bifurcations.py),
                                      orbit diagrams (orbit.py, orbit_run.py)

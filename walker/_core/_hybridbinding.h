@@ -8,6 +8,7 @@
  *   _hybridresult.c  the named record solve() returns (walker._hybrid.SolveResult);
  *   _hybridmap.c     a walker's section settings (what basin_points and PreparedMap share)
  *                    and walker._hybrid.PreparedMap, one stride-map call.
+ *   _hybridsearch.c  the gait search's binding (newton.h): PreparedMap.search and search.
  *   _hybridsignals.c SIGINT and SIGTERM while compiled work runs (wk_interrupt, hybrid.h).
  *
  * Nothing here is part of the extension's interface: the functions are prefixed wkpy_ and
@@ -185,6 +186,13 @@ int wkpy_interrupted(int must_raise);
 
 /* Makes the PreparedMap type ready and adds it to ``module``; 0, or -1 with an exception. */
 int wkpy_add_prepared_map(PyObject *module);
+
+/* The gait search (_hybridsearch.c): PreparedMap.search on the section s (n_strides at
+ * most max_period), and walker._hybrid.search through Python callbacks. */
+PyObject *wkpy_prepared_search(const wkpy_section *s, int64_t max_period, PyObject *args,
+                               PyObject *kw);
+PyObject *wkpy_search(PyObject *self, PyObject *args, PyObject *kw);
+extern const char wkpy_search_doc[];
 
 /* Adds the terrain functions (_terrainbinding.c) to ``module``; 0, or -1 with an exception. */
 int wkpy_add_terrain(PyObject *module);

@@ -18,7 +18,6 @@
 #include "_hybridbinding.h"
 #include "batch.h"
 #include "hybrid.h"
-#include "newton.h"
 
 /* ------------------------------------------------------------------------------------------
  * The section's settings
@@ -357,167 +356,27 @@ out:
 }
 
 /* ------------------------------------------------------------------------------------------
- * PreparedMap.search
+ * PreparedMap.search (_hybridsearch.c)
  * ------------------------------------------------------------------------------------------ */
 
-#define REGION_N 7
-#define SETTINGS_N 25
-
-/* The i-th item of a tuple as a double, or as an int64 (ints only). */
-static int item_double(PyObject *t, Py_ssize_t i, double *out)
-{
-    *out = PyFloat_AsDouble(PyTuple_GET_ITEM(t, i));
-    return *out == -1.0 && PyErr_Occurred() ? -1 : 0;
-}
-
-static int item_int(PyObject *t, Py_ssize_t i, int64_t *out)
-{
-    PyObject *o = PyTuple_GET_ITEM(t, i);
-    if (!PyLong_Check(o)) {
-        PyErr_SetString(PyExc_TypeError, "search(): an integer setting is not an int");
-        return -1;
-    }
-    *out = (int64_t)PyLong_AsLongLong(o);
-    return *out == -1 && PyErr_Occurred() ? -1 : 0;
-}
-
-static int read_region(PyObject *t, wk_region *reg)
-{
-    int64_t has_stance;
-    uintptr_t energy;
-    if (!PyTuple_Check(t) || PyTuple_GET_SIZE(t) != REGION_N) {
-        PyErr_Format(PyExc_TypeError, "search(): `region` must be a tuple of %d", REGION_N);
-        return -1;
-    }
-    if (item_int(t, 0, &has_stance) || item_double(t, 1, &reg->stance_offset) ||
-        item_double(t, 2, &reg->fall_angle) || item_int(t, 3, &reg->n_q) ||
-        item_double(t, 4, &reg->wound_limit) ||
-        wkpy_arg_address(PyTuple_GET_ITEM(t, 5), "energy", 0, &energy) ||
-        item_double(t, 6, &reg->kinetic_max))
-        return -1;
-    reg->has_stance = has_stance != 0;
-    reg->energy = (wk_state_fn)energy;
-    return 0;
-}
-
-static int read_settings(PyObject *t, wk_search_settings *set)
-{
-    int64_t fallback, coarse;
-    if (!PyTuple_Check(t) || PyTuple_GET_SIZE(t) != SETTINGS_N) {
-        PyErr_Format(PyExc_TypeError, "search(): `settings` must be a tuple of %d", SETTINGS_N);
-        return -1;
-    }
-    if (item_int(t, 0, &set->period) || item_double(t, 1, &set->tol) ||
-        item_int(t, 2, &set->max_iter) || item_int(t, 3, &fallback) ||
-        item_int(t, 4, &set->max_evals) || item_int(t, 5, &coarse) ||
-        item_double(t, 6, &set->own_rtol) || item_double(t, 7, &set->own_atol) ||
-        item_double(t, 8, &set->armijo) || item_double(t, 9, &set->line_flat) ||
-        item_double(t, 10, &set->cond_max) || item_int(t, 11, &set->max_halvings) ||
-        item_double(t, 12, &set->lm_start) || item_double(t, 13, &set->lm_grow) ||
-        item_double(t, 14, &set->lm_shrink) || item_double(t, 15, &set->lm_max) ||
-        item_int(t, 16, &set->lm_tries) || item_double(t, 17, &set->tr_start) ||
-        item_double(t, 18, &set->tr_max) || item_int(t, 19, &set->stall_window) ||
-        item_double(t, 20, &set->stall_ratio) || item_double(t, 21, &set->stall_alpha) ||
-        item_double(t, 22, &set->coarsest_rtol) || item_double(t, 23, &set->coarse_rho) ||
-        item_double(t, 24, &set->coarse_keep))
-        return -1;
-    set->fallback = fallback != 0;
-    set->coarse = coarse != 0;
-    return 0;
-}
-
 PyDoc_STRVAR(prepared_map_search_doc,
-             "search(z0, scale, region, settings) -> tuple or None\n\n"
-             "walker.analysis.newton's gait search with the exact Jacobian in one compiled call\n"
-             "(newton.h), without the GIL.  z0, scale: float64 (n_z,); region: (has_stance,\n"
-             "stance_offset, fall_angle, n_q, wound_limit, energy address, kinetic_max);\n"
-             "settings: walker.analysis.newton._compiled_settings.  Returns (end, status, it, n_evals,\n"
-             "refused, why, why_value, why_index, cond, z, history, known) with z and history\n"
-             "bytearrays of float64 and known None or (t, z, x, jac); None when the search\n"
-             "declines (z0 not a finite float64 vector of length n_z, a model without its\n"
-             "Jacobian, or a case newton.h leaves to the Python search).");
+             "search(*, z0, scale, has_stance, stance_offset, fall_angle, n_q, wound_limit,\n"
+             "    energy, kinetic_max, <settings>) -> tuple or None\n\n"
+             "walker.analysis.newton's gait search on this map in one compiled call (newton.h),\n"
+             "without the GIL: the walking region (walker.simulation.region.WalkingRegion.compiled) and\n"
+             "the settings (walker.analysis.newton._settings) by name.  Returns walker._hybrid.search's\n"
+             "tuple with known None or (t, z, x, jac); None when the search declines (a case\n"
+             "newton.h leaves to the search through callbacks).");
 
-static PyObject *prepared_map_search(PreparedMap *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *prepared_map_search(PreparedMap *self, PyObject *args, PyObject *kwargs)
 {
-    if (!takes("search", 4, nargs)) return NULL;
-    const wkpy_section *s = &self->s;
-    const int64_t n_x = s->pb.n_x, n_z = s->sec.n_z;
-    wk_region reg;
-    wk_search_settings set;
-    if (read_region(args[2], &reg) || read_settings(args[3], &set)) return NULL;
-    if (wkpy_check_state_fn((uintptr_t)reg.energy, "energy", WKPY_FN_ENERGY, n_x,
-                            s->n_p, 0))
-        return NULL;
-    /* the history holds min(max_iter, max_evals) + 1 values: the budgets are bounded */
-    if (set.max_iter > WKPY_MAX_BUDGET || set.max_evals > WKPY_MAX_BUDGET) {
-        PyErr_Format(PyExc_ValueError, "search(): `%s` must be at most %lld, got %lld",
-                     set.max_iter > WKPY_MAX_BUDGET ? "max_iter" : "max_evals",
-                     (long long)WKPY_MAX_BUDGET,
-                     (long long)(set.max_iter > WKPY_MAX_BUDGET ? set.max_iter : set.max_evals));
-        return NULL;
-    }
-    if (s->fn.jac == NULL || set.period < 1 || set.period > self->max_period ||
-        set.max_iter < 1 || set.max_evals < 1 || reg.n_q < 1 || reg.n_q > n_x ||
-        !(set.own_rtol > 0.0) || !(set.own_atol > 0.0))
-        Py_RETURN_NONE;
-    const int64_t n_hist = (set.max_iter < set.max_evals ? set.max_iter : set.max_evals) + 1;
-    double *buf = PyMem_Malloc((size_t)(4 * n_z + n_x + n_z * n_z + n_hist) * sizeof(double));
-    if (buf == NULL) return PyErr_NoMemory();
-    double *z0 = buf, *scale = buf + n_z;
-    PyObject *result = NULL;
-    if (!read_point(args[0], n_z, z0) || !read_point(args[1], n_z, scale)) {
-        result = Py_NewRef(Py_None);
-        goto out;
-    }
-    for (int64_t i = 0; i < n_z; i++)
-        if (!(scale[i] > 0.0)) {
-            result = Py_NewRef(Py_None);
-            goto out;
-        }
-    reg.scale = scale;
-    wk_search_out res = {0};
-    res.z = buf + 2 * n_z;
-    res.known_z = buf + 3 * n_z;
-    res.known_x = buf + 4 * n_z;
-    res.known_jac = res.known_x + n_x;
-    res.history = res.known_jac + n_z * n_z;
-    int rc;
-    wkpy_signals_begin();
-    Py_BEGIN_ALLOW_THREADS
-    rc = wk_search(&s->fn, &s->pb, &s->sec, &reg, &set, z0, &res);
-    Py_END_ALLOW_THREADS
-    if (wkpy_signals_end() && wkpy_interrupted(1)) /* the search's end is not its own */
-        goto out;
-    if (rc != WK_OK) {
-        PyErr_NoMemory();
-        goto out;
-    }
-    if (res.end == WK_SEARCH_DECLINED) {
-        result = Py_NewRef(Py_None);
-        goto out;
-    }
-    PyObject *known = Py_NewRef(Py_None);
-    if (res.known) {
-        Py_DECREF(known);
-        known = Py_BuildValue("(dNNN)", res.known_t, wkpy_bytes_of(res.known_z, n_z, 8),
-                              wkpy_bytes_of(res.known_x, n_x, 8),
-                              wkpy_bytes_of(res.known_jac, n_z * n_z, 8));
-    }
-    if (known != NULL)
-        result = Py_BuildValue("(iLLLLidLdNNN)", res.end, (long long)res.status,
-                               (long long)res.it, (long long)res.n_evals,
-                               (long long)res.refused, res.why, res.why_value,
-                               (long long)res.why_index, res.cond, wkpy_bytes_of(res.z, n_z, 8),
-                               wkpy_bytes_of(res.history, res.n_history, 8), known);
-out:
-    PyMem_Free(buf);
-    return result;
+    return wkpy_prepared_search(&self->s, self->max_period, args, kwargs);
 }
 
 static PyMethodDef prepared_map_methods[] = {
     {"map", (PyCFunction)(void (*)(void))prepared_map_map, METH_FASTCALL,
      prepared_map_map_doc},
-    {"search", (PyCFunction)(void (*)(void))prepared_map_search, METH_FASTCALL,
+    {"search", (PyCFunction)(void (*)(void))prepared_map_search, METH_VARARGS | METH_KEYWORDS,
      prepared_map_search_doc},
     {NULL, NULL, 0, NULL},
 };

@@ -9,7 +9,8 @@
  * basin_points(...)   many starts of a walker's stride map (batch.c), without the GIL;
  * PreparedMap(...)    one start of a walker's stride map per map() call, its settings
  *                     parsed once (_hybridmap.c);
- * newton_step(a, f)   the gait search's Newton step and condition number (walker/analysis/newton.py).
+ * search(...)         the gait search on a map in Python, through callbacks; with
+ *                     PreparedMap.search, on the compiled map (newton.c, _hybridsearch.c).
  *
  * Plain C API, no numpy: arrays come in through the buffer protocol (C-contiguous float64
  * or int64) and go out as bytearrays that walker/simulation/integrate.py views with numpy.frombuffer.
@@ -28,7 +29,6 @@
 #include "_hybridbinding.h"
 #include "batch.h"
 #include "hybrid.h"
-#include "newton.h"
 #include "wk_terrain.h"
 
 #ifndef WK_SOURCE_HASH
@@ -344,51 +344,6 @@ out:
 }
 
 /* ------------------------------------------------------------------------------------------
- * newton_step
- * ------------------------------------------------------------------------------------------ */
-
-PyDoc_STRVAR(newton_step_doc,
-             "newton_step(a, f) -> (cond, dz)\n--\n\n"
-             "The Newton step of walker/analysis/newton.py: dz solving a dz = -f (a: C-contiguous\n"
-             "float64 (n, n), f: (n,)) by Gaussian elimination with partial pivoting\n"
-             "(wk_solve_columns), as a bytearray of n float64, and the Frobenius condition\n"
-             "number ||a||_F ||a^-1||_F (>= the 2-norm one, <= n times it), from the inverse\n"
-             "solved with dz.  (inf, None) when a pivot is zero or the solution not finite.");
-
-static PyObject *py_newton_step(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
-{
-    (void)self;
-    if (nargs != 2) {
-        PyErr_Format(PyExc_TypeError, "newton_step() takes 2 arguments, got %zd", nargs);
-        return NULL;
-    }
-    Py_buffer va, vf;
-    if (wkpy_arg_buffer_pair(args, "a", 2, "f", 1, &va, &vf)) return NULL;
-    PyObject *result = NULL;
-    const Py_ssize_t n = vf.shape[0];
-    if (va.shape[0] != n || va.shape[1] != n || n < 1 || n > 4096) {
-        PyErr_Format(PyExc_ValueError, "`a` must be (n, n) and `f` (n,) with 1 <= n <= 4096");
-        goto out;
-    }
-    double *A = PyMem_Malloc((size_t)(n * n + n * (n + 1) + n) * sizeof(double));
-    if (A == NULL) {
-        PyErr_NoMemory();
-        goto out;
-    }
-    double *B = A + n * n, *dz = B + n * (n + 1);
-    double cond;
-    if (!wk_newton_step((const double *)va.buf, (const double *)vf.buf, n, A, B, dz, &cond))
-        result = Py_BuildValue("(dO)", cond, Py_None);
-    else
-        result = Py_BuildValue("(dN)", cond, wkpy_bytes_of(dz, n, sizeof(double)));
-    PyMem_Free(A);
-out:
-    PyBuffer_Release(&va);
-    PyBuffer_Release(&vf);
-    return result;
-}
-
-/* ------------------------------------------------------------------------------------------
  * Batches
  * ------------------------------------------------------------------------------------------ */
 
@@ -495,8 +450,8 @@ static PyMethodDef methods[] = {
      basin_points_doc},
     {"call_state_fn", (PyCFunction)(void (*)(void))py_call_state_fn, METH_FASTCALL,
      call_state_fn_doc},
-    {"newton_step", (PyCFunction)(void (*)(void))py_newton_step, METH_FASTCALL,
-     newton_step_doc},
+    {"search", (PyCFunction)(void (*)(void))wkpy_search, METH_VARARGS | METH_KEYWORDS,
+     wkpy_search_doc},
     {NULL, NULL, 0, NULL},
 };
 

@@ -1,5 +1,5 @@
-/* The gait search in one compiled call: see newton.h.  Each function names the part of
- * walker/analysis/newton.py (or walker/simulation/region.py) it follows. */
+/* The gait search, written once: see newton.h.  The compiled stride map's evaluations and
+ * walking region follow walker.simulation.stride.StrideMap and walker/simulation/region.py. */
 #include "newton.h"
 
 #include <math.h>
@@ -12,30 +12,28 @@
 #define S_NONFINITE 7
 #define S_OUTSIDE_WALKING_REGION 15
 
-/* One evaluation of the map: status, step time, new section point, final state, Jacobian. */
-typedef struct {
-    int64_t status;
-    double t;
-    double *z;   /* (n_z,) */
-    double *x;   /* (n_x,) */
-    double *jac; /* (n_z, n_z) */
-    int has_jac; /* a finite Jacobian came with it */
-} evaluation;
+typedef wk_search_eval evaluation;
 
 typedef struct {
+    wk_search_map *map;
+    const wk_search_settings *set;
+    int64_t n_z, n_evals;
+} search;
+
+/* A walker's stride map in C (wk_search_compiled). */
+typedef struct {
+    wk_search_map base;
     const wk_functions *fn;
     const wk_problem *tmpl;
     const wk_section *sec;
     const wk_region *reg;
     const wk_search_settings *set;
-    int64_t n_z, n_x, n_evals;
-    double *x;       /* (n_x,) scratch: a lifted state */
-    double *seed;    /* (n_x, n_z) scratch: the seed of a lift that is not affine */
-} search;
+    double *x;    /* (n_x,) scratch: a lifted state */
+    double *seed; /* (n_x, n_z) scratch: the seed of a lift that is not affine */
+} compiled_map;
 
-/* Return codes of the evaluator besides 0. */
+/* Return codes of the evaluator besides 0 (and WK_EVAL_DECLINED, WK_EVAL_ERROR). */
 #define OUT_OF_BUDGET 1
-#define DECLINED 2
 
 static double max_abs(const double *v, int64_t n)
 {
@@ -72,8 +70,9 @@ static int all_finite(const double *v, int64_t n)
 }
 
 /* WalkingRegion.outside: WK_INSIDE, or why z lies outside (value, index for the message). */
-static int outside(search *s, const double *z, double *value, int64_t *index)
+static int compiled_outside(wk_search_map *m, const double *z, double *value, int64_t *index)
 {
+    compiled_map *s = (compiled_map *)m;
     const wk_region *reg = s->reg;
     if (reg->has_stance) {
         const double psi = z[0] + reg->stance_offset;
@@ -83,8 +82,8 @@ static int outside(search *s, const double *z, double *value, int64_t *index)
         }
     }
     double *x = s->x;
-    wk_section_lift(s->sec, s->n_x, s->tmpl->p, z, x);
-    if (!all_finite(x, s->n_x)) return WK_OUT_NONFINITE;
+    wk_section_lift(s->sec, m->n_x, s->tmpl->p, z, x);
+    if (!all_finite(x, m->n_x)) return WK_OUT_NONFINITE;
     int64_t at = 0;
     double most = fabs(x[0]);
     for (int64_t i = 1; i < reg->n_q; i++)
@@ -107,9 +106,12 @@ static int outside(search *s, const double *z, double *value, int64_t *index)
 }
 
 /* StrideMap.__call__ at rtol `level` (0: the map's own tolerances) into *e. */
-static int evaluate(search *s, const double *z, double level, int want_jac, evaluation *e)
+static int compiled_evaluate(wk_search_map *m, const double *z, double level, int want_jac,
+                             evaluation *e)
 {
+    compiled_map *s = (compiled_map *)m;
     const wk_search_settings *set = s->set;
+    const int64_t n_x = m->n_x;
     wk_problem pb = *s->tmpl;
     if (level > 0.0) { /* StrideMap.with_tolerance(level, min(atol * level / rtol, level)) */
         pb.rtol = level;
@@ -123,22 +125,22 @@ static int evaluate(search *s, const double *z, double level, int want_jac, eval
         e->status = start;
         return 0;
     }
-    if (phase0 >= pb.n_phases || !all_finite(e->x, s->n_x)) return DECLINED;
+    if (phase0 >= pb.n_phases || !all_finite(e->x, n_x)) return WK_EVAL_DECLINED;
     const double *seed = NULL;
     if (want_jac) {
-        seed = wk_section_seed(s->sec, s->n_x, pb.p, z, s->seed);
-        if (!all_finite(seed, s->n_x * s->n_z)) return DECLINED;
+        seed = wk_section_seed(s->sec, n_x, pb.p, z, s->seed);
+        if (!all_finite(seed, n_x * m->n_z)) return WK_EVAL_DECLINED;
     }
     wk_result res;
     const int rc = wk_section_run(s->fn, &pb, s->sec, set->period, seed, e->x, phase0, &res);
     if (rc != WK_OK) {
         wk_result_free(&res);
-        return DECLINED;
+        return WK_EVAL_DECLINED;
     }
-    const int64_t n_z = s->n_z;
+    const int64_t n_z = m->n_z;
     e->status = res.status;
     e->t = res.t;
-    memcpy(e->x, res.x, (size_t)s->n_x * sizeof(double));
+    memcpy(e->x, res.x, (size_t)n_x * sizeof(double));
     if (res.status == S_COMPLETED) {
         for (int64_t i = 0; i < n_z; i++) e->z[i] = res.x[s->sec->proj[i]];
         if (want_jac) {
@@ -152,11 +154,17 @@ static int evaluate(search *s, const double *z, double level, int want_jac, eval
     return 0;
 }
 
-/* newton._residual: F(z) = P^k(z) - z into f; *ok 0 when the stride failed. */
+/* The Jacobian at the map's own tolerance: an evaluation with it. */
+static int compiled_jacobian(wk_search_map *m, const double *z, evaluation *e)
+{
+    return compiled_evaluate(m, z, 0.0, 1, e);
+}
+
+/* F(z) = P^k(z) - z into f; *ok 0 when the stride failed or its point is not finite. */
 static int residual_at(search *s, const double *z, double level, int want_jac, evaluation *e,
                        double *f, int *ok)
 {
-    const int rc = evaluate(s, z, level, want_jac, e);
+    const int rc = s->map->evaluate(s->map, z, level, want_jac, e);
     if (rc) return rc;
     *ok = e->status == S_COMPLETED && all_finite(e->z, s->n_z);
     if (*ok)
@@ -164,16 +172,18 @@ static int residual_at(search *s, const double *z, double level, int want_jac, e
     return 0;
 }
 
-/* _Evaluator._spend */
+/* n evaluations from the budget (max_evals); OUT_OF_BUDGET when it cannot pay them. */
 static int spend(search *s, int64_t n)
 {
     /* an interrupt ends the search here (the binding then raises; hybrid.h) */
-    if (s->n_evals + n > s->set->max_evals || wk_interrupt) return OUT_OF_BUDGET;
+    if (s->n_evals + n > s->set->max_evals || (s->map->poll_interrupt && wk_interrupt))
+        return OUT_OF_BUDGET;
     s->n_evals += n;
     return 0;
 }
 
-/* _Evaluator._coarse_map: the rtol for a point whose residual is expected to be `expect`
+/* Coarse early strides (COARSE_RHO in walker/analysis/newton.py): the rtol for a point whose
+ * residual is expected to be `expect`
  * (have_expect 0: unknown), 0.0 for the map's own. */
 static double coarse_level(const search *s, int have_expect, double expect)
 {
@@ -184,8 +194,10 @@ static double coarse_level(const search *s, int have_expect, double expect)
     return level > set->own_rtol ? level : 0.0;
 }
 
-/* _Evaluator.glance: *have 0 when there is no coarse map, no room in the budget or the
- * stride fails; *failed 1 when the stride fails (glance_failed). */
+/* A glance at the guess: max|F| from one stride at coarsest_rtol without the Jacobian,
+ * counted, so that the guess's own evaluation can pick its rtol; *have 0 when there is no
+ * coarse map, no room in the budget besides the guess's evaluation, or the stride fails;
+ * *failed 1 when it fails. */
 static int glance(search *s, const double *z, evaluation *e, double *f, int *have, double *r,
                   int *failed)
 {
@@ -204,7 +216,10 @@ static int glance(search *s, const double *z, evaluation *e, double *f, int *hav
     return 0;
 }
 
-/* _Evaluator.residual */
+/* F(z) at the rtol for the residual `expect` (have_expect 0: the map's own).  A coarse
+ * result is kept only when its residual r > tol and its rtol <= coarse_keep r^2; else the
+ * point is evaluated again (counted) at the rtol for r, or the map's own; a coarse stride
+ * that fails is redone at the map's own. */
 static int residual(search *s, const double *z, int want_jac, int have_expect, double expect,
                     evaluation *e, double *f, int *ok)
 {
@@ -227,8 +242,13 @@ static int residual(search *s, const double *z, int want_jac, int have_expect, d
     return residual_at(s, z, 0.0, want_jac, e, f, ok);
 }
 
-int wk_newton_step(const double *a, const double *f, int64_t n, double *A, double *B,
-                   double *dz, double *cond)
+/* The Newton step: dz (n,) solving a dz = -f for a (n, n) row-major by Gaussian elimination
+ * with partial pivoting (wk_solve_columns), and in *cond the Frobenius condition number
+ * ||a||_F ||a^-1||_F (>= the 2-norm one, <= n times it; INFINITY when not finite) from the
+ * inverse solved with it.  Returns 0 (cond INFINITY, dz undefined) when a pivot is zero or
+ * the solution is not finite.  A: (n, n) and B: (n, n + 1) workspace. */
+static int newton_step(const double *a, const double *f, int64_t n, double *A, double *B,
+                       double *dz, double *cond)
 {
     const int64_t nc = n + 1;
     double norm_a = 0.0;
@@ -252,14 +272,21 @@ int wk_newton_step(const double *a, const double *f, int64_t n, double *A, doubl
     return 1;
 }
 
+/* WalkingRegion.outside of the map: WK_INSIDE (also for a map without a region), WK_OUT_*,
+ * or -1 when the map failed. */
+static int outside(search *s, const double *z, double *value, int64_t *index)
+{
+    return s->map->outside == NULL ? WK_INSIDE : s->map->outside(s->map, z, value, index);
+}
+
 /* A trial point outside the walking region: counted in *refused, the first reason of the
- * iteration kept in out (why_refused); 0 when z lies inside. */
+ * iteration kept in out (why_refused); 0 when z lies inside, -1 when the map failed. */
 static int refused_at(search *s, const double *z, wk_search_out *out, int64_t *refused)
 {
     double value = 0.0;
     int64_t index = 0;
     const int why = outside(s, z, &value, &index);
-    if (why == WK_INSIDE) return 0;
+    if (why <= WK_INSIDE) return why;
     ++*refused;
     if (out->why == WK_INSIDE) {
         out->why = why;
@@ -276,12 +303,12 @@ static void swap(evaluation **a, evaluation **b)
     *b = t;
 }
 
-/* The search proper (newton._search for a walker's map and the exact Jacobian); w is the
+/* The search proper; w is the
  * workspace.  Returns 0, OUT_OF_BUDGET or DECLINED; out says how it ended otherwise. */
-static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search_out *out)
+static int run(search *s, const double *scale, const double *z0, double *w, evaluation *ev,
+               wk_search_out *out)
 {
     const wk_search_settings *set = s->set;
-    const double *scale = s->reg->scale;
     const int64_t n = s->n_z;
     double *z = out->z, *z_try = w, *dz = w + n, *f = w + 2 * n, *f_try = w + 3 * n;
     double *g = w + 4 * n, *a = w + 5 * n, *A = a + n * n, *B = A + n * n;
@@ -293,6 +320,7 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
     memcpy(z, z0, (size_t)n * sizeof(double));
     out->it = 0;
     out->why = outside(s, z, &out->why_value, &out->why_index);
+    if (out->why < 0) return WK_EVAL_ERROR;
     if (out->why != WK_INSIDE) {
         out->end = WK_SEARCH_OUTSIDE_GUESS;
         return 0;
@@ -301,7 +329,7 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
     double glanced = 0.0;
     if ((rc = glance(s, z, here, f, &have_glance, &glanced, &glance_failed))) return rc;
     if (glance_failed) {
-        /* newton._search: a stride failing at the coarsest tolerance is confirmed at the
+        /* a stride failing at the coarsest tolerance is confirmed at the
          * map's own without the Jacobian first */
         if ((rc = residual(s, z, 0, 0, 0.0, here, f, &ok))) return rc;
         if (!ok) {
@@ -310,7 +338,7 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
             return 0;
         }
     }
-    if ((rc = residual(s, z, 1, have_glance, glanced, here, f, &ok))) return rc;
+    if ((rc = residual(s, z, set->exact, have_glance, glanced, here, f, &ok))) return rc;
     if (!ok) {
         out->end = WK_SEARCH_START_FAILS;
         out->status = here->status;
@@ -329,8 +357,11 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
                 out->known = 1;
                 out->known_t = here->t;
                 memcpy(out->known_z, here->z, (size_t)n * sizeof(double));
-                memcpy(out->known_x, here->x, (size_t)s->n_x * sizeof(double));
+                if (out->known_x != NULL)
+                    memcpy(out->known_x, here->x, (size_t)s->map->n_x * sizeof(double));
                 memcpy(out->known_jac, here->jac, (size_t)(n * n) * sizeof(double));
+                out->known_handle = here->handle;
+                here->handle = NULL;
             }
             return 0;
         }
@@ -340,8 +371,9 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
             return 0;
         }
         const double *jac_map = here->jac;
-        if (!jac_here) { /* _Evaluator.jacobian: at the map's own tolerance */
-            if ((rc = spend(s, 1)) || (rc = evaluate(s, z, 0.0, 1, spare))) return rc;
+        if (!jac_here) { /* the Jacobian at the map's own tolerance */
+            if ((rc = spend(s, set->jac_cost)) || (rc = s->map->jacobian(s->map, z, spare)))
+                return rc;
             if (spare->status != S_COMPLETED || !spare->has_jac) {
                 out->end = WK_SEARCH_JACOBIAN_FAILED;
                 out->status = spare->status != S_COMPLETED ? spare->status : S_NONFINITE;
@@ -358,7 +390,7 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
         out->why = WK_INSIDE;
         /* --- Newton step, cut to the trust region, with backtracking on ||F||_2 --------- */
         double cond;
-        wk_newton_step(a, f, n, A, B, dz, &cond);
+        newton_step(a, f, n, A, B, dz, &cond);
         if (cond < set->cond_max) {
             const double length = max_abs_scaled(dz, scale, n);
             if (length > radius)
@@ -366,14 +398,17 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
             alpha = 1.0;
             for (int64_t h = 0; h < set->max_halvings; h++) {
                 for (int64_t i = 0; i < n; i++) z_try[i] = z[i] + alpha * dz[i];
-                if (refused_at(s, z_try, out, &refused)) {
+                const int out_here = refused_at(s, z_try, out, &refused);
+                if (out_here < 0) return WK_EVAL_ERROR;
+                if (out_here) {
                     if (alpha == 1.0) full_step_status = S_OUTSIDE_WALKING_REGION;
                     alpha *= 0.5;
                     continue;
                 }
                 /* a full step should square the residual; a shortened one, less */
                 const double expect = alpha == 1.0 ? last * last : last;
-                if ((rc = residual(s, z_try, alpha == 1.0, 1, expect, trial, f_try, &ok)))
+                const int want_jac = set->exact && alpha == 1.0;
+                if ((rc = residual(s, z_try, want_jac, 1, expect, trial, f_try, &ok)))
                     return rc;
                 if (!ok) {
                     if (alpha == 1.0) full_step_status = trial->status;
@@ -426,7 +461,9 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
                 if (length > radius)
                     for (int64_t i = 0; i < n; i++) dz[i] *= radius / length;
                 for (int64_t i = 0; i < n; i++) z_try[i] = z[i] + dz[i];
-                if (refused_at(s, z_try, out, &refused)) {
+                const int out_here = refused_at(s, z_try, out, &refused);
+                if (out_here < 0) return WK_EVAL_ERROR;
+                if (out_here) {
                     lm *= set->lm_grow;
                     continue;
                 }
@@ -443,9 +480,9 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
         }
         if (!accepted) {
             out->refused = refused;
+            out->status = full_step_status;
             if (full_step_status != S_COMPLETED && walked == 0) {
                 out->end = WK_SEARCH_DIVERGED;
-                out->status = full_step_status;
             } else {
                 out->end = WK_SEARCH_NO_DESCENT;
             }
@@ -468,23 +505,22 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
     return 0;
 }
 
-int wk_search(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
-              const wk_region *reg, const wk_search_settings *set, const double *z0,
-              wk_search_out *out)
+int wk_search(wk_search_map *m, const wk_search_settings *set, const double *scale,
+              const double *z0, wk_search_out *out)
 {
-    const int64_t n = sec->n_z, n_x = tmpl->n_x;
+    const int64_t n = m->n_z, n_x = m->n_x;
     const int64_t per_eval = n + n_x + n * n;
-    const int64_t n_work = 5 * n + 3 * n * n + n * (n + 1) + n_x + n_x * n + 3 * per_eval;
+    const int64_t n_work = 5 * n + 3 * n * n + n * (n + 1) + 3 * per_eval;
     double *w = malloc((size_t)n_work * sizeof(double));
     if (w == NULL) return WK_ERR_NOMEM;
-    double *x = w + 5 * n + 3 * n * n + n * (n + 1);
-    search s = {fn, tmpl, sec, reg, set, n, n_x, 0, x, x + n_x};
+    search s = {m, set, n, 0};
     evaluation ev[3];
-    double *at = s.seed + n_x * n;
+    double *at = w + 5 * n + 3 * n * n + n * (n + 1);
     for (int k = 0; k < 3; k++) {
         ev[k].z = at;
         ev[k].x = at + n;
         ev[k].jac = at + n + n_x;
+        ev[k].handle = NULL;
         at += per_eval;
     }
     out->end = WK_SEARCH_DECLINED;
@@ -492,12 +528,29 @@ int wk_search(const wk_functions *fn, const wk_problem *tmpl, const wk_section *
     out->n_history = 0;
     out->refused = 0;
     out->known = 0;
+    out->known_handle = NULL;
     out->why = WK_INSIDE;
     out->cond = 0.0;
-    const int rc = run(&s, z0, w, ev, out);
+    const int rc = run(&s, scale, z0, w, ev, out);
     if (rc == OUT_OF_BUDGET) out->end = WK_SEARCH_BUDGET;
-    if (rc == DECLINED) out->end = WK_SEARCH_DECLINED;
+    if (rc == WK_EVAL_DECLINED) out->end = WK_SEARCH_DECLINED;
     out->n_evals = s.n_evals;
+    if (m->release != NULL)
+        for (int k = 0; k < 3; k++) m->release(m, &ev[k]);
     free(w);
-    return WK_OK;
+    return rc == WK_EVAL_ERROR ? WK_ERR_SEARCH_MAP : WK_OK;
+}
+
+int wk_search_compiled(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
+                       const wk_region *reg, const wk_search_settings *set, const double *scale,
+                       const double *z0, wk_search_out *out)
+{
+    const int64_t n = sec->n_z, n_x = tmpl->n_x;
+    double *x = malloc((size_t)(n_x + n_x * n) * sizeof(double));
+    if (x == NULL) return WK_ERR_NOMEM;
+    compiled_map map = {{n, n_x, compiled_evaluate, compiled_jacobian, compiled_outside, NULL, 1},
+                        fn, tmpl, sec, reg, set, x, x + n_x};
+    const int rc = wk_search(&map.base, set, scale, z0, out);
+    free(x);
+    return rc;
 }

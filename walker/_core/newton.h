@@ -1,14 +1,14 @@
-/* The gait search of walker/analysis/newton.py in one compiled call: damped Newton in a trust region
- * with backtracking, the Levenberg-Marquardt fallback, the walking region's refusals, the
- * evaluation budget and the coarse early strides, on a walker's stride map in C (batch.h).
+/* The gait search, written once: damped Newton in a trust region with backtracking, the
+ * Levenberg-Marquardt fallback, the walking region's refusals, the evaluation budget and the
+ * coarse early strides.  walker/analysis/newton.py builds its result and messages; the search runs
+ * here for every map:
  *
- * wk_search is walker.analysis.newton._search with the exact Jacobian, for a map whose every
- * evaluation is one wk_section_start + wk_section_run (the compiled call of
- * walker.simulation.stride.StrideMap): the same decisions in the same order, the constants of
- * walker/analysis/newton.py (passed in, so they are written once), the same arithmetic but for the
- * order of a few sums (the merit's 2-norm, the Levenberg-Marquardt normal equations), which
- * only the comparisons of the line search read.  It ends where the Python search ends and
- * says why; walker/analysis/newton.py turns that into the NewtonResult and its message.
+ *   - a walker's stride map with a compiled call (walker.simulation.stride.StrideMap): wk_search_compiled,
+ *     each evaluation one wk_section_start + wk_section_run (batch.h), without the GIL;
+ *   - any other map (walker.SystemMap, a user's Python map, finite-difference Jacobians): the
+ *     binding's wk_search_map whose evaluations call back into Python (_hybridsearch.c).
+ *
+ * The constants live in walker/analysis/newton.py and are passed in (wk_search_settings).
  */
 #ifndef WK_NEWTON_H
 #define WK_NEWTON_H
@@ -26,20 +26,29 @@ typedef struct {
     double wound_limit;
     wk_state_fn energy;   /* kinetic energy: out[0] */
     double kinetic_max;
-    const double *scale;  /* (n_z,): the trust region's unit of each coordinate */
 } wk_region;
 
 /* Why a point lies outside the walking region (WalkingRegion.describe). */
-enum { WK_INSIDE = 0, WK_OUT_FALL = 1, WK_OUT_NONFINITE = 2, WK_OUT_WOUND = 3, WK_OUT_ENERGY = 4 };
+/* WK_OUT_OTHER: a map's own reason (a callback's), numbered in why_index. */
+enum {
+    WK_INSIDE = 0,
+    WK_OUT_FALL = 1,
+    WK_OUT_NONFINITE = 2,
+    WK_OUT_WOUND = 3,
+    WK_OUT_ENERGY = 4,
+    WK_OUT_OTHER = 5
+};
 
-/* The search's settings and walker/analysis/newton.py's constants, in the order of
- * walker.analysis.newton._COMPILED_CONSTANTS. */
+/* The search's settings and walker/analysis/newton.py's constants (keyword arguments of the
+ * binding, walker.analysis.newton._Search.settings). */
 typedef struct {
     int64_t period;
     double tol;
     int64_t max_iter;
     int fallback;
     int64_t max_evals;
+    int exact;        /* the map's own Jacobian: trial points bring theirs along */
+    int64_t jac_cost; /* evaluations one wk_search_map.jacobian call counts */
     int coarse; /* integrate far iterates more coarsely (own_rtol, own_atol the map's) */
     double own_rtol, own_atol;
     double armijo, line_flat, cond_max;
@@ -59,14 +68,50 @@ enum {
     WK_SEARCH_START_FAILS = 2,   /* status: the guess's stride */
     WK_SEARCH_BUDGET = 3,
     WK_SEARCH_STALL = 4,         /* each of the last stall_window steps gained little */
-    WK_SEARCH_NO_DESCENT = 5,    /* no step in the trust region reduces ||F|| */
+    WK_SEARCH_NO_DESCENT = 5,    /* no step in the trust region reduces ||F||; status: the
+                                  * full step's */
     WK_SEARCH_DIVERGED = 6,      /* status: the full step's; why, refused */
     WK_SEARCH_JACOBIAN_FAILED = 7, /* status */
     WK_SEARCH_SINGULAR = 8,      /* cond; without the fallback */
     WK_SEARCH_MAX_ITER = 9,
-    WK_SEARCH_DECLINED = 10,     /* a case this search does not take (a start phase out of
-                                  * range, a lifted state that is not finite, an integrator
-                                  * error): the caller runs the Python search, which says why */
+    WK_SEARCH_DECLINED = 10,     /* a case the compiled map does not take (a start phase out
+                                  * of range, a lifted state that is not finite, an
+                                  * integrator error): the caller searches again through
+                                  * callbacks, whose map says why */
+};
+
+/* What wk_search_map's functions return besides 0 (wk_search then stops). */
+#define WK_EVAL_DECLINED 2 /* the map does not take this point (WK_SEARCH_DECLINED) */
+#define WK_EVAL_ERROR 3    /* the map failed (a Python exception is set): wk_search
+                            * returns WK_ERR_SEARCH_MAP */
+#define WK_ERR_SEARCH_MAP (-10)
+
+/* One evaluation of the map: status, step time, new section point, final state, Jacobian. */
+typedef struct {
+    int64_t status;
+    double t;
+    double *z;    /* (n_z,) */
+    double *x;    /* (n_x,) */
+    double *jac;  /* (n_z, n_z) row-major */
+    int has_jac;  /* a finite Jacobian came with it */
+    void *handle; /* the map's own record of it (a callback map's result), or NULL */
+} wk_search_eval;
+
+/* The map a search evaluates.  evaluate: P^period at z at rtol `level` (0: the map's own),
+ * with its Jacobian when want_jac; jacobian: the Jacobian at z at the map's own tolerance
+ * (jac_cost evaluations); outside: WK_INSIDE, why z lies outside the walking region
+ * (WK_OUT_*; value, index for the message), or -1 (error); NULL: no region.  release
+ * drops an evaluation's handle (NULL: none are kept).  With poll_interrupt the search
+ * ends at wk_interrupt (hybrid.h) as at its budget (the binding then raises). */
+typedef struct wk_search_map wk_search_map;
+struct wk_search_map {
+    int64_t n_z, n_x;
+    int (*evaluate)(wk_search_map *m, const double *z, double level, int want_jac,
+                    wk_search_eval *e);
+    int (*jacobian)(wk_search_map *m, const double *z, wk_search_eval *e);
+    int (*outside)(wk_search_map *m, const double *z, double *value, int64_t *index);
+    void (*release)(wk_search_map *m, wk_search_eval *e);
+    int poll_interrupt;
 };
 
 typedef struct {
@@ -83,22 +128,20 @@ typedef struct {
     int known;              /* the map at z with a finite Jacobian (converged only) */
     double known_t;
     double *known_z;        /* (n_z,) */
-    double *known_x;        /* (n_x,) */
+    double *known_x;        /* (n_x,), or NULL */
     double *known_jac;      /* (n_z, n_z) row-major */
+    void *known_handle;     /* its handle, now the caller's */
 } wk_search_out;
 
-/* The Newton step of walker/analysis/newton.py: dz (n,) solving a dz = -f for a (n, n) row-major by
- * Gaussian elimination with partial pivoting (wk_solve_columns), and in *cond the Frobenius
- * condition number ||a||_F ||a^-1||_F (>= the 2-norm one, <= n times it; INFINITY when not
- * finite) from the inverse solved with it.  Returns 0 (cond INFINITY, dz undefined) when a
- * pivot is zero or the solution is not finite.  A: (n, n) and B: (n, n + 1) workspace. */
-int wk_newton_step(const double *a, const double *f, int64_t n, double *A, double *B,
-                   double *dz, double *cond);
+/* The search from z0 (n_z,) on the map m, with the trust region's unit of each coordinate
+ * in scale (n_z,); the caller provides out's arrays.  Returns WK_OK, WK_ERR_NOMEM when the
+ * workspace could not be allocated, or WK_ERR_SEARCH_MAP when the map failed. */
+int wk_search(wk_search_map *m, const wk_search_settings *set, const double *scale,
+              const double *z0, wk_search_out *out);
 
-/* The search from z0 (n_z,) on the map (fn, tmpl, sec); the caller provides out's arrays.
- * Returns WK_OK, or WK_ERR_NOMEM when the workspace could not be allocated. */
-int wk_search(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
-              const wk_region *reg, const wk_search_settings *set, const double *z0,
-              wk_search_out *out);
+/* wk_search on a walker's stride map (fn, tmpl, sec) in its walking region reg. */
+int wk_search_compiled(const wk_functions *fn, const wk_problem *tmpl, const wk_section *sec,
+                       const wk_region *reg, const wk_search_settings *set, const double *scale,
+                       const double *z0, wk_search_out *out);
 
 #endif

@@ -13,17 +13,17 @@ walker's map is refused without integrating it, and the search stops after ``max
 map evaluations, when the residual stalls, or when the steps keep leading out of the
 walking region (see :mod:`walker.analysis.fixedpoint` for the statuses).
 
-With the exact Jacobian, on a :class:`~walker.simulation.stride.StrideMap` with a compiled call, the
-whole search runs in one compiled call (:func:`_compiled_search`,
-``walker._hybrid.PreparedMap.search``, walker/_core/newton.c) without the GIL: the same
-steps, strides, statuses and messages, the constants of this module passed in.  The
-Python search here (:func:`_search`) is its reference and runs for every other map (finite
-differences, toy maps, wrappers, a spy on ``StrideMap.__call__``).
+The search itself is written once, in C (walker/_core/newton.c, ``walker._hybrid.search``):
+on a :class:`~walker.simulation.stride.StrideMap` with a compiled call and the exact Jacobian it
+runs in one compiled call without the GIL (``PreparedMap.search``); on every other map (a
+:class:`walker.SystemMap`, a user's map, finite differences, wrappers, a spy on
+``StrideMap.__call__``) the same search evaluates the map through Python callbacks
+(:class:`_Search`).  This module passes its constants in, and builds the result and its
+message from how the search ended.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -54,8 +54,8 @@ LM_GROW = 10.0
 LM_SHRINK = 0.3
 LM_MAX = 1e12
 LM_TRIES = 8
-# A Newton matrix whose condition number (Frobenius, _newton_step) exceeds this is treated
-# as singular.
+# A Newton matrix whose condition number (Frobenius, newton.c's newton_step) exceeds this
+# is treated as singular.
 COND_MAX = 1e14
 # Coarse early strides (inexact Newton, find_fixed_point only): far from the fixed point a
 # stride need not be integrated to the map's own rtol.  A point whose residual is expected
@@ -137,54 +137,6 @@ class NewtonResult:
         return self.status == Status.COMPLETED
 
 
-def _residual(section_map, z, period, parameter, with_jacobian=False):
-    """``F(z) = P^k(z) - z`` and the map result (F is None when the stride failed).
-
-    With ``with_jacobian`` the map is evaluated with its exact Jacobian in the same call, so
-    an accepted Newton trial point brings the next iteration's Jacobian with it.
-    """
-    if with_jacobian:
-        res = section_map(z, jacobian=True, n_strides=period, parameter=parameter)
-    else:
-        res = map_value(section_map, z, period, parameter)
-    if not res.success or not np.isfinite(res.z).all():
-        return None, res
-    return res.z - z, res
-
-
-def _max_abs(v) -> float:
-    """``max|v_i|`` of a float vector, as ``float(np.max(np.abs(v)))`` (the same number,
-    without the function-wrapper overhead)."""
-    return float(np.abs(v).max())
-
-
-def _norm2(v) -> float:
-    """The 2-norm of a real vector as ``np.linalg.norm`` computes it (``sqrt(v . v)``, the
-    same number), without its general-purpose overhead."""
-    return math.sqrt(float(v.dot(v)))
-
-
-def _newton_step(a, f):
-    """``(cond, dz)``: ``dz`` solving ``a dz = -f`` by Gaussian elimination with partial
-    pivoting and the Frobenius condition number ``||a||_F ||a^-1||_F`` of the finite matrix
-    ``a`` (at least its 2-norm condition number, at most ``n`` times it), in one compiled
-    call (``walker._hybrid.newton_step``); ``(inf, None)`` for a singular ``a``."""
-    cond, dz = _hybrid.newton_step(a, f)
-    return cond, (None if dz is None else _frombuffer(dz))
-
-
-def _usable_jacobian(res):
-    jac = getattr(res, "jac", None)
-    if jac is None:
-        return None
-    jac = np.asarray(jac, dtype=float)
-    return jac if np.isfinite(jac).all() else None
-
-
-class _OutOfBudget(Exception):
-    """The search's evaluation budget is spent (internal)."""
-
-
 def _coarse_levels(section_map):
     """``(rtol, atol)`` of a map whose strides the search may integrate more coarsely (a
     DOP853 map with ``with_tolerance`` and an rtol finer than ``COARSEST_RTOL``), else None."""
@@ -198,80 +150,102 @@ def _coarse_levels(section_map):
     return (rtol, atol) if 10.0 * rtol <= COARSEST_RTOL else None
 
 
-class _Evaluator:
-    """Counts the search's stride-map evaluations against its budget, and picks the
-    tolerance of each (``COARSE_RHO``)."""
+def _answer(res, with_jacobian):
+    """A map result as the C search reads it: ``(status, z or None, jac or None, res)``."""
+    if not res.success:
+        return int(res.status), None, None, res
+    z = np.ascontiguousarray(res.z, dtype=np.float64)
+    jac = getattr(res, "jac", None) if with_jacobian else None
+    if jac is not None:
+        jac = np.ascontiguousarray(jac, dtype=np.float64).reshape(-1)
+    return int(res.status), z, jac, res
 
-    __slots__ = ("section_map", "period", "parameter", "max_evals", "n_evals", "tol", "own", "maps")
 
-    def __init__(self, section_map, period, parameter, max_evals, tol=0.0, coarse=False):
+# The constants above that the C search reads, each as the keyword of its lowercase name
+# (read at each search: a test may change one).
+_CONSTANTS = (
+    "ARMIJO LINE_FLAT COND_MAX MAX_HALVINGS LM_START LM_GROW LM_SHRINK LM_MAX LM_TRIES "
+    "TR_START TR_MAX STALL_WINDOW STALL_RATIO STALL_ALPHA COARSEST_RTOL COARSE_RHO COARSE_KEEP"
+).split()
+
+
+class _Search:
+    """One search's map and settings, and the callbacks through which the C search
+    (``walker._hybrid.search``) evaluates a map without a compiled path: ``evaluate`` (the
+    ``period``-fold map at a point, at the map's own rtol or a coarser one), ``jacobian``
+    (the map's own or central differences, :func:`~walker.simulation.sectionmap.map_jacobian`) and
+    ``outside`` (the walking region's refusals, numbered in ``reasons``)."""
+
+    def __init__(self, section_map, period, parameter, max_evals, tol, mode, fd_step, coarse):
         self.section_map = section_map
         self.period = period
         self.parameter = parameter
         self.max_evals = max_evals
         self.n_evals = 0
         self.tol = tol
-        self.own = _coarse_levels(section_map) if coarse else None
+        self.mode = mode
+        self.fd_step = fd_step
+        self.own = _coarse_levels(section_map) if coarse and mode == "exact" else None
         self.maps = {}  # the coarse maps by rtol
+        self.region = None
+        self.reasons = []
 
-    def _spend(self, n):
-        if self.n_evals + n > self.max_evals:
-            raise _OutOfBudget
-        self.n_evals += n
+    def settings(self, max_iter, fallback, n_z) -> dict:
+        """The search's settings and this module's constants, as the binding's keywords."""
+        own = self.own
+        return {
+            "period": self.period,
+            "tol": float(self.tol),
+            "max_iter": int(max_iter),
+            "fallback": bool(fallback),
+            "max_evals": self.max_evals,
+            "exact": self.mode == "exact",
+            "jac_cost": 1 if self.mode == "exact" else 1 + 2 * n_z,
+            "coarse": own is not None,
+            "own_rtol": own[0] if own is not None else 1.0,
+            "own_atol": own[1] if own is not None else 1.0,
+            **{name.lower(): globals()[name] for name in _CONSTANTS},
+        }
 
-    def _coarse_map(self, expect):
-        """The map at the coarsest rtol allowed for a residual ``expect`` (None: the map's
-        own tolerance is needed)."""
-        if self.own is None or expect is None or not expect > 0.0:
-            return None
-        want = min(COARSE_RHO * expect * expect, COARSEST_RTOL)
-        rtol, atol = self.own
-        level = 10.0 ** math.floor(math.log10(want)) if want > rtol else 0.0
-        if not level > rtol:
-            return None
-        coarse = self.maps.get(level)
-        if coarse is None:
-            coarse = self.section_map.with_tolerance(level, min(atol * level / rtol, level))
-            self.maps[level] = coarse
-        return coarse
+    def evaluate(self, z, level, with_jacobian):
+        """The map at ``z`` at rtol ``level`` (0: the map's own), as :func:`_answer`."""
+        z = _frombuffer(z)
+        section_map = self.section_map
+        if level > 0.0:  # StrideMap.with_tolerance(level, min(atol * level / rtol, level))
+            section_map = self.maps.get(level)
+            if section_map is None:
+                rtol, atol = self.own
+                section_map = self.section_map.with_tolerance(
+                    level, min(atol * level / rtol, level)
+                )
+                self.maps[level] = section_map
+        if with_jacobian:
+            res = section_map(z, jacobian=True, n_strides=self.period, parameter=self.parameter)
+        else:
+            res = map_value(section_map, z, self.period, self.parameter)
+        return _answer(res, with_jacobian)
 
-    def glance(self, z):
-        """``max|F(z)|`` from one stride at ``COARSEST_RTOL`` without the Jacobian (counted;
-        NaN when that stride fails; None, uncounted, when no coarse map exists or when the
-        budget cannot spare it besides the guess's evaluation): what the guess's first
-        evaluation needs to pick its tolerance."""
-        coarse = self._coarse_map(1.0)
-        if coarse is None or self.n_evals + 2 > self.max_evals:
-            return None
-        self._spend(1)
-        f, _ = _residual(coarse, z, self.period, self.parameter)
-        return math.nan if f is None else _max_abs(f)
+    def jacobian(self, z):
+        """The Jacobian at ``z`` (``mode``), as ``(status, None, jac or None, None)``."""
+        z = _frombuffer(z)
+        _, jac, st = map_jacobian(
+            self.section_map, z, self.period, self.parameter, self.mode, self.fd_step
+        )
+        if jac is not None:
+            jac = np.ascontiguousarray(jac, dtype=np.float64).reshape(-1)
+        return int(st), None, jac, None
 
-    def residual(self, z, with_jacobian=False, expect=None):
-        """``F(z)`` and the map result, at the tolerance chosen for the residual ``expect``
-        expected at ``z`` (None: the map's own)."""
-        self._spend(1)
-        coarse = self._coarse_map(expect)
-        if coarse is not None:
-            f, res = _residual(coarse, z, self.period, self.parameter, with_jacobian)
-            if f is not None:
-                r = _max_abs(f)
-                if r > self.tol and coarse.rtol <= COARSE_KEEP * r * r:
-                    return f, res
-                self._spend(1)
-                coarse = self._coarse_map(r)
-                if coarse is not None and r > self.tol:
-                    return _residual(coarse, z, self.period, self.parameter, with_jacobian)
-            else:
-                self._spend(1)  # a coarse stride that fails: the map's own says for sure
-        return _residual(self.section_map, z, self.period, self.parameter, with_jacobian)
-
-    def jacobian(self, z, mode, fd_step):
-        self._spend(1 if mode == "exact" else 1 + 2 * z.shape[0])
-        return map_jacobian(self.section_map, z, self.period, self.parameter, mode, fd_step)
+    def outside(self, z) -> int:
+        """0 when ``z`` lies in the walking region, else the number of its reason."""
+        why = self.region.outside(_frombuffer(z))
+        if why is None:
+            return 0
+        self.reasons.append(why)
+        return len(self.reasons)
 
 
-# The search's ends as walker/_core/newton.h numbers them (WK_SEARCH_*).
+# The search's ends as walker/_core/newton.h numbers them (WK_SEARCH_*), and its code for a
+# reason of the map's own (WK_OUT_OTHER).
 (
     _C_CONVERGED,
     _C_OUTSIDE_GUESS,
@@ -284,47 +258,13 @@ class _Evaluator:
     _C_SINGULAR,
     _C_MAX_ITER,
 ) = range(10)
+_C_OUT_OTHER = 5
 
 
-def _compiled_settings(ev, max_iter, fallback) -> tuple:
-    """The search's settings and this module's constants as walker/_core/newton.h's
-    ``wk_search_settings`` reads them."""
-    own = ev.own
-    return (
-        ev.period,
-        float(ev.tol),
-        max_iter,
-        int(bool(fallback)),
-        ev.max_evals,
-        int(own is not None),
-        own[0] if own is not None else 1.0,
-        own[1] if own is not None else 1.0,
-        ARMIJO,
-        LINE_FLAT,
-        COND_MAX,
-        MAX_HALVINGS,
-        LM_START,
-        LM_GROW,
-        LM_SHRINK,
-        LM_MAX,
-        LM_TRIES,
-        TR_START,
-        TR_MAX,
-        STALL_WINDOW,
-        STALL_RATIO,
-        STALL_ALPHA,
-        COARSEST_RTOL,
-        COARSE_RHO,
-        COARSE_KEEP,
-    )
-
-
-def _compiled_search(ev, z0, region, max_iter, fallback) -> NewtonResult | None:
-    """:func:`_search` with the exact Jacobian in one compiled call
-    (``walker._hybrid.PreparedMap.search``, walker/_core/newton.h), for a
+def _compiled_search(ev, z0, region, settings) -> tuple | None:
+    """The search in one compiled call (``walker._hybrid.PreparedMap.search``), for a
     :class:`~walker.simulation.stride.StrideMap` with a compiled call and a region whose energy is
-    compiled; None when it does not apply (the caller then runs :func:`_search`).  The
-    same search: the same decisions, strides, statuses and messages."""
+    compiled; None when it does not apply (the caller then searches through callbacks)."""
     section_map, parameter = ev.section_map, ev.parameter
     finder = getattr(type(section_map), "_compiled_search", None)
     if finder is None:
@@ -335,35 +275,52 @@ def _compiled_search(ev, z0, region, max_iter, fallback) -> NewtonResult | None:
     compiled_region = region.compiled()
     if search is None or compiled_region is None:
         return None
-    out = search(z0, region.scale, compiled_region, _compiled_settings(ev, int(max_iter), fallback))
-    if out is None:
-        return None
+    out = search(z0=z0, scale=region.scale, **compiled_region, **settings)
+    if out is not None and out[-1] is not None:
+        t, z_new, x, jac = out[-1]
+        n = z0.shape[0]
+        jac = _frombuffer(jac).reshape(n, n)
+        known = MapResult(Status.COMPLETED, _frombuffer(z_new), jac, t, _frombuffer(x))
+        out = (*out[:-1], known)
+    return out
+
+
+def _ended(ev, out, region, max_iter, fallback) -> NewtonResult:
+    """The :class:`NewtonResult` of the search's answer ``out`` (walker._hybrid.search)."""
     end, status, it, n_evals, refused, why, why_value, why_index, cond, z, history, known = out
     ev.n_evals = n_evals
     z = _frombuffer(z)
     history = _frombuffer(history).tolist()
     status = Status(status)
     period = ev.period
+    gait = region is not None
+
+    def reason():
+        if why == _C_OUT_OTHER:
+            return ev.reasons[why_index - 1]
+        return region.describe(why, why_value, why_index)
+
     if end == _C_CONVERGED:
-        if known is not None:
-            t, z_new, x, jac = known
-            n = z.shape[0]
-            jac = _frombuffer(jac).reshape(n, n)
-            known = MapResult(Status.COMPLETED, _frombuffer(z_new), jac, t, _frombuffer(x))
         return _converged(ev.tol, z, history, it, known)
     if end == _C_OUTSIDE_GUESS:
-        return _outside_guess(z, region.describe(why, why_value, why_index))
+        return _outside_guess(z, reason())
     if end == _C_START_FAILS:
         return _start_fails(period, status, z)
     if end == _C_BUDGET:
         return _out_of_budget(ev, z, history, it)
     if end == _C_STALL:
-        return _stalled(ev, z, history, it, True, fallback, "stall")
-    if end == _C_NO_DESCENT:
-        return _stalled(ev, z, history, it, True, fallback, "no_descent")
-    if end == _C_DIVERGED:
-        why_refused = region.describe(why, why_value, why_index) if why else ""
-        return _diverged(ev, z, history, it, status, why_refused, refused)
+        return _stalled(ev, z, history, it, gait, fallback, "stall")
+    if end == _C_DIVERGED and gait:
+        return _diverged(ev, z, history, it, status, reason() if why else "", refused)
+    if end in (_C_DIVERGED, _C_NO_DESCENT):
+        if not gait and status not in (Status.COMPLETED, Status.NONFINITE):
+            msg = (
+                f"Newton stalled at iterate {it} (max|F| = {history[-1]:.3g}) because the "
+                f"full Newton step leads to a state that fails: {status.message} "
+                "The orbit sought may not walk; try another initial guess or parameter."
+            )
+            return NewtonResult(status, msg, z, history, it, None)
+        return _stalled(ev, z, history, it, gait, fallback, "no_descent")
     if end == _C_JACOBIAN_FAILED:
         return _jacobian_failed(status, z, history, it)
     if end == _C_SINGULAR:
@@ -421,168 +378,23 @@ def solve_fixed_point(
             region.with_guess(z0)
     if max_evals is None:
         max_evals = default_max_evals(z0.shape[0], mode)
-    ev = _Evaluator(section_map, period, parameter, int(max_evals), tol, coarse and mode == "exact")
+    z0 = np.ascontiguousarray(z0, dtype=np.float64)
+    ev = _Search(section_map, period, parameter, int(max_evals), tol, mode, fd_step, coarse)
+    settings = ev.settings(max_iter, fallback, z0.shape[0])
+    out = None
     if mode == "exact" and region is not None:
-        solved = _compiled_search(ev, z0, region, max_iter, fallback)
-        if solved is not None:
-            return solved
-    state = {"z": z0.copy(), "history": [], "it": 0}
-    try:
-        return _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback)
-    except _OutOfBudget:
-        return _out_of_budget(ev, state["z"], state["history"], state["it"])
-
-
-def _search(ev, z0, state, region, tol, max_iter, mode, fd_step, fallback):
-    period = ev.period
-    z = z0.copy()
-    n = z.shape[0]
-    eye = np.eye(n)
-    exact = mode == "exact"
-    gait = region is not None  # a walker's stride map: gait statuses and messages
-    scale = region.scale if gait else np.maximum(1.0, np.abs(z0))
-    if gait:
-        why = region.outside(z)
-        if why is not None:
-            return _outside_guess(z, why)
-    expect = ev.glance(z)
-    if exact and expect is not None and math.isnan(expect):
-        # the guess's stride fails at the coarsest rtol: confirmed at the map's own without
-        # the Jacobian first, since a variational run costs n_z + 1 plain ones a step or far
-        # more (five-link at g = 1e12: 1e5 steps of 1 ms to MAX_STEPS; plain: a fall, 244)
-        f, res = ev.residual(z)
-        if f is None:
-            return _start_fails(period, res.status, z)
-    f, res = ev.residual(z, with_jacobian=exact, expect=expect)
-    jac_here = _usable_jacobian(res) if exact else None
-    res_here = res
-    if f is None:
-        return _start_fails(period, res.status, z)
-    history = state["history"]
-    history.append(_max_abs(f))
-    lm = LM_START
-    radius = TR_START
-    poor = []  # per accepted step: did it gain little (see STALL_RATIO, STALL_ALPHA)?
-    for it in range(max_iter + 1):
-        state["it"] = it
-        if history[-1] <= tol:
-            known = res_here if jac_here is not None else None
-            return _converged(tol, z, history, it, known)
-        if it == max_iter:
-            break
-        if len(poor) >= STALL_WINDOW and all(poor[-STALL_WINDOW:]):
-            return _stalled(ev, z, history, it, gait, fallback, "stall")
-        if jac_here is not None:
-            jac_map, st = jac_here, Status.COMPLETED
-        else:
-            _, jac_map, st = ev.jacobian(z, mode, fd_step)
-        if jac_map is None:
-            return _jacobian_failed(st, z, history, it)
-        a = jac_map - eye
-        merit = _norm2(f)
-        accepted = False
-        shortened = False
-        alpha = 1.0
-        refused = 0  # trial points outside the walking region (not integrated)
-        failed = 0  # trial strides that failed
-        walked = 0  # trial strides that completed
-        why_refused = ""
-        # --- Newton step, cut to the trust region, with backtracking on ||F||_2 ----------
-        cond, dz = _newton_step(a, f)
-        full_step_status = Status.COMPLETED
-        if cond < COND_MAX:
-            length = _max_abs(dz / scale)
-            if length > radius:
-                dz *= radius / length
-            alpha = 1.0
-            for _ in range(MAX_HALVINGS):
-                z_try = z + alpha * dz
-                why = region.outside(z_try) if gait else None
-                if why is not None:
-                    refused += 1
-                    why_refused = why_refused or why
-                    if alpha == 1.0:
-                        full_step_status = Status.OUTSIDE_WALKING_REGION
-                    alpha *= 0.5
-                    continue
-                # a full step should square the residual; a shortened one, less
-                expect = history[-1] ** 2 if alpha == 1.0 else history[-1]
-                f_try, res_try = ev.residual(z_try, exact and alpha == 1.0, expect)
-                if f_try is None:
-                    failed += 1
-                    if alpha == 1.0:
-                        full_step_status = res_try.status
-                else:
-                    walked += 1
-                    merit_try = _norm2(f_try)
-                    if merit_try <= (1 - ARMIJO * alpha) * merit:
-                        accepted = True
-                        shortened = alpha < 1.0
-                        break
-                    if merit_try <= (1 + LINE_FLAT) * merit:
-                        break  # flat along the Newton direction: a local minimum of ||F||
-                alpha *= 0.5
-        elif not fallback:
-            return _singular(period, cond, z, history, it)
-        # --- Levenberg–Marquardt fallback when Newton stalls, in the same trust region ----
-        if not accepted and fallback:
-            jtj = a.T @ a
-            g = a.T @ f
-            lm_scale = np.diag(np.maximum(np.diag(jtj), 1e-12))
-            tries = 0
-            while lm <= LM_MAX and tries < LM_TRIES:
-                tries += 1
-                try:
-                    dz = np.linalg.solve(jtj + lm * lm_scale, -g)
-                except np.linalg.LinAlgError:
-                    lm *= LM_GROW
-                    continue
-                length = float(np.max(np.abs(dz) / scale))
-                if not np.isfinite(length):
-                    lm *= LM_GROW
-                    continue
-                if length > radius:
-                    dz *= radius / length
-                z_try = z + dz
-                why = region.outside(z_try) if gait else None
-                if why is not None:
-                    refused += 1
-                    why_refused = why_refused or why
-                    lm *= LM_GROW
-                    continue
-                f_try, res_try = ev.residual(z_try)
-                if f_try is None:
-                    failed += 1
-                elif np.linalg.norm(f_try) < merit:
-                    accepted = True
-                    lm = max(lm * LM_SHRINK, 1e-12)
-                    break
-                else:
-                    walked += 1
-                lm *= LM_GROW
-            if not accepted and lm > LM_MAX:
-                lm = LM_START
-        if not accepted:
-            if gait and full_step_status != Status.COMPLETED and walked == 0:
-                return _diverged(ev, z, history, it, full_step_status, why_refused, refused)
-            if full_step_status not in (Status.COMPLETED, Status.NONFINITE) and not gait:
-                msg = (
-                    f"Newton stalled at iterate {it} (max|F| = {history[-1]:.3g}) because the "
-                    f"full Newton step leads to a state that fails: {full_step_status.message} "
-                    "The orbit sought may not walk; try another initial guess or parameter."
-                )
-                return NewtonResult(full_step_status, msg, z, history, it, None)
-            return _stalled(ev, z, history, it, gait, fallback, "no_descent")
-        step = _max_abs((z_try - z) / scale)
-        radius = step if shortened else min(TR_MAX, max(radius, 2.0 * step))
-        z = z_try
-        state["z"] = z
-        f = f_try
-        jac_here = _usable_jacobian(res_try) if exact else None
-        res_here = res_try
-        history.append(_max_abs(f))
-        poor.append(history[-1] > STALL_RATIO * history[-2] or (shortened and alpha <= STALL_ALPHA))
-    return _not_converged(period, tol, z, history, max_iter)
+        out = _compiled_search(ev, z0, region, settings)
+    if out is None:
+        ev.region = region
+        out = _hybrid.search(
+            z0=z0,
+            scale=region.scale if region is not None else np.maximum(1.0, np.abs(z0)),
+            evaluate=ev.evaluate,
+            jacobian=ev.jacobian,
+            outside=None if region is None else ev.outside,
+            **settings,
+        )
+    return _ended(ev, out, region, max_iter, fallback)
 
 
 def _stalled(ev, z, history, it, gait, fallback, why):
@@ -628,7 +440,7 @@ def _diverged(ev, z, history, it, full_step_status, why_refused, refused):
     return NewtonResult(Status.DIVERGED, msg, z, history, it, None)
 
 
-# --- How a search ends: the results and messages of both searches ---------------------------
+# --- How a search ends: the results and their messages ------------------------------------
 
 
 def _converged(tol, z, history, it, known) -> NewtonResult:

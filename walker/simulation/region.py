@@ -226,23 +226,22 @@ class WalkingRegion:
             "(rates far beyond any gait's)"
         )
 
-    def compiled(self) -> tuple | None:
-        """The region as walker/_core/newton.h's ``wk_region`` reads it (``(has_stance,
-        stance_offset, fall_angle, n_q, wound_limit, energy address, kinetic_max)``), or None
-        when the kinetic energy has no compiled function."""
+    def compiled(self) -> dict | None:
+        """The region as walker/_core/newton.h's ``wk_region`` reads it, by field name
+        (keyword arguments of ``walker._hybrid.PreparedMap.search``), or None when the
+        kinetic energy has no compiled function."""
         if self.energy_address is None or self.n_q < 1:
             return None
         stance = self.stance is not None
-        offset = self.stance * self.slope if stance else 0.0
-        return (
-            int(stance),
-            float(offset),
-            float(self.fall_angle),
-            self.n_q,
-            float(self.wound_limit),
-            int(self.energy_address),
-            float(self.kinetic_max),
-        )
+        return {
+            "has_stance": stance,
+            "stance_offset": float(self.stance * self.slope) if stance else 0.0,
+            "fall_angle": float(self.fall_angle),
+            "n_q": self.n_q,
+            "wound_limit": float(self.wound_limit),
+            "energy": int(self.energy_address),
+            "kinetic_max": float(self.kinetic_max),
+        }
 
 
 def _cache_of(section_map) -> dict | None:
