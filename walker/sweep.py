@@ -14,7 +14,8 @@ How the work is cut and run (DESIGN.md, decision 10):
    fixed-point point starts from a guess that is a function of the grid only
    (:mod:`walker.sweep_chains`): the points are walked along lines of the grid, outwards
    from the point nearest the base map's parameters, each warm-started from the gait its
-   neighbour on the line converged to; a fixed-point task is a run of whole lines.  So
+   neighbour on the line converged to (extrapolated along the line from up to three such
+   gaits); a fixed-point task is a run of whole lines.  So
    serial, threads, a process pool, a dask cluster, any chunk size and a resumed run give
    identical tables.  A point whose gait differs from a converged neighbour's beyond
    stated thresholds is flagged in the ``jump`` column.
