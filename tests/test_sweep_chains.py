@@ -18,6 +18,7 @@ from walker.sweep_chains import (
     JUMP_STEP_TIME,
     grid_lines,
     jump_flags,
+    level_axes,
     predict,
     walk_line,
 )
@@ -38,12 +39,17 @@ def _equal(a, b):
 
 
 @pytest.mark.parametrize("shape, root", [((5,), (2,)), ((4, 3), (0, 2)), ((3, 2, 4), (1, 1, 0))])
-def test_grid_lines_visit_every_point_once_from_a_neighbour(shape, root):
+@pytest.mark.parametrize("ordered", [False, True], ids=["axis order", "shortest first"])
+def test_grid_lines_visit_every_point_once_from_a_neighbour(shape, root, ordered):
     """Each point is walked exactly once, the root first, and every other point right after
-    a grid neighbour done before it (its predecessor on its line)."""
+    a grid neighbour done before it (its predecessor on its line); in the axes' order and
+    in the sweep's (level_axes: shortest axis first)."""
+    axes = level_axes(shape) if ordered else None
+    if ordered:
+        assert [shape[a] for a in axes] == sorted(shape)
     seen = {}
     order = 0
-    for level in grid_lines(shape, root):
+    for level in grid_lines(shape, root, axes):
         for centre, first, down, up in level:
             if first:
                 assert np.unravel_index(centre, shape) == root and not seen

@@ -7,9 +7,10 @@ Every point's starting guess is a function of the grid alone, never of how the w
 1. **The root** is the grid point nearest the base map's own parameters (per axis the index
    of the value nearest the base value), where the scene's state ``z0`` is a gait or close
    to one.  It starts from ``z0``.
-2. **Lines, level by level** (:func:`grid_lines`).  Level 0 is the line through the root
-   along the first axis; level ``j`` is every line along axis ``j`` through a point done at
-   level ``j - 1`` (all axes before ``j`` free, the axes after it at the root's index).  A
+2. **Lines, level by level** (:func:`grid_lines`), the axes taken from the shortest to the
+   longest (:func:`level_axes`).  Level 0 is the line through the root along the first of
+   them; level ``j`` is every line along the ``j``-th through a point done at level
+   ``j - 1`` (the axes of the levels before free, the others at the root's index).  A
    line starts from its centre (the point it shares with the level before) and walks
    outwards in both directions, one grid step at a time; the lines of a level are
    independent of each other and run in parallel, a task being a run of consecutive lines
@@ -54,6 +55,7 @@ __all__ = [
     "JUMP_STEP_TIME",
     "grid_lines",
     "jump_flags",
+    "level_axes",
     "passes_on",
     "predict",
     "root_index",
@@ -80,8 +82,28 @@ def root_index(axes: Sequence[np.ndarray], base: Sequence[float]) -> tuple[int, 
     )
 
 
-def grid_lines(shape: Sequence[int], root: Sequence[int]) -> list[list[tuple]]:
+def level_axes(shape: Sequence[int]) -> tuple[int, ...]:
+    """The grid axis each level of lines runs along (:func:`grid_lines`): the shortest axis
+    first, the longest last (ties in axis order), so that most points lie on long lines,
+    where the guesses are extrapolated (:func:`predict`)."""
+    return tuple(sorted(range(len(shape)), key=lambda axis: (int(shape[axis]), axis)))
+
+
+def grid_lines(
+    shape: Sequence[int], root: Sequence[int], axes: Sequence[int] | None = None
+) -> list[list[tuple]]:
     """The lines of the warm-start order, level by level.
+
+    Parameters
+    ----------
+    shape : sequence of int
+        the grid's shape.
+    root : sequence of int
+        the root's index per axis.
+    axes : sequence of int, optional
+        the axis each level runs along, a permutation of the axes (default their order):
+        level ``j`` is every line along ``axes[j]`` through a point done at level ``j - 1``
+        (the axes ``axes[:j]`` free, the others at the root's index).
 
     Returns
     -------
@@ -91,12 +113,17 @@ def grid_lines(shape: Sequence[int], root: Sequence[int]) -> list[list[tuple]]:
     towards the end of the axis, nearest first.
     """
     shape = tuple(int(n) for n in shape)
+    axes = tuple(range(len(shape))) if axes is None else tuple(int(a) for a in axes)
+    if sorted(axes) != list(range(len(shape))):
+        raise ValueError(f"`axes` must be a permutation of 0..{len(shape) - 1}, got {axes}")
     levels = []
-    for axis in range(len(shape)):
+    for j, axis in enumerate(axes):
         lines = []
-        free = [range(n) for n in shape[:axis]]
-        for head in np.ndindex(*[len(r) for r in free]) if free else [()]:
-            index = list(head) + list(root[axis:])
+        free = axes[:j]
+        for head in np.ndindex(*[shape[a] for a in free]) if free else [()]:
+            index = list(root)
+            for a, i in zip(free, head, strict=True):
+                index[a] = i
 
             def flat(i, index=index, axis=axis):
                 index[axis] = i
@@ -105,7 +132,7 @@ def grid_lines(shape: Sequence[int], root: Sequence[int]) -> list[list[tuple]]:
             centre = flat(root[axis])
             down = tuple(flat(i) for i in range(root[axis] - 1, -1, -1))
             up = tuple(flat(i) for i in range(root[axis] + 1, shape[axis]))
-            lines.append((centre, axis == 0, down, up))
+            lines.append((centre, j == 0, down, up))
         levels.append(lines)
     return levels
 
@@ -481,7 +508,8 @@ def run_lines(plan, executor, own_pool, task_map, table, bar) -> None:
             for i in np.flatnonzero((left == 0) & (counts > 0)):
                 write(int(i))
 
-    for axis, level in enumerate(grid_lines(plan.shape, plan.root)):
+    axes = level_axes(plan.shape)
+    for axis, level in zip(axes, grid_lines(plan.shape, plan.root, axes), strict=True):
         tasks, group, size = [], [], 0
         for line in level:
             group.append(line)
