@@ -92,6 +92,7 @@ from walker.sweep_grid import (
 from walker.sweep_grid import bytes_per_point as _bytes_per_point  # walker.cli.sweep's name
 
 __all__ = [
+    "DASK_TASK_POINTS",
     "DEFAULT_CHUNK_POINTS",
     "KINDS",
     "MAX_SWEEP_POINTS",
@@ -104,6 +105,7 @@ __all__ = [
     "parse_range",
     "sweep",
     "sweep_chunk",
+    "sweep_chunks",
 ]
 
 
@@ -214,6 +216,23 @@ def sweep_chunk(
             if gsn:
                 fill_gsn(point_map, fp, out, i)
     return out
+
+
+DASK_TASK_POINTS = 500
+"""Fewest points of an outcome sweep's task on a dask cluster: a task there carries whole
+chunks, as many as make this many points (a dask task costs a few ms of scheduling and
+messages, about what 50 compass strides take; a chunk of the default size may hold 16)."""
+
+
+def sweep_chunks(chunks: list[tuple]) -> list[dict[str, np.ndarray]]:
+    """:func:`sweep_chunk` of each argument tuple of ``chunks`` (checked already), in order:
+    the task of an outcome sweep on a dask cluster (:data:`DASK_TASK_POINTS`)."""
+    return [sweep_chunk(*args, checked=True) for args in chunks]
+
+
+def _is_dask(executor: Any) -> bool:
+    """Whether ``executor`` is a ``dask.distributed`` client's executor."""
+    return type(executor).__module__.split(".")[0] == "distributed"
 
 
 def _chunk_arguments(base, names, points, z0, n_strides, tol):
@@ -602,6 +621,10 @@ def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
                 table[name][rows(i)] = values[name]
         bar.update(rows(i).stop - rows(i).start)
 
+    def finish_bundle(bundle: tuple[int, ...], values: list[dict[str, np.ndarray]]) -> None:
+        for i, chunk_values in zip(bundle, values, strict=True):
+            finish(i, chunk_values)
+
     own_pool = None
     if pending and (executor is None or executor == "processes"):
         # Threads of this process by default: the compiled strides release the GIL, so the
@@ -634,6 +657,17 @@ def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
             if executor == "serial":
                 for i in pending:
                     finish(i, sweep_chunk(*args(i), checked=True))
+            elif pending and _is_dask(executor):
+                # a dask task costs milliseconds of scheduling: several chunks per task
+                size = -(-DASK_TASK_POINTS // chunk)
+                bundles = [tuple(pending[k : k + size]) for k in range(0, len(pending), size)]
+                run_chunks(
+                    executor,
+                    sweep_chunks,
+                    ((bundle, ([args(i) for i in bundle],)) for bundle in bundles),
+                    finish_bundle,
+                    own=False,
+                )
             elif pending:
                 # On an interrupt: chunks not started are cancelled, running threads finish
                 # their (short) chunk, a process pool's workers are terminated, and every
