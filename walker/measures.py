@@ -53,11 +53,27 @@ def total_mass(params) -> float:
     ``shank``, ``femur``, ``tibia``) twice for the two legs; 1 for a model without masses
     (simplest walker, rimless wheel), whose energies are per unit mass."""
     total = 0.0
-    for name in params.names():
-        if name.startswith("mass_"):
-            twice = any(segment in name for segment in _LEG_SEGMENTS)
-            total += (2.0 if twice else 1.0) * float(getattr(params, name))
+    for name, factor in _mass_factors(type(params), tuple(params.names())):
+        total += factor * float(getattr(params, name))
     return total if total > 0 else 1.0
+
+
+_MASS_FACTORS: dict = {}
+
+
+def _mass_factors(cls, names: tuple[str, ...]) -> tuple[tuple[str, float], ...]:
+    """The ``mass_*`` parameters of a parameter class, each with its count in the walker
+    (2 for a leg segment, else 1), in the order of its fields (:func:`total_mass`)."""
+    key = (cls, names)
+    factors = _MASS_FACTORS.get(key)
+    if factors is None:
+        factors = tuple(
+            (name, 2.0 if any(segment in name for segment in _LEG_SEGMENTS) else 1.0)
+            for name in names
+            if name.startswith("mass_")
+        )
+        _MASS_FACTORS[key] = factors
+    return factors
 
 
 @dataclass(frozen=True)
