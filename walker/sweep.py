@@ -383,7 +383,8 @@ def sweep(
         strides per point (outcome) or period of the gait (fixed_point), >= 1.
     chunk_size : int, optional
         points per checkpoint chunk and per task (a fixed-point task is a run of whole
-        lines of about that many points), >= 1; it never changes the table.  Default
+        lines of about that many points; on a dask cluster an outcome task carries as many
+        chunks as make :data:`DASK_TASK_POINTS` points), >= 1; it never changes the table.  Default
         :func:`default_chunk_size` (at most 256 for outcome, 16 for fixed_point, and at
         least 16 chunks when there are 16 points).  A resumed sweep must use the chunk size
         it started with.
