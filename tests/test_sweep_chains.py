@@ -217,6 +217,20 @@ def test_compass_40x40_has_no_unflagged_jump_and_fewer_failures():
     assert (warm.columns["status"] != 0).sum() < (cold != 0).sum()
 
 
+@pytest.mark.parametrize("scene", ["kneed_mcgeer_pointmass.toml", "compass_goswami.toml"])
+def test_map_spec_keeps_the_scenes_conventions(scene):
+    """The map a worker process or a dask worker builds from a MapSpec runs under the
+    scene's swing-foot convention (McGeer's scenes let the swing foot pass through the
+    ground): the same stride, bit for bit, as the map it was made from."""
+    from walker.sweep_chains import MapSpec
+
+    stride_map, z0 = _map(scene)
+    built = MapSpec.from_map(stride_map).build()
+    assert built.model.conventions == stride_map.model.conventions
+    a, b = stride_map(z0), built(z0)
+    assert a.status == b.status and np.array_equal(a.z, b.z, equal_nan=True)
+
+
 @pytest.mark.parametrize("scene", ["compass_goswami.toml", "kneed_hsu.toml"])
 def test_retargeted_map_gives_the_rebuilt_maps_numbers(scene):
     """StrideMap._retargeted shares the compiled run instead of rebuilding it; a map built

@@ -295,10 +295,14 @@ class MapSpec:
         model name.
     fields : tuple of (str, object)
         the other ``StrideMap`` fields, by name.
+    swing_scuff : str
+        the model's swing-foot convention (:func:`walker.models.get_model`), so a worker's
+        map runs under the scene's conventions, as the map it was made from.
     """
 
     model: str
     fields: tuple[tuple[str, Any], ...]
+    swing_scuff: str = "trip"
 
     @classmethod
     def from_map(cls, stride_map: StrideMap) -> MapSpec:
@@ -307,10 +311,13 @@ class MapSpec:
             for f in dataclasses.fields(stride_map)
             if f.name != "model"
         )
-        return cls(stride_map.model.name, fields)
+        scuff = str(getattr(stride_map.model, "swing_scuff", "trip"))
+        return cls(stride_map.model.name, fields, scuff)
 
     def build(self) -> StrideMap:
-        return StrideMap(self.model, **dict(self.fields))
+        from walker.models import get_model
+
+        return StrideMap(get_model(self.model, self.swing_scuff), **dict(self.fields))
 
 
 _WORKER_MAP: dict[MapSpec, Any] = {}
