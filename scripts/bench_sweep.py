@@ -419,8 +419,10 @@ def overhead(quick: bool, command: str) -> None:
 
 DASK_DOC = """A 2-worker dask LocalCluster against ``--jobs 2`` on 2,000-point sweeps.
 
-Two sweeps of 2,000 points each, the tasks chunks of the default size (what ``walker sweep``
-sends): Goswami's compass (gaits/compass_goswami.toml), one stride per point over a slope x
+Two sweeps of 2,000 points each, in chunks of the default size (what ``walker sweep``
+sends; a task is a run of whole grid lines for fixed points, and on dask several chunks of
+at least ``walker.sweep.DASK_TASK_POINTS`` points for outcomes): Goswami's compass
+(gaits/compass_goswami.toml), one stride per point over a slope x
 hip-mass grid (outcome), and Hsu Chen's kneed walker (gaits/kneed_hsu.toml), the period-one
 gait and its multipliers at each point of a slope x hip-mass grid (fixed_point).  Contenders,
 interleaved round-robin (min and median wall time over rounds): ``jobs=2`` (two threads of
