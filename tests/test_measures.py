@@ -26,7 +26,13 @@ from numpy.testing import assert_allclose
 from scipy.integrate import simpson, trapezoid
 
 from walker.analysis.fixedpoint import find_fixed_point
-from walker.analysis.measures import GaitMeasures, branch_measures, cycle_measures, total_mass
+from walker.analysis.measures import (
+    GaitMeasures,
+    branch_measures,
+    cycle_measures,
+    map_cycle_measures,
+    total_mass,
+)
 from walker.scene import load_scene
 from walker.simulation.stride import StrideMap, simulate, solver_settings
 
@@ -68,6 +74,36 @@ def test_passive_cost_of_transport_is_sin_slope(path):
     )
     assert all(v > 0 for v in m.impact_losses.values())
     assert math.isnan(m.cost_of_transport_positive)
+
+
+@pytest.mark.parametrize(
+    "path", ["gaits/compass_goswami.toml", "gaits/kneed_hsu.toml", "gaits/three_link_book.toml"]
+)
+def test_map_cycle_measures_is_cycle_measures(path):
+    """What a fixed-point sweep measures per point (map_cycle_measures: the cycle run on the
+    map's prepared system) is cycle_measures at the map's settings, bit for bit, at the
+    scene's gait and at a nearby slope; passive gaits cost sin(slope) (the energy balance
+    of the module docstring), an actuated one takes cycle_measures itself."""
+    scene, P, fp = _gait(path)
+    assert fp.success, fp.message
+    other = P._retargeted(P.params.replace(slope=float(P.params.slope) * 1.03))
+    for smap in (P, other):
+        gait = find_fixed_point(smap, fp.section, period=fp.period, tol=1e-10)
+        assert gait.success, gait.message
+        settings = solver_settings(smap)
+        ref = cycle_measures(
+            smap.model, smap.params, gait.state, period=gait.period, settings=settings
+        )
+        fast = map_cycle_measures(smap, gait.state, period=gait.period)
+        a, b = ref.to_dict(), fast.to_dict()
+        assert list(a) == list(b)
+        for key in a:
+            assert a[key] == b[key] or (math.isnan(a[key]) and math.isnan(b[key])), key
+        if "actuator_work" not in smap.model.state_names:
+            slope = float(smap.params.slope)
+            assert_allclose(fast.cost_of_transport, math.sin(slope), rtol=0, atol=1e-9)
+    nan_state = np.full(P.model.n_x, np.nan)
+    assert math.isnan(map_cycle_measures(P, nan_state).step_length)
 
 
 @pytest.mark.parametrize(

@@ -12,7 +12,15 @@ import pytest
 
 from walker import StrideMap, load_scene
 from walker.analysis.sweep import sweep
-from walker.analysis.sweep_chains import JUMP_SECTION, JUMP_STEP_TIME, grid_lines, jump_flags
+from walker.analysis.sweep_chains import (
+    JUMP_SECTION,
+    JUMP_STEP_TIME,
+    grid_lines,
+    jump_flags,
+    level_axes,
+    predict,
+    walk_line,
+)
 from walker.simulation.region import WalkingRegion
 
 REPO = Path(__file__).resolve().parents[1]
@@ -31,12 +39,17 @@ def _equal(a, b):
 
 
 @pytest.mark.parametrize("shape, root", [((5,), (2,)), ((4, 3), (0, 2)), ((3, 2, 4), (1, 1, 0))])
-def test_grid_lines_visit_every_point_once_from_a_neighbour(shape, root):
+@pytest.mark.parametrize("ordered", [False, True], ids=["axis order", "shortest first"])
+def test_grid_lines_visit_every_point_once_from_a_neighbour(shape, root, ordered):
     """Each point is walked exactly once, the root first, and every other point right after
-    a grid neighbour done before it (its predecessor on its line)."""
+    a grid neighbour done before it (its predecessor on its line); in the axes' order and
+    in the sweep's (level_axes: shortest axis first)."""
+    axes = level_axes(shape) if ordered else None
+    if ordered:
+        assert [shape[a] for a in axes] == sorted(shape)
     seen = {}
     order = 0
-    for level in grid_lines(shape, root):
+    for level in grid_lines(shape, root, axes):
         for centre, first, down, up in level:
             if first:
                 assert np.unravel_index(centre, shape) == root and not seen
@@ -74,6 +87,58 @@ def test_jump_flags_mark_both_sides_of_a_jump_and_nothing_else():
     assert flags.tolist() == [0, 0, 0, 1, 1, 0, 0]
     # the scale: the same move in a rate with scale 4 is within the threshold
     assert jump_flags(status, section, step_time, (7,), np.array([1.0, 4.0])).sum() == 0
+
+
+def test_predict_is_exact_on_polynomials_and_refuses_what_it_cannot_use():
+    """The extrapolated guess is the Lagrange polynomial through the gaits behind: exact
+    (to rounding) for a line (two gaits) and a parabola (three), on unevenly spaced values;
+    none from one gait, from repeated values, or beyond JUMP_SECTION of the seed."""
+    scale = np.ones(2)
+
+    def line(t):
+        return np.array([0.2 + 0.5 * t, -1.0 - 0.25 * t])
+
+    def parabola(t):
+        return np.array([0.2 + 0.5 * t - 3.0 * t * t, -1.0 + 2.0 * t * t])
+
+    ts = [0.01, 0.03, 0.04]
+    at = 0.07
+    guess = predict([(t, line(t)) for t in ts[1:]], at, line(ts[-1]), scale)
+    np.testing.assert_allclose(guess, line(at), rtol=0, atol=1e-13)
+    guess = predict([(t, parabola(t)) for t in ts], at, parabola(ts[-1]), scale)
+    np.testing.assert_allclose(guess, parabola(at), rtol=0, atol=1e-13)
+    assert predict([(0.04, line(0.04))], at, line(0.04), scale) is None
+    assert predict([(0.04, line(0.03)), (0.04, line(0.04))], at, line(0.04), scale) is None
+    far = [(0.0, np.zeros(2)), (0.1, np.full(2, 2 * JUMP_SECTION))]
+    assert predict(far, 0.2, far[-1][1], scale) is None
+
+
+def test_walk_line_predicts_from_converged_gaits_only():
+    """Along a line each point is offered the extrapolation of the gaits just before it on
+    the line (the centre's seed counts when it is the centre's gait); a point that fails
+    passes its seed on unchanged and the next point is offered no extrapolation."""
+    offered = {}
+
+    def gait(t):
+        return np.array([t, 2.0 * t])
+
+    def solve(index, seed, predicted):
+        offered[index] = predicted
+        if index == 3:
+            return 9, np.full(2, np.nan)
+        return 0, gait(float(index))
+
+    centre, down, up = -1, (), (0, 1, 2, 3, 4, 5)
+    seeds = walk_line(
+        (centre, False, down, up), gait(-1.0), solve, np.full(2, 100.0), float, seed_is_gait=True
+    )
+    assert offered[0] is None  # one gait behind: the seed itself
+    np.testing.assert_allclose(offered[1], gait(1.0), rtol=0, atol=1e-14)
+    np.testing.assert_allclose(offered[2], gait(2.0), rtol=0, atol=1e-14)
+    np.testing.assert_array_equal(seeds[3], seeds[2])  # the failed point passes its seed on
+    assert offered[4] is None  # the line behind was broken at 3
+    assert offered[5] is None  # one gait behind again (4): the seed itself
+    np.testing.assert_array_equal(seeds[5], gait(5.0))
 
 
 def test_kneed_sweep_identical_for_any_chunk_size_and_jobs(tmp_path):
@@ -150,6 +215,20 @@ def test_compass_40x40_has_no_unflagged_jump_and_fewer_failures():
     warm, cold, scale = _compass_grid(40)
     _no_unflagged_jump(warm, (40, 40), scale)
     assert (warm.columns["status"] != 0).sum() < (cold != 0).sum()
+
+
+@pytest.mark.parametrize("scene", ["kneed_mcgeer_pointmass.toml", "compass_goswami.toml"])
+def test_map_spec_keeps_the_scenes_conventions(scene):
+    """The map a worker process or a dask worker builds from a MapSpec runs under the
+    scene's swing-foot convention (McGeer's scenes let the swing foot pass through the
+    ground): the same stride, bit for bit, as the map it was made from."""
+    from walker.analysis.sweep_chains import MapSpec
+
+    stride_map, z0 = _map(scene)
+    built = MapSpec.from_map(stride_map).build()
+    assert built.model.conventions == stride_map.model.conventions
+    a, b = stride_map(z0), built(z0)
+    assert a.status == b.status and np.array_equal(a.z, b.z, equal_nan=True)
 
 
 @pytest.mark.parametrize("scene", ["compass_goswami.toml", "kneed_hsu.toml"])

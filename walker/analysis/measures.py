@@ -36,6 +36,7 @@ __all__ = [
     "GaitMeasures",
     "branch_measures",
     "cycle_measures",
+    "map_cycle_measures",
     "run_measures",
     "total_mass",
 ]
@@ -52,11 +53,27 @@ def total_mass(params) -> float:
     ``shank``, ``femur``, ``tibia``) twice for the two legs; 1 for a model without masses
     (simplest walker, rimless wheel), whose energies are per unit mass."""
     total = 0.0
-    for name in params.names():
-        if name.startswith("mass_"):
-            twice = any(segment in name for segment in _LEG_SEGMENTS)
-            total += (2.0 if twice else 1.0) * float(getattr(params, name))
+    for name, factor in _mass_factors(type(params), tuple(params.names())):
+        total += factor * float(getattr(params, name))
     return total if total > 0 else 1.0
+
+
+_MASS_FACTORS: dict = {}
+
+
+def _mass_factors(cls, names: tuple[str, ...]) -> tuple[tuple[str, float], ...]:
+    """The ``mass_*`` parameters of a parameter class, each with its count in the walker
+    (2 for a leg segment, else 1), in the order of its fields (:func:`total_mass`)."""
+    key = (cls, names)
+    factors = _MASS_FACTORS.get(key)
+    if factors is None:
+        factors = tuple(
+            (name, 2.0 if any(segment in name for segment in _LEG_SEGMENTS) else 1.0)
+            for name in names
+            if name.startswith("mass_")
+        )
+        _MASS_FACTORS[key] = factors
+    return factors
 
 
 @dataclass(frozen=True)
@@ -165,10 +182,39 @@ def _frame_shift(model, p, x_pre, x_post, swing: int) -> np.ndarray | None:
     """The move of the stance frame's origin at an event (in the old frame), or None when
     the event keeps the stance foot.  The new stance foot is the old swing foot, so the new
     origin lies at ``before[swing] - after[0]``; the event swaps the feet when the joints
-    after it, moved by that, lie on the joints before it more often than unmoved."""
+    after it, moved by that, lie on the joints before it more often than unmoved.
+
+    The joints are few (at most a dozen): the distances are taken on Python floats with the
+    operations numpy's ``linalg.norm`` does on each pair (``sqrt(dx * dx + dy * dy)``), so
+    the decision is numpy's, at a fraction of its cost per call."""
     before = np.asarray(model.points(x_pre, p), dtype=float)
     after = np.asarray(model.points(x_post, p), dtype=float)
     shift = before[swing] - after[0]
+    b = before.tolist()
+    a = after.tolist()
+    flat = [v for row in b for v in row] + [v for row in a for v in row]
+    if not all(map(math.isfinite, flat)):
+        return _frame_shift_nonfinite(before, after, shift)
+    tol = 1e-6 * max(1.0, max(abs(v) for row in b for v in row))
+    if float(np.linalg.norm(shift)) <= tol:
+        return None
+    sx, sy = shift.tolist()
+
+    def matches(ox: float, oy: float) -> int:
+        count = 0
+        for ax, ay in a:
+            ax, ay = ax + ox, ay + oy
+            nearest = min(math.sqrt((ax - bx) * (ax - bx) + (ay - by) * (ay - by)) for bx, by in b)
+            count += nearest <= tol
+        return count
+
+    if matches(sx, sy) <= matches(0.0, 0.0):
+        return None
+    return shift
+
+
+def _frame_shift_nonfinite(before, after, shift) -> np.ndarray | None:
+    """:func:`_frame_shift` of joints not all finite, in numpy (NaN compares false)."""
     tol = 1e-6 * max(1.0, float(np.max(np.abs(before))))
 
     def matches(offset) -> int:
@@ -183,6 +229,12 @@ def _frame_shift(model, p, x_pre, x_post, swing: int) -> np.ndarray | None:
 def _kinetic_potential(model, x, p) -> tuple[float, float]:
     kinetic, potential = model.energy(x, p)
     return float(kinetic), float(potential)
+
+
+def _max_abs(values) -> float:
+    """``float(np.max(np.abs(values)))`` of a short list of floats (NaN if any is NaN)."""
+    out = max(map(abs, values))
+    return math.nan if any(v != v for v in values) else out
 
 
 def _work_index(model) -> int | None:
@@ -215,13 +267,17 @@ def run_measures(model, params, sol, x0, *, t0: float = 0.0, work_samples=None) 
     """
     if sol.events is None:
         raise ValueError("`sol` must carry its events (output 'events', 'samples' or 'full').")
-    p = params.as_array()
+    weight = total_mass(params) * float(params.g)
+    return _measure(model, params.as_array(), weight, sol, x0, t0, work_samples)
+
+
+def _measure(model, p, weight, sol, x0, t0=0.0, work_samples=None) -> GaitMeasures:
+    """:func:`run_measures` with the parameter vector ``p`` and the ``weight`` [N] given."""
     x0 = np.asarray(x0, dtype=float)
     events = sol.events
     work = _work_index(model)
     n_q = (model.n_x - (0 if work is None else 2)) // 2
     swing = int(getattr(model.module, "SWING_FOOT", -1))
-    weight = total_mass(params) * float(params.g)
     guard_names = tuple(model.guard_names)
 
     shifts = [
@@ -241,17 +297,20 @@ def run_measures(model, params, sol, x0, *, t0: float = 0.0, work_samples=None) 
     dissipated = 0.0
     start = x0
     k_start, v_start = _kinetic_potential(model, start, p)
+    guards = events.guard.tolist()
     for i in range(last + 1):
-        x_pre, x_post = np.asarray(events.x_pre[i]), np.asarray(events.x_post[i])
+        x_pre, x_post = events.x_pre[i], events.x_post[i]
         k_pre, v_pre = _kinetic_potential(model, x_pre, p)
         k_post, v_post = _kinetic_potential(model, x_post, p)
         dissipated += (k_start + v_start) - (k_pre + v_pre)
         if work is not None:
             dissipated += float(x_pre[work]) - float(start[work])
-        rates_pre, rates_post = x_pre[n_q : 2 * n_q], x_post[n_q : 2 * n_q]
-        scale = max(1.0, float(np.max(np.abs(rates_pre))))
-        if float(np.max(np.abs(rates_post - rates_pre))) > 1e-9 * scale:
-            name = guard_names[int(events.guard[i])]
+        rates_pre = x_pre[n_q : 2 * n_q].tolist()
+        rates_post = x_post[n_q : 2 * n_q].tolist()
+        scale = max(1.0, _max_abs(rates_pre))
+        jump = _max_abs([b - a for a, b in zip(rates_pre, rates_post, strict=True)])
+        if jump > 1e-9 * scale:
+            name = guard_names[int(guards[i])]
             impact[name] = impact.get(name, 0.0) + (k_pre - k_post)
         else:
             dissipated += k_pre - k_post
@@ -360,6 +419,88 @@ def cycle_measures(
     if sol.status != Status.COMPLETED:
         return failed
     return run_measures(model, params, sol, state)
+
+
+def map_cycle_measures(stride_map, state, *, period: int = 1) -> GaitMeasures:
+    """:func:`cycle_measures` of a gait of ``stride_map`` at the map's solver settings, the
+    same numbers bit for bit, at less cost per call: what a fixed-point sweep measures at
+    each point (:func:`walker.analysis.sweep_grid.fill_measures`).
+
+    The cycle is run as :func:`walker.simulation.stride.simulate` runs it (the same solver call and
+    settings), on the parameter vector and system the map has prepared already, so no run
+    is set up again per gait.  An actuated walker (its cycle is sampled for the work) and a
+    map that is not a :class:`~walker.simulation.stride.StrideMap` take :func:`cycle_measures`
+    itself.
+
+    Parameters
+    ----------
+    stride_map : walker.simulation.stride.StrideMap
+    state : ndarray, shape (n_x,)
+        the gait's full state (``FixedPoint.state``).
+    period : int
+        strides in the cycle, >= 1.
+
+    Returns
+    -------
+    GaitMeasures
+        NaN measures when the run does not complete its strides.
+    """
+    from walker.simulation.integrate import _solve
+    from walker.simulation.stride import solver_settings
+    from walker.status import Status
+
+    model, params = stride_map.model, stride_map.params
+    if _work_index(model) is not None or not hasattr(stride_map, "_prepared"):
+        settings = solver_settings(stride_map)
+        return cycle_measures(model, params, state, period=period, settings=settings)
+    if isinstance(period, bool) or not isinstance(period, int | np.integer) or period < 1:
+        raise ValueError(f"`period` must be an int >= 1, got {period!r}")
+    state = np.ascontiguousarray(state, dtype=float)
+    weight = total_mass(params) * float(params.g)
+    if state.shape != (model.n_x,) or not all(map(math.isfinite, state.tolist())):
+        return GaitMeasures(0, math.nan, math.nan, math.nan, math.nan, math.nan, weight)
+    run, p, _ = stride_map._prepared()
+    start_phase = model.start_phase_fn()
+    first = _solve(
+        run.system,
+        state,
+        p,
+        phase0=0 if start_phase is None else start_phase(state, p),
+        t0=0.0,
+        t_max=float(stride_map.t_max) * period,
+        n_strides=period,
+        method=stride_map.method,
+        rtol=stride_map.rtol,
+        atol=stride_map.atol,
+        first_step=stride_map.first_step,
+        max_step=np.inf,
+        max_steps=_simulate_max_steps(),
+        output="events",
+        sample_times=None,
+        jacobian=False,
+        n_interior=4,
+        fixed_step=False,
+        p_checked=True,
+    )
+    if first.status != Status.COMPLETED:
+        return GaitMeasures(0, math.nan, math.nan, math.nan, math.nan, math.nan, weight)
+    return _measure(model, p, weight, first, state)
+
+
+def _simulate_max_steps() -> int:
+    """The step budget :func:`walker.simulation.stride.simulate` runs with by default (what
+    :func:`cycle_measures` runs a cycle with)."""
+    import inspect
+
+    from walker.simulation.stride import simulate
+
+    global _SIMULATE_MAX_STEPS
+    if _SIMULATE_MAX_STEPS is None:
+        _SIMULATE_MAX_STEPS = int(inspect.signature(simulate).parameters["max_steps"].default)
+    return _SIMULATE_MAX_STEPS
+
+
+_SIMULATE_MAX_STEPS: int | None = None
 
 
 def branch_measures(stride_map, branch) -> dict[str, np.ndarray]:

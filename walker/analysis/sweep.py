@@ -14,7 +14,8 @@ How the work is cut and run (DESIGN.md, decision 10):
    fixed-point point starts from a guess that is a function of the grid only
    (:mod:`walker.analysis.sweep_chains`): the points are walked along lines of the grid, outwards
    from the point nearest the base map's parameters, each warm-started from the gait its
-   neighbour on the line converged to; a fixed-point task is a run of whole lines.  So
+   neighbour on the line converged to (extrapolated along the line from up to three such
+   gaits); a fixed-point task is a run of whole lines.  So
    serial, threads, a process pool, a dask cluster, any chunk size and a resumed run give
    identical tables.  A point whose gait differs from a converged neighbour's beyond
    stated thresholds is flagged in the ``jump`` column.
@@ -94,6 +95,7 @@ from walker.simulation.sectionmap import validate_positive
 from walker.simulation.stride import StrideMap, solver_settings
 
 __all__ = [
+    "DASK_TASK_POINTS",
     "DEFAULT_CHUNK_POINTS",
     "KINDS",
     "MAX_SWEEP_POINTS",
@@ -106,6 +108,7 @@ __all__ = [
     "parse_range",
     "sweep",
     "sweep_chunk",
+    "sweep_chunks",
 ]
 
 
@@ -215,6 +218,23 @@ def sweep_chunk(
             if gsn:
                 fill_gsn(point_map, fp, out, i)
     return out
+
+
+DASK_TASK_POINTS = 500
+"""Fewest points of an outcome sweep's task on a dask cluster: a task there carries whole
+chunks, as many as make this many points (a dask task costs a few ms of scheduling and
+messages, about what 50 compass strides take; a chunk of the default size may hold 16)."""
+
+
+def sweep_chunks(chunks: list[tuple]) -> list[dict[str, np.ndarray]]:
+    """:func:`sweep_chunk` of each argument tuple of ``chunks`` (checked already), in order:
+    the task of an outcome sweep on a dask cluster (:data:`DASK_TASK_POINTS`)."""
+    return [sweep_chunk(*args, checked=True) for args in chunks]
+
+
+def _is_dask(executor: Any) -> bool:
+    """Whether ``executor`` is a ``dask.distributed`` client's executor."""
+    return type(executor).__module__.split(".")[0] == "distributed"
 
 
 def _chunk_arguments(base, names, points, z0, n_strides, tol):
@@ -363,7 +383,8 @@ def sweep(
         strides per point (outcome) or period of the gait (fixed_point), >= 1.
     chunk_size : int, optional
         points per checkpoint chunk and per task (a fixed-point task is a run of whole
-        lines of about that many points), >= 1; it never changes the table.  Default
+        lines of about that many points; on a dask cluster an outcome task carries as many
+        chunks as make :data:`DASK_TASK_POINTS` points), >= 1; it never changes the table.  Default
         :func:`default_chunk_size` (at most 256 for outcome, 16 for fixed_point, and at
         least 16 chunks when there are 16 points).  A resumed sweep must use the chunk size
         it started with.
@@ -601,6 +622,10 @@ def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
                 table[name][rows(i)] = values[name]
         bar.update(rows(i).stop - rows(i).start)
 
+    def finish_bundle(bundle: tuple[int, ...], values: list[dict[str, np.ndarray]]) -> None:
+        for i, chunk_values in zip(bundle, values, strict=True):
+            finish(i, chunk_values)
+
     own_pool = None
     if pending and (executor is None or executor == "processes"):
         # Threads of this process by default: the compiled strides release the GIL, so the
@@ -633,6 +658,17 @@ def _execute(plan: _Plan, executor: Any, progress: bool) -> SweepTable:
             if executor == "serial":
                 for i in pending:
                     finish(i, sweep_chunk(*args(i), checked=True))
+            elif pending and _is_dask(executor):
+                # a dask task costs milliseconds of scheduling: several chunks per task
+                size = -(-DASK_TASK_POINTS // chunk)
+                bundles = [tuple(pending[k : k + size]) for k in range(0, len(pending), size)]
+                run_chunks(
+                    executor,
+                    sweep_chunks,
+                    ((bundle, ([args(i) for i in bundle],)) for bundle in bundles),
+                    finish_bundle,
+                    own=False,
+                )
             elif pending:
                 # On an interrupt: chunks not started are cancelled, running threads finish
                 # their (short) chunk, a process pool's workers are terminated, and every

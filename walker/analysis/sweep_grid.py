@@ -384,19 +384,14 @@ def default_chunk_size(n_points: int, kind: str) -> int:
 
 def fill_measures(point_map, fp, out: dict, i: int) -> None:
     """The gait measures of the gait ``fp`` of ``point_map`` into row ``i`` of a fixed-point
-    sweep's table columns ``out`` (:data:`MEASURE_COLUMNS`)."""
-    from walker.analysis.measures import cycle_measures
-    from walker.simulation.stride import solver_settings
+    sweep's table columns ``out`` (:data:`MEASURE_COLUMNS`;
+    :func:`walker.analysis.measures.map_cycle_measures`, the numbers of
+    :func:`walker.analysis.measures.cycle_measures` at the map's solver settings)."""
+    from walker.analysis.measures import map_cycle_measures
 
-    measures = cycle_measures(
-        point_map.model,
-        point_map.params,
-        fp.state,
-        period=int(fp.period),
-        settings=solver_settings(point_map),
-    ).to_dict()
+    measures = map_cycle_measures(point_map, fp.state, period=int(fp.period))
     for name in MEASURE_COLUMNS:
-        out[name][i] = measures[name]
+        out[name][i] = getattr(measures, name)
 
 
 def fill_gsn(point_map, fp, out: dict, i: int) -> None:
