@@ -75,5 +75,5 @@ static void points(const double *x, const double *p, double *out, void *ctx)
 }
 
 const wk_model_entry wk_entry_double_pendulum = {
-    "double_pendulum", {rhs, guards, reset, jac, NULL}, energy, points, start_phase,
+    WK_ENTRY_NAME_double_pendulum, {rhs, guards, reset, jac, NULL}, energy, points, start_phase,
 };

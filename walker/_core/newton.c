@@ -8,9 +8,6 @@
 
 #include "wk_common.h"
 
-#define S_COMPLETED 0
-#define S_NONFINITE 7
-#define S_OUTSIDE_WALKING_REGION 15
 
 /* One evaluation of the map: status, step time, new section point, final state, Jacobian. */
 typedef struct {
@@ -139,7 +136,7 @@ static int evaluate(search *s, const double *z, double level, int want_jac, eval
     e->status = res.status;
     e->t = res.t;
     memcpy(e->x, res.x, (size_t)s->n_x * sizeof(double));
-    if (res.status == S_COMPLETED) {
+    if (res.status == WK_COMPLETED) {
         for (int64_t i = 0; i < n_z; i++) e->z[i] = res.x[s->sec->proj[i]];
         if (want_jac) {
             for (int64_t i = 0; i < n_z; i++)
@@ -158,7 +155,7 @@ static int residual_at(search *s, const double *z, double level, int want_jac, e
 {
     const int rc = evaluate(s, z, level, want_jac, e);
     if (rc) return rc;
-    *ok = e->status == S_COMPLETED && all_finite(e->z, s->n_z);
+    *ok = e->status == WK_COMPLETED && all_finite(e->z, s->n_z);
     if (*ok)
         for (int64_t i = 0; i < s->n_z; i++) f[i] = e->z[i] - z[i];
     return 0;
@@ -342,9 +339,9 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
         const double *jac_map = here->jac;
         if (!jac_here) { /* _Evaluator.jacobian: at the map's own tolerance */
             if ((rc = spend(s, 1)) || (rc = evaluate(s, z, 0.0, 1, spare))) return rc;
-            if (spare->status != S_COMPLETED || !spare->has_jac) {
+            if (spare->status != WK_COMPLETED || !spare->has_jac) {
                 out->end = WK_SEARCH_JACOBIAN_FAILED;
-                out->status = spare->status != S_COMPLETED ? spare->status : S_NONFINITE;
+                out->status = spare->status != WK_COMPLETED ? spare->status : WK_NONFINITE;
                 return 0;
             }
             jac_map = spare->jac;
@@ -354,7 +351,7 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
         int accepted = 0, shortened = 0;
         double alpha = 1.0;
         int64_t refused = 0, walked = 0;
-        int64_t full_step_status = S_COMPLETED;
+        int64_t full_step_status = WK_COMPLETED;
         out->why = WK_INSIDE;
         /* --- Newton step, cut to the trust region, with backtracking on ||F||_2 --------- */
         double cond;
@@ -367,7 +364,7 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
             for (int64_t h = 0; h < set->max_halvings; h++) {
                 for (int64_t i = 0; i < n; i++) z_try[i] = z[i] + alpha * dz[i];
                 if (refused_at(s, z_try, out, &refused)) {
-                    if (alpha == 1.0) full_step_status = S_OUTSIDE_WALKING_REGION;
+                    if (alpha == 1.0) full_step_status = WK_OUTSIDE_WALKING_REGION;
                     alpha *= 0.5;
                     continue;
                 }
@@ -443,7 +440,7 @@ static int run(search *s, const double *z0, double *w, evaluation *ev, wk_search
         }
         if (!accepted) {
             out->refused = refused;
-            if (full_step_status != S_COMPLETED && walked == 0) {
+            if (full_step_status != WK_COMPLETED && walked == 0) {
                 out->end = WK_SEARCH_DIVERGED;
                 out->status = full_step_status;
             } else {
@@ -488,7 +485,7 @@ int wk_search(const wk_functions *fn, const wk_problem *tmpl, const wk_section *
         at += per_eval;
     }
     out->end = WK_SEARCH_DECLINED;
-    out->status = S_COMPLETED;
+    out->status = WK_COMPLETED;
     out->n_history = 0;
     out->refused = 0;
     out->known = 0;

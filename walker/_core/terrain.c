@@ -170,7 +170,7 @@ static int64_t state_start(const wk_problem *tmpl, const wk_section *sec, const 
     const double psi = x0[sec->proj[0]] + sec->offset;
     if (!(fabs(psi) < sec->fall_angle)) return psi < 0.0 ? WK_FELL_FORWARD : WK_FELL_BACKWARD;
     for (int64_t i = 0; i < sec->n_q; i++)
-        if (fabs(x0[i]) > sec->wound) return 15; /* OUTSIDE_WALKING_REGION */
+        if (fabs(x0[i]) > sec->wound) return WK_OUTSIDE_WALKING_REGION;
     double out[4] = {0.0, 0.0, 0.0, 0.0};
     if (sec->energy != NULL) {
         sec->energy(x0, tmpl->p, out, NULL);

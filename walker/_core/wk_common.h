@@ -11,26 +11,13 @@
 
 #include <stdint.h>
 #include "wk_system.h"
+#include "wk_registry.h" /* each registry entry's name and declaration (generated) */
 
 /* walker.models._common.FALL_ANGLE and MIN_STEP. */
 #define WK_FALL_ANGLE 1.2217304763960306
 #define WK_MIN_STEP 1e-8
 
-/* walker.status.Status values. */
-#define WK_COMPLETED 0
-#define WK_FELL_BACKWARD 1
-#define WK_FELL_FORWARD 2
-#define WK_TRIPPED 3
-#define WK_NONPHYSICAL_IMPACT 4
-#define WK_NO_EVENT 5
-#define WK_STEP_UNDERFLOW 6
-#define WK_NONFINITE 7
-#define WK_MAX_STEPS 8
-#define WK_NOT_CONVERGED 9
-#define WK_LINEAR_SOLVE_FAILED 10
-#define WK_PARAMETER_OUT_OF_RANGE 11
-#define WK_CHATTERING 16
-#define WK_ROLLED_BACK 18
+/* walker.status.Status values: WK_<NAME> in status.h (included by wk_system.h). */
 
 /* Largest augmented system wk_impact solves (coordinates + constraints). */
 #define WK_IMPACT_MAX 16
@@ -204,6 +191,31 @@ static inline void wk_fall_out(int64_t *out, int64_t phase, int forward)
     }                                                                                       \
     WK_STATE_FUNCTION(wk_model_##name##_energy, energy, KT)                                 \
     WK_STATE_FUNCTION(wk_model_##name##_points, points, KT)
+
+/* Defines the registry entry wk_entry_<name> of model variant ``name`` over its functions
+ * wk_model_<name>_{rhs, guards, reset, jac, energy, points} (WK_MODEL_VARIANT); its name,
+ * WK_ENTRY_NAME_<name>, is printed from the Python declaration (wk_registry.h). */
+#define WK_MODEL_ENTRY(name)                                                                \
+    const wk_model_entry wk_entry_##name = {                                                \
+        WK_ENTRY_NAME_##name,                                                               \
+        {wk_model_##name##_rhs, wk_model_##name##_guards, wk_model_##name##_reset,          \
+         wk_model_##name##_jac, NULL},                                                      \
+        wk_model_##name##_energy,                                                           \
+        wk_model_##name##_points,                                                           \
+        NULL,                                                                               \
+    };
+
+/* WK_MODEL_ENTRY of a variant with a fused rhs and Jacobian (wk_model_<name>_rhs_jac,
+ * WK_MODEL_FUSED). */
+#define WK_MODEL_ENTRY_FUSED(name)                                                          \
+    const wk_model_entry wk_entry_##name = {                                                \
+        WK_ENTRY_NAME_##name,                                                               \
+        {wk_model_##name##_rhs, wk_model_##name##_guards, wk_model_##name##_reset,          \
+         wk_model_##name##_jac, NULL, wk_model_##name##_rhs_jac},                           \
+        wk_model_##name##_energy,                                                           \
+        wk_model_##name##_points,                                                           \
+        NULL,                                                                               \
+    };
 
 /* A model variant's fused rhs and Jacobian, wk_model_<name>_rhs_jac (wk_rhs_jac_fn, see
  * wk_system.h): declared for the variants whose registry entry has one (models.c). */

@@ -65,10 +65,8 @@ typedef struct {
     wk_stride_fn on_stride; /* filled internally (terrain runs, terrain.c), else NULL */
 } wk_functions;
 
-/* Event actions returned by reset in out[0]; the values of walker.status. */
-#define WK_EVENT_IGNORE 0
-#define WK_EVENT_CONTINUE 1
-#define WK_EVENT_STRIDE 2
-#define WK_EVENT_TERMINAL 3
+/* Event actions returned by reset in out[0] (WK_EVENT_*), output modes, methods and every
+ * walker.status.Status value (WK_<NAME>): printed from walker/status.py. */
+#include "status.h"
 
 #endif

@@ -84,6 +84,8 @@ N_Q = 5
 N_U = 4
 N_IMPULSE = 2
 JOINTS = ("hip_stance", "hip_swing", "knee_stance", "knee_swing")
+ACTUATED = True
+"""The joints in ``JOINTS`` carry actuators (the controller's torques, one a joint)."""
 N_JOINTS = 4
 N_CODES = 81
 """Number of joint-mode codes, ``3**N_JOINTS`` (a test checks it)."""
