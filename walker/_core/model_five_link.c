@@ -203,5 +203,6 @@ static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, c
 }
 
 const wk_terrain_entry wk_terrain_entry_five_link = {
-    "five_link", wk_model_five_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1, -1, 0,
+    WK_ENTRY_NAME_five_link, wk_model_five_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1, -1,
+    0,
 };

@@ -224,5 +224,6 @@ static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, c
 }
 
 const wk_terrain_entry wk_terrain_entry_three_link = {
-    "three_link", wk_model_three_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1, -1, 0,
+    WK_ENTRY_NAME_three_link, wk_model_three_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1, -1,
+    0,
 };

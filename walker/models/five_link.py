@@ -79,7 +79,7 @@ from walker.models._common import (
 )
 from walker.params import MODELS
 
-N_X = 12
+N_X = len(MODELS["five_link"].state_names)
 N_Q = 5
 N_U = 4
 N_IMPULSE = 2

@@ -79,7 +79,7 @@ from walker.models._common import (
 )
 from walker.params import MODELS
 
-N_X = 8
+N_X = len(MODELS["three_link"].state_names)
 N_Q = 3
 N_IMPULSE = 2
 JOINTS = ("hip_stance", "hip_swing")
