@@ -56,6 +56,19 @@ def test_hand_written_c_states_no_status_value():
     assert offenders == []
 
 
+def test_hand_written_c_states_no_model_size():
+    """A model's state length, torque count and joint count are its Python declaration's,
+    read in C as WK_<MODEL>_N_X, _N_INPUTS, _N_JOINTS (wk_registry.h), never a number."""
+    size = re.compile(r"#define\s+(?:WK_\w+_)?N_(?:X|U|INPUTS|JOINTS|PHASES|GUARDS|IMPULSE)\s+\d")
+    offenders = [
+        f"{p.name}: {line.strip()}"
+        for p in HAND_C
+        for line in p.read_text(encoding="utf-8").splitlines()
+        if size.search(line)
+    ]
+    assert offenders == []
+
+
 def _code(path: Path) -> str:
     """The text of C file ``path`` without its comments."""
     return re.sub(r"/\*.*?\*/|//[^\n]*", "", path.read_text(encoding="utf-8"), flags=re.S)

@@ -12,10 +12,10 @@
 #include "wk_actuated.h"
 #include "five_link.h"
 
-#define N_X 12
+#define N_X WK_FIVE_LINK_N_X
 #define N_Q 5
-#define N_U 4
-#define N_JOINTS 4
+#define N_U WK_FIVE_LINK_N_INPUTS
+#define N_JOINTS WK_FIVE_LINK_N_JOINTS
 #define N_BASE_GUARDS 7
 #define I_LENGTH_FEMUR WK_FIVE_LINK_P_LENGTH_FEMUR
 #define I_LENGTH_TIBIA WK_FIVE_LINK_P_LENGTH_TIBIA

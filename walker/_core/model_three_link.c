@@ -16,10 +16,10 @@
 #include "wk_actuated.h"
 #include "three_link.h"
 
-#define N_X 8
+#define N_X WK_THREE_LINK_N_X
 #define N_Q 3
-#define N_U 2
-#define N_JOINTS 2
+#define N_U WK_THREE_LINK_N_INPUTS
+#define N_JOINTS WK_THREE_LINK_N_JOINTS
 #define N_BASE_GUARDS 6
 #define I_LEG_A WK_THREE_LINK_P_COM_FROM_FOOT
 #define I_LEG_B WK_THREE_LINK_P_COM_TO_HIP

@@ -1,8 +1,9 @@
 /* Pieces shared by walker's hand-written C models (model_simplest.c, model_compass.c,
- * model_kneed.c): the fall threshold, the least step, the status codes, and impacts as
- * augmented linear systems.  Written as ports of walker's former numba functions (in the
- * git history of walker/models/_common.py and walker/_linalg.py), whose order of operations
- * they keep: results stay bit-identical to the ones walker has always produced.
+ * model_kneed.c): the fall threshold, the least step, impacts as augmented linear systems,
+ * the registry entry macros (the status values are status.h's).  Written as ports of
+ * walker's former numba functions (in the git history of walker/models/_common.py and
+ * walker/_linalg.py), whose order of operations they keep: results stay bit-identical to the
+ * ones walker has always produced.
  */
 #ifndef WK_COMMON_H
 #define WK_COMMON_H
@@ -136,7 +137,7 @@ static inline void wk_fall_out(int64_t *out, int64_t phase, int forward)
     wk_reset_out(out, WK_EVENT_TERMINAL, phase, forward ? WK_FELL_FORWARD : WK_FELL_BACKWARD);
 }
 
-/* The models' functions, registered in models.c: wk_model_<name>_{rhs, guards, reset, jac}
+/* The models' functions, registered in model_table.c: wk_model_<name>_{rhs, guards, reset, jac}
  * (wk_system.h) and wk_model_<name>_{energy, points} (wk_models.h). */
 #define WK_DECLARE_MODEL(name)                                                              \
     void wk_model_##name##_rhs(int64_t phase, double t, const double *x, const double *p,   \
@@ -218,7 +219,7 @@ static inline void wk_fall_out(int64_t *out, int64_t phase, int forward)
     };
 
 /* A model variant's fused rhs and Jacobian, wk_model_<name>_rhs_jac (wk_rhs_jac_fn, see
- * wk_system.h): declared for the variants whose registry entry has one (models.c). */
+ * wk_system.h): declared for the variants whose registry entry has one (WK_MODEL_ENTRY_FUSED). */
 #define WK_DECLARE_FUSED(name)                                                              \
     void wk_model_##name##_rhs_jac(int64_t phase, double t, const double *x,                \
                                    const double *p, double *dx, double *J, void *ctx);

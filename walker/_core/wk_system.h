@@ -22,7 +22,7 @@
  *
  * wk_functions also has a member rhs_jac(phase, t, x, p, dx, J, ctx), rhs and jac in one
  * call, that is filled internally, never by a user: the binding sets it when (rhs, jac) is
- * the pair of a built-in model with a fused function (walker/_core/models.c), NULL
+ * the pair of a built-in model with a fused function (wk_model_rhs_jac, models.c), NULL
  * otherwise.  It comes after ctx, so an initializer {rhs, guards, reset, jac, ctx} leaves
  * it NULL.  After it, on_stride (also internal, NULL for a user system): see wk_stride_fn.
  *

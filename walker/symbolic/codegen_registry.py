@@ -149,6 +149,17 @@ def render_registry_h() -> str:
         symbol = entry_symbol(entry)
         lines.append(f'#define WK_ENTRY_NAME_{symbol} "{entry}"')
         lines.append(f"extern const wk_model_entry wk_entry_{symbol};")
+    lines += [
+        "",
+        "/* Each model's sizes (those of model_sizes; N_JOINTS: its JOINTS, where declared). */",
+    ]
+    for name in _models():
+        rows = dict(model_sizes(name))
+        del rows["n_p"]  # WK_<MODEL>_N_P is the named indices' (indices.h)
+        joints = getattr(_module(name), "JOINTS", None)
+        if joints is not None:
+            rows["n_joints"] = len(joints)
+        lines += [f"#define WK_{name.upper()}_{k.upper()} {v}" for k, v in rows.items()]
     lines += ["", "#endif"]
     return "\n".join(lines) + "\n"
 
