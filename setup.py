@@ -31,7 +31,7 @@ def _source_hash() -> str:
 UNIX_FLAGS = ["-O2", "-std=c99", "-ffp-contract=off", "-fno-fast-math", "-fno-strict-aliasing"]
 MSVC_FLAGS = ["/O2", "/fp:precise"]
 # Warnings (they change no code): -Wall -Wextra clean but for one warning switched off, by
-# design: the registry entries (models.c, the model files) and wk_functions initializers
+# design: the registry entries (the model files) and wk_functions initializers
 # list their leading fields only and leave the trailing optional ones (rhs_jac, lift,
 # lift_jacobian) NULL, as wk_system.h and wk_models.h document.
 UNIX_WARNINGS = ["-Wall", "-Wextra", "-Wno-missing-field-initializers"]

@@ -40,7 +40,6 @@ def test_model_agrees_with_its_registry_record(name):
 
 def test_model_names_are_the_registry_keys():
     assert MODEL_NAMES == tuple(MODELS)
-    assert MODEL_NAMES[:3] == ("simplest", "compass", "kneed")
 
 
 def _heel_strike_state_compass(p, rng):

@@ -13,6 +13,7 @@ import math
 import random
 import subprocess
 import sys
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -21,17 +22,24 @@ pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[1]
 GAITS = ROOT / "gaits"
-SCENES = {
-    "simplest": "simplest_garcia",
-    "compass": "compass_goswami",
-    "kneed": "kneed_hsu",
-    "double_pendulum": "double_pendulum",
-    "three_link": "three_link_grizzle",
-    "five_link": "five_link_hzd",
-    "compass_coulomb": "compass_coulomb_goswami",
-    "kneed_coulomb": "kneed_coulomb_hsu",
-    "rimless_wheel": "rimless_wheel",
-}
+
+
+def _scenes() -> dict[str, str]:
+    """Every model of the registry -> one shipped scene of it: the first by name with a
+    ``[reference]`` table, else the first by name."""
+    from walker.models import MODEL_NAMES
+
+    out = {}
+    for path in sorted(GAITS.glob("*.toml")):
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        model, has_reference = data["scene"]["model"], "reference" in data
+        if model not in out or (has_reference and not out[model][1]):
+            out[model] = (path.stem, has_reference)
+    assert set(out) == set(MODEL_NAMES), "every model needs a shipped scene"
+    return {model: out[model][0] for model in MODEL_NAMES}
+
+
+SCENES = _scenes()
 DRAWS = 8  # parameter sets per model
 KEYS_PER_DRAW = 2  # parameters moved to a bound in each set
 # s; a call still running then is a runaway.  The slowest healthy call found, the kneed

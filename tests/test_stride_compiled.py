@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 # every shipped scene of a model whose lift is declared affine (LIFT_AFFINE) or compiled
 COMPILED_SCENES = [
-    "gaits/simplest_garcia.toml",  # a lift that is not affine, compiled (models.c)
+    "gaits/simplest_garcia.toml",  # a lift that is not affine, compiled (model_simplest.c)
     "gaits/kneed_hsu.toml",
     "gaits/compass_goswami.toml",
     "gaits/compass_coulomb_goswami.toml",  # joint friction: the start phase from the state

@@ -259,20 +259,9 @@ int wkpy_arg_buffer_pair(PyObject *const *args, const char *name0, int ndim0, co
  * ------------------------------------------------------------------------------------------ */
 
 /* Every compiled model's sizes, by the name before the first '/' of its registry entries
- * (its variants share them).  The parameter counts are the generated indices' (indices.h);
- * tests/test_binding_safety.py checks every row against the Python model (walker.models). */
-static const wkpy_model_sizes SIZES[] = {
-    /* name, n_x, n_p, n_phases, n_guards, n_impulse, n_points, n_z, n_inputs */
-    {"simplest", 4, WK_SIMPLEST_N_P, 1, 3, 1, 3, 2, 0},
-    {"compass", 4, WK_COMPASS_N_P, 1, 3, 2, 3, 3, 0},
-    {"kneed", 6, WK_KNEED_N_P, 2, 4, 2, 4, 3, 0},
-    {"compass_coulomb", 4, WK_COMPASS_COULOMB_N_P, 9, 7, 2, 3, 3, 0},
-    {"double_pendulum", 4, WK_DOUBLE_PENDULUM_N_P, 9, 4, 1, 3, 0, 0},
-    {"kneed_coulomb", 6, WK_KNEED_COULOMB_N_P, 36, 10, 2, 4, 3, 0},
-    {"three_link", 8, WK_THREE_LINK_N_P, 9, 10, 2, 4, 5, 2},
-    {"five_link", 12, WK_FIVE_LINK_N_P, 81, 15, 2, 6, 9, 4},
-    {"rimless_wheel", 2, WK_RIMLESS_WHEEL_N_P, 2, 4, 2, 4, 1, 0},
-};
+ * (its variants share them): SIZES, one row a model, printed from its Python declaration
+ * (walker/symbolic/codegen_registry.py); tests/test_declared_once.py checks it is current. */
+#include "_hybridsizes.h"
 
 const wkpy_model_sizes *wkpy_sizes_named(const char *entry_name)
 {

@@ -174,7 +174,7 @@ int wkpy_check_state_fn(uintptr_t address, const char *name, int role, int64_t n
 
 /* Interrupts (_hybridsignals.c): wkpy_signals_begin before a compiled call releases the
  * GIL, wkpy_signals_end after it took it back (both with the GIL held); end returns 1 when
- * SIGINT or SIGTERM arrived meanwhile (the call then ended early, WK_STATUS_INTERRUPTED).
+ * SIGINT or SIGTERM arrived meanwhile (the call then ended early, WK_INTERRUPTED).
  * wkpy_interrupted then runs Python's signal handlers: -1 with their exception set when
  * one raised; else, with must_raise, -1 with a KeyboardInterrupt (a result cut short that
  * carries no status of its own, or a thread other than the main one), else 0 (the caller

@@ -5,12 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Status values (walker.status.Status). */
-#define B_FELL_BACKWARD 1
-#define B_FELL_FORWARD 2
-#define B_LINEAR_SOLVE_FAILED 10
-#define B_OUTSIDE_WALKING_REGION 15
-
 void wk_section_lift(const wk_section *sec, int64_t n_x, const double *p, const double *z,
                      double *x)
 {
@@ -65,20 +59,20 @@ int64_t wk_section_start(const wk_problem *tmpl, const wk_section *sec, const do
 {
     wk_section_lift(sec, tmpl->n_x, tmpl->p, z, x0);
     const double psi = z[0] + sec->offset;
-    if (!(fabs(psi) < sec->fall_angle)) return psi < 0.0 ? B_FELL_FORWARD : B_FELL_BACKWARD;
+    if (!(fabs(psi) < sec->fall_angle)) return psi < 0.0 ? WK_FELL_FORWARD : WK_FELL_BACKWARD;
     for (int64_t i = 0; i < sec->n_q; i++)
-        if (fabs(x0[i]) > sec->wound) return B_OUTSIDE_WALKING_REGION;
+        if (fabs(x0[i]) > sec->wound) return WK_OUTSIDE_WALKING_REGION;
     double out[4] = {0.0, 0.0, 0.0, 0.0};
     if (sec->energy != NULL) {
         sec->energy(x0, tmpl->p, out, sec->ctx);
-        if (!(out[0] <= sec->kinetic_limit)) return B_OUTSIDE_WALKING_REGION;
+        if (!(out[0] <= sec->kinetic_limit)) return WK_OUTSIDE_WALKING_REGION;
     }
     *phase0 = 0;
     if (sec->start_phase != NULL) {
         out[0] = 0.0;
         sec->start_phase(x0, tmpl->p, out, sec->ctx);
         *phase0 = (int64_t)out[0];
-        if (*phase0 < 0) return B_LINEAR_SOLVE_FAILED;
+        if (*phase0 < 0) return WK_LINEAR_SOLVE_FAILED;
     }
     return 0;
 }

@@ -16,13 +16,6 @@
 
 /* Internal status: still running (Status values are >= 0). */
 #define RUNNING (-1)
-#define ST_COMPLETED 0
-#define ST_NO_EVENT 5
-#define ST_STEP_UNDERFLOW 6
-#define ST_NONFINITE 7
-#define ST_MAX_STEPS 8
-#define ST_CHATTERING 16
-#define ST_INTERRUPTED WK_STATUS_INTERRUPTED
 
 volatile sig_atomic_t wk_interrupt = 0;
 
@@ -318,15 +311,15 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
 
     while (status == RUNNING) {
         if (t >= t_end) {
-            status = n_strides == 0 ? ST_COMPLETED : ST_NO_EVENT;
+            status = n_strides == 0 ? WK_COMPLETED : WK_NO_EVENT;
             break;
         }
         if (n_steps + n_rej >= pb->max_steps) {
-            status = ST_MAX_STEPS;
+            status = WK_MAX_STEPS;
             break;
         }
         if (wk_interrupt) {
-            status = ST_INTERRUPTED;
+            status = WK_INTERRUPTED;
             break;
         }
         h = min2(h, max_step);
@@ -340,7 +333,7 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
          * parameters near their bounds) ends the run too, instead of being rejected until
          * max_steps (issue 33) */
         if (adaptive && !(h >= min_step)) {
-            status = nonfinite_seen || isnan(h) ? ST_NONFINITE : ST_STEP_UNDERFLOW;
+            status = nonfinite_seen || isnan(h) ? WK_NONFINITE : WK_STEP_UNDERFLOW;
             break;
         }
         /* ---- one step ---- */
@@ -356,7 +349,7 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
         const int finite = wk_all_finite(y_new, n_z) && wk_all_finite(K_end, n_z) && isfinite(err);
         if (!finite) {
             if (!adaptive) {
-                status = ST_NONFINITE;
+                status = WK_NONFINITE;
                 break;
             }
             nonfinite_seen = 1;
@@ -555,11 +548,11 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
             t = 0.0;
             t_end = (t_max - t_off) - t_off_c;
             if (finishing) {
-                status = ST_COMPLETED;
+                status = WK_COMPLETED;
                 break;
             }
             if (wk_chattering(zeno, n_guards, best_i, t_off + t_off_c)) {
-                status = ST_CHATTERING;
+                status = WK_CHATTERING;
                 break;
             }
             /* ---- restart the method at the event ---- */
@@ -595,7 +588,7 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
             goto done;
         }
         if (last) {
-            status = n_strides == 0 ? ST_COMPLETED : ST_NO_EVENT;
+            status = n_strides == 0 ? WK_COMPLETED : WK_NO_EVENT;
             break;
         }
         if (adaptive) h *= wk_accept_factor(err, exponent, rejected_now);

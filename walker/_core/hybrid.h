@@ -14,16 +14,8 @@
 #include <stdint.h>
 #include "wk_system.h"
 
-/* Methods and output modes: the values of walker.status. */
-#define WK_METHOD_EULER 0
-#define WK_METHOD_RK4 1
-#define WK_METHOD_DP5 2
-#define WK_METHOD_DOP853 3
-
-#define WK_OUTPUT_MAP 0
-#define WK_OUTPUT_EVENTS 1
-#define WK_OUTPUT_SAMPLES 2
-#define WK_OUTPUT_FULL 3
+/* Methods (WK_METHOD_*) and output modes (WK_OUTPUT_*): walker.status's values, in
+ * status.h (included by wk_system.h). */
 
 /* Absolute guard tolerance for arming (walker.simulation.integrate.GUARD_TOL). */
 #define WK_GUARD_TOL 1e-10
@@ -31,11 +23,8 @@
 /* A pending interrupt: the number of a signal (SIGINT, SIGTERM) that arrived while compiled
  * work ran, set by the binding's handler (walker/_core/_hybridsignals.c), else 0.  Every
  * loop polls it (the step loop each step, the gait search each evaluation, a batch each
- * point) and ends with WK_STATUS_INTERRUPTED; reading it changes no arithmetic. */
+ * point) and ends with WK_INTERRUPTED; reading it changes no arithmetic. */
 extern volatile sig_atomic_t wk_interrupt;
-
-/* walker.status.Status.INTERRUPTED: the run stopped because a signal arrived. */
-#define WK_STATUS_INTERRUPTED 17
 
 /* Return codes of wk_hybrid_solve (the run's outcome is wk_result.status). */
 #define WK_OK 0

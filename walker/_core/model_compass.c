@@ -151,6 +151,8 @@ static const compass_kernels PLAIN = {
 WK_MODEL_VARIANT(compass, GENERAL)
 WK_MODEL_VARIANT(compass_plain, PLAIN)
 WK_MODEL_FUSED(compass_plain, PLAIN)
+WK_MODEL_ENTRY(compass)
+WK_MODEL_ENTRY_FUSED(compass_plain)
 
 /* ------------------------------------------------------------------------------------------
  * Terrain (wk_terrain.h): the swing foot's signed distance from the step's plane

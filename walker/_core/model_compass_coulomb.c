@@ -12,7 +12,7 @@
 #include "compass.h"
 
 #define I_COULOMB WK_COMPASS_COULOMB_P_COULOMB_ANKLE
-#define N_JOINTS 2
+#define N_JOINTS WK_COMPASS_COULOMB_N_JOINTS
 #define N_BASE_GUARDS 3
 
 /* Joint rows: ankle w = qd_stance, hip w = qd_swing - qd_stance. */
@@ -76,7 +76,7 @@ static void reset(int64_t phase, int64_t k, double t, const double *x, const dou
 }
 
 /* start_phase; energy and drawing points are the compass gait's (model_compass.c). */
-WK_FRICTION_WALKER_ENTRY(compass_coulomb, compass, 4)
+WK_FRICTION_WALKER_ENTRY(compass_coulomb, compass, WK_COMPASS_COULOMB_N_X)
 
 /* Terrain (wk_terrain.h): the compass gait's terrain guards and heel strike in place of its
  * plane ones; the friction guards and resets unchanged. */

@@ -11,7 +11,7 @@
 #include "double_pendulum.h"
 
 #define I_COULOMB WK_DOUBLE_PENDULUM_P_COULOMB_1
-#define N_JOINTS 2
+#define N_JOINTS WK_DOUBLE_PENDULUM_N_JOINTS
 
 /* Joint rows: w1 = qd1, w2 = qd2 (q2 is relative). */
 static const double S[2 * 2] = {1.0, 0.0, 0.0, 1.0};
@@ -75,5 +75,5 @@ static void points(const double *x, const double *p, double *out, void *ctx)
 }
 
 const wk_model_entry wk_entry_double_pendulum = {
-    "double_pendulum", {rhs, guards, reset, jac, NULL}, energy, points, start_phase,
+    WK_ENTRY_NAME_double_pendulum, {rhs, guards, reset, jac, NULL}, energy, points, start_phase,
 };

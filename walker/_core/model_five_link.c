@@ -12,10 +12,10 @@
 #include "wk_actuated.h"
 #include "five_link.h"
 
-#define N_X 12
+#define N_X WK_FIVE_LINK_N_X
 #define N_Q 5
-#define N_U 4
-#define N_JOINTS 4
+#define N_U WK_FIVE_LINK_N_INPUTS
+#define N_JOINTS WK_FIVE_LINK_N_JOINTS
 #define N_BASE_GUARDS 7
 #define I_LENGTH_FEMUR WK_FIVE_LINK_P_LENGTH_FEMUR
 #define I_LENGTH_TIBIA WK_FIVE_LINK_P_LENGTH_TIBIA
@@ -203,5 +203,6 @@ static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, c
 }
 
 const wk_terrain_entry wk_terrain_entry_five_link = {
-    "five_link", wk_model_five_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1, -1, 0,
+    WK_ENTRY_NAME_five_link, wk_model_five_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1, -1,
+    0,
 };

@@ -362,6 +362,10 @@ WK_MODEL_VARIANT(kneed_ignore_scuff, GENERAL_IGNORE_SCUFF)
 WK_MODEL_VARIANT(kneed_plain_ignore_scuff, PLAIN_IGNORE_SCUFF)
 WK_MODEL_FUSED(kneed_plain, PLAIN)
 WK_MODEL_FUSED(kneed_plain_ignore_scuff, PLAIN_IGNORE_SCUFF)
+WK_MODEL_ENTRY(kneed)
+WK_MODEL_ENTRY_FUSED(kneed_plain)
+WK_MODEL_ENTRY(kneed_ignore_scuff)
+WK_MODEL_ENTRY_FUSED(kneed_plain_ignore_scuff)
 
 /* ------------------------------------------------------------------------------------------
  * Terrain (wk_terrain.h): the guards with the swing foot's signed distance from the step's

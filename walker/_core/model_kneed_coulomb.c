@@ -15,8 +15,8 @@
 
 #define I_COULOMB WK_KNEED_COULOMB_P_COULOMB_ANKLE
 #define N_UNLOCKED 27
-#define UNLOCKED 0
-#define LOCKED 1
+#define UNLOCKED WK_KNEED_PHASE_UNLOCKED
+#define LOCKED WK_KNEED_PHASE_LOCKED
 #define N_BASE_GUARDS 4
 
 /* Joint rows: ankle w = qd1, hip w = qd2 - qd1, knee w = qd3 - qd2 (unlocked only). */
@@ -140,7 +140,7 @@ static void reset(int64_t phase, int64_t k, double t, const double *x, const dou
 
 /* start_phase (in the unlocked phase); energy and drawing points are the kneed walker's
  * (model_kneed.c). */
-WK_FRICTION_WALKER_ENTRY(kneed_coulomb, kneed, 6)
+WK_FRICTION_WALKER_ENTRY(kneed_coulomb, kneed, WK_KNEED_COULOMB_N_X)
 
 /* Terrain (wk_terrain.h): the kneed walker's terrain guards, knee lock and heel strike in
  * place of its plane ones; the friction guards and resets unchanged. */

@@ -197,7 +197,7 @@ void wk_model_rimless_wheel_start_phase(const double *x, const double *p, double
 }
 
 const wk_model_entry wk_entry_rimless_wheel = {
-    "rimless_wheel",
+    WK_ENTRY_NAME_rimless_wheel,
     {wk_model_rimless_wheel_rhs, wk_model_rimless_wheel_guards, wk_model_rimless_wheel_reset,
      wk_model_rimless_wheel_jac, NULL},
     wk_model_rimless_wheel_energy,

@@ -3,6 +3,7 @@
  * wk_simplest_* (walker/_generated/simplest.h).  State (theta, phi, theta_dot, phi_dot);
  * guards heel_strike, fall_forward, fall_backward. */
 #include <math.h>
+#include <stddef.h>
 #include "wk_common.h"
 #include "simplest.h"
 
@@ -129,6 +130,17 @@ void wk_model_simplest_lift_jacobian(const double *z, const double *p, double *o
     out[6] = 2.0 * s2 * z[1];
     out[7] = 1.0 - cos(2.0 * z[0]);
 }
+
+const wk_model_entry wk_entry_simplest = {
+    WK_ENTRY_NAME_simplest,
+    {wk_model_simplest_rhs, wk_model_simplest_guards, wk_model_simplest_reset,
+     wk_model_simplest_jac, NULL},
+    wk_model_simplest_energy,
+    wk_model_simplest_points,
+    NULL,
+    wk_model_simplest_lift,
+    wk_model_simplest_lift_jacobian,
+};
 
 /* ------------------------------------------------------------------------------------------
  * Terrain (wk_terrain.h).  theta is the stance leg's angle from the scene slope's normal,

@@ -16,10 +16,10 @@
 #include "wk_actuated.h"
 #include "three_link.h"
 
-#define N_X 8
+#define N_X WK_THREE_LINK_N_X
 #define N_Q 3
-#define N_U 2
-#define N_JOINTS 2
+#define N_U WK_THREE_LINK_N_INPUTS
+#define N_JOINTS WK_THREE_LINK_N_JOINTS
 #define N_BASE_GUARDS 6
 #define I_LEG_A WK_THREE_LINK_P_COM_FROM_FOOT
 #define I_LEG_B WK_THREE_LINK_P_COM_TO_HIP
@@ -224,5 +224,6 @@ static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, c
 }
 
 const wk_terrain_entry wk_terrain_entry_three_link = {
-    "three_link", wk_model_three_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1, -1, 0,
+    WK_ENTRY_NAME_three_link, wk_model_three_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1, -1,
+    0,
 };

@@ -8,9 +8,6 @@
 
 #include "wk_common.h"
 
-#define S_COMPLETED 0
-#define S_NONFINITE 7
-#define S_OUTSIDE_WALKING_REGION 15
 
 typedef wk_search_eval evaluation;
 
@@ -141,7 +138,7 @@ static int compiled_evaluate(wk_search_map *m, const double *z, double level, in
     e->status = res.status;
     e->t = res.t;
     memcpy(e->x, res.x, (size_t)n_x * sizeof(double));
-    if (res.status == S_COMPLETED) {
+    if (res.status == WK_COMPLETED) {
         for (int64_t i = 0; i < n_z; i++) e->z[i] = res.x[s->sec->proj[i]];
         if (want_jac) {
             for (int64_t i = 0; i < n_z; i++)
@@ -166,7 +163,7 @@ static int residual_at(search *s, const double *z, double level, int want_jac, e
 {
     const int rc = s->map->evaluate(s->map, z, level, want_jac, e);
     if (rc) return rc;
-    *ok = e->status == S_COMPLETED && all_finite(e->z, s->n_z);
+    *ok = e->status == WK_COMPLETED && all_finite(e->z, s->n_z);
     if (*ok)
         for (int64_t i = 0; i < s->n_z; i++) f[i] = e->z[i] - z[i];
     return 0;
@@ -374,9 +371,9 @@ static int run(search *s, const double *scale, const double *z0, double *w, eval
         if (!jac_here) { /* the Jacobian at the map's own tolerance */
             if ((rc = spend(s, set->jac_cost)) || (rc = s->map->jacobian(s->map, z, spare)))
                 return rc;
-            if (spare->status != S_COMPLETED || !spare->has_jac) {
+            if (spare->status != WK_COMPLETED || !spare->has_jac) {
                 out->end = WK_SEARCH_JACOBIAN_FAILED;
-                out->status = spare->status != S_COMPLETED ? spare->status : S_NONFINITE;
+                out->status = spare->status != WK_COMPLETED ? spare->status : WK_NONFINITE;
                 return 0;
             }
             jac_map = spare->jac;
@@ -386,7 +383,7 @@ static int run(search *s, const double *scale, const double *z0, double *w, eval
         int accepted = 0, shortened = 0;
         double alpha = 1.0;
         int64_t refused = 0, walked = 0;
-        int64_t full_step_status = S_COMPLETED;
+        int64_t full_step_status = WK_COMPLETED;
         out->why = WK_INSIDE;
         /* --- Newton step, cut to the trust region, with backtracking on ||F||_2 --------- */
         double cond;
@@ -401,7 +398,7 @@ static int run(search *s, const double *scale, const double *z0, double *w, eval
                 const int out_here = refused_at(s, z_try, out, &refused);
                 if (out_here < 0) return WK_EVAL_ERROR;
                 if (out_here) {
-                    if (alpha == 1.0) full_step_status = S_OUTSIDE_WALKING_REGION;
+                    if (alpha == 1.0) full_step_status = WK_OUTSIDE_WALKING_REGION;
                     alpha *= 0.5;
                     continue;
                 }
@@ -481,7 +478,7 @@ static int run(search *s, const double *scale, const double *z0, double *w, eval
         if (!accepted) {
             out->refused = refused;
             out->status = full_step_status;
-            if (full_step_status != S_COMPLETED && walked == 0) {
+            if (full_step_status != WK_COMPLETED && walked == 0) {
                 out->end = WK_SEARCH_DIVERGED;
             } else {
                 out->end = WK_SEARCH_NO_DESCENT;
@@ -524,7 +521,7 @@ int wk_search(wk_search_map *m, const wk_search_settings *set, const double *sca
         at += per_eval;
     }
     out->end = WK_SEARCH_DECLINED;
-    out->status = S_COMPLETED;
+    out->status = WK_COMPLETED;
     out->n_history = 0;
     out->refused = 0;
     out->known = 0;

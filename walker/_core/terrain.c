@@ -16,21 +16,23 @@
  * ------------------------------------------------------------------------------------------ */
 
 static const wk_terrain_entry ENTRIES[] = {
-    {"rimless_wheel", wk_model_rimless_wheel_guards, WK_RIMLESS_WHEEL_P_SLOPE,
+    {WK_ENTRY_NAME_rimless_wheel, wk_model_rimless_wheel_guards, WK_RIMLESS_WHEEL_P_SLOPE,
      wk_terrain_rimless_wheel_guards, wk_terrain_rimless_wheel_reset, 0, -1, 0},
-    {"simplest", wk_model_simplest_guards, WK_SIMPLEST_P_SLOPE, wk_terrain_simplest_guards,
-     wk_terrain_simplest_reset, 0, -1, 0},
-    {"compass", wk_model_compass_guards, WK_COMPASS_P_SLOPE, wk_terrain_compass_guards,
-     wk_terrain_compass_reset, 0, WK_COMPASS_P_FOOT_RADIUS, WK_COMPASS_N_P},
-    {"compass/plain", wk_model_compass_plain_guards, WK_COMPASS_P_SLOPE,
+    {WK_ENTRY_NAME_simplest, wk_model_simplest_guards, WK_SIMPLEST_P_SLOPE,
+     wk_terrain_simplest_guards, wk_terrain_simplest_reset, 0, -1, 0},
+    {WK_ENTRY_NAME_compass, wk_model_compass_guards, WK_COMPASS_P_SLOPE,
+     wk_terrain_compass_guards, wk_terrain_compass_reset, 0, WK_COMPASS_P_FOOT_RADIUS,
+     WK_COMPASS_N_P},
+    {WK_ENTRY_NAME_compass_plain, wk_model_compass_plain_guards, WK_COMPASS_P_SLOPE,
      wk_terrain_compass_plain_guards, wk_terrain_compass_plain_reset, 0, -1, 0},
-#define KNEED_ENTRY(label, name)                                                             \
-    {label, wk_model_##name##_guards, WK_KNEED_P_SLOPE, wk_terrain_##name##_guards,           \
-     wk_terrain_##name##_reset, 0, WK_KNEED_P_FOOT_RADIUS, WK_KNEED_N_P}
-    KNEED_ENTRY("kneed", kneed),
-    KNEED_ENTRY("kneed/plain", kneed_plain),
-    KNEED_ENTRY("kneed/ignore_scuff", kneed_ignore_scuff),
-    KNEED_ENTRY("kneed/plain/ignore_scuff", kneed_plain_ignore_scuff),
+#define KNEED_ENTRY(name)                                                                    \
+    {WK_ENTRY_NAME_##name, wk_model_##name##_guards, WK_KNEED_P_SLOPE,                      \
+     wk_terrain_##name##_guards, wk_terrain_##name##_reset, 0, WK_KNEED_P_FOOT_RADIUS,     \
+     WK_KNEED_N_P}
+    KNEED_ENTRY(kneed),
+    KNEED_ENTRY(kneed_plain),
+    KNEED_ENTRY(kneed_ignore_scuff),
+    KNEED_ENTRY(kneed_plain_ignore_scuff),
 #undef KNEED_ENTRY
 };
 
@@ -170,7 +172,7 @@ static int64_t state_start(const wk_problem *tmpl, const wk_section *sec, const 
     const double psi = x0[sec->proj[0]] + sec->offset;
     if (!(fabs(psi) < sec->fall_angle)) return psi < 0.0 ? WK_FELL_FORWARD : WK_FELL_BACKWARD;
     for (int64_t i = 0; i < sec->n_q; i++)
-        if (fabs(x0[i]) > sec->wound) return 15; /* OUTSIDE_WALKING_REGION */
+        if (fabs(x0[i]) > sec->wound) return WK_OUTSIDE_WALKING_REGION;
     double out[4] = {0.0, 0.0, 0.0, 0.0};
     if (sec->energy != NULL) {
         sec->energy(x0, tmpl->p, out, NULL);

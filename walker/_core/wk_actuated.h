@@ -232,7 +232,7 @@ int64_t wk_actuated_start_phase(const wk_actuated_model *M, const double *x, con
         wk_actuated_torques(&(M), x, p, out, ctx);                                          \
     }                                                                                       \
     const wk_model_entry wk_entry_##name = {                                                \
-        #name,                                                                              \
+        WK_ENTRY_NAME_##name,                                                               \
         {wk_model_##name##_rhs, wk_model_##name##_guards, wk_model_##name##_reset,          \
          wk_model_##name##_jac, NULL},                                                      \
         wk_model_##name##_energy,                                                           \

@@ -1,8 +1,9 @@
 /* Pieces shared by walker's hand-written C models (model_simplest.c, model_compass.c,
- * model_kneed.c): the fall threshold, the least step, the status codes, and impacts as
- * augmented linear systems.  Written as ports of walker's former numba functions (in the
- * git history of walker/models/_common.py and walker/_linalg.py), whose order of operations
- * they keep: results stay bit-identical to the ones walker has always produced.
+ * model_kneed.c): the fall threshold, the least step, impacts as augmented linear systems,
+ * the registry entry macros (the status values are status.h's).  Written as ports of
+ * walker's former numba functions (in the git history of walker/models/_common.py and
+ * walker/_linalg.py), whose order of operations they keep: results stay bit-identical to the
+ * ones walker has always produced.
  */
 #ifndef WK_COMMON_H
 #define WK_COMMON_H
@@ -11,26 +12,13 @@
 
 #include <stdint.h>
 #include "wk_system.h"
+#include "wk_registry.h" /* each registry entry's name and declaration (generated) */
 
 /* walker.models._common.FALL_ANGLE and MIN_STEP. */
 #define WK_FALL_ANGLE 1.2217304763960306
 #define WK_MIN_STEP 1e-8
 
-/* walker.status.Status values. */
-#define WK_COMPLETED 0
-#define WK_FELL_BACKWARD 1
-#define WK_FELL_FORWARD 2
-#define WK_TRIPPED 3
-#define WK_NONPHYSICAL_IMPACT 4
-#define WK_NO_EVENT 5
-#define WK_STEP_UNDERFLOW 6
-#define WK_NONFINITE 7
-#define WK_MAX_STEPS 8
-#define WK_NOT_CONVERGED 9
-#define WK_LINEAR_SOLVE_FAILED 10
-#define WK_PARAMETER_OUT_OF_RANGE 11
-#define WK_CHATTERING 16
-#define WK_ROLLED_BACK 18
+/* walker.status.Status values: WK_<NAME> in status.h (included by wk_system.h). */
 
 /* Largest augmented system wk_impact solves (coordinates + constraints). */
 #define WK_IMPACT_MAX 16
@@ -149,7 +137,7 @@ static inline void wk_fall_out(int64_t *out, int64_t phase, int forward)
     wk_reset_out(out, WK_EVENT_TERMINAL, phase, forward ? WK_FELL_FORWARD : WK_FELL_BACKWARD);
 }
 
-/* The models' functions, registered in models.c: wk_model_<name>_{rhs, guards, reset, jac}
+/* The models' functions, registered in model_table.c: wk_model_<name>_{rhs, guards, reset, jac}
  * (wk_system.h) and wk_model_<name>_{energy, points} (wk_models.h). */
 #define WK_DECLARE_MODEL(name)                                                              \
     void wk_model_##name##_rhs(int64_t phase, double t, const double *x, const double *p,   \
@@ -205,8 +193,33 @@ static inline void wk_fall_out(int64_t *out, int64_t phase, int forward)
     WK_STATE_FUNCTION(wk_model_##name##_energy, energy, KT)                                 \
     WK_STATE_FUNCTION(wk_model_##name##_points, points, KT)
 
+/* Defines the registry entry wk_entry_<name> of model variant ``name`` over its functions
+ * wk_model_<name>_{rhs, guards, reset, jac, energy, points} (WK_MODEL_VARIANT); its name,
+ * WK_ENTRY_NAME_<name>, is printed from the Python declaration (wk_registry.h). */
+#define WK_MODEL_ENTRY(name)                                                                \
+    const wk_model_entry wk_entry_##name = {                                                \
+        WK_ENTRY_NAME_##name,                                                               \
+        {wk_model_##name##_rhs, wk_model_##name##_guards, wk_model_##name##_reset,          \
+         wk_model_##name##_jac, NULL},                                                      \
+        wk_model_##name##_energy,                                                           \
+        wk_model_##name##_points,                                                           \
+        NULL,                                                                               \
+    };
+
+/* WK_MODEL_ENTRY of a variant with a fused rhs and Jacobian (wk_model_<name>_rhs_jac,
+ * WK_MODEL_FUSED). */
+#define WK_MODEL_ENTRY_FUSED(name)                                                          \
+    const wk_model_entry wk_entry_##name = {                                                \
+        WK_ENTRY_NAME_##name,                                                               \
+        {wk_model_##name##_rhs, wk_model_##name##_guards, wk_model_##name##_reset,          \
+         wk_model_##name##_jac, NULL, wk_model_##name##_rhs_jac},                           \
+        wk_model_##name##_energy,                                                           \
+        wk_model_##name##_points,                                                           \
+        NULL,                                                                               \
+    };
+
 /* A model variant's fused rhs and Jacobian, wk_model_<name>_rhs_jac (wk_rhs_jac_fn, see
- * wk_system.h): declared for the variants whose registry entry has one (models.c). */
+ * wk_system.h): declared for the variants whose registry entry has one (WK_MODEL_ENTRY_FUSED). */
 #define WK_DECLARE_FUSED(name)                                                              \
     void wk_model_##name##_rhs_jac(int64_t phase, double t, const double *x,                \
                                    const double *p, double *dx, double *J, void *ctx);

@@ -245,7 +245,8 @@ void wk_friction_base_reset(wk_reset_fn walker_reset, wk_friction_start_fn start
         reset_on(wk_terrain_##base##_reset, phase, k, t, x, p, x_new, impulse, out, ctx);    \
     }                                                                                        \
     const wk_terrain_entry wk_terrain_entry_##name = {                                       \
-        #name, guards, slope_index, terrain_guards, terrain_reset, 0, radius_index, n_params, \
+        WK_ENTRY_NAME_##name, guards, slope_index, terrain_guards, terrain_reset, 0,          \
+        radius_index, n_params,                                                              \
     };
 
 #endif

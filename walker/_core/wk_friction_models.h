@@ -7,6 +7,7 @@
 #define WK_FRICTION_MODELS_H
 
 #include "wk_models.h"
+#include "wk_registry.h"
 
 extern const wk_model_entry wk_entry_compass_coulomb;
 extern const wk_model_entry wk_entry_double_pendulum;
@@ -26,7 +27,7 @@ extern const wk_model_entry wk_entry_kneed_coulomb;
         out[0] = (double)start(0, y, p);                                                     \
     }                                                                                        \
     const wk_model_entry wk_entry_##name = {                                                 \
-        #name,                                                                               \
+        WK_ENTRY_NAME_##name,                                                                \
         {rhs, guards, reset, jac, NULL},                                                     \
         wk_model_##base##_energy,                                                            \
         wk_model_##base##_points,                                                            \

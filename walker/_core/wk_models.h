@@ -3,7 +3,7 @@
  * - models: walker's own hybrid systems (wk_functions, see wk_system.h) and their
  *   Python-side helpers, one entry per model and structural variant ("kneed" is the general
  *   kernel, "kneed/plain" the variant for point feet, no offsets, no segment inertias and no
- *   dampers; see walker/_core/models.c);
+ *   dampers; see walker/_core/model_table.c);
  * - kernels: every generated kernel (the .c files in walker/_generated), by "<model>.<kernel>" name, for
  *   the tests that check them against the symbolic model.
  *

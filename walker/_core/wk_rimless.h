@@ -9,6 +9,7 @@
 #define WK_RIMLESS_H
 
 #include "wk_models.h"
+#include "wk_registry.h"
 
 void wk_model_rimless_wheel_rhs(int64_t phase, double t, const double *x, const double *p,
                                 double *dx, void *ctx);

@@ -22,7 +22,7 @@
  *
  * wk_functions also has a member rhs_jac(phase, t, x, p, dx, J, ctx), rhs and jac in one
  * call, that is filled internally, never by a user: the binding sets it when (rhs, jac) is
- * the pair of a built-in model with a fused function (walker/_core/models.c), NULL
+ * the pair of a built-in model with a fused function (wk_model_rhs_jac, models.c), NULL
  * otherwise.  It comes after ctx, so an initializer {rhs, guards, reset, jac, ctx} leaves
  * it NULL.  After it, on_stride (also internal, NULL for a user system): see wk_stride_fn.
  *
@@ -65,10 +65,8 @@ typedef struct {
     wk_stride_fn on_stride; /* filled internally (terrain runs, terrain.c), else NULL */
 } wk_functions;
 
-/* Event actions returned by reset in out[0]; the values of walker.status. */
-#define WK_EVENT_IGNORE 0
-#define WK_EVENT_CONTINUE 1
-#define WK_EVENT_STRIDE 2
-#define WK_EVENT_TERMINAL 3
+/* Event actions returned by reset in out[0] (WK_EVENT_*), output modes, methods and every
+ * walker.status.Status value (WK_<NAME>): printed from walker/status.py. */
+#include "status.h"
 
 #endif

@@ -66,7 +66,7 @@ typedef struct {
 /* A model's terrain functions: guards and reset with the signatures of wk_system.h, called
  * with ctx a wk_terrain (the model's own ctx is NULL: passive models only). */
 typedef struct {
-    const char *name;     /* the model (registry name, walker/_core/models.c) */
+    const char *name;     /* the model (registry name, WK_ENTRY_NAME_*, wk_registry.h) */
     wk_guards_fn guards;  /* the model's plane guards: the key the run is found by */
     int64_t slope_index;  /* the slope's index in the parameter vector */
     wk_guards_fn terrain_guards;

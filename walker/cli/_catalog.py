@@ -8,35 +8,15 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+from walker.params import MODELS
+
 __all__ = ["MODEL_SUMMARIES", "SECTION_WHERE", "STARTS", "Start"]
 
-MODEL_SUMMARIES = {
-    "simplest": "Garcia's simplest walker: a point mass at the hip on massless legs with point "
-    "feet (the compass gait's limit of vanishing leg mass).",
-    "compass": "Compass gait: two rigid legs hinged at a hip mass, point or round feet, "
-    "optional viscous hip and ankle dampers.",
-    "kneed": "Kneed walker: a hip mass, thigh and shank on each leg, a swing knee that locks "
-    "straight, point or round feet.",
-    "double_pendulum": "Planar double pendulum with viscous and dry joint friction; not a "
-    "walker (no strides, no section): run it with `walker run`.",
-    "three_link": "Three-link walker: two legs and a torso, two hip actuators under "
-    "virtual-constraint (hybrid zero dynamics) control.",
-    "five_link": "Five-link walker like RABBIT: torso, femurs and tibias, hip and knee "
-    "actuators under virtual-constraint control.",
-    "compass_coulomb": "Compass gait with dry (Coulomb) friction at the stance ankle and the "
-    "hip: each joint slips forward, slips backward or sticks (the phases).",
-    "kneed_coulomb": "Kneed walker with dry (Coulomb) friction at the stance ankle, the hip and "
-    "the swing knee, as stick and slip phases.",
-    "rimless_wheel": "Rimless wheel: a point mass at the hub on equally spaced massless spokes, "
-    "rolling down the slope from spoke to spoke.",
-}
-"""Model name -> one line on what it is."""
+MODEL_SUMMARIES = {name: spec.summary for name, spec in MODELS.items()}
+"""Model name -> one line on what it is (the registry records' ``summary``)."""
 
-SECTION_WHERE = {
-    "rimless_wheel": "just after a spoke's impact (theta = pi/spokes there)",
-    "double_pendulum": "none: the model has no strides",
-}
-"""Where a model's Poincare section lies, where it is not "just after heel strike"."""
+SECTION_WHERE = {name: spec.section_where for name, spec in MODELS.items()}
+"""Where each model's Poincare section lies (the registry records' ``section_where``)."""
 
 
 class Start(NamedTuple):

@@ -1,14 +1,15 @@
 """The walkers walker ships, each a :class:`WalkerModel`: a model compiled into the extension
-(walker/_core/model_<name>.c, registered in walker/_core/models.c) plus its Python-side
-description (state, phases, guards, section coordinates).
+(walker/_core/model_<name>.c, registered in the generated walker/_core/model_table.c) plus its
+Python-side description (state, phases, guards, section coordinates).
 
 A model module (``walker/models/<name>.py``) provides, per the contract of
 :class:`walker.simulation.integrate.HybridSystem`:
 
 1. ``N_X``, ``STATE_NAMES``: the state, the same in every phase.  ``STATE_NAMES`` is read
    from the model's record in the model registry :data:`walker.params.MODELS` (which also
-   holds its parameter class, state units and whether it has strides); ``N_X``, its length,
-   is written out for the compiled code (``tests/test_models.py`` checks that they agree).
+   holds its parameter class, state units and whether it has strides); ``N_X`` is its
+   length.  The compiled registry and the binding's size table are printed from these
+   declarations (:mod:`walker.symbolic.codegen_registry`).
 2. ``PHASE_NAMES``, ``GUARD_NAMES``, ``DIRECTIONS`` (n_phases, n_guards) and ``N_IMPULSE``
    of the compiled ``rhs``, ``guards``, ``reset`` and ``jac`` (the model's registry entry,
    ``walker._hybrid.models()``).
@@ -19,13 +20,15 @@ A model module (``walker/models/<name>.py``) provides, per the contract of
    (``("trip", "ignore")``, the default first), compiled as the registry variants
    ``<model>/ignore_scuff`` and ``<model>/<variant>/ignore_scuff`` (:func:`get_model`
    ``swing_scuff``).
-6. Optionally ``VARIANTS``: compiled structural variants (walker/_core/models.c), name ->
+6. Optionally ``VARIANTS``: compiled structural variants (walker/_core/model_table.c), name ->
    parameters.  A variant runs kernels generated with these parameters fixed at exactly
    zero, so scenes that leave them at zero pay no arithmetic for them;
    :meth:`WalkerModel.variant_for` picks it.
 7. Optionally ``KERNEL_MODULE``, the generated kernels it runs on when they are another
    model's (the friction variants: ``"compass"``, ``"kneed"``), and ``KERNEL_HASH`` for a
    model without generated kernels (the rimless wheel).
+8. Optionally ``ACTUATED = True`` beside ``JOINTS``: the model has a controller, and its
+   compiled ``torques`` returns one torque per joint of ``JOINTS``.
 
 The compiled functions are called from Python through the checked methods of
 :class:`WalkerModel` (``rhs``, ``guards``, ``jac``, ``reset``, ``energy``, ``points``,

@@ -21,7 +21,7 @@ import numpy as np
 from walker._generated import indices as ix
 from walker.params import MODELS
 
-N_X = 4
+N_X = len(MODELS["compass"].state_names)
 N_IMPULSE = 2
 PHASE_NAMES = ("swing",)
 GUARD_NAMES = ("heel_strike", "fall_forward", "fall_backward")

@@ -60,7 +60,7 @@ __all__, __getattr__, __dir__ = joint_friction_walker(__name__, _compass)
 
 KERNEL_MODULE = "compass"
 """The generated kernels are the compass model's (:meth:`walker.models.WalkerModel.kernel`)."""
-N_X = 4
+N_X = len(MODELS["compass_coulomb"].state_names)
 N_IMPULSE = 2
 STATE_NAMES = MODELS["compass_coulomb"].state_names  # the model registry (walker.params)
 JOINTS = ("ankle", "hip")

@@ -65,7 +65,7 @@ from walker.params import MODELS
 
 __all__ = [*JOINT_FRICTION_EXPORTS, "SECTION_NAMES", "SEGMENTS"]
 
-N_X = 4
+N_X = len(MODELS["double_pendulum"].state_names)
 N_IMPULSE = 1
 JOINTS = ("joint_1", "joint_2")
 N_JOINTS = 2

@@ -79,11 +79,13 @@ from walker.models._common import (
 )
 from walker.params import MODELS
 
-N_X = 12
+N_X = len(MODELS["five_link"].state_names)
 N_Q = 5
 N_U = 4
 N_IMPULSE = 2
 JOINTS = ("hip_stance", "hip_swing", "knee_stance", "knee_swing")
+ACTUATED = True
+"""The joints in ``JOINTS`` carry actuators (the controller's torques, one a joint)."""
 N_JOINTS = 4
 N_CODES = 81
 """Number of joint-mode codes, ``3**N_JOINTS`` (a test checks it)."""

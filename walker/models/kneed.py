@@ -50,7 +50,7 @@ import numpy as np
 from walker._generated import indices as ix
 from walker.params import MODELS
 
-N_X = 6
+N_X = len(MODELS["kneed"].state_names)
 N_IMPULSE = 2
 PHASE_NAMES = ("unlocked", "locked")
 GUARD_NAMES = ("knee_lock", "swing_foot_contact", "fall_forward", "fall_backward")

@@ -51,7 +51,7 @@ __all__, __getattr__, __dir__ = joint_friction_walker(__name__, _kneed)
 
 KERNEL_MODULE = "kneed"
 """The generated kernels are the kneed model's (:meth:`walker.models.WalkerModel.kernel`)."""
-N_X = 6
+N_X = len(MODELS["kneed_coulomb"].state_names)
 N_IMPULSE = 2
 STATE_NAMES = MODELS["kneed_coulomb"].state_names  # the model registry (walker.params)
 JOINTS = ("ankle", "hip", "knee")

@@ -121,7 +121,7 @@ __all__ = [
     "project",
 ]
 
-N_X = 2
+N_X = len(MODELS["rimless_wheel"].state_names)
 N_Q = 1
 N_IMPULSE = 2
 PHASE_NAMES = ("rolling", "standing")

@@ -36,7 +36,7 @@ import numpy as np
 
 from walker.params import MODELS
 
-N_X = 4
+N_X = len(MODELS["simplest"].state_names)
 N_IMPULSE = 1
 PHASE_NAMES = ("swing",)
 GUARD_NAMES = ("heel_strike", "fall_forward", "fall_backward")

@@ -80,10 +80,12 @@ from walker.models._common import (
 )
 from walker.params import MODELS
 
-N_X = 8
+N_X = len(MODELS["three_link"].state_names)
 N_Q = 3
 N_IMPULSE = 2
 JOINTS = ("hip_stance", "hip_swing")
+ACTUATED = True
+"""The joints in ``JOINTS`` carry actuators (the controller's torques, one a joint)."""
 N_JOINTS = 2
 N_CODES = 9
 """Number of joint-mode codes, ``3**N_JOINTS`` (a test checks it)."""

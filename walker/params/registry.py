@@ -63,12 +63,19 @@ class ModelSpec:
         whether the model walks: it has heel strikes, so runs count strides and it has a
         Poincare section (the double pendulum has events too, its joint-friction mode
         switches, but no strides).
+    summary : str
+        one line on what the model is (``walker models``, ``walker scene new``).
+    section_where : str
+        where its Poincare section lies (``walker models --json``); by default just after
+        heel strike.
     """
 
     params_class: type[_Params]
     state_names: tuple[str, ...]
     state_units: tuple[str, ...]
     has_strides: bool
+    summary: str
+    section_where: str = "just after heel strike"
 
     def __post_init__(self) -> None:
         if len(self.state_units) != len(self.state_names):
@@ -108,15 +115,42 @@ MODELS: dict[str, ModelSpec] = {
             ("theta", "phi", "theta_dot", "phi_dot"),
             _angles_and_rates(2),
             has_strides=True,
+            summary=(
+                "Garcia's simplest walker: a point mass at the hip on massless legs with point feet"
+                " (the compass gait's limit of vanishing leg mass)."
+            ),
         ),
-        ModelSpec(CompassParams, _COMPASS_STATE, _angles_and_rates(2), has_strides=True),
-        ModelSpec(KneedParams, _KNEED_STATE, _angles_and_rates(3), has_strides=True),
+        ModelSpec(
+            CompassParams,
+            _COMPASS_STATE,
+            _angles_and_rates(2),
+            has_strides=True,
+            summary=(
+                "Compass gait: two rigid legs hinged at a hip mass, point or round feet, optional "
+                "viscous hip and ankle dampers."
+            ),
+        ),
+        ModelSpec(
+            KneedParams,
+            _KNEED_STATE,
+            _angles_and_rates(3),
+            has_strides=True,
+            summary=(
+                "Kneed walker: a hip mass, thigh and shank on each leg, a swing knee that locks "
+                "straight, point or round feet."
+            ),
+        ),
         # q1 link 1, q2 link 2 (the model module states whether q2 is absolute or relative)
         ModelSpec(
             DoublePendulumParams,
             ("q1", "q2", "qd1", "qd2"),
             _angles_and_rates(2),
             has_strides=False,
+            summary=(
+                "Planar double pendulum with viscous and dry joint friction; not a walker (no "
+                "strides, no section): run it with `walker run`."
+            ),
+            section_where="none: the model has no strides",
         ),
         # stance leg, swing leg, torso (absolute, counterclockwise positive); then the
         # actuator work since t0 [J] and the time spent with a saturated torque [s]
@@ -134,6 +168,10 @@ MODELS: dict[str, ModelSpec] = {
             ),
             _angles_and_rates(3, ("J", "s")),
             has_strides=True,
+            summary=(
+                "Three-link walker: two legs and a torso, two hip actuators under virtual-"
+                "constraint (hybrid zero dynamics) control."
+            ),
         ),
         # mean stance-leg angle, stance-knee flexion, torso, swing femur, swing tibia
         # (walker.symbolic.five_link); then the actuator work [J] and saturated time [s]
@@ -155,14 +193,44 @@ MODELS: dict[str, ModelSpec] = {
             ),
             _angles_and_rates(5, ("J", "s")),
             has_strides=True,
+            summary=(
+                "Five-link walker like RABBIT: torso, femurs and tibias, hip and knee actuators "
+                "under virtual-constraint control."
+            ),
         ),
         # as the compass gait and the kneed walker; a joint's stick/slip state is the phase,
         # not a state component
-        ModelSpec(CompassCoulombParams, _COMPASS_STATE, _angles_and_rates(2), has_strides=True),
-        ModelSpec(KneedCoulombParams, _KNEED_STATE, _angles_and_rates(3), has_strides=True),
+        ModelSpec(
+            CompassCoulombParams,
+            _COMPASS_STATE,
+            _angles_and_rates(2),
+            has_strides=True,
+            summary=(
+                "Compass gait with dry (Coulomb) friction at the stance ankle and the hip: each "
+                "joint slips forward, slips backward or sticks (the phases)."
+            ),
+        ),
+        ModelSpec(
+            KneedCoulombParams,
+            _KNEED_STATE,
+            _angles_and_rates(3),
+            has_strides=True,
+            summary=(
+                "Kneed walker with dry (Coulomb) friction at the stance ankle, the hip and the "
+                "swing knee, as stick and slip phases."
+            ),
+        ),
         # stance spoke's angle from the slope normal (counterclockwise positive) and its rate
         ModelSpec(
-            RimlessWheelParams, ("theta", "theta_dot"), _angles_and_rates(1), has_strides=True
+            RimlessWheelParams,
+            ("theta", "theta_dot"),
+            _angles_and_rates(1),
+            has_strides=True,
+            summary=(
+                "Rimless wheel: a point mass at the hub on equally spaced massless spokes, rolling "
+                "down the slope from spoke to spoke."
+            ),
+            section_where="just after a spoke's impact (theta = pi/spokes there)",
         ),
     )
 }

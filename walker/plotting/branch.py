@@ -83,8 +83,6 @@ __all__ = [
     "stored_figures",
 ]
 
-ACTUATED_MODELS = ("three_link", "five_link")
-"""Models with actuators: no passive cost of transport."""
 
 BIFURCATION_LABELS = {"fold": "fold", "period_doubling": "period doubling"}
 _SHORT = {"fold": "LP", "period_doubling": "PD"}
@@ -243,7 +241,7 @@ def branch_measures(
             lengths[i, j] = float(np.linalg.norm(landing - start))
             x = sol.x
     stored = getattr(branch, "measures", None) or {}
-    if model.name in ACTUATED_MODELS or "slope" not in units:
+    if model.has_torques or "slope" not in units:  # actuated: no passive cost of transport
         cot = np.asarray(stored.get("cost_of_transport_positive", np.full(param.size, np.nan)))
         notes = (
             ["cost of transport: positive actuator work per weight and distance"]

@@ -45,6 +45,7 @@ from functools import cache
 
 import sympy as sp
 
+from walker.params import params_class
 from walker.symbolic.codegen import Kernel
 from walker.symbolic.mechanics import Body, LagrangianModel, derive
 from walker.symbolic.models import _coords, _u
@@ -57,20 +58,10 @@ __all__ = [
     "actuated_kernels",
 ]
 
-THREE_LINK_PARAMS = (
-    "mass_hip",
-    "mass_leg",
-    "mass_torso",
-    "com_from_foot",
-    "com_to_hip",
-    "torso_length",
-    "inertia_leg",
-    "inertia_torso",
-    "slope",
-    "g",
-    "rotor_inertia",
-)
-"""The physical parameters the generated kernels take: a prefix of ``ThreeLinkParams``."""
+_names = params_class("three_link").names()
+THREE_LINK_PARAMS = _names[: _names.index("rotor_inertia") + 1]
+"""The physical parameters the generated kernels take: ``ThreeLinkParams``'s fields up to
+``rotor_inertia``, the last physical one (read from the class, in its order)."""
 
 
 def _symbols():

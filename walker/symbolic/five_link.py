@@ -54,6 +54,7 @@ from functools import cache
 
 import sympy as sp
 
+from walker.params import params_class
 from walker.symbolic.codegen import Kernel
 from walker.symbolic.mechanics import Body, LagrangianModel, derive
 from walker.symbolic.models import _coords, _u
@@ -67,23 +68,10 @@ __all__ = [
     "five_link_kernels",
 ]
 
-FIVE_LINK_PARAMS = (
-    "mass_torso",
-    "mass_femur",
-    "mass_tibia",
-    "length_femur",
-    "length_tibia",
-    "com_torso",
-    "com_femur",
-    "com_tibia",
-    "inertia_torso",
-    "inertia_femur",
-    "inertia_tibia",
-    "slope",
-    "g",
-    "rotor_inertia",
-)
-"""The physical parameters the generated kernels take: a prefix of ``FiveLinkParams``."""
+_names = params_class("five_link").names()
+FIVE_LINK_PARAMS = _names[: _names.index("rotor_inertia") + 1]
+"""The physical parameters the generated kernels take: ``FiveLinkParams``'s fields up to
+``rotor_inertia``, the last physical one (read from the class, in its order)."""
 
 COORDINATES = ("q_leg", "q_knee", "q_torso", "q_femur_sw", "q_tibia_sw")
 

@@ -123,7 +123,7 @@ GENERATED_MODULES = {
 }
 
 
-C_MODULES = ("simplest", "compass", "kneed", "double_pendulum", "three_link", "five_link")
+C_MODULES = tuple(GENERATED_MODULES)
 """Modules also printed in C (``walker/_generated/<name>.c``/``.h``), compiled into
 ``walker._hybrid``."""
 

@@ -49,6 +49,7 @@ from functools import cache
 
 import sympy as sp
 
+from walker.params import params_class
 from walker.symbolic.mechanics import Body, LagrangianModel, derive, rayleigh_forcing
 
 __all__ = [
@@ -63,56 +64,10 @@ __all__ = [
     "MODEL_PARAMS",
 ]
 
-# Canonical parameter order of every model: the order of the fields of the matching
-# dataclass in walker.params and of the vector ``p`` the generated kernels take.
+# Parameter order of every model: the fields of its dataclass in walker.params, in order (the
+# vector ``p`` the generated kernels take), read from there rather than written again.
 MODEL_PARAMS = {
-    "simplest": ("slope", "g", "leg_length", "damping_ankle"),
-    "compass": (
-        "mass_hip",
-        "mass_leg",
-        "com_from_foot",
-        "com_to_hip",
-        "inertia_leg",
-        "foot_radius",
-        "slope",
-        "g",
-        "damping_hip",
-        "damping_ankle",
-    ),
-    "kneed": (
-        "mass_hip",
-        "mass_thigh",
-        "mass_shank",
-        "shank_com_from_foot",
-        "shank_com_to_knee",
-        "thigh_com_from_knee",
-        "thigh_com_to_hip",
-        "inertia_thigh",
-        "inertia_shank",
-        "offset_thigh",
-        "offset_shank",
-        "foot_radius",
-        "slope",
-        "g",
-        "damping_hip",
-        "damping_knee",
-        "damping_ankle",
-    ),
-    "double_pendulum": (
-        "mass_1",
-        "mass_2",
-        "inertia_1",
-        "inertia_2",
-        "length_1",
-        "length_2",
-        "com_1",
-        "com_2",
-        "g",
-        "damping_1",
-        "damping_2",
-        "coulomb_1",
-        "coulomb_2",
-    ),
+    name: params_class(name).names() for name in ("simplest", "compass", "kneed", "double_pendulum")
 }
 
 
