@@ -53,6 +53,8 @@ def variant_notes(name: str, variant: str) -> list[str]:
         "accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)",
         "from its cofactors (one division), not by Cholesky; accel_and_jac is accel_jac",
         "with the accelerations its solve computes as one more column.",
+        "the accel kernels' parameter-only terms are hoisted into <module>_constants,",
+        "computed once per parameter vector, which the *_hoisted twins read.",
     ]
 
 
@@ -90,6 +92,7 @@ def render_c(name: str, kernels) -> list[tuple[str, str, str]]:
                 ),
                 rewrite=share_trig,
                 notes=variant_notes(name, variant),
+                hoist=True,
             )
         out.append((cname, c, h))
     return out
