@@ -5,7 +5,8 @@
  * never read (the arguments are those of the general kernels):
  *   foot_radius, inertia_leg, damping_hip, damping_ankle;
  * entries simplified (trigsimp; polynomial in sin/cos and qd with factored coefficients);
- * sin and cos of each angle (coordinates, slope) are computed once per call and
+ * sin and cos of each angle (coordinates, slope) are computed once per call
+ * (wk_sincos, walker/_core/wk_sincos.h: within 1 ulp up to pi/4, libm beyond) and
  * sines and cosines of their sums are expanded by the angle-sum identities;
  * accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)
  * from its cofactors (one division), not by Cholesky; accel_and_jac is accel_jac
@@ -30,6 +31,8 @@
  */
 #include <math.h>
 
+#include "wk_sincos.h"
+
 #include "compass_plain.h"
 
 /* Accelerations qdd = -D^-1 h (h including any forcing) as -adj(D) h / det(D), cofactors and one division, out (>= n,). */
@@ -44,10 +47,10 @@ void wk_compass_plain_accel(const double *q, const double *qd, const double *p, 
     const double com_from_foot = p[2];
     const double com_to_hip = p[3];
     const double g = p[7];
-    const double sin_q_stance = sin(q_stance);
-    const double cos_q_stance = cos(q_stance);
-    const double sin_q_swing = sin(q_swing);
-    const double cos_q_swing = cos(q_swing);
+    double sin_q_stance, cos_q_stance;
+    wk_sincos(q_stance, &sin_q_stance, &cos_q_stance);
+    double sin_q_swing, cos_q_swing;
+    wk_sincos(q_swing, &sin_q_swing, &cos_q_swing);
     const double x0 = com_from_foot*com_from_foot;
     const double x1 = com_to_hip*com_to_hip;
     const double x2 = mass_leg*x1;
@@ -84,10 +87,10 @@ void wk_compass_plain_accel_jac(const double *q, const double *qd, const double 
     const double com_from_foot = p[2];
     const double com_to_hip = p[3];
     const double g = p[7];
-    const double sin_q_stance = sin(q_stance);
-    const double cos_q_stance = cos(q_stance);
-    const double sin_q_swing = sin(q_swing);
-    const double cos_q_swing = cos(q_swing);
+    double sin_q_stance, cos_q_stance;
+    wk_sincos(q_stance, &sin_q_stance, &cos_q_stance);
+    double sin_q_swing, cos_q_swing;
+    wk_sincos(q_swing, &sin_q_swing, &cos_q_swing);
     const double x0 = com_from_foot*com_from_foot;
     const double x1 = com_to_hip*com_to_hip;
     const double x2 = mass_leg*x1;
@@ -170,10 +173,10 @@ void wk_compass_plain_accel_and_jac(const double *q, const double *qd, const dou
     const double com_from_foot = p[2];
     const double com_to_hip = p[3];
     const double g = p[7];
-    const double sin_q_stance = sin(q_stance);
-    const double cos_q_stance = cos(q_stance);
-    const double sin_q_swing = sin(q_swing);
-    const double cos_q_swing = cos(q_swing);
+    double sin_q_stance, cos_q_stance;
+    wk_sincos(q_stance, &sin_q_stance, &cos_q_stance);
+    double sin_q_swing, cos_q_swing;
+    wk_sincos(q_swing, &sin_q_swing, &cos_q_swing);
     const double x0 = com_from_foot*com_from_foot;
     const double x1 = com_to_hip*com_to_hip;
     const double x2 = mass_leg*x1;
@@ -255,10 +258,10 @@ void wk_compass_plain_mass_matrix(const double *q, const double *p, double *out)
     const double mass_leg = p[1];
     const double com_from_foot = p[2];
     const double com_to_hip = p[3];
-    const double sin_q_stance = sin(q_stance);
-    const double cos_q_stance = cos(q_stance);
-    const double sin_q_swing = sin(q_swing);
-    const double cos_q_swing = cos(q_swing);
+    double sin_q_stance, cos_q_stance;
+    wk_sincos(q_stance, &sin_q_stance, &cos_q_stance);
+    double sin_q_swing, cos_q_swing;
+    wk_sincos(q_swing, &sin_q_swing, &cos_q_swing);
     const double x0 = com_from_foot*com_from_foot;
     const double x1 = com_to_hip*com_to_hip;
     const double x2 = mass_leg*x1;
@@ -278,10 +281,10 @@ void wk_compass_plain_points(const double *q, const double *p, double *out)
     const double q_swing = q[1];
     const double com_from_foot = p[2];
     const double com_to_hip = p[3];
-    const double sin_q_stance = sin(q_stance);
-    const double cos_q_stance = cos(q_stance);
-    const double sin_q_swing = sin(q_swing);
-    const double cos_q_swing = cos(q_swing);
+    double sin_q_stance, cos_q_stance;
+    wk_sincos(q_stance, &sin_q_stance, &cos_q_stance);
+    double sin_q_swing, cos_q_swing;
+    wk_sincos(q_swing, &sin_q_swing, &cos_q_swing);
     const double x0 = com_from_foot + com_to_hip;
     const double x1 = -x0;
     const double x2 = sin_q_stance*x1;
@@ -304,8 +307,8 @@ void wk_compass_plain_hip_jac(const double *q, const double *p, double *out)
     const double q_stance = q[0];
     const double com_from_foot = p[2];
     const double com_to_hip = p[3];
-    const double sin_q_stance = sin(q_stance);
-    const double cos_q_stance = cos(q_stance);
+    double sin_q_stance, cos_q_stance;
+    wk_sincos(q_stance, &sin_q_stance, &cos_q_stance);
     const double x0 = -com_from_foot - com_to_hip;
     out[0] = cos_q_stance*x0;
     out[1] = 0.0;
@@ -321,10 +324,10 @@ void wk_compass_plain_ext_mass_matrix(const double *q, const double *p, double *
     const double mass_hip = p[0];
     const double mass_leg = p[1];
     const double com_to_hip = p[3];
-    const double sin_q_stance = sin(q_stance);
-    const double cos_q_stance = cos(q_stance);
-    const double sin_q_swing = sin(q_swing);
-    const double cos_q_swing = cos(q_swing);
+    double sin_q_stance, cos_q_stance;
+    wk_sincos(q_stance, &sin_q_stance, &cos_q_stance);
+    double sin_q_swing, cos_q_swing;
+    wk_sincos(q_swing, &sin_q_swing, &cos_q_swing);
     const double x0 = com_to_hip*com_to_hip*mass_leg;
     const double x1 = com_to_hip*mass_leg;
     const double x2 = cos_q_stance*x1;
@@ -356,8 +359,8 @@ void wk_compass_plain_ext_swing_contact_jac(const double *q, const double *p, do
     const double q_swing = q[1];
     const double com_from_foot = p[2];
     const double com_to_hip = p[3];
-    const double sin_q_swing = sin(q_swing);
-    const double cos_q_swing = cos(q_swing);
+    double sin_q_swing, cos_q_swing;
+    wk_sincos(q_swing, &sin_q_swing, &cos_q_swing);
     const double x0 = com_from_foot + com_to_hip;
     out[0] = 0.0;
     out[1] = cos_q_swing*x0;
@@ -375,8 +378,8 @@ void wk_compass_plain_ext_stance_contact_jac(const double *q, const double *p, d
     const double q_stance = q[0];
     const double com_from_foot = p[2];
     const double com_to_hip = p[3];
-    const double sin_q_stance = sin(q_stance);
-    const double cos_q_stance = cos(q_stance);
+    double sin_q_stance, cos_q_stance;
+    wk_sincos(q_stance, &sin_q_stance, &cos_q_stance);
     const double x0 = com_from_foot + com_to_hip;
     out[0] = cos_q_stance*x0;
     out[1] = 0.0;
@@ -453,10 +456,10 @@ void wk_compass_plain_accel_hoisted(const double *q, const double *qd, const dou
     const double com_from_foot = p[2];
     const double com_to_hip = p[3];
     const double g = p[7];
-    const double sin_q_stance = sin(q_stance);
-    const double cos_q_stance = cos(q_stance);
-    const double sin_q_swing = sin(q_swing);
-    const double cos_q_swing = cos(q_swing);
+    double sin_q_stance, cos_q_stance;
+    wk_sincos(q_stance, &sin_q_stance, &cos_q_stance);
+    double sin_q_swing, cos_q_swing;
+    wk_sincos(q_swing, &sin_q_swing, &cos_q_swing);
     const double x3 = p[WK_COMPASS_PLAIN_CONSTANTS_AT + 3];
     const double x4 = p[WK_COMPASS_PLAIN_CONSTANTS_AT + 4];
     const double x5 = p[WK_COMPASS_PLAIN_CONSTANTS_AT + 5];
@@ -485,10 +488,10 @@ void wk_compass_plain_accel_jac_hoisted(const double *q, const double *qd, const
     const double q_swing = q[1];
     const double q_stance_dot = qd[0];
     const double q_swing_dot = qd[1];
-    const double sin_q_stance = sin(q_stance);
-    const double cos_q_stance = cos(q_stance);
-    const double sin_q_swing = sin(q_swing);
-    const double cos_q_swing = cos(q_swing);
+    double sin_q_stance, cos_q_stance;
+    wk_sincos(q_stance, &sin_q_stance, &cos_q_stance);
+    double sin_q_swing, cos_q_swing;
+    wk_sincos(q_swing, &sin_q_swing, &cos_q_swing);
     const double x5 = p[WK_COMPASS_PLAIN_CONSTANTS_AT + 9];
     const double x7 = p[WK_COMPASS_PLAIN_CONSTANTS_AT + 10];
     const double x8 = p[WK_COMPASS_PLAIN_CONSTANTS_AT + 11];
@@ -560,10 +563,10 @@ void wk_compass_plain_accel_and_jac_hoisted(const double *q, const double *qd, c
     const double q_swing = q[1];
     const double q_stance_dot = qd[0];
     const double q_swing_dot = qd[1];
-    const double sin_q_stance = sin(q_stance);
-    const double cos_q_stance = cos(q_stance);
-    const double sin_q_swing = sin(q_swing);
-    const double cos_q_swing = cos(q_swing);
+    double sin_q_stance, cos_q_stance;
+    wk_sincos(q_stance, &sin_q_stance, &cos_q_stance);
+    double sin_q_swing, cos_q_swing;
+    wk_sincos(q_swing, &sin_q_swing, &cos_q_swing);
     const double x5 = p[WK_COMPASS_PLAIN_CONSTANTS_AT + 9];
     const double x7 = p[WK_COMPASS_PLAIN_CONSTANTS_AT + 10];
     const double x8 = p[WK_COMPASS_PLAIN_CONSTANTS_AT + 11];

@@ -5,7 +5,8 @@
  * never read (the arguments are those of the general kernels):
  *   inertia_thigh, inertia_shank, offset_thigh, offset_shank, foot_radius, damping_hip, damping_knee, damping_ankle;
  * entries simplified (trigsimp; polynomial in sin/cos and qd with factored coefficients);
- * sin and cos of each angle (coordinates, slope) are computed once per call and
+ * sin and cos of each angle (coordinates, slope) are computed once per call
+ * (wk_sincos, walker/_core/wk_sincos.h: within 1 ulp up to pi/4, libm beyond) and
  * sines and cosines of their sums are expanded by the angle-sum identities;
  * accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)
  * from its cofactors (one division), not by Cholesky; accel_and_jac is accel_jac
@@ -37,6 +38,8 @@
  */
 #include <math.h>
 
+#include "wk_sincos.h"
+
 #include "kneed_plain.h"
 
 /* Accelerations qdd = -D^-1 h (h including any forcing) as -adj(D) h / det(D), cofactors and one division, out (>= n,). */
@@ -56,12 +59,12 @@ void wk_kneed_plain_unlocked_accel(const double *q, const double *qd, const doub
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
     const double g = p[13];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
-    const double sin_q3 = sin(q3);
-    const double cos_q3 = cos(q3);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
+    double sin_q3, cos_q3;
+    wk_sincos(q3, &sin_q3, &cos_q3);
     const double x0 = shank_com_from_foot*shank_com_from_foot;
     const double x1 = shank_com_to_knee*shank_com_to_knee;
     const double x2 = thigh_com_from_knee*thigh_com_from_knee;
@@ -137,12 +140,12 @@ void wk_kneed_plain_unlocked_accel_jac(const double *q, const double *qd, const 
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
     const double g = p[13];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
-    const double sin_q3 = sin(q3);
-    const double cos_q3 = cos(q3);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
+    double sin_q3, cos_q3;
+    wk_sincos(q3, &sin_q3, &cos_q3);
     const double x0 = shank_com_from_foot*shank_com_from_foot;
     const double x1 = shank_com_to_knee*shank_com_to_knee;
     const double x2 = thigh_com_from_knee*thigh_com_from_knee;
@@ -317,12 +320,12 @@ void wk_kneed_plain_unlocked_accel_and_jac(const double *q, const double *qd, co
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
     const double g = p[13];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
-    const double sin_q3 = sin(q3);
-    const double cos_q3 = cos(q3);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
+    double sin_q3, cos_q3;
+    wk_sincos(q3, &sin_q3, &cos_q3);
     const double x0 = shank_com_from_foot*shank_com_from_foot;
     const double x1 = shank_com_to_knee*shank_com_to_knee;
     const double x2 = thigh_com_from_knee*thigh_com_from_knee;
@@ -496,12 +499,12 @@ void wk_kneed_plain_unlocked_mass_matrix(const double *q, const double *p, doubl
     const double shank_com_to_knee = p[4];
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
-    const double sin_q3 = sin(q3);
-    const double cos_q3 = cos(q3);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
+    double sin_q3, cos_q3;
+    wk_sincos(q3, &sin_q3, &cos_q3);
     const double x0 = shank_com_from_foot*shank_com_from_foot;
     const double x1 = shank_com_to_knee*shank_com_to_knee;
     const double x2 = thigh_com_from_knee*thigh_com_from_knee;
@@ -548,12 +551,12 @@ void wk_kneed_plain_unlocked_points(const double *q, const double *p, double *ou
     const double shank_com_to_knee = p[4];
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
-    const double sin_q3 = sin(q3);
-    const double cos_q3 = cos(q3);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
+    double sin_q3, cos_q3;
+    wk_sincos(q3, &sin_q3, &cos_q3);
     const double x0 = thigh_com_from_knee + thigh_com_to_hip;
     const double x1 = shank_com_from_foot + shank_com_to_knee;
     const double x2 = x0 + x1;
@@ -590,10 +593,10 @@ void wk_kneed_plain_locked_accel(const double *q, const double *qd, const double
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
     const double g = p[13];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
     const double x0 = shank_com_from_foot*shank_com_from_foot;
     const double x1 = shank_com_to_knee*shank_com_to_knee;
     const double x2 = thigh_com_from_knee*thigh_com_from_knee;
@@ -648,10 +651,10 @@ void wk_kneed_plain_locked_accel_jac(const double *q, const double *qd, const do
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
     const double g = p[13];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
     const double x0 = shank_com_from_foot*shank_com_from_foot;
     const double x1 = shank_com_to_knee*shank_com_to_knee;
     const double x2 = thigh_com_from_knee*thigh_com_from_knee;
@@ -749,10 +752,10 @@ void wk_kneed_plain_locked_accel_and_jac(const double *q, const double *qd, cons
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
     const double g = p[13];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
     const double x0 = shank_com_from_foot*shank_com_from_foot;
     const double x1 = shank_com_to_knee*shank_com_to_knee;
     const double x2 = thigh_com_from_knee*thigh_com_from_knee;
@@ -849,10 +852,10 @@ void wk_kneed_plain_locked_mass_matrix(const double *q, const double *p, double 
     const double shank_com_to_knee = p[4];
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
     const double x0 = shank_com_from_foot*shank_com_from_foot;
     const double x1 = shank_com_to_knee*shank_com_to_knee;
     const double x2 = thigh_com_from_knee*thigh_com_from_knee;
@@ -889,10 +892,10 @@ void wk_kneed_plain_locked_points(const double *q, const double *p, double *out)
     const double shank_com_to_knee = p[4];
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
     const double x0 = thigh_com_from_knee + thigh_com_to_hip;
     const double x1 = shank_com_from_foot + shank_com_to_knee + x0;
     const double x2 = -x1;
@@ -920,8 +923,8 @@ void wk_kneed_plain_locked_hip_jac(const double *q, const double *p, double *out
     const double shank_com_to_knee = p[4];
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
     const double x0 = -shank_com_from_foot - shank_com_to_knee - thigh_com_from_knee - thigh_com_to_hip;
     out[0] = cos_q1*x0;
     out[1] = 0.0;
@@ -940,10 +943,10 @@ void wk_kneed_plain_ext_mass_matrix(const double *q, const double *p, double *ou
     const double shank_com_to_knee = p[4];
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
     const double x0 = thigh_com_to_hip*thigh_com_to_hip;
     const double x1 = mass_shank*shank_com_to_knee;
     const double x2 = 2.0*x1;
@@ -981,8 +984,8 @@ void wk_kneed_plain_ext_swing_contact_jac(const double *q, const double *p, doub
     const double shank_com_to_knee = p[4];
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
     const double x0 = shank_com_from_foot + shank_com_to_knee + thigh_com_from_knee + thigh_com_to_hip;
     out[0] = 0.0;
     out[1] = cos_q2*x0;
@@ -1002,8 +1005,8 @@ void wk_kneed_plain_ext_stance_contact_jac(const double *q, const double *p, dou
     const double shank_com_to_knee = p[4];
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
     const double x0 = shank_com_from_foot + shank_com_to_knee + thigh_com_from_knee + thigh_com_to_hip;
     out[0] = cos_q1*x0;
     out[1] = 0.0;
@@ -1188,12 +1191,12 @@ void wk_kneed_plain_unlocked_accel_hoisted(const double *q, const double *qd, co
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
     const double g = p[13];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
-    const double sin_q3 = sin(q3);
-    const double cos_q3 = cos(q3);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
+    double sin_q3, cos_q3;
+    wk_sincos(q3, &sin_q3, &cos_q3);
     const double x6 = p[WK_KNEED_PLAIN_CONSTANTS_AT + 6];
     const double x7 = p[WK_KNEED_PLAIN_CONSTANTS_AT + 7];
     const double x9 = p[WK_KNEED_PLAIN_CONSTANTS_AT + 9];
@@ -1244,12 +1247,12 @@ void wk_kneed_plain_unlocked_accel_jac_hoisted(const double *q, const double *qd
     const double q1_dot = qd[0];
     const double q2_dot = qd[1];
     const double q3_dot = qd[2];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
-    const double sin_q3 = sin(q3);
-    const double cos_q3 = cos(q3);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
+    double sin_q3, cos_q3;
+    wk_sincos(q3, &sin_q3, &cos_q3);
     const double x24 = p[WK_KNEED_PLAIN_CONSTANTS_AT + 24];
     const double x25 = x24*(cos_q1*cos_q2 + sin_q1*sin_q2);
     const double x26 = p[WK_KNEED_PLAIN_CONSTANTS_AT + 25];
@@ -1392,12 +1395,12 @@ void wk_kneed_plain_unlocked_accel_and_jac_hoisted(const double *q, const double
     const double q1_dot = qd[0];
     const double q2_dot = qd[1];
     const double q3_dot = qd[2];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
-    const double sin_q3 = sin(q3);
-    const double cos_q3 = cos(q3);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
+    double sin_q3, cos_q3;
+    wk_sincos(q3, &sin_q3, &cos_q3);
     const double x24 = p[WK_KNEED_PLAIN_CONSTANTS_AT + 24];
     const double x25 = x24*(cos_q1*cos_q2 + sin_q1*sin_q2);
     const double x26 = p[WK_KNEED_PLAIN_CONSTANTS_AT + 25];
@@ -1548,10 +1551,10 @@ void wk_kneed_plain_locked_accel_hoisted(const double *q, const double *qd, cons
     const double thigh_com_from_knee = p[5];
     const double thigh_com_to_hip = p[6];
     const double g = p[13];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
     const double x5 = p[WK_KNEED_PLAIN_CONSTANTS_AT + 6];
     const double x6 = p[WK_KNEED_PLAIN_CONSTANTS_AT + 7];
     const double x8 = p[WK_KNEED_PLAIN_CONSTANTS_AT + 9];
@@ -1583,10 +1586,10 @@ void wk_kneed_plain_locked_accel_jac_hoisted(const double *q, const double *qd, 
     const double q2 = q[1];
     const double q1_dot = qd[0];
     const double q2_dot = qd[1];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
     const double x21 = p[WK_KNEED_PLAIN_CONSTANTS_AT + 38];
     const double x22 = x21*(cos_q1*cos_q2 + sin_q1*sin_q2);
     const double x23 = q2_dot*q2_dot;
@@ -1655,10 +1658,10 @@ void wk_kneed_plain_locked_accel_and_jac_hoisted(const double *q, const double *
     const double q2 = q[1];
     const double q1_dot = qd[0];
     const double q2_dot = qd[1];
-    const double sin_q1 = sin(q1);
-    const double cos_q1 = cos(q1);
-    const double sin_q2 = sin(q2);
-    const double cos_q2 = cos(q2);
+    double sin_q1, cos_q1;
+    wk_sincos(q1, &sin_q1, &cos_q1);
+    double sin_q2, cos_q2;
+    wk_sincos(q2, &sin_q2, &cos_q2);
     const double x21 = p[WK_KNEED_PLAIN_CONSTANTS_AT + 38];
     const double x22 = x21*(cos_q1*cos_q2 + sin_q1*sin_q2);
     const double x23 = q2_dot*q2_dot;

@@ -5,7 +5,8 @@
  * never read (the arguments are those of the general kernels):
  *   inertia_thigh, inertia_shank, offset_thigh, offset_shank, foot_radius, damping_hip, damping_knee, damping_ankle;
  * entries simplified (trigsimp; polynomial in sin/cos and qd with factored coefficients);
- * sin and cos of each angle (coordinates, slope) are computed once per call and
+ * sin and cos of each angle (coordinates, slope) are computed once per call
+ * (wk_sincos, walker/_core/wk_sincos.h: within 1 ulp up to pi/4, libm beyond) and
  * sines and cosines of their sums are expanded by the angle-sum identities;
  * accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)
  * from its cofactors (one division), not by Cholesky; accel_and_jac is accel_jac

@@ -126,11 +126,13 @@ def _shape_text(shape) -> str:
     return "out[" + "][".join(map(str, shape)) + "] row-major"
 
 
-def _render_c(cname: str, kernel, low: Lowered, check: bool, hoisted=None) -> str:
+def _render_c(cname: str, kernel, low: Lowered, check: bool, hoisted=None, fast_trig=False) -> str:
     """C text of one kernel; with ``hoisted`` (a :func:`_hoist` plan), its hoisted twin
     ``wk_<cname>_<kernel>_hoisted``: the parameter-only temporaries read from the parameter
     vector's tail ``p[WK_<CNAME>_CONSTANTS_AT + k]`` instead of being computed, every other
-    line as in the kernel."""
+    line as in the kernel.  ``fast_trig``: the shared sines and cosines (``sin_<s> = sin(s)``
+    of :func:`walker.symbolic.codegen.share_trig`) from walker/_core/wk_sincos.h, a pair of
+    one angle in one ``wk_sincos`` call."""
     printer = _CPrinter()
     pyprinter = _Printer() if check else None
 
@@ -158,13 +160,26 @@ def _render_c(cname: str, kernel, low: Lowered, check: bool, hoisted=None) -> st
     for s, name, i in loads:
         lines.append(f"    const double {printer.doprint(s)} = {name}[{i}];")
     at = f"WK_{cname.upper()}_CONSTANTS_AT"
-    for sym, e in low.assigns:
-        name = sym if isinstance(sym, str) else printer.doprint(sym)
+    assigns = [(s if isinstance(s, str) else printer.doprint(s), e) for s, e in low.assigns]
+    i = 0
+    while i < len(assigns):
+        name, e = assigns[i]
+        i += 1
         if name in index:
             if name in used:
                 lines.append(f"    const double {name} = p[{at} + {index[name]}];")
             continue
-        lines.append(f"    const double {name} = {expr(e)};")
+        trig = _trig_of(name, e) if fast_trig else None
+        if trig is None:
+            lines.append(f"    const double {name} = {expr(e)};")
+            continue
+        after = _trig_of(*assigns[i]) if i < len(assigns) else None
+        if trig[0] == "sin" and after == ("cos", trig[1]) and assigns[i][0] not in index:
+            lines.append(f"    double {name}, {assigns[i][0]};")
+            lines.append(f"    wk_sincos({trig[1]}, &{name}, &{assigns[i][0]});")
+            i += 1
+            continue
+        lines.append(f"    const double {name} = wk_{trig[0]}({trig[1]});")
     for name, rhs, is_sqrt in low.steps:
         lines.append(f"    const double {name} = {f'sqrt({rhs})' if is_sqrt else rhs};")
     if low.shape == ():
@@ -178,6 +193,15 @@ def _render_c(cname: str, kernel, low: Lowered, check: bool, hoisted=None) -> st
             lines.append(f"    out[{flat}] = {e if isinstance(e, str) else expr(e)};")
     lines.append("}")
     return "\n".join(lines) + "\n"
+
+
+def _trig_of(name: str, e) -> tuple[str, str] | None:
+    """``("sin", "q1")`` for the shared sine ``sin_q1 = sin(q1)`` (likewise cosines), else
+    None."""
+    for fn, kind in ((sp.sin, "sin"), (sp.cos, "cos")):
+        if isinstance(e, fn) and e.args[0].is_Symbol and name == f"{kind}_{e.args[0]}":
+            return kind, str(e.args[0])
+    return None
 
 
 def _names_used(low: Lowered, hoisted: set) -> set:
@@ -239,7 +263,7 @@ def _hoist(lowered, kernels) -> dict:
     return {"plans": plans, "count": count}
 
 
-def _render_constants(cname: str, plan: dict) -> str:
+def _render_constants(cname: str, plan: dict, fast_trig: bool = False) -> str:
     """``wk_<cname>_constants(p, out)``: every hoisted constant of the module into
     out[0 .. WK_<CNAME>_N_CONSTANTS), each spelled as the kernel spells it (the same C text
     over the same values: bit for bit the kernel's temporary)."""
@@ -262,6 +286,8 @@ def _render_constants(cname: str, plan: dict) -> str:
         for o, (kind, i) in sorted(needed.items(), key=lambda item: item[1]):
             lines.append(f"        const double {o} = {'p' if kind == 'p' else 'out'}[{i}];")
         for name, text, _, k in kplan["new"]:
+            if fast_trig and re.fullmatch(rf"(sin|cos)\({name[4:]}\)", text):
+                text = f"wk_{text}"
             lines.append(f"        const double {name} = {text};")
             lines.append(f"        out[{k}] = {name};")
         lines.append("    }")
@@ -301,7 +327,9 @@ def render_c_module(
         constants at ``p[WK_<CNAME>_CONSTANTS_AT + k]``, k < ``WK_<CNAME>_N_CONSTANTS``) and
         ``wk_<cname>_constants(p, out)``, which computes those constants once per parameter
         vector.  The twin computes the kernel's numbers bit for bit: each constant is the
-        kernel's own temporary, spelled the same.
+        kernel's own temporary, spelled the same.  Every kernel of the module then takes its
+        shared sines and cosines from walker/_core/wk_sincos.h (within 1 ulp for angles up
+        to pi/4, libm's beyond).
     """
     kernels = list(kernels)
     digest = digest or symbolic_hash(kernels)
@@ -354,16 +382,20 @@ def render_c_module(
                 proto = _c_prototype(cname, k).replace(f"_{k.name}(", f"_{k.name}_hoisted(")
                 header.append(proto + ";")
     header += ["", "#endif", ""]
-    source = [*stamp, "#include <math.h>", "", f'#include "{cname}.h"', ""]
+    fast = plan is not None
+    includes = (
+        ["#include <math.h>", "", '#include "wk_sincos.h"'] if fast else ["#include <math.h>"]
+    )
+    source = [*stamp, *includes, "", f'#include "{cname}.h"', ""]
     body = "\n".join(
-        _render_c(cname, k, low, check=rewrite is None)
+        _render_c(cname, k, low, check=rewrite is None, fast_trig=fast)
         for k, low in zip(kernels, lowered, strict=True)
     )
     if plan is not None:
-        body += "\n" + _render_constants(cname, plan)
+        body += "\n" + _render_constants(cname, plan, fast_trig=True)
         for k, low in zip(kernels, lowered, strict=True):
             if k.name in plan["plans"]:
-                body += "\n" + _render_c(cname, k, low, False, plan["plans"][k.name])
+                body += "\n" + _render_c(cname, k, low, False, plan["plans"][k.name], True)
     return "\n".join(source) + "\n" + body, "\n".join(header)
 
 
