@@ -159,7 +159,7 @@ def kneed_contenders(params, x0, have_heyoka, ck):
     return out
 
 
-def compass_contenders(wparams, x0, drake, t_end, ref_end):
+def compass_contenders(wparams, x0, drake, t_end, ref_end, have_heyoka=False):
     """Two problems: one stride (stop at the heel strike; walker only) and a fixed-time run
     from the same state to ``t_end`` (just past the heel strike), walker against Drake.
     Drake is timed on the fixed-time run only: stopping its ``Simulator`` after one stride
@@ -188,6 +188,20 @@ def compass_contenders(wparams, x0, drake, t_end, ref_end):
             base=fixed,
         ),
     ]
+    if have_heyoka:
+
+        def heyoka_stride(tol):
+            h = C.HeyokaCompass(wparams, tol)
+            return lambda: h.stride(x0)[0]
+
+        out.append(
+            Contender(
+                "heyoka, const",
+                heyoka_stride,
+                "one stride, Taylor, tol; parameters folded as numbers (scripts/_contenders.py "
+                "`HeyokaCompass`, walker's reset at the heel strike)",
+            )
+        )
     if drake is not None:
 
         def drake_to_t(tol):
@@ -503,7 +517,7 @@ def main(argv=None):
             f"{drake_info['drake_end_diff']:.1e}",
             flush=True,
         )
-        cc = compass_contenders(wp, xc, drake, t_end, cref_end)
+        cc = compass_contenders(wp, xc, drake, t_end, cref_end, have_heyoka)
         c_rows = sweep(cc, tols, cref, reps_sweep, batch)
         c_target = at_targets(cc, c_rows, cref, reps_target, batch)
 
@@ -549,13 +563,21 @@ def main(argv=None):
     plot(panels, B.OUT / "work_precision.png")
 
     k_pairs = [("walker simulate", [c.name for c in kc if not c.walker])]
+    if have_heyoka:
+        k_pairs.append(("walker StrideMap", ["heyoka, const"]))
     k_lines, k_sent = table(kc, k_target, k_pairs)
-    summary = "Kneed walker, " + k_sent[1].lstrip("- ")
+    summary = "Kneed walker, " + k_sent[len(k_pairs)].lstrip("- ")
+    if have_heyoka:
+        summary += " Kneed walker, " + k_sent[-1].lstrip("- ")
     if cc is not None:
         c_pairs = [("walker simulate, to t_end", ["Drake RK5, to t_end"])]
+        if have_heyoka:
+            c_pairs.append(("walker StrideMap", ["heyoka, const"]))
         c_lines, c_sent = table(cc, c_target, c_pairs)
         c_main = next((x for x in c_sent if "error 1e-08" in x), c_sent[0])
         summary += " Compass gait at Drake's defaults, " + c_main.lstrip("- ")
+        if have_heyoka:
+            summary += " Compass gait, " + c_sent[-1].lstrip("- ")
     how = (
         "every contender in one process, interleaved round-robin at each error target "
         f"({reps_target} rounds, starting contender rotated), min and median per contender; "
@@ -563,7 +585,9 @@ def main(argv=None):
         "so absolute times are inflated and the ratios are the result. Equal error, not "
         "equal tolerance: each contender at its cheapest tolerance meeting the target. "
         "Strongest alternative, kneed walker: heyoka's Taylor integrator with the parameters "
-        "folded in as compile-time constants (LLVM compile not in the times). Compass gait: "
+        "folded in as compile-time constants (LLVM compile not in the times), also set "
+        "against walker's `StrideMap` (integrator, events and impact map in both) for the "
+        "kneed walker and the compass gait. Compass gait: "
         "Drake's `Simulator` with `runge_kutta5` on the run to a fixed t_end (step time + "
         f"{T_PAST * 1e3:g} ms, through the heel strike by Drake's own witness and collision "
         "update) against walker's `simulate` to the same t_end; no Python runs during "

@@ -48,11 +48,14 @@ def variant_notes(name: str, variant: str) -> list[str]:
         "never read (the arguments are those of the general kernels):",
         "  " + ", ".join(zeros) + ";",
         f"entries simplified ({VARIANT_SIMPLIFICATION});",
-        "sin and cos of each angle (coordinates, slope) are computed once per call and",
+        "sin and cos of each angle (coordinates, slope) are computed once per call",
+        "(wk_sincos, walker/_core/wk_sincos.h: within 1 ulp up to pi/4, libm beyond) and",
         "sines and cosines of their sums are expanded by the angle-sum identities;",
         "accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)",
         "from its cofactors (one division), not by Cholesky; accel_and_jac is accel_jac",
         "with the accelerations its solve computes as one more column.",
+        "the accel kernels' parameter-only terms are hoisted into <module>_constants,",
+        "computed once per parameter vector, which the *_hoisted twins read.",
     ]
 
 
@@ -90,6 +93,7 @@ def render_c(name: str, kernels) -> list[tuple[str, str, str]]:
                 ),
                 rewrite=share_trig,
                 notes=variant_notes(name, variant),
+                hoist=True,
             )
         out.append((cname, c, h))
     return out

@@ -378,8 +378,9 @@ def test_variants_are_the_models_variants(name):
 )
 def test_variant_reads_no_zero_parameter_and_shares_trigonometry(cname):
     """A structural variant never reads its zeroed parameters (they contribute no
-    arithmetic), and calls ``sin``/``cos`` only once per angle, as
-    ``const double sin_<angle> = sin(<angle>);``."""
+    arithmetic), and computes the sine and cosine of an angle only once, as
+    ``const double sin_<angle> = sin(<angle>);`` or by walker/_core/wk_sincos.h's
+    ``wk_sincos(<angle>, &sin_<angle>, &cos_<angle>);`` (``wk_sin``, ``wk_cos`` alone)."""
     name, variant = next(
         (n, v) for n, variants in C_VARIANTS.items() for v in variants if f"{n}_{v}" == cname
     )
@@ -399,6 +400,18 @@ def test_variant_reads_no_zero_parameter_and_shares_trigonometry(cname):
         assert len(calls) == len(set(calls))
         for fun, arg in calls:
             assert re.search(rf"const double {fun}_{arg} = {fun}\({arg}\);", body), (fun, arg)
+        # wk_sincos.h's: a sine and cosine pair in one call, or one of them alone
+        fast = re.findall(r"\bwk_sincos\((\w+), &sin_(\w+), &cos_(\w+)\);", body)
+        assert all(a == s == c for a, s, c in fast), fast
+        single = re.findall(r"const double (sin|cos)_(\w+) = wk_(sin|cos)\((\w+)\);", body)
+        assert all(f == g and a == b for f, a, g, b in single), single
+        trig = [("sin", a) for a, _, _ in fast] + [("cos", a) for a, _, _ in fast]
+        trig += [(f, a) for f, a, _, _ in single]
+        assert len(trig) == len(set(trig)), trig
+        assert not re.search(
+            r"\bwk_(sincos|sin|cos)\(",
+            re.sub(r"wk_sincos\(\w+, &\w+, &\w+\);|= wk_(sin|cos)\(\w+\);", "", body),
+        )
 
 
 @pytest.mark.slow

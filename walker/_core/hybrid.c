@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "hybrid_internal.h"
+#include "wk_models.h"
 
 /* Internal status: still running (Status values are >= 0). */
 #define RUNNING (-1)
@@ -227,7 +228,11 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
     double *salt = want_jac ? TAKE(WK_SALTATION_WORK(n_x, n_c, n_guards, n_impulse)) : NULL;
 #undef TAKE
 
-    const model_t mdl = {*fn,       pb->p, pb->directions, n_x, n_z, n_guards, n_impulse,
+    /* a built-in variant's parameter-only kernel terms, computed once for the run */
+    wk_functions fn_run = *fn;
+    double p_hoisted[WK_HOIST_MAX];
+    const double *p_run = wk_model_hoist(&fn_run, pb->p, p_hoisted);
+    const model_t mdl = {fn_run,   p_run, pb->directions, n_x, n_z, n_guards, n_impulse,
                          want_jac, n_c,   J};
     const model_t *m = &mdl;
 

@@ -148,11 +148,24 @@ static const compass_kernels PLAIN = {
     wk_compass_plain_accel_and_jac,
 };
 
+/* The plain kernels' hoisted twins (p extended by wk_compass_plain_constants): the
+ * integrator's phase functions of "compass/plain" (wk_model_hoist, models.c). */
+static const compass_kernels PLAIN_HOISTED = {
+    wk_compass_plain_accel_hoisted,
+    wk_compass_plain_accel_jac_hoisted,
+    wk_compass_kinetic,
+    wk_compass_potential,
+    {wk_compass_plain_points, wk_compass_plain_hip_jac, wk_compass_plain_ext_mass_matrix,
+     wk_compass_plain_ext_swing_contact_jac, wk_compass_plain_ext_stance_contact_jac, 2, 4, 1},
+    wk_compass_plain_accel_and_jac_hoisted,
+};
+
 WK_MODEL_VARIANT(compass, GENERAL)
 WK_MODEL_VARIANT(compass_plain, PLAIN)
 WK_MODEL_FUSED(compass_plain, PLAIN)
 WK_MODEL_ENTRY(compass)
 WK_MODEL_ENTRY_FUSED(compass_plain)
+WK_MODEL_HOISTED(compass_plain, PLAIN_HOISTED)
 
 /* ------------------------------------------------------------------------------------------
  * Terrain (wk_terrain.h): the swing foot's signed distance from the step's plane

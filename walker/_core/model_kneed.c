@@ -351,10 +351,28 @@ static void points(const kneed_kernels *K, const double *x, const double *p, dou
 
 #define PLAIN_FUSED wk_kneed_plain_unlocked_accel_and_jac, wk_kneed_plain_locked_accel_and_jac
 
+/* The plain kernels with their hoisted twins where they have one (p extended by
+ * wk_kneed_plain_constants): the integrator's phase functions of the plain variants
+ * (wk_model_hoist, models.c). */
+#define PLAIN_HOISTED_KERNELS                                                               \
+    wk_kneed_plain_unlocked_accel_hoisted, wk_kneed_plain_unlocked_accel_jac_hoisted,         \
+        wk_kneed_plain_unlocked_mass_matrix, wk_kneed_unlocked_kinetic,                       \
+        wk_kneed_unlocked_potential, wk_kneed_plain_unlocked_points,                          \
+        wk_kneed_plain_locked_accel_hoisted, wk_kneed_plain_locked_accel_jac_hoisted,         \
+        {wk_kneed_plain_locked_points, wk_kneed_plain_locked_hip_jac,                         \
+         wk_kneed_plain_ext_mass_matrix, wk_kneed_plain_ext_swing_contact_jac,                \
+         wk_kneed_plain_ext_stance_contact_jac, 2, 5, 1}
+
+#define PLAIN_HOISTED_FUSED                                                                 \
+    wk_kneed_plain_unlocked_accel_and_jac_hoisted, wk_kneed_plain_locked_accel_and_jac_hoisted
+
 static const kneed_kernels GENERAL = {GENERAL_KERNELS, 0, NULL, NULL};
 static const kneed_kernels PLAIN = {PLAIN_KERNELS, 0, PLAIN_FUSED};
 static const kneed_kernels GENERAL_IGNORE_SCUFF = {GENERAL_KERNELS, 1, NULL, NULL};
 static const kneed_kernels PLAIN_IGNORE_SCUFF = {PLAIN_KERNELS, 1, PLAIN_FUSED};
+static const kneed_kernels PLAIN_HOISTED = {PLAIN_HOISTED_KERNELS, 0, PLAIN_HOISTED_FUSED};
+static const kneed_kernels PLAIN_HOISTED_IGNORE_SCUFF = {PLAIN_HOISTED_KERNELS, 1,
+                                                         PLAIN_HOISTED_FUSED};
 
 WK_MODEL_VARIANT(kneed, GENERAL)
 WK_MODEL_VARIANT(kneed_plain, PLAIN)
@@ -366,6 +384,8 @@ WK_MODEL_ENTRY(kneed)
 WK_MODEL_ENTRY_FUSED(kneed_plain)
 WK_MODEL_ENTRY(kneed_ignore_scuff)
 WK_MODEL_ENTRY_FUSED(kneed_plain_ignore_scuff)
+WK_MODEL_HOISTED(kneed_plain, PLAIN_HOISTED)
+WK_MODEL_HOISTED(kneed_plain_ignore_scuff, PLAIN_HOISTED_IGNORE_SCUFF)
 
 /* ------------------------------------------------------------------------------------------
  * Terrain (wk_terrain.h): the guards with the swing foot's signed distance from the step's

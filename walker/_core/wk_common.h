@@ -235,6 +235,27 @@ static inline void wk_fall_out(int64_t *out, int64_t phase, int forward)
         rhs_jac(&KT, phase, x, p, dx, J);                                                   \
     }
 
+/* A model variant's hoisted phase functions, wk_model_<name>_hoisted_{rhs, jac, rhs_jac}:
+ * those of variant <name> over its kernels' hoisted twins (walker/_generated/<module>_hoisted
+ * kernels, which read the parameter-only terms from p's tail instead of computing them), so
+ * they take the extended parameter vector that wk_model_hoist (models.c) builds.  The same
+ * numbers bit for bit.  Declared for the variants models.c's hoisting table lists. */
+#define WK_DECLARE_HOISTED(name)                                                            \
+    void wk_model_##name##_hoisted_rhs(int64_t phase, double t, const double *x,            \
+                                       const double *p, double *dx, void *ctx);             \
+    void wk_model_##name##_hoisted_jac(int64_t phase, double t, const double *x,            \
+                                       const double *p, double *J, void *ctx);              \
+    void wk_model_##name##_hoisted_rhs_jac(int64_t phase, double t, const double *x,        \
+                                           const double *p, double *dx, double *J,          \
+                                           void *ctx);
+
+/* Defines them over the static rhs, jac and rhs_jac of a model file with K = &KT, KT the
+ * variant's table of hoisted kernels. */
+#define WK_MODEL_HOISTED(name, KT)                                                          \
+    WK_PHASE_FUNCTION(wk_model_##name##_hoisted_rhs, rhs, KT)                               \
+    WK_PHASE_FUNCTION(wk_model_##name##_hoisted_jac, jac, KT)                               \
+    WK_MODEL_FUSED(name##_hoisted, KT)
+
 WK_DECLARE_MODEL(simplest)
 WK_DECLARE_MODEL(compass)
 WK_DECLARE_MODEL(compass_plain)
@@ -245,6 +266,9 @@ WK_DECLARE_MODEL(kneed_plain_ignore_scuff)
 WK_DECLARE_FUSED(compass_plain)
 WK_DECLARE_FUSED(kneed_plain)
 WK_DECLARE_FUSED(kneed_plain_ignore_scuff)
+WK_DECLARE_HOISTED(compass_plain)
+WK_DECLARE_HOISTED(kneed_plain)
+WK_DECLARE_HOISTED(kneed_plain_ignore_scuff)
 
 /* The simplest walker's section lift and its Jacobian (wk_model_entry.lift, lift_jacobian):
  * the only shipped lift with a compiled C version that is not affine. */

@@ -65,4 +65,19 @@ const wk_kernel_hash_entry *wk_kernel_hash_table(int64_t *count);
  * wk_functions.rhs_jac to when a run is set up. */
 wk_rhs_jac_fn wk_model_rhs_jac(wk_rhs_fn rhs, wk_jac_fn jac);
 
+/* Length of the buffer wk_model_hoist fills: the longest parameter vector of a hoisting
+ * variant plus its constants (checked in models.c). */
+#define WK_HOIST_MAX 96
+
+/* Hoisting (walker/symbolic/codegen_c.py): when fn's rhs (and jac, unless NULL) are those of
+ * a registry variant with hoisted kernels ("compass/plain", "kneed/plain",
+ * "kneed/plain/ignore_scuff"), writes into buf (WK_HOIST_MAX doubles) the parameter vector p
+ * followed by the kernels' parameter-only terms computed from it, replaces fn's rhs, jac and
+ * rhs_jac (where set) by the variant's hoisted ones, and returns buf; otherwise leaves fn as
+ * it is and returns p.  The phase functions then compute the same numbers bit for bit
+ * without recomputing those terms at every call; guards and resets read p's first entries
+ * and are unchanged.  The integrator calls it once per run (hybrid.c), so a run always
+ * computes them from the parameters it was given (a re-targeted map's included). */
+const double *wk_model_hoist(wk_functions *fn, const double *p, double *buf);
+
 #endif

@@ -5,11 +5,14 @@
  * never read (the arguments are those of the general kernels):
  *   foot_radius, inertia_leg, damping_hip, damping_ankle;
  * entries simplified (trigsimp; polynomial in sin/cos and qd with factored coefficients);
- * sin and cos of each angle (coordinates, slope) are computed once per call and
+ * sin and cos of each angle (coordinates, slope) are computed once per call
+ * (wk_sincos, walker/_core/wk_sincos.h: within 1 ulp up to pi/4, libm beyond) and
  * sines and cosines of their sums are expanded by the angle-sum identities;
  * accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)
  * from its cofactors (one division), not by Cholesky; accel_and_jac is accel_jac
  * with the accelerations its solve computes as one more column.
+ * the accel kernels' parameter-only terms are hoisted into <module>_constants,
+ * computed once per parameter vector, which the *_hoisted twins read.
  * argument order:
  *   q = [q_stance, q_swing]
  *   qd = [q_stance_dot, q_swing_dot]
@@ -50,5 +53,14 @@ void wk_compass_plain_ext_mass_matrix(const double *q, const double *p, double *
 void wk_compass_plain_ext_swing_contact_jac(const double *q, const double *p, double *out);
 /* Jacobian of the stance foot's material contact velocity, out (2, n_f). [out[2][4] row-major] */
 void wk_compass_plain_ext_stance_contact_jac(const double *q, const double *p, double *out);
+
+/* Hoisted kernels: p is the parameter vector (WK_<CNAME>_CONSTANTS_AT entries)
+ * followed by the constants wk_compass_plain_constants computes from it. */
+#define WK_COMPASS_PLAIN_CONSTANTS_AT 10
+#define WK_COMPASS_PLAIN_N_CONSTANTS 15
+void wk_compass_plain_constants(const double *p, double *out);
+void wk_compass_plain_accel_hoisted(const double *q, const double *qd, const double *p, double *out);
+void wk_compass_plain_accel_jac_hoisted(const double *q, const double *qd, const double *p, double *out);
+void wk_compass_plain_accel_and_jac_hoisted(const double *q, const double *qd, const double *p, double *out);
 
 #endif

@@ -5,11 +5,14 @@
  * never read (the arguments are those of the general kernels):
  *   inertia_thigh, inertia_shank, offset_thigh, offset_shank, foot_radius, damping_hip, damping_knee, damping_ankle;
  * entries simplified (trigsimp; polynomial in sin/cos and qd with factored coefficients);
- * sin and cos of each angle (coordinates, slope) are computed once per call and
+ * sin and cos of each angle (coordinates, slope) are computed once per call
+ * (wk_sincos, walker/_core/wk_sincos.h: within 1 ulp up to pi/4, libm beyond) and
  * sines and cosines of their sums are expanded by the angle-sum identities;
  * accel and accel_jac solve with the mass matrix in closed form, adj(D) / det(D)
  * from its cofactors (one division), not by Cholesky; accel_and_jac is accel_jac
  * with the accelerations its solve computes as one more column.
+ * the accel kernels' parameter-only terms are hoisted into <module>_constants,
+ * computed once per parameter vector, which the *_hoisted twins read.
  * argument order:
  *   q = [q1, q2, q3]
  *   qd = [q1_dot, q2_dot, q3_dot]
@@ -67,5 +70,17 @@ void wk_kneed_plain_ext_mass_matrix(const double *q, const double *p, double *ou
 void wk_kneed_plain_ext_swing_contact_jac(const double *q, const double *p, double *out);
 /* Jacobian of the stance foot's material contact velocity, out (2, n_f). [out[2][4] row-major] */
 void wk_kneed_plain_ext_stance_contact_jac(const double *q, const double *p, double *out);
+
+/* Hoisted kernels: p is the parameter vector (WK_<CNAME>_CONSTANTS_AT entries)
+ * followed by the constants wk_kneed_plain_constants computes from it. */
+#define WK_KNEED_PLAIN_CONSTANTS_AT 17
+#define WK_KNEED_PLAIN_N_CONSTANTS 43
+void wk_kneed_plain_constants(const double *p, double *out);
+void wk_kneed_plain_unlocked_accel_hoisted(const double *q, const double *qd, const double *p, double *out);
+void wk_kneed_plain_unlocked_accel_jac_hoisted(const double *q, const double *qd, const double *p, double *out);
+void wk_kneed_plain_unlocked_accel_and_jac_hoisted(const double *q, const double *qd, const double *p, double *out);
+void wk_kneed_plain_locked_accel_hoisted(const double *q, const double *qd, const double *p, double *out);
+void wk_kneed_plain_locked_accel_jac_hoisted(const double *q, const double *qd, const double *p, double *out);
+void wk_kneed_plain_locked_accel_and_jac_hoisted(const double *q, const double *qd, const double *p, double *out);
 
 #endif

@@ -126,7 +126,13 @@ def _shape_text(shape) -> str:
     return "out[" + "][".join(map(str, shape)) + "] row-major"
 
 
-def _render_c(cname: str, kernel, low: Lowered, check: bool) -> str:
+def _render_c(cname: str, kernel, low: Lowered, check: bool, hoisted=None, fast_trig=False) -> str:
+    """C text of one kernel; with ``hoisted`` (a :func:`_hoist` plan), its hoisted twin
+    ``wk_<cname>_<kernel>_hoisted``: the parameter-only temporaries read from the parameter
+    vector's tail ``p[WK_<CNAME>_CONSTANTS_AT + k]`` instead of being computed, every other
+    line as in the kernel.  ``fast_trig``: the shared sines and cosines (``sin_<s> = sin(s)``
+    of :func:`walker.symbolic.codegen.share_trig`) from walker/_core/wk_sincos.h, a pair of
+    one angle in one ``wk_sincos`` call."""
     printer = _CPrinter()
     pyprinter = _Printer() if check else None
 
@@ -136,14 +142,44 @@ def _render_c(cname: str, kernel, low: Lowered, check: bool) -> str:
             raise AssertionError(f"{cname}.{low.name}: C `{text}` is not the Python expression")
         return text
 
-    lines = [f"/* {_comment(low.doc or low.name)} */", _c_prototype(cname, kernel), "{"]
-    read = {name for _, name, _ in low.loads}
+    prototype = _c_prototype(cname, kernel)
+    doc = low.doc or low.name
+    index = {}
+    used = None
+    if hoisted is not None:
+        index = hoisted["index"]
+        used = _names_used(low, set(index))
+        prototype = prototype.replace(
+            f"wk_{cname}_{kernel.name}(", f"wk_{cname}_{kernel.name}_hoisted("
+        )
+        doc = f"{doc} Hoisted: the parameter-only terms read from p's tail (wk_{cname}_constants)."
+    lines = [f"/* {_comment(doc)} */", prototype, "{"]
+    loads = [(s, n, i) for s, n, i in low.loads if used is None or printer.doprint(s) in used]
+    read = {name for _, name, _ in loads} | ({"p"} if index else set())
     lines += [f"    (void){name};" for name, _ in low.args if name not in read]
-    for s, name, i in low.loads:
+    for s, name, i in loads:
         lines.append(f"    const double {printer.doprint(s)} = {name}[{i}];")
-    for sym, e in low.assigns:
-        name = sym if isinstance(sym, str) else printer.doprint(sym)
-        lines.append(f"    const double {name} = {expr(e)};")
+    at = f"WK_{cname.upper()}_CONSTANTS_AT"
+    assigns = [(s if isinstance(s, str) else printer.doprint(s), e) for s, e in low.assigns]
+    i = 0
+    while i < len(assigns):
+        name, e = assigns[i]
+        i += 1
+        if name in index:
+            if name in used:
+                lines.append(f"    const double {name} = p[{at} + {index[name]}];")
+            continue
+        trig = _trig_of(name, e) if fast_trig else None
+        if trig is None:
+            lines.append(f"    const double {name} = {expr(e)};")
+            continue
+        after = _trig_of(*assigns[i]) if i < len(assigns) else None
+        if trig[0] == "sin" and after == ("cos", trig[1]) and assigns[i][0] not in index:
+            lines.append(f"    double {name}, {assigns[i][0]};")
+            lines.append(f"    wk_sincos({trig[1]}, &{name}, &{assigns[i][0]});")
+            i += 1
+            continue
+        lines.append(f"    const double {name} = wk_{trig[0]}({trig[1]});")
     for name, rhs, is_sqrt in low.steps:
         lines.append(f"    const double {name} = {f'sqrt({rhs})' if is_sqrt else rhs};")
     if low.shape == ():
@@ -152,9 +188,109 @@ def _render_c(cname: str, kernel, low: Lowered, check: bool) -> str:
         strides = [1] * len(low.shape)
         for d in reversed(range(len(low.shape) - 1)):
             strides[d] = strides[d + 1] * low.shape[d + 1]
-        for index, e in low.outputs:
-            flat = sum(i * s for i, s in zip(index, strides, strict=True))
+        for index_, e in low.outputs:
+            flat = sum(i * s for i, s in zip(index_, strides, strict=True))
             lines.append(f"    out[{flat}] = {e if isinstance(e, str) else expr(e)};")
+    lines.append("}")
+    return "\n".join(lines) + "\n"
+
+
+def _trig_of(name: str, e) -> tuple[str, str] | None:
+    """``("sin", "q1")`` for the shared sine ``sin_q1 = sin(q1)`` (likewise cosines), else
+    None."""
+    for fn, kind in ((sp.sin, "sin"), (sp.cos, "cos")):
+        if isinstance(e, fn) and e.args[0].is_Symbol and name == f"{kind}_{e.args[0]}":
+            return kind, str(e.args[0])
+    return None
+
+
+def _names_used(low: Lowered, hoisted: set) -> set:
+    """Names the kernel's lines other than the hoisted temporaries read: the operands of
+    its other temporaries, its solve steps and its outputs."""
+    printer = _CPrinter()
+    used = set()
+    for sym, e in low.assigns:
+        name = sym if isinstance(sym, str) else printer.doprint(sym)
+        if name not in hoisted:
+            used |= {str(s) for s in e.free_symbols}
+    for _, rhs, _ in low.steps:
+        used |= set(_TOKEN.findall(rhs))
+    for _, e in low.outputs:
+        used |= set(_TOKEN.findall(e)) if isinstance(e, str) else {str(s) for s in e.free_symbols}
+    return used
+
+
+HOISTED_KERNELS = ("accel",)
+"""A kernel whose name contains one of these gets a hoisted twin (the kernels the
+integrator calls at every stage: accel, accel_jac, accel_and_jac)."""
+
+
+def _hoist(lowered, kernels) -> dict:
+    """The plan of a module's hoisting: for each kernel named in :data:`HOISTED_KERNELS`,
+    its parameter-only temporaries (a temporary is one when every operand is a parameter or
+    another such temporary; the shared ``sin_slope``, ``cos_slope`` among them), each given
+    the index of its value in the module's constants.  A temporary spelled like an earlier
+    one (the same C text over operands of the same values) shares its index, so
+    ``wk_<cname>_constants`` computes each value once.
+
+    Returns ``{"plans": {kernel name: {"index": {name: k}, "new": [(name, text, refs)]}},
+    "count": number of constants}``; ``refs`` are the operands' ``(name, source)``, source
+    ``("p", i)`` or ``("c", k)``.
+    """
+    printer = _CPrinter()
+    plans, keys, count = {}, {}, 0
+    for kernel, low in zip(kernels, lowered, strict=True):
+        if not any(tag in kernel.name for tag in HOISTED_KERNELS):
+            continue
+        params = {printer.doprint(s): i for s, name, i in low.loads if name == "p"}
+        source = {name: ("p", i) for name, i in params.items()}
+        index, new = {}, []
+        for sym, e in low.assigns:
+            name = sym if isinstance(sym, str) else printer.doprint(sym)
+            operands = sorted(str(s) for s in getattr(e, "free_symbols", ()))
+            if not operands or not all(o in source for o in operands):
+                continue
+            text = printer.doprint(e)
+            refs = tuple((o, source[o]) for o in operands)
+            key = (text, refs)
+            if key not in keys:
+                keys[key] = count
+                new.append((name, text, refs, count))
+                count += 1
+            index[name] = keys[key]
+            source[name] = ("c", keys[key])
+        plans[kernel.name] = {"index": index, "new": new}
+    return {"plans": plans, "count": count}
+
+
+def _render_constants(cname: str, plan: dict, fast_trig: bool = False) -> str:
+    """``wk_<cname>_constants(p, out)``: every hoisted constant of the module into
+    out[0 .. WK_<CNAME>_N_CONSTANTS), each spelled as the kernel spells it (the same C text
+    over the same values: bit for bit the kernel's temporary)."""
+    lines = [
+        f"/* The parameter-only terms of the hoisted kernels (wk_{cname}_*_hoisted), each",
+        " * computed as the kernel computes it: once per parameter vector p, into out. */",
+        f"void wk_{cname}_constants(const double *p, double *out)",
+        "{",
+    ]
+    for kname, kplan in plan["plans"].items():
+        if not kplan["new"]:
+            continue
+        lines.append(f"    {{ /* {kname} */")
+        made = {name for name, _, _, _ in kplan["new"]}
+        needed = {}
+        for _, _, refs, _ in kplan["new"]:
+            for o, src in refs:
+                if o not in made:
+                    needed[o] = src
+        for o, (kind, i) in sorted(needed.items(), key=lambda item: item[1]):
+            lines.append(f"        const double {o} = {'p' if kind == 'p' else 'out'}[{i}];")
+        for name, text, _, k in kplan["new"]:
+            if fast_trig and re.fullmatch(rf"(sin|cos)\({name[4:]}\)", text):
+                text = f"wk_{text}"
+            lines.append(f"        const double {name} = {text};")
+            lines.append(f"        out[{k}] = {name};")
+        lines.append("    }")
     lines.append("}")
     return "\n".join(lines) + "\n"
 
@@ -167,6 +303,7 @@ def render_c_module(
     digest: str | None = None,
     rewrite=None,
     notes=(),
+    hoist: bool = False,
 ) -> tuple[str, str]:
     """C source and header of a generated module: ``(<cname>.c, <cname>.h)``.
 
@@ -184,6 +321,15 @@ def render_c_module(
         checked to be the plain-Python expression's, operation for operation.
     notes : sequence of str
         extra header lines (what a structural variant fixes).
+    hoist : bool
+        also print, for each kernel named in :data:`HOISTED_KERNELS`, its hoisted twin
+        ``wk_<cname>_<kernel>_hoisted`` (the same arguments; ``p`` extended by the module's
+        constants at ``p[WK_<CNAME>_CONSTANTS_AT + k]``, k < ``WK_<CNAME>_N_CONSTANTS``) and
+        ``wk_<cname>_constants(p, out)``, which computes those constants once per parameter
+        vector.  The twin computes the kernel's numbers bit for bit: each constant is the
+        kernel's own temporary, spelled the same.  Every kernel of the module then takes its
+        shared sines and cosines from walker/_core/wk_sincos.h (within 1 ulp for angles up
+        to pi/4, libm's beyond).
     """
     kernels = list(kernels)
     digest = digest or symbolic_hash(kernels)
@@ -206,6 +352,7 @@ def render_c_module(
         " */",
     ]
     lowered = [lower(k, rewrite) for k in kernels]
+    plan = _hoist(lowered, kernels) if hoist else None
     header = [
         *stamp,
         f"#ifndef {guard}",
@@ -218,12 +365,37 @@ def render_c_module(
     for k, low in zip(kernels, lowered, strict=True):
         header.append(f"/* {_comment(k.doc or k.name)} [{_shape_text(low.shape)}] */")
         header.append(_c_prototype(cname, k) + ";")
+    if plan is not None:
+        n_p = {len(values) for k in kernels for name, values in k.args if name == "p"}
+        if len(n_p) != 1:
+            raise ValueError(f"{cname}: the kernels' parameter vectors differ in length {n_p}")
+        header += [
+            "",
+            "/* Hoisted kernels: p is the parameter vector (WK_<CNAME>_CONSTANTS_AT entries)",
+            f" * followed by the constants wk_{cname}_constants computes from it. */",
+            f"#define WK_{cname.upper()}_CONSTANTS_AT {n_p.pop()}",
+            f"#define WK_{cname.upper()}_N_CONSTANTS {plan['count']}",
+            f"void wk_{cname}_constants(const double *p, double *out);",
+        ]
+        for k in kernels:
+            if k.name in plan["plans"]:
+                proto = _c_prototype(cname, k).replace(f"_{k.name}(", f"_{k.name}_hoisted(")
+                header.append(proto + ";")
     header += ["", "#endif", ""]
-    source = [*stamp, "#include <math.h>", "", f'#include "{cname}.h"', ""]
+    fast = plan is not None
+    includes = (
+        ["#include <math.h>", "", '#include "wk_sincos.h"'] if fast else ["#include <math.h>"]
+    )
+    source = [*stamp, *includes, "", f'#include "{cname}.h"', ""]
     body = "\n".join(
-        _render_c(cname, k, low, check=rewrite is None)
+        _render_c(cname, k, low, check=rewrite is None, fast_trig=fast)
         for k, low in zip(kernels, lowered, strict=True)
     )
+    if plan is not None:
+        body += "\n" + _render_constants(cname, plan, fast_trig=True)
+        for k, low in zip(kernels, lowered, strict=True):
+            if k.name in plan["plans"]:
+                body += "\n" + _render_c(cname, k, low, False, plan["plans"][k.name], True)
     return "\n".join(source) + "\n" + body, "\n".join(header)
 
 
