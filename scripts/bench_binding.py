@@ -13,18 +13,25 @@ Rows, each the min and median over interleaved repetitions of the per-call time 
   first prepared run (the section settings parsed into a new ``PreparedMap``);
 * ``basin_points, 1 point``: one basin row in one compiled call.
 
-The same script ran on the tree before and after the change gives the binding's cost as a
-difference of two runs on one machine (stated in the table's note); nothing here is
+With ``--baseline SO``, the path of a ``_hybrid`` extension built from the tree before the
+keyword interface (positional arguments, ``n_interior``'s sign the screening), the raw
+binding calls are timed side by side in this process, interleaved: one-step compass runs
+through the old positional ``solve``, the keyword ``solve`` (keywords spelled at the call
+site, and merged from a dict) and ``PreparedSolve.run`` (the settings bound once, seven
+keywords a call, as ``PreparedRun.map`` calls it), and a
+``PreparedMap`` built from 32 keywords against 31 positional arguments.  Nothing here is
 asserted.
 
 Writes results/bench/binding.csv and binding.md (``--out DIR`` elsewhere).
 
-Usage: python scripts/bench_binding.py [--quick] [--out DIR]
+Usage: python scripts/bench_binding.py [--quick] [--out DIR] [--baseline SO]
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.machinery
+import importlib.util
 import os
 import statistics
 import sys
@@ -36,7 +43,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))  # this tree's walker, not an installed one
 
-from walker import load_scene  # noqa: E402
+from walker import _hybrid, _section, load_scene  # noqa: E402
 from walker.integrate import PreparedRun  # noqa: E402
 from walker.stride import StrideMap  # noqa: E402
 
@@ -48,10 +55,83 @@ def _per_call(fn, number: int) -> float:
     return (time.perf_counter() - t0) / number * 1e6
 
 
+def _old_module(path: Path):
+    """The extension at ``path`` loaded beside this tree's, under another package name."""
+    loader = importlib.machinery.ExtensionFileLoader("walker_baseline._hybrid", str(path))
+    spec = importlib.util.spec_from_file_location(loader.name, str(path), loader=loader)
+    module = importlib.util.module_from_spec(spec)
+    loader.exec_module(module)
+    return module
+
+
+def _baseline_cases(old, run, x0, p, smap) -> dict:
+    """Raw binding calls, the old positional ones against the keyword ones (one DOP853 step:
+    max_steps = 1), and the PreparedMap constructions."""
+    head, settings = dict(run._head), dict(run._settings)
+    settings["max_steps"] = 1
+    entry = next(k for k, v in _hybrid.models().items() if v["rhs"] == head["rhs"])
+    theirs = old.models()[entry]
+    old_head = (
+        *(theirs[k] or 0 for k in ("rhs", "guards", "reset", "jac")),
+        head["ctx"],
+        head["directions"],
+        head["n_x"],
+        head["n_guards"],
+        head["n_impulse"],
+    )
+    code = -settings["n_interior"] if settings["screen_interior"] else settings["n_interior"]
+    s = settings
+    old_args = (*old_head, x0, p, 0, 0.0, 10.0, 1, s["method"], s["adaptive"], s["rtol"])
+    old_args += (s["atol"], s["first_step"], s["max_step"], 1, 0, np.empty(0), False, code)
+    rhs, guards, reset, jac, ctx, directions, n_x, n_guards, n_impulse = head.values()
+    method, adaptive, rtol, atol, first_step, max_step, _, n_interior, screen = s.values()
+
+    def spelled():
+        return _hybrid.solve(
+            rhs=rhs, guards=guards, reset=reset, jac=jac, ctx=ctx, directions=directions,
+            n_x=n_x, n_guards=n_guards, n_impulse=n_impulse, x0=x0, p=p, phase0=0, t0=0.0,
+            t_max=10.0, n_strides=1, method=method, adaptive=adaptive, rtol=rtol, atol=atol,
+            first_step=first_step, max_step=max_step, max_steps=1, n_interior=n_interior,
+            screen_interior=screen, output=0, want_jac=False,
+        )  # fmt: skip
+
+    fixed = {**head, **settings, "t0": 0.0, "output": 0}
+    prepared = _hybrid.PreparedSolve(**fixed).run
+
+    def merged():
+        return _hybrid.solve(
+            **fixed, x0=x0, p=p, phase0=0, t_max=10.0, n_strides=1, want_jac=False,
+            jacobian_seed=None,
+        )  # fmt: skip
+
+    def bound():
+        return prepared(
+            x0=x0, p=p, phase0=0, t_max=10.0, n_strides=1, want_jac=False, jacobian_seed=None
+        )
+
+    assert old.solve(*old_args).x == spelled().x == merged().x == bound().x
+    cached = smap.__dict__["_run"]
+    section = _section.section_args(smap.model, smap.t_max, cached, run)
+    old_section = [section[k] for k in _hybrid.SECTION_FIELDS if k != "screen_interior"]
+    old_section[:4] = old_head[:4]
+    old_section[17] = code
+    old_section[25] = (theirs["energy"] or 0) if section["energy"] else 0
+    old_section[27] = (theirs["start_phase"] or 0) if section["start_phase"] else 0
+    return {
+        "raw solve, one step: positional (before)": (lambda: old.solve(*old_args), 3000),
+        "raw solve, one step: keywords spelled out": (spelled, 3000),
+        "raw solve, one step: keywords merged from a dict": (merged, 3000),
+        "raw solve, one step: PreparedSolve.run (PreparedRun.map)": (bound, 3000),
+        "PreparedMap(): positional (before)": (lambda: old.PreparedMap(*old_section), 3000),
+        "PreparedMap(): keywords": (lambda: _hybrid.PreparedMap(**section), 3000),
+    }
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--out", type=Path, default=ROOT / "results" / "bench")
+    ap.add_argument("--baseline", type=Path, default=None)
     args = ap.parse_args()
     rounds = 5 if args.quick else 15
 
@@ -76,6 +156,8 @@ def main() -> None:
         "PreparedMap, re-targeted": (retargeted, 300),
         "basin_points, 1 point": (lambda: basin(z_rows, z, 1e-8, 2), 300),
     }
+    if args.baseline is not None:
+        cases.update(_baseline_cases(_old_module(args.baseline), run, x0, p, smap))
     times: dict[str, list[float]] = {k: [] for k in cases}
     for r in range(rounds):
         order = list(cases)[r % len(cases) :] + list(cases)[: r % len(cases)]

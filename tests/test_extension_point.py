@@ -320,11 +320,26 @@ def test_binding_rejects_bad_arguments_naming_them():
     bad("n_interior", -4, ValueError, r"`n_interior` must be in \[0, 2\*\*24\]")
     bad("screen_interior", 1.0, TypeError, "`screen_interior` must be a bool")
     bad("terrain", np.zeros((1, 2)), TypeError, "unexpected keyword argument 'terrain'")
+    bad("n_p", 3, ValueError, r"`p` must have length n_p = 3, got 2")  # a user's declared count
+    bad("n_p", 2.0, TypeError, "`n_p` must be an int")
+    assert _hybrid.solve(**args, n_p=2).x == sol.x
     with pytest.raises(TypeError, match="takes keyword arguments only, got 1 positional"):
         _hybrid.solve(ball_rhs.address, **{k: v for k, v in args.items() if k != "rhs"})
     with pytest.raises(TypeError, match="missing required keyword argument `x0`"):
         _hybrid.solve(**{k: v for k, v in args.items() if k != "x0"})
-    assert set(args) | {"sample_times", "jacobian_seed", "terrain"} == set(_hybrid.SOLVE_FIELDS)
+    # the settings bound once: the same run, the same checks
+    prepared = _hybrid.PreparedSolve(**{k: v for k, v in args.items() if k not in ("x0", "p")})
+    assert prepared.run(x0=args["x0"], p=BALL_P) == sol
+    with pytest.raises(ValueError, match="`x0` must have length n_x = 2"):
+        prepared.run(x0=np.zeros(3), p=BALL_P)
+    with pytest.raises(TypeError, match="got multiple values for argument `t0`"):
+        prepared.run(x0=args["x0"], p=BALL_P, t0=0.5)
+    with pytest.raises(TypeError, match="missing required keyword argument `p`"):
+        prepared.run(x0=args["x0"])
+    with pytest.raises(TypeError, match="`method` must be an int"):
+        _hybrid.PreparedSolve(**{**args, "method": "DOP853"}).run()
+    optional = {"sample_times", "jacobian_seed", "n_p", "terrain"}
+    assert set(args) | optional == set(_hybrid.SOLVE_FIELDS)
     # terrain_solve shares solve's names (and solve has run above): its own is found
     with pytest.raises(TypeError, match="missing required keyword argument `terrain`"):
         _hybrid.terrain_solve(**args)

@@ -182,6 +182,17 @@ def test_fuzz_section_argument_of_a_wrong_type(name, value):
     _refused_naming_it(lambda: _hybrid.PreparedMap(**args), name)
 
 
+def test_prepared_solve_keeps_its_settings_alive():
+    """PreparedSolve holds the objects it was given: the arrays outlive the caller's names."""
+    args = {**RUN._head, **RUN._settings, **SOLVE_START, "n_strides": 1}
+    args["directions"] = np.array(args["directions"])  # a copy only the PreparedSolve holds
+    run = _hybrid.PreparedSolve(**args).run
+    del args
+    x0 = np.ascontiguousarray(P_COMPASS.lift(Z0))
+    for _ in range(3):
+        assert run(x0=x0, p=SECTION["p"]).status == 0
+
+
 def test_keywords_missing_unknown_or_positional_are_refused():
     z = np.ascontiguousarray(Z0[None, :])
     for name in _hybrid.SECTION_FIELDS:
@@ -243,6 +254,12 @@ def test_fuzz_solve_argument_of_a_wrong_type(name, value):
     r = _refused_naming_it(lambda: call(**args), name)
     if r is not None:
         assert len(r.x) == 8 * 4
+    if name != "terrain":  # the same, bound once (walker.integrate.PreparedRun's way)
+        start = {"x0": args.pop("x0"), "p": args.pop("p")}
+        run = _hybrid.PreparedSolve(**args).run
+        r = _refused_naming_it(lambda: run(**start), name)
+        if r is not None:
+            assert len(r.x) == 8 * 4
 
 
 def test_basins_on_two_threads_equal_the_serial_ones():

@@ -244,8 +244,10 @@ class PreparedRun:
 
     # _head: the system's keywords of _hybrid.solve (_solver_head); _settings: the solver
     # settings' keywords (method, adaptive, rtol, atol, first_step, max_step, max_steps,
-    # n_interior, screen_interior)
-    __slots__ = ("system", "_head", "_settings")
+    # n_interior, screen_interior); _run: the run of a _hybrid.PreparedSolve holding both,
+    # and map()'s fixed t0 and output, so that a call passes only the keywords that change
+    # (a call with more than 15 keywords makes the interpreter build a dict)
+    __slots__ = ("system", "_head", "_settings", "_run")
 
     def __init__(
         self,
@@ -277,6 +279,13 @@ class PreparedRun:
             "n_interior": _check_int("n_interior", n_interior, 0),
             "screen_interior": system.autonomous_guards,
         }
+        self._run = _hybrid.PreparedSolve(
+            **self._head,
+            **self._settings,
+            t0=0.0,
+            output=OUTPUT_MAP,
+            n_p=system.n_params,  # None: the system does not declare it
+        ).run
 
     def __reduce__(self):
         raise TypeError("a PreparedRun holds process-local addresses: build one per process")
@@ -306,16 +315,12 @@ class PreparedRun:
             # a model's start_phase reports -1 when the joint modes cannot be chosen (a
             # singular system): no run, the outcome says why
             return int(Status.LINEAR_SOLVE_FAILED), 0.0, x0.copy(), None
-        r = _hybrid.solve(
-            **self._head,
-            **self._settings,
+        r = self._run(
             x0=x0,
             p=p,
             phase0=phase0,
-            t0=0.0,
             t_max=t_max,
             n_strides=n_strides,
-            output=OUTPUT_MAP,
             want_jac=jacobian,
             jacobian_seed=jacobian_seed,
         )
@@ -581,6 +586,7 @@ def _solve(
         want_jac=jacobian,
         sample_times=st,
         jacobian_seed=jacobian_seed,
+        n_p=system.n_params,
         **where,
     )
     # res is a walker._hybrid.SolveResult (walker/_core/_hybridresult.c), a tuple read by

@@ -266,6 +266,18 @@ int wkpy_bind_keywords(wkpy_kwlist *kw, PyObject *const *args, Py_ssize_t nargs,
                        PyObject *kwnames, PyObject **slots)
 {
     if (bind_start(kw, nargs, slots)) return -1;
+    return wkpy_bind_more(kw, args, nargs, kwnames, slots);
+}
+
+int wkpy_bind_more(wkpy_kwlist *kw, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames,
+                   PyObject **slots)
+{
+    if (kw->interned[kw->n - 1] == NULL && intern_names(kw)) return -1;
+    if (nargs != 0) {
+        PyErr_Format(PyExc_TypeError, "%s() takes keyword arguments only, got %zd positional",
+                     kw->fname, nargs);
+        return -1;
+    }
     const Py_ssize_t n_kw = kwnames == NULL ? 0 : PyTuple_GET_SIZE(kwnames);
     int hint = 0;
     for (Py_ssize_t i = 0; i < n_kw; i++)

@@ -78,6 +78,11 @@ typedef struct {
 int wkpy_bind_keywords(wkpy_kwlist *kw, PyObject *const *args, Py_ssize_t nargs,
                        PyObject *kwnames, PyObject **slots);
 
+/* wkpy_bind_keywords onto slots that already hold values (not cleared first): a keyword
+ * whose slot holds one is refused as given twice. */
+int wkpy_bind_more(wkpy_kwlist *kw, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames,
+                   PyObject **slots);
+
 /* The same from a tuple of positional arguments (refused unless empty) and a dict of
  * keywords (NULL: none), as a type's tp_new receives them. */
 int wkpy_bind_dict(wkpy_kwlist *kw, PyObject *args, PyObject *kwargs, PyObject **slots);

@@ -1,7 +1,8 @@
 /* walker._hybrid: the CPython binding of walker's compiled core.
  *
  * solve(...)          one run of the hybrid integrator (hybrid.c), without the GIL, as a
- *                     SolveResult record (_hybridresult.c);
+ *                     SolveResult record (_hybridresult.c), keyword arguments only;
+ * PreparedSolve(...)  solve()'s settings bound once, run(...) with the rest;
  * models()            walker's compiled models (wk_model_table) as integer addresses;
  * kernels()           the generated kernels (wk_kernel_table) as (signature, address,
  *                     n_q, n_p, shape); kernel_hashes() the generated modules' hashes;
@@ -46,11 +47,11 @@
  * ------------------------------------------------------------------------------------------ */
 
 /* solve()'s keywords: the system, the start, the solver settings, the output; the
- * optional ones (sample_times, jacobian_seed; terrain, terrain_solve()'s only) last. */
+ * optional ones (sample_times, jacobian_seed, n_p; terrain, terrain_solve()'s only) last. */
 #define SOLVE_FIELDS(X, P)                                                                   \
     WKPY_SYSTEM_FIELDS(X, P) X(P, x0) X(P, p) X(P, phase0) X(P, t0) X(P, t_max)               \
     X(P, n_strides) WKPY_SOLVER_FIELDS(X, P) X(P, output) X(P, want_jac) X(P, sample_times)   \
-    X(P, jacobian_seed) X(P, terrain)
+    X(P, jacobian_seed) X(P, n_p) X(P, terrain)
 enum { SOLVE_FIELDS(WKPY_SLOT_ENUM, S_) SOLVE_N };
 static const char *const solve_names[] = {SOLVE_FIELDS(WKPY_SLOT_NAME, S_)};
 static PyObject *solve_interned[SOLVE_N];
@@ -63,13 +64,14 @@ PyDoc_STRVAR(solve_doc,
              "solve(*, rhs, guards, reset, jac, ctx, directions, n_x, n_guards, n_impulse,\n"
              "      x0, p, phase0, t0, t_max, n_strides, method, adaptive, rtol, atol,\n"
              "      first_step, max_step, max_steps, n_interior, screen_interior, output,\n"
-             "      want_jac, sample_times=None, jacobian_seed=None)\n"
+             "      want_jac, sample_times=None, jacobian_seed=None, n_p=None)\n"
              "--\n\n"
              "One run of the hybrid integrator (see walker/integrate.py, which validates the\n"
              "input and is the way to call this).  Keyword arguments only.  rhs, guards,\n"
              "reset, jac, ctx: int addresses (wk_system.h; jac = 0: none, ctx = 0: NULL).\n"
              "directions: int64 (n_phases, n_guards); x0 (n_x,), p, sample_times: float64\n"
-             "1-D (p the compiled model's n_p when the functions are a compiled model's);\n"
+             "1-D (p of length n_p when given, and the compiled model's n_p when the\n"
+             "functions are a compiled model's);\n"
              "method and output: the codes of walker.status; n_interior: guard samples inside\n"
              "every step, with screen_interior kept only in a step where a guard may come\n"
              "near zero (guards without explicit t).  jacobian_seed (with want_jac): None or\n"
@@ -171,6 +173,13 @@ static PyObject *solve_impl(PyObject *const *a)
 
     if (wkpy_hold_buffer(&held, a[S_p], "p", 'd', 1, &v_p)) goto out;
     pb.p = (const double *)v_p.buf;
+    if (a[S_n_p] != NULL && a[S_n_p] != Py_None) { /* the system's declared count */
+        int64_t n_p;
+        if (wkpy_arg_int(a[S_n_p], "n_p", &n_p)) goto out;
+        if (v_p.shape[0] != n_p)
+            WKPY_FAIL(PyExc_ValueError, "`p` must have length n_p = %lld, got %zd",
+                      (long long)n_p, v_p.shape[0]);
+    }
     if (!wkpy_all_finite(pb.p, v_p.shape[0]))
         WKPY_FAIL(PyExc_ValueError, "All parameters `p` must be finite.");
     if (wkpy_check_system(&fn, &pb, v_p.shape[0])) goto out;
@@ -266,6 +275,84 @@ static PyObject *py_terrain_solve(PyObject *self, PyObject *const *args, Py_ssiz
     }
     return solve_impl(slots);
 }
+
+/* ------------------------------------------------------------------------------------------
+ * PreparedSolve: solve()'s settings bound once
+ * ------------------------------------------------------------------------------------------ */
+
+/* solve()'s keywords bound at construction (none required there) and per run (the required
+ * ones then, from both). */
+static wkpy_kwlist prepared_solve_kw = {"PreparedSolve", SOLVE_N - 1, 0, solve_names,
+                                        solve_interned};
+static wkpy_kwlist prepared_run_kw = {"PreparedSolve.run", SOLVE_N - 1, S_sample_times,
+                                      solve_names, solve_interned};
+
+typedef struct {
+    PyObject_HEAD
+    PyObject *slots[SOLVE_N]; /* owned references, NULL where not bound */
+} PreparedSolve;
+
+static PyObject *prepared_solve_new(PyTypeObject *type, PyObject *args, PyObject *kwargs)
+{
+    PyObject *slots[SOLVE_N] = {NULL}; /* terrain's too, which the list leaves out */
+    if (wkpy_bind_dict(&prepared_solve_kw, args, kwargs, slots)) return NULL;
+    PreparedSolve *self = (PreparedSolve *)type->tp_alloc(type, 0);
+    if (self == NULL) return NULL;
+    for (int j = 0; j < SOLVE_N; j++) self->slots[j] = Py_XNewRef(slots[j]);
+    return (PyObject *)self;
+}
+
+static void prepared_solve_dealloc(PreparedSolve *self)
+{
+    for (int j = 0; j < SOLVE_N; j++) Py_CLEAR(self->slots[j]);
+    Py_TYPE(self)->tp_free((PyObject *)self);
+}
+
+PyDoc_STRVAR(prepared_solve_run_doc,
+             "run(**keywords) -> SolveResult\n\n"
+             "solve() with the keywords bound at construction and these (keyword arguments\n"
+             "only; a keyword bound already is refused): every argument is converted and\n"
+             "checked as solve() does.");
+
+static PyObject *prepared_solve_run(PreparedSolve *self, PyObject *const *args,
+                                    Py_ssize_t nargs, PyObject *kwnames)
+{
+    PyObject *slots[SOLVE_N];
+    memcpy(slots, self->slots, sizeof slots);
+    if (wkpy_bind_more(&prepared_run_kw, args, nargs, kwnames, slots)) return NULL;
+    for (int j = 0; j < S_sample_times; j++)
+        if (slots[j] == NULL) {
+            PyErr_Format(PyExc_TypeError, "PreparedSolve.run() missing required keyword "
+                         "argument `%s`", solve_names[j]);
+            return NULL;
+        }
+    slots[S_terrain] = NULL;
+    return solve_impl(slots); /* the objects stay alive: self and the caller hold them */
+}
+
+static PyMethodDef prepared_solve_methods[] = {
+    {"run", (PyCFunction)(void (*)(void))prepared_solve_run, METH_FASTCALL | METH_KEYWORDS,
+     prepared_solve_run_doc},
+    {NULL, NULL, 0, NULL},
+};
+
+PyDoc_STRVAR(prepared_solve_doc,
+             "PreparedSolve(**keywords)\n\n"
+             "solve()'s settings bound once (keyword arguments only, any of solve()'s but\n"
+             "terrain; walker.integrate.PreparedRun binds the system, the solver settings, t0\n"
+             "and output): run() takes the rest by keyword.  A call with many keywords makes\n"
+             "the interpreter build a dict; bound here, a run passes only the few that change.\n"
+             "Process-local (it holds function addresses): not picklable.");
+
+static PyTypeObject prepared_solve_type = {
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "walker._hybrid.PreparedSolve",
+    .tp_basicsize = sizeof(PreparedSolve),
+    .tp_dealloc = (destructor)prepared_solve_dealloc,
+    .tp_flags = Py_TPFLAGS_DEFAULT,
+    .tp_doc = prepared_solve_doc,
+    .tp_methods = prepared_solve_methods,
+    .tp_new = prepared_solve_new,
+};
 
 /* ------------------------------------------------------------------------------------------
  * call_state_fn
@@ -554,6 +641,12 @@ PyMODINIT_FUNC PyInit__hybrid(void)
     Py_DECREF(tol);
     /* The record solve() returns. */
     if (wkpy_add_solve_result(m) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    /* solve()'s settings bound once. */
+    if (PyType_Ready(&prepared_solve_type) < 0 ||
+        PyModule_AddObjectRef(m, "PreparedSolve", (PyObject *)&prepared_solve_type) < 0) {
         Py_DECREF(m);
         return NULL;
     }
