@@ -160,46 +160,42 @@ def test_f4_solve_checks_the_parameter_count():
     scene, P, _ = _compass()
     run, cached = _prepared(P)
     x0 = np.ascontiguousarray(scene.state, dtype=np.float64)
-    empty = np.zeros(0)
+    start = dict(x0=x0, phase0=0, t0=0.0, t_max=5.0, n_strides=1, output=0, want_jac=False)
     for p in (np.ones(1), np.ones(11)):
         with pytest.raises(ValueError, match=r"`p` must have length n_p = 10 for the compiled"):
-            _hybrid.solve(*run._head, x0, p, 0, 0.0, 5.0, 1, *run._settings, 0, empty, False, 4)
-    r = _hybrid.solve(*run._head, x0, cached[1], 0, 0.0, 5.0, 1, *run._settings, 0, empty, False, 4)
+            _hybrid.solve(**run._head, **run._settings, **start, p=p)
+    r = _hybrid.solve(**run._head, **run._settings, **start, p=cached[1])
     assert r.status == 0
 
 
 def test_f4_prepared_map_and_basin_points_check_the_parameter_count():
     _, P, z0 = _compass()
     run, cached = _prepared(P)
-    args = list(section_args(P.model, P.t_max, cached, run))
-    assert args[9] is cached[1]  # p
-    args[9] = np.ones(2)
+    args = section_args(P.model, P.t_max, cached, run)
+    assert args["p"] is cached[1]
+    args["p"] = np.ones(2)
     z = np.ascontiguousarray(z0[None, :])
+    rule = dict(z0=z, target=z0, tol=1e-8, n_strides=2, period=1, weight=np.eye(z0.size))
     with pytest.raises(ValueError, match=r"`p` must have length n_p = 10"):
-        _hybrid.basin_points(*args, z, z0, 1e-8, 2, 1, np.eye(z0.size), 0.0)
+        _hybrid.basin_points(**args, **rule, radius=0.0)
     with pytest.raises(ValueError, match=r"`p` must have length n_p = 10"):
-        _hybrid.PreparedMap(*args).map(z0, 1, False)
+        _hybrid.PreparedMap(**args).map(z0, 1, False)
 
 
 def test_functions_of_different_models_are_not_mixed():
     _, P, _ = _compass()
     run, cached = _prepared(P)
-    args = list(section_args(P.model, P.t_max, cached, run))
+    args = section_args(P.model, P.t_max, cached, run)
     kneed = _hybrid.models()["kneed"]
-    bad_jac = list(args)
-    bad_jac[3] = kneed["jac"]  # a 6-state Jacobian for a 4-state system
+    # a 6-state Jacobian for a 4-state system
     with pytest.raises(ValueError, match=r"`n_x` must be 6 for the compiled model 'kneed'"):
-        _hybrid.PreparedMap(*bad_jac)
-    swapped = list(args)
-    swapped[0] = _hybrid.models()["compass"]["energy"]
+        _hybrid.PreparedMap(**{**args, "jac": kneed["jac"]})
+    swapped = {**args, "rhs": _hybrid.models()["compass"]["energy"]}
     with pytest.raises(ValueError, match=r"`rhs` is the energy function of the compiled model"):
-        _hybrid.PreparedMap(*swapped)
-    short_guards = list(args)
-    short_guards[7] = 1  # n_guards: the model writes 3
-    short_guards[5] = np.zeros((1, 1), dtype=np.int64)
+        _hybrid.PreparedMap(**swapped)
+    # n_guards: the model writes 3
+    short_guards = {**args, "n_guards": 1, "directions": np.zeros((1, 1), dtype=np.int64)}
     with pytest.raises(ValueError, match=r"`n_guards` must be 3 for the compiled model"):
-        _hybrid.PreparedMap(*short_guards)
-    energy = list(args)
-    energy[25] = kneed["energy"]
+        _hybrid.PreparedMap(**short_guards)
     with pytest.raises(ValueError, match=r"`energy` belongs to the compiled model 'kneed'"):
-        _hybrid.PreparedMap(*energy)
+        _hybrid.PreparedMap(**{**args, "energy": kneed["energy"]})

@@ -108,12 +108,12 @@ def test_ctx_reaches_the_sections_energy_test():
     P = StrideMap.from_scene(scene)
     z0 = P.project(scene.state)
     run, _, _ = P._prepared(1)
-    args = list(section_args(P.model, P.t_max, P.__dict__["_run"], run))
+    args = section_args(P.model, P.t_max, P.__dict__["_run"], run)
     kinetic = (ctypes.c_double * 1)()
-    args[4] = ctypes.addressof(kinetic)  # ctx (the compass functions ignore it)
-    args[25] = ctypes.cast(_energy_from_ctx, ctypes.c_void_p).value  # energy
-    args[26] = 10.0  # kinetic_limit [J]
-    prepared = _hybrid.PreparedMap(*args)
+    args["ctx"] = ctypes.addressof(kinetic)  # the compass functions ignore it
+    args["energy"] = ctypes.cast(_energy_from_ctx, ctypes.c_void_p).value
+    args["kinetic_limit"] = 10.0  # [J]
+    prepared = _hybrid.PreparedMap(**args)
     z = np.ascontiguousarray(z0, dtype=np.float64)
 
     _SEEN.clear()

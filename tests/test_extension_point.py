@@ -17,7 +17,7 @@ from _toy_systems import toy_system
 from walker import _hybrid, load_scene
 from walker.models import get_model
 from walker.simulation.hybrid_system import _compiled
-from walker.simulation.integrate import _interior_code, hybrid_solve
+from walker.simulation.integrate import hybrid_solve
 from walker.status import (
     EVENT_CONTINUE,
     EVENT_STRIDE,
@@ -272,51 +272,79 @@ def test_bad_ctx_is_rejected():
 
 
 def test_binding_rejects_bad_arguments_naming_them():
-    args = [
-        ball_rhs.address,
-        ball_guards.address,
-        ball_reset.address,
-        0,
-        0,
-        np.array([[-1]], dtype=np.int64),
-        2,
-        1,
-        1,
-        np.array([1.0, 0.0]),
-        BALL_P,
-        0,
-        0.0,
-        1.0,
-        0,
-        3,
-        True,
-        1e-10,
-        1e-12,
-        0.0,
-        math.inf,
-        1000,
-        0,
-        np.empty(0),
-        False,
-        4,
-    ]
-    sol = _hybrid.solve(*args)
+    args = dict(
+        rhs=ball_rhs.address,
+        guards=ball_guards.address,
+        reset=ball_reset.address,
+        jac=0,
+        ctx=0,
+        directions=np.array([[-1]], dtype=np.int64),
+        n_x=2,
+        n_guards=1,
+        n_impulse=1,
+        x0=np.array([1.0, 0.0]),
+        p=BALL_P,
+        phase0=0,
+        t0=0.0,
+        t_max=1.0,
+        n_strides=0,
+        method=3,
+        adaptive=True,
+        rtol=1e-10,
+        atol=1e-12,
+        first_step=0.0,
+        max_step=math.inf,
+        max_steps=1000,
+        n_interior=4,
+        screen_interior=False,
+        output=0,
+        want_jac=False,
+    )
+    sol = _hybrid.solve(**args)
     assert sol.status == 0 and sol.t == 1.0 and len(sol.x) == 16
 
-    def bad(i, value, exc, match):
+    def bad(name, value, exc, match):
         with pytest.raises(exc, match=match):
-            _hybrid.solve(*args[:i], value, *args[i + 1 :])
+            _hybrid.solve(**{**args, name: value})
 
-    bad(0, "f", TypeError, "`rhs` must be an int address")
-    bad(0, 0, ValueError, "`rhs` must be a non-zero function address")
-    bad(5, np.array([[-1.0]]), TypeError, "`directions` must be a C-contiguous int64 array")
-    bad(5, np.array([[-2]]), ValueError, "`directions` values")
-    bad(9, np.array([1.0, 0.0, 0.0]), ValueError, "`x0` must have length n_x = 2")
-    bad(9, np.array([1.0, 5.0, 0.0])[::2], TypeError, "`x0` must be a C-contiguous float64")
-    bad(10, [9.81, 0.8], TypeError, "`p` must be a C-contiguous float64 array")
-    bad(11, 2, ValueError, "`phase0` must be in")
-    bad(15, 7, ValueError, "`method` must be a code")
-    bad(24, True, ValueError, "`want_jac` needs a Jacobian")
+    bad("rhs", "f", TypeError, "`rhs` must be an int address")
+    bad("rhs", 0, ValueError, "`rhs` must be a non-zero function address")
+    bad("directions", np.array([[-1.0]]), TypeError, "`directions` must be a C-contiguous int64")
+    bad("directions", np.array([[-2]]), ValueError, "`directions` values")
+    bad("x0", np.array([1.0, 0.0, 0.0]), ValueError, "`x0` must have length n_x = 2")
+    bad("x0", np.array([1.0, 5.0, 0.0])[::2], TypeError, "`x0` must be a C-contiguous float64")
+    bad("p", [9.81, 0.8], TypeError, "`p` must be a C-contiguous float64 array")
+    bad("phase0", 2, ValueError, "`phase0` must be in")
+    bad("method", 7, ValueError, "`method` must be a code")
+    bad("want_jac", True, ValueError, "`want_jac` needs a Jacobian")
+    bad("n_interior", -4, ValueError, r"`n_interior` must be in \[0, 2\*\*24\]")
+    bad("screen_interior", 1.0, TypeError, "`screen_interior` must be a bool")
+    bad("terrain", np.zeros((1, 2)), TypeError, "unexpected keyword argument 'terrain'")
+    bad("n_p", 3, ValueError, r"`p` must have length n_p = 3, got 2")  # a user's declared count
+    bad("n_p", 2.0, TypeError, "`n_p` must be an int")
+    assert _hybrid.solve(**args, n_p=2).x == sol.x
+    with pytest.raises(TypeError, match="takes keyword arguments only, got 1 positional"):
+        _hybrid.solve(ball_rhs.address, **{k: v for k, v in args.items() if k != "rhs"})
+    with pytest.raises(TypeError, match="missing required keyword argument `x0`"):
+        _hybrid.solve(**{k: v for k, v in args.items() if k != "x0"})
+    # the settings bound once: the same run, the same checks
+    prepared = _hybrid.PreparedSolve(**{k: v for k, v in args.items() if k not in ("x0", "p")})
+    assert prepared.run(x0=args["x0"], p=BALL_P) == sol
+    with pytest.raises(ValueError, match="`x0` must have length n_x = 2"):
+        prepared.run(x0=np.zeros(3), p=BALL_P)
+    with pytest.raises(TypeError, match="got multiple values for argument `t0`"):
+        prepared.run(x0=args["x0"], p=BALL_P, t0=0.5)
+    with pytest.raises(TypeError, match="missing required keyword argument `p`"):
+        prepared.run(x0=args["x0"])
+    with pytest.raises(TypeError, match="`method` must be an int"):
+        _hybrid.PreparedSolve(**{**args, "method": "DOP853"}).run()
+    optional = {"sample_times", "jacobian_seed", "n_p", "terrain"}
+    assert set(args) | optional == set(_hybrid.SOLVE_FIELDS)
+    # terrain_solve shares solve's names (and solve has run above): its own is found
+    with pytest.raises(TypeError, match="missing required keyword argument `terrain`"):
+        _hybrid.terrain_solve(**args)
+    with pytest.raises(ValueError, match="terrain is not supported for this system's model"):
+        _hybrid.terrain_solve(**args, terrain=np.zeros((1, 2)))
 
 
 SOLVE_RESULT_FIELDS = (
@@ -362,9 +390,11 @@ def test_solve_returns_a_named_record_whose_fields_are_its_positions():
     n_x = system.n_x
     rhs, guards, reset, jac, ctx, _ = _compiled(system)
     sol = _hybrid.solve(
-        rhs, guards, reset, jac, ctx, system.directions, n_x, system.n_guards,
-        system.n_impulse, x0, p, 0, 0.0, 5.0, 1, METHOD_DOP853, True, 1e-11, 1e-11, 0.0,
-        math.inf, 1_000_000, OUTPUT_FULL, np.empty(0), True, _interior_code(system, 4),
+        rhs=rhs, guards=guards, reset=reset, jac=jac, ctx=ctx, directions=system.directions,
+        n_x=n_x, n_guards=system.n_guards, n_impulse=system.n_impulse, x0=x0, p=p, phase0=0,
+        t0=0.0, t_max=5.0, n_strides=1, method=METHOD_DOP853, adaptive=True, rtol=1e-11,
+        atol=1e-11, first_step=0.0, max_step=math.inf, max_steps=1_000_000, n_interior=4,
+        screen_interior=system.autonomous_guards, output=OUTPUT_FULL, want_jac=True,
     )  # fmt: skip
     assert type(sol) is _hybrid.SolveResult and isinstance(sol, tuple)
     assert _hybrid.SolveResult.__match_args__ == SOLVE_RESULT_FIELDS

@@ -390,7 +390,7 @@ def test_stride_step_budget_is_tied_to_t_max():
     # the compiled run of a stride map carries it, times the strides asked for
     P = StrideMap("kneed", params, t_max=20.0)
     for n in (1, 3):
-        assert P._prepared(n)[0]._settings[-1] == 3757 * n
+        assert P._prepared(n)[0]._settings["max_steps"] == 3757 * n
 
 
 def test_stride_map_does_not_integrate_states_outside_the_region():

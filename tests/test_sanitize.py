@@ -75,42 +75,79 @@ def _compass_section():
     scene = load_scene(GAITS / "compass_goswami.toml")
     P = StrideMap.from_scene(scene)
     run, _, _ = P._prepared(1)
-    return P, run, list(section_args(P.model, P.t_max, P.__dict__["_run"], run))
+    return P, run, section_args(P.model, P.t_max, P.__dict__["_run"], run)
 
 
 P_COMPASS, RUN, SECTION = _compass_section()
 Z0 = P_COMPASS.project(load_scene(GAITS / "compass_goswami.toml").state)
+BASIN_RULE = {"target": Z0, "tol": 1e-8, "n_strides": 2, "weight": np.eye(Z0.size), "radius": 0.0}
+
+# values of a wrong type for any argument: each is refused with a TypeError naming it (or,
+# for an int where a float goes, taken as the number)
+WRONG_TYPES = st.sampled_from(["f", None, [1.0, 2.0], 1.5, True, np.float32(1.0), b"\x00" * 8])
+ADDRESSES = st.sampled_from(
+    [
+        MODELS[e][k]
+        for e in ("kneed", "five_link", "simplest")
+        for k in ("rhs", "jac", "energy", "lift")
+    ]
+)
 
 # which section argument, and what to put there
 SECTION_MUTATIONS = st.one_of(
-    st.tuples(st.sampled_from([6, 7, 8, 16, 17, 23]), huge_ints),  # n_x .. n_q
-    st.tuples(st.just(9), st.builds(_array, lengths, dtypes)),  # p
-    st.tuples(st.sampled_from([18]), st.builds(lambda r, c: np.ones((r, c)), lengths, lengths)),
-    st.tuples(st.sampled_from([19]), st.builds(_array, lengths, dtypes)),  # lift_b
     st.tuples(
-        st.just(20),
+        st.sampled_from(["n_x", "n_guards", "n_impulse", "max_steps", "n_interior", "n_q"]),
+        huge_ints,
+    ),
+    st.tuples(st.just("p"), st.builds(_array, lengths, dtypes)),
+    st.tuples(st.just("lift_a"), st.builds(lambda r, c: np.ones((r, c)), lengths, lengths)),
+    st.tuples(st.just("lift_b"), st.builds(_array, lengths, dtypes)),
+    st.tuples(
+        st.just("proj"),
         st.builds(
             lambda n, v: np.full(n, v, np.int64),
             lengths,
             huge_ints.filter(lambda v: -(2**63) <= v < 2**63),
         ),
-    ),  # noqa: E501
-    st.tuples(st.just(5), st.builds(lambda r, c: np.zeros((r, c), np.int64), lengths, lengths)),
+    ),
     st.tuples(
-        st.sampled_from([0, 1, 2, 3, 25, 27, 29, 30]),
+        st.just("directions"), st.builds(lambda r, c: np.zeros((r, c), np.int64), lengths, lengths)
+    ),
+    st.tuples(
+        st.sampled_from(
+            ["rhs", "guards", "reset", "jac", "energy", "start_phase", "lift", "lift_jacobian"]
+        ),
+        ADDRESSES,
+    ),
+    st.tuples(
         st.sampled_from(
             [
-                MODELS[e][k]
-                for e in ("kneed", "five_link", "simplest")
-                for k in ("rhs", "jac", "energy", "lift")
+                "rtol",
+                "atol",
+                "first_step",
+                "max_step",
+                "offset",
+                "fall_angle",
+                "wound",
+                "kinetic_limit",
+                "t_max",
             ]
         ),
-    ),  # noqa: E501
-    st.tuples(
-        st.sampled_from([12, 13, 14, 15, 21, 22, 24, 26, 28]),
         st.sampled_from([float("nan"), float("inf"), -1.0, 0.0, 1e308, 5e-324]),
     ),
+    st.tuples(st.sampled_from(_hybrid.SECTION_FIELDS), WRONG_TYPES),
 )
+
+
+def _refused_naming_it(call, name=None):
+    """call() answers, or raises TypeError/ValueError/OverflowError (naming ``name``, when
+    given, in backquotes or quotes); returns the answer or None."""
+    try:
+        return call()
+    except REFUSED as e:
+        if name is not None:
+            assert f"`{name}" in str(e) or f"'{name}'" in str(e), (name, str(e))
+        return None
 
 
 @FUZZ
@@ -119,26 +156,59 @@ SECTION_MUTATIONS = st.one_of(
     period=st.one_of(st.integers(1, 3), st.sampled_from([-(2**70), -1, 0, 2**62, 2**64])),
 )
 def test_fuzz_prepared_map_and_basin_points(mutations, period):
-    args = list(SECTION)
-    for index, value in mutations:
-        args[index] = value
-    try:
-        prepared = _hybrid.PreparedMap(*args)
-    except REFUSED:
-        prepared = None
+    args = dict(SECTION)
+    for name, value in mutations:
+        args[name] = value
+    prepared = _refused_naming_it(lambda: _hybrid.PreparedMap(**args))
     if prepared is not None:
-        try:
-            out = prepared.map(np.ascontiguousarray(Z0), period, False)
-        except REFUSED:
-            out = None
+        out = _refused_naming_it(lambda: prepared.map(np.ascontiguousarray(Z0), period, False))
         if out is not None:
             assert len(out) == 5
     z = np.ascontiguousarray(np.repeat(Z0[None, :], 2, axis=0))
-    try:
-        outcome, strides = _hybrid.basin_points(*args, z, Z0, 1e-8, 2, period, np.eye(Z0.size), 0.0)
-    except REFUSED:
-        return
-    assert len(outcome) == len(strides) == 2 * 8
+    answer = _refused_naming_it(
+        lambda: _hybrid.basin_points(**args, **BASIN_RULE, z0=z, period=period)
+    )
+    if answer is not None:
+        outcome, strides = answer
+        assert len(outcome) == len(strides) == 2 * 8
+
+
+@FUZZ
+@given(name=st.sampled_from(_hybrid.SECTION_FIELDS), value=WRONG_TYPES)
+def test_fuzz_section_argument_of_a_wrong_type(name, value):
+    """One section argument of a wrong type: refused, naming it, or (a number where a number
+    goes, a bool where an int or bool goes) answered."""
+    args = {**SECTION, name: value}
+    _refused_naming_it(lambda: _hybrid.PreparedMap(**args), name)
+
+
+def test_prepared_solve_keeps_its_settings_alive():
+    """PreparedSolve holds the objects it was given: the arrays outlive the caller's names."""
+    args = {**RUN._head, **RUN._settings, **SOLVE_START, "n_strides": 1}
+    args["directions"] = np.array(args["directions"])  # a copy only the PreparedSolve holds
+    run = _hybrid.PreparedSolve(**args).run
+    del args
+    x0 = np.ascontiguousarray(P_COMPASS.lift(Z0))
+    for _ in range(3):
+        assert run(x0=x0, p=SECTION["p"]).status == 0
+
+
+def test_keywords_missing_unknown_or_positional_are_refused():
+    z = np.ascontiguousarray(Z0[None, :])
+    for name in _hybrid.SECTION_FIELDS:
+        short = {k: v for k, v in SECTION.items() if k != name}
+        with pytest.raises(TypeError, match=f"missing required keyword argument `{name}`"):
+            _hybrid.PreparedMap(**short)
+        with pytest.raises(TypeError, match=f"missing required keyword argument `{name}`"):
+            _hybrid.basin_points(**short, **BASIN_RULE, z0=z, period=1)
+    with pytest.raises(TypeError, match="unexpected keyword argument 'n_p'"):
+        _hybrid.PreparedMap(**SECTION, n_p=10)
+    with pytest.raises(TypeError, match="keyword arguments only, got 1 positional"):
+        _hybrid.PreparedMap(SECTION["rhs"], **{k: v for k, v in SECTION.items() if k != "rhs"})
+
+
+SOLVE_START = {"phase0": 0, "t0": 0.0, "t_max": 2.0, "output": 1, "want_jac": False}
+SOLVER = {k: v for k, v in RUN._settings.items() if k != "max_steps"}
 
 
 @FUZZ
@@ -149,30 +219,47 @@ def test_fuzz_prepared_map_and_basin_points(mutations, period):
     max_steps=st.one_of(st.integers(1, 50), huge_ints),
     n_strides=st.one_of(st.integers(0, 3), huge_ints),
     dtype=dtypes,
+    wrong=st.one_of(st.none(), st.tuples(st.sampled_from(_hybrid.SOLVE_FIELDS), WRONG_TYPES)),
 )
-def test_fuzz_solve(x_len, p_len, sizes, max_steps, n_strides, dtype):
-    head = list(RUN._head)
+def test_fuzz_solve(x_len, p_len, sizes, max_steps, n_strides, dtype, wrong):
+    head = dict(RUN._head)
     if sizes[0] not in (0, 1):  # keep some calls with the model's own sizes
-        head[6:9] = sizes
-    try:
-        r = _hybrid.solve(
-            *head,
-            _array(x_len, dtype),
-            _array(p_len, dtype),
-            0,
-            0.0,
-            2.0,
-            n_strides,
-            *RUN._settings[:6],
-            max_steps,
-            1,
-            np.zeros(0),
-            False,
-            4,
-        )
-    except REFUSED:
-        return
-    assert len(r.x) == 8 * head[6]
+        head.update(n_x=sizes[0], n_guards=sizes[1], n_impulse=sizes[2])
+    args = {
+        **head,
+        **SOLVER,
+        **SOLVE_START,
+        "x0": _array(x_len, dtype),
+        "p": _array(p_len, dtype),
+        "n_strides": n_strides,
+        "max_steps": max_steps,
+    }
+    if wrong is not None:
+        args[wrong[0]] = wrong[1]
+    call = _hybrid.terrain_solve if "terrain" in args else _hybrid.solve
+    r = _refused_naming_it(lambda: call(**args))
+    if r is not None:
+        assert len(r.x) == 8 * head["n_x"]
+
+
+@FUZZ
+@given(name=st.sampled_from(_hybrid.SOLVE_FIELDS), value=WRONG_TYPES)
+def test_fuzz_solve_argument_of_a_wrong_type(name, value):
+    """One argument of a valid compass run of a wrong type: refused, naming it, or (a number
+    where a number goes, a bool where an int or bool goes) answered."""
+    args = {**RUN._head, **RUN._settings, **SOLVE_START, "n_strides": 1}
+    args.update(x0=np.ascontiguousarray(P_COMPASS.lift(Z0)), p=SECTION["p"], output=0)
+    args[name] = value
+    call = _hybrid.terrain_solve if name == "terrain" else _hybrid.solve
+    r = _refused_naming_it(lambda: call(**args), name)
+    if r is not None:
+        assert len(r.x) == 8 * 4
+    if name != "terrain":  # the same, bound once (walker.integrate.PreparedRun's way)
+        start = {"x0": args.pop("x0"), "p": args.pop("p")}
+        run = _hybrid.PreparedSolve(**args).run
+        r = _refused_naming_it(lambda: run(**start), name)
+        if r is not None:
+            assert len(r.x) == 8 * 4
 
 
 def test_basins_on_two_threads_equal_the_serial_ones():
@@ -182,7 +269,8 @@ def test_basins_on_two_threads_equal_the_serial_ones():
     chunks = [np.ascontiguousarray(z[i::4]) for i in range(4)]
 
     def batch(chunk):
-        outcome, strides = _hybrid.basin_points(*args, chunk, Z0, 1e-6, 8, 1, np.eye(Z0.size), 0.0)
+        rule = {**BASIN_RULE, "tol": 1e-6, "n_strides": 8, "period": 1}
+        outcome, strides = _hybrid.basin_points(**args, **rule, z0=chunk)
         return np.frombuffer(outcome, np.int64), np.frombuffer(strides, np.int64)
 
     serial = [batch(chunk) for chunk in chunks]

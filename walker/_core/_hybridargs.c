@@ -195,17 +195,134 @@ PyObject *wkpy_bytes_of(const void *data, int64_t count, size_t item)
     return PyByteArray_FromStringAndSize((const char *)data, (Py_ssize_t)((size_t)count * item));
 }
 
-/* The model functions and sizes, args[0..4] and args[6..8] of solve() and basin_points(). */
-int wkpy_arg_system(PyObject *const *args, wk_functions *fn, wk_problem *pb)
+/* ------------------------------------------------------------------------------------------
+ * Keyword-only arguments
+ * ------------------------------------------------------------------------------------------ */
+
+static int intern_names(wkpy_kwlist *kw)
+{
+    for (int j = 0; j < kw->n; j++) {
+        if (kw->interned[j] != NULL) continue;
+        kw->interned[j] = PyUnicode_InternFromString(kw->names[j]);
+        if (kw->interned[j] == NULL) return -1;
+    }
+    return 0;
+}
+
+/* The slot of keyword ``name`` (tried first at ``hint``, where the keywords come in the
+ * list's order), or -1 with a TypeError naming it. */
+static int find_name(const wkpy_kwlist *kw, PyObject *name, int hint)
+{
+    if (hint < kw->n && kw->interned[hint] == name) return hint;
+    for (int j = 0; j < kw->n; j++)
+        if (kw->interned[j] == name) return j;
+    if (PyUnicode_Check(name))
+        for (int j = 0; j < kw->n; j++)
+            if (PyUnicode_Compare(kw->interned[j], name) == 0) return j;
+    PyErr_Format(PyExc_TypeError, "%s() got an unexpected keyword argument %R", kw->fname, name);
+    return -1;
+}
+
+static int bind_one(const wkpy_kwlist *kw, PyObject *name, PyObject *value, int *hint,
+                    PyObject **slots)
+{
+    const int j = find_name(kw, name, *hint);
+    if (j < 0) return -1;
+    if (slots[j] != NULL) {
+        PyErr_Format(PyExc_TypeError, "%s() got multiple values for argument `%s`", kw->fname,
+                     kw->names[j]);
+        return -1;
+    }
+    slots[j] = value;
+    *hint = j + 1;
+    return 0;
+}
+
+static int bind_start(wkpy_kwlist *kw, Py_ssize_t nargs, PyObject **slots)
+{
+    /* the last name too: lists may share their first names (solve, terrain_solve) */
+    if (kw->interned[kw->n - 1] == NULL && intern_names(kw)) return -1;
+    if (nargs != 0) {
+        PyErr_Format(PyExc_TypeError, "%s() takes keyword arguments only, got %zd positional",
+                     kw->fname, nargs);
+        return -1;
+    }
+    for (int j = 0; j < kw->n; j++) slots[j] = NULL;
+    return 0;
+}
+
+static int bind_end(const wkpy_kwlist *kw, PyObject **slots)
+{
+    for (int j = 0; j < kw->n_required; j++)
+        if (slots[j] == NULL) {
+            PyErr_Format(PyExc_TypeError, "%s() missing required keyword argument `%s`",
+                         kw->fname, kw->names[j]);
+            return -1;
+        }
+    return 0;
+}
+
+int wkpy_bind_keywords(wkpy_kwlist *kw, PyObject *const *args, Py_ssize_t nargs,
+                       PyObject *kwnames, PyObject **slots)
+{
+    if (bind_start(kw, nargs, slots)) return -1;
+    return wkpy_bind_more(kw, args, nargs, kwnames, slots);
+}
+
+int wkpy_bind_more(wkpy_kwlist *kw, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames,
+                   PyObject **slots)
+{
+    if (kw->interned[kw->n - 1] == NULL && intern_names(kw)) return -1;
+    if (nargs != 0) {
+        PyErr_Format(PyExc_TypeError, "%s() takes keyword arguments only, got %zd positional",
+                     kw->fname, nargs);
+        return -1;
+    }
+    const Py_ssize_t n_kw = kwnames == NULL ? 0 : PyTuple_GET_SIZE(kwnames);
+    int hint = 0;
+    for (Py_ssize_t i = 0; i < n_kw; i++)
+        if (bind_one(kw, PyTuple_GET_ITEM(kwnames, i), args[nargs + i], &hint, slots))
+            return -1;
+    return bind_end(kw, slots);
+}
+
+int wkpy_bind_dict(wkpy_kwlist *kw, PyObject *args, PyObject *kwargs, PyObject **slots)
+{
+    if (bind_start(kw, PyTuple_GET_SIZE(args), slots)) return -1;
+    Py_ssize_t pos = 0;
+    PyObject *name, *value;
+    int hint = 0;
+    while (kwargs != NULL && PyDict_Next(kwargs, &pos, &name, &value))
+        if (bind_one(kw, name, value, &hint, slots)) return -1;
+    return bind_end(kw, slots);
+}
+
+PyObject *wkpy_kwlist_names(const wkpy_kwlist *kw)
+{
+    PyObject *t = PyTuple_New(kw->n);
+    for (int j = 0; t != NULL && j < kw->n; j++) {
+        PyObject *s = PyUnicode_FromString(kw->names[j]);
+        if (s == NULL) Py_CLEAR(t);
+        else PyTuple_SET_ITEM(t, j, s);
+    }
+    return t;
+}
+
+/* ------------------------------------------------------------------------------------------
+ * The system and the solver settings
+ * ------------------------------------------------------------------------------------------ */
+
+int wkpy_arg_system(PyObject *const *sys, wk_functions *fn, wk_problem *pb)
 {
     uintptr_t rhs, guards, reset, jac, ctx;
-    if (wkpy_arg_address(args[0], "rhs", 0, &rhs) ||
-        wkpy_arg_address(args[1], "guards", 1, &guards) ||
-        wkpy_arg_address(args[2], "reset", 1, &reset) ||
-        wkpy_arg_address(args[3], "jac", 1, &jac) || wkpy_arg_address(args[4], "ctx", 1, &ctx) ||
-        wkpy_arg_int(args[6], "n_x", &pb->n_x) ||
-        wkpy_arg_int(args[7], "n_guards", &pb->n_guards) ||
-        wkpy_arg_int(args[8], "n_impulse", &pb->n_impulse))
+    if (wkpy_arg_address(sys[WKPY_SYS_rhs], "rhs", 0, &rhs) ||
+        wkpy_arg_address(sys[WKPY_SYS_guards], "guards", 1, &guards) ||
+        wkpy_arg_address(sys[WKPY_SYS_reset], "reset", 1, &reset) ||
+        wkpy_arg_address(sys[WKPY_SYS_jac], "jac", 1, &jac) ||
+        wkpy_arg_address(sys[WKPY_SYS_ctx], "ctx", 1, &ctx) ||
+        wkpy_arg_int(sys[WKPY_SYS_n_x], "n_x", &pb->n_x) ||
+        wkpy_arg_int(sys[WKPY_SYS_n_guards], "n_guards", &pb->n_guards) ||
+        wkpy_arg_int(sys[WKPY_SYS_n_impulse], "n_impulse", &pb->n_impulse))
         return -1;
     fn->rhs = (wk_rhs_fn)rhs;
     fn->guards = (wk_guards_fn)guards;
@@ -218,28 +335,23 @@ int wkpy_arg_system(PyObject *const *args, wk_functions *fn, wk_problem *pb)
     return 0;
 }
 
-/* The interior guard samples: n >= 0 samples in every step, or -n samples screened
- * (wk_problem.screen_interior), as walker.simulation.integrate passes them. */
-int wkpy_arg_interior(PyObject *arg, wk_problem *pb)
+int wkpy_arg_solver(PyObject *const *sol, int64_t *method, int64_t *max_steps, wk_problem *pb)
 {
-    int64_t code;
-    if (wkpy_arg_int(arg, "n_interior", &code)) return -1;
-    pb->screen_interior = code < 0;
-    /* a code below -2**24 stays negative, for the caller's range check */
-    pb->n_interior = code < -MAX_COUNT ? code : (code < 0 ? -code : code);
-    return 0;
-}
-
-/* The solver settings, six arguments in a row in solve() and basin_points(). */
-int wkpy_arg_solver(PyObject *const *args, int64_t *method, wk_problem *pb)
-{
-    if (wkpy_arg_int(args[0], "method", method) ||
-        wkpy_arg_bool(args[1], "adaptive", &pb->adaptive) ||
-        wkpy_arg_double(args[2], "rtol", &pb->rtol) ||
-        wkpy_arg_double(args[3], "atol", &pb->atol) ||
-        wkpy_arg_double(args[4], "first_step", &pb->first_step) ||
-        wkpy_arg_double(args[5], "max_step", &pb->max_step))
+    if (wkpy_arg_int(sol[WKPY_SOL_method], "method", method) ||
+        wkpy_arg_bool(sol[WKPY_SOL_adaptive], "adaptive", &pb->adaptive) ||
+        wkpy_arg_double(sol[WKPY_SOL_rtol], "rtol", &pb->rtol) ||
+        wkpy_arg_double(sol[WKPY_SOL_atol], "atol", &pb->atol) ||
+        wkpy_arg_double(sol[WKPY_SOL_first_step], "first_step", &pb->first_step) ||
+        wkpy_arg_double(sol[WKPY_SOL_max_step], "max_step", &pb->max_step) ||
+        wkpy_arg_int(sol[WKPY_SOL_max_steps], "max_steps", max_steps) ||
+        wkpy_arg_int(sol[WKPY_SOL_n_interior], "n_interior", &pb->n_interior) ||
+        wkpy_arg_bool(sol[WKPY_SOL_screen_interior], "screen_interior", &pb->screen_interior))
         return -1;
+    if (pb->n_interior < 0 || pb->n_interior > MAX_COUNT) {
+        PyErr_Format(PyExc_ValueError, "`n_interior` must be in [0, 2**24], got %lld",
+                     (long long)pb->n_interior);
+        return -1;
+    }
     return 0;
 }
 

@@ -54,16 +54,72 @@ int wkpy_arg_buffer(PyObject *o, const char *name, char kind, int ndim, Py_buffe
 int wkpy_arg_buffer_pair(PyObject *const *args, const char *name0, int ndim0, const char *name1,
                          int ndim1, Py_buffer *view0, Py_buffer *view1);
 
-/* The head that solve() and basin_points() share: args[0..4] the function addresses rhs,
- * guards, reset, jac, ctx into ``fn`` (rhs non-zero, the others 0 for NULL), args[6..8]
- * n_x, n_guards, n_impulse into ``pb`` (their ranges are the caller's to check). */
-int wkpy_arg_system(PyObject *const *args, wk_functions *fn, wk_problem *pb);
+/* ------------------------------------------------------------------------------------------
+ * Keyword-only arguments
+ *
+ * solve(), terrain_solve(), basin_points() and PreparedMap() take keyword arguments only.
+ * Each function's names are an X-macro list (below and in _hybridmodule.c); the names
+ * become an enum of slot indices, so the C reads ``slots[WKPY_SOLVE_x0]``, never a bare
+ * position.  wkpy_bind_keywords puts each keyword's value in its slot; the required names
+ * come first in a list, the optional ones (slot NULL when not given) after them.
+ * ------------------------------------------------------------------------------------------ */
 
-/* The solver settings, six arguments in a row in solve() and basin_points(): args[0..5]
- * method (into ``method``, the caller checks the code), adaptive, rtol, atol, first_step,
- * max_step (into ``pb``). */
-int wkpy_arg_solver(PyObject *const *args, int64_t *method, wk_problem *pb);
-int wkpy_arg_interior(PyObject *arg, wk_problem *pb);
+typedef struct {
+    const char *fname;        /* the function, for the messages: "solve" */
+    int n;                    /* names in the list */
+    int n_required;           /* the first n_required must be given */
+    const char *const *names; /* n names */
+    PyObject **interned;      /* n interned str, made on the first call */
+} wkpy_kwlist;
+
+/* Binds a vectorcall's keywords (METH_FASTCALL | METH_KEYWORDS: ``nargs`` positional
+ * arguments, refused, then the values of ``kwnames``) to ``slots`` (kw->n of them, NULL
+ * where not given).  0, or -1 with a TypeError: positional arguments, an unknown or repeated
+ * keyword, a required one missing, each named.  The slots borrow the caller's references. */
+int wkpy_bind_keywords(wkpy_kwlist *kw, PyObject *const *args, Py_ssize_t nargs,
+                       PyObject *kwnames, PyObject **slots);
+
+/* wkpy_bind_keywords onto slots that already hold values (not cleared first): a keyword
+ * whose slot holds one is refused as given twice. */
+int wkpy_bind_more(wkpy_kwlist *kw, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames,
+                   PyObject **slots);
+
+/* The same from a tuple of positional arguments (refused unless empty) and a dict of
+ * keywords (NULL: none), as a type's tp_new receives them. */
+int wkpy_bind_dict(wkpy_kwlist *kw, PyObject *args, PyObject *kwargs, PyObject **slots);
+
+/* The names as a tuple of str (a module constant: which keywords a function takes). */
+PyObject *wkpy_kwlist_names(const wkpy_kwlist *kw);
+
+#define WKPY_SLOT_ENUM(prefix, name) prefix##name,
+#define WKPY_SLOT_NAME(prefix, name) #name,
+
+/* A system: its compiled functions' addresses, guard directions and sizes; the first
+ * names of solve()'s, basin_points()'s and PreparedMap()'s lists. */
+#define WKPY_SYSTEM_FIELDS(X, P)                                                             \
+    X(P, rhs) X(P, guards) X(P, reset) X(P, jac) X(P, ctx) X(P, directions) X(P, n_x)         \
+    X(P, n_guards) X(P, n_impulse)
+enum { WKPY_SYSTEM_FIELDS(WKPY_SLOT_ENUM, WKPY_SYS_) WKPY_SYSTEM_N };
+
+/* The solver settings, in solve()'s and the section's lists: the method's code
+ * (walker.integrate.METHODS), adaptive, rtol, atol, first_step [s], max_step [s],
+ * max_steps (the run's, or per stride), n_interior (guard samples inside a step) and
+ * screen_interior (keep them only in a step where a guard may come near zero). */
+#define WKPY_SOLVER_FIELDS(X, P)                                                             \
+    X(P, method) X(P, adaptive) X(P, rtol) X(P, atol) X(P, first_step) X(P, max_step)         \
+    X(P, max_steps) X(P, n_interior) X(P, screen_interior)
+enum { WKPY_SOLVER_FIELDS(WKPY_SLOT_ENUM, WKPY_SOL_) WKPY_SOLVER_N };
+
+/* The system from its slots (``sys``: the WKPY_SYSTEM_N slots of a list that starts with
+ * WKPY_SYSTEM_FIELDS): the function addresses into ``fn`` (rhs non-zero, the others 0 for
+ * NULL) and n_x, n_guards, n_impulse into ``pb`` (their ranges are the caller's to check);
+ * the directions are the caller's to read. */
+int wkpy_arg_system(PyObject *const *sys, wk_functions *fn, wk_problem *pb);
+
+/* The solver settings from their slots (``sol``: WKPY_SOLVER_N slots in the order of
+ * WKPY_SOLVER_FIELDS): the method's code into ``method`` and max_steps into ``max_steps``
+ * (the caller checks both), the others into ``pb`` (n_interior checked in [0, 2**24]). */
+int wkpy_arg_solver(PyObject *const *sol, int64_t *method, int64_t *max_steps, wk_problem *pb);
 
 /* In a function whose cleanup follows the label ``out``: raise ``exc`` with the message
  * format and arguments, and go to out. */
@@ -108,14 +164,20 @@ int wkpy_add_solve_result(PyObject *module);
  * array sizes); NULL with an exception set when out of memory. */
 PyObject *wkpy_solve_result(const wk_result *res, const wk_problem *pb);
 
-/* The settings of a walker's section that basin_points and PreparedMap take as their
- * first WKPY_SECTION_NARGS arguments: rhs, guards, reset, jac, ctx, directions, n_x,
- * n_guards, n_impulse, p, method, adaptive, rtol, atol, first_step, max_step, max_steps
- * (per stride), n_interior, lift_a, lift_b, proj, offset, fall_angle, n_q, wound, energy,
- * kinetic_limit, start_phase, t_max (per stride), lift, lift_jacobian (the addresses of a
- * compiled lift that is not affine, or 0 for the affine lift_a, lift_b); the arrays copied
- * into ``block``. */
-#define WKPY_SECTION_NARGS 31
+/* The settings of a walker's section, the keywords that basin_points and PreparedMap take
+ * (and, in this order as positional arguments, terrain_walk and terrain_ensemble): the
+ * system, p, the solver settings (max_steps per stride), the affine lift x = lift_a z +
+ * lift_b, the projection's indices proj, the start checks (offset, fall_angle, n_q, wound,
+ * the energy function's address, kinetic_limit), the start_phase function's address, t_max
+ * (per stride) and the addresses lift, lift_jacobian of a compiled lift that is not affine
+ * (0 for the affine one).  walker._hybrid.SECTION_FIELDS lists the names. */
+#define WKPY_SECTION_FIELDS(X, P)                                                            \
+    WKPY_SYSTEM_FIELDS(X, P) X(P, p) WKPY_SOLVER_FIELDS(X, P) X(P, lift_a) X(P, lift_b)       \
+    X(P, proj) X(P, offset) X(P, fall_angle) X(P, n_q) X(P, wound) X(P, energy)               \
+    X(P, kinetic_limit) X(P, start_phase) X(P, t_max) X(P, lift) X(P, lift_jacobian)
+enum { WKPY_SECTION_FIELDS(WKPY_SLOT_ENUM, WKPY_SEC_) WKPY_SECTION_NARGS };
+extern wkpy_kwlist wkpy_section_kw;
+
 typedef struct {
     wk_functions fn;
     wk_problem pb; /* the template: sizes, p, solver settings */
@@ -124,9 +186,10 @@ typedef struct {
     void *block; /* owns directions, p, lift_a, lift_b, proj */
 } wkpy_section;
 
-/* Reads args[0 .. WKPY_SECTION_NARGS) into ``s``; 0, or -1 with an exception naming the
- * argument (``s`` then owns nothing).  wkpy_section_free releases it. */
-int wkpy_section_parse(PyObject *const *args, wkpy_section *s);
+/* Reads the WKPY_SECTION_NARGS slots (in the order of WKPY_SECTION_FIELDS) into ``s``; 0, or
+ * -1 with an exception naming the argument (``s`` then owns nothing).  wkpy_section_free
+ * releases it. */
+int wkpy_section_parse(PyObject *const *slots, wkpy_section *s);
 void wkpy_section_free(wkpy_section *s);
 
 /* A compiled model's sizes (walker._hybrid.models() reports them): state, parameters,

@@ -1,10 +1,10 @@
 /* walker._hybrid's stride maps: the settings of a walker's section (batch.h) read once from
  * Python, and walker._hybrid.PreparedMap, one stride-map call in one compiled call.
  *
- * wkpy_section_parse reads the 31 arguments that basin_points and PreparedMap share (the
- * system, the solver settings, the affine lift, the projection and the start checks) into
- * a wkpy_section that owns copies of the arrays.  PreparedMap keeps one, filled when
- * walker.simulation.stride.StrideMap prepares its run, so a call parses only z, n_strides and
+ * wkpy_section_parse reads the keywords that basin_points and PreparedMap share
+ * (WKPY_SECTION_FIELDS: the system, the solver settings, the affine lift, the projection and
+ * the start checks) into a wkpy_section that owns copies of the arrays.  PreparedMap keeps one, filled when
+ * walker.stride.StrideMap prepares its run, so a call parses only z, n_strides and
  * jacobian.  Declared in _hybridbinding.h.
  */
 #define PY_SSIZE_T_CLEAN
@@ -38,7 +38,12 @@ static void *take(char **cursor, const Py_buffer *v, Py_ssize_t n)
     return at;
 }
 
-int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
+static const char *const section_names[] = {WKPY_SECTION_FIELDS(WKPY_SLOT_NAME, WKPY_SEC_)};
+static PyObject *section_interned[WKPY_SECTION_NARGS];
+wkpy_kwlist wkpy_section_kw = {"PreparedMap", WKPY_SECTION_NARGS, WKPY_SECTION_NARGS,
+                               section_names, section_interned};
+
+int wkpy_section_parse(PyObject *const *a, wkpy_section *s)
 {
     memset(s, 0, sizeof *s);
     wk_functions *fn = &s->fn;
@@ -50,19 +55,18 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
     wkpy_held held = {0};
     int rc = -1;
 
-    if (wkpy_arg_system(args, fn, pb) || wkpy_arg_solver(args + 10, &method, pb) ||
-        wkpy_arg_int(args[16], "max_steps", &sec->max_steps) ||
-        wkpy_arg_interior(args[17], pb) ||
-        wkpy_arg_double(args[21], "offset", &sec->offset) ||
-        wkpy_arg_double(args[22], "fall_angle", &sec->fall_angle) ||
-        wkpy_arg_int(args[23], "n_q", &sec->n_q) ||
-        wkpy_arg_double(args[24], "wound", &sec->wound) ||
-        wkpy_arg_address(args[25], "energy", 1, &a_energy) ||
-        wkpy_arg_double(args[26], "kinetic_limit", &sec->kinetic_limit) ||
-        wkpy_arg_address(args[27], "start_phase", 1, &a_start) ||
-        wkpy_arg_double(args[28], "t_max", &sec->t_max) ||
-        wkpy_arg_address(args[29], "lift", 1, &a_lift) ||
-        wkpy_arg_address(args[30], "lift_jacobian", 1, &a_lift_jac))
+    if (wkpy_arg_system(a, fn, pb) ||
+        wkpy_arg_solver(a + WKPY_SEC_method, &method, &sec->max_steps, pb) ||
+        wkpy_arg_double(a[WKPY_SEC_offset], "offset", &sec->offset) ||
+        wkpy_arg_double(a[WKPY_SEC_fall_angle], "fall_angle", &sec->fall_angle) ||
+        wkpy_arg_int(a[WKPY_SEC_n_q], "n_q", &sec->n_q) ||
+        wkpy_arg_double(a[WKPY_SEC_wound], "wound", &sec->wound) ||
+        wkpy_arg_address(a[WKPY_SEC_energy], "energy", 1, &a_energy) ||
+        wkpy_arg_double(a[WKPY_SEC_kinetic_limit], "kinetic_limit", &sec->kinetic_limit) ||
+        wkpy_arg_address(a[WKPY_SEC_start_phase], "start_phase", 1, &a_start) ||
+        wkpy_arg_double(a[WKPY_SEC_t_max], "t_max", &sec->t_max) ||
+        wkpy_arg_address(a[WKPY_SEC_lift], "lift", 1, &a_lift) ||
+        wkpy_arg_address(a[WKPY_SEC_lift_jacobian], "lift_jacobian", 1, &a_lift_jac))
         return -1;
 
     if (pb->n_x < 1 || pb->n_x > MAX_N_X)
@@ -86,8 +90,6 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
         WKPY_FAIL(PyExc_ValueError, "`first_step` must be finite and positive (0: automatic)");
     if (!(pb->max_step > 0.0)) WKPY_FAIL(PyExc_ValueError, "`max_step` must be positive");
     if (sec->max_steps < 1) WKPY_FAIL(PyExc_ValueError, "`max_steps` must be >= 1");
-    if (pb->n_interior < 0 || pb->n_interior > MAX_COUNT)
-        WKPY_FAIL(PyExc_ValueError, "`n_interior` must be in [0, 2**24]");
     if (sec->n_q < 0 || sec->n_q > pb->n_x)
         WKPY_FAIL(PyExc_ValueError, "`n_q` must be in [0, n_x]");
     if (!(sec->t_max > 0.0 && isfinite(sec->t_max)))
@@ -95,7 +97,7 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
     if ((a_lift == 0) != (a_lift_jac == 0))
         WKPY_FAIL(PyExc_ValueError, "`lift` and `lift_jacobian` must be given together");
 
-    if (wkpy_hold_buffer(&held, args[5], "directions", 'q', 2, &v_dir)) goto out;
+    if (wkpy_hold_buffer(&held, a[WKPY_SEC_directions], "directions", 'q', 2, &v_dir)) goto out;
     if (v_dir.shape[1] != pb->n_guards || v_dir.shape[0] < 1)
         WKPY_FAIL(PyExc_ValueError, "`directions` must have n_guards columns and at least one row");
     pb->n_phases = v_dir.shape[0];
@@ -103,14 +105,14 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
         const int64_t d = ((const int64_t *)v_dir.buf)[i];
         if (d < -1 || d > 1) WKPY_FAIL(PyExc_ValueError, "`directions` values must be -1, 0 or +1");
     }
-    if (wkpy_hold_buffer(&held, args[9], "p", 'd', 1, &v_p)) goto out;
+    if (wkpy_hold_buffer(&held, a[WKPY_SEC_p], "p", 'd', 1, &v_p)) goto out;
     if (!wkpy_all_finite((const double *)v_p.buf, v_p.shape[0]))
         WKPY_FAIL(PyExc_ValueError, "All parameters `p` must be finite.");
-    if (wkpy_hold_buffer(&held, args[18], "lift_a", 'd', 2, &v_a)) goto out;
+    if (wkpy_hold_buffer(&held, a[WKPY_SEC_lift_a], "lift_a", 'd', 2, &v_a)) goto out;
     sec->n_z = v_a.shape[1];
     if (v_a.shape[0] != pb->n_x || sec->n_z < 1 || sec->n_z > pb->n_x)
         WKPY_FAIL(PyExc_ValueError, "`lift_a` must have shape (n_x, n_z) with 1 <= n_z <= n_x");
-    if (wkpy_hold_buffer(&held, args[19], "lift_b", 'd', 1, &v_b)) goto out;
+    if (wkpy_hold_buffer(&held, a[WKPY_SEC_lift_b], "lift_b", 'd', 1, &v_b)) goto out;
     if (v_b.shape[0] != pb->n_x) WKPY_FAIL(PyExc_ValueError, "`lift_b` must have length n_x");
     if (!wkpy_all_finite((const double *)v_a.buf, v_a.shape[0] * v_a.shape[1]) ||
         !wkpy_all_finite((const double *)v_b.buf, v_b.shape[0]))
@@ -123,7 +125,7 @@ int wkpy_section_parse(PyObject *const *args, wkpy_section *s)
         wkpy_check_state_fn(a_lift_jac, "lift_jacobian", WKPY_FN_LIFT_JAC, pb->n_x,
                             v_p.shape[0], sec->n_z))
         goto out;
-    if (wkpy_hold_buffer(&held, args[20], "proj", 'q', 1, &v_proj)) goto out;
+    if (wkpy_hold_buffer(&held, a[WKPY_SEC_proj], "proj", 'q', 1, &v_proj)) goto out;
     if (v_proj.shape[0] != sec->n_z) WKPY_FAIL(PyExc_ValueError, "`proj` must have length n_z");
     for (int64_t i = 0; i < sec->n_z; i++) {
         const int64_t k = ((const int64_t *)v_proj.buf)[i];
@@ -173,18 +175,11 @@ typedef struct {
 
 static PyObject *prepared_map_new(PyTypeObject *type, PyObject *args, PyObject *kwargs)
 {
-    if (kwargs != NULL && PyDict_GET_SIZE(kwargs) != 0) {
-        PyErr_SetString(PyExc_TypeError, "PreparedMap() takes no keyword arguments");
-        return NULL;
-    }
-    if (PyTuple_GET_SIZE(args) != WKPY_SECTION_NARGS) {
-        PyErr_Format(PyExc_TypeError, "PreparedMap() takes %d arguments, got %zd",
-                     WKPY_SECTION_NARGS, PyTuple_GET_SIZE(args));
-        return NULL;
-    }
+    PyObject *a[WKPY_SECTION_NARGS];
+    if (wkpy_bind_dict(&wkpy_section_kw, args, kwargs, a)) return NULL;
     PreparedMap *self = (PreparedMap *)type->tp_alloc(type, 0);
     if (self == NULL) return NULL;
-    if (wkpy_section_parse(&PyTuple_GET_ITEM(args, 0), &self->s)) {
+    if (wkpy_section_parse(a, &self->s)) {
         Py_DECREF(self);
         return NULL;
     }
@@ -382,13 +377,14 @@ static PyMethodDef prepared_map_methods[] = {
 };
 
 PyDoc_STRVAR(prepared_map_doc,
-             "PreparedMap(rhs, guards, reset, jac, ctx, directions, n_x, n_guards, n_impulse,\n"
-             "    p, method, adaptive, rtol, atol, first_step, max_step, max_steps, n_interior,\n"
-             "    lift_a, lift_b, proj, offset, fall_angle, n_q, wound, energy, kinetic_limit,\n"
-             "    start_phase, t_max, lift, lift_jacobian)\n\n"
-             "A walker's stride map with its settings parsed and copied once (the first 31\n"
-             "arguments of basin_points; max_steps and t_max per stride): map() runs one\n"
-             "call.  Process-local (it holds function addresses): not picklable.");
+             "PreparedMap(*, rhs, guards, reset, jac, ctx, directions, n_x, n_guards,\n"
+             "    n_impulse, p, method, adaptive, rtol, atol, first_step, max_step, max_steps,\n"
+             "    n_interior, screen_interior, lift_a, lift_b, proj, offset, fall_angle, n_q,\n"
+             "    wound, energy, kinetic_limit, start_phase, t_max, lift, lift_jacobian)\n\n"
+             "A walker's stride map with its settings parsed and copied once (keyword\n"
+             "arguments only, SECTION_FIELDS, as basin_points takes them; max_steps and t_max\n"
+             "per stride): map() runs one call.  Process-local (it holds function\n"
+             "addresses): not picklable.");
 
 static PyTypeObject prepared_map_type = {
     PyVarObject_HEAD_INIT(NULL, 0).tp_name = "walker._hybrid.PreparedMap",

@@ -1,7 +1,8 @@
 /* walker._hybrid: the CPython binding of walker's compiled core.
  *
  * solve(...)          one run of the hybrid integrator (hybrid.c), without the GIL, as a
- *                     SolveResult record (_hybridresult.c);
+ *                     SolveResult record (_hybridresult.c), keyword arguments only;
+ * PreparedSolve(...)  solve()'s settings bound once, run(...) with the rest;
  * models()            walker's compiled models (wk_model_table) as integer addresses;
  * kernels()           the generated kernels (wk_kernel_table) as (signature, address,
  *                     n_q, n_p, shape); kernel_hashes() the generated modules' hashes;
@@ -45,23 +46,38 @@
  * solve
  * ------------------------------------------------------------------------------------------ */
 
-#define SOLVE_NARGS 26 /* and an optional 27th, jacobian_seed */
+/* solve()'s keywords: the system, the start, the solver settings, the output; the
+ * optional ones (sample_times, jacobian_seed, n_p; terrain, terrain_solve()'s only) last. */
+#define SOLVE_FIELDS(X, P)                                                                   \
+    WKPY_SYSTEM_FIELDS(X, P) X(P, x0) X(P, p) X(P, phase0) X(P, t0) X(P, t_max)               \
+    X(P, n_strides) WKPY_SOLVER_FIELDS(X, P) X(P, output) X(P, want_jac) X(P, sample_times)   \
+    X(P, jacobian_seed) X(P, n_p) X(P, terrain)
+enum { SOLVE_FIELDS(WKPY_SLOT_ENUM, S_) SOLVE_N };
+static const char *const solve_names[] = {SOLVE_FIELDS(WKPY_SLOT_NAME, S_)};
+static PyObject *solve_interned[SOLVE_N];
+static wkpy_kwlist solve_kw = {"solve", SOLVE_N - 1, S_sample_times, solve_names,
+                               solve_interned};
+static wkpy_kwlist terrain_solve_kw = {"terrain_solve", SOLVE_N, S_sample_times, solve_names,
+                                       solve_interned};
 
 PyDoc_STRVAR(solve_doc,
-             "solve(rhs, guards, reset, jac, ctx, directions, n_x, n_guards, n_impulse, x0, p,\n"
-             "      phase0, t0, t_max, n_strides, method, adaptive, rtol, atol, first_step,\n"
-             "      max_step, max_steps, output, sample_times, want_jac, n_interior,\n"
-             "      jacobian_seed=None)\n"
+             "solve(*, rhs, guards, reset, jac, ctx, directions, n_x, n_guards, n_impulse,\n"
+             "      x0, p, phase0, t0, t_max, n_strides, method, adaptive, rtol, atol,\n"
+             "      first_step, max_step, max_steps, n_interior, screen_interior, output,\n"
+             "      want_jac, sample_times=None, jacobian_seed=None, n_p=None)\n"
              "--\n\n"
-             "One run of the hybrid integrator (see walker/simulation/integrate.py, which validates the\n"
-             "input and is the way to call this).  rhs, guards, reset, jac, ctx: int addresses\n"
-             "(wk_system.h; jac = 0: none, ctx = 0: NULL).  directions: int64 (n_phases,\n"
-             "n_guards); x0, p, sample_times: float64 1-D; method and output: the codes of\n"
-             "walker.status; n_interior: n >= 0 guard samples inside every step, or -n samples\n"
-             "kept only in a step where a guard may come near zero (guards without explicit t).\n"
-             "jacobian_seed (with want_jac): None or a float64 (n_x, m) array S,\n"
-             "1 <= m <= n_x; the run then propagates (d x / d x0) S, and jac and dt_dx0 hold\n"
-             "m columns.  The GIL is released while integrating.\n\n"
+             "One run of the hybrid integrator (see walker/integrate.py, which validates the\n"
+             "input and is the way to call this).  Keyword arguments only.  rhs, guards,\n"
+             "reset, jac, ctx: int addresses (wk_system.h; jac = 0: none, ctx = 0: NULL).\n"
+             "directions: int64 (n_phases, n_guards); x0 (n_x,), p, sample_times: float64\n"
+             "1-D (p of length n_p when given, and the compiled model's n_p when the\n"
+             "functions are a compiled model's);\n"
+             "method and output: the codes of walker.status; n_interior: guard samples inside\n"
+             "every step, with screen_interior kept only in a step where a guard may come\n"
+             "near zero (guards without explicit t).  jacobian_seed (with want_jac): None or\n"
+             "a float64 (n_x, m) array S, 1 <= m <= n_x; the run then propagates\n"
+             "(d x / d x0) S, and jac and dt_dx0 hold m columns.  The GIL is released while\n"
+             "integrating.\n\n"
              "Returns a SolveResult, a named tuple read by field: status (a walker.status\n"
              "value), t, x (the final time, state, phase); the counters n_steps, n_rejected,\n"
              "n_rhs, n_events, n_strides and the row counts n_logged, n_samples, n_recorded;\n"
@@ -72,33 +88,26 @@ PyDoc_STRVAR(solve_doc,
              "without a seed).  Arrays are bytearrays of native float64 / int64, row-major;\n"
              "help(SolveResult) describes each field.");
 
-/* solve(), or with terrain (not NULL: n_steps rows of (slope, drop)) terrain_solve():
- * the model's terrain guards and reset and the step bookkeeping (wk_terrain.h). */
-static PyObject *solve_impl(PyObject *const *args, Py_ssize_t nargs, const double *terrain,
-                            int64_t n_steps)
+/* solve(), or with a `terrain` slot (terrain_solve(): n_steps rows of (slope, drop)) the
+ * model's terrain guards and reset and the step bookkeeping (wk_terrain.h). */
+static PyObject *solve_impl(PyObject *const *a)
 {
-    if (nargs != SOLVE_NARGS && nargs != SOLVE_NARGS + 1) {
-        PyErr_Format(PyExc_TypeError, "solve() takes %d or %d arguments, got %zd", SOLVE_NARGS,
-                     SOLVE_NARGS + 1, nargs);
-        return NULL;
-    }
     wk_functions fn;
     wk_terrain T;
     wk_problem pb;
     memset(&pb, 0, sizeof pb);
-    Py_buffer v_dir, v_x0, v_p, v_st, v_seed;
+    Py_buffer v_dir, v_x0, v_p, v_st, v_seed, v_terrain;
     wkpy_held held = {0};
     PyObject *result = NULL;
     int64_t method, output;
 
-    if (wkpy_arg_system(args, &fn, &pb) || wkpy_arg_int(args[11], "phase0", &pb.phase0) ||
-        wkpy_arg_double(args[12], "t0", &pb.t0) || wkpy_arg_double(args[13], "t_max", &pb.t_max) ||
-        wkpy_arg_int(args[14], "n_strides", &pb.n_strides) ||
-        wkpy_arg_solver(args + 15, &method, &pb) ||
-        wkpy_arg_int(args[21], "max_steps", &pb.max_steps) ||
-        wkpy_arg_int(args[22], "output", &output) ||
-        wkpy_arg_bool(args[24], "want_jac", &pb.want_jac) ||
-        wkpy_arg_interior(args[25], &pb))
+    if (wkpy_arg_system(a, &fn, &pb) || wkpy_arg_int(a[S_phase0], "phase0", &pb.phase0) ||
+        wkpy_arg_double(a[S_t0], "t0", &pb.t0) ||
+        wkpy_arg_double(a[S_t_max], "t_max", &pb.t_max) ||
+        wkpy_arg_int(a[S_n_strides], "n_strides", &pb.n_strides) ||
+        wkpy_arg_solver(a + S_method, &method, &pb.max_steps, &pb) ||
+        wkpy_arg_int(a[S_output], "output", &output) ||
+        wkpy_arg_bool(a[S_want_jac], "want_jac", &pb.want_jac))
         return NULL;
 
     if (pb.n_x < 1 || pb.n_x > MAX_N_X)
@@ -137,12 +146,10 @@ static PyObject *solve_impl(PyObject *const *args, Py_ssize_t nargs, const doubl
         WKPY_FAIL(PyExc_ValueError, "`max_step` must be positive");
     if (pb.n_strides < 0) WKPY_FAIL(PyExc_ValueError, "`n_strides` must be >= 0");
     if (pb.max_steps < 1) WKPY_FAIL(PyExc_ValueError, "`max_steps` must be >= 1");
-    if (pb.n_interior < 0 || pb.n_interior > MAX_COUNT)
-        WKPY_FAIL(PyExc_ValueError, "`n_interior` must be in [0, 2**24]");
     if (pb.want_jac && fn.jac == NULL)
         WKPY_FAIL(PyExc_ValueError, "`want_jac` needs a Jacobian (`jac` is 0)");
 
-    if (wkpy_hold_buffer(&held, args[5], "directions", 'q', 2, &v_dir)) goto out;
+    if (wkpy_hold_buffer(&held, a[S_directions], "directions", 'q', 2, &v_dir)) goto out;
     if (v_dir.shape[1] != pb.n_guards)
         WKPY_FAIL(PyExc_ValueError, "`directions` must have n_guards = %lld columns, got %zd",
                   (long long)pb.n_guards, v_dir.shape[1]);
@@ -156,7 +163,7 @@ static PyObject *solve_impl(PyObject *const *args, Py_ssize_t nargs, const doubl
         WKPY_FAIL(PyExc_ValueError, "`phase0` must be in [0, n_phases = %lld), got %lld",
                   (long long)pb.n_phases, (long long)pb.phase0);
 
-    if (wkpy_hold_buffer(&held, args[9], "x0", 'd', 1, &v_x0)) goto out;
+    if (wkpy_hold_buffer(&held, a[S_x0], "x0", 'd', 1, &v_x0)) goto out;
     if (v_x0.shape[0] != pb.n_x)
         WKPY_FAIL(PyExc_ValueError, "`x0` must have length n_x = %lld, got %zd", (long long)pb.n_x,
                   v_x0.shape[0]);
@@ -164,15 +171,24 @@ static PyObject *solve_impl(PyObject *const *args, Py_ssize_t nargs, const doubl
     if (!wkpy_all_finite(pb.x0, v_x0.shape[0]))
         WKPY_FAIL(PyExc_ValueError, "All components of the initial state `x0` must be finite.");
 
-    if (wkpy_hold_buffer(&held, args[10], "p", 'd', 1, &v_p)) goto out;
+    if (wkpy_hold_buffer(&held, a[S_p], "p", 'd', 1, &v_p)) goto out;
     pb.p = (const double *)v_p.buf;
+    if (a[S_n_p] != NULL && a[S_n_p] != Py_None) { /* the system's declared count */
+        int64_t n_p;
+        if (wkpy_arg_int(a[S_n_p], "n_p", &n_p)) goto out;
+        if (v_p.shape[0] != n_p)
+            WKPY_FAIL(PyExc_ValueError, "`p` must have length n_p = %lld, got %zd",
+                      (long long)n_p, v_p.shape[0]);
+    }
     if (!wkpy_all_finite(pb.p, v_p.shape[0]))
         WKPY_FAIL(PyExc_ValueError, "All parameters `p` must be finite.");
     if (wkpy_check_system(&fn, &pb, v_p.shape[0])) goto out;
 
-    if (wkpy_hold_buffer(&held, args[23], "sample_times", 'd', 1, &v_st)) goto out;
-    pb.sample_times = (const double *)v_st.buf;
-    pb.n_samples = v_st.shape[0];
+    if (a[S_sample_times] != NULL && a[S_sample_times] != Py_None) {
+        if (wkpy_hold_buffer(&held, a[S_sample_times], "sample_times", 'd', 1, &v_st)) goto out;
+        pb.sample_times = (const double *)v_st.buf;
+        pb.n_samples = v_st.shape[0];
+    }
     if (pb.output == WK_OUTPUT_SAMPLES && pb.n_samples > 0) {
         if (!wkpy_all_finite(pb.sample_times, v_st.shape[0]))
             WKPY_FAIL(PyExc_ValueError, "`sample_times` must be finite");
@@ -181,9 +197,10 @@ static PyObject *solve_impl(PyObject *const *args, Py_ssize_t nargs, const doubl
                 WKPY_FAIL(PyExc_ValueError, "`sample_times` must be sorted (non-decreasing)");
     }
 
-    if (nargs > SOLVE_NARGS && args[SOLVE_NARGS] != Py_None) {
+    if (a[S_jacobian_seed] != NULL && a[S_jacobian_seed] != Py_None) {
         if (!pb.want_jac) WKPY_FAIL(PyExc_ValueError, "`jacobian_seed` needs `want_jac`");
-        if (wkpy_hold_buffer(&held, args[SOLVE_NARGS], "jacobian_seed", 'd', 2, &v_seed)) goto out;
+        if (wkpy_hold_buffer(&held, a[S_jacobian_seed], "jacobian_seed", 'd', 2, &v_seed))
+            goto out;
         if (v_seed.shape[0] != pb.n_x || v_seed.shape[1] < 1 || v_seed.shape[1] > pb.n_x)
             WKPY_FAIL(PyExc_ValueError,
                       "`jacobian_seed` must have shape (n_x = %lld, m) with 1 <= m <= n_x, got "
@@ -195,13 +212,17 @@ static PyObject *solve_impl(PyObject *const *args, Py_ssize_t nargs, const doubl
         pb.n_seed = v_seed.shape[1];
     }
 
-    if (terrain != NULL) {
+    if (a[S_terrain] != NULL) {
+        if (wkpy_hold_buffer(&held, a[S_terrain], "terrain", 'd', 2, &v_terrain)) goto out;
+        if (v_terrain.shape[1] != 2 ||
+            !wkpy_all_finite((const double *)v_terrain.buf, v_terrain.shape[0] * 2))
+            WKPY_FAIL(PyExc_ValueError, "`terrain` must be (n_steps, 2) finite values");
         const wk_terrain_entry *te = wk_terrain_find(fn.guards);
         if (te == NULL)
             WKPY_FAIL(PyExc_ValueError, "terrain is not supported for this system's model");
         memset(&T, 0, sizeof T);
-        T.steps = terrain;
-        T.n_steps = n_steps;
+        T.steps = (const double *)v_terrain.buf;
+        T.n_steps = v_terrain.shape[0];
         T.scene_slope = pb.p[te->slope_index];
         wk_terrain_set_step(&T, 0);
         fn = wk_terrain_functions(&fn, te, &T, pb.p, pb.x0);
@@ -225,36 +246,113 @@ out:
     return result;
 }
 
-static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *py_solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs,
+                          PyObject *kwnames)
 {
     (void)self;
-    return solve_impl(args, nargs, NULL, 0);
+    PyObject *slots[SOLVE_N];
+    if (wkpy_bind_keywords(&solve_kw, args, nargs, kwnames, slots)) return NULL;
+    slots[S_terrain] = NULL;
+    return solve_impl(slots);
 }
 
 PyDoc_STRVAR(terrain_solve_doc,
-             "terrain_solve(*solve_args, terrain)\n--\n\n"
-             "solve() over per-step terrain (walker/_core/wk_terrain.h): the same arguments\n"
-             "(with the seed, 27) and a float64 (n_steps, 2) array of (slope, drop) rows, the\n"
-             "scene's plane past the last; ValueError for a model without terrain functions.");
+             "terrain_solve(*, terrain, **solve_keywords)\n--\n\n"
+             "solve() over per-step terrain (walker/_core/wk_terrain.h): solve()'s keywords\n"
+             "and terrain, a float64 (n_steps, 2) array of (slope, drop) rows, the scene's\n"
+             "plane past the last; ValueError for a model without terrain functions.");
 
-static PyObject *py_terrain_solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *py_terrain_solve(PyObject *self, PyObject *const *args, Py_ssize_t nargs,
+                                  PyObject *kwnames)
 {
     (void)self;
-    if (nargs != SOLVE_NARGS + 2) {
-        PyErr_Format(PyExc_TypeError, "terrain_solve() takes %d arguments, got %zd",
-                     SOLVE_NARGS + 2, nargs);
+    PyObject *slots[SOLVE_N];
+    if (wkpy_bind_keywords(&terrain_solve_kw, args, nargs, kwnames, slots)) return NULL;
+    if (slots[S_terrain] == NULL) {
+        PyErr_SetString(PyExc_TypeError, "terrain_solve() missing required keyword argument "
+                                         "`terrain`");
         return NULL;
     }
-    Py_buffer v;
-    if (wkpy_arg_buffer(args[SOLVE_NARGS + 1], "terrain", 'd', 2, &v)) return NULL;
-    PyObject *result = NULL;
-    if (v.shape[1] != 2 || !wkpy_all_finite((const double *)v.buf, v.shape[0] * 2))
-        PyErr_SetString(PyExc_ValueError, "`terrain` must be (n_steps, 2) finite values");
-    else
-        result = solve_impl(args, SOLVE_NARGS + 1, (const double *)v.buf, v.shape[0]);
-    PyBuffer_Release(&v);
-    return result;
+    return solve_impl(slots);
 }
+
+/* ------------------------------------------------------------------------------------------
+ * PreparedSolve: solve()'s settings bound once
+ * ------------------------------------------------------------------------------------------ */
+
+/* solve()'s keywords bound at construction (none required there) and per run (the required
+ * ones then, from both). */
+static wkpy_kwlist prepared_solve_kw = {"PreparedSolve", SOLVE_N - 1, 0, solve_names,
+                                        solve_interned};
+static wkpy_kwlist prepared_run_kw = {"PreparedSolve.run", SOLVE_N - 1, S_sample_times,
+                                      solve_names, solve_interned};
+
+typedef struct {
+    PyObject_HEAD
+    PyObject *slots[SOLVE_N]; /* owned references, NULL where not bound */
+} PreparedSolve;
+
+static PyObject *prepared_solve_new(PyTypeObject *type, PyObject *args, PyObject *kwargs)
+{
+    PyObject *slots[SOLVE_N] = {NULL}; /* terrain's too, which the list leaves out */
+    if (wkpy_bind_dict(&prepared_solve_kw, args, kwargs, slots)) return NULL;
+    PreparedSolve *self = (PreparedSolve *)type->tp_alloc(type, 0);
+    if (self == NULL) return NULL;
+    for (int j = 0; j < SOLVE_N; j++) self->slots[j] = Py_XNewRef(slots[j]);
+    return (PyObject *)self;
+}
+
+static void prepared_solve_dealloc(PreparedSolve *self)
+{
+    for (int j = 0; j < SOLVE_N; j++) Py_CLEAR(self->slots[j]);
+    Py_TYPE(self)->tp_free((PyObject *)self);
+}
+
+PyDoc_STRVAR(prepared_solve_run_doc,
+             "run(**keywords) -> SolveResult\n\n"
+             "solve() with the keywords bound at construction and these (keyword arguments\n"
+             "only; a keyword bound already is refused): every argument is converted and\n"
+             "checked as solve() does.");
+
+static PyObject *prepared_solve_run(PreparedSolve *self, PyObject *const *args,
+                                    Py_ssize_t nargs, PyObject *kwnames)
+{
+    PyObject *slots[SOLVE_N];
+    memcpy(slots, self->slots, sizeof slots);
+    if (wkpy_bind_more(&prepared_run_kw, args, nargs, kwnames, slots)) return NULL;
+    for (int j = 0; j < S_sample_times; j++)
+        if (slots[j] == NULL) {
+            PyErr_Format(PyExc_TypeError, "PreparedSolve.run() missing required keyword "
+                         "argument `%s`", solve_names[j]);
+            return NULL;
+        }
+    slots[S_terrain] = NULL;
+    return solve_impl(slots); /* the objects stay alive: self and the caller hold them */
+}
+
+static PyMethodDef prepared_solve_methods[] = {
+    {"run", (PyCFunction)(void (*)(void))prepared_solve_run, METH_FASTCALL | METH_KEYWORDS,
+     prepared_solve_run_doc},
+    {NULL, NULL, 0, NULL},
+};
+
+PyDoc_STRVAR(prepared_solve_doc,
+             "PreparedSolve(**keywords)\n\n"
+             "solve()'s settings bound once (keyword arguments only, any of solve()'s but\n"
+             "terrain; walker.integrate.PreparedRun binds the system, the solver settings, t0\n"
+             "and output): run() takes the rest by keyword.  A call with many keywords makes\n"
+             "the interpreter build a dict; bound here, a run passes only the few that change.\n"
+             "Process-local (it holds function addresses): not picklable.");
+
+static PyTypeObject prepared_solve_type = {
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "walker._hybrid.PreparedSolve",
+    .tp_basicsize = sizeof(PreparedSolve),
+    .tp_dealloc = (destructor)prepared_solve_dealloc,
+    .tp_flags = Py_TPFLAGS_DEFAULT,
+    .tp_doc = prepared_solve_doc,
+    .tp_methods = prepared_solve_methods,
+    .tp_new = prepared_solve_new,
+};
 
 /* ------------------------------------------------------------------------------------------
  * call_state_fn
@@ -347,37 +445,42 @@ out:
  * Batches
  * ------------------------------------------------------------------------------------------ */
 
+/* basin_points()'s keywords: the section's, then the points and the stopping rule. */
+#define BASIN_FIELDS(X, P)                                                                   \
+    WKPY_SECTION_FIELDS(X, P) X(P, z0) X(P, target) X(P, tol) X(P, n_strides) X(P, period)    \
+    X(P, weight) X(P, radius)
+enum { BASIN_FIELDS(WKPY_SLOT_ENUM, B_) BASIN_N };
+static const char *const basin_names[] = {BASIN_FIELDS(WKPY_SLOT_NAME, B_)};
+static PyObject *basin_interned[BASIN_N];
+static wkpy_kwlist basin_kw = {"basin_points", BASIN_N, BASIN_N, basin_names, basin_interned};
+
 PyDoc_STRVAR(basin_points_doc,
-             "basin_points(rhs, guards, reset, jac, ctx, directions, n_x, n_guards, n_impulse,\n"
-             "    p, method, adaptive, rtol, atol, first_step, max_step, max_steps, n_interior,\n"
-             "    lift_a, lift_b, proj, offset, fall_angle, n_q, wound, energy, kinetic_limit,\n"
-             "    start_phase, t_max, lift, lift_jacobian, z0, target, tol, n_strides, period,\n"
-             "    weight, radius) -> (outcome, strides)\n\n"
-             "Iterate the stride map from each row of z0 (m, n_z) as walker.analysis.basin.basin_chunk\n"
-             "does (batch.h), without the GIL; radius > 0 also stops a point inside\n"
-             "||weight (z - target)||_2 <= radius (weight (n_z, n_z)) as converged.  outcome and strides: bytearrays of m int64.");
+             "basin_points(*, **section, z0, target, tol, n_strides, period, weight, radius)\n"
+             "    -> (outcome, strides)\n\n"
+             "Iterate the stride map from each row of z0 (m, n_z) as walker.basin.basin_chunk\n"
+             "does (batch.h), without the GIL.  Keyword arguments only: the section's\n"
+             "(SECTION_FIELDS, as PreparedMap takes them) and target (n_z,), tol, n_strides,\n"
+             "period; radius > 0 also stops a point inside ||weight (z - target)||_2 <=\n"
+             "radius (weight (n_z, n_z)) as converged.  outcome and strides: bytearrays of m\n"
+             "int64.");
 
-#define BASIN_NARGS 38
-
-static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize_t nargs,
+                                 PyObject *kwnames)
 {
     (void)self;
-    if (nargs != BASIN_NARGS) {
-        PyErr_Format(PyExc_TypeError, "basin_points() takes %d arguments, got %zd",
-                     BASIN_NARGS, nargs);
-        return NULL;
-    }
+    PyObject *a[BASIN_N];
+    if (wkpy_bind_keywords(&basin_kw, args, nargs, kwnames, a)) return NULL;
     wkpy_section s;
-    if (wkpy_section_parse(args, &s)) return NULL;
+    if (wkpy_section_parse(a, &s)) return NULL;
     Py_buffer v_z0, v_target, v_weight;
     wkpy_held held = {0};
     PyObject *result = NULL;
     int64_t n_strides, period;
     double tol, radius;
-    if (wkpy_arg_double(args[33], "tol", &tol) ||
-        wkpy_arg_int(args[34], "n_strides", &n_strides) ||
-        wkpy_arg_int(args[35], "period", &period) ||
-        wkpy_arg_double(args[37], "radius", &radius))
+    if (wkpy_arg_double(a[B_tol], "tol", &tol) ||
+        wkpy_arg_int(a[B_n_strides], "n_strides", &n_strides) ||
+        wkpy_arg_int(a[B_period], "period", &period) ||
+        wkpy_arg_double(a[B_radius], "radius", &radius))
         goto out;
 
     if (!(tol >= 0.0)) WKPY_FAIL(PyExc_ValueError, "`tol` must be >= 0");
@@ -389,16 +492,16 @@ static PyObject *py_basin_points(PyObject *self, PyObject *const *args, Py_ssize
                   (long long)(INT64_MAX / s.sec.max_steps));
     if (n_strides > INT64_MAX / 2)
         WKPY_FAIL(PyExc_ValueError, "`n_strides` must be at most 2**62");
-    if (wkpy_hold_buffer(&held, args[31], "z0", 'd', 2, &v_z0)) goto out;
+    if (wkpy_hold_buffer(&held, a[B_z0], "z0", 'd', 2, &v_z0)) goto out;
     if (v_z0.shape[1] != s.sec.n_z)
         WKPY_FAIL(PyExc_ValueError, "`z0` must have n_z = %lld columns, got %zd",
                   (long long)s.sec.n_z, v_z0.shape[1]);
     if (!wkpy_all_finite((const double *)v_z0.buf, v_z0.shape[0] * v_z0.shape[1]))
         WKPY_FAIL(PyExc_ValueError, "All section points `z0` must be finite.");
-    if (wkpy_hold_buffer(&held, args[32], "target", 'd', 1, &v_target)) goto out;
+    if (wkpy_hold_buffer(&held, a[B_target], "target", 'd', 1, &v_target)) goto out;
     if (v_target.shape[0] != s.sec.n_z)
         WKPY_FAIL(PyExc_ValueError, "`target` must have length n_z");
-    if (wkpy_hold_buffer(&held, args[36], "weight", 'd', 2, &v_weight)) goto out;
+    if (wkpy_hold_buffer(&held, a[B_weight], "weight", 'd', 2, &v_weight)) goto out;
     if (v_weight.shape[0] != s.sec.n_z || v_weight.shape[1] != s.sec.n_z)
         WKPY_FAIL(PyExc_ValueError, "`weight` must have shape (n_z, n_z)");
     if (!wkpy_all_finite((const double *)v_weight.buf, v_weight.shape[0] * v_weight.shape[1]))
@@ -440,14 +543,14 @@ out:
  * ------------------------------------------------------------------------------------------ */
 
 static PyMethodDef methods[] = {
-    {"solve", (PyCFunction)(void (*)(void))py_solve, METH_FASTCALL, solve_doc},
-    {"terrain_solve", (PyCFunction)(void (*)(void))py_terrain_solve, METH_FASTCALL,
-     terrain_solve_doc},
+    {"solve", (PyCFunction)(void (*)(void))py_solve, METH_FASTCALL | METH_KEYWORDS, solve_doc},
+    {"terrain_solve", (PyCFunction)(void (*)(void))py_terrain_solve,
+     METH_FASTCALL | METH_KEYWORDS, terrain_solve_doc},
     {"models", wkpy_models, METH_NOARGS, wkpy_models_doc},
     {"kernels", wkpy_kernels, METH_NOARGS, wkpy_kernels_doc},
     {"kernel_hashes", wkpy_kernel_hashes, METH_NOARGS, wkpy_kernel_hashes_doc},
-    {"basin_points", (PyCFunction)(void (*)(void))py_basin_points, METH_FASTCALL,
-     basin_points_doc},
+    {"basin_points", (PyCFunction)(void (*)(void))py_basin_points,
+     METH_FASTCALL | METH_KEYWORDS, basin_points_doc},
     {"call_state_fn", (PyCFunction)(void (*)(void))py_call_state_fn, METH_FASTCALL,
      call_state_fn_doc},
     {"search", (PyCFunction)(void (*)(void))wkpy_search, METH_VARARGS | METH_KEYWORDS,
@@ -468,6 +571,16 @@ static struct PyModuleDef module = {
     NULL,
 };
 
+/* Adds the tuple of kw's names to ``m`` as ``name``; 0, or -1 with an exception. */
+static int add_names(PyObject *m, const char *name, const wkpy_kwlist *kw)
+{
+    PyObject *t = wkpy_kwlist_names(kw);
+    if (t == NULL) return -1;
+    const int rc = PyModule_AddObjectRef(m, name, t);
+    Py_DECREF(t);
+    return rc;
+}
+
 PyMODINIT_FUNC PyInit__hybrid(void)
 {
     PyObject *m = PyModule_Create(&module);
@@ -486,8 +599,21 @@ PyMODINIT_FUNC PyInit__hybrid(void)
         Py_DECREF(m);
         return NULL;
     }
+    /* solve()'s settings bound once. */
+    if (PyType_Ready(&prepared_solve_type) < 0 ||
+        PyModule_AddObjectRef(m, "PreparedSolve", (PyObject *)&prepared_solve_type) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
     /* The compiled stride-map call (_hybridmap.c). */
     if (wkpy_add_prepared_map(m) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    /* The keywords each call takes, by name (walker/_section.py reads SECTION_FIELDS). */
+    if (add_names(m, "SOLVE_FIELDS", &terrain_solve_kw) < 0 ||
+        add_names(m, "SECTION_FIELDS", &wkpy_section_kw) < 0 ||
+        add_names(m, "BASIN_FIELDS", &basin_kw) < 0) {
         Py_DECREF(m);
         return NULL;
     }

@@ -6,8 +6,10 @@ call (``walker._hybrid.PreparedMap``, a basin's rows in ``walker._hybrid.basin_p
   the start phase, for the checked Python path as well;
 * :func:`compiled_call_fits`: whether one compiled call can do what ``StrideMap.__call__``
   does with the same operations;
-* :func:`section_args`: the section settings the compiled map takes first
-  (``WKPY_SECTION_NARGS`` in walker/_core/_hybridbinding.h).
+* :func:`section_args`: the section settings the compiled map takes, by keyword
+  (``walker._hybrid.SECTION_FIELDS``, ``WKPY_SECTION_FIELDS`` in
+  walker/_core/_hybridbinding.h); :func:`section_tuple` the same in that order, the head of
+  the terrain calls' positional arguments.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ __all__ = [
     "fast_parts",
     "retarget",
     "section_args",
+    "section_tuple",
     "selected_components",
 ]
 
@@ -79,9 +82,10 @@ def compiled_call_fits(model, p, t_max, fast) -> bool:
     return lift_fits and (isinstance(t_max, float) or (type(t_max) is int and abs(t_max) < 2**53))
 
 
-def section_args(model, t_max, cached, run, lift_a=None, proj=None) -> tuple:
-    """The settings of the compiled stride map that ``walker._hybrid.basin_points`` and
-    ``walker._hybrid.PreparedMap`` take first: the system and solver settings of ``run`` (a
+def section_args(model, t_max, cached, run, lift_a=None, proj=None) -> dict:
+    """The settings of the compiled stride map, the keywords that
+    ``walker._hybrid.basin_points`` and ``walker._hybrid.PreparedMap`` take
+    (``walker._hybrid.SECTION_FIELDS``): the system and solver settings of ``run`` (a
     PreparedRun of the map), the per-stride step budget, the affine lift
     ``x = lift_a z + lift_b``, the projection's indices, the start checks' guard, the
     compiled start phase, the per-stride ``t_max`` and the compiled lift's addresses (0 for
@@ -102,21 +106,34 @@ def section_args(model, t_max, cached, run, lift_a=None, proj=None) -> tuple:
         lift_a, lift_b = np.zeros((n_x, n_z)), np.zeros(n_x)
     if proj is None:
         proj = model.project(np.arange(n_x, dtype=np.float64), p).astype(np.int64)
-    solver = (*run._settings[:6], cached[3], run._n_interior)  # max_steps per stride
-    checks = (float(offset), float(fall_angle), int(n_q), float(wound))
-    checks += (energy_address or 0, float(kinetic_limit))
-    return (
-        *run._head,
-        p,
-        *solver,
-        lift_a,
-        lift_b,
-        proj,
-        *checks,
-        model._state_fn("start_phase") or 0,
-        float(t_max),
-        *lift,
-    )
+    return {
+        **run._head,
+        "p": p,
+        **run._settings,
+        "max_steps": cached[3],  # per stride
+        "lift_a": lift_a,
+        "lift_b": lift_b,
+        "proj": proj,
+        "offset": float(offset),
+        "fall_angle": float(fall_angle),
+        "n_q": int(n_q),
+        "wound": float(wound),
+        "energy": energy_address or 0,
+        "kinetic_limit": float(kinetic_limit),
+        "start_phase": model._state_fn("start_phase") or 0,
+        "t_max": float(t_max),
+        "lift": lift[0],
+        "lift_jacobian": lift[1],
+    }
+
+
+def section_tuple(settings: dict) -> tuple:
+    """The section settings ``settings`` (:func:`section_args`) as the positional head of
+    ``walker._hybrid.terrain_walk`` and ``terrain_ensemble``, in the order of
+    ``walker._hybrid.SECTION_FIELDS``."""
+    from walker import _hybrid
+
+    return tuple(settings[name] for name in _hybrid.SECTION_FIELDS)
 
 
 def retarget(new, cached, region):
@@ -155,5 +172,5 @@ def retarget(new, cached, region):
         if run is None:
             return None
         args = section_args(model, new.t_max, fresh, run, lift_jac, proj.astype(np.int64))
-        fresh[6] = _hybrid.PreparedMap(*args).map
+        fresh[6] = _hybrid.PreparedMap(**args).map
     return tuple(fresh)

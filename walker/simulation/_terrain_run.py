@@ -46,7 +46,7 @@ def _args(smap) -> tuple:
         return kept[1]
     check_supported(smap)
     run, _, _ = smap._prepared(1)
-    args = _section.section_args(smap.model, smap.t_max, cached, run)
+    args = _section.section_tuple(_section.section_args(smap.model, smap.t_max, cached, run))
     smap.__dict__[_KEY] = (cached, args)
     return args
 

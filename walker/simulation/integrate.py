@@ -177,13 +177,6 @@ def _check_positive_float(name, value, allow_inf=False):
     return value
 
 
-def _interior_code(system: HybridSystem, n_interior: int) -> int:
-    """The ``n_interior`` argument of the compiled solver: ``n_interior`` guard samples in
-    every step, or, for a system with ``autonomous_guards``, ``-n_interior``: the samples
-    are skipped in a step where every guard stays far from zero (section Events)."""
-    return -n_interior if system.autonomous_guards else n_interior
-
-
 def _check_int(name, value, low):
     if type(value) is int and value >= low:
         return value  # the common case, a valid Python int, without the checks below
@@ -221,21 +214,21 @@ def check_solver_settings(method, rtol, atol, first_step, *, fixed_step=False):
     return code, rtol, atol, first_step, adaptive
 
 
-def _solver_head(system: HybridSystem) -> tuple:
-    """The leading arguments of ``_hybrid.solve`` for ``system``: its compiled functions
+def _solver_head(system: HybridSystem) -> dict:
+    """The keywords of ``_hybrid.solve`` that describe ``system``: its compiled functions
     and context, the guards' directions, ``n_x``, ``n_guards`` and ``n_impulse``."""
     rhs, guards, reset, jac, ctx, _ = _compiled(system)
-    return (
-        rhs,
-        guards,
-        reset,
-        jac,
-        ctx,
-        system.directions,
-        system.n_x,
-        system.n_guards,
-        system.n_impulse,
-    )
+    return {
+        "rhs": rhs,
+        "guards": guards,
+        "reset": reset,
+        "jac": jac,
+        "ctx": ctx,
+        "directions": system.directions,
+        "n_x": system.n_x,
+        "n_guards": system.n_guards,
+        "n_impulse": system.n_impulse,
+    }
 
 
 class PreparedRun:
@@ -249,8 +242,12 @@ class PreparedRun:
     build one per process.
     """
 
-    # _n_interior: the compiled solver's code (_interior_code), negative when screened
-    __slots__ = ("system", "_head", "_settings", "_n_interior")
+    # _head: the system's keywords of _hybrid.solve (_solver_head); _settings: the solver
+    # settings' keywords (method, adaptive, rtol, atol, first_step, max_step, max_steps,
+    # n_interior, screen_interior); _run: the run of a _hybrid.PreparedSolve holding both,
+    # and map()'s fixed t0 and output, so that a call passes only the keywords that change
+    # (a call with more than 15 keywords makes the interpreter build a dict)
+    __slots__ = ("system", "_head", "_settings", "_run")
 
     def __init__(
         self,
@@ -269,12 +266,26 @@ class PreparedRun:
         code, rtol, atol, first_step, adaptive = check_solver_settings(
             method, rtol, atol, first_step
         )
-        max_step = _check_positive_float("max_step", max_step, allow_inf=True)
-        max_steps = _check_int("max_steps", max_steps, 1)
         self.system = system
         self._head = _solver_head(system)
-        self._settings = (code, adaptive, rtol, atol, first_step, max_step, max_steps)
-        self._n_interior = _interior_code(system, _check_int("n_interior", n_interior, 0))
+        self._settings = {
+            "method": code,
+            "adaptive": adaptive,
+            "rtol": rtol,
+            "atol": atol,
+            "first_step": first_step,
+            "max_step": _check_positive_float("max_step", max_step, allow_inf=True),
+            "max_steps": _check_int("max_steps", max_steps, 1),
+            "n_interior": _check_int("n_interior", n_interior, 0),
+            "screen_interior": system.autonomous_guards,
+        }
+        self._run = _hybrid.PreparedSolve(
+            **self._head,
+            **self._settings,
+            t0=0.0,
+            output=OUTPUT_MAP,
+            n_p=system.n_params,  # None: the system does not declare it
+        ).run
 
     def __reduce__(self):
         raise TypeError("a PreparedRun holds process-local addresses: build one per process")
@@ -304,25 +315,19 @@ class PreparedRun:
             # a model's start_phase reports -1 when the joint modes cannot be chosen (a
             # singular system): no run, the outcome says why
             return int(Status.LINEAR_SOLVE_FAILED), 0.0, x0.copy(), None
-        r = _hybrid.solve(
-            *self._head,
-            x0,
-            p,
-            phase0,
-            0.0,
-            t_max,
-            n_strides,
-            *self._settings,
-            OUTPUT_MAP,
-            _EMPTY,
-            jacobian,
-            self._n_interior,
-            jacobian_seed,
+        r = self._run(
+            x0=x0,
+            p=p,
+            phase0=phase0,
+            t_max=t_max,
+            n_strides=n_strides,
+            want_jac=jacobian,
+            jacobian_seed=jacobian_seed,
         )
         # r: a walker._hybrid.SolveResult, read by field (see _solve)
         if not jacobian:
             return r.status, r.t, _floats(r.x), None
-        m = self._head[6] if jacobian_seed is None else jacobian_seed.shape[1]
+        m = self._head["n_x"] if jacobian_seed is None else jacobian_seed.shape[1]
         return r.status, r.t, _floats(r.x), _floats(r.jac, m)
 
 
@@ -557,28 +562,32 @@ def _solve(
         if not np.isfinite(jacobian_seed).all():
             raise ValueError("`jacobian_seed` must be finite")
 
-    solve = _hybrid.solve if terrain is None else _hybrid.terrain_solve
+    solve, where = (
+        (_hybrid.solve, {}) if terrain is None else (_hybrid.terrain_solve, {"terrain": terrain})
+    )
     res = solve(
-        *_solver_head(system),
-        x0,
-        p,
-        phase0,
-        t0,
-        t_max,
-        n_strides,
-        code,
-        adaptive,
-        rtol,
-        atol,
-        first_step,
-        max_step,
-        max_steps,
-        out_code,
-        st,
-        jacobian,
-        _interior_code(system, n_interior),
-        jacobian_seed,
-        *(() if terrain is None else (terrain,)),
+        **_solver_head(system),
+        x0=x0,
+        p=p,
+        phase0=phase0,
+        t0=t0,
+        t_max=t_max,
+        n_strides=n_strides,
+        method=code,
+        adaptive=adaptive,
+        rtol=rtol,
+        atol=atol,
+        first_step=first_step,
+        max_step=max_step,
+        max_steps=max_steps,
+        n_interior=n_interior,
+        screen_interior=system.autonomous_guards,
+        output=out_code,
+        want_jac=jacobian,
+        sample_times=st,
+        jacobian_seed=jacobian_seed,
+        n_p=system.n_params,
+        **where,
     )
     # res is a walker._hybrid.SolveResult (walker/_core/_hybridresult.c), a tuple read by
     # field: status (int), t (float), x, phase; the counters n_steps, n_rejected, n_rhs,

@@ -156,7 +156,7 @@ class StrideMap:
             if _section.compiled_call_fits(self.model, p, self.t_max, fast):
                 # the whole call in C: lift, start checks, stride(s), projection
                 args = _section.section_args(self.model, self.t_max, cached, run)
-                cached[6] = _hybrid.PreparedMap(*args).map
+                cached[6] = _hybrid.PreparedMap(**args).map
             cached = tuple(cached)
             object.__setattr__(self, "_run", cached)
         runs = cached[0]
@@ -257,7 +257,14 @@ class StrideMap:
             target = np.ascontiguousarray(target, dtype=np.float64)
             w = np.ascontiguousarray(np.eye(len(target)) if weight is None else weight, float)
             outcome, strides = _hybrid.basin_points(
-                *args, z0, target, float(tol), int(n_strides), int(period), w, float(radius)
+                **args,
+                z0=z0,
+                target=target,
+                tol=float(tol),
+                n_strides=int(n_strides),
+                period=int(period),
+                weight=w,
+                radius=float(radius),
             )
             return (
                 np.frombuffer(outcome, dtype=np.int64).copy(),
