@@ -62,8 +62,8 @@ def test_mfpt_markov_key(capsys):
             "0.01",
             "--markov",
         ],
-        ["mfpt", "gaits/five_link_hzd.toml", "--std", "0.01", "--runs", "4", "--seed", "1"],
-        ["gsn", "gaits/five_link_hzd.toml"],
+        ["mfpt", "gaits/double_pendulum.toml", "--std", "0.01", "--runs", "4", "--seed", "1"],
+        ["gsn", "gaits/double_pendulum.toml"],
         ["stepdown", "gaits/double_pendulum.toml"],
     ],
 )
@@ -78,3 +78,19 @@ def test_gsn_and_stepdown_json(capsys):
     assert code == 0 and g["gsn"] > 0 and len(g["step_time_response"]) == 10
     code, s = _json_of(capsys, ["stepdown", RIMLESS, "--json"])
     assert code == 0 and 0 < s["step_up"] < s["up_fails"] <= s["step_up"] + 1e-6
+
+
+def test_five_link_mfpt_and_gsn_run(capsys):
+    """The actuated five-link walker (its terrain entry's compiled lift): ``walker mfpt``
+    gives the same runs for any --jobs, every run ends in a failure status or completes,
+    and ``walker gsn`` gives the norm of :func:`walker.gsn.gait_sensitivity` (checked
+    against finite differences in tests/test_gsn.py)."""
+    scene = "gaits/five_link_hzd.toml"
+    argv = ["mfpt", scene, "--std", "0.02", "--runs", "8", "--seed", "2", "--json"]
+    code1, one = _json_of(capsys, [*argv, "--jobs", "1"])
+    code2, two = _json_of(capsys, [*argv, "--jobs", "2"])
+    assert code1 == code2 == 0 and one == two
+    assert one["runs"] == 8 and 0 <= one["failed"] <= 8 and one["mfpt"] > 0
+    assert sum(one["failures"].values()) == one["failed"]
+    code, g = _json_of(capsys, ["gsn", scene, "--json"])
+    assert code == 0 and g["status"] == "COMPLETED" and g["gsn"] > 0

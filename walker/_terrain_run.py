@@ -46,9 +46,21 @@ def _args(smap) -> tuple:
         return kept[1]
     check_supported(smap)
     run, _, _ = smap._prepared(1)
-    args = _section.section_args(smap.model, smap.t_max, cached, run)
+    lift = _terrain_lift(cached[4]) if cached[6] is None else None
+    args = _section.section_args(smap.model, smap.t_max, cached, run, lift=lift)
     smap.__dict__[_KEY] = (cached, args)
     return args
+
+
+def _terrain_lift(system):
+    """The addresses ``(lift, lift_jacobian)`` of the compiled section lift the terrain runs
+    of ``system``'s model take when the model's registry entry has none (the five-link
+    walker's, walker/_core/model_five_link.c), else None."""
+    from walker import _hybrid
+    from walker.hybrid_system import _compiled
+
+    guards = _compiled(system)[1]
+    return _hybrid.terrain_lift(guards) if guards else None
 
 
 def check_model(model, params, system) -> None:
@@ -77,14 +89,16 @@ def check_supported(smap, what: str = "terrain") -> None:
         smap._prepared()
         cached = smap.__dict__["_run"]
     check_model(smap.model, smap.params, cached[4])
-    if cached[6] is None:  # no compiled call (walker._section.compiled_call_fits)
+    # no compiled call (walker._section.compiled_call_fits) and no compiled terrain lift
+    if cached[6] is None and _terrain_lift(cached[4]) is None:
         raise ValueError(f"{what} is not supported for `{smap.model.name}` yet")
 
 
 def _python_call(smap, z, n_strides, rows) -> MapResult:
     """A terrain call of a map without a compiled call (its lift is neither affine nor
-    compiled: the five-link walker's): the model's lift, then one run of the map's system
-    (as :func:`walker.stride.simulate` runs it), projected; no Jacobians."""
+    compiled) and without a compiled terrain lift (:func:`_terrain_lift`): the model's
+    lift, then one run of the map's system (as :func:`walker.stride.simulate` runs it),
+    projected; no Jacobians."""
     from walker.integrate import _solve
     from walker.region import stride_max_steps
 
@@ -176,9 +190,11 @@ def terrain_call(smap, z, jacobian, n_strides, terrain, previous=None) -> MapRes
         cached = smap.__dict__["_run"]
     if cached[6] is None:
         check_model(smap.model, smap.params, cached[4])
-        if jacobian or previous is not None:
-            check_supported(smap, "the terrain Jacobian (and `previous`)")
-        return _python_call(smap, z, int(n_strides), rows)
+        if _terrain_lift(cached[4]) is None:
+            if jacobian or previous is not None:
+                check_supported(smap, "the terrain Jacobian (and `previous`)")
+            return _python_call(smap, z, int(n_strides), rows)
+        smap.model.lift(z, cached[1])  # the model's checks of z (a ValueError naming it)
     return _walk(smap, z, False, rows, jacobian, previous)
 
 

@@ -27,6 +27,17 @@ static PyObject *py_terrain_model(PyObject *self, PyObject *arg)
     return PyUnicode_FromString(te->name);
 }
 
+static PyObject *py_terrain_lift(PyObject *self, PyObject *arg)
+{
+    (void)self;
+    uintptr_t guards;
+    if (wkpy_arg_address(arg, "guards", 1, &guards)) return NULL;
+    const wk_terrain_entry *te = wk_terrain_find((wk_guards_fn)guards);
+    if (te == NULL || te->lift == NULL || te->lift_jacobian == NULL) Py_RETURN_NONE;
+    return Py_BuildValue("(KK)", (unsigned long long)(uintptr_t)te->lift,
+                         (unsigned long long)(uintptr_t)te->lift_jacobian);
+}
+
 /* The section settings and the model's terrain entry; 0 or -1 with an exception. */
 static int parse_head(PyObject *const *args, wkpy_section *s, const wk_terrain_entry **te)
 {
@@ -203,6 +214,10 @@ static PyMethodDef terrain_methods[] = {
     {"terrain_model", py_terrain_model, METH_O,
      "terrain_model(guards)\n--\n\nThe model whose plane guards are at address `guards` if "
      "it has terrain functions (wk_terrain.h), else None."},
+    {"terrain_lift", py_terrain_lift, METH_O,
+     "terrain_lift(guards)\n--\n\nThe addresses (lift, lift_jacobian) of the section lift "
+     "that terrain runs of the model whose plane guards are at address `guards` take when its "
+     "registry entry has none (wk_terrain.h), else None."},
     {"terrain_walk", (PyCFunction)(void (*)(void))py_terrain_walk, METH_FASTCALL,
      terrain_walk_doc},
     {"terrain_ensemble", (PyCFunction)(void (*)(void))py_terrain_ensemble, METH_FASTCALL,

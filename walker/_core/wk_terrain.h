@@ -77,6 +77,11 @@ typedef struct {
      * the stance foot rolls on (wk_terrain_rolling_rhs) */
     int64_t radius_index;
     int64_t n_params;
+    /* a section lift (and its Jacobian) for terrain runs of a model whose registry entry
+     * has none (wk_models.h; the five-link walker's: its lift solves for the swing tibia's
+     * angle), NULL otherwise: walker/_terrain_run.py passes them to the section settings */
+    wk_state_fn lift;
+    wk_state_fn lift_jacobian;
 } wk_terrain_entry;
 
 /* The run's functions: the model's with its terrain guards and reset, ctx T (T's inner,
