@@ -129,6 +129,7 @@ static PyObject *py_terrain_walk(PyObject *self, PyObject *const *args, Py_ssize
     int rc;
     const double *steps = (const double *)v_steps.buf;
     const wk_terrain_start st = {(const double *)v_z.buf, from_state, previous};
+    wkpy_signals_begin();
     Py_BEGIN_ALLOW_THREADS
     if (want_jac)
         rc = wk_terrain_walk_jac(&s.fn, te, &s.pb, &s.sec, &st, steps, n_steps, &status,
@@ -137,6 +138,9 @@ static PyObject *py_terrain_walk(PyObject *self, PyObject *const *args, Py_ssize
         rc = wk_terrain_walk(&s.fn, te, &s.pb, &s.sec, &st, steps, n_steps, &status, &strides,
                              &t, x, z_out);
     Py_END_ALLOW_THREADS
+    /* a signal: the walk ended with the INTERRUPTED status (its own outcome) unless
+     * Python's handler raised */
+    if (wkpy_signals_end() && wkpy_interrupted(0)) goto out;
     if (wkpy_run_failed(rc, 0, s.pb.n_phases)) goto out;
     PyObject *o_jz = want_jac ? wkpy_bytes_of(jz, n_jz, sizeof(double)) : Py_NewRef(Py_None);
     PyObject *o_tj = want_jac ? wkpy_bytes_of(tjac, n_tj, sizeof(double)) : Py_NewRef(Py_None);
@@ -162,7 +166,9 @@ PyDoc_STRVAR(terrain_ensemble_doc,
              "terrain_ensemble(*section, z0, terrain)\n--\n\n"
              "Many walks: run i from z0[i] (m, n_z) over terrain[i] (m, n_steps, 2), without\n"
              "the GIL.  Returns (status, strides): bytearrays of m int64, strides the strides\n"
-             "completed before the first failure (n_steps and status 0 when none failed).");
+             "completed before the first failure (n_steps and status 0 when none failed).\n"
+             "SIGINT or SIGTERM stops the walks within a step and raises (KeyboardInterrupt,\n"
+             "or the exception of Python's handler).");
 
 static PyObject *py_terrain_ensemble(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -195,11 +201,14 @@ static PyObject *py_terrain_ensemble(PyObject *self, PyObject *const *args, Py_s
         goto out;
     }
     int rc;
+    wkpy_signals_begin();
     Py_BEGIN_ALLOW_THREADS
     rc = wk_terrain_ensemble(&s.fn, te, &s.pb, &s.sec, (const double *)v_z0.buf, m,
                              (const double *)v_steps.buf, n_steps, buf, buf + m);
     Py_END_ALLOW_THREADS
-    if (!wkpy_run_failed(rc, 0, s.pb.n_phases))
+    if (wkpy_signals_end() && wkpy_interrupted(1)) {
+        /* the runs cut short carry no outcome of their own: never returned */
+    } else if (!wkpy_run_failed(rc, 0, s.pb.n_phases))
         result = Py_BuildValue("(NN)", wkpy_bytes_of(buf, m, sizeof(int64_t)),
                                wkpy_bytes_of(buf + m, m, sizeof(int64_t)));
     PyMem_Free(buf);

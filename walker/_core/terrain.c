@@ -320,6 +320,14 @@ int wk_terrain_ensemble(const wk_functions *fn, const wk_terrain_entry *te,
     if (buf == NULL) return WK_ERR_NOMEM;
     int rc = WK_OK;
     for (int64_t i = 0; i < m && rc == WK_OK; i++) {
+        if (wk_interrupt) {
+            /* a signal arrived (hybrid.h): the runs not walked yet end here */
+            for (int64_t j = i; j < m; j++) {
+                status[j] = WK_STATUS_INTERRUPTED;
+                strides[j] = 0;
+            }
+            break;
+        }
         double t;
         const wk_terrain_start st = {z0 + i * n_z, 0, NULL};
         rc = wk_terrain_walk(fn, te, tmpl, sec, &st, steps + i * n_steps * 2, n_steps,

@@ -171,7 +171,9 @@ int64_t wk_terrain_walk_start(const wk_problem *tmpl, const wk_section *sec,
 void wk_terrain_fill_nan(double *v, int64_t n);
 
 /* Many walks (Monte Carlo): run i from z0 (n_z) over steps + i * n_steps * 2; status[i] and
- * strides[i] (completed strides before the first failure).  Returns a wk_hybrid_solve
+ * strides[i] (completed strides before the first failure).  Polls wk_interrupt (hybrid.h)
+ * before each run and, through the integrator, every step: after a signal the run being
+ * walked and every later one end with WK_STATUS_INTERRUPTED.  Returns a wk_hybrid_solve
  * code. */
 int wk_terrain_ensemble(const wk_functions *fn, const wk_terrain_entry *te,
                         const wk_problem *tmpl, const wk_section *sec, const double *z0,
