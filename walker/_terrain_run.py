@@ -20,6 +20,8 @@ from walker.results import MapResult
 from walker.status import Status
 
 __all__ = [
+    "compiled_draws",
+    "ensemble_drawn",
     "ensemble_method",
     "walk",
     "check_model",
@@ -282,6 +284,98 @@ def ensemble(smap, z0, terrains, threads: int = 1):
     def run(chunk):
         a, b = chunk
         status, strides = _hybrid.terrain_ensemble(*args, z0[a:b], terrains[a:b])
+        return np.frombuffer(status, dtype=np.int64), np.frombuffer(strides, dtype=np.int64)
+
+    if len(chunks) <= 1:
+        parts = [run(c) for c in chunks]
+    else:
+        with ThreadPoolExecutor(max_workers=len(chunks)) as pool:
+            parts = list(pool.map(run, chunks))
+    if not parts:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    status = np.concatenate([p[0] for p in parts])
+    strides = np.concatenate([p[1] for p in parts])
+    return strides, status
+
+
+# --- terrain drawn in compiled code (walker/_core/terrain_draw.c) -------------------------
+
+_NORMAL: list = []  # [address or None]: numpy's random_standard_normal, looked up once
+
+
+def _normal_address():
+    """The address of numpy's ``random_standard_normal(bitgen_t *)`` (exported by
+    ``numpy.random._generator``), checked once against numpy's own draws; None when it
+    cannot be found or does not give numpy's numbers (walker then draws in Python)."""
+    if _NORMAL:
+        return _NORMAL[0]
+    import ctypes
+
+    from walker import _hybrid
+
+    address = None
+    try:
+        import numpy.random._generator as generator
+
+        symbol = ctypes.CDLL(generator.__file__).random_standard_normal
+        address = ctypes.cast(symbol, ctypes.c_void_p).value
+        runs = np.arange(3, dtype=np.int64)
+        got = _hybrid.terrain_draws(np.array([7], np.int64), address, 0.0, 1.0, 1.0, runs, 5)
+        children = np.random.SeedSequence(7).spawn(3)
+        want = np.stack([np.random.default_rng(c).standard_normal((5, 2)) for c in children])
+        if not np.array_equal(np.frombuffer(got, dtype=np.float64).reshape(3, 5, 2), want):
+            address = None
+    except (OSError, AttributeError, ImportError, ValueError):
+        address = None
+    _NORMAL.append(address)
+    return address
+
+
+def compiled_draws(seed: int, terrain) -> tuple | None:
+    """The draw settings of ``walker._hybrid.terrain_ensemble_drawn`` for runs seeded by the
+    children of ``numpy.random.SeedSequence(seed)`` over ``terrain`` (kind ``random``, its
+    ``slope_mean`` set): ``(entropy, normal, slope_mean, slope_std, height_std)``; None when
+    this build or this numpy cannot draw them in C, or the seed has more than 128 bits."""
+    seed = int(seed)
+    if seed < 0 or seed >= 1 << 128 or terrain.slope_mean is None:
+        return None
+    normal = _normal_address()
+    if normal is None:
+        return None
+    words = []
+    while True:
+        words.append(seed & 0xFFFFFFFF)
+        seed >>= 32
+        if not seed:
+            break
+    entropy = np.array(words, dtype=np.int64)
+    return (
+        entropy,
+        normal,
+        float(terrain.slope_mean),
+        float(terrain.slope_std),
+        float(terrain.height_std),
+    )
+
+
+def ensemble_drawn(smap, z0, draws, runs, n_steps: int, threads: int = 1):
+    """Walks of ``smap`` from ``z0`` (shape ``(n_z,)``) over the first ``n_steps`` rows of
+    each run in ``runs`` (int64 indices of the seed's children), the rows drawn in compiled
+    code as :func:`walker.mfpt.draw_terrains` draws them (``draws`` from
+    :func:`compiled_draws`), ``threads`` threads over contiguous blocks of runs.  Returns
+    ``(steps_completed, status)`` as :meth:`walker.stride.StrideMap.ensemble` does."""
+    from walker import _hybrid
+
+    z0 = np.ascontiguousarray(z0, dtype=np.float64)
+    runs = np.ascontiguousarray(runs, dtype=np.int64)
+    args = _args(smap)
+    m = runs.shape[0]
+    bounds = np.linspace(0, m, min(int(threads), max(m, 1)) + 1).astype(int)
+    chunks = [(a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True) if b > a]
+
+    def run(chunk):
+        a, b = chunk
+        status, strides = _hybrid.terrain_ensemble_drawn(*args, z0, *draws, runs[a:b], int(n_steps))
         return np.frombuffer(status, dtype=np.int64), np.frombuffer(strides, dtype=np.int64)
 
     if len(chunks) <= 1:

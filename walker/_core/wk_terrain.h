@@ -180,6 +180,31 @@ int wk_terrain_ensemble(const wk_functions *fn, const wk_terrain_entry *te,
                         int64_t m, const double *steps, int64_t n_steps, int64_t *status,
                         int64_t *strides);
 
+/* Terrain draws in compiled code (terrain_draw.c): walker.mfpt's per-run rows, run i's from
+ * the i-th child of numpy.random.SeedSequence(seed) (entropy: the seed's 32-bit words, at
+ * most 4, least significant first), slope slope_mean + slope_std N and drop height_std N
+ * per step; ``normal`` numpy's random_standard_normal(bitgen_t *). */
+typedef struct {
+    const uint32_t *entropy;
+    int64_t n_entropy;
+    double slope_mean, slope_std, height_std;
+    void *normal;
+} wk_terrain_draws;
+
+/* 1 when this build draws (128-bit integers), else 0. */
+int wk_terrain_draws_supported(void);
+
+/* Run ``run``'s first n_steps rows (n_steps, 2) into rows. */
+void wk_terrain_draw_rows(const wk_terrain_draws *d, int64_t run, int64_t n_steps, double *rows);
+
+/* wk_terrain_ensemble with the rows drawn here: run i (runs[i], the child's index) from z0
+ * (n_z) over its first n_steps rows; status[i], strides[i].  Polls wk_interrupt as
+ * wk_terrain_ensemble.  Returns a wk_hybrid_solve code. */
+int wk_terrain_ensemble_drawn(const wk_functions *fn, const wk_terrain_entry *te,
+                              const wk_problem *tmpl, const wk_section *sec, const double *z0,
+                              const wk_terrain_draws *d, const int64_t *runs, int64_t m,
+                              int64_t n_steps, int64_t *status, int64_t *strides);
+
 /* The terrain's heel strike of a floating-base walker (wk_plastic_heel_strike on terrain):
  * the impact of B at x (n_c coordinates and their rates) and the leg swap into x_new; the
  * impulse (along, normal to the step's plane G->slope) and the trailing foot's lift-off
