@@ -163,23 +163,60 @@ typedef struct {
     uint64_t (*next_raw)(void *st);
 } np_bitgen;
 
-void wk_terrain_draw_rows(const wk_terrain_draws *d, int64_t run, int64_t n_steps, double *rows)
+/* One run's stream of rows, drawn on demand (wk_terrain.extend). */
+typedef struct {
+    pcg64 g;
+    np_bitgen bg;
+    const wk_terrain_draws *d;
+    double *rows;
+    int64_t n_drawn, n_steps;
+} drawer;
+
+static void drawer_start(drawer *w, const wk_terrain_draws *d, int64_t run, int64_t n_steps,
+                         double *rows)
 {
     uint64_t s[4];
     child_state(d->entropy, d->n_entropy, (uint32_t)run, s);
-    pcg64 g;
-    pcg_seed(&g, s);
-    np_bitgen bg = {&g, pcg_next64, pcg_next32, pcg_next_double, pcg_next64};
-    double (*normal)(void *) = (double (*)(void *))d->normal;
-    /* walker.mfpt.draw_terrains: slope mean + std * N, drop height_std * N (0 without) */
-    for (int64_t k = 0; k < n_steps; k++) {
-        const double a = normal(&bg), b = normal(&bg);
+    pcg_seed(&w->g, s);
+    w->bg.state = &w->g;
+    w->bg.next_uint64 = pcg_next64;
+    w->bg.next_uint32 = pcg_next32;
+    w->bg.next_double = pcg_next_double;
+    w->bg.next_raw = pcg_next64;
+    w->d = d;
+    w->rows = rows;
+    w->n_drawn = 0;
+    w->n_steps = n_steps;
+}
+
+/* Draws rows up to k (at least: twice those drawn, 16 at first), as walker.mfpt.draw_terrains
+ * computes them: slope mean + std * N, drop height_std * N (0 without); returns the rows
+ * drawn.  The stream is sequential, so the rows do not depend on how they are batched. */
+static int64_t drawer_extend(void *ctx, int64_t k)
+{
+    drawer *w = (drawer *)ctx;
+    int64_t upto = 2 * w->n_drawn > 16 ? 2 * w->n_drawn : 16;
+    if (upto < k) upto = k;
+    if (upto > w->n_steps) upto = w->n_steps;
+    double (*normal)(void *) = (double (*)(void *))w->d->normal;
+    const wk_terrain_draws *d = w->d;
+    for (int64_t i = w->n_drawn; i < upto; i++) {
+        const double a = normal(&w->bg), b = normal(&w->bg);
         double slope = d->slope_mean, drop = 0.0;
         if (d->slope_std > 0.0) slope += d->slope_std * a;
         if (d->height_std > 0.0) drop = d->height_std * b;
-        rows[2 * k] = slope;
-        rows[2 * k + 1] = drop;
+        w->rows[2 * i] = slope;
+        w->rows[2 * i + 1] = drop;
     }
+    w->n_drawn = upto > w->n_drawn ? upto : w->n_drawn;
+    return w->n_drawn;
+}
+
+void wk_terrain_draw_rows(const wk_terrain_draws *d, int64_t run, int64_t n_steps, double *rows)
+{
+    drawer w;
+    drawer_start(&w, d, run, n_steps, rows);
+    drawer_extend(&w, n_steps);
 }
 
 #else
@@ -212,10 +249,17 @@ int wk_terrain_ensemble_drawn(const wk_functions *fn, const wk_terrain_entry *te
             break;
         }
         double t;
-        wk_terrain_draw_rows(d, runs[i], n_steps, rows);
         const wk_terrain_start st = {z0, 0, NULL};
+#ifdef __SIZEOF_INT128__
+        drawer w;
+        drawer_start(&w, d, runs[i], n_steps, rows);
+        rc = wk_terrain_walk_extended(fn, te, tmpl, sec, &st, rows, n_steps, drawer_extend, &w,
+                                      status + i, strides + i, &t, buf, buf + n_x);
+#else
+        wk_terrain_draw_rows(d, runs[i], n_steps, rows);
         rc = wk_terrain_walk(fn, te, tmpl, sec, &st, rows, n_steps, status + i, strides + i, &t,
                              buf, buf + n_x);
+#endif
     }
     free(buf);
     return rc;

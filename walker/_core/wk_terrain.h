@@ -61,6 +61,12 @@ typedef struct {
     int64_t n_params;
     int64_t slope_index;
     double p_buf[WK_TERRAIN_MAX_P];
+    /* rows drawn as the walk needs them (terrain_draw.c; NULL: steps holds them all):
+     * extend(extend_ctx, k) fills steps up to row k at least and returns the rows filled,
+     * n_ready */
+    int64_t (*extend)(void *extend_ctx, int64_t k);
+    void *extend_ctx;
+    int64_t n_ready;
 } wk_terrain;
 
 /* A model's terrain functions: guards and reset with the signatures of wk_system.h, called
@@ -140,6 +146,14 @@ typedef struct {
     int from_state;
     const double *previous;
 } wk_terrain_start;
+
+/* wk_terrain_walk over rows that extend(extend_ctx, k) fills as the walk reaches them (rows
+ * 0 .. k - 1 of ``steps`` at least; it returns how many are filled; see wk_terrain.extend). */
+int wk_terrain_walk_extended(const wk_functions *fn, const wk_terrain_entry *te,
+                             const wk_problem *tmpl, const wk_section *sec,
+                             const wk_terrain_start *st, const double *steps, int64_t n_steps,
+                             int64_t (*extend)(void *, int64_t), void *extend_ctx, int64_t *status,
+                             int64_t *strides, double *t, double *x, double *z_out);
 
 /* Walks from ``st`` over the n_steps steps of ``steps``, one integration of n_steps strides.
  * Fills status, strides (completed), t, the final state x (n_x) and section point z_out
