@@ -15,7 +15,8 @@ Two estimates:
   ``COMPLETED`` (a fall, a trip, a non-physical impact, no touchdown within ``t_max``, the
   rimless wheel rolling back).  Run ``i`` draws its terrain from ``numpy.random.default_rng``
   seeded by the ``i``-th child of ``numpy.random.SeedSequence(seed).spawn(runs)``, so the
-  result does not depend on ``jobs`` (threads) or on how the runs are split.  A run still
+  result does not depend on ``jobs`` (threads) or on how the runs are split.  The compiled
+  batch draws these rows itself, the same numbers (walker/_core/terrain_draw.c).  A run still
   walking after ``steps`` strides is walked again over twice as many (its first rows are the
   same draws) up to ``max_steps``; one still walking then is censored.
 * :func:`markov_chain` -- the discretised stride-map chain (:mod:`walker.markov`).
