@@ -43,9 +43,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))  # this tree's walker, not an installed one
 
-from walker import _hybrid, _section, load_scene  # noqa: E402
-from walker.integrate import PreparedRun  # noqa: E402
-from walker.stride import StrideMap  # noqa: E402
+from walker import _hybrid, load_scene  # noqa: E402
+from walker.simulation import _section  # noqa: E402
+from walker.simulation.integrate import PreparedRun  # noqa: E402
+from walker.simulation.stride import StrideMap  # noqa: E402
 
 
 def _per_call(fn, number: int) -> float:

@@ -62,8 +62,8 @@ def test_mfpt_markov_key(capsys):
             "0.01",
             "--markov",
         ],
-        ["mfpt", "gaits/five_link_hzd.toml", "--std", "0.01", "--runs", "4", "--seed", "1"],
-        ["gsn", "gaits/five_link_hzd.toml"],
+        ["mfpt", "gaits/double_pendulum.toml", "--std", "0.01", "--runs", "4", "--seed", "1"],
+        ["gsn", "gaits/double_pendulum.toml"],
         ["stepdown", "gaits/double_pendulum.toml"],
     ],
 )
@@ -78,3 +78,28 @@ def test_gsn_and_stepdown_json(capsys):
     assert code == 0 and g["gsn"] > 0 and len(g["step_time_response"]) == 10
     code, s = _json_of(capsys, ["stepdown", RIMLESS, "--json"])
     assert code == 0 and 0 < s["step_up"] < s["up_fails"] <= s["step_up"] + 1e-6
+
+
+def test_five_link_mfpt_runs(capsys):
+    """The actuated five-link walker (its terrain entry's compiled lift): ``walker mfpt``
+    gives the same runs for any --jobs, and every failure is counted under its status."""
+    argv = ["mfpt", "gaits/five_link_hzd.toml", "--std", "0.02", "--runs", "4", "--seed", "2"]
+    code1, one = _json_of(capsys, [*argv, "--json", "--jobs", "1"])
+    code2, two = _json_of(capsys, [*argv, "--json", "--jobs", "2"])
+    assert code1 == code2 == 0 and one == two
+    assert one["runs"] == 4 and 0 <= one["failed"] <= 4 and one["mfpt"] > 0
+    assert sum(one["failures"].values()) == one["failed"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("scene", "one_sided"),
+    [("gaits/five_link_hzd.toml", False), ("gaits/three_link_grizzle.toml", True)],
+)
+def test_actuated_gsn_runs(capsys, scene, one_sided):
+    """``walker gsn`` on the actuated walkers gives the norm of
+    :func:`walker.analysis.gsn.gait_sensitivity` (checked against finite differences in
+    tests/test_gsn.py); the three-link gait's is one-sided (docs/measures.md)."""
+    code, g = _json_of(capsys, ["gsn", scene, "--json"])
+    assert code == 0 and g["status"] == "COMPLETED" and g["gsn"] > 0
+    assert g["one_sided"] == one_sided

@@ -73,3 +73,39 @@ def test_sigint_stops_the_search_through_callbacks():
     code, err = _interrupted_find(signal.SIGINT, str(REPO / "gaits/five_link_hzd.toml"))
     assert code == 130, err
     assert err == "walker: interrupted\n"
+
+
+def _interrupted_mfpt(signum: int, jobs: int) -> tuple[int, str]:
+    """``walker mfpt`` on a gait that almost never falls at this roughness: its compiled
+    Monte-Carlo batch (walker/_core/terrain.c, ``terrain_ensemble``) walks each block for
+    far longer than the hang guard without the poll."""
+    argv = ["mfpt", SCENE, "--std", "0.001", "--runs", "200000", "--seed", "1"]
+    child = subprocess.Popen(
+        [sys.executable, "-m", "walker", *argv, "--jobs", str(jobs)],
+        cwd=REPO,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        deadline = time.monotonic() + 300
+        while _cpu_seconds(child.pid) < 4.0:
+            assert child.poll() is None, child.communicate()
+            assert time.monotonic() < deadline, "the child never got going"
+            time.sleep(0.1)
+        child.send_signal(signum)
+        out, err = child.communicate(timeout=HANG_GUARD)
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.communicate()
+    return child.returncode, err
+
+
+@pytest.mark.parametrize(
+    ("signum", "jobs"), [(signal.SIGINT, 1), (signal.SIGTERM, 2)], ids=["SIGINT-1", "SIGTERM-2"]
+)
+def test_a_signal_stops_the_compiled_monte_carlo(signum, jobs):
+    code, err = _interrupted_mfpt(signum, jobs)
+    assert code == 130, err
+    assert err == "walker: interrupted\n"

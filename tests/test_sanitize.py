@@ -254,7 +254,7 @@ def test_fuzz_solve_argument_of_a_wrong_type(name, value):
     r = _refused_naming_it(lambda: call(**args), name)
     if r is not None:
         assert len(r.x) == 8 * 4
-    if name != "terrain":  # the same, bound once (walker.integrate.PreparedRun's way)
+    if name != "terrain":  # the same, bound once (walker.simulation.integrate.PreparedRun's way)
         start = {"x0": args.pop("x0"), "p": args.pop("p")}
         run = _hybrid.PreparedSolve(**args).run
         r = _refused_naming_it(lambda: run(**start), name)

@@ -102,7 +102,7 @@ PyObject *wkpy_kwlist_names(const wkpy_kwlist *kw);
 enum { WKPY_SYSTEM_FIELDS(WKPY_SLOT_ENUM, WKPY_SYS_) WKPY_SYSTEM_N };
 
 /* The solver settings, in solve()'s and the section's lists: the method's code
- * (walker.integrate.METHODS), adaptive, rtol, atol, first_step [s], max_step [s],
+ * (walker.simulation.integrate.METHODS), adaptive, rtol, atol, first_step [s], max_step [s],
  * max_steps (the run's, or per stride), n_interior (guard samples inside a step) and
  * screen_interior (keep them only in a step where a guard may come near zero). */
 #define WKPY_SOLVER_FIELDS(X, P)                                                             \

@@ -4,7 +4,7 @@
  * wkpy_section_parse reads the keywords that basin_points and PreparedMap share
  * (WKPY_SECTION_FIELDS: the system, the solver settings, the affine lift, the projection and
  * the start checks) into a wkpy_section that owns copies of the arrays.  PreparedMap keeps one, filled when
- * walker.stride.StrideMap prepares its run, so a call parses only z, n_strides and
+ * walker.simulation.stride.StrideMap prepares its run, so a call parses only z, n_strides and
  * jacobian.  Declared in _hybridbinding.h.
  */
 #define PY_SSIZE_T_CLEAN

@@ -66,7 +66,7 @@ PyDoc_STRVAR(solve_doc,
              "      first_step, max_step, max_steps, n_interior, screen_interior, output,\n"
              "      want_jac, sample_times=None, jacobian_seed=None, n_p=None)\n"
              "--\n\n"
-             "One run of the hybrid integrator (see walker/integrate.py, which validates the\n"
+             "One run of the hybrid integrator (see walker/simulation/integrate.py, which validates the\n"
              "input and is the way to call this).  Keyword arguments only.  rhs, guards,\n"
              "reset, jac, ctx: int addresses (wk_system.h; jac = 0: none, ctx = 0: NULL).\n"
              "directions: int64 (n_phases, n_guards); x0 (n_x,), p, sample_times: float64\n"
@@ -339,7 +339,7 @@ static PyMethodDef prepared_solve_methods[] = {
 PyDoc_STRVAR(prepared_solve_doc,
              "PreparedSolve(**keywords)\n\n"
              "solve()'s settings bound once (keyword arguments only, any of solve()'s but\n"
-             "terrain; walker.integrate.PreparedRun binds the system, the solver settings, t0\n"
+             "terrain; walker.simulation.integrate.PreparedRun binds the system, the solver settings, t0\n"
              "and output): run() takes the rest by keyword.  A call with many keywords makes\n"
              "the interpreter build a dict; bound here, a run passes only the few that change.\n"
              "Process-local (it holds function addresses): not picklable.");
@@ -457,7 +457,7 @@ static wkpy_kwlist basin_kw = {"basin_points", BASIN_N, BASIN_N, basin_names, ba
 PyDoc_STRVAR(basin_points_doc,
              "basin_points(*, **section, z0, target, tol, n_strides, period, weight, radius)\n"
              "    -> (outcome, strides)\n\n"
-             "Iterate the stride map from each row of z0 (m, n_z) as walker.basin.basin_chunk\n"
+             "Iterate the stride map from each row of z0 (m, n_z) as walker.analysis.basin.basin_chunk\n"
              "does (batch.h), without the GIL.  Keyword arguments only: the section's\n"
              "(SECTION_FIELDS, as PreparedMap takes them) and target (n_z,), tol, n_strides,\n"
              "period; radius > 0 also stops a point inside ||weight (z - target)||_2 <=\n"
@@ -610,7 +610,7 @@ PyMODINIT_FUNC PyInit__hybrid(void)
         Py_DECREF(m);
         return NULL;
     }
-    /* The keywords each call takes, by name (walker/_section.py reads SECTION_FIELDS). */
+    /* The keywords each call takes, by name (walker/simulation/_section.py reads SECTION_FIELDS). */
     if (add_names(m, "SOLVE_FIELDS", &terrain_solve_kw) < 0 ||
         add_names(m, "SECTION_FIELDS", &wkpy_section_kw) < 0 ||
         add_names(m, "BASIN_FIELDS", &basin_kw) < 0) {

@@ -202,7 +202,57 @@ static void terrain_reset(int64_t phase, int64_t k, double t, const double *x, c
                                    x_new, impulse, out, T->inner);
 }
 
+/* walker.models.five_link._tibia_on_ground: the swing tibia's angle that puts the swing foot
+ * on the scene's slope behind its knee, and (with dtib non-NULL) its derivatives by z[0..3];
+ * the same operations.  NaN (and NaN derivatives) where the foot cannot reach the slope (the
+ * Python lift raises; the compiled start checks then refuse the start). */
+static double tibia_on_ground(const double *z, const double *p, double *dtib)
+{
+    const double lf = p[I_LENGTH_FEMUR], lt = p[I_LENGTH_TIBIA], s = p[I_SLOPE];
+    const double tst = z[0] - 0.5 * z[1], fst = z[0] + 0.5 * z[1];
+    const double c = (lt * cos(tst + s) + lf * cos(fst + s) - lf * cos(z[3] + s)) / lt;
+    if (!(-1.0 < c && c < 1.0)) {
+        if (dtib != NULL)
+            for (int i = 0; i < 4; i++) dtib[i] = NAN;
+        return NAN;
+    }
+    const double psi = -acos(c);
+    if (dtib != NULL) {
+        const double root = sqrt(1.0 - c * c);
+        dtib[0] = (-(lt * sin(tst + s) + lf * sin(fst + s)) / lt) / root;
+        dtib[1] = ((0.5 * lt * sin(tst + s) - 0.5 * lf * sin(fst + s)) / lt) / root;
+        dtib[2] = 0.0 / root;
+        dtib[3] = (lf * sin(z[3] + s) / lt) / root;
+    }
+    return psi - s;
+}
+
+/* walker.models.five_link.lift: the section point z (9) -> the full state (12) just after
+ * heel strike; the same operations. */
+static void five_link_lift(const double *z, const double *p, double *out, void *ctx)
+{
+    (void)ctx;
+    const double tib = tibia_on_ground(z, p, NULL);
+    for (int i = 0; i < 4; i++) out[i] = z[i];
+    out[4] = tib;
+    for (int i = 0; i < 5; i++) out[5 + i] = z[4 + i];
+    out[10] = 0.0;
+    out[11] = 0.0;
+}
+
+/* walker.models.five_link.lift_jacobian at z, out (12, 9) row-major. */
+static void five_link_lift_jacobian(const double *z, const double *p, double *out, void *ctx)
+{
+    (void)ctx;
+    double dtib[4];
+    (void)tibia_on_ground(z, p, dtib);
+    for (int i = 0; i < N_X * 9; i++) out[i] = 0.0;
+    for (int i = 0; i < 4; i++) out[i * 9 + i] = 1.0;
+    for (int j = 0; j < 4; j++) out[4 * 9 + j] = dtib[j];
+    for (int i = 0; i < 5; i++) out[(5 + i) * 9 + 4 + i] = 1.0;
+}
+
 const wk_terrain_entry wk_terrain_entry_five_link = {
-    WK_ENTRY_NAME_five_link, wk_model_five_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1, -1,
-    0,
+    WK_ENTRY_NAME_five_link, wk_model_five_link_guards, I_SLOPE, terrain_guards, terrain_reset, 1, -1, 0,
+    five_link_lift, five_link_lift_jacobian,
 };

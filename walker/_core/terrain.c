@@ -67,6 +67,8 @@ void wk_terrain_update_plane(wk_terrain *T)
 void wk_terrain_set_step(wk_terrain *T, int64_t index)
 {
     T->index = index;
+    if (T->extend != NULL && index >= T->n_ready && index < T->n_steps)
+        T->n_ready = T->extend(T->extend_ctx, index + 1);
     const int64_t prev = index - 1;
     const int has = index >= 0 && index < T->n_steps;
     const int has_prev = prev >= 0 && prev < T->n_steps;
@@ -280,9 +282,24 @@ int wk_terrain_walk(const wk_functions *fn, const wk_terrain_entry *te, const wk
                     int64_t n_steps, int64_t *status, int64_t *strides, double *t, double *x,
                     double *z_out)
 {
+    return wk_terrain_walk_extended(fn, te, tmpl, sec, st, steps, n_steps, NULL, NULL, status,
+                                    strides, t, x, z_out);
+}
+
+int wk_terrain_walk_extended(const wk_functions *fn, const wk_terrain_entry *te,
+                             const wk_problem *tmpl, const wk_section *sec,
+                             const wk_terrain_start *st, const double *steps, int64_t n_steps,
+                             int64_t (*extend)(void *, int64_t), void *extend_ctx, int64_t *status,
+                             int64_t *strides, double *t, double *x, double *z_out)
+{
     const int64_t n_x = tmpl->n_x;
     wk_terrain T;
     wk_terrain_init(&T, te, tmpl, steps, n_steps, st->previous);
+    if (extend != NULL) {
+        T.extend = extend;
+        T.extend_ctx = extend_ctx;
+        wk_terrain_set_step(&T, 0);
+    }
     int64_t phase0 = 0;
     *strides = 0;
     *t = 0.0;
@@ -322,6 +339,14 @@ int wk_terrain_ensemble(const wk_functions *fn, const wk_terrain_entry *te,
     if (buf == NULL) return WK_ERR_NOMEM;
     int rc = WK_OK;
     for (int64_t i = 0; i < m && rc == WK_OK; i++) {
+        if (wk_interrupt) {
+            /* a signal arrived (hybrid.h): the runs not walked yet end here */
+            for (int64_t j = i; j < m; j++) {
+                status[j] = WK_INTERRUPTED;
+                strides[j] = 0;
+            }
+            break;
+        }
         double t;
         const wk_terrain_start st = {z0 + i * n_z, 0, NULL};
         rc = wk_terrain_walk(fn, te, tmpl, sec, &st, steps + i * n_steps * 2, n_steps,

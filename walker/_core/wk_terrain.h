@@ -61,6 +61,12 @@ typedef struct {
     int64_t n_params;
     int64_t slope_index;
     double p_buf[WK_TERRAIN_MAX_P];
+    /* rows drawn as the walk needs them (terrain_draw.c; NULL: steps holds them all):
+     * extend(extend_ctx, k) fills steps up to row k at least and returns the rows filled,
+     * n_ready */
+    int64_t (*extend)(void *extend_ctx, int64_t k);
+    void *extend_ctx;
+    int64_t n_ready;
 } wk_terrain;
 
 /* A model's terrain functions: guards and reset with the signatures of wk_system.h, called
@@ -77,6 +83,11 @@ typedef struct {
      * the stance foot rolls on (wk_terrain_rolling_rhs) */
     int64_t radius_index;
     int64_t n_params;
+    /* a section lift (and its Jacobian) for terrain runs of a model whose registry entry
+     * has none (wk_models.h; the five-link walker's: its lift solves for the swing tibia's
+     * angle), NULL otherwise: walker/simulation/_terrain_run.py passes them to the section settings */
+    wk_state_fn lift;
+    wk_state_fn lift_jacobian;
 } wk_terrain_entry;
 
 /* The run's functions: the model's with its terrain guards and reset, ctx T (T's inner,
@@ -136,6 +147,14 @@ typedef struct {
     const double *previous;
 } wk_terrain_start;
 
+/* wk_terrain_walk over rows that extend(extend_ctx, k) fills as the walk reaches them (rows
+ * 0 .. k - 1 of ``steps`` at least; it returns how many are filled; see wk_terrain.extend). */
+int wk_terrain_walk_extended(const wk_functions *fn, const wk_terrain_entry *te,
+                             const wk_problem *tmpl, const wk_section *sec,
+                             const wk_terrain_start *st, const double *steps, int64_t n_steps,
+                             int64_t (*extend)(void *, int64_t), void *extend_ctx, int64_t *status,
+                             int64_t *strides, double *t, double *x, double *z_out);
+
 /* Walks from ``st`` over the n_steps steps of ``steps``, one integration of n_steps strides.
  * Fills status, strides (completed), t, the final state x (n_x) and section point z_out
  * (n_z, NaN unless completed).  Returns a wk_hybrid_solve code. */
@@ -166,12 +185,39 @@ int64_t wk_terrain_walk_start(const wk_problem *tmpl, const wk_section *sec,
 void wk_terrain_fill_nan(double *v, int64_t n);
 
 /* Many walks (Monte Carlo): run i from z0 (n_z) over steps + i * n_steps * 2; status[i] and
- * strides[i] (completed strides before the first failure).  Returns a wk_hybrid_solve
+ * strides[i] (completed strides before the first failure).  Polls wk_interrupt (hybrid.h)
+ * before each run and, through the integrator, every step: after a signal the run being
+ * walked and every later one end with WK_INTERRUPTED.  Returns a wk_hybrid_solve
  * code. */
 int wk_terrain_ensemble(const wk_functions *fn, const wk_terrain_entry *te,
                         const wk_problem *tmpl, const wk_section *sec, const double *z0,
                         int64_t m, const double *steps, int64_t n_steps, int64_t *status,
                         int64_t *strides);
+
+/* Terrain draws in compiled code (terrain_draw.c): walker.analysis.mfpt's per-run rows, run i's from
+ * the i-th child of numpy.random.SeedSequence(seed) (entropy: the seed's 32-bit words, at
+ * most 4, least significant first), slope slope_mean + slope_std N and drop height_std N
+ * per step; ``normal`` numpy's random_standard_normal(bitgen_t *). */
+typedef struct {
+    const uint32_t *entropy;
+    int64_t n_entropy;
+    double slope_mean, slope_std, height_std;
+    void *normal;
+} wk_terrain_draws;
+
+/* 1 when this build draws (128-bit integers), else 0. */
+int wk_terrain_draws_supported(void);
+
+/* Run ``run``'s first n_steps rows (n_steps, 2) into rows. */
+void wk_terrain_draw_rows(const wk_terrain_draws *d, int64_t run, int64_t n_steps, double *rows);
+
+/* wk_terrain_ensemble with the rows drawn here: run i (runs[i], the child's index) from z0
+ * (n_z) over its first n_steps rows; status[i], strides[i].  Polls wk_interrupt as
+ * wk_terrain_ensemble.  Returns a wk_hybrid_solve code. */
+int wk_terrain_ensemble_drawn(const wk_functions *fn, const wk_terrain_entry *te,
+                              const wk_problem *tmpl, const wk_section *sec, const double *z0,
+                              const wk_terrain_draws *d, const int64_t *runs, int64_t m,
+                              int64_t n_steps, int64_t *status, int64_t *strides);
 
 /* The terrain's heel strike of a floating-base walker (wk_plastic_heel_strike on terrain):
  * the impact of B at x (n_c coordinates and their rates) and the leg swap into x_new; the

@@ -81,9 +81,13 @@ class GaitSensitivity:
         the gait's Floquet multipliers (eigenvalues of ``A``).
     status : Status
         ``COMPLETED``; else the failure of a stride the linearisation needs (the disturbed
-        stride fails for the smallest step: the norm does not exist), ``gsn`` NaN.
+        stride fails for the smallest steps of both signs: the norm does not exist), ``gsn``
+        NaN.
     message : str
-        which stride failed, when one did.
+        which stride failed, when one did; with ``one_sided``, why.
+    one_sided : bool
+        the small steps down fail (module docstring, "One-sided"): the finite-difference
+        parts are one-sided, from steps up.
     """
 
     gsn: float
@@ -93,6 +97,7 @@ class GaitSensitivity:
     multipliers: np.ndarray
     status: Status = Status.COMPLETED
     message: str = ""
+    one_sided: bool = False
 
     def as_dict(self) -> dict:
         return {
@@ -104,6 +109,7 @@ class GaitSensitivity:
             "tail": float(self.tail),
             "section": [float(v) for v in self.section],
             "multipliers_abs": [float(abs(m)) for m in self.multipliers],
+            "one_sided": bool(self.one_sided),
         }
 
 
@@ -116,17 +122,32 @@ def _richardson(f, h):
     return (4.0 * central(0.5 * h) - central(h)) / 3.0
 
 
+def _one_sided(f, h):
+    """The derivative of ``f`` at 0 from the side of ``h`` only: forward differences
+    ``(f(s) - f(0)) / s`` at ``s = h, h/2, h/4``, Richardson-extrapolated twice (error of
+    order ``h**3``)."""
+    f0 = np.asarray(f(0.0))
+
+    def forward(step):
+        return (np.asarray(f(step)) - f0) / step
+
+    d1, d2, d4 = forward(h), forward(0.5 * h), forward(0.25 * h)
+    first, second = 2.0 * d2 - d1, 2.0 * d4 - d2
+    return (4.0 * second - first) / 3.0
+
+
 class _ProbeFailed(Exception):
     """A stride the linearisation needs failed (an outcome, returned as a status)."""
 
-    def __init__(self, status, what):
+    def __init__(self, status, what, drop=0.0):
         super().__init__(f"{what} failed ({status.name})")
         self.status = status
+        self.drop = drop  # the disturbance [m] of the probe that failed
 
 
-def _ok(r, what):
+def _ok(r, what, drop=0.0):
     if r.status != Status.COMPLETED:
-        raise _ProbeFailed(r.status, what)
+        raise _ProbeFailed(r.status, what, drop)
     return r
 
 
@@ -183,13 +204,23 @@ def _linearised(P, z, A, multipliers, n_shown):
 
     def first_two(h):
         rows = np.array([[slope, h], [slope, 0.0]])
-        r1 = _ok(P(z, terrain=rows[:1]), "the disturbed stride")
-        r2 = _ok(P(z, terrain=rows, n_strides=2), "the stride after the disturbance")
+        r1 = _ok(P(z, terrain=rows[:1]), "the disturbed stride", h)
+        r2 = _ok(P(z, terrain=rows, n_strides=2), "the stride after the disturbance", h)
         s1 = step_length(P.model, r1.state, p)
         s2 = step_length(P.model, r2.state, p)
         return [r1.step_time, s1, r2.step_time - r1.step_time, s2]
 
-    d01 = _richardson(first_two, FD_STEP)
+    one_sided, message = False, ""
+    try:
+        d01 = _richardson(first_two, FD_STEP)
+    except _ProbeFailed as down:
+        if not down.drop > 0.0:
+            raise
+        # small steps down fail (the swing foot meets the lowered plane before the end of
+        # its swing): the derivative of the touchdown at the end of the swing, from steps up
+        d01 = _one_sided(first_two, -FD_STEP)
+        one_sided = True
+        message = f"one-sided (steps up): {down} for a step down of {down.drop:.3g} m"
     rows = np.array([[slope, 0.0], [slope, 0.0]])
     dz2 = _ok(P(z, terrain=rows, n_strides=2, jacobian=True), "the terrain run").terrain_jac[:, 1]
     C = np.empty((2, z.size))
@@ -208,7 +239,9 @@ def _linearised(P, z, A, multipliers, n_shown):
     W = solve_discrete_lyapunov(A.T, C.T @ C)
     tail = float(dz @ W @ dz)
     gsn = math.sqrt(float(np.sum(response**2)) + tail)
-    return GaitSensitivity(gsn, response, tail, z.copy(), multipliers)
+    return GaitSensitivity(
+        gsn, response, tail, z.copy(), multipliers, message=message, one_sided=one_sided
+    )
 
 
 @dataclass

@@ -15,7 +15,8 @@ Two estimates:
   but ``COMPLETED`` (a fall, a trip, a non-physical impact, no touchdown within ``t_max``, the
   rimless wheel rolling back).  Run ``i`` draws its terrain from ``numpy.random.default_rng``
   seeded by the ``i``-th child of ``numpy.random.SeedSequence(seed).spawn(runs)``, so the
-  result does not depend on ``jobs`` (threads) or on how the runs are split.  A run still
+  result does not depend on ``jobs`` (threads) or on how the runs are split.  The compiled
+  batch draws these rows itself, the same numbers (walker/_core/terrain_draw.c).  A run still
   walking after ``steps`` strides is walked again over twice as many (its first rows are the
   same draws) up to ``max_steps``; one still walking then is censored.
 * :func:`markov_chain` -- the discretised stride-map chain (:mod:`walker.analysis.markov`).
@@ -220,7 +221,6 @@ def monte_carlo(
     slope_mean = float(smap.params.slope)
     terrain = Terrain("random", slope_mean=slope_mean, slope_std=slope_std, height_std=height_std)
     chunk_runs = _int("chunk_runs", chunk_runs, 1)
-    children = run_seeds(seed, runs)
     done = np.zeros(runs, dtype=np.int64)
     status = np.zeros(runs, dtype=np.int64)
 
@@ -240,11 +240,11 @@ def monte_carlo(
     if executor is not None:
         _run_tasks(executor, smap, walk, seed, runs, min(chunk_runs, runs), store, done, status)
     elif store is None:
-        _walk_runs(smap, *walk, children, np.arange(runs), done, status)
+        _walk_runs(smap, *walk, seed, np.arange(runs), done, status)
     else:
         for i in store.pending_chunks():
             rows = store.chunk_slice(i)
-            _walk_runs(smap, *walk, children, np.arange(rows.start, rows.stop), done, status)
+            _walk_runs(smap, *walk, seed, np.arange(rows.start, rows.stop), done, status)
             store.write_chunk(i, {"steps": done[rows], "status": status[rows]})
         columns = store.table().columns
         done[:], status[:] = columns["steps"], columns["status"]
@@ -259,10 +259,9 @@ def walk_chunk(section_map, walk, seed, runs, first, stop):
     from walker.analysis.sweep_chains import _materialize
 
     smap = _materialize(section_map)
-    children = run_seeds(seed, runs)
     done = np.zeros(runs, dtype=np.int64)
     status = np.zeros(runs, dtype=np.int64)
-    _walk_runs(smap, *walk, children, np.arange(first, stop), done, status)
+    _walk_runs(smap, *walk, seed, np.arange(first, stop), done, status)
     return done[first:stop], status[first:stop]
 
 
@@ -300,19 +299,31 @@ def _run_tasks(executor, smap, walk, seed, runs, chunk, store, done, status) -> 
     run_chunks(executor, walk_chunk, (task(i) for i in pending), finish, own=False)
 
 
-def _walk_runs(smap, z0, terrain, jobs, steps, max_steps, children, idx, done, status) -> None:
+def _walk_runs(smap, z0, terrain, jobs, steps, max_steps, seed, idx, done, status) -> None:
     """Walk the runs ``idx`` to their first failure or ``max_steps`` (doubling the horizon
     from ``steps``), into ``done`` and ``status``: each run's result depends on its own seed
-    only."""
+    (the child of ``SeedSequence(seed)`` at its index) only.  The rows are drawn inside the
+    compiled batch where it can draw numpy's numbers (walker/_core/terrain_draw.c), else
+    here (:func:`draw_terrains`), the same rows either way."""
+    from walker.simulation import _terrain_run
+
     pending = idx
     n = min(steps, max_steps)
+    compiled = _terrain_run.compiled_draws(seed, terrain)
+    children = None
     while pending.size:
-        block = max(1, ROWS_PER_BLOCK // n)
-        for a in range(0, pending.size, block):
-            part = pending[a : a + block]
-            rows = draw_terrains([children[i] for i in part], n, terrain)
-            k, st = smap.ensemble(z0, rows, threads=jobs)
-            done[part], status[part] = k, st
+        if compiled is not None:
+            k, st = _terrain_run.ensemble_drawn(smap, z0, compiled, pending, n, threads=jobs)
+            done[pending], status[pending] = k, st
+        else:
+            if children is None:
+                children = run_seeds(seed, int(idx.max()) + 1)
+            block = max(1, ROWS_PER_BLOCK // n)
+            for a in range(0, pending.size, block):
+                part = pending[a : a + block]
+                rows = draw_terrains([children[i] for i in part], n, terrain)
+                k, st = smap.ensemble(z0, rows, threads=jobs)
+                done[part], status[part] = k, st
         if n >= max_steps:
             break
         pending = pending[status[pending] == 0]

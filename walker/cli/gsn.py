@@ -55,6 +55,8 @@ def cmd_gsn(args) -> int:
         return code
     print(f"scene   {scene.path}  (model {scene.model})")
     print(f"GSN     {g.gsn:.10g}  (step time [s/m] and step length [m/m] per unit step down)")
+    if g.one_sided:
+        print(f"note    {g.message}")
     print("stride  dT/dh [s/m]     dS/dh [1]")
     for k, (t, s) in enumerate(g.response):
         print(f"{k:>6d}  {t: .6e}  {s: .6e}")

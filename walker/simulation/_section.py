@@ -82,7 +82,7 @@ def compiled_call_fits(model, p, t_max, fast) -> bool:
     return lift_fits and (isinstance(t_max, float) or (type(t_max) is int and abs(t_max) < 2**53))
 
 
-def section_args(model, t_max, cached, run, lift_a=None, proj=None) -> dict:
+def section_args(model, t_max, cached, run, lift_a=None, proj=None, lift=None) -> dict:
     """The settings of the compiled stride map, the keywords that
     ``walker._hybrid.basin_points`` and ``walker._hybrid.PreparedMap`` take
     (``walker._hybrid.SECTION_FIELDS``): the system and solver settings of ``run`` (a
@@ -91,11 +91,13 @@ def section_args(model, t_max, cached, run, lift_a=None, proj=None) -> dict:
     compiled start phase, the per-stride ``t_max`` and the compiled lift's addresses (0 for
     the affine lift).  ``cached`` is the map's prepared run (``StrideMap._prepared``);
     ``lift_a`` (the affine lift's matrix) and ``proj`` (the projection's indices, int64)
-    when the caller has them already."""
+    when the caller has them already; ``lift``: the addresses ``(lift, lift_jacobian)`` of a
+    compiled lift to take in place of the model's (a terrain run's, ``_hybrid.terrain_lift``)."""
     p = cached[1]
     (offset, fall_angle), n_q, wound, _, energy_address, kinetic_limit = cached[2]
     n_z, n_x = model.n_z, model.n_x
-    lift = compiled_lift(model) if cached[5][1] is None else None
+    if lift is None:
+        lift = compiled_lift(model) if cached[5][1] is None else None
     if lift is None:  # the affine lift x = lift_a z + lift_b
         if lift_a is None:
             lift_a = model.lift_jacobian(np.zeros(n_z), p)

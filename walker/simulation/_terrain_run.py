@@ -20,6 +20,8 @@ from walker.simulation import _section
 from walker.status import Status
 
 __all__ = [
+    "compiled_draws",
+    "ensemble_drawn",
     "ensemble_method",
     "walk",
     "check_model",
@@ -46,9 +48,23 @@ def _args(smap) -> tuple:
         return kept[1]
     check_supported(smap)
     run, _, _ = smap._prepared(1)
-    args = _section.section_tuple(_section.section_args(smap.model, smap.t_max, cached, run))
+    lift = _terrain_lift(cached[4]) if cached[6] is None else None
+    args = _section.section_tuple(
+        _section.section_args(smap.model, smap.t_max, cached, run, lift=lift)
+    )
     smap.__dict__[_KEY] = (cached, args)
     return args
+
+
+def _terrain_lift(system):
+    """The addresses ``(lift, lift_jacobian)`` of the compiled section lift the terrain runs
+    of ``system``'s model take when the model's registry entry has none (the five-link
+    walker's, walker/_core/model_five_link.c), else None."""
+    from walker import _hybrid
+    from walker.simulation.hybrid_system import _compiled
+
+    guards = _compiled(system)[1]
+    return _hybrid.terrain_lift(guards) if guards else None
 
 
 def check_model(model, params, system) -> None:
@@ -77,14 +93,16 @@ def check_supported(smap, what: str = "terrain") -> None:
         smap._prepared()
         cached = smap.__dict__["_run"]
     check_model(smap.model, smap.params, cached[4])
-    if cached[6] is None:  # no compiled call (walker.simulation._section.compiled_call_fits)
+    # no compiled call (walker.simulation._section.compiled_call_fits) and no compiled terrain lift
+    if cached[6] is None and _terrain_lift(cached[4]) is None:
         raise ValueError(f"{what} is not supported for `{smap.model.name}` yet")
 
 
 def _python_call(smap, z, n_strides, rows) -> MapResult:
     """A terrain call of a map without a compiled call (its lift is neither affine nor
-    compiled: the five-link walker's): the model's lift, then one run of the map's system
-    (as :func:`walker.simulation.stride.simulate` runs it), projected; no Jacobians."""
+    compiled) and without a compiled terrain lift (:func:`_terrain_lift`): the model's
+    lift, then one run of the map's system (as :func:`walker.simulation.stride.simulate` runs it),
+    projected; no Jacobians."""
     from walker.simulation.integrate import _solve
     from walker.simulation.region import stride_max_steps
 
@@ -176,9 +194,11 @@ def terrain_call(smap, z, jacobian, n_strides, terrain, previous=None) -> MapRes
         cached = smap.__dict__["_run"]
     if cached[6] is None:
         check_model(smap.model, smap.params, cached[4])
-        if jacobian or previous is not None:
-            check_supported(smap, "the terrain Jacobian (and `previous`)")
-        return _python_call(smap, z, int(n_strides), rows)
+        if _terrain_lift(cached[4]) is None:
+            if jacobian or previous is not None:
+                check_supported(smap, "the terrain Jacobian (and `previous`)")
+            return _python_call(smap, z, int(n_strides), rows)
+        smap.model.lift(z, cached[1])  # the model's checks of z (a ValueError naming it)
     return _walk(smap, z, False, rows, jacobian, previous)
 
 
@@ -266,6 +286,98 @@ def ensemble(smap, z0, terrains, threads: int = 1):
     def run(chunk):
         a, b = chunk
         status, strides = _hybrid.terrain_ensemble(*args, z0[a:b], terrains[a:b])
+        return np.frombuffer(status, dtype=np.int64), np.frombuffer(strides, dtype=np.int64)
+
+    if len(chunks) <= 1:
+        parts = [run(c) for c in chunks]
+    else:
+        with ThreadPoolExecutor(max_workers=len(chunks)) as pool:
+            parts = list(pool.map(run, chunks))
+    if not parts:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    status = np.concatenate([p[0] for p in parts])
+    strides = np.concatenate([p[1] for p in parts])
+    return strides, status
+
+
+# --- terrain drawn in compiled code (walker/_core/terrain_draw.c) -------------------------
+
+_NORMAL: list = []  # [address or None]: numpy's random_standard_normal, looked up once
+
+
+def _normal_address():
+    """The address of numpy's ``random_standard_normal(bitgen_t *)`` (exported by
+    ``numpy.random._generator``), checked once against numpy's own draws; None when it
+    cannot be found or does not give numpy's numbers (walker then draws in Python)."""
+    if _NORMAL:
+        return _NORMAL[0]
+    import ctypes
+
+    from walker import _hybrid
+
+    address = None
+    try:
+        import numpy.random._generator as generator
+
+        symbol = ctypes.CDLL(generator.__file__).random_standard_normal
+        address = ctypes.cast(symbol, ctypes.c_void_p).value
+        runs = np.arange(3, dtype=np.int64)
+        got = _hybrid.terrain_draws(np.array([7], np.int64), address, 0.0, 1.0, 1.0, runs, 5)
+        children = np.random.SeedSequence(7).spawn(3)
+        want = np.stack([np.random.default_rng(c).standard_normal((5, 2)) for c in children])
+        if not np.array_equal(np.frombuffer(got, dtype=np.float64).reshape(3, 5, 2), want):
+            address = None
+    except (OSError, AttributeError, ImportError, ValueError):
+        address = None
+    _NORMAL.append(address)
+    return address
+
+
+def compiled_draws(seed: int, terrain) -> tuple | None:
+    """The draw settings of ``walker._hybrid.terrain_ensemble_drawn`` for runs seeded by the
+    children of ``numpy.random.SeedSequence(seed)`` over ``terrain`` (kind ``random``, its
+    ``slope_mean`` set): ``(entropy, normal, slope_mean, slope_std, height_std)``; None when
+    this build or this numpy cannot draw them in C, or the seed has more than 128 bits."""
+    seed = int(seed)
+    if seed < 0 or seed >= 1 << 128 or terrain.slope_mean is None:
+        return None
+    normal = _normal_address()
+    if normal is None:
+        return None
+    words = []
+    while True:
+        words.append(seed & 0xFFFFFFFF)
+        seed >>= 32
+        if not seed:
+            break
+    entropy = np.array(words, dtype=np.int64)
+    return (
+        entropy,
+        normal,
+        float(terrain.slope_mean),
+        float(terrain.slope_std),
+        float(terrain.height_std),
+    )
+
+
+def ensemble_drawn(smap, z0, draws, runs, n_steps: int, threads: int = 1):
+    """Walks of ``smap`` from ``z0`` (shape ``(n_z,)``) over the first ``n_steps`` rows of
+    each run in ``runs`` (int64 indices of the seed's children), the rows drawn in compiled
+    code as :func:`walker.analysis.mfpt.draw_terrains` draws them (``draws`` from
+    :func:`compiled_draws`), ``threads`` threads over contiguous blocks of runs.  Returns
+    ``(steps_completed, status)`` as :meth:`walker.simulation.stride.StrideMap.ensemble` does."""
+    from walker import _hybrid
+
+    z0 = np.ascontiguousarray(z0, dtype=np.float64)
+    runs = np.ascontiguousarray(runs, dtype=np.int64)
+    args = _args(smap)
+    m = runs.shape[0]
+    bounds = np.linspace(0, m, min(int(threads), max(m, 1)) + 1).astype(int)
+    chunks = [(a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True) if b > a]
+
+    def run(chunk):
+        a, b = chunk
+        status, strides = _hybrid.terrain_ensemble_drawn(*args, z0, *draws, runs[a:b], int(n_steps))
         return np.frombuffer(status, dtype=np.int64), np.frombuffer(strides, dtype=np.int64)
 
     if len(chunks) <= 1:
