@@ -2,7 +2,7 @@
 
 Before, the isolated reader's child loaded the whole file and the parent collected the pipe
 into a list of pieces and then copied them into one buffer: a 80 MiB run file took the
-parent to 2x its data (218 MiB resident) and the child to 1x more.  Now the child reads
+parent to 2x its data (213 MiB resident) and the child to 1x more.  Now the child reads
 each dataset in blocks of a few MiB as it sends it (walker.storage.blocks) and the parent
 receives the bytes straight into one buffer sized from the header (walker.storage.isolated).
 
