@@ -6,6 +6,7 @@ cfunc), without it plain Python functions handed to the integrator as ctypes cal
 
 * ``ODE``: plain ODEs with exact solutions selected by phase (no guards).
 * ``BALL``: bouncing ball with restitution, closed-form impact times.
+* ``LIFT``: x' = -1, lifted back by p[0] at each zero (events that need not advance time).
 * ``RAMP``: x' = 1 with a guard cos(x) that has two same-direction roots 2*pi apart.
 * ``WALKER``: the simplest walking model (Garcia et al. 1998), nonlinear with a scuff.
 """
@@ -239,6 +240,35 @@ def ball_impact_times(h0, gravity, e, n):
     for k in range(1, n):
         times.append(times[-1] + 2.0 * e**k * v1 / gravity)
     return np.array(times)
+
+
+# ---------------------------------------------------------------------------------------------
+# Lift: x' = -1, guard x (direction -1), reset x -> p[0] (EVENT_STRIDE).  Events at
+# t = x0 + k p[0]; a lift far below the spacing of t (1e-300 at t = 1) gives events that do
+# not advance time.
+# ---------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def lift_rhs(phase, t, x, p, dx):
+    dx[0] = -1.0
+
+
+@njit(cache=True)
+def lift_guards(phase, t, x, p, g):
+    g[0] = x[0]
+
+
+@njit(cache=True)
+def lift_reset(phase, k, t, x, p, x_new, impulse):
+    x_new[0] = p[0]
+    impulse[0] = 0.0
+    return EVENT_STRIDE, phase, 0
+
+
+LIFT = toy_system(
+    "lift", 1, (lift_rhs, lift_guards, lift_reset, None), np.array([[-1]]), ("fall",), ("x",)
+)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from _toy_systems import (
     BALL,
+    LIFT,
     ODE,
     RAMP,
     WALKER,
@@ -389,6 +390,29 @@ def test_chattering_test_leaves_gaits_alone():
     # test)
     sol = hybrid_solve(BALL, [1.0, 0.0], BALL_P * [1, 1 / 0.9, 1], n_strides=200, t_max=1e3)
     assert sol.status == Status.COMPLETED and sol.n_events == 200
+
+
+def test_events_that_do_not_advance_time_end_as_chattering():
+    # x' = -1 from x0 = 1 reaches its guard x = 0 at t = 1; each reset lifts it by 1e-300,
+    # so every later event comes 1e-300 s after the one before, far below the spacing of
+    # t = 1 (2.2e-16): the absolute time never advances.  The run must stop at t = 1 as
+    # chattering after a few events, not loop through its step budget (MAX_STEPS, before).
+    sol = hybrid_solve(
+        LIFT, [1.0], np.array([1e-300]), n_strides=10**6, t_max=10.0, output="events"
+    )
+    assert sol.status == Status.CHATTERING and not sol.success
+    assert_allclose(sol.t, 1.0, rtol=1e-12, atol=0.0)  # where the first event was located
+    assert 2 <= sol.n_events <= 64
+    assert_allclose(sol.events.t, np.ones(sol.n_events), rtol=1e-12, atol=0.0)
+
+
+def test_events_that_advance_time_little_by_little_are_not_chattering():
+    # the same system lifted by 1e-6 (4.5e9 ulps of t = 1): events every 1e-6 s at the exact
+    # times 1 + k 1e-6, none a shrinking chain and none at one instant
+    n = 200
+    sol = hybrid_solve(LIFT, [1.0], np.array([1e-6]), n_strides=n, t_max=10.0, output="events")
+    assert sol.status == Status.COMPLETED and sol.n_events == n
+    assert_allclose(sol.events.t, 1.0 + 1e-6 * np.arange(n), rtol=1e-12, atol=0.0)
 
 
 # --- Seeded variational equations (issue 12): jacobian_seed S propagates (d x / d x0) S -----

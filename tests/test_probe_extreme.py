@@ -119,3 +119,19 @@ def test_the_five_link_walker_at_g_1e12_ends_with_an_outcome(capsys):
     out, err = capsys.readouterr()
     assert code == 1, err
     assert "FELL_BACKWARD" in out
+
+
+def test_events_that_do_not_advance_time_end_the_run(capsys):
+    """The Coulomb kneed walker with a shank's centre of mass 7.4e37 m from the knee: after
+    its first event the stick-slip reset's state slips again at the same instant, so every
+    step found an event at one time (6.4e-19 s) and the run took about 60 s to reach
+    MAX_STEPS through 1e6 such events.  Sixteen events in a row that do not advance time
+    now end it as CHATTERING (walker/_core/hybrid.c), after a few hundred steps."""
+    scene = str(GAITS / "kneed_coulomb_hsu.toml")
+    sets = ["--set", "shank_com_from_foot=0", "--set", "damping_ankle=0"]
+    code = main(["run", scene, "--strides", "3", *sets, "--set", "shank_com_to_knee=7.4e37"])
+    out, err = capsys.readouterr()
+    assert code == 1, err
+    assert "status CHATTERING" in out
+    events = int(re.search(r"events (\d+), steps", out).group(1))
+    assert events <= 64, out

@@ -99,7 +99,7 @@ def test_hanging_flip_is_a_storage_error(tmp_path, issue_files):
 def test_child_crash_is_reported_by_signal(tmp_path, monkeypatch):
     path = write(tmp_path / "m.h5", RESULTS["map_result"](), provenance={})
 
-    def crash(*args):
+    def crash(*args, **kwargs):
         os.kill(os.getpid(), signal.SIGSEGV)
 
     monkeypatch.setattr(storage.isolated, "_load_here", crash)  # the forked child inherits it
@@ -112,7 +112,7 @@ def test_child_crash_is_reported_by_signal(tmp_path, monkeypatch):
 
 def test_child_hang_is_reported_after_timeout(tmp_path, monkeypatch):
     path = write(tmp_path / "m.h5", RESULTS["map_result"](), provenance={})
-    monkeypatch.setattr(storage.isolated, "_load_here", lambda *args: time.sleep(600))
+    monkeypatch.setattr(storage.isolated, "_load_here", lambda *args, **kwargs: time.sleep(600))
     # the forked child inherits the patch: fork even when an earlier test left a thread
     monkeypatch.setattr(storage.isolated, "_can_fork", lambda: True)
     with pytest.raises(StorageError, match=r"did not finish within 1 s"):
@@ -122,7 +122,7 @@ def test_child_hang_is_reported_after_timeout(tmp_path, monkeypatch):
 def test_child_memory_is_limited(tmp_path, monkeypatch):
     path = write(tmp_path / "m.h5", RESULTS["map_result"](), provenance={})
 
-    def greedy(path, file_size, budget):
+    def greedy(path, file_size, budget, **kwargs):
         return {"x": np.ones(budget + (3 << 30), dtype=np.uint8)}
 
     monkeypatch.setattr(storage.isolated, "_load_here", greedy)

@@ -9,6 +9,10 @@ handler, it installs one that prints ``walker: interrupted`` and exits with stat
 :func:`walker.cli.main` hands SIGINT back to Python's default handler (KeyboardInterrupt)
 once its own handling covers it.  A program importing walker as a library keeps its
 handlers untouched.
+
+What this cannot cover: a SIGINT while the interpreter imports ``site`` (and runs the
+environment's ``.pth`` files), after Python has installed its own handler but before this
+module can run, still prints Python's traceback; docs/signals.md says why and measures it.
 """
 
 from __future__ import annotations

@@ -132,10 +132,11 @@ _MESSAGES = {
     ),
     Status.CHATTERING: (
         "Events accumulated: the same event fired at three or more shrinking intervals in a "
-        "row, the last under 1% of the first (chattering, a Zeno sequence such as a foot "
-        "bouncing to rest or a joint switching between stick and slip ever faster), so the "
-        "run stopped at that event instead of stepping through the accumulation. The model "
-        "has no mode for the limit it approaches (e.g. resting contact)."
+        "row, the last under 1% of the first, or 16 events in a row fired without time "
+        "advancing (chattering, a Zeno sequence such as a foot bouncing to rest or a joint "
+        "switching between stick and slip ever faster), so the run stopped at that event "
+        "instead of stepping through the accumulation. The model has no mode for the limit "
+        "it approaches (e.g. resting contact)."
     ),
     Status.INTERRUPTED: (
         "A signal (SIGINT, Ctrl-C, or SIGTERM) arrived while the compiled integrator ran, so "

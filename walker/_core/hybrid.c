@@ -17,6 +17,14 @@
 
 /* Internal status: still running (Status values are >= 0). */
 #define RUNNING (-1)
+/* Events that do not advance time: STILL_EVENTS applied events in a row, each within
+ * STILL_ULPS units in the last place of the time of the one before it, end the run as
+ * chattering (the accumulation point reached: a reset whose state a guard fires on again at
+ * once, e.g. a stick-slip switch that the next step's first instant undoes).  A cascade of
+ * simultaneous events at one instant (an impact, then a knee lock) is a few events, bounded
+ * by the model's guards. */
+#define STILL_EVENTS 16
+#define STILL_ULPS 4.0
 
 volatile sig_atomic_t wk_interrupt = 0;
 
@@ -270,6 +278,7 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
     int64_t n_steps = 0, n_rej = 0, n_rhs = 0, n_events = 0, n_done = 0;
     double err_sum = 0.0;
     int64_t status = RUNNING;
+    int64_t n_still = 0; /* applied events in a row that did not advance time */
 
     for (int64_t i = 0; i < n_x; i++) z[i] = pb->x0[i];
     if (want_jac) {
@@ -548,6 +557,8 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
                 goto done;
             }
             event_applied = 1;
+            /* local time is the time since the previous event (or the start) */
+            n_still = t <= STILL_ULPS * spacing(fabs(t_off)) ? n_still + 1 : 0;
             /* re-base local time at the event */
             two_sum(&t_off, &t_off_c, t);
             t = 0.0;
@@ -556,7 +567,8 @@ int wk_hybrid_solve(const wk_functions *fn, const wk_problem *pb, wk_result *res
                 status = WK_COMPLETED;
                 break;
             }
-            if (wk_chattering(zeno, n_guards, best_i, t_off + t_off_c)) {
+            if (wk_chattering(zeno, n_guards, best_i, t_off + t_off_c) ||
+                n_still >= STILL_EVENTS) {
                 status = WK_CHATTERING;
                 break;
             }

@@ -42,6 +42,8 @@ The package, by layer (each module imports only those above it):
 ``schema``          version, limits, errors, the codec of every result field, shape rules
 ``provenance``      provenance builders, the JSON form of provenance values and its checks
 ``checksums``       Fletcher-32, the root ``checksum`` and the chunk SHA-256
+``blocks``          a dataset checked but not yet read, and the blocks a streaming load
+                    reads it in (the isolated reader's child)
 ``loader``          an open HDF5 file into a plain, checked tree (every HDF5 call of a read)
 ``disk``            atomic writing of a file built in memory (:func:`write_file` for any bytes:
                     figures, animations), free-space and disk-error checks

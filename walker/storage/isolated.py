@@ -1,6 +1,10 @@
 """The load in a child process (forked while this process runs one thread, else a new
 interpreter) with a time and memory budget, so that a crash or a hang of the HDF5 library
 on a damaged file is a StorageError; the tree comes back as JSON plus raw array bytes.
+
+Memory: the child reads each dataset block by block as it sends it (walker.storage.blocks)
+and the parent receives the bytes straight into one buffer sized from the header, so a read
+holds the file's data about once, in the parent, plus blocks of a few MiB.
 """
 
 from __future__ import annotations
@@ -20,6 +24,7 @@ from typing import Any
 import h5py
 import numpy as np
 
+from walker.storage.blocks import _Pending
 from walker.storage.disk import _ram_bytes, _write_all
 from walker.storage.loader import _first_line, _Loader, _Opaque
 from walker.storage.schema import READ_TIMEOUT, StorageError, _Corrupt
@@ -41,8 +46,10 @@ def _default_budget(file_size: int) -> int:
     return int(min(max(2 << 30, 4 * file_size), 0.8 * _ram_bytes()))
 
 
-def _load_here(path: Path, file_size: int, budget: int) -> dict:
-    """Open and load ``path`` in this process (StorageError on any problem)."""
+def _load_here(path: Path, file_size: int, budget: int, stream: bool = False) -> dict:
+    """Open and load ``path`` in this process (StorageError on any problem).  With
+    ``stream=True`` (the reading child) the datasets are :class:`_Pending`, read as the tree
+    is sent: the file then stays open until this process exits."""
     try:
         try:
             # No lock: the writer of a checkpoint takes none either (it uses os.pwrite).
@@ -57,81 +64,129 @@ def _load_here(path: Path, file_size: int, budget: int) -> dict:
             f"cannot read '{path}': not an HDF5 file, or truncated/corrupted ({_first_line(exc)})"
         ) from None
     fd = None
+    keep_open = False
     try:
-        with f:
-            fd = os.open(path, os.O_RDONLY | getattr(os, "O_CLOEXEC", 0))
-            raw = lambda offset, size: os.pread(fd, size, offset)  # noqa: E731
-            return _Loader(f, path, file_size, budget, raw).run()
-    except StorageError:
-        raise
-    except MemoryError:
-        raise StorageError(
-            f"cannot read '{path}': reading it needs more memory than is available"
-        ) from None
-    except RecursionError:
-        raise StorageError(f"cannot read '{path}': corrupted (nested too deeply)") from None
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_CLOEXEC", 0))
+        raw = lambda offset, size: os.pread(fd, size, offset)  # noqa: E731
+        tree = _Loader(f, path, file_size, budget, raw, stream=stream).run()
+        keep_open = stream
+        return tree
     except Exception as exc:  # noqa: BLE001 - h5py raises many types on damaged files
-        reason = _first_line(exc)
-        if not isinstance(exc, _Corrupt):
-            reason = f"{type(exc).__name__}: {reason}"
-        raise StorageError(f"cannot read '{path}': corrupted or incomplete ({reason})") from None
+        raise _read_error(path, exc) from None
     finally:
-        if fd is not None:
-            os.close(fd)
+        if not keep_open:
+            f.close()
+            if fd is not None:
+                os.close(fd)
 
 
-def _pack(tree: dict) -> list[Any]:
-    """The tree as bytes a parent can read back without unpickling: a JSON header (arrays
-    as references) and the arrays' raw bytes."""
-    blobs: list[np.ndarray] = []
+def _read_error(path: Path, exc: BaseException) -> BaseException:
+    """The StorageError a failure while reading ``path`` is raised as."""
+    if isinstance(exc, StorageError):
+        return exc
+    if isinstance(exc, MemoryError):
+        return StorageError(f"cannot read '{path}': reading it needs more memory than is available")
+    if isinstance(exc, RecursionError):
+        return StorageError(f"cannot read '{path}': corrupted (nested too deeply)")
+    reason = _first_line(exc)
+    if not isinstance(exc, _Corrupt):
+        reason = f"{type(exc).__name__}: {reason}"
+    return StorageError(f"cannot read '{path}': corrupted or incomplete ({reason})")
+
+
+def _pack(tree: dict) -> tuple[bytes, list[Any]]:
+    """The tree as a JSON header a parent can read without unpickling (each array, or
+    :class:`_Pending` dataset, as a reference: its dtype and shape) and the arrays and
+    pending datasets in the header's order."""
+    items: list[Any] = []
 
     def encode(value: Any) -> Any:
         if isinstance(value, dict):
             return {str(k): encode(v) for k, v in value.items()}
-        if isinstance(value, np.ndarray):
-            arr = value if value.flags.c_contiguous else value.copy(order="C")
-            blobs.append(arr)
-            return {"__a": [arr.dtype.str, list(arr.shape)]}
+        if isinstance(value, np.ndarray | _Pending):
+            items.append(value)
+            return {"__a": [value.dtype.str, list(value.shape)]}
         if isinstance(value, _Opaque):
             return {"__o": value.what}
         if value is None or isinstance(value, str | int | float):
             return value
         raise TypeError(f"cannot pack {type(value).__name__}")
 
-    header = json.dumps(encode(tree)).encode("ascii")
-    views = [memoryview(a.reshape(-1).view(np.uint8)) for a in blobs]
-    return [len(header).to_bytes(8, "little"), header, *views]
+    return json.dumps(encode(tree)).encode("ascii"), items
 
 
-def _unpack(buf: memoryview) -> dict:
-    """Inverse of :func:`_pack` (``buf`` a writable buffer the arrays then share); every
-    dtype and shape is checked before use."""
-    n = int.from_bytes(buf[:8], "little")
-    header = json.loads(bytes(buf[8 : 8 + n]).decode("ascii"))
-    pos = 8 + n
+def _frame(fd: int, tag: bytes, payload: Any = b"") -> None:
+    """One frame to the parent: a tag byte, the payload's length (8 bytes), the payload."""
+    view = memoryview(payload).cast("B")
+    _write_all(fd, tag + len(view).to_bytes(8, "little"))
+    if len(view):
+        _write_all(fd, view)
 
-    def decode(value: Any) -> Any:
-        nonlocal pos
-        if isinstance(value, dict):
-            if set(value) == {"__a"}:
-                dtype_text, shape = value["__a"]
-                dtype = np.dtype(dtype_text)
-                if dtype.kind not in "biufc" or dtype.fields is not None:
-                    raise ValueError(f"bad dtype {dtype_text!r}")
-                if not all(isinstance(s, int) and s >= 0 for s in shape):
-                    raise ValueError(f"bad shape {shape!r}")
-                size = math.prod(shape) * dtype.itemsize
-                if pos + size > len(buf):
-                    raise ValueError("truncated")
-                arr = np.frombuffer(buf, dtype=dtype, count=math.prod(shape), offset=pos)
-                pos += size
-                return arr.reshape(shape)
-            if set(value) == {"__o"}:
-                return _Opaque(str(value["__o"]))
-            return {k: decode(v) for k, v in value.items()}
-        return value
 
-    return decode(header)
+def _send_tree(fd: int, tree: dict, path: Path) -> None:
+    """The tree to the parent: its header (``H``), each array's bytes in frames (``D``) of
+    at most one block of a dataset (pending datasets are read block by block here, so the
+    child never holds one whole), then ``K``."""
+    header, items = _pack(tree)
+    _frame(fd, b"H", header)
+    for item in items:
+        pieces = item.pieces() if isinstance(item, _Pending) else iter((item,))
+        while True:
+            try:
+                piece = next(pieces, None)
+            except MemoryError:
+                raise  # the child's address space is limited to the budget: "M"
+            except Exception as exc:  # noqa: BLE001 - h5py raises many types on damaged files
+                raise _read_error(path, exc) from None
+            if piece is None:
+                break
+            arr = np.ascontiguousarray(piece, dtype=item.dtype)
+            if arr.nbytes:
+                _frame(fd, b"D", arr.reshape(-1).view(np.uint8))
+    _frame(fd, b"K")
+
+
+def _walk_header(value: Any, make: Any) -> Any:
+    """The tree of a JSON header, each array reference replaced by ``make(dtype, shape)``;
+    every dtype and shape is checked before use."""
+    if isinstance(value, dict):
+        if set(value) == {"__a"}:
+            dtype_text, shape = value["__a"]
+            dtype = np.dtype(dtype_text)
+            if dtype.kind not in "biufc" or dtype.fields is not None:
+                raise ValueError(f"bad dtype {dtype_text!r}")
+            if not (isinstance(shape, list) and all(isinstance(n, int) and n >= 0 for n in shape)):
+                raise ValueError(f"bad shape {shape!r}")
+            return make(dtype, tuple(shape))
+        if set(value) == {"__o"}:
+            return _Opaque(str(value["__o"]))
+        return {k: _walk_header(v, make) for k, v in value.items()}
+    return value
+
+
+_ALIGN = 64  # each array's offset in the receiving buffer is a multiple of this [bytes]
+
+
+def _spans(header: Any) -> list[tuple[int, int]]:
+    """(offset, bytes) of each array of a header in one buffer, each offset aligned."""
+    sizes: list[int] = []
+    _walk_header(header, lambda dtype, shape: sizes.append(math.prod(shape) * dtype.itemsize))
+    spans, offset = [], 0
+    for size in sizes:
+        spans.append((offset, size))
+        offset += -(-size // _ALIGN) * _ALIGN
+    return spans
+
+
+def _arrays(header: Any, buf: np.ndarray, spans: list[tuple[int, int]]) -> dict:
+    """The tree of a header, its arrays views of ``buf`` at ``spans``."""
+    where = iter(spans)
+
+    def take(dtype: np.dtype, shape: tuple) -> np.ndarray:
+        offset, size = next(where)
+        return buf[offset : offset + size].view(dtype).reshape(shape)
+
+    return _walk_header(header, take)
 
 
 def _limit_memory(budget: int) -> None:
@@ -155,8 +210,9 @@ def _limit_memory(budget: int) -> None:
 
 
 def _child_load(path: str, fd: int, file_size: int, budget: int) -> None:
-    """Body of the reading child: load, send the packed tree (``T``) or a StorageError's
-    message (``E``) through ``fd``, exit.  Never returns."""
+    """Body of the reading child: load, send the tree (:func:`_send_tree`), or a
+    StorageError's message (``E``) or a memory failure (``M``), through ``fd``; exit.
+    Never returns."""
     code = 0
     try:
         signal.signal(signal.SIGINT, signal.SIG_DFL)
@@ -169,13 +225,11 @@ def _child_load(path: str, fd: int, file_size: int, budget: int) -> None:
         os.close(devnull)
         _limit_memory(budget)
         try:
-            pieces = [b"T", *_pack(_load_here(Path(path), file_size, budget))]
+            _send_tree(fd, _load_here(Path(path), file_size, budget, stream=True), Path(path))
         except StorageError as exc:
-            pieces = [b"E", str(exc).encode("utf-8", "replace")]
+            _frame(fd, b"E", str(exc).encode("utf-8", "replace"))
         except MemoryError:
-            pieces = [b"M"]
-        for piece in pieces:
-            _write_all(fd, piece)
+            _frame(fd, b"M")
     except BaseException:  # noqa: BLE001 - the parent reports the exit status
         code = 70
     finally:
@@ -270,6 +324,90 @@ def _kill(child: Any) -> None:
         pass
 
 
+class _Receiver:
+    """The parent's end of the pipe: frames read with the deadline, the arrays' bytes read
+    straight into one buffer allocated once from the header (so a read holds the data once,
+    never a list of pieces and a copy of it)."""
+
+    def __init__(self, r: int, path: Path, budget: int, deadline: float, timeout: float):
+        self.r, self.path, self.budget = r, path, budget
+        self.deadline, self.timeout = deadline, timeout
+        self.limit = budget + (1 << 24)  # bytes the child may send
+
+    def fill(self, view: memoryview) -> bool:
+        """Read exactly ``len(view)`` bytes into ``view``; False at the end of the pipe."""
+        got = 0
+        while got < len(view):
+            remaining = self.deadline - time.monotonic()
+            if remaining <= 0:
+                raise StorageError(
+                    f"cannot read '{self.path}': reading did not finish within "
+                    f"{self.timeout:g} s (a damaged file makes the HDF5 library loop; pass a "
+                    "larger `timeout` if the file is just large)"
+                )
+            ready, _, _ = select.select([self.r], [], [], min(remaining, 1.0))
+            if not ready:
+                continue
+            n = os.readv(self.r, [view[got:]])
+            if n == 0:
+                return False
+            got += n
+        return True
+
+    def too_much(self) -> StorageError:
+        return StorageError(f"cannot read '{self.path}': the reader sent more than its budget")
+
+    def run(self) -> tuple[bytes, Any]:
+        """The child's answer: (``K``, tree), (``E``, message), (``M``, None) or (b"", None)
+        when the pipe ended first.  ValueError: a malformed answer."""
+        head = bytearray(9)
+        tree = None
+        spans: list[tuple[int, int]] = []
+        buf = np.empty(0, dtype=np.uint8)
+        view = memoryview(buf)
+        at = filled = 0  # the array being received, and its bytes received
+        while self.fill(memoryview(head)):
+            tag, n = bytes(head[:1]), int.from_bytes(head[1:], "little")
+            if tag in (b"H", b"E"):
+                if n > self.limit:
+                    raise self.too_much()
+                payload = bytearray(n)
+                if not self.fill(memoryview(payload)):
+                    break
+                if tag == b"E":
+                    return b"E", bytes(payload).decode("utf-8", "replace")
+                if tree is not None:
+                    raise ValueError("a second header")
+                tree = json.loads(payload.decode("ascii"))
+                del payload
+                spans = _spans(tree)
+                total = spans[-1][0] + spans[-1][1] if spans else 0
+                if total > self.limit:
+                    raise self.too_much()
+                buf = np.empty(total, dtype=np.uint8)
+                view = memoryview(buf)
+            elif tag == b"D":
+                while at < len(spans) and filled == spans[at][1]:
+                    at, filled = at + 1, 0
+                if tree is None or at == len(spans) or n > spans[at][1] - filled:
+                    raise ValueError("more array bytes than the header declares")
+                start = spans[at][0] + filled
+                if not self.fill(view[start : start + n]):
+                    break
+                filled += n
+            elif tag == b"M":
+                return b"M", None
+            elif tag == b"K":
+                while at < len(spans) and filled == spans[at][1]:
+                    at, filled = at + 1, 0
+                if tree is None or at != len(spans):
+                    raise ValueError("fewer array bytes than the header declares")
+                return b"K", _arrays(tree, buf, spans)
+            else:
+                raise ValueError(f"unknown frame {tag!r}")
+        return b"", None
+
+
 def _load_isolated(path: Path, file_size: int, budget: int, timeout: float) -> dict:
     """Load ``path`` in a child process (forked when this process has one thread, else a
     new interpreter) that has ``timeout`` seconds and ``budget`` bytes; its crash, hang or
@@ -283,28 +421,16 @@ def _load_isolated(path: Path, file_size: int, budget: int, timeout: float) -> d
         raise
     os.close(w)
     deadline = time.monotonic() + timeout
-    pieces: list[bytes] = []
-    received = 0
     status = None
     try:
-        while True:
-            remaining = deadline - time.monotonic()
-            if remaining <= 0:
-                raise StorageError(
-                    f"cannot read '{path}': reading did not finish within {timeout:g} s (a "
-                    "damaged file makes the HDF5 library loop; pass a larger `timeout` if "
-                    "the file is just large)"
-                )
-            ready, _, _ = select.select([r], [], [], min(remaining, 1.0))
-            if not ready:
-                continue
-            piece = os.read(r, 1 << 20)
-            if not piece:
-                break
-            received += len(piece)
-            if received > budget + (1 << 24):
-                raise StorageError(f"cannot read '{path}': the reader sent more than its budget")
-            pieces.append(piece)
+        try:
+            tag, answer = _Receiver(r, path, budget, deadline, timeout).run()
+        except StorageError:
+            raise  # a timeout, or more than the budget (a ValueError too)
+        except (ValueError, TypeError, KeyError, UnicodeDecodeError, StopIteration) as exc:
+            raise StorageError(
+                f"cannot read '{path}': the reading process sent a malformed answer ({exc})"
+            ) from None
         while status is None:
             status = _reap(child, block=False)
             if status is None:
@@ -319,12 +445,6 @@ def _load_isolated(path: Path, file_size: int, budget: int, timeout: float) -> d
         raise
     finally:
         os.close(r)
-    data = bytearray(received)
-    at = 0
-    for piece in pieces:
-        data[at : at + len(piece)] = piece
-        at += len(piece)
-    del pieces
     if status < 0:
         try:
             name = signal.Signals(-status).name
@@ -334,21 +454,16 @@ def _load_isolated(path: Path, file_size: int, budget: int, timeout: float) -> d
             f"cannot read '{path}': the HDF5 library crashed reading it (the reading process "
             f"was killed by {name}); the file is damaged"
         )
-    if status != 0 or not data:
+    if status != 0 or not tag:
         raise StorageError(f"cannot read '{path}': the reading process failed (exit {status})")
-    if data[:1] == b"E":
-        raise StorageError(bytes(data[1:]).decode("utf-8", "replace"))
-    if data[:1] == b"M":
+    if tag == b"E":
+        raise StorageError(answer)
+    if tag == b"M":
         raise StorageError(
             f"cannot read '{path}': reading it needs more than the memory budget of {budget} "
             "bytes; pass a larger `memory`"
         )
-    try:
-        return _unpack(memoryview(data)[1:])
-    except (ValueError, TypeError, KeyError, UnicodeDecodeError) as exc:
-        raise StorageError(
-            f"cannot read '{path}': the reading process sent a malformed answer ({exc})"
-        ) from None
+    return answer
 
 
 def _load_tree(

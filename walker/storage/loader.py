@@ -4,6 +4,7 @@ filters, declared sizes, the memory budget): every HDF5 call of a read happens h
 
 from __future__ import annotations
 
+import functools
 import math
 from pathlib import Path
 from typing import Any
@@ -11,6 +12,7 @@ from typing import Any
 import h5py
 import numpy as np
 
+from walker.storage.blocks import _STREAM_BLOCK, _Pending, _selections
 from walker.storage.checksums import _DONE_FALSE, _DONE_TRUE, _is_dynamic
 from walker.storage.schema import (
     _CHECKPOINT_GROUP,
@@ -87,6 +89,11 @@ class _Loader:
     size is compared with what its storage can hold (the file size; for deflate, at most
     :data:`MAX_COMPRESSION_RATIO` times the stored size and :data:`MAX_DECOMPRESSED_BYTES`
     for the file), its chunks with its shape, and the total with the memory ``budget``.
+
+    With ``stream=True`` every dataset becomes a :class:`_Pending`, read in blocks while the
+    caller sends the tree on (the isolated reader's child): the checks above all happen
+    first, and the load itself holds no dataset whole.  The root's chunk ``state`` is then a
+    :class:`_Pending` too, complete once the checkpoint's datasets before it were sent.
     """
 
     def __init__(
@@ -97,10 +104,12 @@ class _Loader:
         budget: int | None,
         raw: Any = None,
         lazy: bool = False,
+        stream: bool = False,
     ):
         self.f = f
         self.raw = raw  # raw(offset, size) -> bytes of the file
         self.lazy = lazy  # pending rows as read-only broadcasts (for a file being created)
+        self.stream = stream  # datasets as _Pending, read as the tree is sent (the child)
         self.path = path
         self.file_size = file_size
         self.budget = budget
@@ -173,6 +182,10 @@ class _Loader:
                 if _is_dynamic(self.kind, self.has_checkpoint, p):
                     self.deferred[p] = obj
                     node["datasets"][name] = None  # read chunk by chunk in checkpoint()
+                elif self.stream:
+                    node["datasets"][name] = _Pending(
+                        obj.dtype, obj.shape, functools.partial(self.blocks, obj, p)
+                    )
                 else:
                     node["datasets"][name] = self.read(obj, p)
             else:
@@ -361,6 +374,13 @@ class _Loader:
         out = np.asarray(data, dtype=ds.dtype)
         return out.reshape(ds.shape) if sel == () else out
 
+    def blocks(self, ds: h5py.Dataset, path: str) -> Any:
+        """The dataset's data in blocks of at most about :data:`_STREAM_BLOCK` bytes."""
+        if math.prod(ds.shape) == 0:
+            return
+        for sel in _selections(ds.shape, ds.dtype.itemsize):
+            yield self.read(ds, path, sel)
+
     # -- checkpoints --------------------------------------------------------------------
 
     def checkpoint(self, root: dict, version: int) -> None:
@@ -402,7 +422,9 @@ class _Loader:
             self.put(root, done_path, done)
             self.done_rows(root, data, cs, n_chunks, state)
             layout = self.layout(version, cs, n_rows, data, want_paths)
-        root["extra"]["state"] = state
+        root["extra"]["state"] = (
+            _Pending(state.dtype, state.shape, lambda: iter((state,))) if self.stream else state
+        )
         root["extra"]["layout"] = layout
 
     def raw_chunks(
@@ -443,9 +465,47 @@ class _Loader:
         """The rows of the done chunks of each data path into ``root``; a chunk whose rows
         cannot be read becomes 2 in ``state``."""
         for p in data:
+            if self.stream:
+                ds = self.deferred[p]
+                blocks = functools.partial(self.chunk_blocks, p, cs, n_chunks, state)
+                self.put(root, p, _Pending(ds.dtype, ds.shape, blocks))
+                continue
             values, bad = self.chunk_rows(p, cs, n_chunks, np.flatnonzero(state == 1))
             state[bad] = 2
             self.put(root, p, values)
+
+    def chunk_blocks(self, path: str, cs: int, n_chunks: int, state: np.ndarray) -> Any:
+        """:meth:`chunk_rows` in blocks of whole chunks of at most about
+        :data:`_STREAM_BLOCK` bytes (or one chunk): the rows of the chunks whose ``state``
+        is 1, the fill value elsewhere; a chunk whose rows cannot be read becomes 2."""
+        ds = self.deferred[path]
+        fill = _dynamic_fill(self.kind, path, ds.dtype)
+        n_rows = ds.shape[0]
+        row_bytes = max(math.prod(ds.shape[1:]) * ds.dtype.itemsize, 1)
+        per = max(_STREAM_BLOCK // (row_bytes * cs), 1)  # chunks per block
+        for c0 in range(0, n_chunks, per):
+            rows = slice(c0 * cs, min((c0 + per) * cs, n_rows))
+            done = np.flatnonzero(state[c0 : c0 + per] == 1)
+            block = None
+            if done.size:
+                try:
+                    block = self.read(ds, path, rows)
+                except StorageError:
+                    pass  # some chunk cannot be read: chunk by chunk
+            if block is not None:
+                block[~np.isin(np.arange(block.shape[0]) // cs, done)] = fill
+                yield block
+                continue
+            block = np.full((rows.stop - rows.start, *ds.shape[1:]), fill, dtype=ds.dtype)
+            for j in done.tolist():
+                c = c0 + j
+                try:
+                    block[j * cs : (j + 1) * cs] = self.read(
+                        ds, path, slice(c * cs, min((c + 1) * cs, n_rows))
+                    )
+                except StorageError:
+                    state[c] = 2
+            yield block
 
     def raw_rows(self, offsets: np.ndarray, size: int, wanted: np.ndarray) -> np.ndarray:
         """uint8 array (len(wanted), size): the bytes at ``offsets[wanted]``."""
@@ -473,18 +533,17 @@ class _Loader:
             return np.broadcast_to(np.array(fill, dtype=ds.dtype), ds.shape), np.zeros(
                 n_chunks, dtype=bool
             )
-        out = np.full(ds.shape, fill, dtype=ds.dtype)
         bad = np.zeros(n_chunks, dtype=bool)
+        if wanted.size and math.prod(ds.shape):
+            try:
+                out = self.read(ds, path)  # read into its own array: no second copy
+            except StorageError:
+                pass  # some chunk cannot be read (perhaps one being written): chunk by chunk
+            else:
+                out[~np.isin(np.arange(ds.shape[0]) // rows_per_chunk, wanted)] = fill
+                return out, bad
+        out = np.full(ds.shape, fill, dtype=ds.dtype)
         if wanted.size == 0 or out.size == 0:
-            return out, bad
-        chunk_of_row = np.arange(ds.shape[0]) // rows_per_chunk
-        keep = np.isin(chunk_of_row, wanted)
-        try:
-            whole = self.read(ds, path)
-        except StorageError:
-            pass  # some chunk cannot be read (perhaps one being written): chunk by chunk
-        else:
-            out[keep] = whole[keep]
             return out, bad
         for i in wanted.tolist():
             rows = slice(i * rows_per_chunk, min((i + 1) * rows_per_chunk, ds.shape[0]))
