@@ -48,6 +48,8 @@ def main() -> None:
     parser.add_argument("--runs-compass", type=int, default=8000)
     parser.add_argument("--seed", type=int, default=7)
     parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--only", choices=("rimless", "compass"), help="one model only")
+    parser.add_argument("--stds", type=str, default=None, help="comma-separated slope stds")
     parser.add_argument("--out", type=Path, default=ROOT / "results" / "bench" / "markov_mfpt.md")
     args = parser.parse_args()
     lines = [
@@ -64,12 +66,16 @@ def main() -> None:
         "|---|---|---|---|---|---|---|---|---|",
     ]
     for name, path, mean, stds in CASES:
+        if args.only and args.only not in path:
+            continue
         scene = load_scene(ROOT / path)
         P = StrideMap.from_scene(scene)
         if "rimless" in path:
             P = P.with_tolerance(1e-10, 1e-10)
         P, z0 = gait_on_mean_slope(P, scene.state, scene.params.slope if mean is None else mean)
         runs = args.runs_rimless if "rimless" in path else args.runs_compass
+        if args.stds:
+            stds = [float(x) for x in args.stds.split(",")]
         for std in stds:
             t = time.perf_counter()
             mc = monte_carlo(P, z0, slope_std=std, runs=runs, seed=args.seed, jobs=args.jobs)

@@ -159,23 +159,40 @@ def test_markov_chain_with_a_mesh_per_slope_node_matches_the_closed_form_chain(r
     assert 0.5 < lam < 1.0
 
 
-@pytest.mark.slow
-def test_markov_mfpt_agrees_with_monte_carlo(rimless):
-    """The refined chain's expected steps from the start against 4000 Monte-Carlo runs:
-    within 3 standard errors plus the chain's last refinement change."""
-    _, P, z0 = rimless
-    std = 0.015
-    mc = monte_carlo(P, z0, slope_std=std, runs=4000, seed=3, jobs=2)
-    mk = markov_chain(P, z0, slope_std=std, jobs=2, samples=30)
-    assert mk["converged"]
+def _agrees(mc, mk):
+    """The refined chain's expected steps from the start against the Monte Carlo: within 3
+    standard errors plus the chain's last refinement change; and the metastable rate: past
+    the start transient the survival decays like lambda_2^k, so the runs alive at step 10
+    fail at the per-step rate 1 - lambda_2 (1 / (1 - lambda_2) steps)."""
+    assert mk["converged"] and mk["change"] < 0.02
     allowed = 3.0 * mc.mfpt_stderr + 2.0 * mk["change"] * mk["mfpt_start"]
     assert abs(mk["mfpt_start"] - mc.mfpt) < allowed
-    # metastable: past the start transient the survival decays like lambda_2^k; the runs
-    # alive at step 10 fail at the per-step rate 1 - lambda_2 (1 / (1 - lambda_2) steps)
     alive = mc.steps[mc.steps >= 10] - 10
     tail_mean = (alive.sum() + alive.size) / alive.size  # steps to failure, failing one too
     stderr = tail_mean / math.sqrt(alive.size)
     assert abs(tail_mean - mk["mfpt"]) < 3.0 * stderr + 2.0 * mk["change"] * mk["mfpt"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("std", [0.01, 0.02])
+def test_markov_mfpt_agrees_with_monte_carlo(rimless, std):
+    """The rimless wheel's refined chain against 4000 Monte-Carlo runs (standard error about
+    1.3 %)."""
+    _, P, z0 = rimless
+    mc = monte_carlo(P, z0, slope_std=std, runs=4000, seed=3, jobs=2)
+    _agrees(mc, markov_chain(P, z0, slope_std=std, jobs=2, samples=30))
+
+
+@pytest.mark.slow
+def test_compass_markov_mfpt_agrees_with_monte_carlo():
+    """The compass gait's refined chain (a 3-D section: one nearest-point mesh per slope
+    node) against 4000 Monte-Carlo runs (standard error about 1.2 %).  On one mesh shared by
+    all slope nodes it came out 5-20 % low (results/bench/markov_mfpt.md has the table)."""
+    scene = load_scene("gaits/compass_goswami.toml")
+    P, z0 = gait_on_mean_slope(StrideMap.from_scene(scene), scene.state, scene.params.slope)
+    std = 0.008
+    mc = monte_carlo(P, z0, slope_std=std, runs=4000, seed=3, jobs=2)
+    _agrees(mc, markov_chain(P, z0, slope_std=std, jobs=2))
 
 
 def test_input_errors_name_the_argument(rimless):
