@@ -40,7 +40,7 @@ nodes, ``n_start = sum_d Q_start,d (1 + n_d)``, which is what the Monte Carlo of
 
 The chain is refined (1.5 times the slope nodes and the mesh points per node each level)
 until both ``1 / (1 - lambda_2)`` and the expected steps from the start move less than
-``tol`` (2 %) between levels.
+``tol`` (2 %) between levels, from the third level (``MIN_LEVELS``) on.
 
 Why one mesh per slope node.  The section point reached depends strongly on the slope just
 landed on (the compass gait's ``dz / d gamma`` is about 2.6 per rad), so one mesh shared by
