@@ -1,5 +1,5 @@
-"""The Markov-chain mean first-passage time (walker/markov.py) against Monte Carlo
-(walker/mfpt.py) for the rimless wheel and the compass gait at several roughnesses: each
+"""The Markov-chain mean first-passage time (walker/analysis/markov.py) against Monte Carlo
+(walker/analysis/mfpt.py) for the rimless wheel and the compass gait at several roughnesses: each
 chain's refinement levels and the Monte-Carlo estimate with its standard error.  Writes
 results/bench/markov_mfpt.md (rewritten atomically after each case).
 
@@ -26,8 +26,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from walker import StrideMap, load_scene  # noqa: E402
-from walker.markov import markov_chain  # noqa: E402
-from walker.mfpt import gait_on_mean_slope, monte_carlo  # noqa: E402
+from walker.analysis.markov import markov_chain  # noqa: E402
+from walker.analysis.mfpt import gait_on_mean_slope, monte_carlo  # noqa: E402
 
 CASES = (
     ("rimless wheel", "gaits/rimless_wheel.toml", 0.08, (0.01, 0.015, 0.02)),
@@ -55,10 +55,11 @@ def main() -> None:
     lines = [
         "# Markov-chain MFPT against Monte Carlo",
         "",
-        "`python scripts/markov_vs_mc.py` (walker/markov.py defaults: refinement by 1.5x slope",
-        "nodes and mesh points per node until both estimates move < 2 %). Steps completed",
-        "before the first failure from the gait of the mean slope; `z` = (chain start - MC) /",
-        "MC standard error. `tail`: MC mean steps to failure of the runs alive at step 10,",
+        "`python scripts/markov_vs_mc.py` (walker/analysis/markov.py defaults: refinement by",
+        "1.5x slope nodes and mesh points per node until both estimates move < 2 %). Steps",
+        "completed before the first failure from the gait of the mean slope; `z` = (chain",
+        "start - MC) / MC standard error. `tail`: MC mean steps to failure of the runs alive at",
+        "step 10,",
         "to compare with the chain's `1/(1-lambda_2)`.",
         "",
         "| model | slope std [rad] | MC steps | runs | MC tail | chain levels"

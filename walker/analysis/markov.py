@@ -49,8 +49,8 @@ own set, much smaller, gets few of them.  The nearest-point placement then jitte
 landing by a large fraction of that set's spread: noise the walker does not have, which
 fattens the tails and put the compass MFPT 5-20 % below the Monte Carlo.  With one mesh per
 node the same points resolve each node's set, and the chain approaches the Monte Carlo
-(mostly from below) as the mesh is refined.  The mesh's extent matters too: it is the sampled points'
-extent (a landing outside it is placed on its edge), and with too few samples the rare
+(mostly from below) as the mesh is refined.  The mesh's extent matters too: it is the sampled
+points' extent (a landing outside it is placed on its edge), and with too few samples the rare
 states from which the walker fails are cut off and the MFPT comes out high (5 % on the
 compass gait at slope std 0.005 rad with 3 samples per mesh point).
 """

@@ -47,6 +47,7 @@ def cmd_mfpt(args) -> int:
     _nonnegative(args.std, "--std")
     _nonnegative(args.height_std, "--height-std")
     _positive_flag(args.runs, "--runs", minimum=1, integer=True)
+    _positive_flag(args.markov_levels, "--markov-levels", minimum=2, integer=True)
     if args.seed < 0:
         raise UsageError(f"--seed must be an integer >= 0, got {args.seed}")
     if args.jobs is not None and args.jobs < 1:
@@ -110,7 +111,9 @@ def cmd_mfpt(args) -> int:
         if client is not None:
             client.close()
     if args.markov:
-        result.markov = markov_chain(P, z0, slope_std=args.std, seed=args.seed, jobs=jobs)
+        result.markov = markov_chain(
+            P, z0, slope_std=args.std, seed=args.seed, jobs=jobs, max_levels=args.markov_levels
+        )
     record = {"scene": str(scene.path), "model": scene.model, **result.as_dict()}
     if out is not None:
         from walker.storage import write
@@ -144,7 +147,7 @@ def _print(r: dict) -> None:
         print(
             f"Markov      1/(1 - lambda_2) = {r['mfpt_markov']:.6g} steps, from the start "
             f"{r['mfpt_markov_start']:.6g} (last change {m['change']:.2%}, "
-            f"{'converged' if m['converged'] else 'NOT converged'})"
+            f"{'converged' if m['converged'] else 'NOT converged: raise --markov-levels'})"
         )
 
 
@@ -177,6 +180,13 @@ def register(sub) -> None:
         "--markov",
         action="store_true",
         help="also the Markov-chain MFPT 1/(1 - lambda_2) (slopes only; default: off)",
+    )
+    p.add_argument(
+        "--markov-levels",
+        type=int,
+        default=4,
+        help="refinement levels of the chain at most, each 1.5x the slope nodes and mesh "
+        "points of the one before; it stops once both estimates move < 2 %% (default: 4)",
     )
     p.add_argument(
         "--scheduler",
