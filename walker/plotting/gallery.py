@@ -16,6 +16,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from walker import plotting
+from walker.plotting.longrun import event_lines
 from walker.results import Branch, Solution, Trajectory
 
 __all__ = [
@@ -306,8 +307,7 @@ def solution_figures(
         )
         if shown is not None and sol.events is not None:
             for ax in angles.axes:
-                for te in sol.events.t:
-                    ax.axvline(te, color="0.5", linestyle=":", linewidth=0.8)
+                event_lines(ax, sol.events.t, colors="0.5", linestyles=":", linewidths=0.8)
         figures["angles"] = angles
     if traj is None or len(traj) < 2:
         return figures

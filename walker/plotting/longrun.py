@@ -1,0 +1,165 @@
+"""Drawing helpers whose artist count does not grow with the length of a run.
+
+A run of thousands of strides has tens of thousands of phase runs and events, and millions
+of samples.  One matplotlib artist per event or per phase run makes a figure take minutes
+and gigabytes to draw; these helpers draw each kind of mark as one collection per axes, and
+thin a time series for display to the smallest and largest sample of each pixel column
+(:func:`decimate_minmax`), so that no extremum is lost while the caller's data stay as they
+are.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.collections import LineCollection, PolyCollection
+
+__all__ = ["DISPLAY_COLUMNS", "decimate_minmax", "event_lines", "phase_bands", "plot_series"]
+
+#: Number of pixel columns a time series is thinned to for display: above the width in
+#: pixels of a 7 inch figure at 500 dots per inch, so that the thinning is never visible.
+DISPLAY_COLUMNS = 4096
+
+
+def decimate_minmax(
+    t: np.ndarray, y: np.ndarray, columns: int = DISPLAY_COLUMNS
+) -> tuple[np.ndarray, np.ndarray]:
+    """A time series thinned to the smallest and largest sample of each column.
+
+    The time span ``[t[0], t[-1]]`` is cut into ``columns`` columns of equal width; each
+    column keeps its first and last sample and the samples of its smallest and largest
+    value (in their time order), so the line drawn through the result covers, in every
+    column, exactly the values range the full series covers there.  Series of at most
+    ``4 * columns`` samples are returned unchanged (as copies' views: the inputs are never
+    modified).  NaN samples (breaks in a line) are kept.
+
+    Parameters
+    ----------
+    t : ndarray, shape (n,)
+        times [s], non-decreasing.
+    y : ndarray, shape (n,)
+        values at ``t`` (any unit).
+    columns : int
+        number of columns, at least 1.
+
+    Returns
+    -------
+    t_shown, y_shown : ndarray, shape (k,)
+        the kept samples, ``k <= 4 * columns`` plus the NaN samples.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 1001)
+    >>> ts, ys = decimate_minmax(t, np.sin(40 * t), columns=10)
+    >>> len(ts) <= 40, float(ys.max()) == float(np.sin(40 * t).max())
+    (True, True)
+    """
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if t.ndim != 1 or y.shape != t.shape:
+        raise ValueError(f"`t` and `y` must be 1-D of equal length, got {t.shape}, {y.shape}")
+    if int(columns) < 1:
+        raise ValueError(f"`columns` must be at least 1, got {columns}")
+    columns = int(columns)
+    n = t.size
+    if n <= 4 * columns:
+        return t, y
+    span = t[-1] - t[0]
+    if not span > 0:
+        column = np.zeros(n, dtype=np.intp)
+    else:
+        column = np.minimum(((t - t[0]) / span * columns).astype(np.intp), columns - 1)
+    starts = np.r_[0, np.flatnonzero(np.diff(column)) + 1]
+    stops = np.r_[starts[1:], n]
+    finite = np.where(np.isnan(y), np.inf, y)
+    lowest = starts + _argreduce(finite, starts, np.minimum)
+    finite = np.where(np.isnan(y), -np.inf, y)
+    highest = starts + _argreduce(finite, starts, np.maximum)
+    keep = np.zeros(n, dtype=bool)
+    keep[starts] = keep[stops - 1] = True
+    keep[lowest] = keep[highest] = True
+    keep |= np.isnan(y)
+    return t[keep], y[keep]
+
+
+def _argreduce(values: np.ndarray, starts: np.ndarray, ufunc: Any) -> np.ndarray:
+    """Offset within each segment ``values[starts[k]:starts[k + 1]]`` of its first extremum
+    under ``ufunc`` (``np.minimum`` or ``np.maximum``)."""
+    extreme = ufunc.reduceat(values, starts)
+    stops = np.r_[starts[1:], values.size]
+    segment = np.repeat(np.arange(starts.size), stops - starts)
+    hit = values == extreme[segment]
+    # first hit in each segment: the smallest index where hit holds
+    index = np.where(hit, np.arange(values.size), values.size)
+    return np.minimum.reduceat(index, starts) - starts
+
+
+def plot_series(ax: Axes, t: np.ndarray, y: np.ndarray, **kwargs: Any):
+    """``ax.plot(t, y, **kwargs)`` of a time series thinned by :func:`decimate_minmax`
+    (unchanged up to ``4 * DISPLAY_COLUMNS`` samples); returns the Line2D."""
+    shown_t, shown_y = decimate_minmax(t, y)
+    return ax.plot(shown_t, shown_y, **kwargs)[0]
+
+
+def event_lines(ax: Axes, times: Sequence[float] | np.ndarray, **kwargs: Any) -> LineCollection:
+    """One vertical line across the whole height of ``ax`` at each of ``times`` [s], drawn
+    as one LineCollection (keyword arguments such as ``colors``, ``linestyles``,
+    ``linewidths``, ``label`` go to it); it does not change the axes' limits."""
+    times = np.asarray(times, dtype=float).ravel()
+    segments = np.zeros((times.size, 2, 2))
+    segments[:, :, 0] = times[:, None]
+    segments[:, 1, 1] = 1.0
+    lines = LineCollection(segments, transform=ax.get_xaxis_transform(), **kwargs)
+    ax.add_collection(lines, autolim=False)
+    return lines
+
+
+def phase_bands(
+    ax: Axes, t: np.ndarray, labels: Sequence[str], colors: dict[str, Any], alpha: float = 0.12
+) -> PolyCollection:
+    """Shade each run of equal label across the whole height of ``ax``, as one
+    PolyCollection of rectangles (one per run, in time order), each in ``colors[label]``.
+
+    Parameters
+    ----------
+    ax : Axes
+    t : ndarray, shape (n,)
+        sample times [s].
+    labels : sequence of str, length n
+        the label of each sample (phases that share a name form one run).
+    colors : dict of str -> colour
+        the colour of each label.
+    alpha : float
+        opacity of the shading.
+
+    Returns
+    -------
+    PolyCollection
+        run ``k`` spans from its first sample's time to the next run's first sample's time
+        (the last run to ``t[-1]``); the axes' limits are left as they are.
+    """
+    t = np.asarray(t, dtype=float)
+    labels = np.asarray(labels)
+    if t.size == 0:
+        starts = np.zeros(0, dtype=np.intp)
+    else:
+        starts = np.r_[0, np.flatnonzero(labels[1:] != labels[:-1]) + 1]
+    t0 = t[starts]
+    t1 = np.r_[t[starts[1:]], t[-1:]] if t.size else t0
+    verts = np.zeros((starts.size, 4, 2))
+    verts[:, 0, 0] = verts[:, 1, 0] = t0
+    verts[:, 2, 0] = verts[:, 3, 0] = t1
+    verts[:, 1, 1] = verts[:, 2, 1] = 1.0
+    facecolors = [colors[str(label)] for label in labels[starts]]
+    bands = PolyCollection(
+        verts,
+        facecolors=facecolors,
+        alpha=alpha,
+        linewidths=0,
+        transform=ax.get_xaxis_transform(),
+    )
+    ax.add_collection(bands, autolim=False)
+    return bands
