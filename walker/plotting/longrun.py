@@ -17,11 +17,21 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection, PolyCollection
 
-__all__ = ["DISPLAY_COLUMNS", "decimate_minmax", "event_lines", "phase_bands", "plot_series"]
+__all__ = [
+    "DENSE_EVENTS",
+    "DISPLAY_COLUMNS",
+    "decimate_minmax",
+    "event_lines",
+    "phase_bands",
+    "plot_series",
+]
 
 #: Number of pixel columns a time series is thinned to for display: above the width in
 #: pixels of a 7 inch figure at 500 dots per inch, so that the thinning is never visible.
 DISPLAY_COLUMNS = 4096
+
+#: Number of event lines above which :func:`event_lines` draws them solid and translucent.
+DENSE_EVENTS = 500
 
 
 def decimate_minmax(
@@ -106,12 +116,17 @@ def plot_series(ax: Axes, t: np.ndarray, y: np.ndarray, **kwargs: Any):
 
 def event_lines(ax: Axes, times: Sequence[float] | np.ndarray, **kwargs: Any) -> LineCollection:
     """One vertical line across the whole height of ``ax`` at each of ``times`` [s], drawn
-    as one LineCollection (keyword arguments such as ``colors``, ``linestyles``,
-    ``linewidths``, ``label`` go to it); it does not change the axes' limits."""
+    as one LineCollection under the data lines (keyword arguments such as ``colors``,
+    ``linestyles``, ``linewidths``, ``label`` go to it); it does not change the axes'
+    limits.  More than :data:`DENSE_EVENTS` lines are drawn solid and translucent: dotted
+    lines closer than a pixel would line their dots up into horizontal stripes."""
     times = np.asarray(times, dtype=float).ravel()
     segments = np.zeros((times.size, 2, 2))
     segments[:, :, 0] = times[:, None]
     segments[:, 1, 1] = 1.0
+    if times.size > DENSE_EVENTS:
+        kwargs = {**kwargs, "linestyles": "-", "alpha": 0.25}
+    kwargs.setdefault("zorder", 1.5)
     lines = LineCollection(segments, transform=ax.get_xaxis_transform(), **kwargs)
     ax.add_collection(lines, autolim=False)
     return lines
