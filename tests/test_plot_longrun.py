@@ -192,3 +192,26 @@ def test_event_lines_leave_the_limits_and_span_the_axes():
     segments = np.array(lines.get_segments())
     assert_array_equal(segments[:, :, 0], [[1.0, 1.0], [4.5, 4.5]])
     assert_array_equal(segments[:, :, 1], [[0.0, 1.0], [0.0, 1.0]])  # axes fractions
+
+
+def test_walker_frames_of_chosen_rows(tmp_path):
+    """``walker_frames(..., rows=...)`` computes only the frames asked for, equal to those of
+    the whole run; across a heel strike the new stance foot is where the swing foot landed."""
+    from walker.cli import main
+    from walker.plotting.gallery import _params_from_provenance, walker_frames
+    from walker.storage import read
+
+    path = tmp_path / "run.h5"
+    assert main(["run", "gaits/compass_goswami.toml", "--strides", "3", "--out", str(path)]) == 0
+    sol, prov = read(path)
+    model, params = _params_from_provenance(prov)
+    traj = sol.record
+    full = walker_frames(model, params, traj.t, traj.x, sol.events)
+    strike = sol.events.t[1]  # the second heel strike
+    pre, post = np.flatnonzero(traj.t == strike)  # the record holds both sides of the reset
+    rows = np.array([0, pre, post, len(traj) - 1])
+    chosen = walker_frames(model, params, traj.t, traj.x, sol.events, rows=rows)
+    assert_array_equal(chosen, full[rows])
+    swing = int(getattr(model.module, "SWING_FOOT", -1))
+    np.testing.assert_allclose(full[post, 0], full[pre, swing], rtol=0, atol=1e-12)
+    assert full[post, 0, 0] > 0.3  # two steps down the slope from the origin [m]

@@ -168,7 +168,7 @@ def _foot_steps(model, params, events) -> list[np.ndarray | None]:
     return steps
 
 
-def walker_frames(model, params, t, x, events=None) -> np.ndarray:
+def walker_frames(model, params, t, x, events=None, rows=None) -> np.ndarray:
     """Joint positions in the world frame for each sample, following the walker down the
     slope: after every foot swap in ``events`` (a heel strike, see :func:`_foot_steps`) the
     new stance foot is placed where the swing foot landed.
@@ -181,10 +181,14 @@ def walker_frames(model, params, t, x, events=None) -> np.ndarray:
     x : ndarray, shape (n, n_x)
     events : EventLog, optional
         without events the stance foot stays at the origin.
+    rows : array_like of int, optional
+        only these samples' frames (``walker_frames(...)[rows]``, without computing the
+        others); default all.
 
     Returns
     -------
     ndarray, shape (n, n_points, 2)
+        (``(len(rows), n_points, 2)`` with ``rows``)
     """
     p = params.as_array()
     t = np.asarray(t, dtype=float)
@@ -197,7 +201,14 @@ def walker_frames(model, params, t, x, events=None) -> np.ndarray:
                 lo = np.searchsorted(t, te, side="left")
                 hi = np.searchsorted(t, te, side="right")
                 offsets[lo + 1 if hi - lo >= 2 else hi :] += step
-    return np.array([model.points(row, p) for row in x]) + offsets[:, None, :]
+    x = np.asarray(x, dtype=float)
+    rows = np.arange(len(t)) if rows is None else np.asarray(rows, dtype=np.intp)
+    n_points = 1 + max(max(segment) for segment in model.segments)
+    frames = np.empty((rows.size, n_points, 2))  # filled in place: no list of small arrays
+    for k, row in enumerate(rows):
+        frames[k] = model.points(x[row], p)
+    frames += offsets[rows, None, :]
+    return frames
 
 
 def _event_energies(model, params, events) -> np.ndarray:
@@ -404,8 +415,8 @@ def plot_solution(
         if model.has_strides or model.name == "double_pendulum":
             t_frames = np.linspace(traj.t[0], traj.t[-1], min(120, len(traj)))
             idx = np.searchsorted(traj.t, t_frames).clip(0, len(traj) - 1)
-            if model.has_strides:
-                frames = walker_frames(model, params, traj.t, traj.x, sol.events)[idx]
+            if model.has_strides:  # the frames' samples only, not the whole run
+                frames = walker_frames(model, params, traj.t, traj.x, sol.events, rows=idx)
             else:
                 frames = np.array([model.points(traj.x[i], params) for i in idx])
             slope = float(getattr(params, "slope", 0.0))
