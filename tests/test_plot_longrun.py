@@ -18,6 +18,7 @@ from walker.plotting.longrun import (  # noqa: E402
     DISPLAY_COLUMNS,
     decimate_minmax,
     event_lines,
+    thin_curve,
 )
 from walker.plotting.runs import MAX_JUMP_LABELS  # noqa: E402
 from walker.plotting.terrain import plot_run_on_terrain  # noqa: E402
@@ -215,3 +216,53 @@ def test_walker_frames_of_chosen_rows(tmp_path):
     swing = int(getattr(model.module, "SWING_FOOT", -1))
     np.testing.assert_allclose(full[post, 0], full[pre, swing], rtol=0, atol=1e-12)
     assert full[post, 0, 0] > 0.3  # two steps down the slope from the origin [m]
+
+
+def _cells(x, y, box, cells):
+    """Cell (column, row) of each point in ``box`` = (x_lo, x_hi, y_lo, y_hi) cut into
+    ``cells`` by ``cells``."""
+    column = np.minimum(((x - box[0]) / (box[1] - box[0]) * cells).astype(int), cells - 1)
+    row = np.minimum(((y - box[2]) / (box[3] - box[2]) * cells).astype(int), cells - 1)
+    return column * cells + row
+
+
+def test_thinned_curve_draws_every_segment_of_the_orbit_once():
+    """An orbit traversed 500 times (with a slow drift, and NaN breaks at each reset): the
+    thinned curve joins exactly the pairs of cells the full curve joins, its points are the
+    curve's own (in order), and no piece runs over a break."""
+    cells = 64
+    s = np.linspace(0.0, 2.0 * np.pi, 60)
+    x = np.concatenate([np.cos(s) * (1 + 1e-4 * k) for k in range(500)])
+    y = np.concatenate([np.sin(2 * s) for _ in range(500)])
+    breaks = np.arange(1, 500) * 60
+    x, y = np.insert(x, breaks, np.nan), np.insert(y, breaks, np.nan)
+    xs, ys = thin_curve(x, y, cells=cells)
+    assert xs.size < x.size / 20
+    finite = np.isfinite(x)
+    box = (x[finite].min(), x[finite].max(), y[finite].min(), y[finite].max())
+    key = _cells(np.nan_to_num(x), np.nan_to_num(y), box, cells)
+    ok = finite[:-1] & finite[1:]
+    full_pairs = set(zip(key[:-1][ok].tolist(), key[1:][ok].tolist(), strict=True))
+    shown_finite = np.isfinite(xs)
+    shown_key = _cells(np.nan_to_num(xs), np.nan_to_num(ys), box, cells)
+    ok_shown = shown_finite[:-1] & shown_finite[1:]
+    shown_pairs = set(
+        zip(shown_key[:-1][ok_shown].tolist(), shown_key[1:][ok_shown].tolist(), strict=True)
+    )
+    assert shown_pairs == full_pairs
+    # the shown points are the curve's, and joined points are consecutive points of it
+    where = {(a, b): k for k, (a, b) in enumerate(zip(x.tolist(), y.tolist(), strict=True))}
+    index = np.array([where.get((a, b), -1) for a, b in zip(xs.tolist(), ys.tolist(), strict=True)])
+    assert np.all(index[shown_finite] >= 0) and np.all(index[~shown_finite] == -1)
+    assert np.all(np.diff(index)[ok_shown] == 1)
+
+
+def test_thin_curve_leaves_short_curves_and_rejects_bad_input():
+    x = np.linspace(0.0, 1.0, 40)
+    xs, ys = thin_curve(x, x**2, cells=10)
+    assert_array_equal(xs, x)
+    assert_array_equal(ys, x**2)
+    with pytest.raises(ValueError, match="`x` and `y` must be 1-D of equal length"):
+        thin_curve(x, x[:3])
+    with pytest.raises(ValueError, match="`cells` must be at least 1"):
+        thin_curve(x, x, cells=0)

@@ -192,7 +192,9 @@ def walker_frames(model, params, t, x, events=None, rows=None) -> np.ndarray:
     """
     p = params.as_array()
     t = np.asarray(t, dtype=float)
-    offsets = np.zeros((len(t), 2))
+    # each foot swap moves the stance foot by its step from one sample on: the offsets are
+    # the running sum of the steps placed at those samples (linear in the run's length)
+    jumps = np.zeros((len(t) + 1, 2))
     if events is not None:
         for te, step in zip(events.t, _foot_steps(model, params, events), strict=True):
             if step is not None:
@@ -200,7 +202,8 @@ def walker_frames(model, params, t, x, events=None, rows=None) -> np.ndarray:
                 # new stance foot applies from the second of those samples on
                 lo = np.searchsorted(t, te, side="left")
                 hi = np.searchsorted(t, te, side="right")
-                offsets[lo + 1 if hi - lo >= 2 else hi :] += step
+                jumps[lo + 1 if hi - lo >= 2 else hi] += step
+    offsets = np.cumsum(jumps[:-1], axis=0)
     x = np.asarray(x, dtype=float)
     rows = np.arange(len(t)) if rows is None else np.asarray(rows, dtype=np.intp)
     n_points = 1 + max(max(segment) for segment in model.segments)

@@ -24,6 +24,7 @@ __all__ = [
     "event_lines",
     "phase_bands",
     "plot_series",
+    "thin_curve",
 ]
 
 #: Number of pixel columns a time series is thinned to for display: above the width in
@@ -105,6 +106,65 @@ def _argreduce(values: np.ndarray, starts: np.ndarray, ufunc: Any) -> np.ndarray
     # first hit in each segment: the smallest index where hit holds
     index = np.where(hit, np.arange(values.size), values.size)
     return np.minimum.reduceat(index, starts) - starts
+
+
+def thin_curve(
+    x: np.ndarray, y: np.ndarray, cells: int = DISPLAY_COLUMNS
+) -> tuple[np.ndarray, np.ndarray]:
+    """A curve in the plane (a phase portrait) without its repeated segments, for display.
+
+    The bounding box of the curve is cut into ``cells`` by ``cells`` cells; a segment (two
+    consecutive points) is left out when an earlier segment joins the same two cells, so
+    an orbit traversed thousands of times is drawn about once, every drawn segment within a
+    cell of one of the curve's.  Consecutive kept segments stay joined; a NaN separates the
+    others (and a NaN point of the input, a break in the line, is never joined over).
+    Curves of at most ``4 * cells`` points are returned unchanged; the inputs are never
+    modified.
+
+    Parameters
+    ----------
+    x, y : ndarray, shape (n,)
+        the curve's points (any units), NaN where the line is broken.
+    cells : int
+        cells along each axis, at least 1.
+
+    Returns
+    -------
+    x_shown, y_shown : ndarray
+        the kept points, with NaN between pieces.
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if x.ndim != 1 or y.shape != x.shape:
+        raise ValueError(f"`x` and `y` must be 1-D of equal length, got {x.shape}, {y.shape}")
+    if int(cells) < 1:
+        raise ValueError(f"`cells` must be at least 1, got {cells}")
+    cells = int(cells)
+    finite = np.isfinite(x) & np.isfinite(y)
+    if x.size <= 4 * cells or not finite.any():
+        return x, y
+    cell = np.zeros((x.size, 2), dtype=np.int64)
+    for axis, values in enumerate((x, y)):
+        lo, hi = values[finite].min(), values[finite].max()
+        scaled = (np.where(finite, values, lo) - lo) / ((hi - lo) or 1.0) * cells
+        cell[:, axis] = np.minimum(scaled.astype(np.int64), cells - 1)
+    key = cell[:, 0] * cells + cell[:, 1]  # one integer per cell
+    segments = np.flatnonzero(finite[:-1] & finite[1:])  # segment k joins points k, k + 1
+    pairs = np.stack([key[segments], key[segments + 1]], axis=1)
+    _, first = np.unique(pairs, axis=0, return_index=True)
+    kept = segments[np.sort(first)]
+    joined = np.r_[False, kept[1:] == kept[:-1] + 1]  # starts where the previous one ended
+    # each kept segment contributes its end point, and, when it does not continue the
+    # previous one, a NaN (but the first) and its start point before it
+    n_new = int(np.count_nonzero(~joined))
+    index = np.empty(kept.size + 2 * n_new - 1, dtype=np.int64)
+    slot = np.arange(kept.size) + 2 * np.cumsum(~joined) - 1  # position of each end point
+    index[slot] = kept + 1
+    index[slot[~joined] - 1] = kept[~joined]
+    index[(slot[~joined] - 2)[1:]] = -1  # the NaN separators
+    shown_x = np.where(index >= 0, x[index], np.nan)
+    shown_y = np.where(index >= 0, y[index], np.nan)
+    return shown_x, shown_y
 
 
 def plot_series(ax: Axes, t: np.ndarray, y: np.ndarray, **kwargs: Any):

@@ -21,7 +21,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from walker.plotting.common import legend_outside, new_axes, state_unit, with_unit
-from walker.plotting.longrun import event_lines, phase_bands, plot_series
+from walker.plotting.longrun import event_lines, phase_bands, plot_series, thin_curve
 
 __all__ = [
     "animate_walker",
@@ -173,7 +173,8 @@ def plot_phase_portrait(
     Returns
     -------
     Figure
-        one line through the whole run, broken (a NaN) at each phase change and reset;
+        one line through the whole run, broken (a NaN) at each phase change and reset
+        (on long runs without its repeated segments, :func:`walker.plotting.longrun.thin_curve`);
         axis labels ``"name [unit]"``.
     """
     traj, _ = _trajectory_of(trajectory, "trajectory")
@@ -189,7 +190,9 @@ def plot_phase_portrait(
     breaks |= t[1:] <= t[:-1]
     cuts = np.flatnonzero(breaks) + 1
     # one line, broken by NaN at each cut (one artist however long the run)
-    ax.plot(np.insert(x[:, i], cuts, np.nan), np.insert(x[:, j], cuts, np.nan), color="C0", lw=1.0)
+    # (thinned for display on long runs: segments repeated within a pixel are drawn once)
+    shown = thin_curve(np.insert(x[:, i], cuts, np.nan), np.insert(x[:, j], cuts, np.nan))
+    ax.plot(*shown, color="C0", lw=1.0)
     if fixed_point is not None:
         state = np.asarray(getattr(fixed_point, "state", fixed_point), dtype=float)
         ax.plot(state[i], state[j], marker="*", ms=12, color="C3", ls="none", label="fixed point")
@@ -432,8 +435,9 @@ def plot_zero_dynamics(
     Returns
     -------
     Figure
-        the orbit (one line, broken at each impact), then a line for ``theta_plus`` and
-        one for ``theta_minus`` when given.
+        the orbit (one line, broken at each impact; on long runs without its repeated
+        segments, :func:`walker.plotting.longrun.thin_curve`), then a line for
+        ``theta_plus`` and one for ``theta_minus`` when given.
     """
     fig, ax = new_axes(ax)
     theta = np.asarray(theta, dtype=float)
@@ -444,7 +448,7 @@ def plot_zero_dynamics(
     cuts = np.flatnonzero(np.abs(np.diff(theta)) > 0.25 * span) + 1 if span > 0 else []
     theta = np.insert(theta, cuts, np.nan)
     theta_dot = np.insert(theta_dot, cuts, np.nan)
-    ax.plot(theta, theta_dot, label="orbit", color="C0")
+    ax.plot(*thin_curve(theta, theta_dot), label="orbit", color="C0")
     ends = (
         (theta_plus, "theta+", "step starts", "C2", "--"),
         (theta_minus, "theta-", "impact", "C3", ":"),
