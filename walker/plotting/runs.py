@@ -189,8 +189,8 @@ def plot_phase_portrait(
     breaks = np.asarray(traj.phase)[1:] != np.asarray(traj.phase)[:-1]
     breaks |= t[1:] <= t[:-1]
     cuts = np.flatnonzero(breaks) + 1
-    # one line, broken by NaN at each cut (one artist however long the run)
-    # (thinned for display on long runs: segments repeated within a pixel are drawn once)
+    # one line broken by a NaN at each cut (one artist however long the run), drawn without
+    # the segments a long run repeats within a display cell
     shown = thin_curve(np.insert(x[:, i], cuts, np.nan), np.insert(x[:, j], cuts, np.nan))
     ax.plot(*shown, color="C0", lw=1.0)
     if fixed_point is not None:
