@@ -9,7 +9,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
-from matplotlib.collections import LineCollection, PathCollection, QuadMesh  # noqa: E402
+from matplotlib.collections import (  # noqa: E402
+    LineCollection,
+    PathCollection,
+    PolyCollection,
+    QuadMesh,
+)
 from matplotlib.figure import Figure  # noqa: E402
 
 from walker import plotting  # noqa: E402
@@ -81,11 +86,16 @@ def test_plot_angles_from_solution():
     fig = plotting.plot_angles(sol, state_names=["q1", "q2", "dq1", "dq2"])
     assert isinstance(fig, Figure) and len(fig.axes) == 2
     ax_q, ax_v = fig.axes
-    # two coordinate lines + one event line on each axes
-    assert _line_labels(ax_q)[:2] == ["q1", "q2"] and _line_labels(ax_v)[:2] == ["dq1", "dq2"]
-    assert len(ax_q.get_lines()) == 3 and len(ax_v.get_lines()) == 3
-    assert ax_q.get_lines()[2].get_xdata()[0] == 1.0
-    assert len(ax_q.patches) == 2  # one shaded span per phase run
+    # two coordinate lines, one collection of shaded spans and one of event lines per axes
+    assert _line_labels(ax_q) == ["q1", "q2"] and _line_labels(ax_v) == ["dq1", "dq2"]
+    for ax in (ax_q, ax_v):
+        bands, events = ax.collections
+        assert isinstance(bands, PolyCollection) and isinstance(events, LineCollection)
+        (event,) = events.get_segments()
+        assert event[0, 0] == event[1, 0] == 1.0
+        # one shaded span per phase run: [0, 1) unlocked, [1, end] locked
+        spans = [path.vertices[:, 0] for path in bands.get_paths()]
+        assert [(min(x), max(x)) for x in spans] == [(0.0, 1.0), (1.0, float(sol.record.t[-1]))]
     legend = [tx.get_text() for tx in ax_q.get_legend().get_texts()]
     assert legend == ["q1", "q2", "unlocked", "locked"]
     assert ax_q.get_ylabel() == "angle [rad]" and ax_v.get_xlabel() == "time [s]"
@@ -96,6 +106,7 @@ def test_plot_angles_trajectory_and_errors():
     sol = _two_stride_solution()
     fig = plotting.plot_angles(sol.record)  # no events, default names
     assert [len(a.get_lines()) for a in fig.axes] == [2, 2]
+    assert [len(a.collections) for a in fig.axes] == [1, 1]  # the spans, no events
     assert _line_labels(fig.axes[0]) == ["x[0]", "x[1]"]
     with pytest.raises(ValueError, match="`state_names` must have 4 entries"):
         plotting.plot_angles(sol, state_names=["a"])
@@ -118,7 +129,8 @@ def test_plot_phase_portrait():
     )
     ax = fig.axes[0]
     assert len(fig.axes) == 1
-    assert len(ax.get_lines()) == 3  # two phase pieces + the fixed point marker
+    assert len(ax.get_lines()) == 2  # the orbit (broken between phases) + the fixed point
+    assert np.isnan(ax.get_lines()[0].get_xdata()).sum() == 1  # two phase pieces
     assert ax.get_lines()[-1].get_xdata()[0] == 0.5 and ax.get_lines()[-1].get_ydata()[0] == -0.1
     assert (ax.get_xlabel(), ax.get_ylabel()) == ("q1 [rad]", "dq1 [rad/s]")
     with pytest.raises(ValueError, match=r"`j` must be a state index in \[0, 4\)"):
@@ -307,7 +319,9 @@ def test_plot_torques_draws_each_actuator_and_the_limit():
     labels = [line.get_label() for line in ax.get_lines()]
     assert "hip" in labels and "knee" in labels
     assert ax.get_ylabel() == "torque [N m]"
-    assert len(ax.get_lines()) == 2 + 2 + 1  # actuators, +-limit, one impact
+    assert len(ax.get_lines()) == 2 + 2  # actuators, +-limit
+    ((impact,),) = [c.get_segments() for c in ax.collections]  # one impact line
+    assert impact[0, 0] == impact[1, 0] == 0.5
     with pytest.raises(ValueError, match="one row per time"):
         plotting.plot_torques(t, u[:10])
 

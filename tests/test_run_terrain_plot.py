@@ -31,11 +31,9 @@ def run_file(tmp_path_factory):
 
 
 def _segments(ax):
-    lines = sorted(
-        (line for line in ax.get_lines() if line.get_label().startswith("_ground")),
-        key=lambda line: int(line.get_label()[7:]),
-    )
-    return np.array([np.column_stack(line.get_data()) for line in lines])
+    """The drawn ground: the segments of the one collection labelled ``_ground``."""
+    (ground,) = [c for c in ax.collections if c.get_label() == "_ground"]
+    return np.array(ground.get_segments())
 
 
 def test_the_run_records_the_rows_of_its_steps(run_file):

@@ -16,6 +16,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from walker import plotting
+from walker.plotting.longrun import event_lines
 from walker.results import Branch, Solution, Trajectory
 
 __all__ = [
@@ -167,7 +168,7 @@ def _foot_steps(model, params, events) -> list[np.ndarray | None]:
     return steps
 
 
-def walker_frames(model, params, t, x, events=None) -> np.ndarray:
+def walker_frames(model, params, t, x, events=None, rows=None) -> np.ndarray:
     """Joint positions in the world frame for each sample, following the walker down the
     slope: after every foot swap in ``events`` (a heel strike, see :func:`_foot_steps`) the
     new stance foot is placed where the swing foot landed.
@@ -180,14 +181,20 @@ def walker_frames(model, params, t, x, events=None) -> np.ndarray:
     x : ndarray, shape (n, n_x)
     events : EventLog, optional
         without events the stance foot stays at the origin.
+    rows : array_like of int, optional
+        only these samples' frames (``walker_frames(...)[rows]``, without computing the
+        others); default all.
 
     Returns
     -------
     ndarray, shape (n, n_points, 2)
+        (``(len(rows), n_points, 2)`` with ``rows``)
     """
     p = params.as_array()
     t = np.asarray(t, dtype=float)
-    offsets = np.zeros((len(t), 2))
+    # each foot swap moves the stance foot by its step from one sample on: the offsets are
+    # the running sum of the steps placed at those samples (linear in the run's length)
+    jumps = np.zeros((len(t) + 1, 2))
     if events is not None:
         for te, step in zip(events.t, _foot_steps(model, params, events), strict=True):
             if step is not None:
@@ -195,8 +202,16 @@ def walker_frames(model, params, t, x, events=None) -> np.ndarray:
                 # new stance foot applies from the second of those samples on
                 lo = np.searchsorted(t, te, side="left")
                 hi = np.searchsorted(t, te, side="right")
-                offsets[lo + 1 if hi - lo >= 2 else hi :] += step
-    return np.array([model.points(row, p) for row in x]) + offsets[:, None, :]
+                jumps[lo + 1 if hi - lo >= 2 else hi] += step
+    offsets = np.cumsum(jumps[:-1], axis=0)
+    x = np.asarray(x, dtype=float)
+    rows = np.arange(len(t)) if rows is None else np.asarray(rows, dtype=np.intp)
+    n_points = 1 + max(max(segment) for segment in model.segments)
+    frames = np.empty((rows.size, n_points, 2))  # filled in place: no list of small arrays
+    for k, row in enumerate(rows):
+        frames[k] = model.points(x[row], p)
+    frames += offsets[rows, None, :]
+    return frames
 
 
 def _event_energies(model, params, events) -> np.ndarray:
@@ -306,8 +321,7 @@ def solution_figures(
         )
         if shown is not None and sol.events is not None:
             for ax in angles.axes:
-                for te in sol.events.t:
-                    ax.axvline(te, color="0.5", linestyle=":", linewidth=0.8)
+                event_lines(ax, sol.events.t, colors="0.5", linestyles=":", linewidths=0.8)
         figures["angles"] = angles
     if traj is None or len(traj) < 2:
         return figures
@@ -404,8 +418,8 @@ def plot_solution(
         if model.has_strides or model.name == "double_pendulum":
             t_frames = np.linspace(traj.t[0], traj.t[-1], min(120, len(traj)))
             idx = np.searchsorted(traj.t, t_frames).clip(0, len(traj) - 1)
-            if model.has_strides:
-                frames = walker_frames(model, params, traj.t, traj.x, sol.events)[idx]
+            if model.has_strides:  # the frames' samples only, not the whole run
+                frames = walker_frames(model, params, traj.t, traj.x, sol.events, rows=idx)
             else:
                 frames = np.array([model.points(traj.x[i], params) for i in idx])
             slope = float(getattr(params, "slope", 0.0))

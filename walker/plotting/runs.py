@@ -15,11 +15,13 @@ from typing import Any
 import numpy as np
 from matplotlib import animation
 from matplotlib.axes import Axes
+from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from walker.plotting.common import equal_runs, legend_outside, new_axes, state_unit, with_unit
+from walker.plotting.common import legend_outside, new_axes, state_unit, with_unit
+from walker.plotting.longrun import event_lines, phase_bands, plot_series, thin_curve
 
 __all__ = [
     "animate_walker",
@@ -78,8 +80,10 @@ def plot_angles(
     Returns
     -------
     Figure
-        two axes; one line per coordinate on each, one shaded span per run of equal phase,
-        one vertical line per event on each.
+        two axes; on each one line per coordinate (thinned for display to each pixel
+        column's extremes on long runs, :func:`walker.plotting.longrun.decimate_minmax`),
+        one PolyCollection of shaded spans (one per run of equal phase name) and, with
+        events, one LineCollection of vertical lines (one per event).
     """
     traj, events = _trajectory_of(solution_or_trajectory, "solution_or_trajectory")
     t = np.asarray(traj.t, dtype=float)
@@ -107,24 +111,28 @@ def plot_angles(
         fig = ax_q.figure
     half = n_x // 2
     for i in range(half):
-        ax_q.plot(t, x[:, i], label=names[i])
-        ax_v.plot(t, x[:, half + i], label=names[half + i])
-    # Shade each run of equal phase, one colour (and one legend entry) per phase name:
+        plot_series(ax_q, t, x[:, i], label=names[i])
+        plot_series(ax_v, t, x[:, half + i], label=names[half + i])
+    # Shade each run of equal phase name, one colour (and one legend entry) per name:
     # phases that share a name (e.g. friction modes left out of the names) share a colour.
+    # One collection per axes, so the figure's size does not grow with the run's length.
+    codes, first, inverse = np.unique(phase, return_index=True, return_inverse=True)
+    code_labels = [
+        phase_names[p] if 0 <= p < len(phase_names) else f"phase {p}" for p in codes.tolist()
+    ]
     seen: dict[str, Patch] = {}
-    for start, stop in equal_runs(phase):
-        p = int(phase[start])
-        label = phase_names[p] if 0 <= p < len(phase_names) else f"phase {p}"
+    for k in np.argsort(first, kind="stable"):  # colours in order of first occurrence
+        label = code_labels[k]
         if label not in seen:
             seen[label] = Patch(color=f"C{len(seen) % 10}", alpha=0.12, label=label)
-        t0 = t[start]
-        t1 = t[stop] if stop < t.size else t[-1]
+    if t.size:
+        labels = np.asarray(code_labels)[inverse.ravel()]
+        colors = {label: patch.get_facecolor()[:3] for label, patch in seen.items()}
         for a in (ax_q, ax_v):
-            a.axvspan(t0, t1, color=seen[label].get_facecolor()[:3], alpha=0.12, lw=0)
+            phase_bands(a, t, labels, colors, alpha=0.12)
     if events is not None:
-        for te in np.asarray(events.t, dtype=float):
-            for a in (ax_q, ax_v):
-                a.axvline(te, color="k", lw=0.8, ls=":")
+        for a in (ax_q, ax_v):
+            event_lines(a, events.t, colors="k", linewidths=0.8, linestyles=":")
     ax_q.set_ylabel("angle [rad]")
     ax_v.set_ylabel("rate [rad/s]")
     ax_v.set_xlabel("time [s]")
@@ -165,8 +173,9 @@ def plot_phase_portrait(
     Returns
     -------
     Figure
-        one line per run of equal phase (a reset starts a new line); axis labels
-        ``"name [unit]"``.
+        one line through the whole run, broken (a NaN) at each phase change and reset
+        (on long runs without its repeated segments, :func:`walker.plotting.longrun.thin_curve`);
+        axis labels ``"name [unit]"``.
     """
     traj, _ = _trajectory_of(trajectory, "trajectory")
     x = np.asarray(traj.x, dtype=float)
@@ -179,9 +188,11 @@ def plot_phase_portrait(
     # A new piece at every phase change and every repeated time (a reset within a phase).
     breaks = np.asarray(traj.phase)[1:] != np.asarray(traj.phase)[:-1]
     breaks |= t[1:] <= t[:-1]
-    cuts = np.r_[0, np.flatnonzero(breaks) + 1, t.size]
-    for start, stop in zip(cuts[:-1], cuts[1:], strict=True):
-        ax.plot(x[start:stop, i], x[start:stop, j], color="C0", lw=1.0)
+    cuts = np.flatnonzero(breaks) + 1
+    # one line broken by a NaN at each cut (one artist however long the run), drawn without
+    # the segments a long run repeats within a display cell
+    shown = thin_curve(np.insert(x[:, i], cuts, np.nan), np.insert(x[:, j], cuts, np.nan))
+    ax.plot(*shown, color="C0", lw=1.0)
     if fixed_point is not None:
         state = np.asarray(getattr(fixed_point, "state", fixed_point), dtype=float)
         ax.plot(state[i], state[j], marker="*", ms=12, color="C3", ls="none", label="fixed point")
@@ -219,8 +230,9 @@ def plot_energy(
         energies [J] at ``t``.
     event_times : ndarray, shape (m,), optional
         impact times [s]: a vertical segment marks the change of the total energy at each,
-        labelled with its size in J; an event at which the energy does not change (to
-        1e-9 of the largest total energy) gets neither segment nor label.
+        labelled with its size in J (more than :data:`MAX_JUMP_LABELS` such jumps: one text
+        "N impacts: smallest to largest J" instead); an event at which the energy does not
+        change (to 1e-9 of the largest total energy) gets neither segment nor label.
     event_energies : ndarray, shape (m, 2), optional
         total energy [J] just before and just after each event in ``event_times``, computed
         from the event's own pre- and post-impact states (on the same reference as
@@ -236,8 +248,9 @@ def plot_energy(
     Returns
     -------
     Figure
-        three lines (kinetic, potential, total), and a LineCollection of the jumps (label
-        "impact loss") with one text per jump when any event changes the energy.
+        three lines (kinetic, potential, total; thinned for display on long runs,
+        :func:`walker.plotting.longrun.decimate_minmax`), and a LineCollection of the
+        jumps (label "impact loss") with their texts when any event changes the energy.
     """
     t = np.asarray(t, dtype=float)
     kinetic = np.asarray(kinetic, dtype=float)
@@ -249,9 +262,9 @@ def plot_energy(
         )
     fig, ax = new_axes(ax)
     total = kinetic + potential
-    ax.plot(t, kinetic, label="kinetic")
-    ax.plot(t, potential, label="potential")
-    ax.plot(t, total, label="total", color="k")
+    plot_series(ax, t, kinetic, label="kinetic")
+    plot_series(ax, t, potential, label="potential")
+    plot_series(ax, t, total, label="total", color="k")
     if event_times is not None and t.size:
         te = np.asarray(event_times, dtype=float).ravel()
         if event_energies is not None:
@@ -290,11 +303,25 @@ def plot_energy(
     return fig
 
 
+#: Most energy jumps labelled one by one in :func:`plot_energy`; a longer run's jumps are
+#: summarised in one text.
+MAX_JUMP_LABELS = 24
+
+
 def _label_jumps(ax: Axes, times, e0, e1, unit: str) -> None:
     """One text per energy jump, in rows below the axes' top edge: each label goes into the
     first row where it does not overlap the labels already placed (its width estimated from
     its characters, in axes fractions), so labels of impacts close in time never collide.
-    A thin line joins each label to the bottom of its jump."""
+    A thin line joins each label to the bottom of its jump.  More than
+    :data:`MAX_JUMP_LABELS` jumps get one text instead: their number and the range of their
+    sizes."""
+    if len(times) > MAX_JUMP_LABELS:  # a long run: one summary instead of a label each
+        change = np.asarray(e1, dtype=float) - np.asarray(e0, dtype=float)
+        text = f"{len(times)} impacts: {change.min():+.5g} to {change.max():+.5g} {unit}"
+        ax.text(0.01, 0.97, text, transform=ax.transAxes, va="top", fontsize="x-small", color="C3")
+        lo, hi = ax.get_ylim()
+        ax.set_ylim(lo, lo + (hi - lo) / 0.9)
+        return
     t_lo, t_hi = ax.get_xlim()
     span = (t_hi - t_lo) or 1.0
     # axes width in points, and a small font's character width in points (about 0.6 em)
@@ -357,13 +384,14 @@ def plot_torques(
     limit : float, optional
         saturation limit [N m]; drawn as dashed lines at +-limit.
     event_times : ndarray, optional
-        impact times [s]; vertical dotted lines.
+        impact times [s]; vertical dotted lines (one LineCollection).
     ax : Axes, optional
 
     Returns
     -------
     Figure
-        one line per actuator (plus the limit lines).
+        one line per actuator (thinned for display on long runs,
+        :func:`walker.plotting.longrun.decimate_minmax`), plus the limit lines.
     """
     fig, ax = new_axes(ax)
     t = np.asarray(t, dtype=float)
@@ -375,12 +403,12 @@ def plot_torques(
         )
     names = list(names) if names is not None else [f"u{j}" for j in range(torques.shape[1])]
     for j in range(torques.shape[1]):
-        ax.plot(t, torques[:, j], label=names[j])
+        plot_series(ax, t, torques[:, j], label=names[j])
     if limit is not None:
         for sign in (1.0, -1.0):
             ax.axhline(sign * limit, color="0.4", linestyle="--", linewidth=0.8)
-    for te in np.asarray(event_times if event_times is not None else [], dtype=float):
-        ax.axvline(te, color="0.6", linestyle=":", linewidth=0.8)
+    if event_times is not None:
+        event_lines(ax, event_times, colors="0.6", linestyles=":", linewidths=0.8)
     return _finish(fig, ax, "time [s]", "torque [N m]")
 
 
@@ -407,8 +435,9 @@ def plot_zero_dynamics(
     Returns
     -------
     Figure
-        the orbit (one line, broken at each impact), then a line for ``theta_plus`` and
-        one for ``theta_minus`` when given.
+        the orbit (one line, broken at each impact; on long runs without its repeated
+        segments, :func:`walker.plotting.longrun.thin_curve`), then a line for
+        ``theta_plus`` and one for ``theta_minus`` when given.
     """
     fig, ax = new_axes(ax)
     theta = np.asarray(theta, dtype=float)
@@ -419,7 +448,7 @@ def plot_zero_dynamics(
     cuts = np.flatnonzero(np.abs(np.diff(theta)) > 0.25 * span) + 1 if span > 0 else []
     theta = np.insert(theta, cuts, np.nan)
     theta_dot = np.insert(theta_dot, cuts, np.nan)
-    ax.plot(theta, theta_dot, label="orbit", color="C0")
+    ax.plot(*thin_curve(theta, theta_dot), label="orbit", color="C0")
     ends = (
         (theta_plus, "theta+", "step starts", "C2", "--"),
         (theta_minus, "theta-", "impact", "C3", ":"),
@@ -473,8 +502,8 @@ def animate_walker(
     ground : ndarray, shape (n_steps, 2, 2), optional
         the ground of a run on terrain, one plane segment ``(start, end)`` [m] per step
         (:func:`walker.plotting.terrain.terrain_ground`), drawn instead of the plane of ``slope``:
-        the segments (Line2D labelled ``_ground0``, ``_ground1``, ...) and the risers joining
-        one step's end to the next one's start.
+        the segments (a LineCollection labelled ``_ground``) and the risers joining one
+        step's end to the next one's start (``_risers``).
 
     Returns
     -------
@@ -569,12 +598,13 @@ def animate_walker(
 
 
 def _draw_ground(ax: Axes, ground: np.ndarray) -> None:
-    """Each step's plane segment of ``ground`` (n_steps, 2, 2) [m] (labelled ``_groundN``),
-    with the risers from one step's end to the next one's start."""
-    for n, (start, end) in enumerate(ground):
-        ax.plot(*np.transpose([start, end]), color="0.4", lw=1.5, label=f"_ground{n}")
-        if n + 1 < len(ground):
-            ax.plot(*np.transpose([end, ground[n + 1, 0]]), color="0.4", lw=1.5)
+    """The steps' plane segments of ``ground`` (n_steps, 2, 2) [m], one LineCollection
+    labelled ``_ground`` (segment ``n`` is step ``n``'s plane), and the risers from one
+    step's end to the next one's start, one LineCollection labelled ``_risers``."""
+    style = {"colors": "0.4", "linewidths": 1.5}
+    ax.add_collection(LineCollection(ground, label="_ground", **style))
+    risers = np.stack([ground[:-1, 1], ground[1:, 0]], axis=1)
+    ax.add_collection(LineCollection(risers, label="_risers", **style))
 
 
 def leg_roles(

@@ -206,7 +206,11 @@ def plot_run_on_terrain(frames, segments, ground, *, n_figures: int = 12, ax=Non
                 lw=1,
                 alpha=0.35 + 0.65 * (i + 1) / len(picks),
             )
-    ax.plot(frames[:, 0, 0], frames[:, 0, 1], ls="none", marker=".", ms=2, color="k")
+    # the stance contacts' path: one marker per place the contact moves to (a fixed foot's
+    # contact repeats over all the samples of its stride)
+    contacts = frames[:, 0]
+    moved = np.r_[True, np.any(contacts[1:] != contacts[:-1], axis=1)]
+    ax.plot(contacts[moved, 0], contacts[moved, 1], ls="none", marker=".", ms=2, color="k")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
