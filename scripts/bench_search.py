@@ -357,8 +357,8 @@ def main(argv=None):
     how = (
         "each contender's whole pipeline (search to residual 1e-12 + multipliers) in one "
         f"process, interleaved round-robin, {reps} rounds, min and median; the machine was "
-        f"shared and loaded ({load_before} before, {B.load_line()} after), so the absolute "
-        "times are inflated and the ratios are the result. The strongest alternative is "
+        f"shared ({load_before} before, {B.load_line()} after): under load the absolute "
+        "times are inflated, and the ratios are the result. The strongest alternative is "
         "scipy `root(hybr)` on heyoka's Taylor stride (kneed walker)"
     )
     if hy_info is not None:

@@ -581,8 +581,8 @@ def main(argv=None):
     how = (
         "every contender in one process, interleaved round-robin at each error target "
         f"({reps_target} rounds, starting contender rotated), min and median per contender; "
-        f"the machine was shared and loaded ({load_before} before, {B.load_line()} after), "
-        "so absolute times are inflated and the ratios are the result. Equal error, not "
+        f"the machine is shared ({load_before} before, {B.load_line()} after): under load "
+        "absolute times are inflated, and the ratios are the result. Equal error, not "
         "equal tolerance: each contender at its cheapest tolerance meeting the target. "
         "Strongest alternative, kneed walker: heyoka's Taylor integrator with the parameters "
         "folded in as compile-time constants (LLVM compile not in the times), also set "
