@@ -37,9 +37,11 @@ def _cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def _interrupted_find(signum: int, scene: str = SCENE) -> tuple[int, str]:
+def _interrupted(argv: list[str], signum: int) -> tuple[int, str]:
+    """``walker *argv`` sent ``signum`` once it has used 4 s of CPU: its exit code and
+    stderr (killed, and the test failed, when it is still running ``HANG_GUARD`` s later)."""
     child = subprocess.Popen(
-        [sys.executable, "-m", "walker", "find", scene, "--period", "100000"],
+        [sys.executable, "-m", "walker", *argv],
         cwd=REPO,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -58,6 +60,10 @@ def _interrupted_find(signum: int, scene: str = SCENE) -> tuple[int, str]:
             child.kill()
             child.communicate()
     return child.returncode, err
+
+
+def _interrupted_find(signum: int, scene: str = SCENE) -> tuple[int, str]:
+    return _interrupted(["find", scene, "--period", "100000"], signum)
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
@@ -80,26 +86,7 @@ def _interrupted_mfpt(signum: int, jobs: int) -> tuple[int, str]:
     Monte-Carlo batch (walker/_core/terrain.c, ``terrain_ensemble``) walks each block for
     far longer than the hang guard without the poll."""
     argv = ["mfpt", SCENE, "--std", "0.001", "--runs", "200000", "--seed", "1"]
-    child = subprocess.Popen(
-        [sys.executable, "-m", "walker", *argv, "--jobs", str(jobs)],
-        cwd=REPO,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    try:
-        deadline = time.monotonic() + 300
-        while _cpu_seconds(child.pid) < 4.0:
-            assert child.poll() is None, child.communicate()
-            assert time.monotonic() < deadline, "the child never got going"
-            time.sleep(0.1)
-        child.send_signal(signum)
-        out, err = child.communicate(timeout=HANG_GUARD)
-    finally:
-        if child.poll() is None:
-            child.kill()
-            child.communicate()
-    return child.returncode, err
+    return _interrupted([*argv, "--jobs", str(jobs)], signum)
 
 
 @pytest.mark.parametrize(
