@@ -344,12 +344,14 @@ def test_run_sweep_command_rejects_unknown_name_before_connecting():
 
 # ---- resume after SIGKILL ------------------------------------------------------------------
 
-KILL_RANGES = ["slope=0.005:0.25:60", "mass_hip=5:20:10"]  # failures on the steep end
+# failures on the steep end; 2,400 points, so that the sweep (about 1 ms a point since its
+# warm starts extrapolate) cannot finish between two looks at its checkpoint
+KILL_RANGES = ["slope=0.005:0.25:60", "mass_hip=5:20:40"]
 KILL_CHUNK = 10
 
 
 def _kill_sweep(out, executor=None, jobs=2):
-    """The sweep the SIGKILL test runs: 600 compass fixed points, 60 chunks, a few seconds."""
+    """The sweep the SIGKILL test runs: 2,400 compass fixed points, 240 chunks, a few seconds."""
     stride_map, z0 = _compass_map()
     return sweep(
         stride_map,
